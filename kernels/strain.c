@@ -1,0 +1,51 @@
+/* Strain-rate components at their own locations (kernels.h). */
+#include "kernels.h"
+
+/* Shear strain rate gamma_ab on edge e of plane (a, b): v_a at cells e and
+ * e - o_b along b, v_b at cells e and e - o_a along a. */
+static inline double edge_gamma(double *const vel[3], int a, int b, ptrdiff_t e, ptrdiff_t oa,
+                                ptrdiff_t ob, double ha, double hb)
+{
+    return (vel[a][e] - vel[a][e - ob]) / hb + (vel[b][e] - vel[b][e - oa]) / ha;
+}
+
+void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, double *e2[3])
+{
+    const ptrdiff_t *o = g->stride;
+    const double *h = g->h;
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                double q = 0.0;
+                for (int a = 0; a < 3; a++) {
+                    double gn = 2.0 * (vel[a][p + o[a]] - vel[a][p]) / h[a];
+                    q += 0.5 * gn * gn;
+                }
+                cn2[p] = q;
+            }
+    for (int c = 0; c < 3; c++) {
+        int a = (c + 1) % 3, b = (c + 2) % 3;
+        if (a > b) {
+            int t = a;
+            a = b;
+            b = t;
+        }
+        int lo[3], hi[3];
+        lo[a] = lo[b] = 0;
+        hi[a] = g->n[a];
+        hi[b] = g->n[b];
+        lo[c] = -1;
+        hi[c] = g->n[c];
+        double *ec = e2[c];
+#pragma omp parallel for collapse(2) schedule(static)
+        for (int i = lo[0]; i <= hi[0]; i++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int k = lo[2]; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    double ge = edge_gamma(vel, a, b, e, o[a], o[b], h[a], h[b]);
+                    ec[e] = ge * ge;
+                }
+    }
+}

@@ -1,0 +1,93 @@
+/* Viscosities and tangent coefficients where the stresses live (kernels.h). */
+#include <math.h>
+#include "kernels.h"
+
+/* Mean of f over the four nodes p, p - s1, p - s2, p - s1 - s2. */
+static inline double mean4(const double *f, ptrdiff_t p, ptrdiff_t s1, ptrdiff_t s2)
+{
+    return 0.25 * (f[p] + f[p - s1] + f[p - s2] + f[p - s1 - s2]);
+}
+
+static inline void plane_dirs(int c, int *a, int *b)
+{
+    *a = (c + 1) % 3;
+    *b = (c + 2) % 3;
+    if (*a > *b) {
+        int t = *a;
+        *a = *b;
+        *b = t;
+    }
+}
+
+void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
+                            const double *cn2, double *const e2[3], const double *p,
+                            double *eta, double *tan_c[3], double *shear2, double *preg)
+{
+    const ptrdiff_t *o = g->stride;
+    const double *h = g->h;
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                double s2 = cn2[q];
+                for (int c = 0; c < 3; c++) {
+                    int a, b;
+                    plane_dirs(c, &a, &b);
+                    /* the four edges of plane c around the cell: faces q, q + o along a, b */
+                    s2 += mean4(e2[c], q + o[a] + o[b], o[a], o[b]);
+                }
+                double shear = sqrt(s2);
+                double pr = rheology_pressure(r, p[q], NULL);
+                struct rheology_point pt;
+                rheology_eval(r, shear, pr, &pt);
+                eta[q] = pt.eta;
+                shear2[q] = s2;
+                preg[q] = pr;
+                if (tan_c)
+                    for (int a = 0; a < 3; a++) {
+                        double gn = 2.0 * (vel[a][q + o[a]] - vel[a][q]) / h[a];
+                        /* gamma_aa^2 / (2 |D|) <= |D|: the coefficient stays >= eta + eta' |D|,
+                         * the slope of the stress-shear curve, positive for every law */
+                        tan_c[a][q] = shear > 0.0 ? pt.eta + pt.deta_dshear * gn * gn / (2.0 * shear)
+                                                  : pt.eta;
+                    }
+            }
+}
+
+void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
+                            double *const e2[3], const double *p, double *eta_e[3],
+                            double *tan_e[3])
+{
+    const ptrdiff_t *o = g->stride;
+    for (int c = 0; c < 3; c++) {
+        int a, b;
+        plane_dirs(c, &a, &b);
+        int hi[3];
+        hi[a] = g->n[a];
+        hi[b] = g->n[b];
+        hi[c] = g->n[c] - 1;
+        double *ee = eta_e[c], *te = tan_e ? tan_e[c] : NULL;
+        /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
+        const double *eac = e2[b], *ebc = e2[a];
+#pragma omp parallel for collapse(2) schedule(static)
+        for (int i = 0; i <= hi[0]; i++)
+            for (int j = 0; j <= hi[1]; j++)
+                for (int k = 0; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    double own = e2[c][e];
+                    /* normal strains: the four cells around the edge; (a, c) edges:
+                     * same a-face, c-faces k, k+1, b-cells on both sides; (b, c) alike */
+                    double s2 = own + mean4(cn2, e, o[a], o[b]) +
+                                mean4(eac, e + o[c], o[c], o[b]) +
+                                mean4(ebc, e + o[c], o[c], o[a]);
+                    double shear = sqrt(s2);
+                    double pr = rheology_pressure(r, mean4(p, e, o[a], o[b]), NULL);
+                    struct rheology_point pt;
+                    rheology_eval(r, shear, pr, &pt);
+                    ee[e] = pt.eta;
+                    if (te)
+                        te[e] = shear > 0.0 ? pt.eta + pt.deta_dshear * own / shear : pt.eta;
+                }
+    }
+}

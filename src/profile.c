@@ -1,0 +1,134 @@
+/* Layer-averaged profiles, errors and headline values (profile.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "analytic.h"
+#include "profile.h"
+
+void profile_free(struct profile *pr)
+{
+    double *arrays[] = {pr->coord, pr->velocity, pr->pressure, pr->shear_rate,
+                        pr->inertial, pr->viscosity, pr->exact};
+    for (size_t m = 0; m < sizeof arrays / sizeof arrays[0]; m++)
+        free(arrays[m]);
+    memset(pr, 0, sizeof *pr);
+}
+
+int profile_extract(struct profile *pr, const struct march_state *st)
+{
+    memset(pr, 0, sizeof *pr);
+    const struct muflow_case *cs = st->cs;
+    if (scene_profile_axes(cs->scene, &pr->axis, &pr->component) != 0)
+        return -1;
+    const struct grid *g = &st->g;
+    int n = pr->n = g->n[pr->axis];
+    double **arrays[] = {&pr->coord, &pr->velocity, &pr->pressure, &pr->shear_rate,
+                         &pr->inertial, &pr->viscosity, &pr->exact};
+    for (size_t m = 0; m < sizeof arrays / sizeof arrays[0]; m++)
+        if (!(*arrays[m] = calloc((size_t)n, sizeof(double)))) {
+            profile_free(pr);
+            return -1;
+        }
+    const struct box *b = &st->act[pr->component];
+    long *nodes = calloc((size_t)n, sizeof(long)), *cells = calloc((size_t)n, sizeof(long));
+    if (!nodes || !cells) {
+        free(nodes);
+        free(cells);
+        profile_free(pr);
+        return -1;
+    }
+    for (int i = b->lo[0]; i < b->hi[0]; i++)
+        for (int j = b->lo[1]; j < b->hi[1]; j++)
+            for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                int idx[3] = {i, j, k};
+                int l = idx[pr->axis];
+                pr->velocity[l] += st->vel[pr->component][grid_idx(g, i, j, k)];
+                nodes[l]++;
+            }
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                int idx[3] = {i, j, k};
+                int l = idx[pr->axis];
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                double shear = sqrt(st->shear2[p]);
+                pr->pressure[l] += st->pressure[p];
+                pr->shear_rate[l] += shear;
+                pr->inertial[l] += rheology_inertial_number(&cs->rheo, shear, st->preg[p]);
+                pr->viscosity[l] += st->eta[p];
+                cells[l]++;
+            }
+    for (int l = 0; l < n; l++) {
+        pr->coord[l] = (l + 0.5) * g->h[pr->axis];
+        pr->velocity[l] /= nodes[l] > 0 ? (double)nodes[l] : 1.0;
+        double nc = cells[l] > 0 ? (double)cells[l] : 1.0;
+        pr->pressure[l] /= nc;
+        pr->shear_rate[l] /= nc;
+        pr->inertial[l] /= nc;
+        pr->viscosity[l] /= nc;
+        pr->exact[l] = analytic_velocity(cs, pr->coord[l]);
+    }
+    free(nodes);
+    free(cells);
+    return 0;
+}
+
+/* Surface velocity of a free-surface layer from its two top nodes.  Near a
+ * free surface p grows linearly with depth and, at fixed friction, the shear
+ * rate as sqrt(depth): u = U - C depth^(3/2) is the local form, so the two
+ * nodes at depths h/2 and 3h/2 give U. */
+static double surface_velocity(const struct profile *pr, double H)
+{
+    if (pr->n < 2)
+        return pr->velocity[pr->n - 1];
+    double d1 = H - pr->coord[pr->n - 1], d2 = H - pr->coord[pr->n - 2];
+    double u1 = pr->velocity[pr->n - 1], u2 = pr->velocity[pr->n - 2];
+    double c = (u1 - u2) / (d2 * sqrt(d2) - d1 * sqrt(d1));
+    return u1 + c * d1 * sqrt(d1);
+}
+
+/* Plug velocity: the centre layer, or the mean of the two centre layers. */
+static double plug_velocity(const struct profile *pr)
+{
+    int n = pr->n;
+    if (n % 2 == 1)
+        return pr->velocity[n / 2];
+    return 0.5 * (pr->velocity[n / 2 - 1] + pr->velocity[n / 2]);
+}
+
+void profile_errors(const struct profile *pr, const struct muflow_case *cs, struct scene_errors *e)
+{
+    memset(e, 0, sizeof *e);
+    double sum2 = 0.0, emax = 0.0;
+    e->valid = pr->n > 0;
+    for (int l = 0; l < pr->n; l++) {
+        double d = pr->velocity[l] - pr->exact[l];
+        if (!isfinite(pr->exact[l]))
+            e->valid = 0;
+        sum2 += d * d;
+        if (fabs(d) > emax)
+            emax = fabs(d);
+    }
+    e->headline = cs->scene == SCENE_BAGNOLD ? surface_velocity(pr, cs->len[2])
+                                             : plug_velocity(pr);
+    e->headline_exact = analytic_headline(cs);
+    if (!e->valid) {
+        e->err_rms = e->err_max = e->err_rms_paper = NAN;
+        return;
+    }
+    e->err_rms = sqrt(sum2 / pr->n);
+    e->err_max = emax;
+    e->err_rms_paper = sqrt(sum2) / pr->n;
+}
+
+void scene_errors_of(const struct march_state *st, struct scene_errors *e)
+{
+    struct profile pr;
+    memset(e, 0, sizeof *e);
+    if (profile_extract(&pr, st) != 0) {
+        e->err_rms = e->err_max = e->err_rms_paper = e->headline = e->headline_exact = NAN;
+        return;
+    }
+    profile_errors(&pr, st->cs, e);
+    profile_free(&pr);
+}

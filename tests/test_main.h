@@ -1,0 +1,32 @@
+/* Shared by the test groups: each tests/test_*.c defines one group runner
+ * that adds its counts to a tally, and test_main.c prints the closing line. */
+#ifndef MUFLOW_TEST_MAIN_H
+#define MUFLOW_TEST_MAIN_H
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+struct test_tally {
+    int run;
+    int failed;
+};
+
+#define RUN_GROUP(tally, name, tests)                                                   \
+    do {                                                                                \
+        (tally)->run += (int)(sizeof(tests) / sizeof((tests)[0]));                      \
+        (tally)->failed += _cmocka_run_group_tests(name, tests,                         \
+                                                   sizeof(tests) / sizeof((tests)[0]),  \
+                                                   NULL, NULL);                         \
+    } while (0)
+
+/* One runner per tests/test_<module>.c */
+void group_rheology(struct test_tally *t);
+void group_poisson(struct test_tally *t);
+void group_case(struct test_tally *t);
+void group_viscous(struct test_tally *t);
+void group_scenes(struct test_tally *t);
+
+#endif

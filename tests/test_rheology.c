@@ -1,0 +1,497 @@
+/* Unit tests of kernels/rheology.c: the viscosity laws against closed forms
+ * written out independently here, the analytic tangents against central
+ * finite differences of rheology_eval itself, and the limits D -> 0 and
+ * p -> 0 where a careless implementation gives 0/0 or cancels.
+ *
+ * Constants are those of Chauchat & Medale (2014): mu_s = 0.383,
+ * dmu = 0.26, I0 = 0.279, phi = 0.6, dimensionless d = 1, rho_s = 1/phi
+ * (so D0 = I0 sqrt(phi p)), lam = 1e-4. */
+#include <math.h>
+#include <stdio.h>
+#include "test_main.h"
+#include "rheology.h"
+
+#define LAM 1e-4
+#define MU_S 0.383
+#define DMU 0.26
+#define I0 0.279
+#define PHI 0.6
+#define TAU0 2.0
+#define ETA_P 0.1
+
+static const enum regularisation all_regs[] = {REG_SIMPLE, REG_BERCOVIER, REG_PAPANASTASIOU,
+                                               REG_MC};
+#define N_REGS (sizeof(all_regs) / sizeof(all_regs[0]))
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
+static struct rheology paper(enum regularisation reg)
+{
+    struct rheology r = {0};
+    r.law = LAW_MUI;
+    r.reg = reg;
+    r.lambda = LAM;
+    r.pressure_regularisation = 1;
+    r.mu_s = MU_S;
+    r.delta_mu = DMU;
+    r.i0 = I0;
+    r.phi = PHI;
+    r.grain_diameter = 1.0;
+    r.grain_density = 1.0 / PHI;
+    return r;
+}
+
+static struct rheology bingham(enum regularisation reg)
+{
+    struct rheology r = paper(reg);
+    r.law = LAW_BINGHAM;
+    r.yield_stress = TAU0;
+    r.plastic_viscosity = ETA_P;
+    return r;
+}
+
+/* |actual - expected| <= rtol |expected| + atol, with a readable message. */
+#define assert_close(actual, expected, rtol, atol, ctx) \
+    assert_close_((actual), (expected), (rtol), (atol), #actual, (ctx), __FILE__, __LINE__)
+
+static void assert_close_(double a, double e, double rtol, double atol, const char *what,
+                          const char *ctx, const char *file, int line)
+{
+    if (!(fabs(a - e) <= rtol * fabs(e) + atol)) {
+        print_error("%s [%s]: got %.17g, expected %.17g (rel err %.3g, rtol %.3g, atol %.3g)\n",
+                    what, ctx, a, e, fabs(a - e) / fabs(e), rtol, atol);
+        _fail(file, line);
+    }
+}
+
+static void assert_finite_point(const struct rheology_point *pt, const char *ctx)
+{
+    if (!isfinite(pt->eta) || !isfinite(pt->deta_dshear) || !isfinite(pt->deta_dp)) {
+        print_error("non-finite result [%s]: eta %g deta_dshear %g deta_dp %g\n", ctx, pt->eta,
+                    pt->deta_dshear, pt->deta_dp);
+        fail();
+    }
+}
+
+static struct rheology_point eval(const struct rheology *r, double D, double p)
+{
+    struct rheology_point pt;
+    rheology_eval(r, D, p, &pt);
+    return pt;
+}
+
+/* Closed forms of the paper, written naively (pow, exp, no series): valid
+ * for D > 0, where they are accurate enough to serve as references. */
+static double ref_eta_mui(enum regularisation reg, double D, double p)
+{
+    double D0 = I0 * sqrt(PHI * p);
+    switch (reg) {
+    case REG_SIMPLE:
+        return MU_S * p / (D + LAM) + DMU * p / (D0 + D + LAM);
+    case REG_BERCOVIER:
+        return MU_S * p / sqrt(pow(D, 2) + pow(LAM, 2)) + DMU * p / (D0 + D + LAM);
+    case REG_PAPANASTASIOU:
+        return MU_S * p * (1.0 - exp(-D / LAM)) / D + DMU * p / (D0 + D + LAM);
+    case REG_MC:
+        return (MU_S + DMU * D / (D0 + D)) * p / sqrt(pow(D, 2) + pow(LAM, 2));
+    }
+    return NAN;
+}
+
+static double ref_eta_bingham(enum regularisation reg, double D)
+{
+    switch (reg) {
+    case REG_SIMPLE:
+        return TAU0 / (D + LAM) + ETA_P;
+    case REG_PAPANASTASIOU:
+        return TAU0 * (1.0 - exp(-D / LAM)) / D + ETA_P;
+    case REG_BERCOVIER:
+    case REG_MC:
+        return TAU0 / sqrt(pow(D, 2) + pow(LAM, 2)) + ETA_P;
+    }
+    return NAN;
+}
+
+/* 1. Each regularisation of mu(I) against its closed form.  Tolerance
+ * 1e-12: both sides are a dozen correctly rounded operations; the naive
+ * 1 - exp(-x) of the reference loses ~eps/x <= 1e-15 for x = D/lam >= 0.1. */
+static void test_mui_closed_forms(void **state)
+{
+    (void)state;
+    const double Ds[] = {1e-5, 1e-4, 3e-4, 1e-2, 1.0, 30.0};
+    const double ps[] = {1e-3, 0.1, 1.0, 20.0};
+    char ctx[128];
+    for (size_t k = 0; k < N_REGS; k++) {
+        struct rheology r = paper(all_regs[k]);
+        for (size_t i = 0; i < COUNT(Ds); i++)
+            for (size_t j = 0; j < COUNT(ps); j++) {
+                snprintf(ctx, sizeof ctx, "%s D=%g p=%g", regularisation_name(all_regs[k]), Ds[i],
+                         ps[j]);
+                struct rheology_point pt = eval(&r, Ds[i], ps[j]);
+                assert_close(pt.eta, ref_eta_mui(all_regs[k], Ds[i], ps[j]), 1e-12, 0.0, ctx);
+            }
+    }
+}
+
+/* 1b. For D >> lam the regularised stress eta D tends to the unregularised
+ * mu(I) p.  Every form differs from it by a relative amount <= lam/D
+ * (simple: D/(D+lam); dmu term: (D0+D)/(D0+D+lam); bercovier/mc: lam^2/2D^2;
+ * papanastasiou: exp(-D/lam)), so lam/D (+1% slack) bounds the difference. */
+static void test_mui_stress_limit(void **state)
+{
+    (void)state;
+    const double Ds[] = {1e-2, 1.0, 100.0};
+    const double ps[] = {0.1, 1.0, 10.0};
+    char ctx[128];
+    for (size_t k = 0; k < N_REGS; k++) {
+        struct rheology r = paper(all_regs[k]);
+        for (size_t i = 0; i < COUNT(Ds); i++)
+            for (size_t j = 0; j < COUNT(ps); j++) {
+                double D = Ds[i], p = ps[j];
+                double I = D / sqrt(p * PHI); /* d = 1, rho_s = 1/phi */
+                double mu = MU_S + DMU / (I0 / I + 1.0);
+                snprintf(ctx, sizeof ctx, "%s D=%g p=%g", regularisation_name(all_regs[k]), D, p);
+                struct rheology_point pt = eval(&r, D, p);
+                assert_close(pt.eta * D, mu * p, 1.01 * LAM / D, 0.0, ctx);
+            }
+    }
+}
+
+/* Central difference of rheology_eval in D and in p, compared with the
+ * analytic tangents.  Step 1e-5 relative to the point: truncation error
+ * ~(h/scale)^2 ~ 1e-10 (the scale of variation is >= D) and rounding
+ * ~eps/1e-5 ~ 1e-11, so a relative tolerance of 1e-6 is very safe yet would
+ * catch any wrong term.  The tolerance is relative to |derivative| plus its
+ * natural scale eta/(D+lam) (resp. eta/p), since some tangents cross zero. */
+static void check_tangents(const struct rheology *r, double D, double p, const char *name)
+{
+    char ctx[160];
+    snprintf(ctx, sizeof ctx, "%s/%s D=%g p=%g", rheology_law_name(r->law), name, D, p);
+    struct rheology_point pt = eval(r, D, p);
+    assert_finite_point(&pt, ctx);
+
+    double hD = 1e-5 * D;
+    double fdD = (eval(r, D + hD, p).eta - eval(r, D - hD, p).eta) / (2.0 * hD);
+    assert_close(pt.deta_dshear, fdD, 1e-6, 1e-6 * fabs(pt.eta) / (D + r->lambda), ctx);
+
+    double hp = 1e-5 * p;
+    double fdp = (eval(r, D, p + hp).eta - eval(r, D, p - hp).eta) / (2.0 * hp);
+    assert_close(pt.deta_dp, fdp, 1e-6, 1e-6 * fabs(pt.eta) / p, ctx);
+}
+
+/* 2. Tangents of the four mu(I) regularisations, around D ~ lam (where the
+ * regularisation bends the law; 0.1 lam is the papanastasiou series switch)
+ * and for D >> lam. */
+static void test_tangents_mui(void **state)
+{
+    (void)state;
+    const double Ds[] = {0.1 * LAM, 0.3 * LAM, LAM, 3.0 * LAM, 0.1, 10.0};
+    const double ps[] = {1e-3, 1.0, 30.0};
+    for (size_t k = 0; k < N_REGS; k++) {
+        struct rheology r = paper(all_regs[k]);
+        for (size_t i = 0; i < COUNT(Ds); i++)
+            for (size_t j = 0; j < COUNT(ps); j++)
+                check_tangents(&r, Ds[i], ps[j], regularisation_name(all_regs[k]));
+    }
+}
+
+/* 2b. Bingham tangents (deta_dp is exactly 0: no pressure dependence). */
+static void test_tangents_bingham(void **state)
+{
+    (void)state;
+    const double Ds[] = {0.1 * LAM, 0.3 * LAM, LAM, 3.0 * LAM, 0.1, 10.0};
+    for (size_t k = 0; k < N_REGS; k++) {
+        struct rheology r = bingham(all_regs[k]);
+        for (size_t i = 0; i < COUNT(Ds); i++) {
+            check_tangents(&r, Ds[i], 1.0, regularisation_name(all_regs[k]));
+            assert_true(eval(&r, Ds[i], 1.0).deta_dp == 0.0);
+        }
+    }
+}
+
+/* 2c. d p_reg / dp against a central difference, including p << 0 where
+ * the naive (p + sqrt(p^2+lam^2))/2 would cancel to 0 and the difference
+ * quotient would be noise; same 1e-5 relative step and 1e-6 tolerance. */
+static void test_tangent_pressure(void **state)
+{
+    (void)state;
+    struct rheology r = paper(REG_BERCOVIER);
+    const double ps[] = {-1e3, -1.0, -1e-4, 0.0, 1e-4, 1.0, 1e3};
+    char ctx[64];
+    for (size_t j = 0; j < COUNT(ps); j++) {
+        double p = ps[j], d;
+        snprintf(ctx, sizeof ctx, "p=%g", p);
+        rheology_pressure(&r, p, &d);
+        double h = 1e-5 * fmax(fabs(p), LAM);
+        double fd = (rheology_pressure(&r, p + h, NULL) - rheology_pressure(&r, p - h, NULL)) /
+                    (2.0 * h);
+        assert_close(d, fd, 1e-6, 0.0, ctx);
+        assert_true(d > 0.0 && d <= 1.0);
+    }
+}
+
+/* 3. D = 0 exactly: finite, equal to the analytic limits (to rounding,
+ * 1e-14), and tiny D (1e-300, the smallest subnormal) gives the same. */
+static void test_limit_shear_zero(void **state)
+{
+    (void)state;
+    const double ps[] = {1e-2, 1.0, 10.0};
+    const double tiny[] = {1e-300, 4.9406564584124654e-324};
+    char ctx[128];
+    for (size_t k = 0; k < N_REGS; k++) {
+        enum regularisation reg = all_regs[k];
+        struct rheology r = paper(reg);
+        for (size_t j = 0; j < COUNT(ps); j++) {
+            double p = ps[j], D0 = I0 * sqrt(PHI * p);
+            double eta, deta_dD, deta_dp;
+            if (reg == REG_MC) {
+                /* rate term D/(D0+D) vanishes at rest; its D-slope is 1/D0 */
+                eta = MU_S * p / LAM;
+                deta_dD = DMU * p / (D0 * LAM);
+                deta_dp = MU_S / LAM;
+            } else {
+                double dmu_term = DMU * p / (D0 + LAM);
+                eta = MU_S * p / LAM + dmu_term;
+                deta_dp = MU_S / LAM + DMU * (0.5 * D0 + LAM) / ((D0 + LAM) * (D0 + LAM));
+                double dyield = reg == REG_SIMPLE ? -MU_S * p / (LAM * LAM)
+                                : reg == REG_BERCOVIER ? 0.0
+                                : -0.5 * MU_S * p / (LAM * LAM); /* papanastasiou */
+                deta_dD = dyield - dmu_term / (D0 + LAM);
+            }
+            snprintf(ctx, sizeof ctx, "%s D=0 p=%g", regularisation_name(reg), p);
+            struct rheology_point pt = eval(&r, 0.0, p);
+            assert_finite_point(&pt, ctx);
+            assert_close(pt.eta, eta, 1e-14, 0.0, ctx);
+            assert_close(pt.deta_dshear, deta_dD, 1e-14, 0.0, ctx);
+            assert_close(pt.deta_dp, deta_dp, 1e-14, 0.0, ctx);
+            for (size_t t = 0; t < COUNT(tiny); t++) {
+                snprintf(ctx, sizeof ctx, "%s D=%g p=%g", regularisation_name(reg), tiny[t], p);
+                struct rheology_point pt2 = eval(&r, tiny[t], p);
+                assert_finite_point(&pt2, ctx);
+                assert_close(pt2.eta, eta, 1e-14, 0.0, ctx);
+            }
+        }
+    }
+}
+
+/* 3b. Pressure regularisation near and below 0. */
+static void test_limit_pressure(void **state)
+{
+    (void)state;
+    struct rheology r = paper(REG_MC);
+    double d;
+    /* p_reg(0) = lam/2 with slope 1/2 */
+    assert_close(rheology_pressure(&r, 0.0, &d), 0.5 * LAM, 1e-15, 0.0, "p=0");
+    assert_close(d, 0.5, 1e-15, 0.0, "p=0");
+    /* p << 0: p_reg ~ lam^2/(4|p|) (next term relative lam^2/(4 p^2) ~ 1e-20),
+     * slope ~ lam^2/(4 p^2); the naive formula would return exactly 0 here */
+    double pr = rheology_pressure(&r, -1e6, &d);
+    assert_true(pr > 0.0);
+    assert_close(pr, LAM * LAM / 4e6, 1e-12, 0.0, "p=-1e6");
+    assert_close(d, LAM * LAM / 4e12, 1e-12, 0.0, "p=-1e6");
+    /* p >> 0: p_reg = p + lam^2/(4p) to rounding */
+    assert_close(rheology_pressure(&r, 1e6, &d), 1e6, 1e-15, 0.0, "p=1e6");
+    assert_close(d, 1.0, 1e-15, 0.0, "p=1e6");
+    /* strictly increasing and positive over a sweep */
+    const double sweep[] = {-1e8, -1e4, -1.0, -1e-4, -1e-8, 0.0, 1e-8, 1e-4, 1.0, 1e4, 1e8};
+    double prev = 0.0;
+    for (size_t i = 0; i < COUNT(sweep); i++) {
+        double v = rheology_pressure(&r, sweep[i], NULL);
+        assert_true(v > prev);
+        prev = v;
+    }
+    /* without regularisation: max(p, 0) and a 0/1 slope */
+    r.pressure_regularisation = 0;
+    assert_true(rheology_pressure(&r, -3.0, &d) == 0.0 && d == 0.0);
+    assert_true(rheology_pressure(&r, 0.0, &d) == 0.0 && d == 0.0);
+    assert_true(rheology_pressure(&r, 2.5, &d) == 2.5 && d == 1.0);
+
+    /* mc: eta -> 0 monotonically as p_reg -> 0 (eta ~ p), everything finite;
+     * at p = 0 every mu(I) law gives eta = 0 exactly, at rest or not. */
+    r.pressure_regularisation = 1;
+    const double ps[] = {1e-2, 1e-6, 1e-10, 1e-100, 1e-300, 0.0};
+    const double Ds[] = {0.0, LAM, 1.0};
+    char ctx[96];
+    for (size_t i = 0; i < COUNT(Ds); i++) {
+        double last = INFINITY;
+        for (size_t j = 0; j < COUNT(ps); j++) {
+            snprintf(ctx, sizeof ctx, "mc D=%g p=%g", Ds[i], ps[j]);
+            struct rheology_point pt = eval(&r, Ds[i], ps[j]);
+            assert_finite_point(&pt, ctx);
+            assert_true(pt.eta >= 0.0 && pt.eta < last);
+            last = pt.eta;
+        }
+        assert_true(last == 0.0);
+        for (size_t k = 0; k < N_REGS; k++) {
+            struct rheology rk = paper(all_regs[k]);
+            assert_true(eval(&rk, Ds[i], 0.0).eta == 0.0);
+        }
+    }
+}
+
+/* Long-double series of h(x) = (1 - e^-x)/x and h'(x), an independent
+ * reference for the papanastasiou kernel; 40 terms converge to < 1e-19
+ * for x <= 2. */
+static void papa_series(double x, double *h, double *dh)
+{
+    long double s = 0.0L, ds = 0.0L, term = 1.0L; /* term = (-x)^n / (n+1)! */
+    for (int n = 0; n < 40; n++) {
+        s += term;
+        if (n >= 1)
+            ds += (long double)n * term / (long double)x;
+        term *= -(long double)x / (long double)(n + 2);
+    }
+    *h = (double)s;
+    *dh = (double)ds;
+}
+
+/* 3c. Papanastasiou across its series switches and at D = 1e-12 lam: the
+ * yield term mu_s p h(x)/lam and its slope mu_s p h'(x)/lam^2 must match the
+ * series to rounding (1e-14 for the value, 1e-13 for the slope, whose closed
+ * form loses ~2 eps/x just above the x = 0.1 switch). */
+static void test_papanastasiou_series(void **state)
+{
+    (void)state;
+    struct rheology r = paper(REG_PAPANASTASIOU);
+    r.delta_mu = 0.0; /* isolate the yield term */
+    const double p = 1.7;
+    const double xs[] = {0.0, 1e-12, 1e-6, 1e-5 * (1 - 1e-9), 1e-5 * (1 + 1e-9), 1e-3,
+                         0.1 * (1 - 1e-9), 0.1 * (1 + 1e-9), 0.5, 1.0, 2.0};
+    char ctx[64];
+    for (size_t i = 0; i < COUNT(xs); i++) {
+        double h, dh;
+        if (xs[i] == 0.0) {
+            h = 1.0;
+            dh = -0.5;
+        } else {
+            papa_series(xs[i], &h, &dh);
+        }
+        snprintf(ctx, sizeof ctx, "x=%.17g", xs[i]);
+        struct rheology_point pt = eval(&r, xs[i] * LAM, p);
+        assert_close(pt.eta, MU_S * p * h / LAM, 1e-14, 0.0, ctx);
+        assert_close(pt.deta_dshear, MU_S * p * dh / (LAM * LAM), 1e-13, 0.0, ctx);
+    }
+    /* with the rate term, at D = 1e-12 lam: eta = mu_s p (1 - x/2)/lam + dmu p/den */
+    r.delta_mu = DMU;
+    double x = 1e-12, D = x * LAM, D0 = I0 * sqrt(PHI * p), den = D0 + D + LAM;
+    struct rheology_point pt = eval(&r, D, p);
+    assert_finite_point(&pt, "papa D=1e-12 lam");
+    assert_close(pt.eta, MU_S * p * (1 - 0.5 * x) / LAM + DMU * p / den, 1e-14, 0.0, "eta");
+    assert_close(pt.deta_dshear,
+                 -MU_S * p * (0.5 - x / 3.0) / (LAM * LAM) - DMU * p / (den * den), 1e-14, 0.0,
+                 "deta_dshear");
+}
+
+/* 4. Bingham (yield term as above with tau_0, plus plastic viscosity) and
+ * Newtonian values. */
+static void test_bingham_newtonian(void **state)
+{
+    (void)state;
+    const double Ds[] = {1e-5, LAM, 1.0, 100.0};
+    char ctx[64];
+    for (size_t k = 0; k < N_REGS; k++) {
+        struct rheology r = bingham(all_regs[k]);
+        for (size_t i = 0; i < COUNT(Ds); i++) {
+            snprintf(ctx, sizeof ctx, "%s D=%g", regularisation_name(all_regs[k]), Ds[i]);
+            /* independent of the pressure */
+            assert_close(eval(&r, Ds[i], 3.0).eta, ref_eta_bingham(all_regs[k], Ds[i]), 1e-12,
+                         0.0, ctx);
+            assert_true(eval(&r, Ds[i], 0.0).eta == eval(&r, Ds[i], 3.0).eta);
+        }
+        /* at rest every form gives tau_0/lam + eta_p */
+        assert_close(eval(&r, 0.0, 1.0).eta, TAU0 / LAM + ETA_P, 1e-15, 0.0, "D=0");
+        /* stress -> tau_0 + eta_p D for D >> lam, relative difference <= lam/D */
+        assert_close(eval(&r, 10.0, 1.0).eta * 10.0, TAU0 + ETA_P * 10.0, LAM / 10.0, 0.0,
+                     "D=10");
+    }
+
+    struct rheology n = {0};
+    n.law = LAW_NEWTONIAN;
+    n.viscosity = 0.37;
+    n.lambda = LAM;
+    const double pts[][2] = {{0.0, 0.0}, {1e-300, 5.0}, {1.0, 1.0}, {1e6, 1e-3}};
+    for (size_t i = 0; i < COUNT(pts); i++) {
+        struct rheology_point pt = eval(&n, pts[i][0], pts[i][1]);
+        assert_true(pt.eta == 0.37);
+        assert_true(pt.deta_dshear == 0.0 && pt.deta_dp == 0.0);
+    }
+}
+
+/* 4b. mu(I) and I, the unregularised law used by analytic solutions. */
+static void test_mu_of_i(void **state)
+{
+    (void)state;
+    struct rheology r = paper(REG_BERCOVIER);
+    assert_true(rheology_mu_of_i(&r, 0.0) == MU_S);
+    assert_close(rheology_mu_of_i(&r, I0), MU_S + 0.5 * DMU, 1e-15, 0.0, "I=I0");
+    assert_close(rheology_mu_of_i(&r, 0.1), MU_S + DMU / (I0 / 0.1 + 1.0), 1e-15, 0.0, "I=.1");
+    assert_close(rheology_mu_of_i(&r, 1e300), MU_S + DMU, 1e-15, 0.0, "I=1e300");
+    assert_close(rheology_mu_of_i(&r, INFINITY), MU_S + DMU, 1e-15, 0.0, "I=inf");
+
+    /* dimensionless: I = D / sqrt(phi p) */
+    assert_close(rheology_inertial_number(&r, 2.0, 0.6), 2.0 / 0.6, 1e-15, 0.0, "I(2,.6)");
+    assert_true(rheology_inertial_number(&r, 2.0, 0.0) == 0.0);
+    assert_true(rheology_inertial_number(&r, 2.0, -1.0) == 0.0);
+    /* at D = D0(p), I = I0 by definition of D0 */
+    double p = 0.37;
+    assert_close(rheology_inertial_number(&r, I0 * sqrt(PHI * p), p), I0, 1e-15, 0.0, "I(D0)");
+    /* dimensional glass beads: d = 0.5 mm, rho_s = 2500, p = 100 Pa, D = 10/s */
+    r.grain_diameter = 0.5e-3;
+    r.grain_density = 2500.0;
+    assert_close(rheology_inertial_number(&r, 10.0, 100.0), 10.0 * 0.5e-3 / sqrt(100.0 / 2500.0),
+                 1e-15, 0.0, "I dimensional");
+}
+
+/* No NaN/Inf anywhere in D >= 0, p_reg >= 0 over 400 orders of magnitude,
+ * for every law and regularisation, and eta >= 0. */
+static void test_no_nan_sweep(void **state)
+{
+    (void)state;
+    const double vals[] = {0.0, 4.9406564584124654e-324, 1e-300, 1e-12, LAM, 1.0, 1e6, 1e100};
+    const enum rheology_law laws[] = {LAW_MUI, LAW_BINGHAM, LAW_NEWTONIAN};
+    char ctx[96];
+    for (size_t l = 0; l < COUNT(laws); l++)
+        for (size_t k = 0; k < N_REGS; k++) {
+            struct rheology r = bingham(all_regs[k]);
+            r.law = laws[l];
+            r.viscosity = 1.0;
+            for (size_t i = 0; i < COUNT(vals); i++)
+                for (size_t j = 0; j < COUNT(vals); j++) {
+                    snprintf(ctx, sizeof ctx, "%s/%s D=%g p=%g", rheology_law_name(laws[l]),
+                             regularisation_name(all_regs[k]), vals[i], vals[j]);
+                    struct rheology_point pt = eval(&r, vals[i], vals[j]);
+                    assert_finite_point(&pt, ctx);
+                    assert_true(pt.eta >= 0.0);
+                }
+        }
+}
+
+static void test_names(void **state)
+{
+    (void)state;
+    assert_string_equal(rheology_law_name(LAW_MUI), "mui");
+    assert_string_equal(rheology_law_name(LAW_BINGHAM), "bingham");
+    assert_string_equal(rheology_law_name(LAW_NEWTONIAN), "newtonian");
+    assert_string_equal(regularisation_name(REG_SIMPLE), "simple");
+    assert_string_equal(regularisation_name(REG_BERCOVIER), "bercovier");
+    assert_string_equal(regularisation_name(REG_PAPANASTASIOU), "papanastasiou");
+    assert_string_equal(regularisation_name(REG_MC), "mc");
+}
+
+void group_rheology(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mui_closed_forms),
+        cmocka_unit_test(test_mui_stress_limit),
+        cmocka_unit_test(test_tangents_mui),
+        cmocka_unit_test(test_tangents_bingham),
+        cmocka_unit_test(test_tangent_pressure),
+        cmocka_unit_test(test_limit_shear_zero),
+        cmocka_unit_test(test_limit_pressure),
+        cmocka_unit_test(test_papanastasiou_series),
+        cmocka_unit_test(test_bingham_newtonian),
+        cmocka_unit_test(test_mu_of_i),
+        cmocka_unit_test(test_no_nan_sweep),
+        cmocka_unit_test(test_names),
+    };
+    RUN_GROUP(t, "rheology", tests);
+}
