@@ -33,6 +33,10 @@ void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f);
  * edges is then second-order accurate, and zero on a free surface. */
 void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, double *f);
 
+/* The boxes of velocity unknowns: for component c, the faces along c that
+ * are not prescribed (see bc_face_active) and every cell across. */
+void bc_unknown_boxes(const struct grid *g, const struct boundary *bc, struct box act[3]);
+
 /* 1 when face index i along direction d carries an unknown of the velocity
  * component d (periodic: faces 0..n-1; otherwise interior faces 1..n-1). */
 static inline int bc_face_active(const struct boundary *bc, const struct grid *g, int d, int i)

@@ -31,6 +31,11 @@ static inline ptrdiff_t grid_idx(const struct grid *g, int i, int j, int k)
     return (ptrdiff_t)(i + 1) * g->stride[0] + (ptrdiff_t)(j + 1) * g->stride[1] + (k + 1);
 }
 
+/* A box of local indices [lo, hi) per direction. */
+struct box {
+    int lo[3], hi[3];
+};
+
 /* Fills a grid from cell counts and lengths; returns 0, or -1 for a count < 1
  * or a length <= 0. */
 int grid_init(struct grid *g, const int n[3], const double len[3]);

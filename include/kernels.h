@@ -22,10 +22,6 @@
 #include "grid.h"
 #include "rheology.h"
 
-struct box {
-    int lo[3], hi[3];
-};
-
 /* cn2 = 0.5 sum_i gamma_ii^2 on interior cells; e2[c] = gamma_ab^2 on the
  * edges of plane c, face indices 0..n along a and b, cells -1..n along c
  * (velocity ghosts filled). */

@@ -45,9 +45,9 @@ struct march_state {
 
     long step;
     double time, dt;
-    double residual;            /* max over faces of the momentum residual beyond the
-                                   round-off of its terms, / (rho g) */
-    double residual_raw;        /* max |momentum residual| / (rho g) */
+    double residual;            /* max |momentum residual| / (rho g) */
+    double residual_excess;     /* the same beyond the round-off of its terms: what the
+                                   steady criterion tests */
     double divergence;          /* max |div u| h / max |u| */
     double residual0;
     double wall_seconds;

@@ -103,3 +103,12 @@ void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, doub
         }
     }
 }
+
+void bc_unknown_boxes(const struct grid *g, const struct boundary *bc, struct box act[3])
+{
+    for (int c = 0; c < 3; c++)
+        for (int d = 0; d < 3; d++) {
+            act[c].lo[d] = (d == c && bc->face[d][0] != BC_PERIODIC) ? 1 : 0;
+            act[c].hi[d] = g->n[d];
+        }
+}

@@ -110,13 +110,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
         return -1;
     }
     const struct grid *g = &st->g;
-    for (int c = 0; c < 3; c++)
-        for (int d = 0; d < 3; d++) {
-            st->act[c].lo[d] = 0;
-            st->act[c].hi[d] = g->n[d];
-            if (d == c && st->bc.face[d][0] != BC_PERIODIC)
-                st->act[c].lo[d] = 1; /* boundary faces carry no unknown */
-        }
+    bc_unknown_boxes(g, &st->bc, st->act);
     int ok = 1;
     for (int c = 0; c < 3; c++) {
         ok &= (st->vel[c] = field_alloc(g)) != NULL;
@@ -223,11 +217,11 @@ static void evaluate_residual(struct march_state *st)
         kernel_axpy(g, st->act, cs->density, st->adv, st->res);
     }
     double scale = force_scale(cs);
-    st->residual_raw = kernel_max_abs(g, st->act, st->res) / scale;
+    st->residual = kernel_max_abs(g, st->act, st->res) / scale;
     kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
                             st->delta);
-    st->residual = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
-                                          ROUNDOFF_EPS) / scale;
+    st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
+                                                 ROUNDOFF_EPS) / scale;
     kernel_divergence(g, st->vel, st->div);
     double umax = kernel_max_abs(g, st->act, st->vel);
     double dmax = kernel_max_abs_cells(g, st->div);
@@ -339,13 +333,13 @@ static void check_end(struct march_state *st, long best_step)
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,
                  "non-finite values at step %ld; the last finite state is kept", bad);
-    } else if (cs->mode == MODE_STEADY && st->residual <= cs->tolerance &&
+    } else if (cs->mode == MODE_STEADY && st->residual_excess <= cs->tolerance &&
                st->divergence <= cs->tolerance) {
         st->status = STATUS_STEADY;
-        if (st->residual_raw > cs->tolerance)
+        if (st->residual > cs->tolerance)
             snprintf(st->message, sizeof st->message,
-                     "residual %.3e at the round-off of its terms (beyond it %.1e <= "
-                     "tolerance %.1e)", st->residual_raw, st->residual, cs->tolerance);
+                     "residual %.3e is round-off of its terms: beyond it %.1e <= tolerance %.1e",
+                     st->residual, st->residual_excess, cs->tolerance);
         else
             snprintf(st->message, sizeof st->message, "residual %.3e <= tolerance %.1e",
                      st->residual, cs->tolerance);

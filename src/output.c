@@ -74,7 +74,8 @@ int history_open(struct history *h, const char *dir, char *err, size_t errlen)
                     errlen);
     if (!h->f)
         return -1;
-    fprintf(h->f, "step,time,wall_seconds,dt,residual,divergence,linear_iterations,err_rms\n");
+    fprintf(h->f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
+                  "linear_iterations,rejected_steps,err_rms\n");
     return 0;
 }
 
@@ -82,8 +83,9 @@ void history_row(struct history *h, const struct march_state *st, const struct s
 {
     if (!h->f)
         return;
-    fprintf(h->f, "%ld,%.10g,%.6g,%.6g,%.6e,%.6e,%d,%.6e\n", st->step, st->time, st->wall_seconds,
-            st->dt, st->residual, st->divergence, st->linear_iterations, e->err_rms);
+    fprintf(h->f, "%ld,%.10g,%.6g,%.6g,%.6e,%.6e,%.6e,%d,%ld,%.6e\n", st->step, st->time,
+            st->wall_seconds, st->dt, st->residual, st->residual_excess, st->divergence,
+            st->linear_iterations, st->rejected, e->err_rms);
 }
 
 int history_close(struct history *h, char *err, size_t errlen)

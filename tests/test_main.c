@@ -11,6 +11,8 @@ static const struct {
     {"rheology", group_rheology},
     {"poisson", group_poisson},
     {"case", group_case},
+    {"viscous", group_viscous},
+    {"scenes", group_scenes},
 };
 
 int main(int argc, char **argv)

@@ -9,6 +9,10 @@
 #include <stdint.h>
 #include <cmocka.h>
 
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
 struct test_tally {
     int run;
     int failed;

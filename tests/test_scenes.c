@@ -1,0 +1,327 @@
+/* Whole scenes against their analytic profiles (seeds/000 sec. 3, app. A-B)
+ * and the extremes of the inclined plane; run through the library. */
+#define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "analytic.h"
+#include "march.h"
+#include "run.h"
+#include "test_main.h"
+
+#define CASES_DIR "../cases/"
+
+static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
+{
+    char err[512];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+static void run(const struct muflow_case *cs, struct run_result *r)
+{
+    char err[512];
+    int rc = run_case(cs, 0, r, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* bagnold at every resolution of the paper's Table 1, from rest. */
+static void test_bagnold_table1(void **state)
+{
+    (void)state;
+    static const int nz[] = {5, 10, 20, 40, 80, 160};
+    double err[6];
+    for (int m = 0; m < 6; m++) {
+        struct muflow_case cs;
+        char o1[64];
+        snprintf(o1, sizeof o1, "domain.nz=%d", nz[m]);
+        char *ov[] = {o1};
+        load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+        struct run_result r;
+        run(&cs, &r);
+        print_message("bagnold H/%-3d %s in %3ld steps: err_rms %.3e err_max %.3e u_surface "
+                      "%.5f (exact %.5f)\n",
+                      nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
+                      r.errors.err_max, r.errors.headline, r.errors.headline_exact);
+        assert_int_equal(r.status, STATUS_STEADY);
+        err[m] = r.errors.err_rms;
+        if (nz[m] == 40) {
+            assert_true(r.errors.err_rms <= 2e-4);
+            /* the exact surface velocity quoted by the issue: 1.5914 */
+            assert_true(fabs(r.errors.headline_exact - 1.5914) < 1e-4);
+            assert_true(fabs(r.errors.headline - r.errors.headline_exact) <=
+                        1e-3 * r.errors.headline_exact);
+        }
+    }
+    double order = log2(err[1] / err[5]) / 4.0;
+    print_message("bagnold RMS order H/10 -> H/160: %.3f\n", order);
+    assert_true(order >= 1.8);
+}
+
+static void chute_run(const char *reg, int ny, const char *lambda, struct run_result *r)
+{
+    struct muflow_case cs;
+    char o1[64], o2[64], o3[64];
+    snprintf(o1, sizeof o1, "domain.ny=%d", ny);
+    snprintf(o2, sizeof o2, "rheology.regularisation=%s", reg);
+    snprintf(o3, sizeof o3, "rheology.lambda=%s", lambda);
+    char *ov[] = {o1, o2, o3};
+    load(&cs, CASES_DIR "chute.ini", 3, ov);
+    run(&cs, r);
+    print_message("chute %-13s b/%-3d lambda %-5s %s in %3ld steps: err_rms %.3e u_plug %.5f "
+                  "(exact %.5f)\n",
+                  reg, ny, lambda, run_status_name(r->status), r->steps, r->errors.err_rms,
+                  r->errors.headline, r->errors.headline_exact);
+}
+
+/* chute from rest, four regularisations, b/10 .. b/160. */
+static void test_chute_regularisations(void **state)
+{
+    (void)state;
+    static const char *regs[] = {"simple", "bercovier", "papanastasiou", "mc"};
+    static const int ny[] = {10, 20, 40, 80, 160};
+    for (int a = 0; a < 4; a++)
+        for (int m = 0; m < 5; m++) {
+            struct run_result r;
+            chute_run(regs[a], ny[m], "1e-4", &r);
+            assert_int_equal(r.status, STATUS_STEADY);
+            if (a == 3 && ny[m] == 80) {
+                assert_true(r.errors.err_rms <= 8e-3);
+                assert_true(fabs(r.errors.headline_exact - (-1.2308)) < 1e-4);
+                assert_true(fabs(r.errors.headline - r.errors.headline_exact) <=
+                            0.01 * fabs(r.errors.headline_exact));
+            }
+        }
+}
+
+/* At b/160 the discretisation error is small enough for the regularisation
+ * error to show: the error falls as lambda falls. */
+static void test_chute_lambda(void **state)
+{
+    (void)state;
+    static const char *lams[] = {"1e-4", "1e-5", "1e-6"};
+    double prev = INFINITY;
+    for (int m = 0; m < 3; m++) {
+        struct run_result r;
+        chute_run("mc", 160, lams[m], &r);
+        assert_int_equal(r.status, STATUS_STEADY);
+        assert_true(r.errors.err_rms < prev);
+        prev = r.errors.err_rms;
+    }
+}
+
+/* lambda = 1e-8: a rigid-zone viscosity of about 1e9 still converges. */
+static void test_chute_lambda_1e8(void **state)
+{
+    (void)state;
+    struct run_result r;
+    chute_run("mc", 80, "1e-8", &r);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.errors.err_rms <= 8e-3);
+}
+
+/* Below the threshold atan(mu_s) the layer stays at rest but for the creep
+ * the regularisation allows: with mc, tau = mu_s p |D| / sqrt(|D|^2 + lam^2)
+ * at the ratio r = tan(a) / mu_s of stress to yield stress gives
+ * |D| = lam r / sqrt(1 - r^2) everywhere, a surface speed H lam r / sqrt(1 - r^2). */
+static void test_bagnold_below_threshold(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"physics.tilt=0.36"};
+    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+    struct march_state st;
+    char err[256];
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(march_run(&st, NULL, NULL), STATUS_STEADY);
+    double umax = kernel_max_abs(&st.g, st.act, st.vel);
+    double ratio = tan(0.36) / cs.rheo.mu_s;
+    double creep = cs.len[2] * cs.rheo.lambda * ratio / sqrt(1.0 - ratio * ratio);
+    print_message("tilt 0.36: max |u| %.3e, regularisation creep %.3e (lambda %.0e)\n", umax,
+                  creep, cs.rheo.lambda);
+    assert_true(umax <= 1.05 * creep);
+    assert_true(umax < 100.0 * cs.rheo.lambda);
+    march_destroy(&st);
+}
+
+/* Above atan(mu_s + dmu) no steady state exists: the run must say that the
+ * layer accelerates, in bounded time. */
+static void test_bagnold_above_threshold(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"physics.tilt=0.6"};
+    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("tilt 0.6: %s after %ld steps: %s\n", run_status_name(r.status), r.steps,
+                  r.message);
+    assert_int_equal(r.status, STATUS_UNSTEADY);
+    assert_non_null(strstr(r.message, "accelerates"));
+    assert_true(r.steps < cs.max_steps);
+    assert_false(r.errors.valid); /* no analytic steady profile to compare with */
+}
+
+/* Transient mode: start-up of a Newtonian layer down an incline (no slip at
+ * the base, free surface on top), u_t = nu u_zz + g sin(a):
+ * u = S (H z - z^2/2) - sum_n (2 S / (H l_n^3)) sin(l_n z) exp(-nu l_n^2 t),
+ * l_n = (2n+1) pi / (2H), S = g sin(a) / nu.  The linearly implicit step is
+ * first order in time: halving dt halves the error. */
+static double startup_error(const char *dt)
+{
+    struct muflow_case cs;
+    char o1[64];
+    snprintf(o1, sizeof o1, "solver.dt=%s", dt);
+    char *ov[] = {"rheology.law=newtonian", "rheology.viscosity=1", "case.scene=none",
+                  "domain.lz=1", "domain.nz=64",  "domain.lx=0.03125",
+                  "physics.tilt=0.5", "solver.mode=transient", "solver.end_time=0.1", o1};
+    load(&cs, CASES_DIR "bagnold.ini", 10, ov);
+    struct march_state st;
+    char err[256];
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
+    assert_true(fabs(st.time - 0.1) < 1e-12);
+    double H = 1.0, S = sin(0.5), t = st.time, emax = 0.0;
+    for (int k = 0; k < st.g.n[2]; k++) {
+        double z = (k + 0.5) * st.g.h[2];
+        double u = S * (H * z - 0.5 * z * z);
+        for (int n = 0; n < 200; n++) {
+            double l = (2 * n + 1) * M_PI / (2 * H);
+            u -= 2 * S / (H * l * l * l) * sin(l * z) * exp(-l * l * t);
+        }
+        emax = fmax(emax, fabs(st.vel[0][grid_idx(&st.g, 0, 0, k)] - u));
+    }
+    march_destroy(&st);
+    return emax;
+}
+
+static void test_transient_startup(void **state)
+{
+    (void)state;
+    double e1 = startup_error("2e-3"), e2 = startup_error("1e-3");
+    print_message("transient start-up: max error %.3e (dt 2e-3), %.3e (dt 1e-3), ratio %.2f\n",
+                  e1, e2, e1 / e2);
+    assert_true(e2 < 2e-3); /* the solution reaches about 0.04 at t = 0.1 */
+    assert_true(e1 / e2 > 1.7 && e1 / e2 < 2.3);
+}
+
+/* The command line: bad input is refused with exit status 2, one line naming
+ * the key, and nothing written. */
+static int run_cli(const char *args, char *line, size_t len)
+{
+    char cmd[1200];
+    snprintf(cmd, sizeof cmd, "../build/muflow %s 2>&1 >/dev/null", args);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    line[0] = '\0';
+    if (!fgets(line, (int)len, p))
+        line[0] = '\0';
+    char rest[256];
+    int extra = fgets(rest, sizeof rest, p) != NULL;
+    int st = pclose(p);
+    assert_false(extra); /* one line */
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+static void test_cli_bad_input(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *args, *names;
+    } bad[] = {
+        {CASES_DIR "bagnold.ini rheology.lambda=-1", "rheology.lambda"},
+        {CASES_DIR "bagnold.ini rheology.phi=1.5", "rheology.phi"},
+        {CASES_DIR "bagnold.ini domain.nz=0", "domain.nz"},
+        {CASES_DIR "bagnold.ini domain.nz=ten", "domain.nz"},
+        {CASES_DIR "bagnold.ini rheology.lamda=1e-8", "rheology.lambda"},
+        {CASES_DIR "bagnold.ini boundary.xlo=wall", "boundary.x"},
+        {CASES_DIR "missing.ini", "missing.ini"},
+    };
+    char dir[] = "/tmp/muflow_cli_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    for (size_t m = 0; m < sizeof bad / sizeof bad[0]; m++) {
+        char args[1024], line[512], out[256];
+        snprintf(out, sizeof out, "%s/out", dir);
+        snprintf(args, sizeof args, "%s output.dir=%s", bad[m].args, out);
+        int rc = run_cli(args, line, sizeof line);
+        print_message("%-45s -> %d: %s", bad[m].args, rc, line);
+        assert_int_equal(rc, 2);
+        assert_non_null(strstr(line, bad[m].names));
+        FILE *f = fopen(out, "r");
+        assert_null(f); /* nothing written */
+    }
+    rmdir(dir);
+}
+
+/* A whole run from the command line: progress, final line, output files. */
+static void test_cli_run_outputs(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/muflow_run_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "../build/muflow " CASES_DIR "bagnold.ini output.dir=%s/b", dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    char line[1024];
+    int progress = 0, final = 0, errline = 0;
+    while (fgets(line, sizeof line, p)) {
+        progress += strstr(line, "step ") && strstr(line, "residual") ? 1 : 0;
+        final += strstr(line, "steady after") && strstr(line, "wall") ? 1 : 0;
+        errline += strstr(line, "err_rms") && strstr(line, "u_surface") ? 1 : 0;
+    }
+    assert_int_equal(pclose(p), 0);
+    assert_true(progress >= 1 && final == 1 && errline >= 1);
+    static const char *files[] = {"summary.ini", "profile.csv", "history.csv"};
+    static const char *first[] = {NULL, "z,u,pressure,shear_rate,inertial_number,viscosity,u_exact",
+                                  "step,time,wall_seconds,dt,residual"};
+    for (int m = 0; m < 3; m++) {
+        char path[1200];
+        snprintf(path, sizeof path, "%s/b/%s", dir, files[m]);
+        FILE *f = fopen(path, "r");
+        assert_non_null(f);
+        char head[256] = "";
+        assert_non_null(fgets(head, sizeof head, f));
+        if (first[m])
+            assert_int_equal(strncmp(head, first[m], strlen(first[m])), 0);
+        if (m == 0) { /* summary: the [result] keys */
+            char text[8192];
+            size_t n = fread(text, 1, sizeof text - 1, f);
+            text[n] = '\0';
+            static const char *keys[] = {"status = steady", "steps = ", "time = ",
+                                         "wall_seconds = ", "residual = ", "err_rms = ",
+                                         "err_max = ", "err_rms_paper = ", "u_surface = "};
+            for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
+                assert_non_null(strstr(text, keys[k]));
+        }
+        fclose(f);
+        remove(path);
+    }
+    char sub[700];
+    snprintf(sub, sizeof sub, "%s/b", dir);
+    rmdir(sub);
+    rmdir(dir);
+}
+
+void group_scenes(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bagnold_table1),
+        cmocka_unit_test(test_chute_regularisations),
+        cmocka_unit_test(test_chute_lambda),
+        cmocka_unit_test(test_chute_lambda_1e8),
+        cmocka_unit_test(test_bagnold_below_threshold),
+        cmocka_unit_test(test_bagnold_above_threshold),
+        cmocka_unit_test(test_transient_startup),
+        cmocka_unit_test(test_cli_bad_input),
+        cmocka_unit_test(test_cli_run_outputs),
+    };
+    RUN_GROUP(t, "scenes", tests);
+}
