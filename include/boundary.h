@@ -5,16 +5,20 @@
  * surface  flat (rigid-lid) stress-free free surface: zero normal velocity and
  *          zero shear stress like slip, and the hydrostatic pressure vanishes on
  *          it (Dirichlet p = 0 for the hydrostatic solve).
+ * lid      a no-slip wall moving in its own plane: the component lid_direction
+ *          of the velocity equals lid_velocity on the face (driven cavity).
  * periodic both faces of the direction must be periodic. */
 #ifndef MUFLOW_BOUNDARY_H
 #define MUFLOW_BOUNDARY_H
 
 #include "grid.h"
 
-enum bc_kind { BC_PERIODIC = 0, BC_WALL, BC_SLIP, BC_SURFACE };
+enum bc_kind { BC_PERIODIC = 0, BC_WALL, BC_SLIP, BC_SURFACE, BC_LID };
 
 struct boundary {
     enum bc_kind face[3][2]; /* [direction][0 = low, 1 = high] */
+    double lid_velocity;     /* tangential speed of every lid face */
+    int lid_direction;       /* the velocity component it drives (0, 1, 2) */
 };
 
 const char *bc_kind_name(enum bc_kind kind);
@@ -23,6 +27,10 @@ const char *bc_kind_name(enum bc_kind kind);
  * v on y-faces, w on z-faces) and sets the normal velocity on non-periodic
  * boundary faces to zero. */
 void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3]);
+
+/* The same for a velocity increment: every prescribed boundary value is zero
+ * (a lid does not move the increment). */
+void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
 /* Fills the ghost layer of a cell-centred field: periodic copy, or a mirror of
  * the interior neighbour (zero normal gradient) on every other face. */

@@ -8,13 +8,16 @@ const char *scene_name(enum scene s)
     case SCENE_NONE: return "none";
     case SCENE_BAGNOLD: return "bagnold";
     case SCENE_CHUTE: return "chute";
+    case SCENE_BINGHAM_CHANNEL: return "bingham_channel";
+    case SCENE_BINGHAM_CAVITY: return "bingham_cavity";
     }
     return "?";
 }
 
 const char *scene_headline_name(enum scene s)
 {
-    return s == SCENE_BAGNOLD ? "u_surface" : s == SCENE_CHUTE ? "u_plug" : NULL;
+    return s == SCENE_BAGNOLD ? "u_surface" : s == SCENE_CHUTE ? "u_plug"
+         : s == SCENE_BINGHAM_CHANNEL ? "u_plug" : NULL;
 }
 
 int scene_profile_axes(enum scene s, int *axis, int *component)
@@ -22,6 +25,8 @@ int scene_profile_axes(enum scene s, int *axis, int *component)
     switch (s) {
     case SCENE_BAGNOLD: *axis = 2; *component = 0; return 0;
     case SCENE_CHUTE: *axis = 1; *component = 2; return 0;
+    case SCENE_BINGHAM_CHANNEL: *axis = 2; *component = 0; return 0;
+    case SCENE_BINGHAM_CAVITY:
     case SCENE_NONE: break;
     }
     return -1;
@@ -73,11 +78,30 @@ static double chute(const struct muflow_case *cs, double y)
     return -r->i0 * sqrt(p) * shear_per_sqrt_p(r) * bracket;
 }
 
+/* Bingham plane Poiseuille flow between walls at z = 0 and H, driven by the
+ * body force G along x: |tau| = G |Y| with Y = z - H/2, plug where G |Y| <
+ * tau_0, i.e. |Y| < y0 = tau_0 / G, and outside it
+ * u = (G / (2 mu_p)) (H/2 - |Y|) (H/2 + |Y| - 2 y0). */
+static double bingham_channel(const struct muflow_case *cs, double z)
+{
+    const struct rheology *r = &cs->rheo;
+    double G = cs->density * cs->gravity * sin(cs->tilt);
+    double a = 0.5 * cs->len[2], Y = fabs(z - a);
+    double y0 = r->yield_stress / fabs(G);
+    if (y0 >= a)
+        return 0.0;
+    if (Y < y0)
+        Y = y0;
+    return copysign(1.0, G) * (fabs(G) / (2.0 * r->plastic_viscosity)) * (a - Y) * (a + Y - 2.0 * y0);
+}
+
 double analytic_velocity(const struct muflow_case *cs, double x)
 {
     switch (cs->scene) {
     case SCENE_BAGNOLD: return bagnold(cs, x);
     case SCENE_CHUTE: return chute(cs, x);
+    case SCENE_BINGHAM_CHANNEL: return bingham_channel(cs, x);
+    case SCENE_BINGHAM_CAVITY:
     case SCENE_NONE: break;
     }
     return NAN;
@@ -88,6 +112,8 @@ double analytic_headline(const struct muflow_case *cs)
     switch (cs->scene) {
     case SCENE_BAGNOLD: return bagnold(cs, cs->len[2]);
     case SCENE_CHUTE: return chute(cs, 0.5 * cs->len[1]);
+    case SCENE_BINGHAM_CHANNEL: return bingham_channel(cs, 0.5 * cs->len[2]);
+    case SCENE_BINGHAM_CAVITY:
     case SCENE_NONE: break;
     }
     return NAN;

@@ -8,6 +8,7 @@ const char *bc_kind_name(enum bc_kind kind)
     case BC_WALL: return "wall";
     case BC_SLIP: return "slip";
     case BC_SURFACE: return "surface";
+    case BC_LID: return "lid";
     }
     return "?";
 }
@@ -40,7 +41,20 @@ static void ghost_plane(const struct grid *g, int d, int ghost, int source, doub
     ghost_plane2(g, d, ghost, source, source, f, sign, 0.0, zero_ghost);
 }
 
-void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3])
+/* f[ghost] += value on the plane of direction d. */
+static void ghost_plane_add(const struct grid *g, int d, int ghost, double *f, double value)
+{
+    int a = (d + 1) % 3, b = (d + 2) % 3;
+    for (int ia = -1; ia <= g->n[a]; ia++)
+        for (int ib = -1; ib <= g->n[b]; ib++) {
+            int gi[3];
+            gi[d] = ghost; gi[a] = ia; gi[b] = ib;
+            f[grid_idx(g, gi[0], gi[1], gi[2])] += value;
+        }
+}
+
+static void fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3],
+                          int homogeneous)
 {
     for (int d = 0; d < 3; d++) {
         int n = g->n[d];
@@ -61,16 +75,29 @@ void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *v
             } else {
                 for (int side = 0; side < 2; side++) {
                     /* wall: the face value (ghost + interior)/2 is zero;
-                     * slip and surface: zero normal gradient, so zero shear. */
-                    double sign = bc->face[d][side] == BC_WALL ? -1.0 : 1.0;
-                    if (side == 0)
-                        ghost_plane(g, d, -1, 0, f, sign, 0);
-                    else
-                        ghost_plane(g, d, n, n - 1, f, sign, 0);
+                     * slip and surface: zero normal gradient, so zero shear;
+                     * lid: the face value is the lid's velocity. */
+                    enum bc_kind kind = bc->face[d][side];
+                    int walled = kind == BC_WALL || kind == BC_LID;
+                    double sign = walled ? -1.0 : 1.0;
+                    int ghost = side == 0 ? -1 : n, inner = side == 0 ? 0 : n - 1;
+                    ghost_plane(g, d, ghost, inner, f, sign, 0);
+                    if (kind == BC_LID && c == bc->lid_direction && !homogeneous)
+                        ghost_plane_add(g, d, ghost, f, 2.0 * bc->lid_velocity);
                 }
             }
         }
     }
+}
+
+void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3])
+{
+    fill_velocity(g, bc, vel, 0);
+}
+
+void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3])
+{
+    fill_velocity(g, bc, vel, 1);
 }
 
 void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f)

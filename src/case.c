@@ -45,10 +45,12 @@ struct key {
 };
 
 static const struct choice scene_choices[] = {
-    {"none", SCENE_NONE}, {"bagnold", SCENE_BAGNOLD}, {"chute", SCENE_CHUTE}, {NULL, 0}};
+    {"none", SCENE_NONE}, {"bagnold", SCENE_BAGNOLD}, {"chute", SCENE_CHUTE},
+    {"bingham_channel", SCENE_BINGHAM_CHANNEL}, {"bingham_cavity", SCENE_BINGHAM_CAVITY},
+    {NULL, 0}};
 static const struct choice bc_choices[] = {
     {"periodic", BC_PERIODIC}, {"wall", BC_WALL}, {"slip", BC_SLIP},
-    {"surface", BC_SURFACE}, {NULL, 0}};
+    {"surface", BC_SURFACE}, {"lid", BC_LID}, {NULL, 0}};
 static const struct choice law_choices[] = {
     {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN}, {NULL, 0}};
 static const struct choice reg_choices[] = {
@@ -58,6 +60,9 @@ static const struct choice mode_choices[] = {
     {"steady", MODE_STEADY}, {"transient", MODE_TRANSIENT}, {NULL, 0}};
 static const struct choice dir_choices[] = {
     {"auto", -1}, {"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
+static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
+static const struct choice precond_choices[] = {
+    {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"multigrid", PRECOND_MULTIGRID}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum scene) == sizeof(int), "enum size");
@@ -65,6 +70,7 @@ _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum rheology_law) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum regularisation) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum solver_mode) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 
 #define OFF(m) offsetof(struct muflow_case, m)
 #define NONE_LO (-HUGE_VAL)
@@ -99,6 +105,8 @@ static const struct key keys[] = {
     CHO("boundary", "yhi", bc.face[1][1], bc_choices),
     CHO("boundary", "zlo", bc.face[2][0], bc_choices),
     CHO("boundary", "zhi", bc.face[2][1], bc_choices),
+    DBL("boundary", "lid_velocity", bc.lid_velocity, RANGE(NONE_LO, NONE_HI, 0, 0)),
+    CHO("boundary", "lid_direction", bc.lid_direction, axis_choices),
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1), "must be in [-pi/2, pi/2] (radians)"),
     DBL("physics", "gravity", gravity, GE0),
@@ -131,6 +139,7 @@ static const struct key keys[] = {
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0)),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1)),
     CHO("solver", "line_direction", line_direction, dir_choices),
+    CHO("solver", "preconditioner", preconditioner, precond_choices),
     DBL("solver", "progress_interval", progress_interval, GE0),
 
     STR("output", "dir", output_dir),
@@ -155,6 +164,8 @@ void case_defaults(struct muflow_case *c)
         c->bc.face[d][0] = BC_PERIODIC;
         c->bc.face[d][1] = BC_PERIODIC;
     }
+    c->bc.lid_velocity = 1.0;
+    c->bc.lid_direction = 0;
     c->tilt = 0.0;
     c->gravity = 1.0;
     c->density = 1.0;
@@ -186,6 +197,7 @@ void case_defaults(struct muflow_case *c)
     c->linear_tolerance = 1e-8;
     c->max_linear_iterations = 500;
     c->line_direction = -1;
+    c->preconditioner = PRECOND_AUTO;
     c->progress_interval = 1.0;
 
     snprintf(c->output_dir, sizeof(c->output_dir), "out/%s", c->name);
@@ -611,6 +623,15 @@ static void finish(struct ctx *x)
             return;
         }
     }
+
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (c->bc.face[d][side] == BC_LID && c->bc.lid_direction == d) {
+                fail(x, "%s: boundary.%c%s = lid, boundary.lid_direction = %c: a lid moves in its "
+                        "own plane, the direction must differ from %c",
+                     where, axis[d], side ? "hi" : "lo", axis[d], axis[d]);
+                return;
+            }
 
     double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
     if (cells > MAX_CELLS) {

@@ -109,6 +109,7 @@ void profile_errors(const struct profile *pr, const struct muflow_case *cs, stru
         if (fabs(d) > emax)
             emax = fabs(d);
     }
+    /* bagnold: the free-surface velocity; chute and Bingham channel: the plug */
     e->headline = cs->scene == SCENE_BAGNOLD ? surface_velocity(pr, cs->len[2])
                                              : plug_velocity(pr);
     e->headline_exact = analytic_headline(cs);

@@ -134,7 +134,7 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
                    double *out[3])
 {
     const struct grid *g = s->g;
-    bc_fill_velocity(g, s->bc, v);
+    bc_fill_velocity_homogeneous(g, s->bc, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
     kernel_lincomb(g, s->act, pb->mass, v, -1.0, out); /* mass v - div tau */
 }
