@@ -53,6 +53,10 @@ struct march_state {
     double wall_seconds;
     int linear_iterations;      /* of the last step */
     long rejected;              /* pseudo-time steps retried with a smaller dt */
+    /* loop state that a restart must recover to continue bit for bit */
+    double best_residual;       /* best residual so far (stall detection) */
+    long best_step;             /* the step it was reached at */
+    double dt_scale;            /* pseudo-time step reduction after rejections */
     enum run_status status;
     char message[256];          /* why the run ended */
 };
@@ -64,7 +68,9 @@ typedef int (*march_observer)(void *ctx, const struct march_state *st);
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
 void march_destroy(struct march_state *st);
 
-/* Runs to the end of the case (steady state, end time, or failure). */
+/* Runs to the end of the case (steady state, end time, or failure).  It can be
+ * called on a state whose fields and loop state were loaded from a checkpoint:
+ * the march continues exactly as the uninterrupted run would have. */
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
 
 const char *run_status_name(enum run_status s);

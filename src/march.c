@@ -144,6 +144,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
         return -1;
     }
     st->dt = cs->dt;
+    st->best_residual = INFINITY;
+    st->dt_scale = 1.0;
     return 0;
 }
 
@@ -324,7 +326,7 @@ static double choose_dt(const struct march_state *st)
 }
 
 /* Sets status and message when the run must end with the current state. */
-static void check_end(struct march_state *st, long best_step)
+static void check_end(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
     if (!isfinite(st->residual) || !isfinite(st->divergence)) {
@@ -351,7 +353,7 @@ static void check_end(struct march_state *st, long best_step)
         snprintf(st->message, sizeof st->message, "no %s after max_steps = %ld (residual %.3e)",
                  cs->mode == MODE_STEADY ? "steady state" : "end time", cs->max_steps,
                  st->residual);
-    } else if (cs->mode == MODE_STEADY && st->step - best_step > STALL_STEPS) {
+    } else if (cs->mode == MODE_STEADY && st->step - st->best_step > STALL_STEPS) {
         st->status = STATUS_UNSTEADY;
         double acc = march_mean_acceleration(st);
         if (fabs(acc) > 0.1 * st->residual * force_scale(cs) / cs->density)
@@ -369,16 +371,15 @@ static void check_end(struct march_state *st, long best_step)
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
 {
     const struct muflow_case *cs = st->cs;
-    double t0 = omp_get_wtime();
-    double best = INFINITY, dt_scale = 1.0;
-    long best_step = 0;
+    double t0 = omp_get_wtime() - st->wall_seconds; /* a restart keeps counting */
     st->status = STATUS_RUNNING;
     save_good(st);
     evaluate_residual(st);
-    st->residual0 = st->residual;
+    if (st->step == 0)
+        st->residual0 = st->residual;
     for (;;) {
         st->wall_seconds = omp_get_wtime() - t0;
-        check_end(st, best_step);
+        check_end(st);
         if (obs && obs(ctx, st) && st->status == STATUS_RUNNING) {
             st->status = STATUS_STOPPED;
             snprintf(st->message, sizeof st->message, "stopped at step %ld", st->step);
@@ -386,19 +387,19 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         if (st->status != STATUS_RUNNING)
             break;
         save_good(st);
-        if (st->residual < STALL_FACTOR * best) {
-            best = st->residual;
-            best_step = st->step;
+        if (st->residual < STALL_FACTOR * st->best_residual) {
+            st->best_residual = st->residual;
+            st->best_step = st->step;
         }
         double accepted_residual = st->residual, dt;
         for (;;) {
-            dt = choose_dt(st) * dt_scale;
+            dt = choose_dt(st) * st->dt_scale;
             int broke = advance(st, dt) != 0;
             if (!broke)
                 evaluate_residual(st);
             int bad = broke || !isfinite(st->residual) ||
                       (cs->mode == MODE_STEADY && st->residual > REJECT_GROWTH * accepted_residual);
-            if (!bad || cs->mode != MODE_STEADY || dt_scale < MIN_DT_SCALE) {
+            if (!bad || cs->mode != MODE_STEADY || st->dt_scale < MIN_DT_SCALE) {
                 if (broke) { /* nothing usable: end with the last finite state */
                     restore_good(st);
                     st->status = STATUS_DIVERGED;
@@ -409,7 +410,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
                 break;
             }
             restore_good(st);
-            dt_scale *= 0.1;
+            st->dt_scale *= 0.1;
             st->rejected++;
         }
         if (st->status == STATUS_DIVERGED) {
@@ -418,7 +419,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
                 obs(ctx, st);
             break;
         }
-        dt_scale = fmin(1.0, 2.0 * dt_scale);
+        st->dt_scale = fmin(1.0, 2.0 * st->dt_scale);
         st->dt = dt;
         st->time += dt;
         st->step++;
