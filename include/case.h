@@ -53,6 +53,10 @@ struct muflow_case {
     /* [output] */
     char output_dir[512];
     int quiet;               /* output.quiet: no progress lines */
+    int fields;              /* output.fields: write HDF5 field files */
+    long fields_every;       /* steps between field files (0: none by count) */
+    double fields_interval;  /* time between field files (0: none by time) */
+    long checkpoint_every;   /* steps between checkpoints (0: only when stopped) */
 };
 
 /* Loads path (an INI file) then applies overrides "section.key=value" in order.
@@ -67,5 +71,14 @@ void case_defaults(struct muflow_case *c);
 /* Writes every key with its value in the case file's own format (used in the
  * summary so that a run documents the parameters it used). */
 void case_write_ini(const struct muflow_case *c, FILE *out);
+
+/* Calls visit(ctx, section, key, value) for every key, in the order of
+ * case_write_ini and with the text it writes (so "section.key=value" read back
+ * as an override gives the identical value).  Stops at the first non-zero
+ * return of visit and returns it; 0 when every key was visited. */
+int case_visit_keys(const struct muflow_case *c,
+                    int (*visit)(void *ctx, const char *section, const char *key,
+                                 const char *value),
+                    void *ctx);
 
 #endif

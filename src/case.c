@@ -144,6 +144,10 @@ static const struct key keys[] = {
 
     STR("output", "dir", output_dir),
     BOOL("output", "quiet", quiet),
+    BOOL("output", "fields", fields),
+    LNG("output", "fields_every", fields_every, RANGE(0, 1e9, 1, 1)),
+    DBL("output", "fields_interval", fields_interval, GE0),
+    LNG("output", "checkpoint_every", checkpoint_every, RANGE(0, 1e9, 1, 1)),
 };
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
@@ -202,6 +206,10 @@ void case_defaults(struct muflow_case *c)
 
     snprintf(c->output_dir, sizeof(c->output_dir), "out/%s", c->name);
     c->quiet = 0;
+    c->fields = 1;
+    c->fields_every = 0;
+    c->fields_interval = 0.0;
+    c->checkpoint_every = 0;
 }
 
 /* ------------------------------------------------------------------------ */
@@ -803,6 +811,63 @@ static void format_double(double v, char *out, size_t outlen)
     snprintf(out, outlen, "%.17g", v);
 }
 
+/* The value of key k in c as case_write_ini writes it. */
+static void key_text(const struct muflow_case *c, const struct key *k, char *val, size_t len)
+{
+    const char *field = (const char *)c + k->off;
+    switch (k->type) {
+    case K_DOUBLE: {
+        double v;
+        memcpy(&v, field, sizeof(v));
+        format_double(v, val, len);
+        return;
+    }
+    case K_INT:
+    case K_BOOL:
+    case K_CHOICE: {
+        int v;
+        memcpy(&v, field, sizeof(v));
+        if (k->type == K_BOOL) {
+            snprintf(val, len, "%s", v ? "on" : "off");
+            return;
+        }
+        if (k->type == K_CHOICE)
+            for (const struct choice *ch = k->choices; ch->name; ch++)
+                if (ch->value == v) {
+                    snprintf(val, len, "%s", ch->name);
+                    return;
+                }
+        snprintf(val, len, "%d", v);
+        return;
+    }
+    case K_LONG: {
+        long v;
+        memcpy(&v, field, sizeof(v));
+        snprintf(val, len, "%ld", v);
+        return;
+    }
+    case K_STRING:
+        snprintf(val, len, "%.*s", (int)(sizeof(c->output_dir) - 1), field);
+        return;
+    }
+    snprintf(val, len, "?");
+}
+
+int case_visit_keys(const struct muflow_case *c,
+                    int (*visit)(void *ctx, const char *section, const char *key,
+                                 const char *value),
+                    void *ctx)
+{
+    char val[sizeof(c->output_dir) + 8];
+    for (int i = 0; i < NKEYS; i++) {
+        key_text(c, &keys[i], val, sizeof(val));
+        int rc = visit(ctx, keys[i].section, keys[i].name, val);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
 void case_write_ini(const struct muflow_case *c, FILE *out)
 {
     char b[SHOWN_MAX + 4];
@@ -810,56 +875,12 @@ void case_write_ini(const struct muflow_case *c, FILE *out)
     fprintf(out, "; muflow case: %s\n", shown(c->name, b));
     for (int i = 0; i < NKEYS; i++) {
         const struct key *k = &keys[i];
-        const char *field = (const char *)c + k->off;
         if (!section || strcmp(section, k->section) != 0) {
             fprintf(out, "%s[%s]\n", section ? "\n" : "", k->section);
             section = k->section;
         }
-        char val[64];
-        switch (k->type) {
-        case K_DOUBLE: {
-            double v;
-            memcpy(&v, field, sizeof(v));
-            format_double(v, val, sizeof(val));
-            fprintf(out, "%s = %s\n", k->name, val);
-            break;
-        }
-        case K_INT: {
-            int v;
-            memcpy(&v, field, sizeof(v));
-            fprintf(out, "%s = %d\n", k->name, v);
-            break;
-        }
-        case K_LONG: {
-            long v;
-            memcpy(&v, field, sizeof(v));
-            fprintf(out, "%s = %ld\n", k->name, v);
-            break;
-        }
-        case K_BOOL: {
-            int v;
-            memcpy(&v, field, sizeof(v));
-            fprintf(out, "%s = %s\n", k->name, v ? "on" : "off");
-            break;
-        }
-        case K_CHOICE: {
-            int v;
-            memcpy(&v, field, sizeof(v));
-            const char *name = NULL;
-            for (const struct choice *ch = k->choices; ch->name; ch++)
-                if (ch->value == v)
-                    name = ch->name;
-            if (name)
-                fprintf(out, "%s = %s\n", k->name, name);
-            else
-                fprintf(out, "%s = %d\n", k->name, v);
-            break;
-        }
-        case K_STRING: {
-            size_t size = sizeof(c->output_dir);
-            fprintf(out, "%s = %.*s\n", k->name, (int)(size - 1), field);
-            break;
-        }
-        }
+        char val[sizeof(c->output_dir) + 8];
+        key_text(c, k, val, sizeof(val));
+        fprintf(out, "%s = %s\n", k->name, val);
     }
 }
