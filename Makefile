@@ -6,11 +6,12 @@ OPT     ?= -O3
 CFLAGS  ?= $(OPT) -g
 # Debian packages muflow needs (headers and libraries); `make deps` installs
 # the missing ones with apt-get (as root).
-DEB_PKGS = libfftw3-dev libhdf5-dev libgsl-dev libinih-dev libcmocka-dev pkg-config
+DEB_PKGS = libfftw3-dev libhdf5-dev libgsl-dev libinih-dev libcmocka-dev libsuitesparse-dev pkg-config
 PC_PKGS  = fftw3 hdf5 gsl inih
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
-             $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null)
-LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
+             $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse
+LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
+          -lsuitesparseconfig -lm
 BUILD   ?= build
 
 KERNEL_SRC = $(wildcard kernels/*.c)

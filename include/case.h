@@ -11,7 +11,7 @@
 
 enum scene { SCENE_NONE = 0, SCENE_BAGNOLD, SCENE_CHUTE, SCENE_BINGHAM_CHANNEL,
              SCENE_BINGHAM_CAVITY };
-enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_MULTIGRID };
+enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 
 struct muflow_case {
@@ -48,6 +48,7 @@ struct muflow_case {
     int max_linear_iterations;
     int line_direction;      /* -1 auto, or 0/1/2: preconditioner lines */
     enum preconditioner preconditioner; /* of the implicit viscous solve */
+    double augmentation;     /* r of the grad-div (augmented Lagrangian) term */
     double progress_interval; /* wall seconds between progress lines (0: every step) */
 
     /* [output] */

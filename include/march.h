@@ -50,6 +50,8 @@ struct march_state {
                                    steady criterion tests */
     double divergence;          /* max |div u| h / max |u| */
     double residual0;
+    double force_ref;           /* what residuals are relative to: rho g, or without
+                                   gravity the first residual */
     double wall_seconds;
     int linear_iterations;      /* of the last step */
     long rejected;              /* pseudo-time steps retried with a smaller dt */

@@ -24,6 +24,8 @@
 
 struct viscous_problem {
     double mass;                  /* rho / dt */
+    double augmentation;          /* r >= 0: adds -r grad(div x), the augmented-Lagrangian
+                                     term that lets the pressure converge in few steps */
     const double *A_cell[3];      /* normal-stress coefficients, ghosts filled */
     const double *A_edge[3];      /* shear-stress coefficients per edge plane */
 };
@@ -32,14 +34,19 @@ struct viscous_stats {
     int iterations;
     double relative_residual;
     int failed_blocks;      /* line blocks that were not positive definite */
+    int cholesky;           /* 1 when the sparse Cholesky factorisation was used */
 };
 
 struct viscous_solver;
 
+enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY };
+
 /* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
- * Returns 0, or -1 with a message in err. */
+ * kind: line blocks, or the probed sparse Cholesky factorisation (sparse_chol.h)
+ * with line blocks as its fallback.  Returns 0, or -1 with a message in err. */
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
-                   const struct box act[3], int line_dir, char *err, size_t errlen);
+                   const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
+                   size_t errlen);
 void viscous_destroy(struct viscous_solver *s);
 
 /* out = operator(v); v's ghosts are overwritten (filled from bc). */

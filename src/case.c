@@ -62,7 +62,7 @@ static const struct choice dir_choices[] = {
     {"auto", -1}, {"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice precond_choices[] = {
-    {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"multigrid", PRECOND_MULTIGRID}, {NULL, 0}};
+    {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum scene) == sizeof(int), "enum size");
@@ -140,6 +140,7 @@ static const struct key keys[] = {
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1)),
     CHO("solver", "line_direction", line_direction, dir_choices),
     CHO("solver", "preconditioner", preconditioner, precond_choices),
+    DBL("solver", "augmentation", augmentation, GE0),
     DBL("solver", "progress_interval", progress_interval, GE0),
 
     STR("output", "dir", output_dir),

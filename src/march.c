@@ -100,6 +100,25 @@ static int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     return 0;
 }
 
+/* Line blocks are exact for flows uniform across lines and cheap; a flow that
+ * varies in two or more directions gets the sparse Cholesky factorisation
+ * while the grid is small enough for it. */
+#define CHOLESKY_MAX_UNKNOWNS 400000L
+
+static enum viscous_precond choose_preconditioner(const struct march_state *st)
+{
+    const struct muflow_case *cs = st->cs;
+    if (cs->preconditioner == PRECOND_LINE)
+        return VISCOUS_LINE;
+    if (cs->preconditioner == PRECOND_CHOLESKY)
+        return VISCOUS_CHOLESKY;
+    int wide = 0;
+    for (int d = 0; d < 3; d++)
+        wide += st->g.n[d] > 2;
+    long unknowns = 3L * (long)grid_cells(&st->g);
+    return wide >= 2 && unknowns <= CHOLESKY_MAX_UNKNOWNS ? VISCOUS_CHOLESKY : VISCOUS_LINE;
+}
+
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
 {
     memset(st, 0, sizeof *st);
@@ -138,7 +157,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
         for (int s = 0; s < 2; s++)
             pbc[d][s] = st->bc.face[d][s] == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
     if (poisson_fft_create(&st->poisson, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0 ||
-        viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, err, errlen) != 0 ||
+        viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction,
+                       choose_preconditioner(st), err, errlen) != 0 ||
         hydrostatic_split(st, err, errlen) != 0) {
         march_destroy(st);
         return -1;
@@ -173,10 +193,9 @@ void march_destroy(struct march_state *st)
     memset(st, 0, sizeof *st);
 }
 
-static double force_scale(const struct muflow_case *cs)
+static double force_scale(const struct march_state *st)
 {
-    double s = cs->density * cs->gravity;
-    return s > 0.0 ? s : 1.0;
+    return st->force_ref > 0.0 ? st->force_ref : 1.0;
 }
 
 static double min_spacing(const struct grid *g)
@@ -218,7 +237,16 @@ static void evaluate_residual(struct march_state *st)
         kernel_advection(g, st->act, st->vel, st->adv);
         kernel_axpy(g, st->act, cs->density, st->adv, st->res);
     }
-    double scale = force_scale(cs);
+    if (cs->augmentation > 0.0) { /* + r grad(div u): zero once u is solenoidal */
+        kernel_divergence(g, st->vel, st->div);
+        bc_fill_scalar(g, &st->bc, st->div);
+        kernel_gradient_update(g, st->act, st->div, -cs->augmentation, st->res);
+    }
+    if (st->force_ref == 0.0) {
+        double rg = cs->density * cs->gravity;
+        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->res);
+    }
+    double scale = force_scale(st);
     st->residual = kernel_max_abs(g, st->act, st->res) / scale;
     kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
                             st->delta);
@@ -254,7 +282,7 @@ static int advance(struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;
     const struct grid *g = &st->g;
-    struct viscous_problem pb = {.mass = cs->density / dt};
+    struct viscous_problem pb = {.mass = cs->density / dt, .augmentation = cs->augmentation};
     for (int a = 0; a < 3; a++) {
         pb.A_cell[a] = cs->newton ? st->tan_c[a] : st->eta;
         pb.A_edge[a] = cs->newton ? st->tan_e[a] : st->eta_e[a];
@@ -272,15 +300,18 @@ static int advance(struct march_state *st, double dt)
     kernel_divergence(g, st->vel, st->div);
     double scale = cs->density / dt;
     for (size_t p = 0; p < g->size; p++)
-        st->div[p] *= scale;
-    poisson_fft_solve(st->poisson, st->div, st->phi);
+        st->phi[p] = st->div[p] * scale;
+    poisson_fft_solve(st->poisson, st->phi, st->phi);
     bc_fill_scalar(g, &st->bc, st->phi);
     kernel_gradient_update(g, st->act, st->phi, dt / cs->density, st->vel);
+    /* incremental correction, plus the augmented-Lagrangian (Uzawa) update
+     * -r div u*, which carries the pressure when dt is too large for phi to */
+    double r = cs->augmentation;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += st->phi[p];
+                st->p_dyn[p] += st->phi[p] - r * st->div[p];
             }
     return 0;
 }
@@ -356,7 +387,7 @@ static void check_end(struct march_state *st)
     } else if (cs->mode == MODE_STEADY && st->step - st->best_step > STALL_STEPS) {
         st->status = STATUS_UNSTEADY;
         double acc = march_mean_acceleration(st);
-        if (fabs(acc) > 0.1 * st->residual * force_scale(cs) / cs->density)
+        if (fabs(acc) > 0.1 * st->residual * force_scale(st) / cs->density)
             snprintf(st->message, sizeof st->message,
                      "no steady state: the layer accelerates (mean acceleration %.3e; "
                      "residual %.3e, no progress in %d steps)",

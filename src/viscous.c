@@ -6,6 +6,7 @@
 #include <string.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
+#include "sparse_chol.h"
 #include "viscous.h"
 
 #define BAND 2               /* nodes reached along a line by the stencil */
@@ -28,6 +29,9 @@ struct viscous_solver {
     double *linebuf;                   /* per-thread gather buffer */
     int maxlen, nthreads;
     int failed_blocks;                 /* of the last viscous_precondition */
+    double *divbuf;                    /* divergence for the augmentation term */
+    struct sparse_chol *chol;          /* NULL: line blocks only */
+    int chol_ok;                       /* the last factorisation succeeded */
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -57,7 +61,8 @@ static inline ptrdiff_t line_node(const struct viscous_solver *s, int c, int l, 
 }
 
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
-                   const struct box act[3], int line_dir, char *err, size_t errlen)
+                   const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
+                   size_t errlen)
 {
     int L = pick_line_direction(g, bc, line_dir);
     if (L < 0) {
@@ -104,11 +109,21 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
     s->nthreads = omp_get_max_threads();
     s->linebuf = malloc((size_t)s->nthreads * (size_t)(s->maxlen > 0 ? s->maxlen : 1) *
                         sizeof(double));
-    ok &= s->linebuf != NULL;
+    s->divbuf = field_alloc(g);
+    ok &= s->linebuf != NULL && s->divbuf != NULL;
     if (!ok) {
         viscous_destroy(s);
         snprintf(err, errlen, "viscous solver: out of memory");
         return -1;
+    }
+    if (kind == VISCOUS_CHOLESKY) {
+        int periodic[3];
+        for (int d = 0; d < 3; d++)
+            periodic[d] = bc->face[d][0] == BC_PERIODIC;
+        if (sparse_chol_create(&s->chol, g, periodic, act, err, errlen) != 0) {
+            viscous_destroy(s);
+            return -1;
+        }
     }
     *out = s;
     return 0;
@@ -127,6 +142,8 @@ void viscous_destroy(struct viscous_solver *s)
         field_free(s->q[c]);
     }
     free(s->linebuf);
+    field_free(s->divbuf);
+    sparse_chol_destroy(s->chol);
     free(s);
 }
 
@@ -137,6 +154,22 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
     bc_fill_velocity_homogeneous(g, s->bc, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
     kernel_lincomb(g, s->act, pb->mass, v, -1.0, out); /* mass v - div tau */
+    if (pb->augmentation > 0.0) {                      /* - r grad(div v) */
+        kernel_divergence(g, v, s->divbuf);
+        bc_fill_scalar(g, s->bc, s->divbuf);
+        kernel_gradient_update(g, s->act, s->divbuf, pb->augmentation, out);
+    }
+}
+
+struct apply_ctx {
+    struct viscous_solver *s;
+    const struct viscous_problem *pb;
+};
+
+static void apply_cb(void *vctx, double *v[3], double *out[3])
+{
+    struct apply_ctx *a = vctx;
+    viscous_apply(a->s, a->pb, v, out);
 }
 
 static void zero_fields(const struct grid *g, double *f[3])
@@ -153,7 +186,21 @@ static inline int probe_offset(int r, int m)
     return off > BAND ? off - PROBES : off;
 }
 
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb);
+
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    s->chol_ok = 0;
+    if (s->chol) {
+        struct apply_ctx a = {s, pb};
+        s->chol_ok = sparse_chol_factor(s->chol, apply_cb, &a, s->p, s->q) == 0;
+        if (s->chol_ok)
+            return;
+    }
+    line_blocks(s, pb); /* also the fallback of a failed factorisation */
+}
+
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     const struct grid *g = s->g;
     int L = s->line_dir;
@@ -213,9 +260,13 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
     }
 }
 
-/* z = M^-1 r, line by line. */
+/* z = M^-1 r: the factorisation, or line by line. */
 static void precondition_apply(struct viscous_solver *s, double *const r[3], double *z[3])
 {
+    if (s->chol_ok) {
+        sparse_chol_solve(s->chol, r, z);
+        return;
+    }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
         if (b->nlines == 0)
@@ -249,6 +300,7 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     st->iterations = 0;
     st->relative_residual = 0.0;
     st->failed_blocks = s->failed_blocks;
+    st->cholesky = s->chol_ok;
     if (bnorm == 0.0)
         return 0;
     if (!isfinite(bnorm))

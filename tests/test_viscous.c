@@ -35,7 +35,7 @@ static void setup_fix(struct vfix *f, int nx, int nz, double lx, double lz, enum
         f->Ae[c] = field_alloc(&f->g);
     }
     char err[256];
-    assert_int_equal(viscous_create(&f->vs, &f->g, &f->bc, f->act, -1, err, sizeof err), 0);
+    assert_int_equal(viscous_create(&f->vs, &f->g, &f->bc, f->act, -1, VISCOUS_LINE, err, sizeof err), 0);
     assert_int_equal(viscous_line_direction(f->vs), 2);
 }
 
