@@ -1,4 +1,5 @@
-/* Run output: summary.ini, profile.csv, history.csv in the output folder.
+/* Run output: summary.ini, profile.csv, history.csv in the output folder
+ * (field files and checkpoints: fields_h5.h, checkpoint.h).
  * Every file is written under a temporary name and renamed when complete, so
  * a file that exists is whole. */
 #ifndef MUFLOW_OUTPUT_H
@@ -14,6 +15,9 @@ struct run_result {
     double time, wall_seconds, residual, divergence;
     struct scene_errors errors;
     char message[256];
+    int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
+    int checkpointed;      /* a checkpoint of the final state was written */
+    int fields_written;    /* field files written by this run */
 };
 
 /* Creates dir and its parents; returns 0, or -1 with the cause in err. */
@@ -25,6 +29,13 @@ struct history {
     char path[600], tmp[620];
 };
 int history_open(struct history *h, const char *dir, char *err, size_t errlen);
+/* Like history_open for a run that continues from a checkpoint of step upto:
+ * the new file starts with the rows of steps <= upto of the previous one
+ * (history.csv.tmp when a run died before renaming it, else history.csv). */
+int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen);
+/* Pushes the rows so far to the .tmp file (before a checkpoint, so that a
+ * restart after a crash finds them). */
+void history_flush(struct history *h);
 void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e);
 int history_close(struct history *h, char *err, size_t errlen);
 

@@ -1,7 +1,9 @@
 /* CSV and INI output of a run (output.h). */
+#define _POSIX_C_SOURCE 200809L /* getline */
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include "analytic.h"
@@ -77,6 +79,47 @@ int history_open(struct history *h, const char *dir, char *err, size_t errlen)
     fprintf(h->f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
                   "linear_iterations,rejected_steps,err_rms\n");
     return 0;
+}
+
+int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    snprintf(path, sizeof path, "%s/history.csv", dir);
+    snprintf(tmp, sizeof tmp, "%s/history.csv.tmp", dir);
+    FILE *src = fopen(tmp, "r");
+    if (src)
+        remove(tmp); /* still read through src; history_open makes a new one */
+    else
+        src = fopen(path, "r");
+    if (history_open(h, dir, err, errlen) != 0) {
+        if (src)
+            fclose(src);
+        return -1;
+    }
+    if (!src)
+        return 0; /* nothing to continue: the rows before upto are lost */
+    char *line = NULL;
+    size_t cap = 0;
+    int first = 1;
+    while (getline(&line, &cap, src) > 0) {
+        if (first) { /* the header, already written */
+            first = 0;
+            continue;
+        }
+        char *end;
+        long step = strtol(line, &end, 10);
+        if (end != line && *end == ',' && step <= upto)
+            fputs(line, h->f);
+    }
+    free(line);
+    fclose(src);
+    return 0;
+}
+
+void history_flush(struct history *h)
+{
+    if (h->f)
+        fflush(h->f);
 }
 
 void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e)

@@ -1,18 +1,27 @@
 /* One case from start to output (run.h). */
+#include <errno.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
 #include "analytic.h"
+#include "checkpoint.h"
+#include "field_series.h"
+#include "interrupt.h"
 #include "profile.h"
 #include "run.h"
 
 struct observer_ctx {
     const struct muflow_case *cs;
-    int write_output;
+    const struct run_options *opt;
     struct history hist;
+    struct field_series series;
     double last_print;
-    int printed_header;
+    long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
+    int signal;            /* the signal that stopped the run */
+    int failed;            /* an output failed during the run (cause in err) */
+    int checkpoint_failed;
+    char err[1024];
 };
 
 static void print_progress(const struct march_state *st, const struct scene_errors *e)
@@ -25,24 +34,55 @@ static void print_progress(const struct march_state *st, const struct scene_erro
     fflush(stdout);
 }
 
+/* The outputs due at this step: history row, field file, checkpoint.  Returns
+ * non-zero when one failed (the run then stops). */
+static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
+                        const struct scene_errors *e)
+{
+    const struct muflow_case *cs = ctx->cs;
+    history_row(&ctx->hist, st, e);
+    if (field_series_due(&ctx->series, cs, st) && !field_series_has(&ctx->series, st->step) &&
+        field_series_write(&ctx->series, cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
+        return ctx->failed = 1;
+    if (cs->checkpoint_every > 0 && st->step > 0 && st->step % cs->checkpoint_every == 0 &&
+        st->status == STATUS_RUNNING) {
+        history_flush(&ctx->hist); /* a restart after a crash continues these rows */
+        if (checkpoint_write(cs->output_dir, st, &ctx->series, ctx->err, sizeof ctx->err) != 0)
+            return ctx->failed = ctx->checkpoint_failed = 1;
+    }
+    return 0;
+}
+
 static int observe(void *vctx, const struct march_state *st)
 {
     struct observer_ctx *ctx = vctx;
+    if (ctx->opt->hook)
+        ctx->opt->hook(ctx->opt->hook_ctx, st);
+    if (!ctx->opt->write_output)
+        return 0;
     struct scene_errors e;
     memset(&e, 0, sizeof e);
     e.err_rms = NAN;
     if (ctx->cs->scene != SCENE_NONE)
         scene_errors_of(st, &e);
-    if (ctx->write_output) {
-        history_row(&ctx->hist, st, &e);
-        if (!ctx->cs->quiet) {
-            int due = st->step == 0 || st->status != STATUS_RUNNING ||
-                      st->wall_seconds - ctx->last_print >= ctx->cs->progress_interval;
-            if (due) {
-                print_progress(st, &e);
-                ctx->last_print = st->wall_seconds;
-            }
+    /* the first observation of a restart is the checkpoint's step, whose
+     * outputs the run that wrote the checkpoint has written */
+    int resumed = st->step == ctx->resume_step;
+    ctx->resume_step = -1;
+    if (!resumed && step_outputs(ctx, st, &e) != 0)
+        return 1;
+    if (!ctx->cs->quiet) {
+        int due = st->step == 0 || resumed || st->status != STATUS_RUNNING ||
+                  st->wall_seconds - ctx->last_print >= ctx->cs->progress_interval;
+        if (due) {
+            print_progress(st, &e);
+            ctx->last_print = st->wall_seconds;
         }
+    }
+    int sig = interrupt_signal();
+    if (sig && st->status == STATUS_RUNNING) {
+        ctx->signal = sig;
+        return 1;
     }
     return 0;
 }
@@ -57,30 +97,121 @@ int run_exit_code(enum run_status s)
     }
 }
 
-int run_case(const struct muflow_case *cs, int write_output, struct run_result *res, char *err,
-             size_t errlen)
+static void print_header(const struct muflow_case *cs, const struct march_state *st,
+                         const char *restart_from, int threads_then)
+{
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads\n",
+           cs->name, scene_name(cs->scene), st->g.n[0], st->g.n[1], st->g.n[2],
+           cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
+           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads());
+    if (restart_from)
+        printf("muflow %s: continuing from %s at step %ld, t = %.6g\n", cs->name, restart_from,
+               st->step, st->time);
+    fflush(stdout);
+    if (restart_from && threads_then != omp_get_max_threads())
+        fprintf(stderr,
+                "muflow: warning: the checkpoint was written with %d threads, this run has %d: "
+                "the continuation is not bit for bit the uninterrupted run (reductions sum per "
+                "thread)\n",
+                threads_then, omp_get_max_threads());
+}
+
+/* Sets up st (and, for a restart, its state) and the output folder. */
+static int start(struct march_state *st, struct observer_ctx *ctx, const struct muflow_case *cs,
+                 const struct run_options *opt, char *err, size_t errlen)
+{
+    int threads_then = omp_get_max_threads();
+    if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
+        return RUN_ERR_SETUP;
+    if (march_create(st, cs, err, errlen) != 0)
+        return RUN_ERR_SETUP;
+    if (opt->restart_from) {
+        if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,
+                                  errlen) != 0)
+            goto fail;
+        ctx->resume_step = st->step;
+    }
+    if (!opt->write_output)
+        return RUN_OK;
+    if (output_make_dir(cs->output_dir, err, errlen) != 0)
+        goto fail;
+    if ((opt->restart_from ? history_resume(&ctx->hist, cs->output_dir, st->step, err, errlen)
+                           : history_open(&ctx->hist, cs->output_dir, err, errlen)) != 0)
+        goto fail;
+    if (interrupt_install() != 0) {
+        snprintf(err, errlen, "cannot install the SIGINT/SIGTERM handler: %s", strerror(errno));
+        history_close(&ctx->hist, err, 0);
+        goto fail;
+    }
+    if (!cs->quiet)
+        print_header(cs, st, opt->restart_from, threads_then);
+    return RUN_OK;
+fail:
+    march_destroy(st);
+    return RUN_ERR_SETUP;
+}
+
+/* Keeps the first error of the final outputs. */
+static void note(int *rc, char *err, size_t errlen, const char *cause)
+{
+    if (*rc == RUN_OK)
+        snprintf(err, errlen, "%s", cause);
+    *rc = RUN_ERR_OUTPUT;
+}
+
+/* The outputs of the final state: field file, checkpoint (when stopped),
+ * history, profile, summary; each attempted even when an earlier one failed. */
+static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
+                          const struct profile *pr, struct run_result *res, char *err,
+                          size_t errlen)
+{
+    const struct muflow_case *cs = ctx->cs;
+    int rc = RUN_OK;
+    char cause[1024];
+    if (ctx->failed)
+        note(&rc, err, errlen, ctx->err);
+    /* the field file first, so the checkpoint's list of field files (and the
+     * restarted run's fields.xdmf) includes it */
+    if (cs->fields && !field_series_has(&ctx->series, st->step) &&
+        field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
+    if (st->status == STATUS_STOPPED && !ctx->checkpoint_failed) {
+        if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
+            note(&rc, err, errlen, cause);
+        else
+            res->checkpointed = 1;
+    }
+    if (history_close(&ctx->hist, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
+    if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
+    if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
+    return rc;
+}
+
+int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
+                  struct run_result *res, char *err, size_t errlen)
 {
     memset(res, 0, sizeof *res);
     struct march_state st;
-    if (march_create(&st, cs, err, errlen) != 0)
-        return -1;
-    struct observer_ctx ctx = {.cs = cs, .write_output = write_output};
-    if (write_output) {
-        if (output_make_dir(cs->output_dir, err, errlen) != 0 ||
-            history_open(&ctx.hist, cs->output_dir, err, errlen) != 0) {
-            march_destroy(&st);
-            return -1;
-        }
-        if (!cs->quiet) {
-            printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads\n",
-                   cs->name, scene_name(cs->scene), st.g.n[0], st.g.n[1], st.g.n[2],
-                   cs->mode == MODE_STEADY ? "steady" : "transient",
-                   rheology_law_name(cs->rheo.law), regularisation_name(cs->rheo.reg),
-                   cs->rheo.lambda, omp_get_max_threads());
-            fflush(stdout);
-        }
+    struct observer_ctx ctx = {.cs = cs, .opt = opt, .resume_step = -1};
+    field_series_init(&ctx.series);
+    int rc = start(&st, &ctx, cs, opt, err, errlen);
+    if (rc != RUN_OK) {
+        field_series_free(&ctx.series);
+        return rc;
     }
+    long fields_before = ctx.series.count;
     march_run(&st, observe, &ctx);
+    if (st.status == STATUS_STOPPED && ctx.signal) {
+        res->signal = ctx.signal;
+        snprintf(st.message, sizeof st.message, "interrupted by %s at step %ld",
+                 interrupt_name(ctx.signal), st.step);
+    } else if (st.status == STATUS_STOPPED && ctx.failed) {
+        snprintf(st.message, sizeof st.message, "output failed at step %ld: %.180s", st.step,
+                 ctx.err);
+    }
     res->status = st.status;
     res->steps = st.step;
     res->time = st.time;
@@ -92,16 +223,21 @@ int run_case(const struct muflow_case *cs, int write_output, struct run_result *
     int have_profile = profile_extract(&pr, &st) == 0;
     if (have_profile)
         profile_errors(&pr, cs, &res->errors);
-    int rc = 0;
-    if (write_output) {
-        rc |= history_close(&ctx.hist, err, errlen);
-        if (have_profile && rc == 0)
-            rc |= output_profile(cs->output_dir, &pr, err, errlen);
-        if (rc == 0)
-            rc |= output_summary(cs->output_dir, cs, res, err, errlen);
+    if (opt->write_output) {
+        rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
+        interrupt_restore(); /* only now: a signal during the final writes is ignored */
     }
+    res->fields_written = (int)(ctx.series.count - fields_before);
     if (have_profile)
         profile_free(&pr);
+    field_series_free(&ctx.series);
     march_destroy(&st);
-    return rc ? -1 : 0;
+    return rc;
+}
+
+int run_case(const struct muflow_case *cs, int write_output, struct run_result *res, char *err,
+             size_t errlen)
+{
+    struct run_options opt = {.write_output = write_output};
+    return run_case_opts(cs, &opt, res, err, errlen);
 }

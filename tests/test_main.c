@@ -13,6 +13,8 @@ static const struct {
     {"case", group_case},
     {"viscous", group_viscous},
     {"scenes", group_scenes},
+    {"io", group_io},
+    {"corpus", group_corpus},
 };
 
 int main(int argc, char **argv)

@@ -1,0 +1,901 @@
+/* Field files, fields.xdmf, checkpoints, restarts and interruption.
+ *
+ * HDF5 is read back with the HDF5 library directly (not through src/), and
+ * compared with the state in memory.  Interruption is made deterministic in
+ * process by a run hook that raise()s SIGINT at a chosen step; the command
+ * line is interrupted by SIGTERM and SIGKILL while its progress output is held
+ * back by a one-page pipe, so it cannot run far past the step it reported.
+ * A continued run must reproduce the uninterrupted one bit for bit: the same
+ * binary, thread count and FFTW plans (the checkpoint carries FFTW's wisdom)
+ * give the same floating-point operations in the same order. */
+#define _GNU_SOURCE /* F_SETPIPE_SZ */
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <hdf5.h>
+#include <limits.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "checkpoint.h"
+#include "fields_h5.h"
+#include "h5io.h"
+#include "march.h"
+#include "run.h"
+#include "test_main.h"
+
+#define CASES_DIR "../cases/"
+
+/* ---------------------------------------------------------------------- */
+/* helpers */
+
+static void make_tmp(char *dir, size_t len, const char *tag)
+{
+    snprintf(dir, len, "/tmp/muflow_io_%s_XXXXXX", tag);
+    assert_non_null(mkdtemp(dir));
+}
+
+static void remove_tree(const char *dir)
+{
+    char cmd[700];
+    assert_true(strncmp(dir, "/tmp/muflow_io_", 15) == 0); /* never anything else */
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
+{
+    char err[1024];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* Whole text file, NUL-terminated (caller frees). */
+static char *slurp(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        print_error("cannot open %s: %s\n", path, strerror(errno));
+    assert_non_null(f);
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    assert_non_null(s);
+    assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
+    s[n] = '\0';
+    fclose(f);
+    return s;
+}
+
+static int file_exists(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0;
+}
+
+/* A dataset of doubles read with the HDF5 library; rank and dims returned. */
+static double *read_doubles(hid_t file, const char *name, int *rank, hsize_t dims[4])
+{
+    hid_t set = H5Dopen2(file, name, H5P_DEFAULT);
+    if (set < 0)
+        print_error("dataset %s missing\n", name);
+    assert_true(set >= 0);
+    hid_t space = H5Dget_space(set);
+    *rank = H5Sget_simple_extent_ndims(space);
+    assert_true(*rank >= 1 && *rank <= 4);
+    H5Sget_simple_extent_dims(space, dims, NULL);
+    size_t n = (size_t)H5Sget_simple_extent_npoints(space);
+    double *buf = malloc((n ? n : 1) * sizeof(double));
+    assert_non_null(buf);
+    assert_true(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
+    H5Sclose(space);
+    H5Dclose(set);
+    return buf;
+}
+
+static void read_attr(hid_t file, const char *name, hid_t type, void *out)
+{
+    hid_t at = H5Aopen(file, name, H5P_DEFAULT);
+    if (at < 0)
+        print_error("attribute %s missing\n", name);
+    assert_true(at >= 0);
+    assert_true(H5Aread(at, type, out) >= 0);
+    H5Aclose(at);
+}
+
+static void read_attr_text(hid_t file, const char *name, char *out, size_t len)
+{
+    hid_t at = H5Aopen(file, name, H5P_DEFAULT);
+    if (at < 0)
+        print_error("attribute %s missing\n", name);
+    assert_true(at >= 0);
+    hid_t type = H5Aget_type(at);
+    size_t size = H5Tget_size(type);
+    assert_true(size < len);
+    hid_t mem = H5Tcopy(H5T_C_S1);
+    H5Tset_size(mem, size + 1);
+    assert_true(H5Aread(at, mem, out) >= 0);
+    out[size] = '\0';
+    H5Tclose(mem);
+    H5Tclose(type);
+    H5Aclose(at);
+}
+
+static hid_t open_h5(const char *path)
+{
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (f < 0)
+        print_error("cannot open %s\n", path);
+    assert_true(f >= 0);
+    return f;
+}
+
+/* ---------------------------------------------------------------------- */
+/* 1. field files hold exactly the fields in memory */
+
+struct key_check {
+    hid_t file;
+    int checked;
+};
+
+static int check_key(void *vctx, const char *section, const char *key, const char *value)
+{
+    struct key_check *k = vctx;
+    char name[128], text[1024];
+    snprintf(name, sizeof name, "%s.%s", section, key);
+    read_attr_text(k->file, name, text, sizeof text);
+    if (strcmp(text, value) != 0)
+        print_error("attribute %s = '%s', case has '%s'\n", name, text, value);
+    assert_string_equal(text, value);
+    k->checked++;
+    return 0;
+}
+
+static int periodic(const struct march_state *st, int d)
+{
+    return st->bc.face[d][0] == BC_PERIODIC;
+}
+
+/* Compares every dataset of dir's field file with st, value for value. */
+static void check_fields_file(const char *dir, const struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    char name[64], path[700];
+    fields_h5_name(st->step, name, sizeof name);
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    hid_t file = open_h5(path);
+
+    int n[3];
+    double len[3], h[3], time;
+    long step;
+    read_attr(file, "n", H5T_NATIVE_INT, n);
+    read_attr(file, "len", H5T_NATIVE_DOUBLE, len);
+    read_attr(file, "h", H5T_NATIVE_DOUBLE, h);
+    read_attr(file, "step", H5T_NATIVE_LONG, &step);
+    read_attr(file, "time", H5T_NATIVE_DOUBLE, &time);
+    for (int d = 0; d < 3; d++) {
+        assert_int_equal(n[d], g->n[d]);
+        assert_true(len[d] == g->len[d] && h[d] == g->h[d]);
+    }
+    assert_int_equal(step, st->step);
+    assert_true(time == st->time);
+    struct key_check kc = {file, 0};
+    case_visit_keys(st->cs, check_key, &kc);
+    assert_true(kc.checked > 40);
+
+    /* faces: n distinct faces along a periodic direction, n + 1 otherwise */
+    static const char *const comp[3] = {"u", "v", "w"};
+    for (int c = 0; c < 3; c++) {
+        int rank;
+        hsize_t dims[4];
+        double *a = read_doubles(file, comp[c], &rank, dims);
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[c] += periodic(st, c) ? 0 : 1;
+        assert_int_equal(rank, 3);
+        assert_true(dims[0] == (hsize_t)hi[2] && dims[1] == (hsize_t)hi[1] &&
+                    dims[2] == (hsize_t)hi[0]);
+        size_t m = 0;
+        for (int k = 0; k < hi[2]; k++)
+            for (int j = 0; j < hi[1]; j++)
+                for (int i = 0; i < hi[0]; i++, m++)
+                    assert_true(a[m] == st->vel[c][grid_idx(g, i, j, k)]);
+        free(a);
+    }
+    /* cell-centred scalars, from their definitions */
+    for (int f = 0; f < FIELDS_CELL_SCALARS; f++) {
+        int rank;
+        hsize_t dims[4];
+        double *a = read_doubles(file, fields_cell_scalar_names[f], &rank, dims);
+        assert_int_equal(rank, 3);
+        assert_true(dims[0] == (hsize_t)g->n[2] && dims[1] == (hsize_t)g->n[1] &&
+                    dims[2] == (hsize_t)g->n[0]);
+        size_t m = 0;
+        for (int k = 0; k < g->n[2]; k++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int i = 0; i < g->n[0]; i++, m++) {
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    double shear = sqrt(st->shear2[p]);
+                    double want[FIELDS_CELL_SCALARS] = {
+                        st->pressure[p], st->preg[p], shear,
+                        rheology_inertial_number(&st->cs->rheo, shear, st->preg[p]), st->eta[p]};
+                    assert_true(a[m] == want[f]);
+                }
+        free(a);
+    }
+    /* cell velocity: mean of the two faces, periodic wrap at the high end */
+    int rank;
+    hsize_t dims[4];
+    double *a = read_doubles(file, FIELDS_CELL_VECTOR, &rank, dims);
+    assert_int_equal(rank, 4);
+    assert_true(dims[3] == 3);
+    size_t m = 0;
+    double vmax = 0.0;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++)
+                for (int c = 0; c < 3; c++, m++) {
+                    int up[3] = {i, j, k};
+                    up[c] = (up[c] + 1 == g->n[c] && periodic(st, c)) ? 0 : up[c] + 1;
+                    double want = 0.5 * (st->vel[c][grid_idx(g, i, j, k)] +
+                                         st->vel[c][grid_idx(g, up[0], up[1], up[2])]);
+                    assert_true(a[m] == want);
+                    vmax = fmax(vmax, fabs(a[m]));
+                }
+    assert_true(vmax > 0.1); /* a flowing state, not zeros compared with zeros */
+    free(a);
+    H5Fclose(file);
+}
+
+static void fields_of(const char *file, int n, char *ov[])
+{
+    struct muflow_case cs;
+    load(&cs, file, n, ov);
+    struct march_state st;
+    char err[1024], dir[64];
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    march_run(&st, NULL, NULL);
+    assert_int_equal(st.status, STATUS_STEADY);
+    make_tmp(dir, sizeof dir, "fields");
+    int rc = fields_h5_write(dir, &st, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    check_fields_file(dir, &st);
+    march_destroy(&st);
+    remove_tree(dir);
+}
+
+static void test_fields_match_memory(void **state)
+{
+    (void)state;
+    char *bag[] = {"domain.nz=10"};
+    fields_of(CASES_DIR "bagnold.ini", 1, bag);   /* z: wall / surface, x, y periodic */
+    char *chute[] = {"domain.ny=10", "domain.nx=3"}; /* y: walls, x periodic with 3 faces */
+    fields_of(CASES_DIR "chute.ini", 2, chute);
+}
+
+/* ---------------------------------------------------------------------- */
+/* 2. fields.xdmf: well-formed, its datasets exist with its dimensions */
+
+static int count_of(const char *text, const char *what)
+{
+    int n = 0;
+    for (const char *p = strstr(text, what); p; p = strstr(p + 1, what))
+        n++;
+    return n;
+}
+
+/* Checks every HDF dataset reference of dir/fields.xdmf; returns the steps of
+ * its grids (at most max) and their number. */
+static int check_xdmf(const char *dir, long *steps, int max)
+{
+    char path[700], cmd[800];
+    snprintf(path, sizeof path, "%s/fields.xdmf", dir);
+    snprintf(cmd, sizeof cmd, "xmllint --noout '%s'", path);
+    int st = system(cmd);
+    if (st != 0)
+        print_error("%s failed (status %d; xmllint comes with libxml2-utils, make deps)\n", cmd,
+                    st);
+    assert_int_equal(st, 0);
+    char *text = slurp(path);
+    int grids = 0;
+    for (const char *p = strstr(text, "<Grid Name=\"step "); p;
+         p = strstr(p + 1, "<Grid Name=\"step ")) {
+        assert_true(grids < max);
+        steps[grids++] = strtol(p + strlen("<Grid Name=\"step "), NULL, 10);
+    }
+    assert_int_equal(count_of(text, "<Time Value="), grids);
+    /* every <DataItem Dimensions="..." ... Format="HDF">file:/name</DataItem> */
+    int refs = 0;
+    for (const char *p = strstr(text, "Format=\"HDF\">"); p; p = strstr(p + 1, "Format=\"HDF\">")) {
+        const char *item = p;
+        while (item > text && strncmp(item, "<DataItem", 9) != 0)
+            item--;
+        const char *dq = strstr(item, "Dimensions=\"");
+        assert_true(dq && dq < p);
+        long want[4];
+        int wrank = 0;
+        char *q = (char *)dq + strlen("Dimensions=\"");
+        while (*q != '"') {
+            assert_true(wrank < 4);
+            want[wrank++] = strtol(q, &q, 10);
+            while (*q == ' ')
+                q++;
+        }
+        const char *ref = p + strlen("Format=\"HDF\">");
+        const char *colon = strstr(ref, ":/"), *end = strstr(ref, "</DataItem>");
+        assert_true(colon && end && colon < end);
+        char h5[700], set[128];
+        snprintf(h5, sizeof h5, "%s/%.*s", dir, (int)(colon - ref), ref);
+        snprintf(set, sizeof set, "%.*s", (int)(end - colon - 2), colon + 2);
+        hid_t file = open_h5(h5);
+        int rank;
+        hsize_t dims[4];
+        double *a = read_doubles(file, set, &rank, dims);
+        free(a);
+        assert_int_equal(rank, wrank);
+        for (int d = 0; d < rank; d++)
+            assert_int_equal((long)dims[d], want[d]);
+        /* the grid's time is the file's */
+        const char *grid = item;
+        while (grid > text && strncmp(grid, "<Time Value=\"", 13) != 0)
+            grid--;
+        double t, tf;
+        assert_int_equal(sscanf(grid, "<Time Value=\"%lf\"", &t), 1);
+        read_attr(file, "time", H5T_NATIVE_DOUBLE, &tf);
+        assert_true(t == tf);
+        H5Fclose(file);
+        refs++;
+    }
+    assert_int_equal(refs, grids * (FIELDS_CELL_SCALARS + 1));
+    free(text);
+    return grids;
+}
+
+static void run_out(const struct muflow_case *cs, struct run_result *r)
+{
+    char err[1024];
+    struct run_options opt = {.write_output = 1};
+    int rc = run_case_opts(cs, &opt, r, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, RUN_OK);
+}
+
+static void test_xdmf_series(void **state)
+{
+    (void)state;
+    char dir[64], o[700];
+    make_tmp(dir, sizeof dir, "xdmf");
+    /* by steps: 0, 20, 40 and the end (bagnold H/10 from dt 0.1: 53 steps) */
+    snprintf(o, sizeof o, "output.dir=%s/steps", dir);
+    char *ov1[] = {"domain.nz=10", "solver.dt=0.1", "output.fields_every=20", "output.quiet=on",
+                   o};
+    struct muflow_case cs;
+    load(&cs, CASES_DIR "bagnold.ini", 5, ov1);
+    struct run_result r;
+    run_out(&cs, &r);
+    assert_int_equal(r.status, STATUS_STEADY);
+    long steps[64];
+    snprintf(o, sizeof o, "%s/steps", dir);
+    int n = check_xdmf(o, steps, 64);
+    long want1[] = {0, 20, 40, r.steps};
+    assert_true(r.steps > 40);
+    assert_int_equal(n, 4);
+    for (int m = 0; m < n; m++)
+        assert_int_equal(steps[m], want1[m]);
+
+    /* by time: a transient start-up with dt 0.01 to t = 0.05, a file every 0.02:
+     * t = 0, 0.02, 0.04 (steps 0, 2, 4; 2 x 0.01 must count as 0.02) and the end */
+    snprintf(o, sizeof o, "output.dir=%s/time", dir);
+    char *ov2[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
+                   "solver.end_time=0.05", "output.fields_interval=0.02", "output.quiet=on", o};
+    load(&cs, CASES_DIR "bagnold.ini", 7, ov2);
+    run_out(&cs, &r);
+    assert_int_equal(r.status, STATUS_FINISHED);
+    snprintf(o, sizeof o, "%s/time", dir);
+    n = check_xdmf(o, steps, 64);
+    long want2[] = {0, 2, 4, 5};
+    assert_int_equal(n, 4);
+    for (int m = 0; m < n; m++)
+        assert_int_equal(steps[m], want2[m]);
+
+    /* output.fields = off: none */
+    snprintf(o, sizeof o, "output.dir=%s/none", dir);
+    char *ov3[] = {"domain.nz=10", "output.fields=off", "output.quiet=on", o};
+    load(&cs, CASES_DIR "bagnold.ini", 4, ov3);
+    run_out(&cs, &r);
+    snprintf(o, sizeof o, "%s/none/fields.xdmf", dir);
+    assert_false(file_exists(o));
+    remove_tree(dir);
+}
+
+/* ---------------------------------------------------------------------- */
+/* 3. interrupted and continued runs equal uninterrupted ones bit for bit */
+
+struct stop_at {
+    long step;
+    int sig;
+    int raised;
+};
+
+static void raise_at(void *vctx, const struct march_state *st)
+{
+    struct stop_at *s = vctx;
+    if (st->step == s->step && st->status == STATUS_RUNNING && !s->raised) {
+        s->raised = 1;
+        raise(s->sig); /* the handler runs before raise returns */
+    }
+}
+
+/* The [result] lines of a summary without wall_seconds. */
+static char *result_of(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/summary.ini", dir);
+    char *text = slurp(path), *out = calloc(strlen(text) + 1, 1);
+    assert_non_null(out);
+    char *start = strstr(text, "[result]");
+    assert_non_null(start);
+    char *end = strstr(start + 1, "\n\n");
+    for (char *line = start; line && (!end || line < end);) {
+        char *nl = strchr(line, '\n');
+        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
+        if (strncmp(line, "wall_seconds", 12) != 0)
+            strncat(out, line, len);
+        line = nl ? nl + 1 : NULL;
+    }
+    free(text);
+    return out;
+}
+
+/* history.csv without its wall_seconds column (the third). */
+static char *history_of(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/history.csv", dir);
+    char *text = slurp(path), *out = calloc(strlen(text) + 1, 1);
+    assert_non_null(out);
+    char *o = out;
+    for (char *line = text; *line;) {
+        char *nl = strchr(line, '\n');
+        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
+        char *c1 = memchr(line, ',', len);
+        char *c2 = c1 ? memchr(c1 + 1, ',', len - (size_t)(c1 + 1 - line)) : NULL;
+        char *c3 = c2 ? memchr(c2 + 1, ',', len - (size_t)(c2 + 1 - line)) : NULL;
+        assert_non_null(c3);
+        memcpy(o, line, (size_t)(c2 - line));
+        o += c2 - line;
+        memcpy(o, c3, len - (size_t)(c3 - line));
+        o += len - (size_t)(c3 - line);
+        line += len;
+    }
+    *o = '\0';
+    free(text);
+    return out;
+}
+
+/* Every dataset of the final field files of a and b, bit for bit (tol 0), or
+ * within a relative tolerance. */
+static void same_fields(const char *a, const char *b, long step, double tol)
+{
+    char name[64], pa[700], pb[700];
+    fields_h5_name(step, name, sizeof name);
+    snprintf(pa, sizeof pa, "%s/%s", a, name);
+    snprintf(pb, sizeof pb, "%s/%s", b, name);
+    hid_t fa = open_h5(pa), fb = open_h5(pb);
+    const char *sets[3 + FIELDS_CELL_SCALARS + 1] = {"u", "v", "w"};
+    for (int f = 0; f < FIELDS_CELL_SCALARS; f++)
+        sets[3 + f] = fields_cell_scalar_names[f];
+    sets[3 + FIELDS_CELL_SCALARS] = FIELDS_CELL_VECTOR;
+    for (size_t s = 0; s < sizeof sets / sizeof sets[0]; s++) {
+        int ra, rb;
+        hsize_t da[4], db[4];
+        double *x = read_doubles(fa, sets[s], &ra, da), *y = read_doubles(fb, sets[s], &rb, db);
+        assert_int_equal(ra, rb);
+        size_t n = 1;
+        for (int d = 0; d < ra; d++) {
+            assert_true(da[d] == db[d]);
+            n *= da[d];
+        }
+        if (tol == 0.0) {
+            if (memcmp(x, y, n * sizeof(double)) != 0)
+                print_error("%s: %s differs from the uninterrupted run\n", pb, sets[s]);
+            assert_memory_equal(x, y, n * sizeof(double));
+        } else {
+            double scale = 0.0;
+            for (size_t m = 0; m < n; m++)
+                scale = fmax(scale, fabs(x[m]));
+            for (size_t m = 0; m < n; m++)
+                assert_true(fabs(x[m] - y[m]) <= tol * scale);
+        }
+        free(x);
+        free(y);
+    }
+    double ta, tb;
+    read_attr(fa, "time", H5T_NATIVE_DOUBLE, &ta);
+    read_attr(fb, "time", H5T_NATIVE_DOUBLE, &tb);
+    assert_true(ta == tb);
+    H5Fclose(fa);
+    H5Fclose(fb);
+}
+
+/* Each step once, in order, 0 .. last. */
+static void history_continuous(const char *dir, long last)
+{
+    char *h = history_of(dir);
+    long expect = 0;
+    for (char *line = strchr(h, '\n') + 1; *line; line = strchr(line, '\n') + 1) {
+        assert_int_equal(strtol(line, NULL, 10), expect);
+        expect++;
+    }
+    assert_int_equal(expect - 1, last);
+    free(h);
+}
+
+static void interrupt_and_continue(const char *file, int n, char **ov, long stop, int tag)
+{
+    char dir[64], oa[700], ob[700], err[1024];
+    make_tmp(dir, sizeof dir, "restart");
+    snprintf(oa, sizeof oa, "output.dir=%s/a", dir);
+    snprintf(ob, sizeof ob, "output.dir=%s/b", dir);
+    char *all[16];
+    assert_true(n + 3 <= 16);
+    for (int m = 0; m < n; m++)
+        all[m] = ov[m];
+    all[n] = "output.quiet=on";
+
+    /* a: uninterrupted */
+    struct muflow_case ca, cb, cc;
+    all[n + 1] = oa;
+    load(&ca, file, n + 2, all);
+    struct run_result ra, rb, rc;
+    run_out(&ca, &ra);
+    print_message("%s: uninterrupted %s after %ld steps\n", ca.name, run_status_name(ra.status),
+                  ra.steps);
+    assert_true(ra.status == STATUS_STEADY || ra.status == STATUS_FINISHED);
+    assert_true(ra.steps > stop + 2);
+
+    /* b: SIGINT at step `stop`, written to checkpoint, then continued */
+    all[n + 1] = ob;
+    all[n + 2] = tag ? "output.checkpoint_every=5" : "output.fields_every=7";
+    load(&cb, file, n + 3, all);
+    struct stop_at s = {stop, SIGINT, 0};
+    struct run_options opt = {.write_output = 1, .hook = raise_at, .hook_ctx = &s};
+    assert_int_equal(run_case_opts(&cb, &opt, &rb, err, sizeof err), RUN_OK);
+    assert_int_equal(rb.status, STATUS_STOPPED);
+    assert_int_equal(rb.steps, stop);
+    assert_int_equal(rb.signal, SIGINT);
+    assert_true(rb.checkpointed);
+    assert_int_equal(run_exit_code(rb.status), 3);
+    char want[128];
+    snprintf(want, sizeof want, "interrupted by SIGINT at step %ld", stop);
+    assert_string_equal(rb.message, want);
+    char *res = result_of(ob + strlen("output.dir="));
+    assert_non_null(strstr(res, "status = stopped"));
+    free(res);
+
+    char ck[800];
+    snprintf(ck, sizeof ck, "%s/%s", ob + strlen("output.dir="), CHECKPOINT_NAME);
+    int lrc = checkpoint_load_case(ck, 0, NULL, &cc, err, sizeof err);
+    if (lrc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(lrc, 0);
+    assert_string_equal(cc.name, cb.name);
+    assert_string_equal(cc.output_dir, cb.output_dir);
+    struct run_options cont = {.write_output = 1, .restart_from = ck};
+    int rrc = run_case_opts(&cc, &cont, &rc, err, sizeof err);
+    if (rrc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rrc, RUN_OK);
+    print_message("%s: stopped at step %ld, continued to %s after %ld steps\n", ca.name, stop,
+                  run_status_name(rc.status), rc.steps);
+    assert_int_equal(rc.status, ra.status);
+    assert_int_equal(rc.steps, ra.steps);
+
+    const char *da = oa + strlen("output.dir="), *db = ob + strlen("output.dir=");
+    same_fields(da, db, ra.steps, 0.0);
+    char *x = result_of(da), *y = result_of(db);
+    assert_string_equal(x, y);
+    free(x);
+    free(y);
+    x = history_of(da);
+    y = history_of(db);
+    assert_string_equal(x, y);
+    free(x);
+    free(y);
+    history_continuous(db, ra.steps);
+    remove_tree(dir);
+}
+
+static void test_interrupt_restart_bagnold(void **state)
+{
+    (void)state;
+    /* from dt 0.01 the pseudo-time march takes ~400 steps */
+    char *ov[] = {"domain.nz=10", "solver.dt=0.01"};
+    interrupt_and_continue(CASES_DIR "bagnold.ini", 2, ov, 150, 1);
+}
+
+static void test_interrupt_restart_chute(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.ny=20"};
+    interrupt_and_continue(CASES_DIR "chute.ini", 1, ov, 8, 0);
+}
+
+static void test_interrupt_restart_transient(void **state)
+{
+    (void)state;
+    /* time-accurate: the end time, not a residual, ends it */
+    char *ov[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
+                  "solver.end_time=0.4"};
+    interrupt_and_continue(CASES_DIR "bagnold.ini", 4, ov, 17, 1);
+}
+
+/* ---------------------------------------------------------------------- */
+/* 4. the command line: SIGTERM, SIGKILL after periodic checkpoints, --restart */
+
+static void muflow_bin(char *out, size_t len)
+{
+    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
+    assert_true(n > 0);
+    out[n] = '\0';
+    strcpy(strrchr(out, '/'), "/muflow"); /* the binary of this build */
+}
+
+/* Runs muflow with args (NULL-terminated) and its stdout through a one-page
+ * pipe; once a line containing `when` has been read, sends sig (0: none) and
+ * reads on to the end.  Returns the wait status; the output in out. */
+static int run_cli(char *const args[], const char *when, int sig, char *out, size_t len)
+{
+    int fd[2];
+    assert_int_equal(pipe(fd), 0);
+    /* the child blocks ~40 lines ahead of us */
+    assert_true(fcntl(fd[0], F_SETPIPE_SZ, 4096) >= 0);
+    fflush(NULL);
+    pid_t pid = fork();
+    assert_true(pid >= 0);
+    if (pid == 0) {
+        dup2(fd[1], 1);
+        close(fd[0]);
+        close(fd[1]);
+        execv(args[0], args);
+        _exit(127);
+    }
+    close(fd[1]);
+    FILE *f = fdopen(fd[0], "r");
+    assert_non_null(f);
+    setvbuf(f, NULL, _IONBF, 0); /* read no further ahead than the lines we look at */
+    char line[512];
+    size_t used = 0;
+    int sent = 0;
+    out[0] = '\0';
+    while (fgets(line, sizeof line, f)) {
+        size_t l = strlen(line);
+        if (used + l < len) {
+            memcpy(out + used, line, l + 1);
+            used += l;
+        }
+        if (sig && !sent && strstr(line, when)) {
+            kill(pid, sig);
+            sent = 1;
+        }
+    }
+    fclose(f);
+    int status;
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    if (sig)
+        assert_true(sent);
+    return status;
+}
+
+static void test_cli_signals(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], dir[64], oa[700], ob[700], oc[700], out[1 << 16];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "cli");
+    snprintf(oa, sizeof oa, "output.dir=%s/a", dir);
+    snprintf(ob, sizeof ob, "output.dir=%s/b", dir);
+    snprintf(oc, sizeof oc, "output.dir=%s/c", dir);
+    const char *da = oa + 11, *db = ob + 11, *dc = oc + 11;
+    char *a[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.01",
+                 "solver.progress_interval=0", "output.checkpoint_every=50", oa, NULL};
+    int st = run_cli(a, NULL, 0, out, sizeof out);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    long steps = 0;
+    assert_non_null(strstr(out, "steady after"));
+    steps = strtol(strstr(out, "steady after") + 13, NULL, 10);
+    assert_true(steps > 200);
+
+    /* SIGTERM at step 100 or a little later: exit status 3, a checkpoint */
+    char *b[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.01",
+                 "solver.progress_interval=0", "output.checkpoint_every=50", ob, NULL};
+    st = run_cli(b, "step    100 ", SIGTERM, out, sizeof out);
+    assert_true(WIFEXITED(st));
+    assert_int_equal(WEXITSTATUS(st), 3);
+    assert_non_null(strstr(out, "interrupted by SIGTERM at step"));
+    assert_non_null(strstr(out, "resume with: muflow --restart"));
+    char ck[800];
+    snprintf(ck, sizeof ck, "%s/%s", db, CHECKPOINT_NAME);
+    assert_true(file_exists(ck));
+    char *rb[] = {bin, "--restart", (char *)db, NULL};
+    st = run_cli(rb, NULL, 0, out, sizeof out);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    assert_non_null(strstr(out, "continuing from"));
+
+    /* SIGKILL at step 120 or a little later: no outputs, but the periodic
+     * checkpoint of step 100 and the rows of history.csv.tmp up to it */
+    char *c[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.01",
+                 "solver.progress_interval=0", "output.checkpoint_every=50", oc, NULL};
+    st = run_cli(c, "step    120 ", SIGKILL, out, sizeof out);
+    assert_true(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+    char *rc[] = {bin, "--restart", (char *)dc, NULL};
+    st = run_cli(rc, NULL, 0, out, sizeof out);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+    const char *at = strstr(out, "continuing from");
+    assert_non_null(at);
+    long from = strtol(strstr(at, "at step ") + 8, NULL, 10);
+    print_message("killed at step 120 or a little later, continued from step %ld\n", from);
+    assert_true(from >= 100 && from % 50 == 0); /* a periodic checkpoint */
+
+    /* Separate processes may plan different FFTW algorithms for the reference
+     * run a (the checkpoint makes b and c use the ones of their own first
+     * process), so the fields are compared to round-off, 1e-12 of their scale;
+     * the summary prints 7 to 10 digits and must match exactly. */
+    char *x = result_of(da);
+    for (int m = 0; m < 2; m++) {
+        const char *d = m ? dc : db;
+        char *y = result_of(d);
+        assert_string_equal(x, y);
+        free(y);
+        same_fields(da, d, steps, 1e-12);
+        history_continuous(d, steps);
+    }
+    free(x);
+    remove_tree(dir);
+}
+
+/* ---------------------------------------------------------------------- */
+/* 5. a checkpoint that cannot be written */
+
+static void test_checkpoint_write_fails(void **state)
+{
+    (void)state;
+    if (!file_exists("/dev/full")) {
+        print_message("no /dev/full here\n");
+        skip();
+    }
+    char bin[PATH_MAX], dir[64], od[700], out[1 << 16];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "full");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    /* a transient run stopped by max_steps leaves a checkpoint of step 10 */
+    char *a[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.mode=transient",
+                 "solver.dt=0.01", "solver.end_time=1", "solver.max_steps=10", od, NULL};
+    int st = run_cli(a, NULL, 0, out, sizeof out);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 3);
+    char ck[800], tmp[820];
+    snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
+    snprintf(tmp, sizeof tmp, "%s.tmp", ck);
+    char *before = slurp(ck);
+    struct stat sb;
+    assert_int_equal(stat(ck, &sb), 0);
+    off_t size = sb.st_size;
+
+    /* the next checkpoint goes to a full device */
+    assert_int_equal(symlink("/dev/full", tmp), 0);
+    char errpath[800];
+    snprintf(errpath, sizeof errpath, "%s/stderr", dir);
+    int saved = dup(2);
+    int efd = open(errpath, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    assert_true(efd >= 0 && saved >= 0);
+    dup2(efd, 2);
+    char *b[] = {bin, "--restart", dir, "solver.max_steps=30", "output.checkpoint_every=5",
+                 NULL};
+    st = run_cli(b, NULL, 0, out, sizeof out);
+    dup2(saved, 2);
+    close(saved);
+    close(efd);
+    char *msg = slurp(errpath);
+    print_message("exit %d: %s", WIFEXITED(st) ? WEXITSTATUS(st) : -1, msg);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 4);
+    assert_non_null(strstr(msg, "checkpoint"));
+    assert_non_null(strstr(msg, "No space left on device"));
+    /* the run stopped at the failed checkpoint, step 15, and says so */
+    char *res = result_of(dir);
+    assert_non_null(strstr(res, "status = stopped"));
+    assert_non_null(strstr(res, "output failed at step 15"));
+    free(res);
+    /* the previous checkpoint, untouched */
+    assert_int_equal(stat(ck, &sb), 0);
+    assert_int_equal(sb.st_size, size);
+    char *after = slurp(ck);
+    assert_memory_equal(before, after, (size_t)size);
+    assert_false(file_exists(tmp));
+    free(before);
+    free(after);
+    free(msg);
+
+    /* a folder that is a regular file: the cause is named, nothing written */
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10"};
+    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+    struct march_state ms;
+    char err[1024], notdir[800];
+    assert_int_equal(march_create(&ms, &cs, err, sizeof err), 0);
+    struct field_series fs;
+    field_series_init(&fs);
+    snprintf(notdir, sizeof notdir, "%s/stderr", dir);
+    assert_int_equal(checkpoint_write(notdir, &ms, &fs, err, sizeof err), -1);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "Not a directory"));
+    march_destroy(&ms);
+    remove_tree(dir);
+}
+
+/* ---------------------------------------------------------------------- */
+/* 6. restarting from something that is not a usable checkpoint */
+
+static void test_restart_bad_checkpoint(void **state)
+{
+    (void)state;
+    char dir[64], path[700], err[1024];
+    make_tmp(dir, sizeof dir, "bad");
+    struct muflow_case cs;
+    snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
+    assert_int_equal(checkpoint_load_case(path, 0, NULL, &cs, err, sizeof err), 2);
+    assert_non_null(strstr(err, "No such file or directory"));
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("not HDF5\n", f);
+    fclose(f);
+    assert_int_equal(checkpoint_load_case(path, 0, NULL, &cs, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "cannot open checkpoint"));
+
+    /* a real checkpoint, continued on a different grid: refused */
+    char od[700];
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    char *ov[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
+                  "solver.max_steps=3", "output.quiet=on", od};
+    load(&cs, CASES_DIR "bagnold.ini", 6, ov);
+    struct run_result r;
+    run_out(&cs, &r);
+    assert_int_equal(r.status, STATUS_STOPPED);
+    char *bad[] = {"domain.nz=12"};
+    assert_int_equal(checkpoint_load_case(path, 1, bad, &cs, err, sizeof err), 0);
+    struct run_options opt = {.write_output = 0, .restart_from = path};
+    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), RUN_ERR_SETUP);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "grid"));
+    /* a bad override is blamed on the override */
+    char *typo[] = {"solver.max_step=4"};
+    assert_int_equal(checkpoint_load_case(path, 1, typo, &cs, err, sizeof err), 2);
+    assert_non_null(strstr(err, "override solver.max_step=4"));
+    remove_tree(dir);
+}
+
+void group_io(struct test_tally *t)
+{
+    h5io_init(); /* the failures above are expected: no HDF5 stack dumps */
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_fields_match_memory),
+        cmocka_unit_test(test_xdmf_series),
+        cmocka_unit_test(test_interrupt_restart_bagnold),
+        cmocka_unit_test(test_interrupt_restart_chute),
+        cmocka_unit_test(test_interrupt_restart_transient),
+        cmocka_unit_test(test_cli_signals),
+        cmocka_unit_test(test_checkpoint_write_fails),
+        cmocka_unit_test(test_restart_bad_checkpoint),
+    };
+    RUN_GROUP(t, "io", tests);
+}
