@@ -21,6 +21,7 @@ static const struct {
     {"time", offsetof(struct march_state, time), S_DOUBLE},
     {"dt", offsetof(struct march_state, dt), S_DOUBLE},
     {"residual0", offsetof(struct march_state, residual0), S_DOUBLE},
+    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE},
     {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE},
     {"best_step", offsetof(struct march_state, best_step), S_LONG},
     {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE},
