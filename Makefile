@@ -7,6 +7,8 @@ CFLAGS  ?= $(OPT) -g
 # Debian packages muflow needs (headers and libraries); `make deps` installs
 # the missing ones with apt-get (as root).
 DEB_PKGS = libfftw3-dev libhdf5-dev libgsl-dev libinih-dev libcmocka-dev libsuitesparse-dev pkg-config
+# xmllint checks fields.xdmf in the tests
+DEB_PKGS += libxml2-utils
 PC_PKGS  = fftw3 hdf5 gsl inih
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse
@@ -19,9 +21,9 @@ LIB_SRC    = $(filter-out src/main.c,$(wildcard src/*.c)) $(KERNEL_SRC)
 LIB_OBJ    = $(patsubst %.c,$(BUILD)/obj/%.o,$(LIB_SRC))
 TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
-HEADERS    = $(wildcard include/*.h tests/*.h)
+HEADERS    = $(wildcard include/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps
+.PHONY: all deps run test clean check-deps check-asan fuzz
 
 all: $(BUILD)/muflow
 
@@ -61,3 +63,43 @@ test: deps
 
 clean:
 	rm -rf $(BUILD) out
+
+# AddressSanitizer + UBSan: a separate build in build/asan, the unit tests
+# (every group but the long scenes) and the shipped profile scenes from the
+# command line; any report fails the target (-fno-sanitize-recover, leaks too).
+ASAN_BUILD  = build/asan
+ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
+              -fno-sanitize-recover=all
+ASAN_GROUPS = rheology poisson case viscous io corpus
+ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+              LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
+check-asan: deps
+	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) CFLAGS="$(ASAN_FLAGS)" \
+	  $(ASAN_BUILD)/muflow $(ASAN_BUILD)/muflow_tests
+	cd tests && $(ASAN_ENV) ../$(ASAN_BUILD)/muflow_tests $(ASAN_GROUPS)
+	for c in bagnold chute; do \
+	  $(ASAN_ENV) $(ASAN_BUILD)/muflow cases/$$c.ini output.dir=$(ASAN_BUILD)/out/$$c \
+	    output.quiet=on || exit 1; \
+	done
+
+# libFuzzer on case_load (file + overrides, tests/fuzz/fuzz_case.c) with
+# AddressSanitizer and UBSan, for FUZZ_SECONDS; the inputs that add coverage
+# are merged into tests/fuzz/corpus (replayed by the "corpus" test group).
+FUZZ_PKGS    = clang libclang-rt-14-dev
+FUZZ_CC      = clang
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD   = build/fuzz
+FUZZ_SRC     = tests/fuzz/fuzz_case.c src/case.c
+FUZZ_FLAGS   = -std=c11 -Wall -Wextra -g -O1 -Iinclude \
+               -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+$(FUZZ_BUILD)/fuzz_case: $(FUZZ_SRC) $(HEADERS)
+	@mkdir -p $(FUZZ_BUILD)
+	$(FUZZ_CC) $(FUZZ_FLAGS) $(shell pkg-config --cflags inih 2>/dev/null) $(FUZZ_SRC) -o $@ \
+	  $(shell pkg-config --libs inih 2>/dev/null) -lm
+fuzz:
+	@$(MAKE) --no-print-directory deps DEB_PKGS="$(DEB_PKGS) $(FUZZ_PKGS)"
+	@$(MAKE) --no-print-directory $(FUZZ_BUILD)/fuzz_case
+	@mkdir -p $(FUZZ_BUILD)/corpus
+	$(FUZZ_BUILD)/fuzz_case -max_total_time=$(FUZZ_SECONDS) -dict=tests/fuzz/case.dict \
+	  -artifact_prefix=$(FUZZ_BUILD)/ -print_final_stats=1 $(FUZZ_BUILD)/corpus tests/fuzz/corpus
+	$(FUZZ_BUILD)/fuzz_case -merge=1 tests/fuzz/corpus $(FUZZ_BUILD)/corpus
