@@ -17,7 +17,6 @@ struct run_result {
     char message[256];
     int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
     int checkpointed;      /* a checkpoint of the final state was written */
-    int fields_written;    /* field files written by this run */
 };
 
 /* Creates dir and its parents; returns 0, or -1 with the cause in err. */

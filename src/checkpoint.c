@@ -163,6 +163,8 @@ static int collect_key(void *vctx, const char *name, const char *text)
     struct stored *s = vctx;
     if (!strchr(name, '.'))
         return 0; /* not a case key (format, case_name) */
+    if (!text[0])
+        return 0; /* an empty text key at its default: "key=" would be refused */
     if (s->count == s->cap) {
         int cap = s->cap ? 2 * s->cap : 64;
         char **items = realloc(s->items, (size_t)cap * sizeof *items);

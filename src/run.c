@@ -202,7 +202,6 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         field_series_free(&ctx.series);
         return rc;
     }
-    long fields_before = ctx.series.count;
     march_run(&st, observe, &ctx);
     if (st.status == STATUS_STOPPED && ctx.signal) {
         res->signal = ctx.signal;
@@ -227,7 +226,6 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
         interrupt_restore(); /* only now: a signal during the final writes is ignored */
     }
-    res->fields_written = (int)(ctx.series.count - fields_before);
     if (have_profile)
         profile_free(&pr);
     field_series_free(&ctx.series);
