@@ -12,7 +12,7 @@ DEB_PKGS += libxml2-utils
 PC_PKGS  = fftw3 hdf5 gsl inih
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse
-LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
+LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod -lumfpack \
           -lsuitesparseconfig -lm
 BUILD   ?= build
 
@@ -103,3 +103,31 @@ fuzz:
 	$(FUZZ_BUILD)/fuzz_case -max_total_time=$(FUZZ_SECONDS) -dict=tests/fuzz/case.dict \
 	  -artifact_prefix=$(FUZZ_BUILD)/ -print_final_stats=1 $(FUZZ_BUILD)/corpus tests/fuzz/corpus
 	$(FUZZ_BUILD)/fuzz_case -merge=1 tests/fuzz/corpus $(FUZZ_BUILD)/corpus
+
+# ---- benchmarks (bench/; README "Benchmarks") --------------------------------
+# `make bench` installs the plotting package (Debian's matplotlib, used through
+# /usr/bin/python3), builds the bench programs against build/libmuflow.a with
+# the flags above, runs every benchmark on 2 threads (about 5 minutes on 2
+# cores) and writes bench/out/report.md with its PNG plots, printing the tables.
+BENCH_PKGS    = python3-matplotlib
+BENCH_OUT     ?= bench/out
+BENCH_REPEATS ?= 7
+BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput
+BENCH_OBJ     = $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard bench/*.c))
+
+.PHONY: bench bench-deps
+
+bench-deps:
+	@$(MAKE) --no-print-directory deps DEB_PKGS="$(BENCH_PKGS)"
+
+$(BENCH_OBJ): bench/bench.h
+
+$(BUILD)/bench_%: $(BUILD)/obj/bench/bench_%.o $(BUILD)/obj/bench/bench.o $(BUILD)/libmuflow.a
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
+
+bench: deps bench-deps
+	@$(MAKE) --no-print-directory $(BENCH_PROGS)
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
+	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
+	/usr/bin/python3 bench/report.py $(BENCH_OUT)

@@ -17,7 +17,14 @@ double analytic_headline(const struct muflow_case *cs);
 int scene_profile_axes(enum scene s, int *axis, int *component);
 
 const char *scene_name(enum scene s);
-/* Name of the scene's headline value ("u_surface", "u_plug") or NULL. */
+/* Name of the scene's headline value ("u_surface", "u_plug", "psi_max") or NULL. */
 const char *scene_headline_name(enum scene s);
+
+/* Name of its RMS error: "err_rms", or "err_midline" for the cavity. */
+const char *scene_error_name(enum scene s);
+
+/* Yield-stress number of the cavity in the convention of its reference data
+ * (Vola et al.: sqrt(2) times muflow's simple-shear yield stress). */
+double cavity_reference_bn(const struct muflow_case *cs);
 
 #endif

@@ -11,12 +11,14 @@
 
 enum scene { SCENE_NONE = 0, SCENE_BAGNOLD, SCENE_CHUTE, SCENE_BINGHAM_CHANNEL,
              SCENE_BINGHAM_CAVITY };
-enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY };
+enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 
 struct muflow_case {
     char name[128];          /* case name: the file's base name without .ini */
     enum scene scene;        /* case.scene: analytic solution and headline value */
+    char reference[512];     /* case.reference: published data to compare with (a path
+                                relative to the case file's folder; stored absolute) */
 
     /* [domain] */
     double len[3];           /* lx ly lz */
@@ -44,11 +46,14 @@ struct muflow_case {
     double dt_max;           /* steady: cap of the growing pseudo-time step */
     double cfl;              /* advective CFL number (when advection is on) */
     int newton;              /* 1: consistent tangent viscosity; 0: Picard (lagged) */
+    double newton_below;     /* the tangent is used once residual / first residual
+                                falls below this (Picard before): 1 = always */
     double linear_tolerance; /* relative tolerance of the implicit viscous CG */
     int max_linear_iterations;
     int line_direction;      /* -1 auto, or 0/1/2: preconditioner lines */
     enum preconditioner preconditioner; /* of the implicit viscous solve */
-    double augmentation;     /* r of the grad-div (augmented Lagrangian) term */
+    double augmentation;     /* kappa: the grad-div (augmented Lagrangian) term has
+                                r = kappa * eta per cell; 0 switches it off */
     double progress_interval; /* wall seconds between progress lines (0: every step) */
 
     /* [output] */

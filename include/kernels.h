@@ -31,10 +31,12 @@ void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, doub
  * tan_c[a] = eta + (d eta/d|D|) gamma_aa^2 / (2 |D|): the derivative of
  * tau_aa = eta gamma_aa with respect to gamma_aa.  Also |D|^2 and the
  * regularised pressure of the cell.  e2 as from kernel_strain; p is the total
- * pressure.  tan_c may be NULL (Picard). */
+ * pressure.  tan_c may be NULL (Picard).  b_c, if not NULL, receives
+ * (d eta/d|D|) / (2|D|), the coefficient of the full tangent (0 at rest). */
 void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
                             const double *cn2, double *const e2[3], const double *p,
-                            double *eta, double *tan_c[3], double *shear2, double *preg);
+                            double *eta, double *tan_c[3], double *shear2, double *preg,
+                            double *b_c);
 
 /* Edge viscosity of each shear component and its tangent coefficient
  * eta + (d eta/d|D|) gamma_ab^2 / |D| (derivative of tau_ab = eta gamma_ab
@@ -43,7 +45,21 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
  * be NULL. */
 void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
                             double *const e2[3], const double *p, double *eta_e[3],
-                            double *tan_e[3]);
+                            double *tan_e[3], double *b_e[3]);
+
+/* The full consistent tangent couples every strain component through |D|:
+ * d tau = eta d gamma + b gamma d(|D|^2), b = (d eta/d|D|) / (2|D|).  These
+ * give d(|D|^2) along a direction v at every stress location, times b:
+ * pn = sum_i gamma_ii(u) gamma_ii(v) per cell, pe[c] = gamma_c(u) gamma_c(v)
+ * per edge (ranges as kernel_strain); then B = b d(|D|^2)[v] with d(|D|^2)
+ * built from pn and pe exactly as |D|^2 is built from cn2 and e2 (pn needs
+ * filled ghosts). */
+void kernel_strain_products(const struct grid *g, double *const u[3], double *const v[3],
+                            double *pn, double *pe[3]);
+void kernel_tangent_cells(const struct grid *g, const double *pn, double *const pe[3],
+                          const double *b_c, double *B_c);
+void kernel_tangent_edges(const struct grid *g, const double *pn, double *const pe[3],
+                          double *const b_e[3], double *B_e[3]);
 
 /* out_c = [div tau]_c on the faces of act[c] (zero elsewhere), with
  * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)

@@ -35,6 +35,9 @@ struct march_state {
     double *shear2, *eta, *preg; /* cell |D|^2, viscosity, regularised pressure */
     double *tan_c[3];           /* normal-stress tangent coefficients (cells) */
     double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
+    double *aug;                /* augmentation r = kappa eta per cell, or NULL */
+    int full_tangent;           /* Newton with the full (non-symmetric) tangent */
+    double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
     double *res[3];             /* momentum residual */
     double *delta[3];           /* velocity increment of the viscous solve */
     double *adv[3];             /* advection term */
@@ -76,6 +79,15 @@ void march_destroy(struct march_state *st);
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
 
 const char *run_status_name(enum run_status s);
+
+/* The steady momentum residual R(u) of the current state into st->res (and the
+ * viscosities and tangent coefficients at it). */
+void march_evaluate(struct march_state *st);
+
+/* out = -dR/du v, the linearised operator of the implicit step without its
+ * mass term, at the state of the last march_evaluate (tests check it against
+ * finite differences of the residual). */
+void march_apply_tangent(struct march_state *st, double *v[3], double *out[3]);
 
 /* The direction of the body force's periodic part (the mean flow direction)
  * and the mean of the momentum residual along it per unit mass: the mean

@@ -49,3 +49,44 @@ void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, doub
                 }
     }
 }
+
+void kernel_strain_products(const struct grid *g, double *const u[3], double *const v[3],
+                            double *pn, double *pe[3])
+{
+    const ptrdiff_t *o = g->stride;
+    const double *h = g->h;
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                double q = 0.0;
+                for (int a = 0; a < 3; a++)
+                    q += 4.0 * (u[a][p + o[a]] - u[a][p]) * (v[a][p + o[a]] - v[a][p]) /
+                         (h[a] * h[a]);
+                pn[p] = q;
+            }
+    for (int c = 0; c < 3; c++) {
+        int a = (c + 1) % 3, b = (c + 2) % 3;
+        if (a > b) {
+            int t = a;
+            a = b;
+            b = t;
+        }
+        int lo[3], hi[3];
+        lo[a] = lo[b] = 0;
+        hi[a] = g->n[a];
+        hi[b] = g->n[b];
+        lo[c] = -1;
+        hi[c] = g->n[c];
+        double *ec = pe[c];
+#pragma omp parallel for collapse(2) schedule(static)
+        for (int i = lo[0]; i <= hi[0]; i++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int k = lo[2]; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    ec[e] = edge_gamma(u, a, b, e, o[a], o[b], h[a], h[b]) *
+                            edge_gamma(v, a, b, e, o[a], o[b], h[a], h[b]);
+                }
+    }
+}

@@ -21,7 +21,8 @@ static inline void plane_dirs(int c, int *a, int *b)
 
 void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
                             const double *cn2, double *const e2[3], const double *p,
-                            double *eta, double *tan_c[3], double *shear2, double *preg)
+                            double *eta, double *tan_c[3], double *shear2, double *preg,
+                            double *b_c)
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
@@ -44,6 +45,8 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
                 eta[q] = pt.eta;
                 shear2[q] = s2;
                 preg[q] = pr;
+                if (b_c) /* d|D|^2 vanishes with |D|: b d|D|^2 -> 0 at rest */
+                    b_c[q] = shear > 0.0 ? pt.deta_dshear / (2.0 * shear) : 0.0;
                 if (tan_c)
                     for (int a = 0; a < 3; a++) {
                         double gn = 2.0 * (vel[a][q + o[a]] - vel[a][q]) / h[a];
@@ -57,7 +60,7 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
 
 void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
                             double *const e2[3], const double *p, double *eta_e[3],
-                            double *tan_e[3])
+                            double *tan_e[3], double *b_e[3])
 {
     const ptrdiff_t *o = g->stride;
     for (int c = 0; c < 3; c++) {
@@ -67,7 +70,7 @@ void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, cons
         hi[a] = g->n[a];
         hi[b] = g->n[b];
         hi[c] = g->n[c] - 1;
-        double *ee = eta_e[c], *te = tan_e ? tan_e[c] : NULL;
+        double *ee = eta_e[c], *te = tan_e ? tan_e[c] : NULL, *be = b_e ? b_e[c] : NULL;
         /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
         const double *eac = e2[b], *ebc = e2[a];
 #pragma omp parallel for collapse(2) schedule(static)
@@ -88,6 +91,55 @@ void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, cons
                     ee[e] = pt.eta;
                     if (te)
                         te[e] = shear > 0.0 ? pt.eta + pt.deta_dshear * own / shear : pt.eta;
+                    if (be)
+                        be[e] = shear > 0.0 ? pt.deta_dshear / (2.0 * shear) : 0.0;
+                }
+    }
+}
+
+void kernel_tangent_cells(const struct grid *g, const double *pn, double *const pe[3],
+                          const double *b_c, double *B_c)
+{
+    const ptrdiff_t *o = g->stride;
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                /* d(|D|^2) of cn2 + sum_planes mean4(e2): pn + sum mean4(2 pe) */
+                double d = pn[q];
+                for (int c = 0; c < 3; c++) {
+                    int a, b;
+                    plane_dirs(c, &a, &b);
+                    d += 2.0 * mean4(pe[c], q + o[a] + o[b], o[a], o[b]);
+                }
+                B_c[q] = b_c[q] * d;
+            }
+}
+
+void kernel_tangent_edges(const struct grid *g, const double *pn, double *const pe[3],
+                          double *const b_e[3], double *B_e[3])
+{
+    const ptrdiff_t *o = g->stride;
+    for (int c = 0; c < 3; c++) {
+        int a, b;
+        plane_dirs(c, &a, &b);
+        int hi[3];
+        hi[a] = g->n[a];
+        hi[b] = g->n[b];
+        hi[c] = g->n[c] - 1;
+        const double *pac = pe[b], *pbc = pe[a], *bc = b_e[c];
+        double *Be = B_e[c];
+#pragma omp parallel for collapse(2) schedule(static)
+        for (int i = 0; i <= hi[0]; i++)
+            for (int j = 0; j <= hi[1]; j++)
+                for (int k = 0; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    /* d of own^2 + mean4(cn2) + mean4(e2 of the other planes) */
+                    double d = 2.0 * pe[c][e] + mean4(pn, e, o[a], o[b]) +
+                               2.0 * mean4(pac, e + o[c], o[c], o[b]) +
+                               2.0 * mean4(pbc, e + o[c], o[c], o[a]);
+                    Be[e] = bc[e] * d;
                 }
     }
 }

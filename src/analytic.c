@@ -17,7 +17,12 @@ const char *scene_name(enum scene s)
 const char *scene_headline_name(enum scene s)
 {
     return s == SCENE_BAGNOLD ? "u_surface" : s == SCENE_CHUTE ? "u_plug"
-         : s == SCENE_BINGHAM_CHANNEL ? "u_plug" : NULL;
+         : s == SCENE_BINGHAM_CHANNEL ? "u_plug" : s == SCENE_BINGHAM_CAVITY ? "psi_max" : NULL;
+}
+
+const char *scene_error_name(enum scene s)
+{
+    return s == SCENE_BINGHAM_CAVITY ? "err_midline" : "err_rms";
 }
 
 int scene_profile_axes(enum scene s, int *axis, int *component)
@@ -25,8 +30,8 @@ int scene_profile_axes(enum scene s, int *axis, int *component)
     switch (s) {
     case SCENE_BAGNOLD: *axis = 2; *component = 0; return 0;
     case SCENE_CHUTE: *axis = 1; *component = 2; return 0;
-    case SCENE_BINGHAM_CHANNEL: *axis = 2; *component = 0; return 0;
-    case SCENE_BINGHAM_CAVITY:
+    case SCENE_BINGHAM_CHANNEL:
+    case SCENE_BINGHAM_CAVITY: *axis = 2; *component = 0; return 0;
     case SCENE_NONE: break;
     }
     return -1;
@@ -117,4 +122,12 @@ double analytic_headline(const struct muflow_case *cs)
     case SCENE_NONE: break;
     }
     return NAN;
+}
+
+double cavity_reference_bn(const struct muflow_case *cs)
+{
+    /* Bn = tau_0 L / (mu_p U) with L = lx, U the lid speed */
+    double bn = cs->rheo.yield_stress * cs->len[0] /
+                (cs->rheo.plastic_viscosity * fabs(cs->bc.lid_velocity));
+    return sqrt(2.0) * bn;
 }

@@ -10,6 +10,7 @@
  *     inih "multi-line continuations" of the previous value),
  *   - rejects unknown [section] headers, even ones without keys,
  *   - stops the parse at the first error we detected. */
+#define _XOPEN_SOURCE 700 /* realpath */
 #include "case.h"
 
 #include <errno.h>
@@ -62,7 +63,8 @@ static const struct choice dir_choices[] = {
     {"auto", -1}, {"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice precond_choices[] = {
-    {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY}, {NULL, 0}};
+    {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
+    {"lu", PRECOND_LU}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum scene) == sizeof(int), "enum size");
@@ -91,6 +93,7 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 
 static const struct key keys[] = {
     CHO("case", "scene", scene, scene_choices),
+    STR("case", "reference", reference),
 
     DBL("domain", "lx", len[0], GT0),
     DBL("domain", "ly", len[1], GT0),
@@ -136,6 +139,7 @@ static const struct key keys[] = {
     DBL("solver", "dt_max", dt_max, GT0),
     DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1)),
     BOOL("solver", "newton", newton),
+    DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1)),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0)),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1)),
     CHO("solver", "line_direction", line_direction, dir_choices),
@@ -199,6 +203,7 @@ void case_defaults(struct muflow_case *c)
     c->dt_max = 1e12;
     c->cfl = 0.5;
     c->newton = 1;
+    c->newton_below = 1.0;
     c->linear_tolerance = 1e-8;
     c->max_linear_iterations = 500;
     c->line_direction = -1;
@@ -461,7 +466,8 @@ static const char *parse_value(struct muflow_case *c, const struct key *k, const
         return msg;
     }
     case K_STRING: {
-        size_t size = sizeof(c->output_dir); /* the only string key */
+        _Static_assert(sizeof(c->output_dir) == sizeof(c->reference), "string key size");
+        size_t size = sizeof(c->output_dir); /* every string key has this size */
         size_t len = strlen(value);
         if (len >= size) {
             snprintf(msg, msglen, "longer than %zu characters", size - 1);
@@ -765,6 +771,30 @@ static int apply_override(struct ctx *x, const char *arg)
     return ok;
 }
 
+/* case.reference relative to the case file's folder, made absolute so that a
+ * summary or checkpoint that repeats the key finds the same file. */
+static void resolve_reference(struct ctx *x, const char *path)
+{
+    struct muflow_case *c = x->c;
+    char joined[2 * sizeof(c->reference)], real[PATH_MAX], b[SHOWN_MAX + 4], b2[SHOWN_MAX + 4];
+    const char *slash = path ? strrchr(path, '/') : NULL;
+    if (c->reference[0] != '/' && slash)
+        snprintf(joined, sizeof joined, "%.*s/%s", (int)(slash - path), path, c->reference);
+    else
+        snprintf(joined, sizeof joined, "%s", c->reference);
+    if (!realpath(joined, real)) {
+        fail(x, "%s: case.reference = %s: %s", shown(x->where, b), shown(joined, b2),
+             strerror(errno));
+        return;
+    }
+    if (strlen(real) >= sizeof(c->reference)) {
+        fail(x, "%s: case.reference: path longer than %zu characters", shown(x->where, b),
+             sizeof(c->reference) - 1);
+        return;
+    }
+    snprintf(c->reference, sizeof(c->reference), "%s", real);
+}
+
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen)
 {
@@ -792,6 +822,8 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
     }
     if (!x.failed)
         finish(&x);
+    if (!x.failed && work.reference[0])
+        resolve_reference(&x, path);
     if (x.failed)
         return 2;
     *c = work;
@@ -882,6 +914,9 @@ void case_write_ini(const struct muflow_case *c, FILE *out)
         }
         char val[sizeof(c->output_dir) + 8];
         key_text(c, k, val, sizeof(val));
-        fprintf(out, "%s = %s\n", k->name, val);
+        if (val[0] == '\0') /* an unset string key (no reference): its default */
+            fprintf(out, "; %s is not set\n", k->name);
+        else
+            fprintf(out, "%s = %s\n", k->name, val);
     }
 }

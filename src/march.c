@@ -108,15 +108,21 @@ static int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
-    if (cs->preconditioner == PRECOND_LINE)
-        return VISCOUS_LINE;
-    if (cs->preconditioner == PRECOND_CHOLESKY)
-        return VISCOUS_CHOLESKY;
+    switch (cs->preconditioner) {
+    case PRECOND_LINE: return VISCOUS_LINE;
+    case PRECOND_CHOLESKY: return VISCOUS_CHOLESKY;
+    case PRECOND_LU: return VISCOUS_LU;
+    case PRECOND_AUTO: break;
+    }
     int wide = 0;
     for (int d = 0; d < 3; d++)
         wide += st->g.n[d] > 2;
     long unknowns = 3L * (long)grid_cells(&st->g);
-    return wide >= 2 && unknowns <= CHOLESKY_MAX_UNKNOWNS ? VISCOUS_CHOLESKY : VISCOUS_LINE;
+    if (wide < 2 || unknowns > CHOLESKY_MAX_UNKNOWNS)
+        return VISCOUS_LINE;
+    /* in a flow that varies in two directions the strain components couple
+     * through |D|: Newton needs the full tangent, which is not symmetric */
+    return cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
 }
 
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
@@ -156,9 +162,23 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)
             pbc[d][s] = st->bc.face[d][s] == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+    enum viscous_precond kind = choose_preconditioner(st);
+    st->full_tangent = kind == VISCOUS_LU && cs->newton;
+    if (cs->augmentation > 0.0)
+        ok &= (st->aug = field_alloc(g)) != NULL;
+    if (st->full_tangent) {
+        ok &= (st->b_c = field_alloc(g)) != NULL;
+        for (int c = 0; c < 3; c++)
+            ok &= (st->b_e[c] = field_alloc(g)) != NULL;
+        if (!ok) {
+            snprintf(err, errlen, "out of memory for the full tangent");
+            march_destroy(st);
+            return -1;
+        }
+    }
     if (poisson_fft_create(&st->poisson, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0 ||
-        viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction,
-                       choose_preconditioner(st), err, errlen) != 0 ||
+        viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
+                       errlen) != 0 ||
         hydrostatic_split(st, err, errlen) != 0) {
         march_destroy(st);
         return -1;
@@ -182,7 +202,10 @@ void march_destroy(struct march_state *st)
         field_free(st->tan_c[c]);
         field_free(st->eta_e[c]);
         field_free(st->tan_e[c]);
+        field_free(st->b_e[c]);
     }
+    field_free(st->b_c);
+    field_free(st->aug);
     double *cells[] = {st->p_dyn, st->p_hyd, st->pressure, st->shear2, st->eta,
                        st->cn2, st->preg, st->div, st->phi, st->good_p_dyn};
     for (size_t m = 0; m < sizeof cells / sizeof cells[0]; m++)
@@ -220,9 +243,9 @@ static void evaluate_residual(struct march_state *st)
         st->pressure[p] = cs->confining_pressure + st->p_hyd[p] + st->p_dyn[p];
     bc_fill_scalar_linear(g, &st->bc, st->pressure);
     kernel_viscosity_cells(g, &cs->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
-                           cs->newton ? st->tan_c : NULL, st->shear2, st->preg);
+                           cs->newton ? st->tan_c : NULL, st->shear2, st->preg, st->b_c);
     kernel_viscosity_edges(g, &cs->rheo, st->cn2, st->e2, st->pressure, st->eta_e,
-                           cs->newton ? st->tan_e : NULL);
+                           cs->newton ? st->tan_e : NULL, st->full_tangent ? st->b_e : NULL);
     bc_fill_scalar(g, &st->bc, st->eta);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
@@ -237,10 +260,14 @@ static void evaluate_residual(struct march_state *st)
         kernel_advection(g, st->act, st->vel, st->adv);
         kernel_axpy(g, st->act, cs->density, st->adv, st->res);
     }
-    if (cs->augmentation > 0.0) { /* + r grad(div u): zero once u is solenoidal */
+    if (st->aug) { /* + grad(r div u), r = kappa eta: zero once u is solenoidal */
+        for (size_t p = 0; p < g->size; p++)
+            st->aug[p] = cs->augmentation * st->eta[p];
         kernel_divergence(g, st->vel, st->div);
+        for (size_t p = 0; p < g->size; p++)
+            st->div[p] *= st->aug[p];
         bc_fill_scalar(g, &st->bc, st->div);
-        kernel_gradient_update(g, st->act, st->div, -cs->augmentation, st->res);
+        kernel_gradient_update(g, st->act, st->div, -1.0, st->res);
     }
     if (st->force_ref == 0.0) {
         double rg = cs->density * cs->gravity;
@@ -277,16 +304,43 @@ double march_mean_acceleration(const struct march_state *st)
     return n > 0 ? s / n / st->cs->density : 0.0;
 }
 
+/* The implicit operator at the current state: mass + linearised stress. */
+static struct viscous_problem implicit_problem(const struct march_state *st, double mass)
+{
+    const struct muflow_case *cs = st->cs;
+    struct viscous_problem pb = {.mass = mass, .augmentation = st->aug};
+    /* Newton's basin shrinks with lambda: far from the solution the lagged
+     * (Picard) viscosity is the robust step, the tangent the fast one near it */
+    int tangent = cs->newton &&
+                  (cs->newton_below >= 1.0 || st->residual <= cs->newton_below * st->residual0);
+    int diagonal = tangent && !st->full_tangent;
+    for (int a = 0; a < 3; a++) {
+        pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
+        pb.A_edge[a] = diagonal ? st->tan_e[a] : st->eta_e[a];
+    }
+    if (tangent && st->full_tangent) {
+        pb.b_cell = st->b_c;
+        for (int a = 0; a < 3; a++)
+            pb.b_edge[a] = st->b_e[a];
+        pb.base = st->vel;
+    }
+    return pb;
+}
+
+void march_evaluate(struct march_state *st) { evaluate_residual(st); }
+
+void march_apply_tangent(struct march_state *st, double *v[3], double *out[3])
+{
+    struct viscous_problem pb = implicit_problem(st, 0.0);
+    viscous_apply(st->viscous, &pb, v, out);
+}
+
 /* One implicit step of size dt from the current state (residual evaluated). */
 static int advance(struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;
     const struct grid *g = &st->g;
-    struct viscous_problem pb = {.mass = cs->density / dt, .augmentation = cs->augmentation};
-    for (int a = 0; a < 3; a++) {
-        pb.A_cell[a] = cs->newton ? st->tan_c[a] : st->eta;
-        pb.A_edge[a] = cs->newton ? st->tan_e[a] : st->eta_e[a];
-    }
+    struct viscous_problem pb = implicit_problem(st, cs->density / dt);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;
     int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, cs->linear_tolerance,
@@ -305,13 +359,14 @@ static int advance(struct march_state *st, double dt)
     bc_fill_scalar(g, &st->bc, st->phi);
     kernel_gradient_update(g, st->act, st->phi, dt / cs->density, st->vel);
     /* incremental correction, plus the augmented-Lagrangian (Uzawa) update
-     * -r div u*, which carries the pressure when dt is too large for phi to */
-    double r = cs->augmentation;
+     * -r div u*, which carries the pressure when dt is too large for phi to:
+     * with r = kappa eta it contracts the pressure error by about 1/(1+kappa)
+     * per step, whatever the local viscosity */
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += st->phi[p] - r * st->div[p];
+                st->p_dyn[p] += st->phi[p] - (st->aug ? st->aug[p] * st->div[p] : 0.0);
             }
     return 0;
 }

@@ -6,7 +6,7 @@
 #include <string.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
-#include "sparse_chol.h"
+#include "sparse_direct.h"
 #include "viscous.h"
 
 #define BAND 2               /* nodes reached along a line by the stencil */
@@ -30,8 +30,12 @@ struct viscous_solver {
     int maxlen, nthreads;
     int failed_blocks;                 /* of the last viscous_precondition */
     double *divbuf;                    /* divergence for the augmentation term */
-    struct sparse_chol *chol;          /* NULL: line blocks only */
-    int chol_ok;                       /* the last factorisation succeeded */
+    struct sparse_direct *direct;      /* NULL: line blocks only */
+    int direct_ok;                     /* the last factorisation succeeded */
+    /* full tangent work: strain products, their tangent stresses, and the
+     * extra BiCGStab vectors (allocated with a direct kind only) */
+    double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
+    double *r0[3], *v[3], *t[3], *sh[3];
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -116,12 +120,28 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         snprintf(err, errlen, "viscous solver: out of memory");
         return -1;
     }
-    if (kind == VISCOUS_CHOLESKY) {
+    if (kind != VISCOUS_LINE) {
         int periodic[3];
         for (int d = 0; d < 3; d++)
             periodic[d] = bc->face[d][0] == BC_PERIODIC;
-        if (sparse_chol_create(&s->chol, g, periodic, act, err, errlen) != 0) {
+        /* the full tangent reaches two nodes (|D| on an edge averages its
+         * neighbours' strains), the symmetric operator one */
+        int full = kind == VISCOUS_LU;
+        if (sparse_direct_create(&s->direct, g, periodic, act, full ? 2 : 1, !full, err, errlen) !=
+            0) {
             viscous_destroy(s);
+            return -1;
+        }
+        ok &= (s->pn = field_alloc(g)) != NULL && (s->Bc = field_alloc(g)) != NULL;
+        for (int c = 0; c < 3; c++) {
+            double **fs[] = {&s->pe[c], &s->Be[c], &s->tmp[c], &s->r0[c], &s->v[c], &s->t[c],
+                             &s->sh[c]};
+            for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
+                ok &= (*fs[m] = field_alloc(g)) != NULL;
+        }
+        if (!ok) {
+            viscous_destroy(s);
+            snprintf(err, errlen, "viscous solver: out of memory");
             return -1;
         }
     }
@@ -143,7 +163,14 @@ void viscous_destroy(struct viscous_solver *s)
     }
     free(s->linebuf);
     field_free(s->divbuf);
-    sparse_chol_destroy(s->chol);
+    sparse_direct_destroy(s->direct);
+    field_free(s->pn);
+    field_free(s->Bc);
+    for (int c = 0; c < 3; c++) {
+        double *fs[] = {s->pe[c], s->Be[c], s->tmp[c], s->r0[c], s->v[c], s->t[c], s->sh[c]};
+        for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
+            field_free(fs[m]);
+    }
     free(s);
 }
 
@@ -154,10 +181,23 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
     bc_fill_velocity_homogeneous(g, s->bc, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
     kernel_lincomb(g, s->act, pb->mass, v, -1.0, out); /* mass v - div tau */
-    if (pb->augmentation > 0.0) {                      /* - r grad(div v) */
+    if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
+        kernel_strain_products(g, pb->base, v, s->pn, s->pe);
+        bc_fill_scalar(g, s->bc, s->pn);
+        kernel_tangent_cells(g, s->pn, s->pe, pb->b_cell, s->Bc);
+        bc_fill_scalar(g, s->bc, s->Bc);
+        kernel_tangent_edges(g, s->pn, s->pe, (double *const *)pb->b_edge, s->Be);
+        const double *Bcell[3] = {s->Bc, s->Bc, s->Bc};
+        kernel_stress_divergence(g, s->act, Bcell, (const double *const *)s->Be, pb->base,
+                                 s->tmp);
+        kernel_axpy(g, s->act, -1.0, s->tmp, out);
+    }
+    if (pb->augmentation) {                            /* - grad(r div v) */
         kernel_divergence(g, v, s->divbuf);
+        for (size_t p = 0; p < g->size; p++)
+            s->divbuf[p] *= pb->augmentation[p];
         bc_fill_scalar(g, s->bc, s->divbuf);
-        kernel_gradient_update(g, s->act, s->divbuf, pb->augmentation, out);
+        kernel_gradient_update(g, s->act, s->divbuf, 1.0, out);
     }
 }
 
@@ -190,11 +230,11 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
-    s->chol_ok = 0;
-    if (s->chol) {
+    s->direct_ok = 0;
+    if (s->direct) {
         struct apply_ctx a = {s, pb};
-        s->chol_ok = sparse_chol_factor(s->chol, apply_cb, &a, s->p, s->q) == 0;
-        if (s->chol_ok)
+        s->direct_ok = sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+        if (s->direct_ok)
             return;
     }
     line_blocks(s, pb); /* also the fallback of a failed factorisation */
@@ -263,8 +303,8 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 /* z = M^-1 r: the factorisation, or line by line. */
 static void precondition_apply(struct viscous_solver *s, double *const r[3], double *z[3])
 {
-    if (s->chol_ok) {
-        sparse_chol_solve(s->chol, r, z);
+    if (s->direct_ok) {
+        sparse_direct_solve(s->direct, r, z);
         return;
     }
     for (int c = 0; c < 3; c++) {
@@ -287,6 +327,61 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
     }
 }
 
+/* Preconditioned BiCGStab (van der Vorst) for the non-symmetric full tangent. */
+static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, double bnorm,
+                    double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    const struct grid *g = s->g;
+    const struct box *act = s->act;
+    double **r = s->r, **r0 = s->r0, **p = s->p, **v = s->v, **t = s->t, **ph = s->z,
+           **sh = s->sh;
+    for (int c = 0; c < 3; c++) {
+        memcpy(r0[c], r[c], g->size * sizeof(double));
+        memset(p[c], 0, g->size * sizeof(double));
+        memset(v[c], 0, g->size * sizeof(double));
+    }
+    double rho = 1.0, alpha = 1.0, omega = 1.0;
+    for (int it = 1; it <= maxit; it++) {
+        double rho_new = kernel_dot(g, act, r0, r);
+        if (rho_new == 0.0 || !isfinite(rho_new))
+            return -1;
+        double beta = (rho_new / rho) * (alpha / omega);
+        rho = rho_new;
+        kernel_axpy(g, act, -omega, v, p);      /* p = r + beta (p - omega v) */
+        kernel_lincomb(g, act, 1.0, r, beta, p);
+        precondition_apply(s, p, ph);
+        viscous_apply(s, pb, ph, v);
+        double r0v = kernel_dot(g, act, r0, v);
+        if (r0v == 0.0 || !isfinite(r0v))
+            return -1;
+        alpha = rho / r0v;
+        kernel_axpy(g, act, alpha, ph, x);
+        kernel_axpy(g, act, -alpha, v, r);      /* r is now s */
+        double snorm = sqrt(kernel_dot(g, act, r, r));
+        st->iterations = it;
+        st->relative_residual = snorm / bnorm;
+        if (snorm <= rtol * bnorm)
+            return 0;
+        precondition_apply(s, r, sh);
+        viscous_apply(s, pb, sh, t);
+        double tt = kernel_dot(g, act, t, t);
+        if (!(tt > 0.0) || !isfinite(tt))
+            return -1;
+        omega = kernel_dot(g, act, t, r) / tt;
+        kernel_axpy(g, act, omega, sh, x);
+        kernel_axpy(g, act, -omega, t, r);
+        double rnorm = sqrt(kernel_dot(g, act, r, r));
+        st->relative_residual = rnorm / bnorm;
+        if (!isfinite(rnorm))
+            return -1;
+        if (rnorm <= rtol * bnorm)
+            return 0;
+        if (omega == 0.0)
+            return -1;
+    }
+    return 1;
+}
+
 int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                   double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
@@ -300,11 +395,13 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     st->iterations = 0;
     st->relative_residual = 0.0;
     st->failed_blocks = s->failed_blocks;
-    st->cholesky = s->chol_ok;
+    st->direct = s->direct_ok;
     if (bnorm == 0.0)
         return 0;
     if (!isfinite(bnorm))
         return -1;
+    if (pb->b_cell && s->r0[0])
+        return bicgstab(s, pb, bnorm, x, rtol, maxit, st);
     precondition_apply(s, s->r, s->z);
     zero_fields(g, s->p);
     kernel_lincomb(g, act, 1.0, s->z, 0.0, s->p);
