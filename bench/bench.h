@@ -1,0 +1,42 @@
+/* Shared helpers of the benchmark programs in bench/: timing statistics,
+ * case loading and CSV output into the output folder. */
+#ifndef MUFLOW_BENCH_H
+#define MUFLOW_BENCH_H
+
+#include <stdio.h>
+#include "case.h"
+
+/* Median, minimum and maximum of n samples (x is not modified). */
+double bench_median(const double *x, int n);
+double bench_min(const double *x, int n);
+double bench_max(const double *x, int n);
+
+/* Loads a case file with overrides (printf-style list built by the caller);
+ * exits with status 2 and the loader's message on failure. */
+void bench_load(struct muflow_case *cs, const char *file, int n, char *const ov[]);
+
+/* Opens dir/name for writing; exits on failure. */
+FILE *bench_open(const char *dir, const char *name);
+
+/* Creates dir (and parents); exits on failure. */
+void bench_mkdir(const char *dir);
+
+/* Seconds of the wall clock (omp_get_wtime). */
+double bench_now(void);
+
+/* What other processes take of the machine while a section runs: the busy
+ * time of all processors (/proc/stat) less this process's own CPU time
+ * (getrusage), divided by the wall time, in cores.  Under a load of other
+ * processes the 2-thread timings suffer first (an OpenMP barrier waits for
+ * the thread that was preempted), so every section reports it. */
+struct bench_cpu {
+    double wall, busy, own;
+};
+void bench_cpu_start(struct bench_cpu *c);
+double bench_cpu_foreign(const struct bench_cpu *c); /* cores; NAN when unknown */
+
+/* Waits (at most max_seconds) until other processes use less than 0.2 cores
+ * over half a second; says so on stderr when it waited or gave up. */
+void bench_wait_quiet(double max_seconds);
+
+#endif
