@@ -311,11 +311,11 @@ if et:
     ax[0].set_ylabel("err_rms")
     ax[0].set_title("bagnold, lambda 1e-8")
     ax[0].legend(fontsize=8)
-    for reg in REGS:
+    for reg, ls in zip(REGS, ["-", "--", "-.", ":"]):
         tr = [x for x in et if x["scene"] == "chute" and x["regularisation"] == reg]
         if tr:
             ax[1].loglog([float(x["wall"]) for x in tr], [float(x["err_rms"]) for x in tr],
-                         ".-", ms=3, lw=0.8, label=f"{reg} b/{tr[0]['n']}")
+                         "." + ls, ms=3, lw=1.0, label=f"{reg} b/{tr[0]['n']}")
     ax[1].set_xlabel("wall time of the march (s)")
     ax[1].set_ylabel("err_rms")
     ax[1].set_title("chute, lambda 1e-4")
@@ -463,8 +463,8 @@ if tri and stg:
             row += [f"{nbytes:.0f} (+{8*wa:.0f})", fnum(gbs, "{:.1f}"),
                     f"{100*f24:.0f} % / {100*f32:.0f} %"]
             if name in STENCIL:
-                frac_stencil[name] = f24
-                row.append("met" if f24 >= TARGET_FRACTION else "missed")
+                frac_stencil[name] = (f24, f32)
+                row.append("met" if f32 >= TARGET_FRACTION else "missed")
             else:
                 row.append("")
         else:
@@ -480,12 +480,17 @@ if tri and stg:
                          f"{bw[1]:.1f} GB/s (1 thread)", ""])
     for name in STENCIL:
         if name in frac_stencil:
-            f24 = frac_stencil[name]
+            f24, f32 = frac_stencil[name]
             headline.append([f"{name}: fraction of the triad bandwidth",
-                             f"{100*f24:.0f} %", f">= {int(TARGET_FRACTION*100)} %: "
-                             f"{'met' if f24 >= TARGET_FRACTION else 'missed'}"])
-    md.append(f"\nStages at {tmax} threads (per call; *fraction*: of the {tmax}-thread triad, "
-              "without / with write-allocate on both sides):\n")
+                             f"{100*f32:.0f} % ({100*f24:.0f} % without write-allocate)",
+                             f">= {int(TARGET_FRACTION*100)} %: "
+                             f"{'met' if f32 >= TARGET_FRACTION else 'missed'}"])
+    md.append(f"\nStages at {tmax} threads (per call). *fraction*: bytes per second against "
+              f"the {tmax}-thread triad, counted without / with the write-allocate reads on both "
+              "sides. The target is judged on the second, the traffic that really crosses the "
+              "memory bus: the STREAM convention (first figure) undercounts the triad by a "
+              "third but an in-place update (axpy, lincomb, gradient) not at all, which is why "
+              "those read above 100 % there.\n")
     md.append(table(["stage", "ms", "ns / cell", "bytes / cell (+WA)", "GB/s", "fraction",
                      f"target {int(TARGET_FRACTION*100)} %", "ms, 1 thread",
                      f"speed-up {tmax} vs 1"], rows))
@@ -531,59 +536,68 @@ if tri and stg:
         whole = ws.get(tmax, float("nan"))
         prow = [[n, fnum(v * 1e3, "{:.1f}"), f"{100*v/whole:.0f} %"] for n, v in parts]
         prow.append(["sum of the stages", fnum(total * 1e3, "{:.1f}"), f"{100*total/whole:.0f} %"])
-        prow.append(["rest: serial copies and loops of the march (save_good, the CG's "
-                     "memset/memcpy, pressure and p_dyn sums, divergence scaling), solve set-up",
+        prow.append(["measured step - sum: serial copies and loops of the march and the "
+                     "solver (save_good, memset/memcpy, the pressure, phi and p_dyn loops), "
+                     "the solve's set-up, less the cache reuse inside a step",
                      fnum((whole - total) * 1e3, "{:.1f}"), f"{100*(whole-total)/whole:.0f} %"])
         md.append(f"\n\nWhere a step's {whole*1e3:.0f} ms go at {tmax} threads (stage medians "
-                  "times their calls per step in `src/march.c`):\n")
+                  "times their calls per step in `src/march.c`; CG: the median iteration count "
+                  "times one iteration):\n")
         md.append(table(["part", "ms", "share"], prow))
+        md.append("\nThe stages were timed from cold caches; inside a step some of their arrays "
+                  "are still cached from the stage before, so the sum can exceed the measured "
+                  "step by a few per cent.")
     md.append(busy_note(tm.get("foreign_cores_stages"), "the stage timings")
               + busy_note(tm.get("foreign_cores_steps"), "the whole steps") + "\n")
 
-    # plot: fraction of bandwidth and speed-up per stage
+    # plot: fraction of bandwidth (actual traffic) and speed-up per stage
     names = [n for n in order_names if (tmax, n) in st and float(st[(tmax, n)]["reads"]) > 0]
     if names:
         fr = []
-        spd = []
         for n in names:
             a_ = st[(tmax, n)]
             t = float(a_["median_s"])
-            nbytes = 8 * (float(a_["reads"]) + float(a_["writes"]))
-            fr.append(nbytes * cells / t / 1e9 / bw[tmax] if t > 0 else 0)
+            nbytes = 8 * (float(a_["reads"]) + float(a_["writes"]) + float(a_["wa"]))
+            fr.append(nbytes * cells / t / 1e9 / (bw[tmax] * 32 / 24) if t > 0 else 0)
+        snames = names + [n for n in ("precondition_setup", "whole_step") if (tmax, n) in st]
+        spd = []
+        for n in snames:
+            t = float(st[(tmax, n)]["median_s"])
             b_ = st.get((1, n))
             spd.append(float(b_["median_s"]) / t if b_ and t > 0 else 0)
-        fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+        fig, ax = plt.subplots(1, 2, figsize=(11, 5))
         y = np.arange(len(names))
         ax[0].barh(y, fr, color=["C0" if n in STENCIL else "C7" for n in names])
         ax[0].axvline(TARGET_FRACTION, color="C3", ls="--", lw=1, label="target 50 %")
         ax[0].set_yticks(y, names, fontsize=8)
         ax[0].invert_yaxis()
-        ax[0].set_xlabel(f"fraction of the {tmax}-thread triad bandwidth")
-        ax[0].legend(fontsize=8)
-        ax[1].barh(y, spd, color="C2")
-        ax[1].axvline(TARGET_SPEEDUP, color="C3", ls="--", lw=1, label="step target 1.6")
+        ax[0].set_xlabel(f"fraction of the {tmax}-thread triad bandwidth (write-allocate counted)")
+        ax[0].legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12))
+        y2 = np.arange(len(snames))
+        ax[1].barh(y2, spd, color=["C1" if n == "whole_step" else "C2" for n in snames])
+        ax[1].axvline(TARGET_SPEEDUP, color="C3", ls="--", lw=1, label="whole-step target 1.6")
         if len(bw) > 1:
             ax[1].axvline(bw[tmax] / bw[1], color="k", ls=":", lw=1, label="triad speed-up")
-        ax[1].set_yticks(y, names, fontsize=8)
+        ax[1].set_yticks(y2, snames, fontsize=8)
         ax[1].invert_yaxis()
         ax[1].set_xlabel(f"speed-up {tmax} vs 1 thread")
-        ax[1].legend(fontsize=8)
+        ax[1].legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
         fig.suptitle(f"stages on {nx} x {ny} x {nz} cells (blue: stencil stages)")
         fig.tight_layout()
         fig.savefig(fig_path("throughput.png"), dpi=110)
         plt.close(fig)
         md.append("![throughput](throughput.png)\n")
 
-md.append("\n---\nRun time: scenes "
-          f"{sm.get('seconds', '?')} s, throughput {tm.get('seconds', '?')} s. Other processes "
-          f"during the whole run: {fnum(sm.get('foreign_cores_all'), '{:.2f}')} cores (scenes), "
-          f"{fnum(tm.get('foreign_cores_all'), '{:.2f}')} cores (throughput).\n")
-
 # the analysis behind the missed targets (written from profiles, see its header)
 ana = os.path.join(os.path.dirname(os.path.abspath(__file__)), "analysis.md")
 if os.path.exists(ana):
     with open(ana) as f:
         md.append(f.read())
+
+md.append("\n---\nRun time: scenes "
+          f"{sm.get('seconds', '?')} s, throughput {tm.get('seconds', '?')} s. Other processes "
+          f"during the whole run: {fnum(sm.get('foreign_cores_all'), '{:.2f}')} cores (scenes), "
+          f"{fnum(tm.get('foreign_cores_all'), '{:.2f}')} cores (throughput).\n")
 
 if headline:
     summary = ["## Summary\n", table(["what", "measured", "target"], headline), ""]
