@@ -59,7 +59,8 @@ run: deps
 
 test: deps
 	@$(MAKE) --no-print-directory $(BUILD)/muflow $(BUILD)/muflow_tests
-	cd tests && ../$(BUILD)/muflow_tests
+	# passive waiting: a busy machine must not turn OpenMP barriers into spin contests
+	cd tests && OMP_WAIT_POLICY=passive ../$(BUILD)/muflow_tests
 
 clean:
 	rm -rf $(BUILD) out

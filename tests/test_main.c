@@ -13,6 +13,7 @@ static const struct {
     {"case", group_case},
     {"viscous", group_viscous},
     {"scenes", group_scenes},
+    {"bingham", group_bingham},
     {"io", group_io},
     {"corpus", group_corpus},
 };

@@ -32,6 +32,7 @@ void group_poisson(struct test_tally *t);
 void group_case(struct test_tally *t);
 void group_viscous(struct test_tally *t);
 void group_scenes(struct test_tally *t);
+void group_bingham(struct test_tally *t);
 void group_io(struct test_tally *t);
 void group_corpus(struct test_tally *t);
 
