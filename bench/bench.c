@@ -146,3 +146,39 @@ void bench_wait_quiet(double max_seconds)
     if (bench_now() - t0 > 0.6)
         fprintf(stderr, "bench: waited %.0f s for other processes to quieten\n", bench_now() - t0);
 }
+
+/* A dependent chain of n multiply-adds: about 4 cycles each, no memory. */
+static double chain(long n, double x)
+{
+    for (long i = 0; i < n; i++)
+        x = x * 0.999999999 + 1e-9;
+    return x;
+}
+
+static volatile double capacity_sink;
+
+double bench_parallel_capacity(int threads)
+{
+    const long n = 20000000L; /* per thread: about 30 ms */
+    double best1 = 1e300, bestp = 1e300;
+    for (int r = 0; r < 3; r++) {
+        double t0 = bench_now();
+        double x = 1.0;
+        for (int t = 0; t < threads; t++)
+            x += chain(n, (double)t);
+        capacity_sink = x;
+        double t1 = bench_now() - t0;
+        if (t1 < best1)
+            best1 = t1;
+        t0 = bench_now();
+        double s = 0.0;
+#pragma omp parallel for num_threads(threads) schedule(static, 1) reduction(+ : s)
+        for (int t = 0; t < threads; t++)
+            s += chain(n, (double)t);
+        capacity_sink = s;
+        double tp = bench_now() - t0;
+        if (tp < bestp)
+            bestp = tp;
+    }
+    return bestp > 0.0 ? best1 / bestp : NAN;
+}

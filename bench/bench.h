@@ -35,6 +35,13 @@ struct bench_cpu {
 void bench_cpu_start(struct bench_cpu *c);
 double bench_cpu_foreign(const struct bench_cpu *c); /* cores; NAN when unknown */
 
+/* How many cores the process really gets: the time of a fixed compute-bound
+ * workload (no memory traffic) on 1 thread over its time split across
+ * `threads` threads, best of 3.  Ideal: `threads`.  Less means that the
+ * virtual machine's processors were not all there (another process, or the
+ * host running both on one core: /proc/stat does not always show the latter). */
+double bench_parallel_capacity(int threads);
+
 /* Waits (at most max_seconds) until other processes use less than 0.2 cores
  * over half a second; says so on stderr when it waited or gave up. */
 void bench_wait_quiet(double max_seconds);

@@ -462,6 +462,7 @@ int main(int argc, char **argv)
     FILE *f = bench_open(dir, "scenes_meta.csv");
     fprintf(f, "key,value\nthreads,%d\nrepeats,%d\nrepeats_studies,%d\n", omp_get_max_threads(),
             reps, few);
+    fprintf(f, "capacity_start,%.3f\n", bench_parallel_capacity(omp_get_max_threads()));
     struct bench_cpu cpu, all;
     bench_cpu_start(&all);
     bench_cpu_start(&cpu);
@@ -478,6 +479,7 @@ int main(int argc, char **argv)
     chute_h(dir, few);
     chute_lambda(dir, few);
     fprintf(f, "foreign_cores_chute_studies,%.3f\n", bench_cpu_foreign(&cpu));
+    fprintf(f, "capacity_end,%.3f\n", bench_parallel_capacity(omp_get_max_threads()));
     fprintf(f, "foreign_cores_all,%.3f\nseconds,%.1f\nbudget,%.0f\nover_budget,%d\n"
                "over_hard_budget,%d\n",
             bench_cpu_foreign(&all), bench_now() - t0, budget, bench_now() > deadline,

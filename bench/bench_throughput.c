@@ -484,6 +484,10 @@ int main(int argc, char **argv)
     fprintf(fm, "key,value\nthreads,%d\nrepeats,%d\nnx,%d\nny,%d\nnz,%d\n", maxt, reps, n[0],
             n[1], n[2]);
 
+    double cap = bench_parallel_capacity(maxt);
+    fprintf(fm, "capacity_start,%.3f\n", cap);
+    fprintf(stderr, "  parallel capacity: %.2f of %d cores\n", cap, maxt);
+
     /* triad, first touch in parallel */
     double *a = malloc(TRIAD_N * sizeof *a), *bb = malloc(TRIAD_N * sizeof *bb),
            *c = malloc(TRIAD_N * sizeof *c);
@@ -569,7 +573,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "    %-20s %8.3f ms  %6.2f ns/cell  (%d thread%s)\n", "precondition_apply",
                 1e3 * pc, 1e9 * pc / cells, threads[m], threads[m] > 1 ? "s" : "");
     }
-    fprintf(fm, "foreign_cores_stages,%.3f\n", bench_cpu_foreign(&cpu));
+    fprintf(fm, "foreign_cores_stages,%.3f\ncapacity_stages,%.3f\n", bench_cpu_foreign(&cpu),
+            bench_parallel_capacity(maxt));
 
     for (int m = 0; m < nt; m++) {
         omp_set_num_threads(threads[m]);
@@ -602,7 +607,8 @@ int main(int argc, char **argv)
                     threads[m], threads[m] > 1 ? "s" : "", dts[m][k], its);
         }
     }
-    fprintf(fm, "foreign_cores_steps,%.3f\n", bench_cpu_foreign(&cpu));
+    fprintf(fm, "foreign_cores_steps,%.3f\ncapacity_steps,%.3f\n", bench_cpu_foreign(&cpu),
+            bench_parallel_capacity(maxt));
     for (int m = 0; m < nt; m++) {
         stage_row(fs, threads[m], "whole_step", bench_median(dts[m], ksteps),
                   bench_min(dts[m], ksteps), cells, 0, 0, 0,

@@ -88,6 +88,27 @@ def sh(cmd):
         return ""
 
 
+def capacity_note(values, what):
+    """values: parallel capacities (2 = both cores there) measured around a section."""
+    caps = []
+    for v in values:
+        try:
+            caps.append(float(v))
+        except (TypeError, ValueError):
+            pass
+    if not caps:
+        return ""
+    low = min(caps)
+    text = (f" Parallel capacity around {what}: "
+            + ", ".join(f"{c:.2f}" for c in caps)
+            + " (a compute-bound loop's speed-up on all threads; 2 = both cores there).")
+    if low < 1.8:
+        text += (" **Below 1.8: the processors were not all available to this process "
+                 "for part of the time (another process, or the host); the multi-thread "
+                 "timings and speed-ups of this section understate the code.**")
+    return text
+
+
 def busy_note(value, what):
     try:
         v = float(value)
@@ -557,7 +578,11 @@ if tri and stg:
                   "are still cached from the stage before, so the sum can exceed the measured "
                   "step by a few per cent.")
     md.append(busy_note(tm.get("foreign_cores_stages"), "the stage timings")
-              + busy_note(tm.get("foreign_cores_steps"), "the whole steps") + "\n")
+              + busy_note(tm.get("foreign_cores_steps"), "the whole steps")
+              + "\n\n" + capacity_note([tm.get("capacity_start"), tm.get("capacity_stages"),
+                                       tm.get("capacity_steps")],
+                                      "this section (start, after the stages, after the steps)")
+              + "\n")
 
     # plot: fraction of bandwidth (actual traffic) and speed-up per stage
     names = [n for n in order_names if (tmax, n) in st and float(st[(tmax, n)]["reads"]) > 0]
@@ -603,6 +628,8 @@ if os.path.exists(ana):
     with open(ana) as f:
         md.append(f.read())
 
+md.append(capacity_note([sm.get("capacity_start"), sm.get("capacity_end")],
+                        "the scene benchmarks (start, end)") + "\n")
 md.append("\n---\nRun time: scenes "
           f"{sm.get('seconds', '?')} s, throughput {tm.get('seconds', '?')} s. Other processes "
           f"during the whole run: {fnum(sm.get('foreign_cores_all'), '{:.2f}')} cores (scenes), "
