@@ -132,3 +132,15 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
+
+# The Bingham cavity study: psi_max and the mid-line profile against Vola et
+# al. (2003), and the yielded regions at Bn = 2, 5, 20 (muflow's convention),
+# as PNG plots and CSV tables in $(BENCH_OUT).
+CAVITY_N  ?= 64
+CAVITY_BN ?= 0 0.70710678118654752 7.0710678118654752 70.710678118654752 2 5 20
+.PHONY: bench-cavity
+bench-cavity: deps bench-deps
+	@$(MAKE) --no-print-directory $(BUILD)/bench_cavity
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT) $(CAVITY_N) $(CAVITY_BN)
+	/usr/bin/python3 bench/plot_cavity.py $(BENCH_OUT)

@@ -1,4 +1,4 @@
-/* Bingham cavity study: runs cases/bingham_cavity.ini at several Bingham
+/* bench_cavity -- Bingham cavity study: runs cases/bingham_cavity.ini at several Bingham
  * numbers and writes, per run, the cell fields (velocity at centres, |tau|
  * and whether the material yields, |tau| >= tau_0) and the mid-line profile,
  * plus a table of psi_max, err_midline, steps and wall time.
