@@ -1,13 +1,6 @@
 /* Strain-rate components at their own locations (kernels.h). */
 #include "kernels.h"
-
-/* Shear strain rate gamma_ab on edge e of plane (a, b): v_a at cells e and
- * e - o_b along b, v_b at cells e and e - o_a along a. */
-static inline double edge_gamma(double *const vel[3], int a, int b, ptrdiff_t e, ptrdiff_t oa,
-                                ptrdiff_t ob, double ha, double hb)
-{
-    return (vel[a][e] - vel[a][e - ob]) / hb + (vel[b][e] - vel[b][e - oa]) / ha;
-}
+#include "stencil.h"
 
 void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, double *e2[3])
 {
@@ -26,18 +19,8 @@ void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, doub
                 cn2[p] = q;
             }
     for (int c = 0; c < 3; c++) {
-        int a = (c + 1) % 3, b = (c + 2) % 3;
-        if (a > b) {
-            int t = a;
-            a = b;
-            b = t;
-        }
-        int lo[3], hi[3];
-        lo[a] = lo[b] = 0;
-        hi[a] = g->n[a];
-        hi[b] = g->n[b];
-        lo[c] = -1;
-        hi[c] = g->n[c];
+        int a, b, lo[3], hi[3];
+        edge_range(g, c, &a, &b, lo, hi);
         double *ec = e2[c];
 #pragma omp parallel for collapse(2) schedule(static)
         for (int i = lo[0]; i <= hi[0]; i++)
@@ -67,18 +50,8 @@ void kernel_strain_products(const struct grid *g, double *const u[3], double *co
                 pn[p] = q;
             }
     for (int c = 0; c < 3; c++) {
-        int a = (c + 1) % 3, b = (c + 2) % 3;
-        if (a > b) {
-            int t = a;
-            a = b;
-            b = t;
-        }
-        int lo[3], hi[3];
-        lo[a] = lo[b] = 0;
-        hi[a] = g->n[a];
-        hi[b] = g->n[b];
-        lo[c] = -1;
-        hi[c] = g->n[c];
+        int a, b, lo[3], hi[3];
+        edge_range(g, c, &a, &b, lo, hi);
         double *ec = pe[c];
 #pragma omp parallel for collapse(2) schedule(static)
         for (int i = lo[0]; i <= hi[0]; i++)

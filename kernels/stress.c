@@ -2,12 +2,7 @@
  * own locations (kernels.h). */
 #include <math.h>
 #include "kernels.h"
-
-static inline double edge_gamma(double *const vel[3], int a, int b, ptrdiff_t e, ptrdiff_t oa,
-                                ptrdiff_t ob, double ha, double hb)
-{
-    return (vel[a][e] - vel[a][e - ob]) / hb + (vel[b][e] - vel[b][e - oa]) / ha;
-}
+#include "stencil.h"
 
 /* With magnitude set, every difference v1 - v2 becomes |v1| + |v2| and every
  * term its absolute value: the size of what the residual sums, from which

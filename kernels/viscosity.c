@@ -1,23 +1,7 @@
 /* Viscosities and tangent coefficients where the stresses live (kernels.h). */
 #include <math.h>
 #include "kernels.h"
-
-/* Mean of f over the four nodes p, p - s1, p - s2, p - s1 - s2. */
-static inline double mean4(const double *f, ptrdiff_t p, ptrdiff_t s1, ptrdiff_t s2)
-{
-    return 0.25 * (f[p] + f[p - s1] + f[p - s2] + f[p - s1 - s2]);
-}
-
-static inline void plane_dirs(int c, int *a, int *b)
-{
-    *a = (c + 1) % 3;
-    *b = (c + 2) % 3;
-    if (*a > *b) {
-        int t = *a;
-        *a = *b;
-        *b = t;
-    }
-}
+#include "stencil.h"
 
 void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
                             const double *cn2, double *const e2[3], const double *p,
