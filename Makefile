@@ -108,8 +108,9 @@ fuzz:
 # ---- benchmarks (bench/; README "Benchmarks") --------------------------------
 # `make bench` installs the plotting package (Debian's matplotlib, used through
 # /usr/bin/python3), builds the bench programs against build/libmuflow.a with
-# the flags above, runs every benchmark on 2 threads (about 5 minutes on 2
-# cores) and writes bench/out/report.md with its PNG plots, printing the tables.
+# the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
+# cores, bounded on a busy machine) and writes bench/out/report.md with its PNG
+# plots, printing the tables.
 BENCH_PKGS    = python3-matplotlib
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
