@@ -18,8 +18,9 @@
 #include "analytic.h"
 #include "bench.h"
 #include "march.h"
-#include "output.h" /* struct run_result */
+#include "output.h"
 #include "profile.h"
+#include "run.h"
 
 #define BAGNOLD_INI "cases/bagnold.ini"
 #define CHUTE_INI "cases/chute.ini"
@@ -72,13 +73,7 @@ static void run_limited(const struct muflow_case *cs, struct run_result *res)
         exit(1);
     }
     march_run(&st, limit_observer, &l);
-    res->status = st.status;
-    res->steps = st.step;
-    res->time = st.time;
-    res->wall_seconds = st.wall_seconds;
-    res->residual = st.residual;
-    res->divergence = st.divergence;
-    snprintf(res->message, sizeof res->message, "%s", st.message);
+    run_result_from(&st, res);
     struct profile pr;
     if (profile_extract(&pr, &st) == 0) {
         profile_errors(&pr, cs, &res->errors);

@@ -5,6 +5,7 @@
 #define MUFLOW_RUN_H
 
 #include "case.h"
+#include "march.h"
 #include "output.h"
 
 /* What run_case_opts returns (PETSc-like: 0 or a negative code, cause in err). */
@@ -41,6 +42,10 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
 /* run_case_opts without restart or hook. */
 int run_case(const struct muflow_case *cs, int write_output, struct run_result *res, char *err,
              size_t errlen);
+
+/* The result fields a finished march determines: status, steps, time, wall
+ * seconds, residual, divergence and message (not the scene errors). */
+void run_result_from(const struct march_state *st, struct run_result *res);
 
 /* Exit status of the command for a run's status. */
 int run_exit_code(enum run_status s);

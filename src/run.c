@@ -87,6 +87,17 @@ static int observe(void *vctx, const struct march_state *st)
     return 0;
 }
 
+void run_result_from(const struct march_state *st, struct run_result *res)
+{
+    res->status = st->status;
+    res->steps = st->step;
+    res->time = st->time;
+    res->wall_seconds = st->wall_seconds;
+    res->residual = st->residual;
+    res->divergence = st->divergence;
+    snprintf(res->message, sizeof res->message, "%s", st->message);
+}
+
 int run_exit_code(enum run_status s)
 {
     switch (s) {
@@ -211,13 +222,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         snprintf(st.message, sizeof st.message, "output failed at step %ld: %.180s", st.step,
                  ctx.err);
     }
-    res->status = st.status;
-    res->steps = st.step;
-    res->time = st.time;
-    res->wall_seconds = st.wall_seconds;
-    res->residual = st.residual;
-    res->divergence = st.divergence;
-    snprintf(res->message, sizeof res->message, "%s", st.message);
+    run_result_from(&st, res);
     struct profile pr;
     int have_profile = profile_extract(&pr, &st) == 0;
     if (have_profile)
