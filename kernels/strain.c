@@ -2,7 +2,10 @@
 #include "kernels.h"
 #include "stencil.h"
 
-void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, double *e2[3])
+/* Products of the strain components of u and v where they live:
+ * cell = scale * sum_i gamma_ii(u) gamma_ii(v), edge = gamma_ab(u) gamma_ab(v). */
+static void strain_pairs(const struct grid *g, double *const u[3], double *const v[3],
+                         double scale, double *cell, double *edge[3])
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
@@ -13,46 +16,16 @@ void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, doub
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 double q = 0.0;
                 for (int a = 0; a < 3; a++) {
-                    double gn = 2.0 * (vel[a][p + o[a]] - vel[a][p]) / h[a];
-                    q += 0.5 * gn * gn;
+                    double gu = 2.0 * (u[a][p + o[a]] - u[a][p]) / h[a];
+                    double gv = 2.0 * (v[a][p + o[a]] - v[a][p]) / h[a];
+                    q += scale * gu * gv;
                 }
-                cn2[p] = q;
+                cell[p] = q;
             }
     for (int c = 0; c < 3; c++) {
         int a, b, lo[3], hi[3];
         edge_range(g, c, &a, &b, lo, hi);
-        double *ec = e2[c];
-#pragma omp parallel for collapse(2) schedule(static)
-        for (int i = lo[0]; i <= hi[0]; i++)
-            for (int j = lo[1]; j <= hi[1]; j++)
-                for (int k = lo[2]; k <= hi[2]; k++) {
-                    ptrdiff_t e = grid_idx(g, i, j, k);
-                    double ge = edge_gamma(vel, a, b, e, o[a], o[b], h[a], h[b]);
-                    ec[e] = ge * ge;
-                }
-    }
-}
-
-void kernel_strain_products(const struct grid *g, double *const u[3], double *const v[3],
-                            double *pn, double *pe[3])
-{
-    const ptrdiff_t *o = g->stride;
-    const double *h = g->h;
-#pragma omp parallel for collapse(2) schedule(static)
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t p = grid_idx(g, i, j, k);
-                double q = 0.0;
-                for (int a = 0; a < 3; a++)
-                    q += 4.0 * (u[a][p + o[a]] - u[a][p]) * (v[a][p + o[a]] - v[a][p]) /
-                         (h[a] * h[a]);
-                pn[p] = q;
-            }
-    for (int c = 0; c < 3; c++) {
-        int a, b, lo[3], hi[3];
-        edge_range(g, c, &a, &b, lo, hi);
-        double *ec = pe[c];
+        double *ec = edge[c];
 #pragma omp parallel for collapse(2) schedule(static)
         for (int i = lo[0]; i <= hi[0]; i++)
             for (int j = lo[1]; j <= hi[1]; j++)
@@ -62,4 +35,15 @@ void kernel_strain_products(const struct grid *g, double *const u[3], double *co
                             edge_gamma(v, a, b, e, o[a], o[b], h[a], h[b]);
                 }
     }
+}
+
+void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, double *e2[3])
+{
+    strain_pairs(g, vel, vel, 0.5, cn2, e2);
+}
+
+void kernel_strain_products(const struct grid *g, double *const u[3], double *const v[3],
+                            double *pn, double *pe[3])
+{
+    strain_pairs(g, u, v, 1.0, pn, pe);
 }
