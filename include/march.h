@@ -73,6 +73,12 @@ typedef int (*march_observer)(void *ctx, const struct march_state *st);
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
 void march_destroy(struct march_state *st);
 
+/* Starts a new march from the current fields after the body force of the
+ * case st->cs points to changed (tilt, gravity): the force is split again and
+ * the loop state reset, so that march_run solves the new problem from the
+ * previous solution (continuation).  Returns 0, or -1 with the cause in err. */
+int march_reforce(struct march_state *st, char *err, size_t errlen);
+
 /* Runs to the end of the case (steady state, end time, or failure).  It can be
  * called on a state whose fields and loop state were loaded from a checkpoint:
  * the march continues exactly as the uninterrupted run would have. */

@@ -216,6 +216,25 @@ void march_destroy(struct march_state *st)
     memset(st, 0, sizeof *st);
 }
 
+int march_reforce(struct march_state *st, char *err, size_t errlen)
+{
+    if (hydrostatic_split(st, err, errlen) != 0)
+        return -1;
+    st->force_ref = 0.0; /* rho g may have changed */
+    st->step = 0;
+    st->time = 0.0;
+    st->dt = st->cs->dt;
+    st->residual0 = 0.0;
+    st->rejected = 0;
+    st->best_residual = INFINITY;
+    st->best_step = 0;
+    st->dt_scale = 1.0;
+    st->wall_seconds = 0.0;
+    st->status = STATUS_RUNNING;
+    st->message[0] = '\0';
+    return 0;
+}
+
 static double force_scale(const struct march_state *st)
 {
     return st->force_ref > 0.0 ? st->force_ref : 1.0;
