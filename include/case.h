@@ -10,7 +10,7 @@
 #include "rheology.h"
 
 enum scene { SCENE_NONE = 0, SCENE_BAGNOLD, SCENE_CHUTE, SCENE_BINGHAM_CHANNEL,
-             SCENE_BINGHAM_CAVITY };
+             SCENE_BINGHAM_CAVITY, SCENE_HEAP };
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 
@@ -55,6 +55,17 @@ struct muflow_case {
     double augmentation;     /* kappa: the grad-div (augmented Lagrangian) term has
                                 r = kappa * eta per cell; 0 switches it off */
     double progress_interval; /* wall seconds between progress lines (0: every step) */
+
+    /* [heap]: the heap scene (heap.h, tilt_search.h) */
+    struct heap_keys {
+        double flow_rate;    /* target Q* = Q / (d sqrt(g d)) per unit width; 0: no
+                                search, solve at physics.tilt */
+        double tilt_min, tilt_max; /* bracket of the tilt search (rad) */
+        double flow_rate_tolerance; /* relative, on Q* */
+        int max_solves;      /* steady solves the search may take */
+        double depth_fraction; /* flowing depth: where u falls to this fraction of
+                                  the column's surface velocity */
+    } heap;
 
     /* [output] */
     char output_dir[512];

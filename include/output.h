@@ -6,6 +6,7 @@
 #define MUFLOW_OUTPUT_H
 
 #include <stdio.h>
+#include "heap.h"
 #include "march.h"
 #include "profile.h"
 
@@ -17,6 +18,14 @@ struct run_result {
     char message[256];
     int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
     int checkpointed;      /* a checkpoint of the final state was written */
+    struct heap_result {   /* the heap scene (valid = 1) */
+        int valid;
+        int searched;      /* the tilt was found for heap.flow_rate */
+        int converged;     /* ... within heap.flow_rate_tolerance */
+        double tilt, flow_rate, u_surface_mid, depth_mid;
+        int solves;        /* steady solves of the search (1 without one) */
+        long steps;        /* pseudo-time steps over all solves */
+    } heap;
 };
 
 /* Creates dir and its parents; returns 0, or -1 with the cause in err. */
@@ -39,6 +48,8 @@ void history_row(struct history *h, const struct march_state *st, const struct s
 int history_close(struct history *h, char *err, size_t errlen);
 
 int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen);
+/* heap.csv: per column across the channel, y, surface velocity, flowing depth. */
+int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen);
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
                    char *err, size_t errlen);
 

@@ -10,6 +10,7 @@ const char *scene_name(enum scene s)
     case SCENE_CHUTE: return "chute";
     case SCENE_BINGHAM_CHANNEL: return "bingham_channel";
     case SCENE_BINGHAM_CAVITY: return "bingham_cavity";
+    case SCENE_HEAP: return "heap";
     }
     return "?";
 }
@@ -32,6 +33,7 @@ int scene_profile_axes(enum scene s, int *axis, int *component)
     case SCENE_CHUTE: *axis = 1; *component = 2; return 0;
     case SCENE_BINGHAM_CHANNEL:
     case SCENE_BINGHAM_CAVITY: *axis = 2; *component = 0; return 0;
+    case SCENE_HEAP: /* a cross-section: heap.h */
     case SCENE_NONE: break;
     }
     return -1;
@@ -107,6 +109,7 @@ double analytic_velocity(const struct muflow_case *cs, double x)
     case SCENE_CHUTE: return chute(cs, x);
     case SCENE_BINGHAM_CHANNEL: return bingham_channel(cs, x);
     case SCENE_BINGHAM_CAVITY:
+    case SCENE_HEAP:
     case SCENE_NONE: break;
     }
     return NAN;
@@ -119,6 +122,7 @@ double analytic_headline(const struct muflow_case *cs)
     case SCENE_CHUTE: return chute(cs, 0.5 * cs->len[1]);
     case SCENE_BINGHAM_CHANNEL: return bingham_channel(cs, 0.5 * cs->len[2]);
     case SCENE_BINGHAM_CAVITY:
+    case SCENE_HEAP:
     case SCENE_NONE: break;
     }
     return NAN;

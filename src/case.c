@@ -48,7 +48,7 @@ struct key {
 static const struct choice scene_choices[] = {
     {"none", SCENE_NONE}, {"bagnold", SCENE_BAGNOLD}, {"chute", SCENE_CHUTE},
     {"bingham_channel", SCENE_BINGHAM_CHANNEL}, {"bingham_cavity", SCENE_BINGHAM_CAVITY},
-    {NULL, 0}};
+    {"heap", SCENE_HEAP}, {NULL, 0}};
 static const struct choice bc_choices[] = {
     {"periodic", BC_PERIODIC}, {"wall", BC_WALL}, {"slip", BC_SLIP},
     {"surface", BC_SURFACE}, {"lid", BC_LID}, {NULL, 0}};
@@ -147,6 +147,13 @@ static const struct key keys[] = {
     DBL("solver", "augmentation", augmentation, GE0),
     DBL("solver", "progress_interval", progress_interval, GE0),
 
+    DBL("heap", "flow_rate", heap.flow_rate, GE0),
+    DBLT("heap", "tilt_min", heap.tilt_min, RANGE(0, HALF_PI, 0, 0), "must be in (0, pi/2) (radians)"),
+    DBLT("heap", "tilt_max", heap.tilt_max, RANGE(0, HALF_PI, 0, 0), "must be in (0, pi/2) (radians)"),
+    DBL("heap", "flow_rate_tolerance", heap.flow_rate_tolerance, RANGE(0, 0.5, 0, 1)),
+    INT("heap", "max_solves", heap.max_solves, RANGE(2, 1000, 1, 1)),
+    DBL("heap", "depth_fraction", heap.depth_fraction, RANGE(0, 1, 0, 0)),
+
     STR("output", "dir", output_dir),
     BOOL("output", "quiet", quiet),
     BOOL("output", "fields", fields),
@@ -157,7 +164,7 @@ static const struct key keys[] = {
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
 static const char *const sections[] = {"case", "domain", "boundary", "physics",
-                                       "rheology", "solver", "output"};
+                                       "rheology", "solver", "heap", "output"};
 #define NSECTIONS ((int)(sizeof(sections) / sizeof(sections[0])))
 
 /* ------------------------------------------------------------------------ */
@@ -209,6 +216,13 @@ void case_defaults(struct muflow_case *c)
     c->line_direction = -1;
     c->preconditioner = PRECOND_AUTO;
     c->progress_interval = 1.0;
+
+    c->heap.flow_rate = 0.0;
+    c->heap.tilt_min = 0.37;  /* just above atan(mu_s) for the default mu_s */
+    c->heap.tilt_max = 0.45;
+    c->heap.flow_rate_tolerance = 1e-3;
+    c->heap.max_solves = 30;
+    c->heap.depth_fraction = 0.01;
 
     snprintf(c->output_dir, sizeof(c->output_dir), "out/%s", c->name);
     c->quiet = 0;
@@ -617,6 +631,50 @@ static int key_index(const char *section, const char *name)
     return k ? (int)(k - keys) : -1;
 }
 
+/* The heap scene's cross-section: periodic along the flow, side wall at
+ * y = 0 and symmetry plane at y = ly, static base and free surface in z. */
+static int check_heap(struct ctx *x, const char *where)
+{
+    const struct muflow_case *c = x->c;
+    static const enum bc_kind want[3][2] = {
+        {BC_PERIODIC, BC_PERIODIC}, {BC_WALL, BC_SLIP}, {BC_WALL, BC_SURFACE}};
+    static const char axis[3] = {'x', 'y', 'z'};
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (c->bc.face[d][side] != want[d][side]) {
+                fail(x,
+                     "%s: case.scene = heap needs boundary.%c%s = %s (periodic along the flow, "
+                     "side wall at y = 0, mid-plane at y = ly, base, free surface), not %s",
+                     where, axis[d], side ? "hi" : "lo", bc_choices[want[d][side]].name,
+                     bc_choices[c->bc.face[d][side]].name);
+                return 0;
+            }
+    if (c->rheo.law != LAW_MUI) {
+        fail(x, "%s: case.scene = heap needs rheology.law = mui", where);
+        return 0;
+    }
+    if (c->n[1] < 2 || c->n[2] < 2) {
+        fail(x, "%s: case.scene = heap needs domain.ny >= 2 and domain.nz >= 2 (got %d, %d)",
+             where, c->n[1], c->n[2]);
+        return 0;
+    }
+    if (c->heap.flow_rate > 0.0) {
+        if (!(c->heap.tilt_min < c->heap.tilt_max)) {
+            fail(x, "%s: heap.tilt_min = %.17g, heap.tilt_max = %.17g: the bracket needs "
+                    "tilt_min < tilt_max",
+                 where, c->heap.tilt_min, c->heap.tilt_max);
+            return 0;
+        }
+        if (c->mode != MODE_STEADY || c->checkpoint_every > 0) {
+            fail(x, "%s: heap.flow_rate > 0 (a tilt search over steady solves) needs "
+                    "solver.mode = steady and output.checkpoint_every = 0",
+                 where);
+            return 0;
+        }
+    }
+    return 1;
+}
+
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
@@ -647,6 +705,9 @@ static void finish(struct ctx *x)
                      where, axis[d], side ? "hi" : "lo", axis[d], axis[d]);
                 return;
             }
+
+    if (c->scene == SCENE_HEAP && !check_heap(x, where))
+        return;
 
     double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
     if (cells > MAX_CELLS) {

@@ -156,6 +156,33 @@ int output_profile(const char *dir, const struct profile *pr, char *err, size_t 
     return close_rename(f, tmp, path, err, errlen);
 }
 
+int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    FILE *f = open_tmp(dir, "heap.csv", path, sizeof path, tmp, sizeof tmp, err, errlen);
+    if (!f)
+        return -1;
+    fprintf(f, "y,u_surface,flowing_depth\n");
+    for (int j = 0; j < hp->n; j++)
+        fprintf(f, "%.10g,%.12g,%.10g\n", hp->y[j], hp->u_surface[j], hp->depth[j]);
+    return close_rename(f, tmp, path, err, errlen);
+}
+
+static void summary_heap(FILE *f, const struct muflow_case *cs, const struct heap_result *h)
+{
+    fprintf(f, "tilt = %.10g\n", h->tilt);
+    fprintf(f, "flow_rate = %.10g\n", h->flow_rate);
+    if (h->searched) {
+        fprintf(f, "flow_rate_target = %.10g\n", cs->heap.flow_rate);
+        fprintf(f, "flow_rate_error = %.6e\n", h->flow_rate / cs->heap.flow_rate - 1.0);
+        fprintf(f, "search_converged = %s\n", h->converged ? "true" : "false");
+    }
+    fprintf(f, "solves = %d\n", h->solves);
+    fprintf(f, "steps_total = %ld\n", h->steps);
+    fprintf(f, "u_surface_mid = %.10g\n", h->u_surface_mid);
+    fprintf(f, "depth_mid = %.10g\n", h->depth_mid);
+}
+
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
                    char *err, size_t errlen)
 {
@@ -179,6 +206,8 @@ int output_summary(const char *dir, const struct muflow_case *cs, const struct r
         fprintf(f, "%s = %.10g\n", hname, r->errors.headline);
         fprintf(f, "%s_exact = %.10g\n", hname, r->errors.headline_exact);
     }
+    if (r->heap.valid)
+        summary_heap(f, cs, &r->heap);
     fprintf(f, "\n");
     case_write_ini(cs, f);
     return close_rename(f, tmp, path, err, errlen);

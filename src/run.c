@@ -7,9 +7,11 @@
 #include "analytic.h"
 #include "checkpoint.h"
 #include "field_series.h"
+#include "heap.h"
 #include "interrupt.h"
 #include "profile.h"
 #include "run.h"
+#include "tilt_search.h"
 
 struct observer_ctx {
     const struct muflow_case *cs;
@@ -21,6 +23,8 @@ struct observer_ctx {
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
+    int no_checkpoint;     /* a tilt search: its final state is not restartable */
+    double search_start;   /* omp_get_wtime() at the start of a tilt search */
     char err[1024];
 };
 
@@ -173,8 +177,8 @@ static void note(int *rc, char *err, size_t errlen, const char *cause)
 /* The outputs of the final state: field file, checkpoint (when stopped),
  * history, profile, summary; each attempted even when an earlier one failed. */
 static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
-                          const struct profile *pr, struct run_result *res, char *err,
-                          size_t errlen)
+                          const struct profile *pr, const struct heap_profile *hp,
+                          struct run_result *res, char *err, size_t errlen)
 {
     const struct muflow_case *cs = ctx->cs;
     int rc = RUN_OK;
@@ -186,7 +190,7 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     if (cs->fields && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (st->status == STATUS_STOPPED && !ctx->checkpoint_failed) {
+    if (st->status == STATUS_STOPPED && !ctx->checkpoint_failed && !ctx->no_checkpoint) {
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
@@ -196,24 +200,88 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
         note(&rc, err, errlen, cause);
     if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
+    if (hp && output_heap(cs->output_dir, hp, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
     if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     return rc;
+}
+
+static void report_solve(void *vctx, int solve, double tilt, double flow_rate,
+                         const struct march_state *st)
+{
+    struct observer_ctx *ctx = vctx;
+    if (!ctx->opt->write_output || ctx->cs->quiet)
+        return;
+    double target = ctx->cs->heap.flow_rate;
+    printf("heap: solve %2d  tilt %.8f  Q* %-10.6g (target %g, %+.3f%%)  %s after %ld steps  "
+           "[%.1f s]\n",
+           solve, tilt, flow_rate, target, 100.0 * (flow_rate / target - 1.0),
+           run_status_name(st->status), st->step, omp_get_wtime() - ctx->search_start);
+    fflush(stdout);
+}
+
+/* The heap scene with heap.flow_rate: the tilt by root finding over steady
+ * solves.  A search that fails or misses the tolerance ends "stopped" (or
+ * with the failed solve's status) and says why. */
+static void search_tilt(struct march_state *st, struct muflow_case *work,
+                        struct observer_ctx *ctx, struct tilt_search_result *sr)
+{
+    struct tilt_search_spec spec = {
+        .target = work->heap.flow_rate, .tilt_min = work->heap.tilt_min,
+        .tilt_max = work->heap.tilt_max, .tolerance = work->heap.flow_rate_tolerance,
+        .max_solves = work->heap.max_solves, .flow_rate = heap_flow_rate};
+    ctx->no_checkpoint = 1;
+    ctx->search_start = omp_get_wtime();
+    double t0 = ctx->search_start;
+    int rc = tilt_search_run(st, work, &spec, observe, ctx, report_solve, ctx, sr);
+    st->wall_seconds = omp_get_wtime() - t0; /* the whole search */
+    if (rc == 0 && !sr->converged && st->status == STATUS_STEADY)
+        st->status = STATUS_STOPPED;
+    if (st->status != STATUS_STOPPED || !ctx->signal)
+        snprintf(st->message, sizeof st->message, "%s", sr->message);
+}
+
+static void heap_result_from(const struct march_state *st, const struct heap_profile *hp,
+                             const struct tilt_search_result *sr, struct heap_result *h)
+{
+    h->valid = 1;
+    h->tilt = st->cs->tilt;
+    h->flow_rate = heap_flow_rate(st);
+    h->searched = sr != NULL;
+    h->converged = sr ? sr->converged : 0;
+    h->solves = sr ? sr->solves : 1;
+    h->steps = sr ? sr->steps : st->step;
+    h->u_surface_mid = hp ? hp->u_surface_mid : NAN;
+    h->depth_mid = hp ? hp->depth_mid : NAN;
 }
 
 int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
                   struct run_result *res, char *err, size_t errlen)
 {
     memset(res, 0, sizeof *res);
+    /* the working copy the march reads: a tilt search changes its tilt, and
+     * the summary then records the tilt found */
+    struct muflow_case work = *cs;
+    int searching = work.scene == SCENE_HEAP && work.heap.flow_rate > 0.0;
+    if (searching && opt->restart_from) {
+        snprintf(err, errlen, "a tilt search (heap.flow_rate > 0) cannot continue from a "
+                              "checkpoint: run it again, starting from physics.tilt");
+        return RUN_ERR_SETUP;
+    }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = cs, .opt = opt, .resume_step = -1};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1};
     field_series_init(&ctx.series);
-    int rc = start(&st, &ctx, cs, opt, err, errlen);
+    int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {
         field_series_free(&ctx.series);
         return rc;
     }
-    march_run(&st, observe, &ctx);
+    struct tilt_search_result sr;
+    if (searching)
+        search_tilt(&st, &work, &ctx, &sr);
+    else
+        march_run(&st, observe, &ctx);
     if (st.status == STATUS_STOPPED && ctx.signal) {
         res->signal = ctx.signal;
         snprintf(st.message, sizeof st.message, "interrupted by %s at step %ld",
@@ -226,13 +294,21 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     struct profile pr;
     int have_profile = profile_extract(&pr, &st) == 0;
     if (have_profile)
-        profile_errors(&pr, cs, &res->errors);
+        profile_errors(&pr, &work, &res->errors);
+    struct heap_profile hp;
+    int have_heap = work.scene == SCENE_HEAP &&
+                    heap_profile_extract(&hp, &st, work.heap.depth_fraction) == 0;
+    if (work.scene == SCENE_HEAP)
+        heap_result_from(&st, have_heap ? &hp : NULL, searching ? &sr : NULL, &res->heap);
     if (opt->write_output) {
-        rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
+        rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, have_heap ? &hp : NULL, res,
+                            err, errlen);
         interrupt_restore(); /* only now: a signal during the final writes is ignored */
     }
     if (have_profile)
         profile_free(&pr);
+    if (have_heap)
+        heap_profile_free(&hp);
     field_series_free(&ctx.series);
     march_destroy(&st);
     return rc;
