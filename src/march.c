@@ -373,36 +373,38 @@ static int advance(struct march_state *st, double dt)
     st->linear_iterations = vs.iterations;
     if (rc < 0)
         return -1;
-    if (st->aug) {
-        /* augmented-Lagrangian (Uzawa) update p -= r div u*.  u is solenoidal
-         * to round-off after the last projection, so div u* = div delta: taken
-         * from delta, u's round-off (times a large r) stays out of p */
-        bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
-        kernel_divergence(g, st->delta, st->div);
+    /* u is solenoidal to round-off after the last projection, so
+     * div u* = div u + div delta is div delta but for that round-off.  The
+     * pressure updates are taken from div delta alone: the Uzawa update
+     * -r div u* and the projection's (rho/dt) lap^-1 div u* would carry u's
+     * round-off times r (large) or rho/dt (large once a rejected step cut dt:
+     * a Newton step at dt 1e-9 then raised the residual whatever its
+     * length).  The velocity is projected with the whole div u*. */
+    bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
+    kernel_divergence(g, st->delta, st->phi);
+    if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
                 for (int k = 0; k < g->n[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    st->p_dyn[p] -= st->aug[p] * st->div[p];
+                    st->p_dyn[p] -= st->aug[p] * st->phi[p];
                 }
-    }
     kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
-    /* projection: lap(phi) = (rho/dt) div u*, u = u* - (dt/rho) grad phi */
+    /* projection: u = u* - grad lap^-1 div u* */
     bc_fill_velocity(g, &st->bc, st->vel);
     kernel_divergence(g, st->vel, st->div);
-    double scale = cs->density / dt;
-    for (size_t p = 0; p < g->size; p++)
-        st->phi[p] = st->div[p] * scale;
+    poisson_fft_solve(st->poisson, st->div, st->div);
+    bc_fill_scalar(g, &st->bc, st->div);
+    kernel_gradient_update(g, st->act, st->div, 1.0, st->vel);
+    /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
+     * dt it is small and the Uzawa update carries the pressure */
     poisson_fft_solve(st->poisson, st->phi, st->phi);
-    bc_fill_scalar(g, &st->bc, st->phi);
-    kernel_gradient_update(g, st->act, st->phi, dt / cs->density, st->vel);
-    /* incremental correction; with large dt phi is small and the Uzawa
-     * update above carries the pressure */
+    double scale = cs->density / dt;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += st->phi[p];
+                st->p_dyn[p] += scale * st->phi[p];
             }
     return 0;
 }

@@ -1,7 +1,9 @@
 /* Bingham scenes: plane Poiseuille flow against its analytic plug profile,
  * the lid-driven cavity against published curves (cases/data). */
+#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "analytic.h"
 #include "reference.h"
@@ -135,6 +137,42 @@ static void test_cavity_bn100(void **state)
     curve_free(&al);
 }
 
+/* A cavity run's summary.ini names its results psi_max and err_midline (the
+ * reference is Vola's mid-line curve), not err_rms. */
+static void test_cavity_summary_keys(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/muflow_cavity_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char o1[600];
+    snprintf(o1, sizeof o1, "output.dir=%s", dir);
+    char *ov[] = {"domain.nx=16", "domain.nz=16", "rheology.yield_stress=0.70710678118654752", o1,
+                  "output.quiet=on"};
+    struct muflow_case cs;
+    struct run_result r;
+    char err[512];
+    assert_int_equal(case_load(&cs, CASES_DIR "bingham_cavity.ini", 5, ov, err, sizeof err), 0);
+    assert_int_equal(run_case(&cs, 1, &r, err, sizeof err), 0);
+    assert_int_equal(r.status, STATUS_STEADY);
+    char path[700], line[256];
+    snprintf(path, sizeof path, "%s/summary.ini", dir);
+    FILE *f = fopen(path, "r");
+    assert_non_null(f);
+    int midline = 0, psi = 0, rms = 0;
+    while (fgets(line, sizeof line, f) && strncmp(line, "[case]", 6) != 0) {
+        midline += strncmp(line, "err_midline = ", 14) == 0;
+        psi += strncmp(line, "psi_max = ", 10) == 0;
+        rms += strncmp(line, "err_rms = ", 10) == 0;
+    }
+    fclose(f);
+    assert_int_equal(midline, 1);
+    assert_int_equal(psi, 1);
+    assert_int_equal(rms, 0);
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 void group_bingham(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -142,6 +180,7 @@ void group_bingham(struct test_tally *t)
         cmocka_unit_test(test_channel_lambda_and_regularisations),
         cmocka_unit_test(test_cavity_against_vola),
         cmocka_unit_test(test_cavity_bn100),
+        cmocka_unit_test(test_cavity_summary_keys),
     };
     RUN_GROUP(t, "bingham", tests);
 }
