@@ -137,6 +137,29 @@ static void test_cavity_bn100(void **state)
     curve_free(&al);
 }
 
+/* Vola's Bn = 1000, where the material is rigid but for a thin layer under
+ * the lid: the march must reach the steady criterion, and within 300 steps
+ * (it takes 55 at 32 x 32; with r = kappa eta per cell the Uzawa update
+ * contracted by 0.994 per step and the residual was 3e-3 after 1,000).  The
+ * yielded layer spans about one cell here, so psi_max is not compared with
+ * the references; it must only lie below the augmented-Lagrangian reference
+ * at Bn = 100 (0.0182). */
+static void test_cavity_bn1000_converges(void **state)
+{
+    (void)state;
+    char o1[64];
+    snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", 1000.0 / sqrt(2.0));
+    char *ov[] = {"domain.nx=32", "domain.nz=32", o1, "solver.max_steps=300"};
+    struct muflow_case cs;
+    struct run_result r;
+    run_with(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
+    print_message("cavity 32x32 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
+                  run_status_name(r.status), r.steps, r.residual, r.errors.headline);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.residual <= cs.tolerance);
+    assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.0182);
+}
+
 /* A cavity run's summary.ini names its results psi_max and err_midline (the
  * reference is Vola's mid-line curve), not err_rms. */
 static void test_cavity_summary_keys(void **state)
@@ -180,6 +203,7 @@ void group_bingham(struct test_tally *t)
         cmocka_unit_test(test_channel_lambda_and_regularisations),
         cmocka_unit_test(test_cavity_against_vola),
         cmocka_unit_test(test_cavity_bn100),
+        cmocka_unit_test(test_cavity_bn1000_converges),
         cmocka_unit_test(test_cavity_summary_keys),
     };
     RUN_GROUP(t, "bingham", tests);
