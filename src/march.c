@@ -16,6 +16,9 @@
  * step far from the solution can overshoot into spurious states. */
 #define REJECT_GROWTH 2.0
 #define MIN_DT_SCALE 1e-12
+/* max |div u| h / max |u| above which a state is not solenoidal to round-off
+ * (advance projects it once more). */
+#define DIVERGENCE_ROUNDOFF 1e-12
 /* Round-off allowance of the residual, in machine epsilons of its terms. */
 #define ROUNDOFF_EPS (16.0 * DBL_EPSILON)
 
@@ -379,7 +382,9 @@ static int advance(struct march_state *st, double dt)
      * -r div u* and the projection's (rho/dt) lap^-1 div u* would carry u's
      * round-off times r (large) or rho/dt (large once a rejected step cut dt:
      * a Newton step at dt 1e-9 then raised the residual whatever its
-     * length).  The velocity is projected with the whole div u*. */
+     * length).  The projection u = u* - grad lap^-1 div delta keeps div u at
+     * round-off; a state whose own divergence is above it (not one this
+     * march produced) gets a second projection. */
     bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
     kernel_divergence(g, st->delta, st->phi);
     if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
@@ -390,15 +395,18 @@ static int advance(struct march_state *st, double dt)
                     st->p_dyn[p] -= st->aug[p] * st->phi[p];
                 }
     kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
-    /* projection: u = u* - grad lap^-1 div u* */
+    poisson_fft_solve(st->poisson, st->phi, st->phi);
+    bc_fill_scalar(g, &st->bc, st->phi);
+    kernel_gradient_update(g, st->act, st->phi, 1.0, st->vel);
     bc_fill_velocity(g, &st->bc, st->vel);
-    kernel_divergence(g, st->vel, st->div);
-    poisson_fft_solve(st->poisson, st->div, st->div);
-    bc_fill_scalar(g, &st->bc, st->div);
-    kernel_gradient_update(g, st->act, st->div, 1.0, st->vel);
+    if (st->divergence > DIVERGENCE_ROUNDOFF) {
+        kernel_divergence(g, st->vel, st->div);
+        poisson_fft_solve(st->poisson, st->div, st->div);
+        bc_fill_scalar(g, &st->bc, st->div);
+        kernel_gradient_update(g, st->act, st->div, 1.0, st->vel);
+    }
     /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
      * dt it is small and the Uzawa update carries the pressure */
-    poisson_fft_solve(st->poisson, st->phi, st->phi);
     double scale = cs->density / dt;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
