@@ -115,7 +115,7 @@ fuzz:
 # the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
 # cores, bounded on a busy machine) and writes bench/out/report.md with its PNG
 # plots, printing the tables.
-BENCH_PKGS    = python3-matplotlib
+BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
 BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput
@@ -149,3 +149,12 @@ bench-cavity: deps bench-deps
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT) $(CAVITY_N) $(CAVITY_BN)
 	/usr/bin/python3 bench/plot_cavity.py $(BENCH_OUT)
+
+# The heap study: the tilt for the experiment's flow rates Q* = 14.9, 40.2 and
+# 90.1 at 70 x 100, the mesh study for Q* = 40.2 (35 x 50, 70 x 100,
+# 140 x 200), and the plots (surface velocity, flowing depth, velocity maps);
+# bench/out/heap_table.md.  About half an hour on 2 idle cores.
+.PHONY: bench-heap
+bench-heap: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)

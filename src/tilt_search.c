@@ -17,28 +17,10 @@ struct search_ctx {
     struct tilt_search_result *res;
     int failed;            /* a solve did not end steady (message set) */
     double last_f;         /* ln(Q / target) of the last solve */
-    /* The solution at the largest tilt so far whose flow rate is below the
-     * target, where every later solve starts: from a slower flow Newton's
-     * iterates only widen the flowing layer, as from rest, while from a faster
-     * one they must stop part of it, and the steps across the yield surface
-     * overshoot (a 70 x 100 solve continued downwards in tilt took 50-100+
-     * steps with repeated rejections, upwards 10-50).  Close to the target
-     * the last solution is nearer, whichever side it is on. */
-    double *below_vel[3], *below_p;
-    double below_tilt;     /* -inf: none yet */
     double end_rate[2];    /* Q* at the bracket ends, for the message */
 };
 
-static void copy_state(const struct march_state *st, double *const vel[3], const double *p,
-                       double *to_vel[3], double *to_p)
-{
-    size_t bytes = st->g.size * sizeof(double);
-    for (int c = 0; c < 3; c++)
-        memcpy(to_vel[c], vel[c], bytes);
-    memcpy(to_p, p, bytes);
-}
-
-/* One steady solve at tilt, continued from the current state; returns
+/* One steady solve at tilt, from rest or continued (below); returns
  * ln(Q* / target), or NaN (GSL then stops) when the solve failed. */
 static double misfit(double tilt, void *vctx)
 {
@@ -46,17 +28,26 @@ static double misfit(double tilt, void *vctx)
     struct tilt_search_result *res = x->res;
     struct march_state *st = x->st;
     x->cs->tilt = tilt;
-    /* the last solution serves when the new tilt is above it, or when its flow
-     * rate is within 10% of the target (the search's final, small steps) */
-    int from_last = res->solves == 0 || tilt > res->tilt || fabs(x->last_f) < 0.1;
-    if (!from_last && tilt > x->below_tilt)
-        copy_state(st, x->below_vel, x->below_p, st->vel, st->p_dyn);
+    /* Continuing from the last solution pays only near the target: from a
+     * faster flow the Newton iterates must stop part of the flowing layer and
+     * overshoot across the yield surface, from a much slower one the
+     * pseudo-time march oscillates (70 x 100, measured: 50-100+ steps with
+     * rejections, against 18-55 from rest).  Farther away the solve starts
+     * from rest, as a fresh run would. */
+    int from_last = res->solves > 0 && fabs(x->last_f) < 0.1;
+    if (!from_last) {
+        for (int c = 0; c < 3; c++)
+            memset(st->vel[c], 0, st->g.size * sizeof(double));
+        memset(st->p_dyn, 0, st->g.size * sizeof(double));
+    }
     char err[256];
-    if (march_reforce(x->st, err, sizeof err) != 0) {
+    if (march_reforce(st, err, sizeof err) != 0) {
         snprintf(res->message, sizeof res->message, "tilt %.8g: %.200s", tilt, err);
         x->failed = 1;
         return NAN;
     }
+    if (!from_last)
+        st->residual0 = 0.0; /* the pseudo-time scale of a fresh start */
     enum run_status s = march_run(x->st, x->obs, x->obs_ctx);
     res->solves++;
     res->steps += x->st->step;
@@ -80,20 +71,7 @@ static double misfit(double tilt, void *vctx)
     if (res->solves <= 2)
         x->end_rate[res->solves - 1] = res->flow_rate;
     x->last_f = log(res->flow_rate / x->spec->target);
-    if (x->last_f < 0.0 && tilt > x->below_tilt) {
-        copy_state(st, st->vel, st->p_dyn, x->below_vel, x->below_p);
-        x->below_tilt = tilt;
-    }
     return x->last_f;
-}
-
-static void free_search(gsl_root_fsolver *solver, struct search_ctx *x)
-{
-    if (solver)
-        gsl_root_fsolver_free(solver);
-    for (int c = 0; c < 3; c++)
-        field_free(x->below_vel[c]);
-    field_free(x->below_p);
 }
 
 static int close_enough(const struct search_ctx *x)
@@ -108,16 +86,10 @@ int tilt_search_run(struct march_state *st, struct muflow_case *cs,
     memset(res, 0, sizeof *res);
     struct search_ctx x = {.st = st, .cs = cs, .spec = spec, .obs = obs, .obs_ctx = obs_ctx,
                            .report = report, .report_ctx = report_ctx, .res = res};
-    x.below_tilt = -INFINITY;
     gsl_function fn = {.function = misfit, .params = &x};
     gsl_root_fsolver *solver = gsl_root_fsolver_alloc(gsl_root_fsolver_brent);
-    int ok = solver != NULL;
-    for (int c = 0; c < 3; c++)
-        ok &= (x.below_vel[c] = field_alloc(&st->g)) != NULL;
-    ok &= (x.below_p = field_alloc(&st->g)) != NULL;
-    if (!ok) {
+    if (!solver) {
         snprintf(res->message, sizeof res->message, "out of memory for the root finder");
-        free_search(solver, &x);
         return -1;
     }
     /* errors come back as codes: the default handler would abort */
@@ -170,6 +142,6 @@ int tilt_search_run(struct march_state *st, struct muflow_case *cs,
     }
 done:
     gsl_set_error_handler(previous);
-    free_search(solver, &x);
+    gsl_root_fsolver_free(solver);
     return rc;
 }
