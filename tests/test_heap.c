@@ -71,10 +71,16 @@ static void test_layer_shape(void **state)
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_STEADY);
     struct heap_profile hp;
     assert_int_equal(heap_profile_extract(&hp, &st, cs.heap.depth_fraction), 0);
+    /* the cell next to the wall is left out of the surface velocity's
+     * monotony: at the free surface the wall's largest friction (mu_s + dmu) p
+     * vanishes and the top corner slips, so on fine meshes that one cell is
+     * faster than its neighbour (README, "Heap") */
     for (int j = 1; j < hp.n; j++) {
-        assert_true(hp.u_surface[j] > hp.u_surface[j - 1]);
+        if (j >= 2)
+            assert_true(hp.u_surface[j] > hp.u_surface[j - 1]);
         assert_true(hp.depth[j] >= hp.depth[j - 1]);
     }
+    assert_true(hp.u_surface[0] < hp.u_surface_mid);
     /* thinner at the wall than at the mid-plane by a clear margin */
     assert_true(hp.depth[0] < 0.8 * hp.depth_mid);
     /* the flux of the cells equals the flux of the columns' profiles: Q*
