@@ -75,7 +75,7 @@ clean:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson case viscous io corpus
+ASAN_GROUPS = rheology poisson case viscous heap io corpus
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 check-asan: deps
@@ -115,7 +115,7 @@ fuzz:
 # the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
 # cores, bounded on a busy machine) and writes bench/out/report.md with its PNG
 # plots, printing the tables.
-BENCH_PKGS    = python3-matplotlib
+BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
 BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput
@@ -166,3 +166,12 @@ bench-cavity-128: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT)/cavity128/b 128 70.710678118654752
 	(cat $(BENCH_OUT)/cavity128/a/cavity_table_n128.csv; \
 	 tail -n +2 $(BENCH_OUT)/cavity128/b/cavity_table_n128.csv) > $(BENCH_OUT)/cavity_table_n128.csv
+
+# The heap study: the tilt for the experiment's flow rates Q* = 14.9, 40.2 and
+# 90.1 at 70 x 100, the mesh study for Q* = 40.2 (35 x 50, 70 x 100,
+# 140 x 200), and the plots (surface velocity, flowing depth, velocity maps);
+# bench/out/heap_table.md.  About half an hour on 2 idle cores.
+.PHONY: bench-heap
+bench-heap: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)

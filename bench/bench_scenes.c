@@ -25,6 +25,7 @@
 #define BAGNOLD_INI "cases/bagnold.ini"
 #define CHUTE_INI "cases/chute.ini"
 #define CAVITY_INI "cases/bingham_cavity.ini"
+#define HEAP_INI "cases/heap.ini"
 
 static const char *regs[] = {"simple", "bercovier", "papanastasiou", "mc"};
 #define NREGS 4
@@ -474,6 +475,32 @@ static void error_time_all(const char *dir, int reps)
     fclose(g);
 }
 
+/* One steady solve of the heap cross-section at the paper's mesh (70 x 100),
+ * from rest, at the tilt the search finds for Q* = 40.2 there (the heap study,
+ * make bench-heap): the cost of one function evaluation of the tilt search. */
+#define HEAP_TILT_Q40 "physics.tilt=0.40610247"
+static void heap_solve(const char *dir, int reps)
+{
+    char *ov[] = {"heap.flow_rate=0", HEAP_TILT_Q40};
+    struct muflow_case cs;
+    bench_load(&cs, HEAP_INI, 2, ov);
+    FILE *f = bench_open(dir, "heap_solve.csv");
+    fprintf(f, "ny,nz,tilt,status,steps,runs,wall_median,wall_min,wall_max\n");
+    if (!over_hard_deadline()) {
+        double limit = run_limit;
+        run_limit = 300.0; /* one solve takes 10-20 s on 2 idle cores */
+        struct timed t;
+        timed_runs(&cs, reps, &t);
+        run_limit = limit;
+        fprintf(f, "%d,%d,%.8f,%s,%ld,%d,%.6e,%.6e,%.6e\n", cs.n[1], cs.n[2], cs.tilt,
+                run_status_name(t.res.status), t.res.steps, t.runs, t.wall_med, t.wall_min,
+                t.wall_max);
+        fprintf(stderr, "  heap 70 x 100 tilt %.5f: %s in %ld steps, %.2f s (median of %d)\n",
+                cs.tilt, run_status_name(t.res.status), t.res.steps, t.wall_med, t.runs);
+    }
+    fclose(f);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2) {
@@ -517,6 +544,9 @@ int main(int argc, char **argv)
     chute_h(dir, few);
     chute_lambda(dir, few);
     fprintf(f, "foreign_cores_chute_studies,%.3f\n", bench_cpu_foreign(&cpu));
+    bench_cpu_start(&cpu);
+    heap_solve(dir, few);
+    fprintf(f, "foreign_cores_heap,%.3f\n", bench_cpu_foreign(&cpu));
     fprintf(f, "capacity_end,%.3f\n", bench_parallel_capacity(omp_get_max_threads()));
     fprintf(f, "foreign_cores_all,%.3f\nseconds,%.1f\nbudget,%.0f\nover_budget,%d\n"
                "over_hard_budget,%d\n",

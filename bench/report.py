@@ -426,6 +426,26 @@ if ct:
               + busy_note(sm.get("foreign_cores_chute_times"), "these runs") + "\n")
 
 # ---------------------------------------------------------------------------
+hs = read("heap_solve.csv")
+if hs:
+    md.append("## Heap cross-section: one steady solve\n")
+    rows = [[f"{r['ny']} x {r['nz']}", r["tilt"], r["status"], r["steps"], r["runs"],
+             fnum(r["wall_median"], "{:.2f}"),
+             f"{fnum(r['wall_min'], '{:.2f}')} .. {fnum(r['wall_max'], '{:.2f}')}"] for r in hs]
+    md.append(table(["mesh", "tilt (rad)", "status", "steps", "runs", "wall median (s)",
+                     "range (s)"], rows))
+    md.append("\nOne function evaluation of the tilt search: the heap's half cross-section "
+              "(`cases/heap.ini`, 70 x 100 cells, lambda 1e-5) from rest to a residual of "
+              "1e-8, at the tilt the search finds for Q* = 40.2; setup included.  The whole "
+              "search, the three flow rates and the mesh study are `make bench-heap` "
+              "(bench/out/heap_table.md)."
+              + busy_note(sm.get("foreign_cores_heap"), "these runs") + "\n")
+    heap_table = os.path.join(OUT, "heap_table.md")
+    if os.path.exists(heap_table):
+        with open(heap_table) as f:
+            md.append("Last `make bench-heap` (tilt searches):\n\n" + f.read())
+
+# ---------------------------------------------------------------------------
 tri = read("triad.csv")
 stg = read("stages.csv")
 steps = read("steps.csv")

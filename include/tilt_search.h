@@ -1,6 +1,6 @@
 /* The tilt that gives a target flow rate: a bracketing root finder (GSL's
- * Brent solver) around full steady solves, each continued from the previous
- * solution (march_reforce).  It solves ln(Q*(tilt) / target) = 0: the flow
+ * Brent solver) around full steady solves; once a solve's flow rate is within
+ * 10% of the target the next continues from its solution (march_reforce).  It solves ln(Q*(tilt) / target) = 0: the flow
  * rate grows roughly exponentially with the tilt, so the logarithm is close
  * to linear and the interpolation steps of Brent's method land well. */
 #ifndef MUFLOW_TILT_SEARCH_H

@@ -227,7 +227,10 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     st->step = 0;
     st->time = 0.0;
     st->dt = st->cs->dt;
-    st->residual0 = 0.0;
+    /* residual0 is kept: it sets the pseudo-time step dt = dt0 r0 / r, and the
+     * first residual of a continued solve is already small, so resetting it
+     * would hold dt near dt0 and march through the physical transient (a heap
+     * solve from the previous tilt: 150-250 steps instead of 15-40 from rest) */
     st->rejected = 0;
     st->best_residual = INFINITY;
     st->best_step = 0;
@@ -507,7 +510,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
     st->status = STATUS_RUNNING;
     save_good(st);
     evaluate_residual(st);
-    if (st->step == 0)
+    if (st->step == 0 && st->residual0 == 0.0) /* march_reforce keeps it: below */
         st->residual0 = st->residual;
     for (;;) {
         st->wall_seconds = omp_get_wtime() - t0;

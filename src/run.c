@@ -234,9 +234,9 @@ static void search_tilt(struct march_state *st, struct muflow_case *work,
     ctx->no_checkpoint = 1;
     ctx->search_start = omp_get_wtime();
     double t0 = ctx->search_start;
-    int rc = tilt_search_run(st, work, &spec, observe, ctx, report_solve, ctx, sr);
+    tilt_search_run(st, work, &spec, observe, ctx, report_solve, ctx, sr);
     st->wall_seconds = omp_get_wtime() - t0; /* the whole search */
-    if (rc == 0 && !sr->converged && st->status == STATUS_STEADY)
+    if (!sr->converged && st->status == STATUS_STEADY)
         st->status = STATUS_STOPPED;
     if (st->status != STATUS_STOPPED || !ctx->signal)
         snprintf(st->message, sizeof st->message, "%s", sr->message);

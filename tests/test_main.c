@@ -14,6 +14,7 @@ static const struct {
     {"viscous", group_viscous},
     {"scenes", group_scenes},
     {"bingham", group_bingham},
+    {"heap", group_heap},
     {"io", group_io},
     {"corpus", group_corpus},
 };

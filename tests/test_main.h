@@ -33,6 +33,7 @@ void group_case(struct test_tally *t);
 void group_viscous(struct test_tally *t);
 void group_scenes(struct test_tally *t);
 void group_bingham(struct test_tally *t);
+void group_heap(struct test_tally *t);
 void group_io(struct test_tally *t);
 void group_corpus(struct test_tally *t);
 
