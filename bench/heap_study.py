@@ -66,6 +66,21 @@ def run(muflow, outdir, ny, nz, q, bracket):
     return dict(q=q, ny=ny, nz=nz, summary=s, profile=prof, u=u)
 
 
+def across_channel(path, curves, ylabel, title):
+    """A plot of quantities against y across the half channel."""
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for y, v, style in curves:
+        ax.plot(y, v, **style)
+    ax.set_xlabel("y / d (side wall at 0, mid-plane at 70)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend()
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main():
     muflow, outdir = sys.argv[1], sys.argv[2]
     quick = "--quick" in sys.argv
@@ -117,38 +132,26 @@ def main():
     print("\n".join(lines))
 
     colours = {14.9: "C0", 40.2: "C1", 90.1: "C2"}
-    fig, ax = plt.subplots(figsize=(6, 4))
+    surface, depth = [], []
     for q in TARGETS:
         p = paper[q]["profile"]
         t = float(paper[q]["summary"]["tilt"])
         # the wall (y = 0) holds u = 0: the no-slip condition
-        ax.plot(np.r_[0.0, p["y"]], np.r_[0.0, p["u_surface"]], color=colours[q],
-                label=f"Q* = {q:g} (tilt {np.degrees(t):.2f} deg)")
-    ax.set_xlabel("y / d (side wall at 0, mid-plane at 70)")
-    ax.set_ylabel("free-surface velocity / sqrt(g d)")
-    ax.set_title("Heap: surface velocity across the channel (70 x 100)")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "heap_surface_velocity.png"), dpi=120)
-
-    fig, ax = plt.subplots(figsize=(6, 4))
-    for q in TARGETS:
-        p = paper[q]["profile"]
-        ax.plot(p["y"], p["flowing_depth"], color=colours[q], label=f"Q* = {q:g}")
+        surface.append((np.r_[0.0, p["y"]], np.r_[0.0, p["u_surface"]],
+                        dict(color=colours[q], label=f"Q* = {q:g} (tilt {np.degrees(t):.2f} deg)")))
+        depth.append((p["y"], p["flowing_depth"], dict(color=colours[q], label=f"Q* = {q:g}")))
     for r in study:
         if (r["ny"], r["nz"]) != PAPER_MESH:
             p = r["profile"]
-            ax.plot(p["y"], p["flowing_depth"], color=colours[STUDY_TARGET], lw=0.8,
-                    ls=":" if r["ny"] < PAPER_MESH[0] else "--",
-                    label=f"Q* = {STUDY_TARGET:g}, {r['ny']} x {r['nz']}")
-    ax.set_xlabel("y / d (side wall at 0, mid-plane at 70)")
-    ax.set_ylabel("flowing depth / d (u = 1% of the surface u)")
-    ax.set_title("Heap: depth of the flowing layer")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(os.path.join(outdir, "heap_flowing_depth.png"), dpi=120)
+            depth.append((p["y"], p["flowing_depth"],
+                          dict(color=colours[STUDY_TARGET], lw=0.8,
+                               ls=":" if r["ny"] < PAPER_MESH[0] else "--",
+                               label=f"Q* = {STUDY_TARGET:g}, {r['ny']} x {r['nz']}")))
+    across_channel(os.path.join(outdir, "heap_surface_velocity.png"), surface,
+                   "free-surface velocity / sqrt(g d)",
+                   "Heap: surface velocity across the channel (70 x 100)")
+    across_channel(os.path.join(outdir, "heap_flowing_depth.png"), depth,
+                   "flowing depth / d (u = 1% of the surface u)", "Heap: depth of the flowing layer")
 
     fig, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
     for ax, q in zip(axes, TARGETS):
