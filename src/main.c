@@ -71,8 +71,18 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     else if (hname)
         printf("%s: no analytic steady solution for these parameters; %s %.6g\n", cs->name,
                hname, r->errors.headline);
+    if (r->heap.valid)
+        printf("%s: tilt %.8g (%.4f deg)  Q* %.6g  %d solve%s, %ld steps  mid-plane: u_surface "
+               "%.5g, flowing depth %.5g\n",
+               cs->name, r->heap.tilt, r->heap.tilt * 180.0 / 3.14159265358979323846,
+               r->heap.flow_rate, r->heap.solves, r->heap.solves == 1 ? "" : "s", r->heap.steps,
+               r->heap.u_surface_mid, r->heap.depth_mid);
     printf("output: %s\n", cs->output_dir);
-    if (r->signal)
+    if (r->signal && r->heap.searched)
+        printf("muflow: interrupted by %s during the tilt search (a search is not restartable); "
+               "the last solve's tilt %.8g can start a new search\n",
+               interrupt_name(r->signal), r->heap.tilt);
+    else if (r->signal)
         printf("muflow: interrupted by %s at step %ld%s; resume with: muflow --restart %s\n",
                interrupt_name(r->signal), r->steps,
                r->checkpointed ? ", checkpoint written" : ", NO checkpoint written",
