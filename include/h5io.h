@@ -45,6 +45,15 @@ int h5io_attr_read_text(hid_t loc, const char *name, char *text, size_t len, cha
 int h5io_attr_each_text(hid_t loc, int (*visit)(void *ctx, const char *name, const char *text),
                         void *ctx, char *err, size_t errlen);
 
+/* Writes a whole HDF5 file: creates tmp, calls contents(file, ctx, ...) to
+ * fill it, closes it (a full disk may only show there) and commits it to path
+ * (h5io_commit).  On failure tmp is removed and err says "cannot write
+ * <label> <tmp>: <cause>" (label e.g. "checkpoint", or "" for none); a failed
+ * commit gives "cannot write <label>: <cause>" (just the cause without label). */
+typedef int (*h5io_contents)(hid_t file, void *ctx, char *err, size_t errlen);
+int h5io_write_file(const char *tmp, const char *path, const char *label, h5io_contents contents,
+                    void *ctx, char *err, size_t errlen);
+
 /* Makes the closed file tmp durable and gives it its final name: fsync(tmp),
  * rename(tmp, path), fsync of the folder.  After a crash path is either the
  * old file or the new one, whole.  On failure tmp is removed. */

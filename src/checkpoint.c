@@ -90,39 +90,28 @@ static int write_contents(hid_t file, const struct march_state *st, const struct
     return write_wisdom(file, err, errlen);
 }
 
+struct checkpoint_ctx {
+    const struct march_state *st;
+    const struct field_series *fs;
+};
+
+static int checkpoint_contents(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct checkpoint_ctx *ctx = vctx;
+    return write_contents(file, ctx->st, ctx->fs, err, errlen);
+}
+
 int checkpoint_write(const char *dir, const struct march_state *st,
                      const struct field_series *fs, char *err, size_t errlen)
 {
-    h5io_init();
-    char path[700], tmp[720], cause[600];
+    char path[700], tmp[720];
     if (snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME) >= (int)sizeof path ||
         snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
         snprintf(err, errlen, "checkpoint path too long in %s", dir);
         return -1;
     }
-    hid_t file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    int rc = 0;
-    if (file < 0) {
-        h5io_error(cause, sizeof cause, "cannot create");
-        rc = -1;
-    } else {
-        rc = write_contents(file, st, fs, cause, sizeof cause);
-        /* closing flushes the metadata: a full disk may only show here */
-        if (H5Fclose(file) < 0 && rc == 0) {
-            h5io_error(cause, sizeof cause, "cannot close");
-            rc = -1;
-        }
-    }
-    if (rc != 0) {
-        snprintf(err, errlen, "cannot write checkpoint %s: %s", tmp, cause);
-        remove(tmp);
-        return -1;
-    }
-    if (h5io_commit(tmp, path, cause, sizeof cause) != 0) {
-        snprintf(err, errlen, "cannot write checkpoint: %s", cause);
-        return -1;
-    }
-    return 0;
+    struct checkpoint_ctx ctx = {st, fs};
+    return h5io_write_file(tmp, path, "checkpoint", checkpoint_contents, &ctx, err, errlen);
 }
 
 /* Opens a checkpoint for reading and checks its format. */

@@ -140,10 +140,20 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
     return h5io_write(file, FIELDS_CELL_VECTOR, H5T_NATIVE_DOUBLE, 4, cdims, buf, err, errlen);
 }
 
+struct fields_ctx {
+    const struct march_state *st;
+    double *buf; /* room for the largest array */
+};
+
+static int fields_contents(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct fields_ctx *ctx = vctx;
+    return write_contents(file, ctx->st, ctx->buf, err, errlen);
+}
+
 int fields_h5_write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
-    h5io_init();
-    char name[64], path[700], tmp[720], cause[600];
+    char name[64], path[700], tmp[720];
     fields_h5_name(st->step, name, sizeof name);
     if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path ||
         snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
@@ -163,24 +173,8 @@ int fields_h5_write(const char *dir, const struct march_state *st, char *err, si
         snprintf(err, errlen, "cannot write %s: out of memory", path);
         return -1;
     }
-    hid_t file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-    int rc = 0;
-    if (file < 0) {
-        h5io_error(cause, sizeof cause, "cannot create");
-        rc = -1;
-    } else {
-        rc = write_contents(file, st, buf, cause, sizeof cause);
-        /* closing flushes: a full disk may only show here */
-        if (H5Fclose(file) < 0 && rc == 0) {
-            h5io_error(cause, sizeof cause, "cannot close");
-            rc = -1;
-        }
-    }
+    struct fields_ctx ctx = {st, buf};
+    int rc = h5io_write_file(tmp, path, "", fields_contents, &ctx, err, errlen);
     free(buf);
-    if (rc != 0) {
-        snprintf(err, errlen, "cannot write %s: %s", tmp, cause);
-        remove(tmp);
-        return -1;
-    }
-    return h5io_commit(tmp, path, err, errlen);
+    return rc;
 }

@@ -329,6 +329,39 @@ int h5io_attr_each_text(hid_t loc, int (*visit)(void *ctx, const char *name, con
     return 0;
 }
 
+int h5io_write_file(const char *tmp, const char *path, const char *label, h5io_contents contents,
+                    void *ctx, char *err, size_t errlen)
+{
+    h5io_init();
+    char cause[600];
+    hid_t file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    int rc = 0;
+    if (file < 0) {
+        h5io_error(cause, sizeof cause, "cannot create");
+        rc = -1;
+    } else {
+        rc = contents(file, ctx, cause, sizeof cause);
+        /* closing flushes the metadata: a full disk may only show here */
+        if (H5Fclose(file) < 0 && rc == 0) {
+            h5io_error(cause, sizeof cause, "cannot close");
+            rc = -1;
+        }
+    }
+    if (rc != 0) {
+        snprintf(err, errlen, "cannot write %s%s%s: %s", label, *label ? " " : "", tmp, cause);
+        remove(tmp);
+        return -1;
+    }
+    if (h5io_commit(tmp, path, cause, sizeof cause) != 0) {
+        if (*label)
+            snprintf(err, errlen, "cannot write %s: %s", label, cause);
+        else
+            snprintf(err, errlen, "%s", cause);
+        return -1;
+    }
+    return 0;
+}
+
 int h5io_commit(const char *tmp, const char *path, char *err, size_t errlen)
 {
     int fd = open(tmp, O_RDONLY);
