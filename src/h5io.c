@@ -186,18 +186,25 @@ int h5io_attr_write(hid_t loc, const char *name, hid_t type, int n, const void *
     return rc;
 }
 
-int h5io_attr_read(hid_t loc, const char *name, hid_t memtype, int n, void *data, char *err,
-                   size_t errlen)
+/* The attribute name of loc, or -1 (missing, or cannot be opened). */
+static hid_t open_attribute(hid_t loc, const char *name, char *err, size_t errlen)
 {
     if (H5Aexists(loc, name) <= 0) {
         snprintf(err, errlen, "attribute %s: missing", name);
         return -1;
     }
     hid_t at = H5Aopen(loc, name, H5P_DEFAULT);
-    if (at < 0) {
+    if (at < 0)
         fail_at(err, errlen, "attribute", name, "cannot open");
+    return at;
+}
+
+int h5io_attr_read(hid_t loc, const char *name, hid_t memtype, int n, void *data, char *err,
+                   size_t errlen)
+{
+    hid_t at = open_attribute(loc, name, err, errlen);
+    if (at < 0)
         return -1;
-    }
     int rc = 0;
     hid_t space = H5Aget_space(at);
     hssize_t count = space < 0 ? -1 : H5Sget_simple_extent_npoints(space);
@@ -269,15 +276,9 @@ static int read_text(hid_t at, const char *name, char *text, size_t len, char *e
 int h5io_attr_read_text(hid_t loc, const char *name, char *text, size_t len, char *err,
                         size_t errlen)
 {
-    if (H5Aexists(loc, name) <= 0) {
-        snprintf(err, errlen, "attribute %s: missing", name);
+    hid_t at = open_attribute(loc, name, err, errlen);
+    if (at < 0)
         return -1;
-    }
-    hid_t at = H5Aopen(loc, name, H5P_DEFAULT);
-    if (at < 0) {
-        fail_at(err, errlen, "attribute", name, "cannot open");
-        return -1;
-    }
     int rc = read_text(at, name, text, len, err, errlen);
     H5Aclose(at);
     return rc;
