@@ -126,6 +126,14 @@ figs = []
 headline = []  # (what, value, target verdict) rows of the summary at the top
 
 
+def save_figure(fig, name, alt):
+    """Lays out, writes and closes fig; returns its markdown image line."""
+    fig.tight_layout()
+    fig.savefig(fig_path(name), dpi=110)
+    plt.close(fig)
+    return f"![{alt}]({name})"
+
+
 def fig_path(name):
     figs.append(name)
     return os.path.join(OUT, name)
@@ -228,10 +236,7 @@ if bag:
         ax[1].set_ylabel("z")
         ax[1].set_title("pointwise error")
         ax[1].legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(fig_path("bagnold_profile.png"), dpi=110)
-        plt.close(fig)
-        md.append("![bagnold profile](bagnold_profile.png)\n")
+        md.append(save_figure(fig, "bagnold_profile.png", "bagnold profile") + "\n")
 
 # ---------------------------------------------------------------------------
 ch = read("chute_h.csv")
@@ -296,10 +301,7 @@ if ch:
     ax[1].set_ylabel("err_rms")
     ax[1].set_title("chute, lambda 1e-4")
     ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(fig_path("error_h.png"), dpi=110)
-    plt.close(fig)
-    md.append("![error against h](error_h.png)\n")
+    md.append(save_figure(fig, "error_h.png", "error against h") + "\n")
 
 if et:
     md.append("### 2b. Error against wall time during the march\n")
@@ -341,10 +343,7 @@ if et:
     ax[1].set_ylabel("err_rms")
     ax[1].set_title("chute, lambda 1e-4")
     ax[1].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(fig_path("error_time.png"), dpi=110)
-    plt.close(fig)
-    md.append("\n![error against wall time](error_time.png)"
+    md.append("\n" + save_figure(fig, "error_time.png", "error against wall time")
               + busy_note(sm.get("foreign_cores_error_time"), "these traces") + "\n")
 
 if cl:
@@ -374,10 +373,7 @@ if cl:
     ax.set_ylabel("err_rms")
     ax.set_title("chute, mc: error against lambda")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(fig_path("chute_lambda.png"), dpi=110)
-    plt.close(fig)
-    md.append("![error against lambda](chute_lambda.png)"
+    md.append(save_figure(fig, "chute_lambda.png", "error against lambda")
               + busy_note(sm.get("foreign_cores_chute_studies"), "the studies 2a and 2c") + "\n")
 
 if ct:
@@ -637,10 +633,7 @@ if tri and stg:
         ax[1].set_xlabel(f"speed-up {tmax} vs 1 thread")
         ax[1].legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2)
         fig.suptitle(f"stages on {nx} x {ny} x {nz} cells (blue: stencil stages)")
-        fig.tight_layout()
-        fig.savefig(fig_path("throughput.png"), dpi=110)
-        plt.close(fig)
-        md.append("![throughput](throughput.png)\n")
+        md.append(save_figure(fig, "throughput.png", "throughput") + "\n")
 
 # the analysis behind the missed targets (written from profiles, see its header)
 ana = os.path.join(os.path.dirname(os.path.abspath(__file__)), "analysis.md")
