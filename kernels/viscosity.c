@@ -3,6 +3,22 @@
 #include "kernels.h"
 #include "stencil.h"
 
+/* cell[q] + w * the sum over the three planes of the mean of the four edges
+ * of plane c around cell q (faces q, q + o along the plane's directions): the
+ * cell's |D|^2 from its normal and edge parts, and (w = 2) its linearisation,
+ * which must use the same averaging. */
+static inline double cell_edges_sum(const double *cell, double *const edge[3], double w,
+                                    ptrdiff_t q, const ptrdiff_t *o)
+{
+    double s = 0.0;
+    for (int c = 0; c < 3; c++) {
+        int a, b;
+        plane_dirs(c, &a, &b);
+        s += mean4(edge[c], q + o[a] + o[b], o[a], o[b]);
+    }
+    return cell[q] + w * s;
+}
+
 void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
                             const double *cn2, double *const e2[3], const double *p,
                             double *eta, double *tan_c[3], double *shear2, double *preg,
@@ -15,13 +31,7 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
-                double s2 = cn2[q];
-                for (int c = 0; c < 3; c++) {
-                    int a, b;
-                    plane_dirs(c, &a, &b);
-                    /* the four edges of plane c around the cell: faces q, q + o along a, b */
-                    s2 += mean4(e2[c], q + o[a] + o[b], o[a], o[b]);
-                }
+                double s2 = cell_edges_sum(cn2, e2, 1.0, q, o);
                 double shear = sqrt(s2);
                 double pr = rheology_pressure(r, p[q], NULL);
                 struct rheology_point pt;
@@ -91,12 +101,7 @@ void kernel_tangent_cells(const struct grid *g, const double *pn, double *const 
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 /* d(|D|^2) of cn2 + sum_planes mean4(e2): pn + sum mean4(2 pe) */
-                double d = pn[q];
-                for (int c = 0; c < 3; c++) {
-                    int a, b;
-                    plane_dirs(c, &a, &b);
-                    d += 2.0 * mean4(pe[c], q + o[a] + o[b], o[a], o[b]);
-                }
+                double d = cell_edges_sum(pn, pe, 2.0, q, o);
                 B_c[q] = b_c[q] * d;
             }
 }
