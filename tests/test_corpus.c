@@ -26,18 +26,11 @@ static void test_corpus(void **state)
             continue;
         char path[600];
         snprintf(path, sizeof path, CORPUS "/%s", e->d_name);
-        FILE *f = fopen(path, "rb");
-        assert_non_null(f);
-        fseek(f, 0, SEEK_END);
-        long n = ftell(f);
-        fseek(f, 0, SEEK_SET);
-        uint8_t *data = malloc((size_t)n + 1);
-        assert_non_null(data);
-        assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
-        fclose(f);
+        size_t n;
+        char *data = test_read_file(path, &n);
         static struct muflow_case cs;
         char err[512];
-        int rc = fuzz_case_load(data, (size_t)n, &cs, err, sizeof err);
+        int rc = fuzz_case_load((const uint8_t *)data, n, &cs, err, sizeof err);
         if (rc != 0 && rc != 2)
             print_error("%s: case_load returned %d\n", path, rc);
         assert_true(rc == 0 || rc == 2);

@@ -57,24 +57,6 @@ static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
     assert_int_equal(rc, 0);
 }
 
-/* Whole text file, NUL-terminated (caller frees). */
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        print_error("cannot open %s: %s\n", path, strerror(errno));
-    assert_non_null(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    assert_non_null(s);
-    assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
-    s[n] = '\0';
-    fclose(f);
-    return s;
-}
-
 static int file_exists(const char *path)
 {
     struct stat sb;
@@ -305,7 +287,7 @@ static int check_xdmf(const char *dir, long *steps, int max)
         print_error("%s failed (status %d; xmllint comes with libxml2-utils, make deps)\n", cmd,
                     st);
     assert_int_equal(st, 0);
-    char *text = slurp(path);
+    char *text = test_read_file(path, NULL);
     int grids = 0;
     for (const char *p = strstr(text, "<Grid Name=\"step "); p;
          p = strstr(p + 1, "<Grid Name=\"step ")) {
@@ -441,7 +423,7 @@ static char *result_of(const char *dir)
 {
     char path[700];
     snprintf(path, sizeof path, "%s/summary.ini", dir);
-    char *text = slurp(path), *out = calloc(strlen(text) + 1, 1);
+    char *text = test_read_file(path, NULL), *out = calloc(strlen(text) + 1, 1);
     assert_non_null(out);
     char *start = strstr(text, "[result]");
     assert_non_null(start);
@@ -462,7 +444,7 @@ static char *history_of(const char *dir)
 {
     char path[700];
     snprintf(path, sizeof path, "%s/history.csv", dir);
-    char *text = slurp(path), *out = calloc(strlen(text) + 1, 1);
+    char *text = test_read_file(path, NULL), *out = calloc(strlen(text) + 1, 1);
     assert_non_null(out);
     char *o = out;
     for (char *line = text; *line;) {
@@ -798,7 +780,7 @@ static void test_checkpoint_write_fails(void **state)
     char ck[800], tmp[820];
     snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
     snprintf(tmp, sizeof tmp, "%s.tmp", ck);
-    char *before = slurp(ck);
+    char *before = test_read_file(ck, NULL);
     struct stat sb;
     assert_int_equal(stat(ck, &sb), 0);
     off_t size = sb.st_size;
@@ -817,7 +799,7 @@ static void test_checkpoint_write_fails(void **state)
     dup2(saved, 2);
     close(saved);
     close(efd);
-    char *msg = slurp(errpath);
+    char *msg = test_read_file(errpath, NULL);
     print_message("exit %d: %s", WIFEXITED(st) ? WEXITSTATUS(st) : -1, msg);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 4);
     assert_non_null(strstr(msg, "checkpoint"));
@@ -830,7 +812,7 @@ static void test_checkpoint_write_fails(void **state)
     /* the previous checkpoint, untouched */
     assert_int_equal(stat(ck, &sb), 0);
     assert_int_equal(sb.st_size, size);
-    char *after = slurp(ck);
+    char *after = test_read_file(ck, NULL);
     assert_memory_equal(before, after, (size_t)size);
     assert_false(file_exists(tmp));
     free(before);

@@ -26,6 +26,10 @@ struct test_tally {
                                                    NULL, NULL);                         \
     } while (0)
 
+/* Whole file, NUL-terminated; its length (without the NUL) in *len when len
+ * is not NULL; fails the test when it cannot be read (caller frees). */
+char *test_read_file(const char *path, size_t *len);
+
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);
