@@ -233,9 +233,8 @@ static void search_tilt(struct march_state *st, struct muflow_case *work,
         .max_solves = work->heap.max_solves, .flow_rate = heap_flow_rate};
     ctx->no_checkpoint = 1;
     ctx->search_start = omp_get_wtime();
-    double t0 = ctx->search_start;
     tilt_search_run(st, work, &spec, observe, ctx, report_solve, ctx, sr);
-    st->wall_seconds = omp_get_wtime() - t0; /* the whole search */
+    st->wall_seconds = omp_get_wtime() - ctx->search_start; /* the whole search */
     if (!sr->converged && st->status == STATUS_STEADY)
         st->status = STATUS_STOPPED;
     if (st->status != STATUS_STOPPED || !ctx->signal)
