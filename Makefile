@@ -21,11 +21,11 @@ LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmo
 BUILD   ?= build
 
 KERNEL_SRC = $(wildcard kernels/*.c)
-LIB_SRC    = $(filter-out src/main.c,$(wildcard src/*.c)) $(KERNEL_SRC)
+LIB_SRC    = $(filter-out src/app/main.c,$(wildcard src/*/*.c)) $(KERNEL_SRC)
 LIB_OBJ    = $(patsubst %.c,$(BUILD)/obj/%.o,$(LIB_SRC))
 TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
-HEADERS    = $(wildcard include/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
+HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
 .PHONY: all deps run test clean check-deps check-asan fuzz
 
@@ -51,7 +51,7 @@ $(BUILD)/libmuflow.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(BUILD)/muflow: $(BUILD)/obj/src/main.o $(BUILD)/libmuflow.a
+$(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
@@ -94,7 +94,7 @@ FUZZ_PKGS    = clang libclang-rt-14-dev
 FUZZ_CC      = clang
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD   = build/fuzz
-FUZZ_SRC     = tests/fuzz/fuzz_case.c src/case.c
+FUZZ_SRC     = tests/fuzz/fuzz_case.c src/config/case.c
 FUZZ_FLAGS   = -std=c11 -Wall -Wextra -g -O1 -Iinclude \
                -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 $(FUZZ_BUILD)/fuzz_case: $(FUZZ_SRC) $(HEADERS)

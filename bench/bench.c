@@ -9,7 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "bench.h"
-#include "output.h"
+#include "io/output.h"
 
 static int cmp_double(const void *a, const void *b)
 {

@@ -4,7 +4,7 @@
 #define MUFLOW_BENCH_H
 
 #include <stdio.h>
-#include "case.h"
+#include "config/case.h"
 
 /* Median, minimum and maximum of n samples (x is not modified). */
 double bench_median(const double *x, int n);

@@ -10,9 +10,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "analytic.h"
-#include "march.h"
-#include "profile.h"
+#include "scenes/analytic.h"
+#include "march/march.h"
+#include "diagnostics/profile.h"
 
 static int write_fields(const char *dir, double bn, const struct march_state *st)
 {

@@ -15,12 +15,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "analytic.h"
+#include "scenes/analytic.h"
 #include "bench.h"
-#include "march.h"
-#include "output.h"
-#include "profile.h"
-#include "run.h"
+#include "march/march.h"
+#include "io/output.h"
+#include "diagnostics/profile.h"
+#include "app/run.h"
 
 #define BAGNOLD_INI "cases/bagnold.ini"
 #define CHUTE_INI "cases/chute.ini"

@@ -24,13 +24,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include "analytic.h"
+#include "scenes/analytic.h"
 #include "bench.h"
-#include "boundary.h"
-#include "kernels.h"
-#include "march.h"
-#include "poisson.h"
-#include "viscous.h"
+#include "grid/boundary.h"
+#include "kernels/kernels.h"
+#include "march/march.h"
+#include "solvers/poisson.h"
+#include "solvers/viscous.h"
 
 #define CASE_INI "bench/shear3d.ini"
 #define PI 3.14159265358979323846

@@ -2,7 +2,7 @@
  * out_a = -[d(u_a u_a)/dx_a + sum_b d(u_b u_a)/dx_b], with u_a u_a at cell
  * centres and u_b u_a on the edges, each factor the mean of its two nearest
  * nodes.  Energy-neutral in the interior, as a time-accurate solver wants. */
-#include "kernels.h"
+#include "kernels/kernels.h"
 
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3])

@@ -1,5 +1,5 @@
 /* Divergence of face fields and gradient of cell fields (projection step). */
-#include "kernels.h"
+#include "kernels/kernels.h"
 
 void kernel_divergence(const struct grid *g, double *const vel[3], double *div)
 {

@@ -1,4 +1,4 @@
-/* Viscosity laws of muflow (see include/rheology.h for the formulas).
+/* Viscosity laws of muflow (see include/kernels/rheology.h for the formulas).
  *
  * Pure functions: no I/O, no globals, no allocation, since rheology_eval is
  * called once per cell inside an OpenMP loop.  Only sqrt/hypot/exp/expm1 are
@@ -15,7 +15,7 @@
  * lam = 0 is the unregularised one and is singular at rest by design). */
 #include <math.h>
 #include <stddef.h>
-#include "rheology.h"
+#include "kernels/rheology.h"
 
 /* Below this x = D/lam, h(x) is summed as 1 - x/2 + x^2/6: the next term,
  * x^3/24, is < 1e-16 relative, and it avoids 0/0 at x = 0. */

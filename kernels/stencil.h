@@ -2,7 +2,7 @@
 #ifndef MUFLOW_STENCIL_H
 #define MUFLOW_STENCIL_H
 
-#include "grid.h"
+#include "grid/grid.h"
 
 /* Shear strain rate gamma_ab on edge e of plane (a, b): v_a at cells e and
  * e - o_b along b, v_b at cells e and e - o_a along a (symmetric in a, b). */

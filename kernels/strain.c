@@ -1,5 +1,5 @@
 /* Strain-rate components at their own locations (kernels.h). */
-#include "kernels.h"
+#include "kernels/kernels.h"
 #include "stencil.h"
 
 /* Products of the strain components of u and v where they live:

@@ -1,7 +1,7 @@
 /* Divergence of the viscous stress with coefficients at the stresses'
  * own locations (kernels.h). */
 #include <math.h>
-#include "kernels.h"
+#include "kernels/kernels.h"
 #include "stencil.h"
 
 /* With magnitude set, every difference v1 - v2 becomes |v1| + |v2| and every

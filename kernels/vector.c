@@ -3,7 +3,7 @@
  * with a given thread count (restart and regression depend on it). */
 #include <math.h>
 #include <omp.h>
-#include "kernels.h"
+#include "kernels/kernels.h"
 
 #define MAX_THREADS 256
 

@@ -1,6 +1,6 @@
 /* Viscosities and tangent coefficients where the stresses live (kernels.h). */
 #include <math.h>
-#include "kernels.h"
+#include "kernels/kernels.h"
 #include "stencil.h"
 
 /* cell[q] + w * the sum over the three planes of the mean of the four edges

@@ -5,9 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "analytic.h"
-#include "reference.h"
-#include "run.h"
+#include "scenes/analytic.h"
+#include "diagnostics/reference.h"
+#include "app/run.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"

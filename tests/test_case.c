@@ -1,4 +1,4 @@
-/* Tests of the case-file reader (src/case.c): defaults, a full file,
+/* Tests of the case-file reader (src/config/case.c): defaults, a full file,
  * overrides, every class of error, and the round trip through
  * case_write_ini.  Case files are written into a fresh mkdtemp directory. */
 #define _POSIX_C_SOURCE 200809L
@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "test_main.h"
-#include "case.h"
+#include "config/case.h"
 
 #define MAX_FILES 16
 

@@ -3,9 +3,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include "analytic.h"
-#include "heap.h"
-#include "run.h"
+#include "scenes/analytic.h"
+#include "scenes/heap.h"
+#include "app/run.h"
 #include "test_main.h"
 
 #define HEAP_CASE "../cases/heap.ini"

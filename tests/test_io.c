@@ -22,11 +22,11 @@
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "checkpoint.h"
-#include "fields_h5.h"
-#include "h5io.h"
-#include "march.h"
-#include "run.h"
+#include "io/checkpoint.h"
+#include "io/fields_h5.h"
+#include "io/h5io.h"
+#include "march/march.h"
+#include "app/run.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"

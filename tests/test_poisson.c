@@ -1,4 +1,4 @@
-/* Tests of the FFT Poisson solver (src/poisson_fft.c).
+/* Tests of the FFT Poisson solver (src/solvers/poisson_fft.c).
  *
  * Two kinds of check:
  *  - manufactured solutions: a smooth exact phi satisfying the continuous
@@ -13,8 +13,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "grid.h"
-#include "poisson.h"
+#include "grid/grid.h"
+#include "solvers/poisson.h"
 #include "test_main.h"
 
 static const double pi = 3.14159265358979323846;

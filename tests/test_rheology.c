@@ -9,7 +9,7 @@
 #include <math.h>
 #include <stdio.h>
 #include "test_main.h"
-#include "rheology.h"
+#include "kernels/rheology.h"
 
 #define LAM 1e-4
 #define MU_S 0.383

@@ -7,9 +7,9 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "analytic.h"
-#include "march.h"
-#include "run.h"
+#include "scenes/analytic.h"
+#include "march/march.h"
+#include "app/run.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"

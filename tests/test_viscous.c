@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "test_main.h"
-#include "viscous.h"
+#include "solvers/viscous.h"
 
 struct vfix {
     struct grid g;

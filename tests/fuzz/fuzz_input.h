@@ -20,7 +20,7 @@
 #include <string.h>
 #include <sys/mman.h>
 #include <unistd.h>
-#include "case.h"
+#include "config/case.h"
 
 #define FUZZ_SEPARATOR "\n----\n"
 #define FUZZ_MAX_OVERRIDES 64

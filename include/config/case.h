@@ -1,0 +1,101 @@
+/* The case description: what a case file (INI format) and its command-line
+ * overrides say, validated, with defaults filled in.  Data flows one way:
+ * case file -> struct muflow_case -> grid + fields -> time loop -> output. */
+#ifndef MUFLOW_CASE_H
+#define MUFLOW_CASE_H
+
+#include <stddef.h>
+#include <stdio.h>
+#include "grid/boundary.h"
+#include "kernels/rheology.h"
+
+enum scene { SCENE_NONE = 0, SCENE_BAGNOLD, SCENE_CHUTE, SCENE_BINGHAM_CHANNEL,
+             SCENE_BINGHAM_CAVITY, SCENE_HEAP };
+enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU };
+enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
+
+struct muflow_case {
+    char name[128];          /* case name: the file's base name without .ini */
+    enum scene scene;        /* case.scene: analytic solution and headline value */
+    char reference[512];     /* case.reference: published data to compare with (a path
+                                relative to the case file's folder; stored absolute) */
+
+    /* [domain] */
+    double len[3];           /* lx ly lz */
+    int n[3];                /* nx ny nz */
+
+    /* [boundary] xlo xhi ylo yhi zlo zhi */
+    struct boundary bc;
+
+    /* [physics] */
+    double tilt;             /* rad: gravity = g (sin tilt, 0, -cos tilt) */
+    double gravity;          /* g, magnitude of gravity */
+    double density;          /* bulk density (phi rho_s) in the momentum equation */
+    double confining_pressure; /* added to the pressure that enters the rheology */
+    int advection;           /* 1: explicit advection of momentum; 0: Stokes-like */
+
+    /* [rheology] */
+    struct rheology rheo;
+
+    /* [solver] */
+    enum solver_mode mode;
+    double tolerance;        /* steady: stop when the relative residual falls below */
+    long max_steps;
+    double end_time;         /* transient: time to reach */
+    double dt;               /* initial (steady) or fixed upper bound (transient) */
+    double dt_max;           /* steady: cap of the growing pseudo-time step */
+    double cfl;              /* advective CFL number (when advection is on) */
+    int newton;              /* 1: consistent tangent viscosity; 0: Picard (lagged) */
+    double newton_below;     /* the tangent is used once residual / first residual
+                                falls below this (Picard before): 1 = always */
+    double linear_tolerance; /* relative tolerance of the implicit viscous CG */
+    int max_linear_iterations;
+    int line_direction;      /* -1 auto, or 0/1/2: preconditioner lines */
+    enum preconditioner preconditioner; /* of the implicit viscous solve */
+    double augmentation;     /* kappa: the grad-div (augmented Lagrangian) term has
+                                r = kappa * eta per cell; 0 switches it off */
+    double progress_interval; /* wall seconds between progress lines (0: every step) */
+
+    /* [heap]: the heap scene (heap.h, tilt_search.h) */
+    struct heap_keys {
+        double flow_rate;    /* target Q* = Q / (d sqrt(g d)) per unit width; 0: no
+                                search, solve at physics.tilt */
+        double tilt_min, tilt_max; /* bracket of the tilt search (rad) */
+        double flow_rate_tolerance; /* relative, on Q* */
+        int max_solves;      /* steady solves the search may take */
+        double depth_fraction; /* flowing depth: where u falls to this fraction of
+                                  the column's surface velocity */
+    } heap;
+
+    /* [output] */
+    char output_dir[512];
+    int quiet;               /* output.quiet: no progress lines */
+    int fields;              /* output.fields: write HDF5 field files */
+    long fields_every;       /* steps between field files (0: none by count) */
+    double fields_interval;  /* time between field files (0: none by time) */
+    long checkpoint_every;   /* steps between checkpoints (0: only when stopped) */
+};
+
+/* Loads path (an INI file) then applies overrides "section.key=value" in order.
+ * On failure returns 2 and writes one line naming the file / key, the value and
+ * what is allowed into err; nothing is written to disk.  Returns 0 on success. */
+int case_load(struct muflow_case *c, const char *path, int noverrides,
+              char *const overrides[], char *err, size_t errlen);
+
+/* Defaults for every key (what a case file may leave out). */
+void case_defaults(struct muflow_case *c);
+
+/* Writes every key with its value in the case file's own format (used in the
+ * summary so that a run documents the parameters it used). */
+void case_write_ini(const struct muflow_case *c, FILE *out);
+
+/* Calls visit(ctx, section, key, value) for every key, in the order of
+ * case_write_ini and with the text it writes (so "section.key=value" read back
+ * as an override gives the identical value).  Stops at the first non-zero
+ * return of visit and returns it; 0 when every key was visited. */
+int case_visit_keys(const struct muflow_case *c,
+                    int (*visit)(void *ctx, const char *section, const char *key,
+                                 const char *value),
+                    void *ctx);
+
+#endif

@@ -1,0 +1,45 @@
+/* Checkpoints: everything a run needs to continue exactly as if it had not
+ * stopped, in one HDF5 file DIR/checkpoint.h5:
+ *   - every case key as a text attribute "section.key" and the case name, so a
+ *     restart needs no case file;
+ *   - the loop state of struct march_state (step, time, dt, residual0,
+ *     best_residual, best_step, dt_scale, rejected, wall_seconds, ...);
+ *   - the velocity components and the dynamic pressure, whole arrays with
+ *     their ghost layers, in the memory layout of grid.h;
+ *   - the schedule of field files (field_series.h);
+ *   - FFTW's wisdom: the transform algorithms FFTW_MEASURE chose, so the
+ *     restarted run plans the same ones and rounds the same way.
+ * The file is written as checkpoint.h5.tmp, synced and renamed: a failed
+ * write leaves the previous checkpoint as it was. */
+#ifndef MUFLOW_CHECKPOINT_H
+#define MUFLOW_CHECKPOINT_H
+
+#include <stddef.h>
+#include "io/field_series.h"
+#include "march/march.h"
+
+#define CHECKPOINT_NAME "checkpoint.h5"
+#define CHECKPOINT_FORMAT "muflow checkpoint 1"
+
+/* Writes dir/checkpoint.h5.  Returns 0, or -1 with the cause in err. */
+int checkpoint_write(const char *dir, const struct march_state *st,
+                     const struct field_series *fs, char *err, size_t errlen);
+
+/* The case stored in the checkpoint at path, then the overrides in order
+ * (as case_load).  Returns 0, or 2 with the cause in err. */
+int checkpoint_load_case(const char *path, int noverrides, char *const overrides[],
+                         struct muflow_case *cs, char *err, size_t errlen);
+
+/* Imports the checkpoint's FFTW wisdom; call before march_create.  Returns 0,
+ * or -1 with the cause. */
+int checkpoint_import_wisdom(const char *path, char *err, size_t errlen);
+
+/* Loads the fields, the loop state and the field-file schedule into st and fs.
+ * st must come from march_create for the checkpoint's grid (a different grid
+ * is an error).  *threads receives the OpenMP thread count of the run that
+ * wrote it (a different count continues, but not bit for bit).  Returns 0, or
+ * -1 with the cause. */
+int checkpoint_read_state(const char *path, struct march_state *st, struct field_series *fs,
+                          int *threads, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,56 @@
+/* Run output: summary.ini, profile.csv, history.csv in the output folder
+ * (field files and checkpoints: fields_h5.h, checkpoint.h).
+ * Every file is written under a temporary name and renamed when complete, so
+ * a file that exists is whole. */
+#ifndef MUFLOW_OUTPUT_H
+#define MUFLOW_OUTPUT_H
+
+#include <stdio.h>
+#include "scenes/heap.h"
+#include "march/march.h"
+#include "diagnostics/profile.h"
+
+struct run_result {
+    enum run_status status;
+    long steps;
+    double time, wall_seconds, residual, divergence;
+    struct scene_errors errors;
+    char message[256];
+    int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
+    int checkpointed;      /* a checkpoint of the final state was written */
+    struct heap_result {   /* the heap scene (valid = 1) */
+        int valid;
+        int searched;      /* the tilt was found for heap.flow_rate */
+        int converged;     /* ... within heap.flow_rate_tolerance */
+        double tilt, flow_rate, u_surface_mid, depth_mid;
+        int solves;        /* steady solves of the search (1 without one) */
+        long steps;        /* pseudo-time steps over all solves */
+    } heap;
+};
+
+/* Creates dir and its parents; returns 0, or -1 with the cause in err. */
+int output_make_dir(const char *dir, char *err, size_t errlen);
+
+/* history.csv, row by row. */
+struct history {
+    FILE *f;
+    char path[600], tmp[620];
+};
+int history_open(struct history *h, const char *dir, char *err, size_t errlen);
+/* Like history_open for a run that continues from a checkpoint of step upto:
+ * the new file starts with the rows of steps <= upto of the previous one
+ * (history.csv.tmp when a run died before renaming it, else history.csv). */
+int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen);
+/* Pushes the rows so far to the .tmp file (before a checkpoint, so that a
+ * restart after a crash finds them). */
+void history_flush(struct history *h);
+void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e);
+int history_close(struct history *h, char *err, size_t errlen);
+
+int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen);
+/* heap.csv: per column across the channel, y, surface velocity, flowing depth. */
+int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen);
+int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
+                   char *err, size_t errlen);
+
+#endif

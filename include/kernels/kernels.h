@@ -1,0 +1,110 @@
+/* The hot loops: pure functions over field arrays in the layout of grid.h.
+ * No I/O, no allocation, no globals; OpenMP inside.  Velocity is vel[c], the
+ * component c on the faces normal to direction c.  A box gives, per velocity
+ * component, the face/cell index range [lo, hi) that carries unknowns; faces
+ * outside it keep their prescribed values.
+ *
+ * Strain rates: gamma = grad u + grad u^T, |D|^2 = 0.5 gamma:gamma.  The
+ * normal components live at cell centres, the shear components on the edges,
+ * and each stress is evaluated where it lives: the viscosity of a normal
+ * stress from |D| and p at the cell centre, that of a shear stress from |D|
+ * and p on its edge, the missing components being mean squares of their four
+ * nearest nodes.  In a unidirectional shear flow the constitutive law then
+ * holds exactly on every edge, and the discrete profile is only as wrong as
+ * the midpoint rule that integrates the shear rate.
+ *
+ * Edge arrays: E[c] holds the edges of the plane normal to direction c, i.e.
+ * of the shear component (a, b) = the two other directions; edge e sits at
+ * face index along a and b and cell index along c, in the layout of grid.h. */
+#ifndef MUFLOW_KERNELS_H
+#define MUFLOW_KERNELS_H
+
+#include "grid/grid.h"
+#include "kernels/rheology.h"
+
+/* cn2 = 0.5 sum_i gamma_ii^2 on interior cells; e2[c] = gamma_ab^2 on the
+ * edges of plane c, face indices 0..n along a and b, cells -1..n along c
+ * (velocity ghosts filled). */
+void kernel_strain(const struct grid *g, double *const vel[3], double *cn2, double *e2[3]);
+
+/* Cell viscosity and the tangent coefficient of each normal stress,
+ * tan_c[a] = eta + (d eta/d|D|) gamma_aa^2 / (2 |D|): the derivative of
+ * tau_aa = eta gamma_aa with respect to gamma_aa.  Also |D|^2 and the
+ * regularised pressure of the cell.  e2 as from kernel_strain; p is the total
+ * pressure.  tan_c may be NULL (Picard).  b_c, if not NULL, receives
+ * (d eta/d|D|) / (2|D|), the coefficient of the full tangent (0 at rest). */
+void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
+                            const double *cn2, double *const e2[3], const double *p,
+                            double *eta, double *tan_c[3], double *shear2, double *preg,
+                            double *b_c);
+
+/* Edge viscosity of each shear component and its tangent coefficient
+ * eta + (d eta/d|D|) gamma_ab^2 / |D| (derivative of tau_ab = eta gamma_ab
+ * with respect to gamma_ab), on face indices 0..n along a and b, cells
+ * 0..n-1 along c.  p (total pressure) and cn2 need filled ghosts.  tan_e may
+ * be NULL. */
+void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
+                            double *const e2[3], const double *p, double *eta_e[3],
+                            double *tan_e[3], double *b_e[3]);
+
+/* The full consistent tangent couples every strain component through |D|:
+ * d tau = eta d gamma + b gamma d(|D|^2), b = (d eta/d|D|) / (2|D|).  These
+ * give d(|D|^2) along a direction v at every stress location, times b:
+ * pn = sum_i gamma_ii(u) gamma_ii(v) per cell, pe[c] = gamma_c(u) gamma_c(v)
+ * per edge (ranges as kernel_strain); then B = b d(|D|^2)[v] with d(|D|^2)
+ * built from pn and pe exactly as |D|^2 is built from cn2 and e2 (pn needs
+ * filled ghosts). */
+void kernel_strain_products(const struct grid *g, double *const u[3], double *const v[3],
+                            double *pn, double *pe[3]);
+void kernel_tangent_cells(const struct grid *g, const double *pn, double *const pe[3],
+                          const double *b_c, double *B_c);
+void kernel_tangent_edges(const struct grid *g, const double *pn, double *const pe[3],
+                          double *const b_e[3], double *B_e[3]);
+
+/* out_c = [div tau]_c on the faces of act[c] (zero elsewhere), with
+ * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)
+ * on the edges of plane c.  With the viscosities and v = u this is the stress
+ * term of the momentum residual; with the tangent coefficients it is the
+ * linearised operator, symmetric positive definite.  A_cell needs filled ghosts. */
+void kernel_stress_divergence(const struct grid *g, const struct box act[3],
+                              const double *const A_cell[3], const double *const A_edge[3],
+                              double *const v[3], double *out[3]);
+
+/* The same sum with every term replaced by its magnitude (differences by the
+ * sums of the absolute values): the rounding error of the stress divergence
+ * is a few machine epsilons times this. */
+void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
+                             const double *const A_cell[3], const double *const A_edge[3],
+                             double *const v[3], double *out[3]);
+
+/* max over the unknowns of max(|r| - eps_factor * (|m| + |f|), 0): the part
+ * of a residual r that its round-off cannot explain. */
+double kernel_residual_excess(const struct grid *g, const struct box act[3], double *const r[3],
+                              double *const m[3], double *const f[3], double eps_factor);
+
+/* Cell-centred divergence of the face field vel (ghost faces filled). */
+void kernel_divergence(const struct grid *g, double *const vel[3], double *div);
+
+/* vel_c -= scale * grad_c(p) on the faces of act[c] (p: cell field, ghosts filled). */
+void kernel_gradient_update(const struct grid *g, const struct box act[3], const double *p,
+                            double scale, double *vel[3]);
+
+/* out_c = -div(u u_c) (conservative, centred, second order) on act[c]. */
+void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
+                      double *out[3]);
+
+/* Vector operations over the unknowns of act (three components). */
+double kernel_dot(const struct grid *g, const struct box act[3], double *const a[3],
+                  double *const b[3]);
+double kernel_max_abs(const struct grid *g, const struct box act[3], double *const a[3]);
+/* y += alpha x */
+void kernel_axpy(const struct grid *g, const struct box act[3], double alpha, double *const x[3],
+                 double *y[3]);
+/* y = alpha x + beta y */
+void kernel_lincomb(const struct grid *g, const struct box act[3], double alpha, double *const x[3],
+                    double beta, double *y[3]);
+/* Sum and max |f| of a cell field over interior cells, deterministic across runs. */
+double kernel_sum(const struct grid *g, const double *f);
+double kernel_max_abs_cells(const struct grid *g, const double *f);
+
+#endif

@@ -1,0 +1,103 @@
+/* The time loop: one step = viscosity -> momentum residual -> implicit
+ * viscous solve (linearised with the consistent tangent) -> projection.
+ * Two modes share it:
+ *   steady     pseudo-time march, the step grown as the residual falls
+ *              (switched evolution relaxation, dt = dt0 * r0 / r); with the
+ *              tangent viscosity this becomes Newton's method as dt grows;
+ *              stops on the residual criterion, or says why it cannot;
+ *   transient  time-accurate to end_time, dt bounded by the CFL limit.
+ * The body force is split once into its hydrostatic part (a pressure) and
+ * the rest, so the pressure entering the rheology is right from the start. */
+#ifndef MUFLOW_MARCH_H
+#define MUFLOW_MARCH_H
+
+#include "grid/boundary.h"
+#include "config/case.h"
+#include "grid/grid.h"
+#include "kernels/kernels.h"
+#include "solvers/poisson.h"
+#include "solvers/viscous.h"
+
+enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNSTEADY,
+                  STATUS_DIVERGED, STATUS_STOPPED };
+
+struct march_state {
+    const struct muflow_case *cs;
+    struct grid g;
+    struct boundary bc;
+    struct box act[3];          /* velocity unknowns per component */
+    double *vel[3];             /* velocity on faces */
+    double *p_dyn;              /* dynamic pressure (projection) */
+    double *p_hyd;              /* hydrostatic pressure of the body force */
+    double *force[3];           /* body force minus its hydrostatic gradient */
+    double *pressure;           /* total pressure: confining + hydrostatic + dynamic */
+    double *cn2, *e2[3];        /* normal strain^2 per cell, shear strain^2 per edge */
+    double *shear2, *eta, *preg; /* cell |D|^2, viscosity, regularised pressure */
+    double *tan_c[3];           /* normal-stress tangent coefficients (cells) */
+    double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
+    double *aug;                /* augmentation r = kappa max(eta) per cell, or NULL */
+    int full_tangent;           /* Newton with the full (non-symmetric) tangent */
+    double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
+    double *res[3];             /* momentum residual */
+    double *delta[3];           /* velocity increment of the viscous solve */
+    double *adv[3];             /* advection term */
+    double *div, *phi;          /* projection */
+    double *good_vel[3], *good_p_dyn; /* last finite state */
+    struct poisson_fft *poisson;
+    struct viscous_solver *viscous;
+
+    long step;
+    double time, dt;
+    double residual;            /* max |momentum residual| / (rho g) */
+    double residual_excess;     /* the same beyond the round-off of its terms: what the
+                                   steady criterion tests */
+    double divergence;          /* max |div u| h / max |u| */
+    double residual0;
+    double force_ref;           /* what residuals are relative to: rho g, or without
+                                   gravity the first residual */
+    double wall_seconds;
+    int linear_iterations;      /* of the last step */
+    long rejected;              /* pseudo-time steps retried with a smaller dt */
+    /* loop state that a restart must recover to continue bit for bit */
+    double best_residual;       /* best residual so far (stall detection) */
+    long best_step;             /* the step it was reached at */
+    double dt_scale;            /* pseudo-time step reduction after rejections */
+    enum run_status status;
+    char message[256];          /* why the run ended */
+};
+
+/* Called after every residual evaluation (also the final one); return non-zero
+ * to stop the run with status STATUS_STOPPED. */
+typedef int (*march_observer)(void *ctx, const struct march_state *st);
+
+int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
+void march_destroy(struct march_state *st);
+
+/* Starts a new march from the current fields after the body force of the
+ * case st->cs points to changed (tilt, gravity): the force is split again and
+ * the loop state reset, so that march_run solves the new problem from the
+ * previous solution (continuation).  Returns 0, or -1 with the cause in err. */
+int march_reforce(struct march_state *st, char *err, size_t errlen);
+
+/* Runs to the end of the case (steady state, end time, or failure).  It can be
+ * called on a state whose fields and loop state were loaded from a checkpoint:
+ * the march continues exactly as the uninterrupted run would have. */
+enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
+
+const char *run_status_name(enum run_status s);
+
+/* The steady momentum residual R(u) of the current state into st->res (and the
+ * viscosities and tangent coefficients at it). */
+void march_evaluate(struct march_state *st);
+
+/* out = -dR/du v, the linearised operator of the implicit step without its
+ * mass term, at the state of the last march_evaluate (tests check it against
+ * finite differences of the residual). */
+void march_apply_tangent(struct march_state *st, double *v[3], double *out[3]);
+
+/* The direction of the body force's periodic part (the mean flow direction)
+ * and the mean of the momentum residual along it per unit mass: the mean
+ * acceleration of the layer. */
+double march_mean_acceleration(const struct march_state *st);
+
+#endif

@@ -1,0 +1,44 @@
+/* Sparse direct factorisation of the implicit operator, as a preconditioner.
+ *
+ * The operator stays matrix-free; this module recovers its matrix by probing
+ * it with coloured vectors (an unknown reaches at most `reach` nodes in each
+ * direction, so colours 2 reach + 1 nodes apart never meet in one row) and
+ * factorises it: CHOLMOD's Cholesky for the symmetric positive definite
+ * Picard and per-component tangent operators, UMFPACK's LU for the full
+ * (non-symmetric) Newton Jacobian.  Used for two-dimensional scenes (cavity,
+ * heap cross-section), where line blocks leave Krylov solvers with thousands
+ * of iterations; with the exact factorisation a step is a Newton step whose
+ * linear solve is exact, as with a direct solver.  Memory and time grow
+ * faster than the unknowns: meant for up to a few hundred thousand unknowns. */
+#ifndef MUFLOW_SPARSE_DIRECT_H
+#define MUFLOW_SPARSE_DIRECT_H
+
+#include <stddef.h>
+#include "grid/grid.h"
+
+struct sparse_direct;
+
+/* The operator to probe: out = A v (v's ghosts may be overwritten). */
+typedef void (*operator_fn)(void *ctx, double *v[3], double *out[3]);
+
+/* Numbering of the unknowns of act and the colouring for a stencil of the
+ * given reach; symmetric selects Cholesky (else LU).  -1 with a message when
+ * the colouring needs too many probes. */
+int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const int periodic[3],
+                         const struct box act[3], int reach, int symmetric, char *err,
+                         size_t errlen);
+void sparse_direct_destroy(struct sparse_direct *s);
+
+/* Probes op (work: two field triples, overwritten), assembles and factorises.
+ * Returns 0, or -1 when the factorisation fails (not positive definite,
+ * singular, out of memory). */
+int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
+                         double *resp[3]);
+
+/* z = A^-1 r on the unknowns (z elsewhere untouched). */
+void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3]);
+
+long sparse_direct_unknowns(const struct sparse_direct *s);
+int sparse_direct_probes(const struct sparse_direct *s);
+
+#endif

@@ -1,0 +1,77 @@
+/* The implicit viscous step, matrix-free:
+ *   (mass) x - div tau(x) = rhs,   tau_aa = A_cell[a] gamma_aa, tau_ab = A_edge gamma_ab,
+ * with mass = rho/dt and the coefficients either the viscosities (Picard, eta
+ * lagged) or the tangent coefficients d tau / d gamma of each stress at its own
+ * location (kernels.h): the consistent tangent of a unidirectional shear flow,
+ * so the step becomes Newton's method as dt grows.  Every coefficient is
+ * positive, so the operator is symmetric positive definite and solved by
+ * preconditioned conjugate gradients.
+ *
+ * Preconditioner: one banded block per grid line along a non-periodic
+ * direction, per velocity component.  The blocks are found by probing the
+ * operator itself with five comb vectors (the stencil reaches two nodes along
+ * a line), all lines at once, so each block holds the line's couplings summed
+ * over the neighbouring lines: exact for flows uniform across the lines (the
+ * profile scenes), a line smoother otherwise.  Blocks are factorised by GSL's
+ * banded Cholesky. */
+#ifndef MUFLOW_VISCOUS_H
+#define MUFLOW_VISCOUS_H
+
+#include <stddef.h>
+#include "grid/boundary.h"
+#include "grid/grid.h"
+#include "kernels/kernels.h"
+
+struct viscous_problem {
+    double mass;                  /* rho / dt */
+    const double *augmentation;   /* cell field r >= 0 (ghosts filled) or NULL: adds
+                                     -grad(r div x), the augmented-Lagrangian term that
+                                     lets the pressure converge in few steps */
+    const double *A_cell[3];      /* normal-stress coefficients, ghosts filled */
+    const double *A_edge[3];      /* shear-stress coefficients per edge plane */
+    /* Full consistent tangent (non-symmetric): with b_cell set, the operator
+     * adds -div(b d|D|^2[x] gamma(base)) (kernels.h); A_* are then the
+     * viscosities.  NULL: the symmetric operator above. */
+    const double *b_cell;
+    const double *b_edge[3];
+    double *const *base;          /* the velocity the tangent is taken at */
+};
+
+struct viscous_stats {
+    int iterations;
+    double relative_residual;
+    int failed_blocks;      /* line blocks that were not positive definite */
+    int direct;             /* 1 when the sparse factorisation was used */
+};
+
+struct viscous_solver;
+
+enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU };
+
+/* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
+ * kind: line blocks; the probed sparse Cholesky factorisation of the
+ * symmetric operator; or the probed sparse LU of the full tangent
+ * (sparse_direct.h), each with line blocks as fallback.  Returns 0, or -1
+ * with a message in err. */
+int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
+                   const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
+                   size_t errlen);
+void viscous_destroy(struct viscous_solver *s);
+
+/* out = operator(v); v's ghosts are overwritten (filled from bc). */
+void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
+                   double *out[3]);
+
+/* Probes and factorises the line blocks for this operator. */
+void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb);
+
+/* Solves operator(x) = rhs from x = 0 to relative residual rtol: conjugate
+ * gradients for the symmetric operator, BiCGStab for the full tangent.
+ * Returns 0 when converged, 1 when maxit was reached, -1 on a breakdown. */
+int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
+                  double *x[3], double rtol, int maxit, struct viscous_stats *st);
+
+/* The line direction in use. */
+int viscous_line_direction(const struct viscous_solver *s);
+
+#endif

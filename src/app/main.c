@@ -1,0 +1,132 @@
+/* muflow CASE [section.key=value ...]
+ * muflow --restart DIR [section.key=value ...]
+ * Runs a case file (an INI file under cases/) with command-line overrides of
+ * any key, or continues the run whose checkpoint is DIR/checkpoint.h5.
+ * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
+ * failure, 3 unsteady or stopped (max_steps, SIGINT / SIGTERM), 4 an output or
+ * checkpoint could not be written. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "scenes/analytic.h"
+#include "config/case.h"
+#include "io/checkpoint.h"
+#include "app/interrupt.h"
+#include "app/run.h"
+
+#define EXIT_OUTPUT_FAILED 4
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: muflow CASE.ini [section.key=value ...]\n"
+               "       muflow --restart DIR [section.key=value ...]\n"
+               "  runs the case to a steady state (solver.mode = steady) or to\n"
+               "  solver.end_time (transient); any case key can be overridden, e.g.\n"
+               "  muflow cases/bagnold.ini physics.tilt=0.45 domain.nz=80\n"
+               "  --restart continues from DIR/checkpoint.h5 (it holds the case; output\n"
+               "  goes to DIR unless output.dir is overridden), e.g.\n"
+               "  muflow --restart out/bagnold solver.max_steps=20000\n"
+               "  output: summary.ini, profile.csv, history.csv, fields_*.h5, fields.xdmf,\n"
+               "  checkpoint.h5 (when stopped) in output.dir\n"
+               "  SIGINT / SIGTERM: the step ends, a checkpoint and the outputs are written\n");
+}
+
+/* The case of a restart: the checkpoint's, output to dir, then the overrides. */
+static int load_restart(struct muflow_case *cs, const char *dir, int n, char **ov,
+                        char *path, size_t plen, char *err, size_t errlen)
+{
+    if (snprintf(path, plen, "%s/%s", dir, CHECKPOINT_NAME) >= (int)plen) {
+        snprintf(err, errlen, "--restart %.100s...: folder name too long", dir);
+        return 2;
+    }
+    size_t len = strlen(dir) + sizeof "output.dir=";
+    char *outdir = malloc(len);
+    char **all = malloc((size_t)(n + 1) * sizeof *all);
+    int rc = 2;
+    if (!outdir || !all) {
+        snprintf(err, errlen, "out of memory");
+    } else {
+        snprintf(outdir, len, "output.dir=%s", dir);
+        all[0] = outdir;
+        for (int i = 0; i < n; i++)
+            all[i + 1] = ov[i];
+        rc = checkpoint_load_case(path, n + 1, all, cs, err, errlen);
+    }
+    free(outdir);
+    free(all);
+    return rc;
+}
+
+static void report(const struct muflow_case *cs, const struct run_result *r)
+{
+    printf("%s: %s after %ld steps, t = %.6g, wall %.3f s, residual %.3e (%s)\n", cs->name,
+           run_status_name(r->status), r->steps, r->time, r->wall_seconds, r->residual,
+           r->message);
+    const char *hname = scene_headline_name(cs->scene);
+    if (hname && r->errors.valid)
+        printf("%s: err_rms %.4e  err_max %.4e  err_rms_paper %.4e  %s %.6g (exact %.6g)\n",
+               cs->name, r->errors.err_rms, r->errors.err_max, r->errors.err_rms_paper, hname,
+               r->errors.headline, r->errors.headline_exact);
+    else if (hname)
+        printf("%s: no analytic steady solution for these parameters; %s %.6g\n", cs->name,
+               hname, r->errors.headline);
+    if (r->heap.valid)
+        printf("%s: tilt %.8g (%.4f deg)  Q* %.6g  %d solve%s, %ld steps  mid-plane: u_surface "
+               "%.5g, flowing depth %.5g\n",
+               cs->name, r->heap.tilt, r->heap.tilt * 180.0 / 3.14159265358979323846,
+               r->heap.flow_rate, r->heap.solves, r->heap.solves == 1 ? "" : "s", r->heap.steps,
+               r->heap.u_surface_mid, r->heap.depth_mid);
+    printf("output: %s\n", cs->output_dir);
+    if (r->signal && r->heap.searched)
+        printf("muflow: interrupted by %s during the tilt search (a search is not restartable); "
+               "the last solve's tilt %.8g can start a new search\n",
+               interrupt_name(r->signal), r->heap.tilt);
+    else if (r->signal)
+        printf("muflow: interrupted by %s at step %ld%s; resume with: muflow --restart %s\n",
+               interrupt_name(r->signal), r->steps,
+               r->checkpointed ? ", checkpoint written" : ", NO checkpoint written",
+               cs->output_dir);
+    else if (r->checkpointed)
+        printf("checkpoint: %s/%s (muflow --restart %s)\n", cs->output_dir, CHECKPOINT_NAME,
+               cs->output_dir);
+    fflush(stdout);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+        usage(argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    static struct muflow_case cs;
+    char err[1024], path[1100];
+    struct run_options opt = {.write_output = 1};
+    if (strcmp(argv[1], "--restart") == 0) {
+        if (argc < 3) {
+            usage(stderr);
+            return 2;
+        }
+        if (load_restart(&cs, argv[2], argc - 3, argv + 3, path, sizeof path, err,
+                         sizeof err) != 0) {
+            fprintf(stderr, "muflow: %s\n", err);
+            return 2;
+        }
+        opt.restart_from = path;
+    } else if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) != 0) {
+        fprintf(stderr, "muflow: %s\n", err);
+        return 2;
+    }
+    struct run_result r;
+    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+    if (rc == RUN_ERR_SETUP) {
+        fprintf(stderr, "muflow: %s\n", err);
+        return 2;
+    }
+    report(&cs, &r);
+    if (rc != RUN_OK) {
+        fprintf(stderr, "muflow: %s\n", err);
+        return EXIT_OUTPUT_FAILED;
+    }
+    return run_exit_code(r.status);
+}

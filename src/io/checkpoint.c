@@ -1,0 +1,321 @@
+/* Checkpoint files (checkpoint.h). */
+#include "io/checkpoint.h"
+
+#include <errno.h>
+#include <fftw3.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "io/fields_h5.h"
+#include "io/h5io.h"
+
+/* The loop state of march_state a restart must recover (march.h). */
+enum stype { S_DOUBLE, S_LONG, S_INT };
+static const struct {
+    const char *name;
+    size_t off;
+    enum stype type;
+} loop_state[] = {
+    {"step", offsetof(struct march_state, step), S_LONG},
+    {"time", offsetof(struct march_state, time), S_DOUBLE},
+    {"dt", offsetof(struct march_state, dt), S_DOUBLE},
+    {"residual0", offsetof(struct march_state, residual0), S_DOUBLE},
+    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE},
+    {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE},
+    {"best_step", offsetof(struct march_state, best_step), S_LONG},
+    {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE},
+    {"rejected", offsetof(struct march_state, rejected), S_LONG},
+    {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE},
+    {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT},
+};
+#define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
+
+static hid_t native(enum stype t)
+{
+    return t == S_DOUBLE ? H5T_NATIVE_DOUBLE : t == S_LONG ? H5T_NATIVE_LONG : H5T_NATIVE_INT;
+}
+
+static const char *const vel_names[3] = {"velocity_x", "velocity_y", "velocity_z"};
+
+static void field_dims(const struct grid *g, hsize_t dims[3])
+{
+    for (int d = 0; d < 3; d++)
+        dims[d] = (hsize_t)g->ext[d];
+}
+
+static int write_wisdom(hid_t file, char *err, size_t errlen)
+{
+    char *w = fftw_export_wisdom_to_string();
+    if (!w) {
+        snprintf(err, errlen, "cannot export FFTW wisdom");
+        return -1;
+    }
+    hsize_t n = strlen(w);
+    int rc = h5io_write(file, "fftw_wisdom", H5T_NATIVE_CHAR, 1, &n, w, err, errlen);
+    free(w);
+    return rc;
+}
+
+static int write_contents(hid_t file, const struct march_state *st, const struct field_series *fs,
+                          char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    int threads = omp_get_max_threads();
+    if (h5io_attr_write_text(file, "format", CHECKPOINT_FORMAT, err, errlen) != 0 ||
+        fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0 ||
+        h5io_attr_write(file, "omp_threads", H5T_NATIVE_INT, 1, &threads, err, errlen) != 0)
+        return -1;
+    for (int m = 0; m < NSTATE; m++)
+        if (h5io_attr_write(file, loop_state[m].name, native(loop_state[m].type), 1,
+                            (const char *)st + loop_state[m].off, err, errlen) != 0)
+            return -1;
+    hsize_t dims[3];
+    field_dims(g, dims);
+    for (int c = 0; c < 3; c++)
+        if (h5io_write(file, vel_names[c], H5T_NATIVE_DOUBLE, 3, dims, st->vel[c], err,
+                       errlen) != 0)
+            return -1;
+    if (h5io_write(file, "p_dyn", H5T_NATIVE_DOUBLE, 3, dims, st->p_dyn, err, errlen) != 0)
+        return -1;
+    hsize_t n = (hsize_t)fs->count;
+    if (h5io_attr_write(file, "fields_count", H5T_NATIVE_INT, 1, &fs->count, err, errlen) != 0 ||
+        h5io_attr_write(file, "fields_next_time", H5T_NATIVE_DOUBLE, 1, &fs->next_time, err,
+                        errlen) != 0 ||
+        (n > 0 && (h5io_write(file, "fields_steps", H5T_NATIVE_LONG, 1, &n, fs->steps, err,
+                              errlen) != 0 ||
+                   h5io_write(file, "fields_times", H5T_NATIVE_DOUBLE, 1, &n, fs->times, err,
+                              errlen) != 0)))
+        return -1;
+    return write_wisdom(file, err, errlen);
+}
+
+struct checkpoint_ctx {
+    const struct march_state *st;
+    const struct field_series *fs;
+};
+
+static int checkpoint_contents(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct checkpoint_ctx *ctx = vctx;
+    return write_contents(file, ctx->st, ctx->fs, err, errlen);
+}
+
+int checkpoint_write(const char *dir, const struct march_state *st,
+                     const struct field_series *fs, char *err, size_t errlen)
+{
+    char path[700], tmp[720];
+    if (snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME) >= (int)sizeof path ||
+        snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
+        snprintf(err, errlen, "checkpoint path too long in %s", dir);
+        return -1;
+    }
+    struct checkpoint_ctx ctx = {st, fs};
+    return h5io_write_file(tmp, path, "checkpoint", checkpoint_contents, &ctx, err, errlen);
+}
+
+/* Opens a checkpoint for reading and checks its format. */
+static hid_t open_checkpoint(const char *path, char *err, size_t errlen)
+{
+    h5io_init();
+    FILE *probe = fopen(path, "rb"); /* the system's reason, not HDF5's paraphrase */
+    if (!probe) {
+        snprintf(err, errlen, "cannot open checkpoint %s: %s", path, strerror(errno));
+        return -1;
+    }
+    fclose(probe);
+    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    char cause[600], format[64];
+    if (file < 0) {
+        h5io_error(cause, sizeof cause, "not an HDF5 file");
+        snprintf(err, errlen, "cannot open checkpoint %s: %s", path, cause);
+        return -1;
+    }
+    if (h5io_attr_read_text(file, "format", format, sizeof format, cause, sizeof cause) != 0 ||
+        strcmp(format, CHECKPOINT_FORMAT) != 0) {
+        snprintf(err, errlen, "checkpoint %s: not a muflow checkpoint (format attribute: %s)",
+                 path, format[0] && strcmp(format, CHECKPOINT_FORMAT) ? format : cause);
+        H5Fclose(file);
+        return -1;
+    }
+    return file;
+}
+
+/* The stored keys as "section.key=value" strings. */
+struct stored {
+    char **items;
+    int count, cap;
+};
+
+static int collect_key(void *vctx, const char *name, const char *text)
+{
+    struct stored *s = vctx;
+    if (!strchr(name, '.'))
+        return 0; /* not a case key (format, case_name) */
+    if (!text[0])
+        return 0; /* an empty text key at its default: "key=" would be refused */
+    if (s->count == s->cap) {
+        int cap = s->cap ? 2 * s->cap : 64;
+        char **items = realloc(s->items, (size_t)cap * sizeof *items);
+        if (!items)
+            return 1;
+        s->items = items;
+        s->cap = cap;
+    }
+    size_t len = strlen(name) + strlen(text) + 2;
+    char *item = malloc(len);
+    if (!item)
+        return 1; /* out of memory */
+    snprintf(item, len, "%s=%s", name, text);
+    s->items[s->count++] = item;
+    return 0;
+}
+
+int checkpoint_load_case(const char *path, int noverrides, char *const overrides[],
+                         struct muflow_case *cs, char *err, size_t errlen)
+{
+    hid_t file = open_checkpoint(path, err, errlen);
+    if (file < 0)
+        return 2;
+    struct stored s = {NULL, 0, 0};
+    char cause[600], name[sizeof cs->name];
+    int rc = h5io_attr_each_text(file, collect_key, &s, cause, sizeof cause);
+    if (rc == 1)
+        snprintf(cause, sizeof cause, "out of memory");
+    if (rc == 0)
+        rc = h5io_attr_read_text(file, "case_name", name, sizeof name, cause, sizeof cause);
+    H5Fclose(file);
+    if (rc != 0) {
+        snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+        rc = 2;
+        goto done;
+    }
+    /* the stored case alone first, so a bad stored key is blamed on the file */
+    if (case_load(cs, NULL, s.count, s.items, cause, sizeof cause) != 0) {
+        snprintf(err, errlen, "checkpoint %s: stored case: %s", path, cause);
+        rc = 2;
+        goto done;
+    }
+    char **all = malloc((size_t)(s.count + noverrides + 1) * sizeof *all);
+    if (!all) {
+        snprintf(err, errlen, "checkpoint %s: out of memory", path);
+        rc = 2;
+        goto done;
+    }
+    memcpy(all, s.items, (size_t)s.count * sizeof *all);
+    for (int i = 0; i < noverrides; i++)
+        all[s.count + i] = overrides[i];
+    rc = case_load(cs, NULL, s.count + noverrides, all, err, errlen);
+    free(all);
+    if (rc == 0)
+        snprintf(cs->name, sizeof cs->name, "%s", name);
+done:
+    for (int i = 0; i < s.count; i++)
+        free(s.items[i]);
+    free(s.items);
+    return rc;
+}
+
+int checkpoint_import_wisdom(const char *path, char *err, size_t errlen)
+{
+    hid_t file = open_checkpoint(path, err, errlen);
+    if (file < 0)
+        return -1;
+    char cause[600];
+    hsize_t n;
+    int rc = h5io_dims(file, "fftw_wisdom", 1, &n, cause, sizeof cause) == 1 ? 0 : -1;
+    char *w = rc == 0 ? malloc(n + 1) : NULL;
+    if (rc == 0 && !w) {
+        snprintf(cause, sizeof cause, "out of memory");
+        rc = -1;
+    }
+    if (rc == 0)
+        rc = h5io_read(file, "fftw_wisdom", H5T_NATIVE_CHAR, 1, &n, w, cause, sizeof cause);
+    H5Fclose(file);
+    if (rc == 0) {
+        w[n] = '\0';
+        /* the wisdom names the threaded solvers, known to FFTW only once its
+         * threads are initialised (idempotent; poisson_fft does it too) */
+        if (!fftw_init_threads()) {
+            snprintf(cause, sizeof cause, "fftw_init_threads failed");
+            rc = -1;
+        } else if (!fftw_import_wisdom_from_string(w)) {
+            snprintf(cause, sizeof cause, "FFTW rejects the stored wisdom");
+            rc = -1;
+        }
+    }
+    free(w);
+    if (rc != 0)
+        snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+    return rc;
+}
+
+static int read_contents(hid_t file, struct march_state *st, struct field_series *fs,
+                         int *threads, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    int n[3];
+    if (h5io_attr_read(file, "n", H5T_NATIVE_INT, 3, n, err, errlen) != 0)
+        return -1;
+    if (n[0] != g->n[0] || n[1] != g->n[1] || n[2] != g->n[2]) {
+        snprintf(err, errlen, "its grid is %d x %d x %d cells, the case's %d x %d x %d", n[0],
+                 n[1], n[2], g->n[0], g->n[1], g->n[2]);
+        return -1;
+    }
+    if (h5io_attr_read(file, "omp_threads", H5T_NATIVE_INT, 1, threads, err, errlen) != 0)
+        return -1;
+    for (int m = 0; m < NSTATE; m++)
+        if (h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), 1,
+                           (char *)st + loop_state[m].off, err, errlen) != 0)
+            return -1;
+    hsize_t dims[3];
+    field_dims(g, dims);
+    for (int c = 0; c < 3; c++)
+        if (h5io_read(file, vel_names[c], H5T_NATIVE_DOUBLE, 3, dims, st->vel[c], err,
+                      errlen) != 0)
+            return -1;
+    if (h5io_read(file, "p_dyn", H5T_NATIVE_DOUBLE, 3, dims, st->p_dyn, err, errlen) != 0)
+        return -1;
+    int count;
+    double next_time;
+    if (h5io_attr_read(file, "fields_count", H5T_NATIVE_INT, 1, &count, err, errlen) != 0 ||
+        h5io_attr_read(file, "fields_next_time", H5T_NATIVE_DOUBLE, 1, &next_time, err,
+                       errlen) != 0)
+        return -1;
+    field_series_free(fs);
+    fs->next_time = next_time;
+    if (count <= 0)
+        return 0;
+    hsize_t nf = (hsize_t)count;
+    long *steps = malloc(nf * sizeof *steps);
+    double *times = malloc(nf * sizeof *times);
+    int rc = steps && times ? 0 : -1;
+    if (rc != 0)
+        snprintf(err, errlen, "out of memory");
+    if (rc == 0)
+        rc = h5io_read(file, "fields_steps", H5T_NATIVE_LONG, 1, &nf, steps, err, errlen);
+    if (rc == 0)
+        rc = h5io_read(file, "fields_times", H5T_NATIVE_DOUBLE, 1, &nf, times, err, errlen);
+    for (int m = 0; rc == 0 && m < count; m++)
+        if (field_series_add(fs, steps[m], times[m]) != 0) {
+            snprintf(err, errlen, "out of memory");
+            rc = -1;
+        }
+    free(steps);
+    free(times);
+    return rc;
+}
+
+int checkpoint_read_state(const char *path, struct march_state *st, struct field_series *fs,
+                          int *threads, char *err, size_t errlen)
+{
+    hid_t file = open_checkpoint(path, err, errlen);
+    if (file < 0)
+        return -1;
+    char cause[600];
+    int rc = read_contents(file, st, fs, threads, cause, sizeof cause);
+    H5Fclose(file);
+    if (rc != 0)
+        snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+    return rc;
+}

@@ -1,0 +1,180 @@
+/* HDF5 field files (fields_h5.h). */
+#include "io/fields_h5.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "io/h5io.h"
+
+const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS] = {
+    "pressure", "pressure_regularised", "shear_rate", "inertial_number", "viscosity"};
+
+void fields_h5_name(long step, char *buf, size_t len)
+{
+    snprintf(buf, len, "fields_%06ld.h5", step);
+}
+
+struct attr_ctx {
+    hid_t loc;
+    char *err;
+    size_t errlen;
+};
+
+static int key_attribute(void *vctx, const char *section, const char *key, const char *value)
+{
+    struct attr_ctx *a = vctx;
+    char name[128];
+    snprintf(name, sizeof name, "%s.%s", section, key);
+    return h5io_attr_write_text(a->loc, name, value, a->err, a->errlen) != 0 ? -1 : 0;
+}
+
+int fields_h5_case_attributes(hid_t loc, const struct muflow_case *cs, const struct grid *g,
+                              char *err, size_t errlen)
+{
+    int n[3] = {g->n[0], g->n[1], g->n[2]};
+    if (h5io_attr_write_text(loc, "case_name", cs->name, err, errlen) != 0 ||
+        h5io_attr_write(loc, "n", H5T_NATIVE_INT, 3, n, err, errlen) != 0 ||
+        h5io_attr_write(loc, "len", H5T_NATIVE_DOUBLE, 3, g->len, err, errlen) != 0 ||
+        h5io_attr_write(loc, "h", H5T_NATIVE_DOUBLE, 3, g->h, err, errlen) != 0)
+        return -1;
+    struct attr_ctx a = {loc, err, errlen};
+    return case_visit_keys(cs, key_attribute, &a) != 0 ? -1 : 0;
+}
+
+/* Number of distinct faces along d (see fields_h5.h). */
+static int faces(const struct march_state *st, int d)
+{
+    return st->g.n[d] + (st->bc.face[d][0] == BC_PERIODIC ? 0 : 1);
+}
+
+/* out (x fastest) = cell field f at every cell, through map (NULL: f itself). */
+static void gather_cells(const struct march_state *st, const double *f, double (*map)(const struct march_state *, double, ptrdiff_t), double *out)
+{
+    const struct grid *g = &st->g;
+    size_t m = 0;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++, m++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                out[m] = map ? map(st, f[p], p) : f[p];
+            }
+}
+
+static double shear_rate(const struct march_state *st, double shear2, ptrdiff_t p)
+{
+    (void)st;
+    (void)p;
+    return sqrt(shear2);
+}
+
+static double inertial(const struct march_state *st, double shear2, ptrdiff_t p)
+{
+    return rheology_inertial_number(&st->cs->rheo, sqrt(shear2), st->preg[p]);
+}
+
+/* Face values of component c, x fastest, over the distinct faces. */
+static void gather_faces(const struct march_state *st, int c, double *out)
+{
+    const struct grid *g = &st->g;
+    int hi[3] = {g->n[0], g->n[1], g->n[2]};
+    hi[c] = faces(st, c);
+    size_t m = 0;
+    for (int k = 0; k < hi[2]; k++)
+        for (int j = 0; j < hi[1]; j++)
+            for (int i = 0; i < hi[0]; i++)
+                out[m++] = st->vel[c][grid_idx(g, i, j, k)];
+}
+
+/* Cell-centred velocity: mean of the low and high face of each component; the
+ * high face of the last cell of a periodic direction is face 0. */
+static void gather_cell_velocity(const struct march_state *st, double *out)
+{
+    const struct grid *g = &st->g;
+    size_t m = 0;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++)
+                for (int c = 0; c < 3; c++) {
+                    int lo[3] = {i, j, k}, up[3] = {i, j, k};
+                    up[c]++;
+                    if (up[c] == g->n[c] && st->bc.face[c][0] == BC_PERIODIC)
+                        up[c] = 0;
+                    out[m++] = 0.5 * (st->vel[c][grid_idx(g, lo[0], lo[1], lo[2])] +
+                                      st->vel[c][grid_idx(g, up[0], up[1], up[2])]);
+                }
+}
+
+static int write_contents(hid_t file, const struct march_state *st, double *buf, char *err,
+                          size_t errlen)
+{
+    const struct grid *g = &st->g;
+    long step = st->step;
+    if (h5io_attr_write_text(file, "format", FIELDS_FORMAT, err, errlen) != 0 ||
+        h5io_attr_write(file, "step", H5T_NATIVE_LONG, 1, &step, err, errlen) != 0 ||
+        h5io_attr_write(file, "time", H5T_NATIVE_DOUBLE, 1, &st->time, err, errlen) != 0 ||
+        h5io_attr_write(file, "dt", H5T_NATIVE_DOUBLE, 1, &st->dt, err, errlen) != 0 ||
+        h5io_attr_write_text(file, "status", run_status_name(st->status), err, errlen) != 0 ||
+        fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0)
+        return -1;
+    static const char *const comp[3] = {"u", "v", "w"};
+    for (int c = 0; c < 3; c++) {
+        hsize_t dims[3] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0]};
+        dims[2 - c] = (hsize_t)faces(st, c);
+        gather_faces(st, c, buf);
+        if (h5io_write(file, comp[c], H5T_NATIVE_DOUBLE, 3, dims, buf, err, errlen) != 0)
+            return -1;
+    }
+    hsize_t cdims[4] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0], 3};
+    const double *src[FIELDS_CELL_SCALARS] = {st->pressure, st->preg, st->shear2, st->shear2,
+                                              st->eta};
+    double (*map[FIELDS_CELL_SCALARS])(const struct march_state *, double, ptrdiff_t) = {
+        NULL, NULL, shear_rate, inertial, NULL};
+    for (int f = 0; f < FIELDS_CELL_SCALARS; f++) {
+        gather_cells(st, src[f], map[f], buf);
+        if (h5io_write(file, fields_cell_scalar_names[f], H5T_NATIVE_DOUBLE, 3, cdims, buf, err,
+                       errlen) != 0)
+            return -1;
+    }
+    gather_cell_velocity(st, buf);
+    return h5io_write(file, FIELDS_CELL_VECTOR, H5T_NATIVE_DOUBLE, 4, cdims, buf, err, errlen);
+}
+
+struct fields_ctx {
+    const struct march_state *st;
+    double *buf; /* room for the largest array */
+};
+
+static int fields_contents(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct fields_ctx *ctx = vctx;
+    return write_contents(file, ctx->st, ctx->buf, err, errlen);
+}
+
+int fields_h5_write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    char name[64], path[700], tmp[720];
+    fields_h5_name(st->step, name, sizeof name);
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path ||
+        snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp) {
+        snprintf(err, errlen, "output path too long in %s", dir);
+        return -1;
+    }
+    const struct grid *g = &st->g;
+    /* the largest array: the cell velocity or one face component */
+    size_t cells = grid_cells(g), most = 3 * cells;
+    for (int c = 0; c < 3; c++) {
+        size_t f = cells / (size_t)g->n[c] * (size_t)faces(st, c);
+        if (f > most)
+            most = f;
+    }
+    double *buf = malloc(most * sizeof(double));
+    if (!buf) {
+        snprintf(err, errlen, "cannot write %s: out of memory", path);
+        return -1;
+    }
+    struct fields_ctx ctx = {st, buf};
+    int rc = h5io_write_file(tmp, path, "", fields_contents, &ctx, err, errlen);
+    free(buf);
+    return rc;
+}

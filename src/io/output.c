@@ -1,0 +1,215 @@
+/* CSV and INI output of a run (output.h). */
+#define _POSIX_C_SOURCE 200809L /* getline */
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include "scenes/analytic.h"
+#include "io/output.h"
+
+int output_make_dir(const char *dir, char *err, size_t errlen)
+{
+    char path[600];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path) {
+        snprintf(err, errlen, "output.dir is too long");
+        return -1;
+    }
+    for (char *s = path + 1;; s++) {
+        int end = *s == '\0';
+        if (*s == '/' || end) {
+            char keep = *s;
+            *s = '\0';
+            if (mkdir(path, 0777) != 0 && errno != EEXIST) {
+                snprintf(err, errlen, "cannot create output folder %s: %s", path, strerror(errno));
+                return -1;
+            }
+            *s = keep;
+        }
+        if (end)
+            break;
+    }
+    struct stat sb;
+    if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
+        snprintf(err, errlen, "output folder %s is not a folder", dir);
+        return -1;
+    }
+    return 0;
+}
+
+/* Opens dir/name.tmp for writing; fills the final and temporary paths. */
+static FILE *open_tmp(const char *dir, const char *name, char *path, size_t plen, char *tmp,
+                      size_t tlen, char *err, size_t errlen)
+{
+    if (snprintf(path, plen, "%s/%s", dir, name) >= (int)plen ||
+        snprintf(tmp, tlen, "%s/%s.tmp", dir, name) >= (int)tlen) {
+        snprintf(err, errlen, "output path too long in %s", dir);
+        return NULL;
+    }
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
+    return f;
+}
+
+/* Closes f and renames tmp to path; on any failure removes tmp. */
+static int close_rename(FILE *f, const char *tmp, const char *path, char *err, size_t errlen)
+{
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad) {
+        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno ? errno : EIO));
+        remove(tmp);
+        return -1;
+    }
+    if (rename(tmp, path) != 0) {
+        snprintf(err, errlen, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+int history_open(struct history *h, const char *dir, char *err, size_t errlen)
+{
+    h->f = open_tmp(dir, "history.csv", h->path, sizeof h->path, h->tmp, sizeof h->tmp, err,
+                    errlen);
+    if (!h->f)
+        return -1;
+    fprintf(h->f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
+                  "linear_iterations,rejected_steps,err_rms\n");
+    return 0;
+}
+
+int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    snprintf(path, sizeof path, "%s/history.csv", dir);
+    snprintf(tmp, sizeof tmp, "%s/history.csv.tmp", dir);
+    FILE *src = fopen(tmp, "r");
+    if (src)
+        remove(tmp); /* still read through src; history_open makes a new one */
+    else
+        src = fopen(path, "r");
+    if (history_open(h, dir, err, errlen) != 0) {
+        if (src)
+            fclose(src);
+        return -1;
+    }
+    if (!src)
+        return 0; /* nothing to continue: the rows before upto are lost */
+    char *line = NULL;
+    size_t cap = 0;
+    int first = 1;
+    while (getline(&line, &cap, src) > 0) {
+        if (first) { /* the header, already written */
+            first = 0;
+            continue;
+        }
+        char *end;
+        long step = strtol(line, &end, 10);
+        if (end != line && *end == ',' && step <= upto)
+            fputs(line, h->f);
+    }
+    free(line);
+    fclose(src);
+    return 0;
+}
+
+void history_flush(struct history *h)
+{
+    if (h->f)
+        fflush(h->f);
+}
+
+void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e)
+{
+    if (!h->f)
+        return;
+    fprintf(h->f, "%ld,%.10g,%.6g,%.6g,%.6e,%.6e,%.6e,%d,%ld,%.6e\n", st->step, st->time,
+            st->wall_seconds, st->dt, st->residual, st->residual_excess, st->divergence,
+            st->linear_iterations, st->rejected, e->err_rms);
+}
+
+int history_close(struct history *h, char *err, size_t errlen)
+{
+    if (!h->f)
+        return 0;
+    int rc = close_rename(h->f, h->tmp, h->path, err, errlen);
+    h->f = NULL;
+    return rc;
+}
+
+int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    FILE *f = open_tmp(dir, "profile.csv", path, sizeof path, tmp, sizeof tmp, err, errlen);
+    if (!f)
+        return -1;
+    const char *ax = pr->axis == 0 ? "x" : pr->axis == 1 ? "y" : "z";
+    const char *vc = pr->component == 0 ? "u" : pr->component == 1 ? "v" : "w";
+    fprintf(f, "%s,%s,pressure,shear_rate,inertial_number,viscosity,%s_exact\n", ax, vc, vc);
+    for (int l = 0; l < pr->n; l++)
+        fprintf(f, "%.10g,%.12g,%.10g,%.10g,%.10g,%.10g,%.12g\n", pr->coord[l], pr->velocity[l],
+                pr->pressure[l], pr->shear_rate[l], pr->inertial[l], pr->viscosity[l],
+                pr->exact[l]);
+    return close_rename(f, tmp, path, err, errlen);
+}
+
+int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    FILE *f = open_tmp(dir, "heap.csv", path, sizeof path, tmp, sizeof tmp, err, errlen);
+    if (!f)
+        return -1;
+    fprintf(f, "y,u_surface,flowing_depth\n");
+    for (int j = 0; j < hp->n; j++)
+        fprintf(f, "%.10g,%.12g,%.10g\n", hp->y[j], hp->u_surface[j], hp->depth[j]);
+    return close_rename(f, tmp, path, err, errlen);
+}
+
+static void summary_heap(FILE *f, const struct muflow_case *cs, const struct heap_result *h)
+{
+    fprintf(f, "tilt = %.10g\n", h->tilt);
+    fprintf(f, "flow_rate = %.10g\n", h->flow_rate);
+    if (h->searched) {
+        fprintf(f, "flow_rate_target = %.10g\n", cs->heap.flow_rate);
+        fprintf(f, "flow_rate_error = %.6e\n", h->flow_rate / cs->heap.flow_rate - 1.0);
+        fprintf(f, "search_converged = %s\n", h->converged ? "true" : "false");
+    }
+    fprintf(f, "solves = %d\n", h->solves);
+    fprintf(f, "steps_total = %ld\n", h->steps);
+    fprintf(f, "u_surface_mid = %.10g\n", h->u_surface_mid);
+    fprintf(f, "depth_mid = %.10g\n", h->depth_mid);
+}
+
+int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
+                   char *err, size_t errlen)
+{
+    char path[600], tmp[620];
+    FILE *f = open_tmp(dir, "summary.ini", path, sizeof path, tmp, sizeof tmp, err, errlen);
+    if (!f)
+        return -1;
+    fprintf(f, "; muflow run summary: the result, then every case key as used\n[result]\n");
+    fprintf(f, "status = %s\n", run_status_name(r->status));
+    fprintf(f, "message = %s\n", r->message);
+    fprintf(f, "steps = %ld\n", r->steps);
+    fprintf(f, "time = %.10g\n", r->time);
+    fprintf(f, "wall_seconds = %.6g\n", r->wall_seconds);
+    fprintf(f, "residual = %.6e\n", r->residual);
+    fprintf(f, "divergence = %.6e\n", r->divergence);
+    const char *hname = scene_headline_name(cs->scene);
+    if (hname) {
+        /* err_midline for the cavity: its reference is a curve, not a solution */
+        fprintf(f, "%s = %.6e\n", scene_error_name(cs->scene), r->errors.err_rms);
+        fprintf(f, "err_max = %.6e\n", r->errors.err_max);
+        fprintf(f, "err_rms_paper = %.6e\n", r->errors.err_rms_paper);
+        fprintf(f, "%s = %.10g\n", hname, r->errors.headline);
+        fprintf(f, "%s_exact = %.10g\n", hname, r->errors.headline_exact);
+    }
+    if (r->heap.valid)
+        summary_heap(f, cs, &r->heap);
+    fprintf(f, "\n");
+    case_write_ini(cs, f);
+    return close_rename(f, tmp, path, err, errlen);
+}

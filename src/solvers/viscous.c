@@ -1,0 +1,430 @@
+/* Matrix-free implicit viscous solve: PCG with probed line blocks (viscous.h). */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include "solvers/sparse_direct.h"
+#include "solvers/viscous.h"
+
+#define BAND 2               /* nodes reached along a line by the stencil */
+#define PROBES (2 * BAND + 1)
+
+struct line_blocks {
+    int nlines, len;          /* lines of this component and nodes per line */
+    int other[2];             /* the two directions across the lines */
+    double *band;             /* nlines * len * (BAND+1): GSL symmetric band rows */
+    double *probe;            /* nlines * len * PROBES: probed rows, unsymmetrised */
+};
+
+struct viscous_solver {
+    const struct grid *g;
+    const struct boundary *bc;
+    struct box act[3];
+    int line_dir;
+    struct line_blocks blk[3];
+    double *r[3], *z[3], *p[3], *q[3]; /* CG work vectors */
+    double *linebuf;                   /* per-thread gather buffer */
+    int maxlen, nthreads;
+    int failed_blocks;                 /* of the last viscous_precondition */
+    double *divbuf;                    /* divergence for the augmentation term */
+    struct sparse_direct *direct;      /* NULL: line blocks only */
+    int direct_ok;                     /* the last factorisation succeeded */
+    /* full tangent work: strain products, their tangent stresses, and the
+     * extra BiCGStab vectors (allocated with a direct kind only) */
+    double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
+    double *r0[3], *v[3], *t[3], *sh[3];
+};
+
+int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
+
+static int pick_line_direction(const struct grid *g, const struct boundary *bc, int wanted)
+{
+    if (wanted >= 0)
+        return bc->face[wanted][0] == BC_PERIODIC ? -1 : wanted;
+    int best = -1;
+    for (int d = 2; d >= 0; d--) /* ties go to z, the usual wall-normal direction */
+        if (bc->face[d][0] != BC_PERIODIC && (best < 0 || g->n[d] > g->n[best]))
+            best = d;
+    return best;
+}
+
+/* Linear index of node m of line l of component c. */
+static inline ptrdiff_t line_node(const struct viscous_solver *s, int c, int l, int m)
+{
+    const struct line_blocks *b = &s->blk[c];
+    const struct box *bx = &s->act[c];
+    int idx[3];
+    int n0 = bx->hi[b->other[0]] - bx->lo[b->other[0]];
+    idx[b->other[0]] = bx->lo[b->other[0]] + l % n0;
+    idx[b->other[1]] = bx->lo[b->other[1]] + l / n0;
+    idx[s->line_dir] = bx->lo[s->line_dir] + m;
+    return grid_idx(s->g, idx[0], idx[1], idx[2]);
+}
+
+int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
+                   const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
+                   size_t errlen)
+{
+    int L = pick_line_direction(g, bc, line_dir);
+    if (L < 0) {
+        snprintf(err, errlen, "viscous solver: the preconditioner lines need a non-periodic "
+                              "direction (solver.line_direction)");
+        return -1;
+    }
+    struct viscous_solver *s = calloc(1, sizeof *s);
+    if (!s) {
+        snprintf(err, errlen, "viscous solver: out of memory");
+        return -1;
+    }
+    gsl_set_error_handler_off(); /* a non-SPD block is handled, not fatal */
+    s->g = g;
+    s->bc = bc;
+    s->line_dir = L;
+    memcpy(s->act, act, sizeof s->act);
+    int ok = 1;
+    for (int c = 0; c < 3; c++) {
+        struct line_blocks *b = &s->blk[c];
+        b->other[0] = (L + 1) % 3;
+        b->other[1] = (L + 2) % 3;
+        b->len = act[c].hi[L] - act[c].lo[L];
+        b->nlines = (act[c].hi[b->other[0]] - act[c].lo[b->other[0]]) *
+                    (act[c].hi[b->other[1]] - act[c].lo[b->other[1]]);
+        if (b->len <= 0 || b->nlines <= 0) {
+            b->len = b->nlines = 0;
+            continue;
+        }
+        if (b->len > s->maxlen)
+            s->maxlen = b->len;
+        size_t nodes = (size_t)b->nlines * (size_t)b->len;
+        b->band = malloc(nodes * (BAND + 1) * sizeof(double));
+        b->probe = malloc(nodes * PROBES * sizeof(double));
+        ok &= b->band && b->probe;
+    }
+    for (int c = 0; c < 3; c++) {
+        s->r[c] = field_alloc(g);
+        s->z[c] = field_alloc(g);
+        s->p[c] = field_alloc(g);
+        s->q[c] = field_alloc(g);
+        ok &= s->r[c] && s->z[c] && s->p[c] && s->q[c];
+    }
+    s->nthreads = omp_get_max_threads();
+    s->linebuf = malloc((size_t)s->nthreads * (size_t)(s->maxlen > 0 ? s->maxlen : 1) *
+                        sizeof(double));
+    s->divbuf = field_alloc(g);
+    ok &= s->linebuf != NULL && s->divbuf != NULL;
+    if (!ok) {
+        viscous_destroy(s);
+        snprintf(err, errlen, "viscous solver: out of memory");
+        return -1;
+    }
+    if (kind != VISCOUS_LINE) {
+        int periodic[3];
+        for (int d = 0; d < 3; d++)
+            periodic[d] = bc->face[d][0] == BC_PERIODIC;
+        /* the full tangent reaches two nodes (|D| on an edge averages its
+         * neighbours' strains), the symmetric operator one */
+        int full = kind == VISCOUS_LU;
+        if (sparse_direct_create(&s->direct, g, periodic, act, full ? 2 : 1, !full, err, errlen) !=
+            0) {
+            viscous_destroy(s);
+            return -1;
+        }
+        ok &= (s->pn = field_alloc(g)) != NULL && (s->Bc = field_alloc(g)) != NULL;
+        for (int c = 0; c < 3; c++) {
+            double **fs[] = {&s->pe[c], &s->Be[c], &s->tmp[c], &s->r0[c], &s->v[c], &s->t[c],
+                             &s->sh[c]};
+            for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
+                ok &= (*fs[m] = field_alloc(g)) != NULL;
+        }
+        if (!ok) {
+            viscous_destroy(s);
+            snprintf(err, errlen, "viscous solver: out of memory");
+            return -1;
+        }
+    }
+    *out = s;
+    return 0;
+}
+
+void viscous_destroy(struct viscous_solver *s)
+{
+    if (!s)
+        return;
+    for (int c = 0; c < 3; c++) {
+        free(s->blk[c].band);
+        free(s->blk[c].probe);
+        field_free(s->r[c]);
+        field_free(s->z[c]);
+        field_free(s->p[c]);
+        field_free(s->q[c]);
+    }
+    free(s->linebuf);
+    field_free(s->divbuf);
+    sparse_direct_destroy(s->direct);
+    field_free(s->pn);
+    field_free(s->Bc);
+    for (int c = 0; c < 3; c++) {
+        double *fs[] = {s->pe[c], s->Be[c], s->tmp[c], s->r0[c], s->v[c], s->t[c], s->sh[c]};
+        for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
+            field_free(fs[m]);
+    }
+    free(s);
+}
+
+void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
+                   double *out[3])
+{
+    const struct grid *g = s->g;
+    bc_fill_velocity_homogeneous(g, s->bc, v);
+    kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
+    kernel_lincomb(g, s->act, pb->mass, v, -1.0, out); /* mass v - div tau */
+    if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
+        kernel_strain_products(g, pb->base, v, s->pn, s->pe);
+        bc_fill_scalar(g, s->bc, s->pn);
+        kernel_tangent_cells(g, s->pn, s->pe, pb->b_cell, s->Bc);
+        bc_fill_scalar(g, s->bc, s->Bc);
+        kernel_tangent_edges(g, s->pn, s->pe, (double *const *)pb->b_edge, s->Be);
+        const double *Bcell[3] = {s->Bc, s->Bc, s->Bc};
+        kernel_stress_divergence(g, s->act, Bcell, (const double *const *)s->Be, pb->base,
+                                 s->tmp);
+        kernel_axpy(g, s->act, -1.0, s->tmp, out);
+    }
+    if (pb->augmentation) {                            /* - grad(r div v) */
+        kernel_divergence(g, v, s->divbuf);
+        for (size_t p = 0; p < g->size; p++)
+            s->divbuf[p] *= pb->augmentation[p];
+        bc_fill_scalar(g, s->bc, s->divbuf);
+        kernel_gradient_update(g, s->act, s->divbuf, 1.0, out);
+    }
+}
+
+struct apply_ctx {
+    struct viscous_solver *s;
+    const struct viscous_problem *pb;
+};
+
+static void apply_cb(void *vctx, double *v[3], double *out[3])
+{
+    struct apply_ctx *a = vctx;
+    viscous_apply(a->s, a->pb, v, out);
+}
+
+static void zero_fields(const struct grid *g, double *f[3])
+{
+    for (int c = 0; c < 3; c++)
+        memset(f[c], 0, g->size * sizeof(double));
+}
+
+/* Offset of column m' from row m for probe r: the unique m' = r (mod 5) with
+ * |m' - m| <= 2. */
+static inline int probe_offset(int r, int m)
+{
+    int off = ((r - m) % PROBES + PROBES) % PROBES;
+    return off > BAND ? off - PROBES : off;
+}
+
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb);
+
+void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    s->direct_ok = 0;
+    if (s->direct) {
+        struct apply_ctx a = {s, pb};
+        s->direct_ok = sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+        if (s->direct_ok)
+            return;
+    }
+    line_blocks(s, pb); /* also the fallback of a failed factorisation */
+}
+
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    const struct grid *g = s->g;
+    int L = s->line_dir;
+    s->failed_blocks = 0;
+    for (int c = 0; c < 3; c++) {
+        struct line_blocks *b = &s->blk[c];
+        if (b->nlines == 0)
+            continue;
+        for (int r = 0; r < PROBES; r++) {
+            zero_fields(g, s->p);
+            const struct box *bx = &s->act[c];
+            for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+                for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+                    for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
+                        int idx[3] = {i, j, k};
+                        if ((idx[L] - bx->lo[L]) % PROBES == r)
+                            s->p[c][grid_idx(g, i, j, k)] = 1.0;
+                    }
+            viscous_apply(s, pb, s->p, s->q);
+#pragma omp parallel for schedule(static)
+            for (int l = 0; l < b->nlines; l++)
+                for (int m = 0; m < b->len; m++) {
+                    int off = probe_offset(r, m);
+                    if (m + off < 0 || m + off >= b->len)
+                        continue;
+                    b->probe[((size_t)l * b->len + m) * PROBES + off + BAND] =
+                        s->q[c][line_node(s, c, l, m)];
+                }
+        }
+        int failed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : failed)
+        for (int l = 0; l < b->nlines; l++) {
+            const double *pr = b->probe + (size_t)l * b->len * PROBES;
+            double *band = b->band + (size_t)l * b->len * (BAND + 1);
+            /* GSL symmetric band storage: row j holds A(j, j), A(j+1, j), A(j+2, j);
+             * the probed block is symmetrised. */
+            for (int j = 0; j < b->len; j++)
+                for (int o = 0; o <= BAND; o++) {
+                    double a = 0.0;
+                    if (j + o < b->len)
+                        a = 0.5 * (pr[(size_t)(j + o) * PROBES + BAND - o] +
+                                   pr[(size_t)j * PROBES + BAND + o]);
+                    band[j * (BAND + 1) + o] = a;
+                }
+            gsl_matrix_view mv = gsl_matrix_view_array(band, (size_t)b->len, BAND + 1);
+            if (gsl_linalg_cholesky_band_decomp(&mv.matrix) != GSL_SUCCESS) {
+                /* not positive definite: fall back to the mass-shifted diagonal */
+                failed++;
+                for (int j = 0; j < b->len; j++) {
+                    double d = pr[(size_t)j * PROBES + BAND];
+                    band[j * (BAND + 1)] = sqrt(d > pb->mass ? d : pb->mass);
+                    band[j * (BAND + 1) + 1] = band[j * (BAND + 1) + 2] = 0.0;
+                }
+            }
+        }
+        s->failed_blocks += failed;
+    }
+}
+
+/* z = M^-1 r: the factorisation, or line by line. */
+static void precondition_apply(struct viscous_solver *s, double *const r[3], double *z[3])
+{
+    if (s->direct_ok) {
+        sparse_direct_solve(s->direct, r, z);
+        return;
+    }
+    for (int c = 0; c < 3; c++) {
+        struct line_blocks *b = &s->blk[c];
+        if (b->nlines == 0)
+            continue;
+#pragma omp parallel for schedule(static)
+        for (int l = 0; l < b->nlines; l++) {
+            double *buf = s->linebuf + (size_t)omp_get_thread_num() * s->maxlen;
+            for (int m = 0; m < b->len; m++)
+                buf[m] = r[c][line_node(s, c, l, m)];
+            gsl_matrix_view mv =
+                gsl_matrix_view_array(b->band + (size_t)l * b->len * (BAND + 1), (size_t)b->len,
+                                      BAND + 1);
+            gsl_vector_view xv = gsl_vector_view_array(buf, (size_t)b->len);
+            gsl_linalg_cholesky_band_svx(&mv.matrix, &xv.vector);
+            for (int m = 0; m < b->len; m++)
+                z[c][line_node(s, c, l, m)] = buf[m];
+        }
+    }
+}
+
+/* Preconditioned BiCGStab (van der Vorst) for the non-symmetric full tangent. */
+static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, double bnorm,
+                    double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    const struct grid *g = s->g;
+    const struct box *act = s->act;
+    double **r = s->r, **r0 = s->r0, **p = s->p, **v = s->v, **t = s->t, **ph = s->z,
+           **sh = s->sh;
+    for (int c = 0; c < 3; c++) {
+        memcpy(r0[c], r[c], g->size * sizeof(double));
+        memset(p[c], 0, g->size * sizeof(double));
+        memset(v[c], 0, g->size * sizeof(double));
+    }
+    double rho = 1.0, alpha = 1.0, omega = 1.0;
+    for (int it = 1; it <= maxit; it++) {
+        double rho_new = kernel_dot(g, act, r0, r);
+        if (rho_new == 0.0 || !isfinite(rho_new))
+            return -1;
+        double beta = (rho_new / rho) * (alpha / omega);
+        rho = rho_new;
+        kernel_axpy(g, act, -omega, v, p);      /* p = r + beta (p - omega v) */
+        kernel_lincomb(g, act, 1.0, r, beta, p);
+        precondition_apply(s, p, ph);
+        viscous_apply(s, pb, ph, v);
+        double r0v = kernel_dot(g, act, r0, v);
+        if (r0v == 0.0 || !isfinite(r0v))
+            return -1;
+        alpha = rho / r0v;
+        kernel_axpy(g, act, alpha, ph, x);
+        kernel_axpy(g, act, -alpha, v, r);      /* r is now s */
+        double snorm = sqrt(kernel_dot(g, act, r, r));
+        st->iterations = it;
+        st->relative_residual = snorm / bnorm;
+        if (snorm <= rtol * bnorm)
+            return 0;
+        precondition_apply(s, r, sh);
+        viscous_apply(s, pb, sh, t);
+        double tt = kernel_dot(g, act, t, t);
+        if (!(tt > 0.0) || !isfinite(tt))
+            return -1;
+        omega = kernel_dot(g, act, t, r) / tt;
+        kernel_axpy(g, act, omega, sh, x);
+        kernel_axpy(g, act, -omega, t, r);
+        double rnorm = sqrt(kernel_dot(g, act, r, r));
+        st->relative_residual = rnorm / bnorm;
+        if (!isfinite(rnorm))
+            return -1;
+        if (rnorm <= rtol * bnorm)
+            return 0;
+        if (omega == 0.0)
+            return -1;
+    }
+    return 1;
+}
+
+int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
+                  double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    const struct grid *g = s->g;
+    const struct box *act = s->act;
+    zero_fields(g, x);
+    zero_fields(g, s->z);
+    for (int c = 0; c < 3; c++)
+        memcpy(s->r[c], rhs[c], g->size * sizeof(double));
+    double bnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+    st->iterations = 0;
+    st->relative_residual = 0.0;
+    st->failed_blocks = s->failed_blocks;
+    st->direct = s->direct_ok;
+    if (bnorm == 0.0)
+        return 0;
+    if (!isfinite(bnorm))
+        return -1;
+    if (pb->b_cell && s->r0[0])
+        return bicgstab(s, pb, bnorm, x, rtol, maxit, st);
+    precondition_apply(s, s->r, s->z);
+    zero_fields(g, s->p);
+    kernel_lincomb(g, act, 1.0, s->z, 0.0, s->p);
+    double rz = kernel_dot(g, act, s->r, s->z);
+    for (int it = 1; it <= maxit; it++) {
+        viscous_apply(s, pb, s->p, s->q);
+        double pq = kernel_dot(g, act, s->p, s->q);
+        if (!(pq > 0.0) || !isfinite(pq))
+            return -1;
+        double alpha = rz / pq;
+        kernel_axpy(g, act, alpha, s->p, x);
+        kernel_axpy(g, act, -alpha, s->q, s->r);
+        double rnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+        st->iterations = it;
+        st->relative_residual = rnorm / bnorm;
+        if (!isfinite(rnorm))
+            return -1;
+        if (rnorm <= rtol * bnorm)
+            return 0;
+        precondition_apply(s, s->r, s->z);
+        double rz_new = kernel_dot(g, act, s->r, s->z);
+        kernel_lincomb(g, act, 1.0, s->z, rz_new / rz, s->p);
+        rz = rz_new;
+    }
+    return 1;
+}
