@@ -31,6 +31,7 @@ static const struct {
 } groups[] = {
     {"rheology", group_rheology},
     {"poisson", group_poisson},
+    {"multigrid", group_multigrid},
     {"case", group_case},
     {"viscous", group_viscous},
     {"scenes", group_scenes},

@@ -33,6 +33,7 @@ char *test_read_file(const char *path, size_t *len);
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);
+void group_multigrid(struct test_tally *t);
 void group_case(struct test_tally *t);
 void group_viscous(struct test_tally *t);
 void group_scenes(struct test_tally *t);

@@ -1,0 +1,120 @@
+/* Geometric multigrid for the cell-centred variable-coefficient Poisson problem
+ * on the MAC grid,
+ *
+ *   sum_d [ a_{i+1/2} (phi_{i+1} - phi_i) - a_{i-1/2} (phi_i - phi_{i-1}) ] / h_d^2 = rhs,
+ *
+ * with face coefficients a[d] in the layout of grid.h (a[d] at (i,j,k) is the
+ * low face of cell (i,j,k) along d, like the velocity components): the
+ * variable-density projection div((1/rho) grad p) = f, and obstacles (a = 0 on
+ * the faces a solid blocks: no flux).  Boundary conditions per face as in the
+ * FFT solver (poisson.h): periodic, Neumann (zero flux; the coefficient of a
+ * Neumann face is not read), Dirichlet (phi = 0 on the face: ghost =
+ * -interior, the coefficient of the face is used).  For a periodic direction
+ * face 0 is read and face n (its image) is not.
+ *
+ * A cell whose faces all have a = 0 (inside an obstacle, or a one-cell
+ * periodic grid) is an identity row: phi = 0 there, its rhs is ignored.
+ * Without a Dirichlet face the problem is singular: the mean of rhs over the
+ * live cells is removed and phi is returned with zero mean over them, like
+ * poisson_fft_solve.  (A fluid region that obstacles cut off from the rest is
+ * solved up to a constant of its own and its rhs is not made compatible.)
+ *
+ * Method (docs/design.md, "Multigrid", has the measurements): a hierarchy of
+ * local boxes halved in every direction that is even and not much coarser
+ * than the finest spacing (directions of one cell are never coarsened), red-
+ * black Gauss-Seidel smoothing, restriction the transpose of the prolongation
+ * (cell-centred trilinear by default), coarse operators rediscretised from
+ * averaged coefficients, the coarsest level factorised by CHOLMOD.  The V-cycle
+ * is symmetric, so it serves as a CG preconditioner (multigrid_pcg).
+ *
+ * Every array argument is a field array of the grid given to create (grid.h
+ * layout).  Nothing is allocated by the solves, the cycle or apply. */
+#ifndef MUFLOW_MULTIGRID_H
+#define MUFLOW_MULTIGRID_H
+
+#include <stddef.h>
+#include "grid/grid.h"
+#include "solvers/poisson.h"
+
+struct multigrid;
+
+enum multigrid_prolong {
+    MG_PROLONG_FLUX = 0,   /* operator-dependent: flux-continuous along each grid line */
+    MG_PROLONG_LINEAR,     /* cell-centred (tri)linear, weights 3/4, 1/4 per direction */
+    MG_PROLONG_CONSTANT    /* injection into the children */
+};
+enum multigrid_average {
+    MG_AVERAGE_HARMONIC = 0, /* harmonic along the face normal, arithmetic across */
+    MG_AVERAGE_ARITHMETIC    /* arithmetic mean of the fine faces the coarse face covers */
+};
+
+struct multigrid_options {
+    int pre, post;          /* red-black Gauss-Seidel sweeps before / after the coarse
+                               correction (equal for a symmetric cycle) */
+    enum multigrid_prolong prolong;
+    enum multigrid_average average;
+    long coarse_cells;      /* stop coarsening at or below this many cells */
+};
+
+/* The defaults chosen by measurement: V(2,2), linear prolongation, harmonic
+ * averaging, coarsest level of at most 64 cells (when sizes allow). */
+void multigrid_default_options(struct multigrid_options *o);
+
+/* Builds the level hierarchy for grid g and conditions bc[d][side] (opt NULL:
+ * the defaults).  Returns 0, or -1 with a message in err for an invalid
+ * argument or out of memory.  The coefficients must be set before a solve. */
+int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
+                     const struct multigrid_options *opt, char *err, size_t errlen);
+
+/* Copies the face coefficients a[0..2] (>= 0 and finite on every face read),
+ * coarsens them and factorises the coarsest level.  May be called again with
+ * new coefficients (a new density field); allocates only the first time.
+ * Returns 0, or -1 with a message (a negative or non-finite coefficient, the
+ * coarsest factorisation failing). */
+int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
+                               size_t errlen);
+
+#define MULTIGRID_HISTORY 64
+
+struct multigrid_stats {
+    int cycles;            /* V-cycles (multigrid_solve) or PCG iterations (multigrid_pcg) */
+    int converged;         /* relative residual <= rtol */
+    double res0;           /* ||rhs - mean|| over the live cells (2-norm) */
+    double rel;            /* final ||rhs - mean - L phi|| / res0 */
+    double rate;           /* mean reduction per cycle, rel^(1/cycles) */
+    double history[MULTIGRID_HISTORY]; /* relative residual after cycle c+1 (first 64) */
+};
+
+/* Stationary V-cycles, phi <- phi + V(rhs - L phi), from the interior of phi
+ * as initial guess (zero it for a fresh solve), until the relative residual is
+ * <= rtol or max_cycles.  phi's ghost layer is overwritten with the values the
+ * conditions imply (periodic images, mirror for Neumann, negated mirror for
+ * Dirichlet), so a gradient can be taken right away.  rhs must not alias phi.
+ * Returns 0 when converged, 1 otherwise.  stats may be NULL. */
+int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
+                    int max_cycles, struct multigrid_stats *stats);
+
+/* The same problem by conjugate gradients preconditioned with one V-cycle per
+ * iteration (the robust choice at large coefficient jumps, see design.md). */
+int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
+                  struct multigrid_stats *stats);
+
+/* One V-cycle from a zero initial guess: z ~ L^-1 r (a symmetric linear map,
+ * usable as a preconditioner; r is read on the interior, z's interior is
+ * written and its ghosts overwritten; r must not alias z nor the solver's own
+ * work arrays).  r should be zero on dead cells and, for a singular problem,
+ * have zero mean. */
+void multigrid_vcycle(struct multigrid *mg, const double *r, double *z);
+
+/* y = L x on the interior (x's ghosts are overwritten by the halo fill). */
+void multigrid_apply(struct multigrid *mg, double *x, double *y);
+
+/* The level hierarchy: number of levels, cells of level l. */
+int multigrid_levels(const struct multigrid *mg);
+void multigrid_level_size(const struct multigrid *mg, int l, int n[3]);
+/* Bytes held by the solver (levels, work arrays, coarsest factorisation). */
+size_t multigrid_bytes(const struct multigrid *mg);
+
+void multigrid_destroy(struct multigrid *mg);
+
+#endif

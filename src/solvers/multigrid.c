@@ -1,0 +1,1319 @@
+/* Geometric multigrid for the variable-coefficient cell-centred Poisson problem
+ * (see include/solvers/multigrid.h; measurements in docs/design.md, "Multigrid").
+ *
+ * Conventions inside this file:
+ *  - L phi = sum_faces w_f (phi_nb - phi), w_f = a_f / h_d^2, is negative
+ *    semi-definite; the coarsest factorisation and CG work on -L or are
+ *    invariant under the sign.
+ *  - Each level keeps its own copy of the face coefficients with the boundary
+ *    conditions folded in, so that one stencil serves every cell and the
+ *    diagonal D = sum_f w_f is computed on the fly (no diagonal array):
+ *      Neumann boundary face        a = 0           (no flux)
+ *      Dirichlet boundary face      a = 2 a_user    (ghost 0: flux 2a(0-phi)/h^2,
+ *                                                    the same as ghost = -phi)
+ *      periodic direction of 1 cell a = 0           (the neighbour is the cell itself)
+ *      periodic face n              a = face 0
+ *    The operator therefore reads ghosts that are 0 on non-periodic
+ *    boundaries (HALO_OPERATOR), while the grid transfers read ghosts holding
+ *    the value the condition implies (HALO_MIRROR: Neumann mirror, Dirichlet
+ *    negated mirror), which is what makes linear prolongation right at walls.
+ *  - A cell with D = 0 is dead (identity row): its unknown stays 0, its
+ *    residual is 0, transfers skip it.
+ *  - Every level is a box of local cells with one ghost layer; ghosts are
+ *    filled by halo_fill / halo_faces only, which is where a distributed
+ *    version would exchange halos.  The red-black colour uses the local index,
+ *    which a box decomposition must offset by the box origin.  The only global
+ *    operation is coarse_solve (a gather of the coarsest level, as an MPI
+ *    version would gather it to one rank), and dot products. */
+#include "solvers/multigrid.h"
+
+#include <cholmod.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define MAX_LEVELS 32
+#define MAX_THREADS 256
+#define PAD 8                  /* doubles between per-thread partial sums (one cache line) */
+#define PAR_CELLS 8192         /* smaller levels run on one thread: fork/join costs more */
+#define ANISO_CELLS 4096       /* above this, coarsen anisotropically rather than stop */
+
+enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
+
+struct level {
+    struct grid g;
+    int coarse[3];         /* this level halves direction d of the finer one */
+    double ih2[3];         /* 1 / h_d^2 */
+    double *a[3];          /* face coefficients, conditions folded in (see top) */
+    unsigned char *live;   /* D > 0 */
+    double *x;             /* unknown (level 0: the caller's array, set per call) */
+    const double *b;       /* right-hand side (level 0: the caller's array) */
+    double *bbuf;          /* owned storage of b on coarse levels */
+    double *r;             /* residual, restricted to the next level */
+    /* prolongation from level l+1 into this level: along d, fine cell i takes
+     * (1 - w) of its parent pi[d][2i] and w of the coarse neighbour
+     * pi[d][2i+1] nearer to it (a ghost, -1 or nc, at the ends), w = pw[d] at
+     * the cell (NULL: direction not halved, w = 0) */
+    int *pi[3];
+    double *pw[3];
+    int par;               /* run the loops of this level with OpenMP */
+};
+
+struct coarse_direct {
+    cholmod_common cm;
+    int started;
+    cholmod_factor *L;
+    cholmod_dense *B, *X, *Y, *E;
+    long n;                /* rows (live cells of the coarsest level) */
+    ptrdiff_t *slot;       /* field slot of row k (sized for every cell) */
+    int *row;              /* row of a field slot, -1 for dead cells and ghosts */
+    unsigned char *pinned; /* row k is fixed to 0 (one per floating component) */
+    int *queue;            /* breadth-first search of the components */
+};
+
+struct multigrid {
+    struct multigrid_options opt;
+    enum poisson_bc bc[3][2];
+    int periodic[3];
+    int nlev;
+    struct level lev[MAX_LEVELS];
+    struct coarse_direct cs;
+    double *wr, *wz, *wp, *wq;     /* fine-level work arrays of the solvers */
+    long live;                     /* live cells of level 0 */
+    int ready;                     /* coefficients set */
+    double partial[MAX_THREADS * PAD];
+};
+
+static void set_err(char *err, size_t errlen, const char *fmt, ...)
+{
+    if (!err || errlen == 0)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
+
+void multigrid_default_options(struct multigrid_options *o)
+{
+    o->pre = 2;
+    o->post = 2;
+    o->prolong = MG_PROLONG_FLUX;
+    o->average = MG_AVERAGE_HARMONIC;
+    o->coarse_cells = 64;
+}
+
+/* ---- halo fills: the only writers of ghost values ------------------------------ */
+
+/* Cell field f on level lv.  Directions in order, each over the ghost-extended
+ * range of the directions before it, so edges and corners are filled too (the
+ * trilinear transfers read them).  Periodic: wrap; otherwise 0 (operator),
+ * the conditions' value (mirror) or the mirror whatever the condition (even:
+ * the transfer weights). */
+static void halo_fill(const struct multigrid *mg, const struct level *lv, double *f,
+                      enum halo_kind kind)
+{
+    const struct grid *g = &lv->g;
+    for (int d = 0; d < 3; d++) {
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+        const int lo1 = e1 < d ? -1 : 0, hi1 = e1 < d ? g->n[e1] + 1 : g->n[e1];
+        const int lo2 = e2 < d ? -1 : 0, hi2 = e2 < d ? g->n[e2] + 1 : g->n[e2];
+        const int n = g->n[d];
+        int src_lo, src_hi;
+        double s_lo, s_hi;
+        if (mg->periodic[d]) {
+            src_lo = n - 1;
+            src_hi = 0;
+            s_lo = s_hi = 1.0;
+        } else {
+            src_lo = 0;
+            src_hi = n - 1;
+            if (kind == HALO_OPERATOR) {
+                s_lo = s_hi = 0.0;
+            } else if (kind == HALO_EVEN) {
+                s_lo = s_hi = 1.0;
+            } else {
+                s_lo = mg->bc[d][0] == POISSON_DIRICHLET ? -1.0 : 1.0;
+                s_hi = mg->bc[d][1] == POISSON_DIRICHLET ? -1.0 : 1.0;
+            }
+        }
+        const ptrdiff_t sd = g->stride[d];
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+        for (int u = lo1; u < hi1; u++)
+            for (int v = lo2; v < hi2; v++) {
+                int c[3];
+                c[e1] = u;
+                c[e2] = v;
+                c[d] = 0;
+                const ptrdiff_t base = grid_idx(g, c[0], c[1], c[2]);
+                f[base - sd] = s_lo * f[base + (ptrdiff_t)src_lo * sd];
+                f[base + (ptrdiff_t)n * sd] = s_hi * f[base + (ptrdiff_t)src_hi * sd];
+            }
+    }
+}
+
+/* Face array a (normal d) along its normal: a periodic direction's face n is
+ * face 0 and face -1 is face n-1; elsewhere the ghost face -1 is unused (0). */
+static void halo_faces(const struct multigrid *mg, const struct level *lv, double *a, int d)
+{
+    const struct grid *g = &lv->g;
+    const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
+    const ptrdiff_t sd = g->stride[d];
+    const int per = mg->periodic[d];
+    for (int u = 0; u < g->n[e1]; u++)
+        for (int v = 0; v < g->n[e2]; v++) {
+            int c[3];
+            c[e1] = u;
+            c[e2] = v;
+            c[d] = 0;
+            const ptrdiff_t base = grid_idx(g, c[0], c[1], c[2]);
+            if (per) {
+                a[base + (ptrdiff_t)n * sd] = a[base];
+                a[base - sd] = a[base + (ptrdiff_t)(n - 1) * sd];
+            } else {
+                a[base - sd] = 0.0;
+            }
+        }
+}
+
+/* ---- deterministic reductions ---------------------------------------------------- */
+
+static int team_size(const struct level *lv)
+{
+#ifdef _OPENMP
+    int t = lv->par ? omp_get_max_threads() : 1;
+    return t < MAX_THREADS ? t : MAX_THREADS;
+#else
+    (void)lv;
+    return 1;
+#endif
+}
+
+static int thread_id(void)
+{
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+/* Per-thread partial sums over a static schedule, added in thread order: the
+ * result repeats bit for bit at a given thread count. */
+static double sum_partials(const double *part, int nt)
+{
+    double s = 0.0;
+    for (int t = 0; t < nt; t++)
+        s += part[t * PAD];
+    return s;
+}
+
+/* sum over the interior of u v */
+static double dot(struct multigrid *mg, const struct level *lv, const double *u, const double *v)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
+    double *part = mg->partial;
+    for (int t = 0; t < nt; t++)
+        part[t * PAD] = 0.0;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+        double s = 0.0;
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++)
+                    s += u[row + k] * v[row + k];
+            }
+        part[thread_id() * PAD] = s;
+    }
+    return sum_partials(part, nt);
+}
+
+/* sum of f over the live cells */
+static double live_sum(struct multigrid *mg, const struct level *lv, const double *f)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
+    const unsigned char *live = lv->live;
+    double *part = mg->partial;
+    for (int t = 0; t < nt; t++)
+        part[t * PAD] = 0.0;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+        double s = 0.0;
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++)
+                    s += live[row + k] ? f[row + k] : 0.0;
+            }
+        part[thread_id() * PAD] = s;
+    }
+    return sum_partials(part, nt);
+}
+
+/* sum of (f - shift)^2 over the live cells */
+static double live_norm2(struct multigrid *mg, const struct level *lv, const double *f,
+                         double shift)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
+    const unsigned char *live = lv->live;
+    double *part = mg->partial;
+    for (int t = 0; t < nt; t++)
+        part[t * PAD] = 0.0;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+        double s = 0.0;
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++) {
+                    double v = f[row + k] - shift;
+                    s += live[row + k] ? v * v : 0.0;
+                }
+            }
+        part[thread_id() * PAD] = s;
+    }
+    return sum_partials(part, nt);
+}
+
+/* ---- stencil kernels ----------------------------------------------------------- */
+
+/* One red-black half sweep of Gauss-Seidel: the cells with (i+j+k) % 2 == colour
+ * solve their own row with the neighbours' current values (ghosts filled in
+ * HALO_OPERATOR mode before the call).  Dead cells are set to 0. */
+static void smooth_colour(const struct level *lv, int colour)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
+    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
+    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
+    const double *restrict b = lv->b;
+    double *restrict x = lv->x;
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = (i + j + colour) & 1; k < nz; k += 2) {
+                const ptrdiff_t p = row + k;
+                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
+                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
+                const double wzl = cz * az[p], wzh = cz * az[p + 1];
+                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
+                const double S = wxl * x[p - sx] + wxh * x[p + sx] + wyl * x[p - sy] +
+                                 wyh * x[p + sy] + wzl * x[p - 1] + wzh * x[p + 1];
+                x[p] = D > 0.0 ? (S - b[p]) / D : 0.0;
+            }
+        }
+}
+
+/* r = (b - shift) - L x on live cells, 0 on dead ones; with b NULL, r = L x
+ * (0 on dead cells).  x's ghosts in HALO_OPERATOR mode.  r may not alias x. */
+static void residual(const struct level *lv, const double *x, const double *b, double shift,
+                     double *r)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
+    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
+    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
+    const double sign = b ? -1.0 : 1.0;
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++) {
+                const ptrdiff_t p = row + k;
+                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
+                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
+                const double wzl = cz * az[p], wzh = cz * az[p + 1];
+                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
+                const double Lx = wxl * x[p - sx] + wxh * x[p + sx] + wyl * x[p - sy] +
+                                  wyh * x[p + sy] + wzl * x[p - 1] + wzh * x[p + 1] - D * x[p];
+                const double bb = b ? b[p] - shift : 0.0;
+                r[p] = D > 0.0 ? bb + sign * Lx : 0.0;
+            }
+        }
+}
+
+static void zero_interior(const struct level *lv, double *f)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            double *row = f + grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++)
+                row[k] = 0.0;
+        }
+}
+
+/* ---- grid transfers ------------------------------------------------------------ */
+
+/* c->b = R f->r with R = P^T / 2^(halved directions): coarse cell I gathers
+ * from the fine cells 2I-1 .. 2I+2 of each halved direction with the weight
+ * each of them gives I in the prolongation (1 - w for its parent, w for its
+ * neighbour); the division by 2 per direction makes a constant residual
+ * restrict to itself, the scaling of the rediscretised coarse operator.
+ * f->r's ghosts are in HALO_MIRROR mode and the weights' in HALO_EVEN: a fine
+ * ghost then carries the condition's sign and its mirror cell's weight, which
+ * is exactly the transpose of the prolongation reading a coarse ghost. */
+static void restrict_residual(const struct level *f, struct level *c)
+{
+    const struct grid *gf = &f->g, *gc = &c->g;
+    int off[3][4], par[3][4], cnt[3], m[3];
+    double scale = 1.0;
+    for (int d = 0; d < 3; d++) {
+        if (c->coarse[d]) {
+            static const int o[4] = {-1, 0, 1, 2}, pa[4] = {0, 1, 1, 0};
+            for (int t = 0; t < 4; t++)
+                off[d][t] = o[t], par[d][t] = pa[t];
+            cnt[d] = 4;
+            m[d] = 2;
+            scale *= 0.5;
+        } else {
+            off[d][0] = 0;
+            par[d][0] = 1;
+            cnt[d] = 1;
+            m[d] = 1;
+        }
+    }
+    const double *restrict r = f->r;
+    const double *wd[3] = {f->pw[0], f->pw[1], f->pw[2]};
+    double *restrict b = c->bbuf;
+    const unsigned char *live = c->live;
+    const int nx = gc->n[0], ny = gc->n[1], nz = gc->n[2];
+#pragma omp parallel for collapse(2) schedule(static) if (c->par)
+    for (int I = 0; I < nx; I++)
+        for (int J = 0; J < ny; J++)
+            for (int K = 0; K < nz; K++) {
+                double s = 0.0;
+                for (int p = 0; p < cnt[0]; p++) {
+                    const int fi = m[0] * I + off[0][p];
+                    for (int q = 0; q < cnt[1]; q++) {
+                        const int fj = m[1] * J + off[1][q];
+                        const ptrdiff_t base = grid_idx(gf, fi, fj, 0);
+                        for (int t = 0; t < cnt[2]; t++) {
+                            const ptrdiff_t pf = base + m[2] * K + off[2][t];
+                            double w = 1.0;
+                            if (wd[0])
+                                w *= par[0][p] ? 1.0 - wd[0][pf] : wd[0][pf];
+                            if (wd[1])
+                                w *= par[1][q] ? 1.0 - wd[1][pf] : wd[1][pf];
+                            if (wd[2])
+                                w *= par[2][t] ? 1.0 - wd[2][pf] : wd[2][pf];
+                            s += w * r[pf];
+                        }
+                    }
+                }
+                const ptrdiff_t pc = grid_idx(gc, I, J, K);
+                b[pc] = live[pc] ? scale * s : 0.0;
+            }
+}
+
+/* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode. */
+static void prolong_add(const struct level *f, const struct level *c)
+{
+    const struct grid *gf = &f->g, *gc = &c->g;
+    const int nx = gf->n[0], ny = gf->n[1], nz = gf->n[2];
+    const int *restrict ix = f->pi[0], *restrict iy = f->pi[1], *restrict iz = f->pi[2];
+    const double *wx = f->pw[0], *wy = f->pw[1], *wz = f->pw[2];
+    const double *restrict e = c->x;
+    double *restrict x = f->x;
+    const unsigned char *live = f->live;
+    const ptrdiff_t csx = gc->stride[0], csy = gc->stride[1];
+#pragma omp parallel for collapse(2) schedule(static) if (f->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(gf, i, j, 0);
+            /* the four coarse lines this fine line interpolates from */
+            const ptrdiff_t x0 = (ptrdiff_t)(ix[2 * i] + 1) * csx, x1 = (ptrdiff_t)(ix[2 * i + 1] + 1) * csx;
+            const ptrdiff_t y0 = (ptrdiff_t)(iy[2 * j] + 1) * csy, y1 = (ptrdiff_t)(iy[2 * j + 1] + 1) * csy;
+            const ptrdiff_t l00 = x0 + y0, l01 = x0 + y1, l10 = x1 + y0, l11 = x1 + y1;
+            for (int k = 0; k < nz; k++) {
+                const ptrdiff_t p = row + k;
+                if (!live[p])
+                    continue;
+                const ptrdiff_t k0 = iz[2 * k] + 1, k1 = iz[2 * k + 1] + 1;
+                const double ux = wx ? wx[p] : 0.0, uy = wy ? wy[p] : 0.0, uz = wz ? wz[p] : 0.0;
+                const double z0 = 1.0 - uz, z1 = uz;
+                const double v = (1.0 - ux) * ((1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
+                                               uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1])) +
+                                 ux * ((1.0 - uy) * (z0 * e[l10 + k0] + z1 * e[l10 + k1]) +
+                                       uy * (z0 * e[l11 + k0] + z1 * e[l11 + k1]));
+                x[p] += v;
+            }
+        }
+}
+
+/* Prolongation weights of fine level f for the directions c halves.  Linear:
+ * w = 1/4 (the fine centre is a quarter of a coarse cell from its parent's
+ * centre).  Constant: 0.  Flux (operator-dependent, after Alcouffe, Brandt,
+ * Dendy and Painter, SIAM J. Sci. Stat. Comput. 2 (1981) 430): the value a
+ * flux-continuous 1D profile along the cell's own grid line takes, i.e. w is
+ * the fraction of the series resistance between the two coarse centres that
+ * lies between the parent's centre and the fine centre.  The coarse centres
+ * sit on the fine faces inside the coarse cells; each half fine cell is
+ * charged to the coefficient of the fine face it touches:
+ *   own side  R_a = 1/2 / a(face between parent centre and cell)
+ *   far side  R_b = 1 / a(face the coarse face is) + 1/2 / a(neighbour's inner face)
+ * (uniform a: 1/4, the linear weight; a jump on the coarse face: the kink of
+ * the error is reproduced).  A blocked face makes its side infinitely
+ * resistant.  Next to a non-periodic boundary the neighbour is the mirror
+ * ghost and the linear weight is kept.  Computed at set-up; the periodic wrap
+ * reads the faces by index modulo n (a box decomposition would need the
+ * neighbour's faces at set-up). */
+static void transfer_weights(const struct multigrid *mg, struct level *f, const struct level *c)
+{
+    const struct grid *g = &f->g;
+    for (int d = 0; d < 3; d++) {
+        double *w = f->pw[d];
+        if (!w)
+            continue;
+        const int n = g->n[d], per = mg->periodic[d];
+        const ptrdiff_t sd = g->stride[d];
+        for (int i = 0; i < g->n[0]; i++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int k = 0; k < g->n[2]; k++) {
+                    const int cc[3] = {i, j, k};
+                    const int t = cc[d];
+                    const ptrdiff_t p = grid_idx(g, i, j, k);
+                    const ptrdiff_t p0 = p - (ptrdiff_t)t * sd; /* cell 0 of this line */
+                    double val;
+                    if (mg->opt.prolong == MG_PROLONG_CONSTANT) {
+                        val = 0.0;
+                    } else {
+                        int own, cross, far, outside;
+                        if (t & 1) {
+                            own = t, cross = t + 1, far = t + 2;
+                            outside = t + 1 >= n;
+                        } else {
+                            own = t + 1, cross = t, far = t - 1;
+                            outside = t == 0;
+                        }
+                        if (mg->opt.prolong == MG_PROLONG_LINEAR || (outside && !per)) {
+                            val = 0.25;
+                        } else {
+                            /* faces by index: periodic faces wrap modulo n */
+                            own = ((own % n) + n) % n;
+                            cross = ((cross % n) + n) % n;
+                            far = ((far % n) + n) % n;
+                            const double ao = f->a[d][p0 + (ptrdiff_t)own * sd];
+                            const double ac = f->a[d][p0 + (ptrdiff_t)cross * sd];
+                            const double af = f->a[d][p0 + (ptrdiff_t)far * sd];
+                            const int ra_inf = !(ao > 0.0), rb_inf = !(ac > 0.0) || !(af > 0.0);
+                            if (ra_inf)
+                                val = rb_inf ? 0.0 : 1.0;
+                            else if (rb_inf)
+                                val = 0.0;
+                            else {
+                                const double ra = 0.5 / ao, rb = 1.0 / ac + 0.5 / af;
+                                val = ra / (ra + rb);
+                            }
+                        }
+                    }
+                    w[p] = val;
+                }
+        (void)c;
+        halo_fill(mg, f, w, HALO_EVEN);
+    }
+}
+
+/* ---- coefficients -------------------------------------------------------------- */
+
+/* 1 / (1/4 a1^-1 + 1/2 a0^-1 + 1/4 a2^-1): the series resistance between two
+ * coarse centres, which sit on the fine faces either side of the coarse face;
+ * a blocked face on the path blocks it. */
+static double harmonic3(double a1, double a0, double a2)
+{
+    if (!(a1 > 0.0 && a0 > 0.0 && a2 > 0.0))
+        return 0.0;
+    return 1.0 / (0.25 / a1 + 0.5 / a0 + 0.25 / a2);
+}
+
+/* Coarse face coefficients of c from the fine level f: for each coarse face,
+ * the mean across the face of the fine lines' values, each line's value being
+ * harmonic3 of the three fine faces along the normal (harmonic mode, interior
+ * faces of a halved direction) or the coincident fine face (otherwise, and on
+ * boundary faces, whose folded-in conditions are linear in a). */
+static void coarsen_coefficients(const struct multigrid *mg, const struct level *f,
+                                 struct level *c)
+{
+    const struct grid *gf = &f->g, *gc = &c->g;
+    for (int d = 0; d < 3; d++) {
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+        const int nc = gc->n[d], per = mg->periodic[d], halved = c->coarse[d];
+        const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1;
+        const double inv = 1.0 / (n1 * n2);
+        const int faces = per ? nc : nc + 1;
+        const double *fa = f->a[d];
+        double *ca = c->a[d];
+        const ptrdiff_t sd = gf->stride[d];
+        const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && halved;
+        for (int I = 0; I < faces; I++)
+            for (int u = 0; u < gc->n[e1]; u++)
+                for (int v = 0; v < gc->n[e2]; v++) {
+                    const int boundary = !per && (I == 0 || I == nc);
+                    double s = 0.0;
+                    for (int p = 0; p < n1; p++)
+                        for (int q = 0; q < n2; q++) {
+                            int fc[3];
+                            fc[d] = halved ? 2 * I : I;
+                            fc[e1] = n1 * u + p;
+                            fc[e2] = n2 * v + q;
+                            const ptrdiff_t pf = grid_idx(gf, fc[0], fc[1], fc[2]);
+                            s += harmonic && !boundary ? harmonic3(fa[pf - sd], fa[pf], fa[pf + sd])
+                                                       : fa[pf];
+                        }
+                    int cc[3];
+                    cc[d] = I;
+                    cc[e1] = u;
+                    cc[e2] = v;
+                    ca[grid_idx(gc, cc[0], cc[1], cc[2])] = s * inv;
+                }
+    }
+}
+
+/* Per-level fix-ups once a[] is filled: a periodic direction of one cell
+ * couples a cell to itself (no flux: a = 0), face halos, the live mask. */
+static void finish_level_coefficients(const struct multigrid *mg, struct level *lv)
+{
+    const struct grid *g = &lv->g;
+    for (int d = 0; d < 3; d++) {
+        if (mg->periodic[d] && g->n[d] == 1)
+            for (size_t p = 0; p < g->size; p++)
+                lv->a[d][p] = 0.0;
+        halo_faces(mg, lv, lv->a[d], d);
+    }
+    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
+    for (size_t p = 0; p < g->size; p++)
+        lv->live[p] = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                const ptrdiff_t p = grid_idx(g, i, j, k);
+                const double D = lv->a[0][p] + lv->a[0][p + sx] + lv->a[1][p] + lv->a[1][p + sy] +
+                                 lv->a[2][p] + lv->a[2][p + 1];
+                lv->live[p] = D > 0.0;
+            }
+}
+
+/* ---- the coarsest level: CHOLMOD ----------------------------------------------- */
+
+static void quiet_handler(int status, const char *file, int line, const char *message)
+{
+    (void)status, (void)file, (void)line, (void)message; /* reported through return codes */
+}
+
+/* Neighbour slot of cell (c) across its face (d, side s = -1/+1) inside the
+ * level, wrapping periodic directions; -1 across a non-periodic boundary. */
+static ptrdiff_t neighbour_slot(const struct multigrid *mg, const struct grid *g, const int c[3],
+                                int d, int s)
+{
+    int q[3] = {c[0], c[1], c[2]};
+    q[d] += s;
+    if (q[d] < 0 || q[d] >= g->n[d]) {
+        if (!mg->periodic[d])
+            return -1;
+        q[d] = q[d] < 0 ? g->n[d] - 1 : 0;
+    }
+    return grid_idx(g, q[0], q[1], q[2]);
+}
+
+/* Coupling coefficient w of cell c's face (d, s). */
+static double face_weight(const struct level *lv, const int c[3], int d, int s)
+{
+    const struct grid *g = &lv->g;
+    ptrdiff_t p = grid_idx(g, c[0], c[1], c[2]);
+    return lv->ih2[d] * lv->a[d][s < 0 ? p : p + g->stride[d]];
+}
+
+/* Assembles -L of the coarsest level on its live cells and factorises it.
+ * Each connected component of live cells that no Dirichlet face holds is
+ * singular (constants): its first cell is pinned to 0 (identity row and
+ * column), which leaves the other rows a nonsingular M-matrix and, for a
+ * compatible right-hand side, the same solution up to that component's
+ * constant. */
+static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
+{
+    struct coarse_direct *cs = &mg->cs;
+    struct level *lv = &mg->lev[mg->nlev - 1];
+    const struct grid *g = &lv->g;
+    long n = 0;
+    for (size_t p = 0; p < g->size; p++)
+        cs->row[p] = -1;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                if (lv->live[p]) {
+                    cs->slot[n] = p;
+                    cs->row[p] = (int)n++;
+                }
+            }
+    cs->n = n;
+    if (n == 0)
+        return 0;
+    /* components by breadth-first search; pin the first cell of floating ones */
+    for (long r = 0; r < n; r++)
+        cs->pinned[r] = 2; /* unvisited */
+    for (long r0 = 0; r0 < n; r0++) {
+        if (cs->pinned[r0] != 2)
+            continue;
+        long head = 0, tail = 0;
+        int held = 0;
+        cs->queue[tail++] = (int)r0;
+        cs->pinned[r0] = 0;
+        while (head < tail) {
+            long r = cs->queue[head++];
+            ptrdiff_t p = cs->slot[r];
+            int c[3];
+            c[0] = (int)(p / g->stride[0]) - 1;
+            c[1] = (int)((p % g->stride[0]) / g->stride[1]) - 1;
+            c[2] = (int)(p % g->stride[1]) - 1;
+            for (int d = 0; d < 3; d++)
+                for (int s = -1; s <= 1; s += 2) {
+                    double w = face_weight(lv, c, d, s);
+                    if (!(w > 0.0))
+                        continue;
+                    ptrdiff_t q = neighbour_slot(mg, g, c, d, s);
+                    if (q < 0) {
+                        held = 1; /* a non-periodic boundary face with a > 0: Dirichlet */
+                        continue;
+                    }
+                    int rq = cs->row[q];
+                    if (rq >= 0 && cs->pinned[rq] == 2) {
+                        cs->pinned[rq] = 0;
+                        cs->queue[tail++] = rq;
+                    }
+                }
+        }
+        if (!held)
+            cs->pinned[r0] = 1;
+    }
+    /* upper triangle of -L (stype 1); duplicates (two periodic faces between the
+     * same pair of cells) are summed by the conversion */
+    size_t nzmax = (size_t)n * 4;
+    cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, nzmax, 1, CHOLMOD_REAL,
+                                                  &cs->cm);
+    if (!T) {
+        set_err(err, errlen, "multigrid: out of memory (coarsest level)");
+        return -1;
+    }
+    int *Ti = T->i, *Tj = T->j;
+    double *Tx = T->x;
+    size_t nz = 0;
+    for (long r = 0; r < n; r++) {
+        ptrdiff_t p = cs->slot[r];
+        int c[3];
+        c[0] = (int)(p / g->stride[0]) - 1;
+        c[1] = (int)((p % g->stride[0]) / g->stride[1]) - 1;
+        c[2] = (int)(p % g->stride[1]) - 1;
+        double D = 0.0;
+        for (int d = 0; d < 3; d++)
+            for (int s = -1; s <= 1; s += 2) {
+                double w = face_weight(lv, c, d, s);
+                D += w;
+                if (s < 0 || !(w > 0.0))
+                    continue;
+                ptrdiff_t q = neighbour_slot(mg, g, c, d, s);
+                if (q < 0)
+                    continue;
+                int rq = cs->row[q];
+                if (rq < 0 || cs->pinned[r] || cs->pinned[rq])
+                    continue;
+                Ti[nz] = (int)(r < rq ? r : rq);
+                Tj[nz] = (int)(r < rq ? rq : r);
+                Tx[nz] = -w;
+                nz++;
+            }
+        Ti[nz] = Tj[nz] = (int)r;
+        Tx[nz] = cs->pinned[r] ? 1.0 : D;
+        nz++;
+    }
+    T->nnz = nz;
+    cholmod_sparse *A = cholmod_triplet_to_sparse(T, nz, &cs->cm);
+    cholmod_free_triplet(&T, &cs->cm);
+    if (!A) {
+        set_err(err, errlen, "multigrid: out of memory (coarsest level)");
+        return -1;
+    }
+    cholmod_free_factor(&cs->L, &cs->cm);
+    cs->L = cholmod_analyze(A, &cs->cm);
+    int ok = cs->L && cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
+    cholmod_free_sparse(&A, &cs->cm);
+    if (!ok) {
+        set_err(err, errlen, "multigrid: the coarsest factorisation failed (status %d)",
+                cs->cm.status);
+        return -1;
+    }
+    cholmod_free_dense(&cs->B, &cs->cm);
+    cs->B = cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cs->cm);
+    if (!cs->B) {
+        set_err(err, errlen, "multigrid: out of memory (coarsest level)");
+        return -1;
+    }
+    /* one solve here lets cholmod_solve2 allocate its workspace (X, Y, E) now */
+    cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
+    if (!cs->X) {
+        set_err(err, errlen, "multigrid: out of memory (coarsest level)");
+        return -1;
+    }
+    return 0;
+}
+
+/* x = L^-1 b on the coarsest level: gather, solve, scatter (a distributed
+ * version gathers the coarsest box to one rank here; nowhere else). */
+static void coarse_solve(struct multigrid *mg)
+{
+    struct coarse_direct *cs = &mg->cs;
+    struct level *lv = &mg->lev[mg->nlev - 1];
+    zero_interior(lv, lv->x);
+    if (cs->n == 0)
+        return;
+    double *B = cs->B->x;
+    for (long r = 0; r < cs->n; r++)
+        B[r] = cs->pinned[r] ? 0.0 : -lv->b[cs->slot[r]];
+    cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
+    const double *X = cs->X->x;
+    for (long r = 0; r < cs->n; r++)
+        lv->x[cs->slot[r]] = X[r];
+}
+
+/* ---- hierarchy ----------------------------------------------------------------- */
+
+/* Which directions of g to halve: the even ones (never a direction of one
+ * cell) whose spacing is within 1.5 of the finest spacing, so that the point
+ * smoother never faces an anisotropy beyond 2.25 (1.5^2) that coarsening made;
+ * when none qualifies and the level is still large, any even direction (the
+ * coarsest solve must stay small).  Returns how many were chosen. */
+static int choose_halving(const struct grid *g, long coarse_cells, int halve[3])
+{
+    long cells = (long)grid_cells(g);
+    halve[0] = halve[1] = halve[2] = 0;
+    if (cells <= coarse_cells)
+        return 0;
+    double hmin = INFINITY;
+    for (int d = 0; d < 3; d++)
+        if (g->n[d] > 1 && g->h[d] < hmin)
+            hmin = g->h[d];
+    int count = 0;
+    for (int d = 0; d < 3; d++) {
+        halve[d] = g->n[d] >= 2 && g->n[d] % 2 == 0 && g->h[d] <= 1.5 * hmin * (1.0 + 1e-12);
+        count += halve[d];
+    }
+    if (count == 0 && cells > ANISO_CELLS)
+        for (int d = 0; d < 3; d++) {
+            halve[d] = g->n[d] >= 2 && g->n[d] % 2 == 0;
+            count += halve[d];
+        }
+    return count;
+}
+
+static void level_free(struct level *lv, int owns_xb)
+{
+    for (int d = 0; d < 3; d++) {
+        field_free(lv->a[d]);
+        free(lv->pi[d]);
+        field_free(lv->pw[d]);
+    }
+    free(lv->live);
+    field_free(lv->r);
+    field_free(lv->bbuf);
+    if (owns_xb)
+        field_free(lv->x);
+}
+
+void multigrid_destroy(struct multigrid *mg)
+{
+    if (!mg)
+        return;
+    for (int l = 0; l < mg->nlev; l++)
+        level_free(&mg->lev[l], l > 0);
+    struct coarse_direct *cs = &mg->cs;
+    if (cs->started) {
+        cholmod_free_factor(&cs->L, &cs->cm);
+        cholmod_free_dense(&cs->B, &cs->cm);
+        cholmod_free_dense(&cs->X, &cs->cm);
+        cholmod_free_dense(&cs->Y, &cs->cm);
+        cholmod_free_dense(&cs->E, &cs->cm);
+        cholmod_finish(&cs->cm);
+    }
+    free(cs->slot);
+    free(cs->row);
+    free(cs->pinned);
+    free(cs->queue);
+    field_free(mg->wr);
+    field_free(mg->wz);
+    field_free(mg->wp);
+    field_free(mg->wq);
+    free(mg);
+}
+
+/* Prolongation tables of fine level f from coarse level c (see struct level). */
+static int build_prolongation(struct level *f, const struct level *c)
+{
+    for (int d = 0; d < 3; d++) {
+        const int n = f->g.n[d];
+        f->pi[d] = malloc(2 * (size_t)n * sizeof(int));
+        if (!f->pi[d])
+            return -1;
+        for (int i = 0; i < n; i++) {
+            int *ci = f->pi[d] + 2 * i;
+            if (!c->coarse[d]) {
+                ci[0] = ci[1] = i;
+            } else {
+                ci[0] = i / 2;
+                ci[1] = (i & 1) ? i / 2 + 1 : i / 2 - 1;
+            }
+        }
+        if (c->coarse[d] && !(f->pw[d] = field_alloc(&f->g)))
+            return -1;
+    }
+    return 0;
+}
+
+int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
+                     const struct multigrid_options *opt, char *err, size_t errlen)
+{
+    if (out)
+        *out = NULL;
+    if (!out || !g || !bc) {
+        set_err(err, errlen, "multigrid: missing argument");
+        return -1;
+    }
+    for (int d = 0; d < 3; d++) {
+        if (g->n[d] < 1 || !(g->h[d] > 0.0) || !isfinite(g->h[d])) {
+            set_err(err, errlen, "multigrid: invalid grid in direction %c", "xyz"[d]);
+            return -1;
+        }
+        for (int s = 0; s < 2; s++)
+            if ((int)bc[d][s] < (int)POISSON_PERIODIC || (int)bc[d][s] > (int)POISSON_DIRICHLET) {
+                set_err(err, errlen, "multigrid: invalid condition %d in direction %c",
+                        (int)bc[d][s], "xyz"[d]);
+                return -1;
+            }
+        if ((bc[d][0] == POISSON_PERIODIC) != (bc[d][1] == POISSON_PERIODIC)) {
+            set_err(err, errlen, "multigrid: periodic must be on both faces of direction %c",
+                    "xyz"[d]);
+            return -1;
+        }
+    }
+    if ((size_t)grid_cells(g) >= (size_t)INT32_MAX) {
+        set_err(err, errlen, "multigrid: grid too large");
+        return -1;
+    }
+    struct multigrid *mg = calloc(1, sizeof(*mg));
+    if (!mg) {
+        set_err(err, errlen, "multigrid: out of memory");
+        return -1;
+    }
+    if (opt)
+        mg->opt = *opt;
+    else
+        multigrid_default_options(&mg->opt);
+    if (mg->opt.pre < 0 || mg->opt.post < 0 || mg->opt.pre + mg->opt.post < 1) {
+        free(mg);
+        set_err(err, errlen, "multigrid: need at least one smoothing sweep");
+        return -1;
+    }
+    for (int d = 0; d < 3; d++) {
+        mg->bc[d][0] = bc[d][0];
+        mg->bc[d][1] = bc[d][1];
+        mg->periodic[d] = bc[d][0] == POISSON_PERIODIC;
+    }
+
+    /* the levels */
+    mg->lev[0].g = *g;
+    mg->nlev = 1;
+    while (mg->nlev < MAX_LEVELS) {
+        const struct grid *gf = &mg->lev[mg->nlev - 1].g;
+        int halve[3];
+        if (choose_halving(gf, mg->opt.coarse_cells, halve) == 0)
+            break;
+        int n[3];
+        for (int d = 0; d < 3; d++)
+            n[d] = halve[d] ? gf->n[d] / 2 : gf->n[d];
+        struct level *lc = &mg->lev[mg->nlev];
+        if (grid_init(&lc->g, n, gf->len) != 0)
+            break;
+        for (int d = 0; d < 3; d++)
+            lc->coarse[d] = halve[d];
+        mg->nlev++;
+    }
+    int ok = 1;
+    for (int l = 0; l < mg->nlev && ok; l++) {
+        struct level *lv = &mg->lev[l];
+        lv->par = grid_cells(&lv->g) >= PAR_CELLS;
+        for (int d = 0; d < 3; d++) {
+            lv->ih2[d] = 1.0 / (lv->g.h[d] * lv->g.h[d]);
+            ok &= (lv->a[d] = field_alloc(&lv->g)) != NULL;
+        }
+        ok &= (lv->live = calloc(lv->g.size, 1)) != NULL;
+        ok &= (lv->r = field_alloc(&lv->g)) != NULL;
+        if (l > 0) {
+            ok &= (lv->x = field_alloc(&lv->g)) != NULL;
+            ok &= (lv->bbuf = field_alloc(&lv->g)) != NULL;
+            lv->b = lv->bbuf;
+            if (ok)
+                ok &= build_prolongation(&mg->lev[l - 1], lv) == 0;
+        }
+    }
+    ok = ok && (mg->wr = field_alloc(g)) && (mg->wz = field_alloc(g)) && (mg->wp = field_alloc(g)) &&
+         (mg->wq = field_alloc(g));
+    struct coarse_direct *cs = &mg->cs;
+    const size_t csize = mg->lev[mg->nlev - 1].g.size;
+    if (ok) {
+        cs->slot = malloc(csize * sizeof(ptrdiff_t));
+        cs->row = malloc(csize * sizeof(int));
+        cs->pinned = malloc(csize);
+        cs->queue = malloc(csize * sizeof(int));
+        ok = cs->slot && cs->row && cs->pinned && cs->queue;
+    }
+    if (ok) {
+        cholmod_start(&cs->cm);
+        cs->started = 1;
+        cs->cm.error_handler = quiet_handler;
+        cs->cm.print = 0;
+    }
+    if (!ok) {
+        multigrid_destroy(mg);
+        set_err(err, errlen, "multigrid: out of memory");
+        return -1;
+    }
+    *out = mg;
+    return 0;
+}
+
+int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
+                               size_t errlen)
+{
+    struct level *l0 = &mg->lev[0];
+    const struct grid *g = &l0->g;
+    mg->ready = 0;
+    for (int d = 0; d < 3; d++) {
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
+        const int per = mg->periodic[d];
+        const int faces = per ? n : n + 1;
+        for (int I = 0; I < faces; I++)
+            for (int u = 0; u < g->n[e1]; u++)
+                for (int v = 0; v < g->n[e2]; v++) {
+                    int c[3];
+                    c[d] = I;
+                    c[e1] = u;
+                    c[e2] = v;
+                    const ptrdiff_t p = grid_idx(g, c[0], c[1], c[2]);
+                    double val = a[d][p];
+                    int side = I == 0 ? 0 : 1;
+                    int boundary = !per && (I == 0 || I == n);
+                    if (boundary && mg->bc[d][side] == POISSON_NEUMANN) {
+                        val = 0.0; /* not read */
+                    } else if (!(val >= 0.0) || !isfinite(val)) {
+                        set_err(err, errlen,
+                                "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
+                                val, c[0], c[1], c[2], "xyz"[d]);
+                        return -1;
+                    } else if (boundary) {
+                        val *= 2.0; /* Dirichlet: half a cell from the centre to the face */
+                    }
+                    l0->a[d][p] = val;
+                }
+    }
+    finish_level_coefficients(mg, l0);
+    for (int l = 1; l < mg->nlev; l++) {
+        coarsen_coefficients(mg, &mg->lev[l - 1], &mg->lev[l]);
+        finish_level_coefficients(mg, &mg->lev[l]);
+        transfer_weights(mg, &mg->lev[l - 1], &mg->lev[l]);
+    }
+    long live = 0;
+    for (size_t p = 0; p < g->size; p++)
+        live += l0->live[p];
+    mg->live = live;
+    if (coarse_factor(mg, err, errlen) != 0)
+        return -1;
+    mg->ready = 1;
+    return 0;
+}
+
+/* ---- cycles and solvers -------------------------------------------------------- */
+
+static void smooth(struct multigrid *mg, struct level *lv, int first_colour, int sweeps)
+{
+    for (int s = 0; s < sweeps; s++)
+        for (int c = 0; c < 2; c++) {
+            halo_fill(mg, lv, lv->x, HALO_OPERATOR);
+            smooth_colour(lv, first_colour ^ c);
+        }
+}
+
+/* V-cycle on level l from x = 0: pre-smoothing red then black, post-smoothing
+ * black then red (the adjoint order), restriction the scaled transpose of the
+ * prolongation, an exact coarsest solve: a symmetric linear map. */
+static void vcycle_from(struct multigrid *mg, int l)
+{
+    struct level *lv = &mg->lev[l];
+    if (l == mg->nlev - 1) {
+        coarse_solve(mg);
+        return;
+    }
+    struct level *lc = &mg->lev[l + 1];
+    zero_interior(lv, lv->x);
+    smooth(mg, lv, 0, mg->opt.pre);
+    halo_fill(mg, lv, lv->x, HALO_OPERATOR);
+    residual(lv, lv->x, lv->b, 0.0, lv->r);
+    halo_fill(mg, lv, lv->r, HALO_MIRROR);
+    restrict_residual(lv, lc);
+    vcycle_from(mg, l + 1);
+    halo_fill(mg, lc, lc->x, HALO_MIRROR);
+    prolong_add(lv, lc);
+    smooth(mg, lv, 1, mg->opt.post);
+}
+
+void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
+{
+    mg->lev[0].b = r;
+    mg->lev[0].x = z;
+    vcycle_from(mg, 0);
+    mg->lev[0].b = NULL;
+    mg->lev[0].x = NULL;
+}
+
+void multigrid_apply(struct multigrid *mg, double *x, double *y)
+{
+    halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
+    residual(&mg->lev[0], x, NULL, 0.0, y);
+}
+
+static int singular(const struct multigrid *mg)
+{
+    for (int d = 0; d < 3; d++)
+        if (mg->bc[d][0] == POISSON_DIRICHLET || mg->bc[d][1] == POISSON_DIRICHLET)
+            return 0;
+    return 1;
+}
+
+/* Mean of rhs over the live cells for a singular problem (else 0). */
+static double rhs_shift(struct multigrid *mg, const double *rhs)
+{
+    if (!singular(mg) || mg->live == 0)
+        return 0.0;
+    return live_sum(mg, &mg->lev[0], rhs) / (double)mg->live;
+}
+
+/* phi: dead cells 0, zero mean over the live cells when singular, ghosts
+ * holding the conditions' values. */
+static void finish_phi(struct multigrid *mg, double *phi)
+{
+    struct level *l0 = &mg->lev[0];
+    const double m = singular(mg) && mg->live ? live_sum(mg, l0, phi) / (double)mg->live : 0.0;
+    const struct grid *g = &l0->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+    const unsigned char *live = l0->live;
+#pragma omp parallel for collapse(2) schedule(static) if (l0->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++)
+                phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
+        }
+    halo_fill(mg, l0, phi, HALO_MIRROR);
+}
+
+static void stats_init(struct multigrid_stats *st, double res0)
+{
+    memset(st, 0, sizeof(*st));
+    st->res0 = res0;
+    st->rel = 1.0;
+    st->rate = 0.0;
+}
+
+static void stats_step(struct multigrid_stats *st, double rel)
+{
+    if (st->cycles < MULTIGRID_HISTORY)
+        st->history[st->cycles] = rel;
+    st->cycles++;
+    st->rel = rel;
+}
+
+static int stats_end(struct multigrid_stats *st, double rtol, struct multigrid_stats *out)
+{
+    st->converged = st->rel <= rtol;
+    st->rate = st->cycles > 0 && st->rel > 0.0 ? pow(st->rel, 1.0 / st->cycles) : 0.0;
+    if (out)
+        *out = *st;
+    return st->converged ? 0 : 1;
+}
+
+/* x += z on the interior */
+static void add_to(const struct level *lv, double *x, const double *z)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++)
+                x[row + k] += z[row + k];
+        }
+}
+
+int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
+                    int max_cycles, struct multigrid_stats *stats)
+{
+    struct level *l0 = &mg->lev[0];
+    struct multigrid_stats st;
+    const double shift = rhs_shift(mg, rhs);
+    const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
+    stats_init(&st, res0);
+    if (!(res0 > 0.0)) {
+        zero_interior(l0, phi);
+        st.rel = 0.0;
+        finish_phi(mg, phi);
+        return stats_end(&st, rtol, stats);
+    }
+    halo_fill(mg, l0, phi, HALO_OPERATOR);
+    residual(l0, phi, rhs, shift, mg->wr);
+    st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
+    while (st.rel > rtol && st.cycles < max_cycles) {
+        multigrid_vcycle(mg, mg->wr, mg->wz);
+        add_to(l0, phi, mg->wz);
+        halo_fill(mg, l0, phi, HALO_OPERATOR);
+        residual(l0, phi, rhs, shift, mg->wr);
+        stats_step(&st, sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0);
+    }
+    finish_phi(mg, phi);
+    return stats_end(&st, rtol, stats);
+}
+
+/* x += alpha p, r -= alpha q; returns r.r */
+static double cg_update(struct multigrid *mg, const struct level *lv, double alpha, double *x,
+                        const double *p, double *r, const double *q)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
+    double *part = mg->partial;
+    for (int t = 0; t < nt; t++)
+        part[t * PAD] = 0.0;
+#pragma omp parallel num_threads(nt) if (nt > 1)
+    {
+        double s = 0.0;
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++) {
+                    x[row + k] += alpha * p[row + k];
+                    double rv = r[row + k] - alpha * q[row + k];
+                    r[row + k] = rv;
+                    s += rv * rv;
+                }
+            }
+        part[thread_id() * PAD] = s;
+    }
+    return sum_partials(part, nt);
+}
+
+/* p = z + beta p */
+static void cg_direction(const struct level *lv, double beta, double *p, const double *z)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++)
+                p[row + k] = z[row + k] + beta * p[row + k];
+        }
+}
+
+int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
+                  struct multigrid_stats *stats)
+{
+    struct level *l0 = &mg->lev[0];
+    struct multigrid_stats st;
+    const double shift = rhs_shift(mg, rhs);
+    const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
+    stats_init(&st, res0);
+    if (!(res0 > 0.0)) {
+        zero_interior(l0, phi);
+        st.rel = 0.0;
+        finish_phi(mg, phi);
+        return stats_end(&st, rtol, stats);
+    }
+    double *r = mg->wr, *z = mg->wz, *p = mg->wp, *q = mg->wq;
+    halo_fill(mg, l0, phi, HALO_OPERATOR);
+    residual(l0, phi, rhs, shift, r);
+    st.rel = sqrt(dot(mg, l0, r, r)) / res0;
+    if (st.rel > rtol) {
+        multigrid_vcycle(mg, r, z);
+        cg_direction(l0, 0.0, p, z);
+        double rz = dot(mg, l0, r, z);
+        /* L and the V-cycle are both negative definite on the live cells: CG's
+         * iterates are those of the positive problem (-L, -V) */
+        while (st.cycles < max_iter && rz != 0.0) {
+            multigrid_apply(mg, p, q);
+            const double pq = dot(mg, l0, p, q);
+            if (pq == 0.0)
+                break;
+            const double alpha = rz / pq;
+            const double rr = cg_update(mg, l0, alpha, phi, p, r, q);
+            stats_step(&st, sqrt(rr) / res0);
+            if (st.rel <= rtol)
+                break;
+            multigrid_vcycle(mg, r, z);
+            const double rz_new = dot(mg, l0, r, z);
+            cg_direction(l0, rz_new / rz, p, z);
+            rz = rz_new;
+        }
+    }
+    finish_phi(mg, phi);
+    return stats_end(&st, rtol, stats);
+}
+
+/* ---- information --------------------------------------------------------------- */
+
+int multigrid_levels(const struct multigrid *mg)
+{
+    return mg->nlev;
+}
+
+void multigrid_level_size(const struct multigrid *mg, int l, int n[3])
+{
+    for (int d = 0; d < 3; d++)
+        n[d] = mg->lev[l].g.n[d];
+}
+
+size_t multigrid_bytes(const struct multigrid *mg)
+{
+    size_t b = 0;
+    for (int l = 0; l < mg->nlev; l++) {
+        const struct level *lv = &mg->lev[l];
+        size_t f = lv->g.size * sizeof(double);
+        b += 4 * f + lv->g.size; /* a[3], r, live */
+        if (l > 0)
+            b += 2 * f; /* x, b */
+        for (int d = 0; d < 3; d++)
+            b += 2 * (size_t)lv->g.n[d] * sizeof(int) + (lv->pw[d] ? f : 0);
+    }
+    b += 4 * mg->lev[0].g.size * sizeof(double); /* solver work arrays */
+    const size_t cs = mg->lev[mg->nlev - 1].g.size;
+    b += cs * (sizeof(ptrdiff_t) + 2 * sizeof(int) + 1);
+    if (mg->cs.started)
+        b += mg->cs.cm.memory_inuse;
+    return b;
+}
