@@ -94,13 +94,15 @@ FUZZ_PKGS    = clang libclang-rt-14-dev
 FUZZ_CC      = clang
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD   = build/fuzz
-FUZZ_SRC     = tests/fuzz/fuzz_case.c src/config/case.c
-FUZZ_FLAGS   = -std=c11 -Wall -Wextra -g -O1 -Iinclude \
+# case_load needs the scene registry (each scene's own keys), so the target
+# links the whole library, compiled with the fuzzer's instrumentation
+FUZZ_SRC     = tests/fuzz/fuzz_case.c $(LIB_SRC)
+FUZZ_FLAGS   = -std=c11 -Wall -Wextra -g -O1 -fopenmp -Iinclude -I/usr/include/suitesparse \
                -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 $(FUZZ_BUILD)/fuzz_case: $(FUZZ_SRC) $(HEADERS)
 	@mkdir -p $(FUZZ_BUILD)
-	$(FUZZ_CC) $(FUZZ_FLAGS) $(shell pkg-config --cflags inih 2>/dev/null) $(FUZZ_SRC) -o $@ \
-	  $(shell pkg-config --libs inih 2>/dev/null) -lm
+	$(FUZZ_CC) $(FUZZ_FLAGS) $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) $(FUZZ_SRC) -o $@ \
+	  $(LDLIBS)
 fuzz:
 	@$(MAKE) --no-print-directory deps DEB_PKGS="$(DEB_PKGS) $(FUZZ_PKGS)"
 	@$(MAKE) --no-print-directory $(FUZZ_BUILD)/fuzz_case

@@ -10,7 +10,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "scenes/analytic.h"
+#include "scenes/bingham_cavity.h"
+#include "scenes/scene.h"
 #include "march/march.h"
 #include "diagnostics/profile.h"
 
@@ -85,7 +86,7 @@ int main(int argc, char **argv)
         struct scene_errors e;
         if (profile_extract(&pr, &st) != 0)
             return 1;
-        profile_errors(&pr, &cs, &e);
+        profile_errors(&pr, &st, &e);
         char path[1024];
         snprintf(path, sizeof path, "%s/cavity_midline_bn%g.csv", dir, bn);
         FILE *f = fopen(path, "w");

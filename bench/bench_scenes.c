@@ -15,7 +15,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "scenes/analytic.h"
+#include "scenes/scene.h"
 #include "bench.h"
 #include "march/march.h"
 #include "io/output.h"
@@ -78,7 +78,7 @@ static void run_limited(const struct muflow_case *cs, struct run_result *res)
     run_result_from(&st, res);
     struct profile pr;
     if (profile_extract(&pr, &st) == 0) {
-        profile_errors(&pr, cs, &res->errors);
+        profile_errors(&pr, &st, &res->errors);
         profile_free(&pr);
     }
     march_destroy(&st);
@@ -294,7 +294,7 @@ static void bagnold_profiles(const char *dir)
     fprintf(f, "z,u_exact\n");
     for (int i = 0; i <= 280; i++) {
         double z = cs.len[2] * i / 280.0;
-        fprintf(f, "%.8e,%.8e\n", z, analytic_velocity(&cs, z));
+        fprintf(f, "%.8e,%.8e\n", z, profile_exact_at(&cs, z));
     }
     fclose(f);
 }

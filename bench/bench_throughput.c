@@ -24,7 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
-#include "scenes/analytic.h"
+#include "diagnostics/profile.h"
+#include "scenes/scene.h"
 #include "bench.h"
 #include "grid/boundary.h"
 #include "kernels/kernels.h"
@@ -78,8 +79,8 @@ struct bench3d {
 static double bagnold_u(const struct muflow_case *cs, double z)
 {
     struct muflow_case b = *cs;
-    b.scene = SCENE_BAGNOLD;
-    return analytic_velocity(&b, z);
+    b.scene = scene_find("bagnold");
+    return profile_exact_at(&b, z);
 }
 
 /* The Bagnold profile plus two discretely divergence-free perturbations:
@@ -257,7 +258,7 @@ static void s_advection(struct bench3d *b)
     kernel_advection(G(b), ST(b)->act, ST(b)->vel, ST(b)->adv);
 }
 
-static void s_poisson(struct bench3d *b) { poisson_fft_solve(ST(b)->poisson, ST(b)->div, ST(b)->phi); }
+static void s_poisson(struct bench3d *b) { pressure_solve(ST(b)->pressure_solver, ST(b)->div, ST(b)->phi); }
 
 static void s_divergence(struct bench3d *b) { kernel_divergence(G(b), ST(b)->vel, ST(b)->div); }
 

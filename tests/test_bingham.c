@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "scenes/analytic.h"
+#include "scenes/scene.h"
 #include "diagnostics/reference.h"
 #include "app/run.h"
 #include "test_main.h"

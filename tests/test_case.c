@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "scenes/scene.h"
 #include "test_main.h"
 #include "config/case.h"
 
@@ -168,7 +169,7 @@ static void test_defaults(void **state)
     char err[256] = "x";
     case_defaults(&d);
     assert_string_equal(d.name, "case");
-    assert_int_equal(d.scene, SCENE_NONE);
+    assert_int_equal(d.scene, scene_find("none"));
     for (int i = 0; i < 3; i++) {
         assert_true(d.len[i] == 1.0);
         assert_int_equal(d.n[i], 1);
@@ -225,7 +226,7 @@ static void test_full_file(void **state)
     const char *path = put(t, "full.ini", full_ini);
     assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 0);
     assert_string_equal(c.name, "full");
-    assert_int_equal(c.scene, SCENE_CHUTE);
+    assert_int_equal(c.scene, scene_find("chute"));
     assert_true(c.len[0] == 2.5 && c.len[1] == 0.5 && c.len[2] == 10);
     assert_int_equal(c.n[0], 8);
     assert_int_equal(c.n[1], 1);
@@ -336,7 +337,7 @@ static void test_overrides(void **state)
     assert_true(c.rheo.phi == 0.8);
     assert_true(c.rheo.grain_density == 1 / 0.8); /* follows phi: not given explicitly */
     assert_string_equal(c.output_dir, "elsewhere");
-    assert_int_equal(c.scene, SCENE_BAGNOLD);
+    assert_int_equal(c.scene, scene_find("bagnold"));
 
     /* explicit grain_density is kept when phi changes */
     char *ovs2[] = {"rheology.grain_density=2650", "rheology.phi=0.55"};
@@ -610,7 +611,7 @@ static void test_round_trip(void **state)
             c.rheo.law = (enum rheology_law)law;
             c.rheo.reg = (enum regularisation)reg;
             c.rheo.yield_stress = 0.5;
-            c.scene = (enum scene)(law % 3);
+            case_set_scene(&c, law % 3);
             c.mode = (enum solver_mode)(reg % 2);
             c.line_direction = reg - 1;
             c.rheo.grain_density = 1.0 / 3.0;

@@ -29,6 +29,13 @@
 #include "app/run.h"
 #include "test_main.h"
 
+/* The cell datasets of a field file of a single-phase run, as README and
+ * fields_h5.h document them: five scalars and the cell-centred velocity. */
+#define FIELDS_CELL_SCALARS 5
+static const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS] = {
+    "pressure", "pressure_regularised", "shear_rate", "inertial_number", "viscosity"};
+#define FIELDS_CELL_VECTOR "velocity"
+
 #define CASES_DIR "../cases/"
 
 /* ---------------------------------------------------------------------- */

@@ -33,6 +33,7 @@ static const struct {
     {"poisson", group_poisson},
     {"multigrid", group_multigrid},
     {"case", group_case},
+    {"architecture", group_architecture},
     {"viscous", group_viscous},
     {"scenes", group_scenes},
     {"bingham", group_bingham},

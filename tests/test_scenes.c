@@ -7,7 +7,7 @@
 #include <string.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include "scenes/analytic.h"
+#include "scenes/scene.h"
 #include "march/march.h"
 #include "app/run.h"
 #include "test_main.h"

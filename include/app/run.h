@@ -30,6 +30,9 @@ struct run_options {
     const char *restart_from;
     run_hook hook;
     void *hook_ctx;
+    /* physics modules beside the scene's (NULL-terminated), or NULL: a
+     * program that embeds muflow adds its own (march/module.h) */
+    const struct module *const *modules;
 };
 
 /* Returns RUN_OK when the run took place (whatever its status), else an

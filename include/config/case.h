@@ -9,14 +9,14 @@
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 
-enum scene { SCENE_NONE = 0, SCENE_BAGNOLD, SCENE_CHUTE, SCENE_BINGHAM_CHANNEL,
-             SCENE_BINGHAM_CAVITY, SCENE_HEAP };
+struct scene;
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 
 struct muflow_case {
     char name[128];          /* case name: the file's base name without .ini */
-    enum scene scene;        /* case.scene: analytic solution and headline value */
+    int scene;               /* case.scene: index in the scene registry (scenes/scene.h);
+                                case_scene() gives the scene itself */
     char reference[512];     /* case.reference: published data to compare with (a path
                                 relative to the case file's folder; stored absolute) */
 
@@ -56,16 +56,13 @@ struct muflow_case {
                                 r = kappa * eta per cell; 0 switches it off */
     double progress_interval; /* wall seconds between progress lines (0: every step) */
 
-    /* [heap]: the heap scene (heap.h, tilt_search.h) */
-    struct heap_keys {
-        double flow_rate;    /* target Q* = Q / (d sqrt(g d)) per unit width; 0: no
-                                search, solve at physics.tilt */
-        double tilt_min, tilt_max; /* bracket of the tilt search (rad) */
-        double flow_rate_tolerance; /* relative, on Q* */
-        int max_solves;      /* steady solves the search may take */
-        double depth_fraction; /* flowing depth: where u falls to this fraction of
-                                  the column's surface velocity */
-    } heap;
+    /* The scene's own section ([heap], ...): its parameter block, declared
+     * and parsed by the scene (its key_block), stored here so that a case
+     * stays a plain value.  case_scene_params() gives it. */
+    union {
+        max_align_t align;
+        unsigned char bytes[512];
+    } scene_params;
 
     /* [output] */
     char output_dir[512];
@@ -76,14 +73,22 @@ struct muflow_case {
     long checkpoint_every;   /* steps between checkpoints (0: only when stopped) */
 };
 
+/* The case's scene, and its parameter block (the scene's key_block struct). */
+const struct scene *case_scene(const struct muflow_case *c);
+const void *case_scene_params(const struct muflow_case *c);
+void *case_scene_params_mut(struct muflow_case *c);
+
 /* Loads path (an INI file) then applies overrides "section.key=value" in order.
  * On failure returns 2 and writes one line naming the file / key, the value and
  * what is allowed into err; nothing is written to disk.  Returns 0 on success. */
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen);
 
-/* Defaults for every key (what a case file may leave out). */
+/* Defaults for every key (what a case file may leave out), scene "none". */
 void case_defaults(struct muflow_case *c);
+
+/* Sets the scene (a registry index) and its keys' defaults. */
+void case_set_scene(struct muflow_case *c, int scene);
 
 /* Writes every key with its value in the case file's own format (used in the
  * summary so that a run documents the parameters it used). */

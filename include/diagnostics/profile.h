@@ -1,7 +1,9 @@
 /* Diagnostics of the profile scenes: the layer-averaged profile along the
- * scene's axis, its error against the analytic solution and the headline value. */
-#ifndef MUFLOW_PROFILE_H
-#define MUFLOW_PROFILE_H
+ * scene's axis (scenes/scene.h: profile_axis, profile_component, an optional
+ * slab such as the cavity's mid-line), its error against the scene's exact
+ * or reference profile, and the headline value. */
+#ifndef MUFLOW_DIAGNOSTICS_PROFILE_H
+#define MUFLOW_DIAGNOSTICS_PROFILE_H
 
 #include "march/march.h"
 
@@ -15,7 +17,6 @@ struct profile {
     double *inertial;      /* I, from |D| and the regularised pressure */
     double *viscosity;
     double *exact;         /* analytic or reference velocity (NaN where undefined) */
-    double psi_max;        /* largest |stream function| in the x-z plane (cavity) */
 };
 
 struct scene_errors {
@@ -28,12 +29,25 @@ struct scene_errors {
     double headline, headline_exact;
 };
 
-/* The profile along the scene's axis: layer means, or for the cavity the
- * vertical mid-line x = lx/2.  Returns 0, or -1 when the scene has no profile
- * or memory runs out. */
+/* The profile along the scene's axis.  Returns 0, or -1 when the scene has
+ * no profile or memory runs out. */
 int profile_extract(struct profile *pr, const struct march_state *st);
 void profile_free(struct profile *pr);
-void profile_errors(const struct profile *pr, const struct muflow_case *cs, struct scene_errors *e);
+
+/* The errors and headline of the scene (its errors callback, or the
+ * default below). */
+void profile_errors(const struct profile *pr, const struct march_state *st, struct scene_errors *e);
+
+/* The default: err_rms, err_max, err_rms_paper of the profile against
+ * pr->exact (NaN and valid = 0 where exact is undefined), headline the
+ * centre value (profile_centre_value) against exact_centre. */
+void profile_errors_default(const struct profile *pr, double exact_centre, struct scene_errors *e);
+
+/* The centre layer, or the mean of the two centre layers (a plug). */
+double profile_centre_value(const struct profile *pr);
+
+/* The scene's exact profile at one coordinate (NaN without one). */
+double profile_exact_at(const struct muflow_case *cs, double x);
 
 /* Only the errors (for the history), without keeping a profile. */
 void scene_errors_of(const struct march_state *st, struct scene_errors *e);

@@ -4,7 +4,8 @@
  *     restart needs no case file;
  *   - the loop state of struct march_state (step, time, dt, residual0,
  *     best_residual, best_step, dt_scale, rejected, wall_seconds, ...);
- *   - the velocity components and the dynamic pressure, whole arrays with
+ *   - every field the registry marks FIELD_CHECKPOINT (march/fields.h: the
+ *     velocity, the dynamic pressure, a module's tracer), whole arrays with
  *     their ghost layers, in the memory layout of grid.h;
  *   - the schedule of field files (field_series.h);
  *   - FFTW's wisdom: the transform algorithms FFTW_MEASURE chose, so the

@@ -2,6 +2,8 @@
  * visualisation (fields.xdmf, see xdmf.h, lets ParaView open a series).
  *
  * File dir/fields_<step, 6 digits or more>.h5, written as .tmp and renamed.
+ * The datasets are the outputs the field registry declares (march/fields.h),
+ * the core ones below and any a physics module adds.
  * Every array is stored x fastest, i.e. with dimensions (z, y, x), the order
  * of VTK and XDMF, so a[k][j][i] is cell / face (i, j, k):
  *   u, v, w      velocity components on their faces: u (nz, ny, nxf), v (nz, nyf, nx),
@@ -27,9 +29,6 @@
 #include "march/march.h"
 
 #define FIELDS_FORMAT "muflow fields 1"
-#define FIELDS_CELL_SCALARS 5
-extern const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS];
-#define FIELDS_CELL_VECTOR "velocity"
 
 /* "fields_000042.h5" for step 42. */
 void fields_h5_name(long step, char *buf, size_t len);

@@ -6,9 +6,15 @@
 #define MUFLOW_OUTPUT_H
 
 #include <stdio.h>
-#include "scenes/heap.h"
-#include "march/march.h"
 #include "diagnostics/profile.h"
+#include "march/march.h"
+
+/* One summary line a scene adds to [result] (scene.h: results). */
+struct result_value {
+    char key[40];
+    char text[88];
+};
+#define RESULT_VALUES_MAX 24
 
 struct run_result {
     enum run_status status;
@@ -18,15 +24,31 @@ struct run_result {
     char message[256];
     int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
     int checkpointed;      /* a checkpoint of the final state was written */
-    struct heap_result {   /* the heap scene (valid = 1) */
-        int valid;
-        int searched;      /* the tilt was found for heap.flow_rate */
-        int converged;     /* ... within heap.flow_rate_tolerance */
-        double tilt, flow_rate, u_surface_mid, depth_mid;
-        int solves;        /* steady solves of the search (1 without one) */
-        long steps;        /* pseudo-time steps over all solves */
-    } heap;
+    /* what the scene adds: summary lines in order, one terminal line, and
+     * the note printed when the run was interrupted and cannot continue */
+    int nvalues;
+    struct result_value values[RESULT_VALUES_MAX];
+    char scene_line[320];
+    char stop_note[256];
 };
+
+/* Adds the summary line key = printf(fmt, ...) (dropped beyond
+ * RESULT_VALUES_MAX). */
+void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* The value of a summary line as a number (NaN when absent or not a number). */
+double run_result_value(const struct run_result *r, const char *key);
+
+/* A file written under a temporary name and renamed when complete. */
+struct output_file {
+    FILE *f;
+    char path[600], tmp[620];
+};
+/* Opens dir/name.tmp; returns 0, or -1 with the cause in err. */
+int output_open(struct output_file *o, const char *dir, const char *name, char *err,
+                size_t errlen);
+/* Closes and renames it (removing the temporary on failure). */
+int output_commit(struct output_file *o, char *err, size_t errlen);
 
 /* Creates dir and its parents; returns 0, or -1 with the cause in err. */
 int output_make_dir(const char *dir, char *err, size_t errlen);
@@ -48,8 +70,6 @@ void history_row(struct history *h, const struct march_state *st, const struct s
 int history_close(struct history *h, char *err, size_t errlen);
 
 int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen);
-/* heap.csv: per column across the channel, y, surface velocity, flowing depth. */
-int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen);
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
                    char *err, size_t errlen);
 

@@ -9,10 +9,12 @@
 
 #include <stddef.h>
 #include "grid/grid.h"
+#include "march/fields.h"
 
 /* Writes dir/fields.xdmf (as .tmp, then renamed) for the field files of
- * steps[0..count) at times[0..count).  Returns 0, or -1 with the cause. */
-int xdmf_write(const char *dir, const struct grid *g, int count, const long *steps,
-               const double *times, char *err, size_t errlen);
+ * steps[0..count) at times[0..count), whose cell datasets are the outputs of
+ * the registry r.  Returns 0, or -1 with the cause. */
+int xdmf_write(const char *dir, const struct grid *g, const struct field_registry *r, int count,
+               const long *steps, const double *times, char *err, size_t errlen);
 
 #endif

@@ -89,6 +89,11 @@ void kernel_divergence(const struct grid *g, double *const vel[3], double *div);
 void kernel_gradient_update(const struct grid *g, const struct box act[3], const double *p,
                             double scale, double *vel[3]);
 
+/* vel_c -= scale * beta_c * grad_c(p) on the faces of act[c]: the projection
+ * with a face coefficient (beta = rho_ref / rho for a variable density). */
+void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], const double *p,
+                                 double scale, double *const beta[3], double *vel[3]);
+
 /* out_c = -div(u u_c) (conservative, centred, second order) on act[c]. */
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3]);
@@ -100,6 +105,11 @@ double kernel_max_abs(const struct grid *g, const struct box act[3], double *con
 /* y += alpha x */
 void kernel_axpy(const struct grid *g, const struct box act[3], double alpha, double *const x[3],
                  double *y[3]);
+/* y += a .* x, and y = a .* x - y (a per face: a variable density) */
+void kernel_multiply_add(const struct grid *g, const struct box act[3], double *const a[3],
+                         double *const x[3], double *y[3]);
+void kernel_multiply_minus(const struct grid *g, const struct box act[3], const double *const a[3],
+                           double *const x[3], double *y[3]);
 /* y = alpha x + beta y */
 void kernel_lincomb(const struct grid *g, const struct box act[3], double alpha, double *const x[3],
                     double beta, double *y[3]);

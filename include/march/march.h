@@ -1,6 +1,6 @@
-/* The time loop: one step = viscosity -> momentum residual -> implicit
- * viscous solve (linearised with the consistent tangent) -> projection.
- * Two modes share it:
+/* The time loop.  A step's stages are written out in march/step.h
+ * (properties -> residual -> implicit viscous step -> projection -> transport
+ * -> end of step); this file owns the loop around them.  Two modes share it:
  *   steady     pseudo-time march, the step grown as the residual falls
  *              (switched evolution relaxation, dt = dt0 * r0 / r); with the
  *              tangent viscosity this becomes Newton's method as dt grows;
@@ -11,11 +11,13 @@
 #ifndef MUFLOW_MARCH_H
 #define MUFLOW_MARCH_H
 
-#include "grid/boundary.h"
 #include "config/case.h"
+#include "grid/boundary.h"
 #include "grid/grid.h"
 #include "kernels/kernels.h"
-#include "solvers/poisson.h"
+#include "march/fields.h"
+#include "march/module.h"
+#include "solvers/pressure.h"
 #include "solvers/viscous.h"
 
 enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNSTEADY,
@@ -26,6 +28,20 @@ struct march_state {
     struct grid g;
     struct boundary bc;
     struct box act[3];          /* velocity unknowns per component */
+    struct field_registry fields; /* every array below is registered there */
+    /* the physics modules of the scene (and of the caller), their states */
+    int nmodules;
+    const struct module *modules[MODULES_MAX];
+    void *module_state[MODULES_MAX];
+    /* variable coefficients: the face density rho_f of the mass term and
+     * beta = rho_ref / rho_f of the projection.  While density_uniform the
+     * density is cs->density on every face: the mass term is the scalar
+     * rho / dt and the projection uses the FFT solver. */
+    double *rho_face[3];
+    int density_uniform;
+    double rho_ref;
+    double *mass_face[3];       /* rho_f / dt of the step (variable density) */
+    double *beta[3];            /* rho_ref / rho_f (variable density) */
     double *vel[3];             /* velocity on faces */
     double *p_dyn;              /* dynamic pressure (projection) */
     double *p_hyd;              /* hydrostatic pressure of the body force */
@@ -42,8 +58,7 @@ struct march_state {
     double *delta[3];           /* velocity increment of the viscous solve */
     double *adv[3];             /* advection term */
     double *div, *phi;          /* projection */
-    double *good_vel[3], *good_p_dyn; /* last finite state */
-    struct poisson_fft *poisson;
+    struct pressure_solver *pressure_solver;
     struct viscous_solver *viscous;
 
     long step;
@@ -71,6 +86,16 @@ struct march_state {
 typedef int (*march_observer)(void *ctx, const struct march_state *st);
 
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
+/* The same with extra physics modules beside the scene's (NULL-terminated
+ * list, or NULL): a program embedding muflow, or a test, adds its own. */
+int march_create_with(struct march_state *st, const struct muflow_case *cs,
+                      const struct module *const *extra, char *err, size_t errlen);
+
+/* Declares that the face density (rho_face) changed: a module's properties
+ * stage calls it after writing rho_face; uniform says whether it is still
+ * cs->density everywhere.  Returns 0, or -1 when the pressure solver cannot
+ * take the new coefficient (cause in err). */
+int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
 void march_destroy(struct march_state *st);
 
 /* Starts a new march from the current fields after the body force of the
@@ -85,6 +110,11 @@ int march_reforce(struct march_state *st, char *err, size_t errlen);
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
 
 const char *run_status_name(enum run_status s);
+
+/* What residuals are relative to (rho g, or the first residual), and the
+ * smallest cell size of the directions with more than one cell. */
+double march_force_scale(const struct march_state *st);
+double march_min_spacing(const struct grid *g);
 
 /* The steady momentum residual R(u) of the current state into st->res (and the
  * viscosities and tangent coefficients at it). */

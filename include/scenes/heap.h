@@ -11,6 +11,17 @@
 
 #include "march/march.h"
 
+/* [heap]: the scene's own keys (case_scene_params of a heap case). */
+struct heap_params {
+    double flow_rate;    /* target Q* = Q / (d sqrt(g d)) per unit width; 0: no
+                            search, solve at physics.tilt */
+    double tilt_min, tilt_max; /* bracket of the tilt search (rad) */
+    double flow_rate_tolerance; /* relative, on Q* */
+    int max_solves;      /* steady solves the search may take */
+    double depth_fraction; /* flowing depth: where u falls to this fraction of
+                              the column's surface velocity */
+};
+
 struct heap_profile {
     int n;                 /* columns across the channel (cells along y) */
     double *y;             /* cell-centre distance from the side wall */

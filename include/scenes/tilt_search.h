@@ -9,6 +9,7 @@
 #include "march/march.h"
 
 struct tilt_search_result {
+    int searched;          /* a search took place (set by its caller) */
     int converged;         /* |Q* / target - 1| <= tolerance at the final solve */
     double tilt;           /* of the final solve (the state st holds) */
     double flow_rate;      /* Q* of the final solve */

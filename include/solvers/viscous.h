@@ -23,7 +23,9 @@
 #include "kernels/kernels.h"
 
 struct viscous_problem {
-    double mass;                  /* rho / dt */
+    double mass;                  /* rho / dt (the scale, and the mass term when
+                                     mass_face is NULL) */
+    const double *mass_face[3];   /* rho_f / dt per face (variable density), or NULL */
     const double *augmentation;   /* cell field r >= 0 (ghosts filled) or NULL: adds
                                      -grad(r div x), the augmented-Lagrangian term that
                                      lets the pressure converge in few steps */

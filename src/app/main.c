@@ -9,7 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "scenes/analytic.h"
+#include "scenes/scene.h"
 #include "config/case.h"
 #include "io/checkpoint.h"
 #include "app/interrupt.h"
@@ -63,7 +63,7 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     printf("%s: %s after %ld steps, t = %.6g, wall %.3f s, residual %.3e (%s)\n", cs->name,
            run_status_name(r->status), r->steps, r->time, r->wall_seconds, r->residual,
            r->message);
-    const char *hname = scene_headline_name(cs->scene);
+    const char *hname = case_scene(cs)->headline_name;
     if (hname && r->errors.valid)
         printf("%s: err_rms %.4e  err_max %.4e  err_rms_paper %.4e  %s %.6g (exact %.6g)\n",
                cs->name, r->errors.err_rms, r->errors.err_max, r->errors.err_rms_paper, hname,
@@ -71,17 +71,11 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     else if (hname)
         printf("%s: no analytic steady solution for these parameters; %s %.6g\n", cs->name,
                hname, r->errors.headline);
-    if (r->heap.valid)
-        printf("%s: tilt %.8g (%.4f deg)  Q* %.6g  %d solve%s, %ld steps  mid-plane: u_surface "
-               "%.5g, flowing depth %.5g\n",
-               cs->name, r->heap.tilt, r->heap.tilt * 180.0 / 3.14159265358979323846,
-               r->heap.flow_rate, r->heap.solves, r->heap.solves == 1 ? "" : "s", r->heap.steps,
-               r->heap.u_surface_mid, r->heap.depth_mid);
+    if (r->scene_line[0])
+        printf("%s: %s\n", cs->name, r->scene_line);
     printf("output: %s\n", cs->output_dir);
-    if (r->signal && r->heap.searched)
-        printf("muflow: interrupted by %s during the tilt search (a search is not restartable); "
-               "the last solve's tilt %.8g can start a new search\n",
-               interrupt_name(r->signal), r->heap.tilt);
+    if (r->signal && r->stop_note[0])
+        printf("muflow: interrupted by %s %s\n", interrupt_name(r->signal), r->stop_note);
     else if (r->signal)
         printf("muflow: interrupted by %s at step %ld%s; resume with: muflow --restart %s\n",
                interrupt_name(r->signal), r->steps,

@@ -4,14 +4,12 @@
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
-#include "scenes/analytic.h"
+#include "app/interrupt.h"
+#include "app/run.h"
+#include "diagnostics/profile.h"
 #include "io/checkpoint.h"
 #include "io/field_series.h"
-#include "scenes/heap.h"
-#include "app/interrupt.h"
-#include "diagnostics/profile.h"
-#include "app/run.h"
-#include "scenes/tilt_search.h"
+#include "scenes/scene.h"
 
 struct observer_ctx {
     const struct muflow_case *cs;
@@ -23,8 +21,7 @@ struct observer_ctx {
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
-    int no_checkpoint;     /* a tilt search: its final state is not restartable */
-    double search_start;   /* omp_get_wtime() at the start of a tilt search */
+    int no_checkpoint;     /* the scene's run cannot continue from a checkpoint */
     char err[1024];
 };
 
@@ -67,7 +64,7 @@ static int observe(void *vctx, const struct march_state *st)
     struct scene_errors e;
     memset(&e, 0, sizeof e);
     e.err_rms = NAN;
-    if (ctx->cs->scene != SCENE_NONE)
+    if (case_scene(ctx->cs)->profile_axis >= 0)
         scene_errors_of(st, &e);
     /* the first observation of a restart is the checkpoint's step, whose
      * outputs the run that wrote the checkpoint has written */
@@ -116,7 +113,7 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
                          const char *restart_from, int threads_then)
 {
     printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads\n",
-           cs->name, scene_name(cs->scene), st->g.n[0], st->g.n[1], st->g.n[2],
+           cs->name, case_scene(cs)->name, st->g.n[0], st->g.n[1], st->g.n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
            regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads());
     if (restart_from)
@@ -138,7 +135,7 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     int threads_then = omp_get_max_threads();
     if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
         return RUN_ERR_SETUP;
-    if (march_create(st, cs, err, errlen) != 0)
+    if (march_create_with(st, cs, opt->modules, err, errlen) != 0)
         return RUN_ERR_SETUP;
     if (opt->restart_from) {
         if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,
@@ -177,8 +174,8 @@ static void note(int *rc, char *err, size_t errlen, const char *cause)
 /* The outputs of the final state: field file, checkpoint (when stopped),
  * history, profile, summary; each attempted even when an earlier one failed. */
 static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
-                          const struct profile *pr, const struct heap_profile *hp,
-                          struct run_result *res, char *err, size_t errlen)
+                          const struct profile *pr, struct run_result *res, char *err,
+                          size_t errlen)
 {
     const struct muflow_case *cs = ctx->cs;
     int rc = RUN_OK;
@@ -200,85 +197,39 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
         note(&rc, err, errlen, cause);
     if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (hp && output_heap(cs->output_dir, hp, cause, sizeof cause) != 0)
+    const struct scene *sc = case_scene(cs);
+    if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     return rc;
 }
 
-static void report_solve(void *vctx, int solve, double tilt, double flow_rate,
-                         const struct march_state *st)
-{
-    struct observer_ctx *ctx = vctx;
-    if (!ctx->opt->write_output || ctx->cs->quiet)
-        return;
-    double target = ctx->cs->heap.flow_rate;
-    printf("heap: solve %2d  tilt %.8f  Q* %-10.6g (target %g, %+.3f%%)  %s after %ld steps  "
-           "[%.1f s]\n",
-           solve, tilt, flow_rate, target, 100.0 * (flow_rate / target - 1.0),
-           run_status_name(st->status), st->step, omp_get_wtime() - ctx->search_start);
-    fflush(stdout);
-}
-
-/* The heap scene with heap.flow_rate: the tilt by root finding over steady
- * solves.  A search that fails or misses the tolerance ends "stopped" (or
- * with the failed solve's status) and says why. */
-static void search_tilt(struct march_state *st, struct muflow_case *work,
-                        struct observer_ctx *ctx, struct tilt_search_result *sr)
-{
-    struct tilt_search_spec spec = {
-        .target = work->heap.flow_rate, .tilt_min = work->heap.tilt_min,
-        .tilt_max = work->heap.tilt_max, .tolerance = work->heap.flow_rate_tolerance,
-        .max_solves = work->heap.max_solves, .flow_rate = heap_flow_rate};
-    ctx->no_checkpoint = 1;
-    ctx->search_start = omp_get_wtime();
-    tilt_search_run(st, work, &spec, observe, ctx, report_solve, ctx, sr);
-    st->wall_seconds = omp_get_wtime() - ctx->search_start; /* the whole search */
-    if (!sr->converged && st->status == STATUS_STEADY)
-        st->status = STATUS_STOPPED;
-    if (st->status != STATUS_STOPPED || !ctx->signal)
-        snprintf(st->message, sizeof st->message, "%s", sr->message);
-}
-
-static void heap_result_from(const struct march_state *st, const struct heap_profile *hp,
-                             const struct tilt_search_result *sr, struct heap_result *h)
-{
-    h->valid = 1;
-    h->tilt = st->cs->tilt;
-    h->flow_rate = heap_flow_rate(st);
-    h->searched = sr != NULL;
-    h->converged = sr ? sr->converged : 0;
-    h->solves = sr ? sr->solves : 1;
-    h->steps = sr ? sr->steps : st->step;
-    h->u_surface_mid = hp ? hp->u_surface_mid : NAN;
-    h->depth_mid = hp ? hp->depth_mid : NAN;
-}
-
 int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
                   struct run_result *res, char *err, size_t errlen)
 {
     memset(res, 0, sizeof *res);
-    /* the working copy the march reads: a tilt search changes its tilt, and
-     * the summary then records the tilt found */
+    /* the working copy the march reads: a driver may change it (the heap's
+     * tilt search), and the summary then records what it found */
     struct muflow_case work = *cs;
-    int searching = work.scene == SCENE_HEAP && work.heap.flow_rate > 0.0;
-    if (searching && opt->restart_from) {
-        snprintf(err, errlen, "a tilt search (heap.flow_rate > 0) cannot continue from a "
-                              "checkpoint: run it again, starting from physics.tilt");
+    const struct scene *sc = case_scene(&work);
+    const char *why = sc->not_restartable ? sc->not_restartable(&work) : NULL;
+    if (why && opt->restart_from) {
+        snprintf(err, errlen, "%s", why);
         return RUN_ERR_SETUP;
     }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .no_checkpoint = !!why};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {
         field_series_free(&ctx.series);
         return rc;
     }
-    struct tilt_search_result sr;
-    if (searching)
-        search_tilt(&st, &work, &ctx, &sr);
+    struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
+                                .verbose = opt->write_output && !work.quiet};
+    if (sc->drive)
+        sc->drive(&drive);
     else
         march_run(&st, observe, &ctx);
     if (st.status == STATUS_STOPPED && ctx.signal) {
@@ -293,21 +244,15 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     struct profile pr;
     int have_profile = profile_extract(&pr, &st) == 0;
     if (have_profile)
-        profile_errors(&pr, &work, &res->errors);
-    struct heap_profile hp;
-    int have_heap = work.scene == SCENE_HEAP &&
-                    heap_profile_extract(&hp, &st, work.heap.depth_fraction) == 0;
-    if (work.scene == SCENE_HEAP)
-        heap_result_from(&st, have_heap ? &hp : NULL, searching ? &sr : NULL, &res->heap);
+        profile_errors(&pr, &st, &res->errors);
+    if (sc->results)
+        sc->results(&st, &drive, res);
     if (opt->write_output) {
-        rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, have_heap ? &hp : NULL, res,
-                            err, errlen);
+        rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
         interrupt_restore(); /* only now: a signal during the final writes is ignored */
     }
     if (have_profile)
         profile_free(&pr);
-    if (have_heap)
-        heap_profile_free(&hp);
     field_series_free(&ctx.series);
     march_destroy(&st);
     return rc;

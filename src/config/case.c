@@ -1,54 +1,33 @@
-/* Case files: INI parsing (libinih), command-line overrides, validation,
- * defaults and writing back.  Every key is described once in the table
- * `keys` below; parsing, range checks and case_write_ini all use it.
+/* The case keys: the core key table, the scene's own section, defaults,
+ * checks that need every key, loading and writing back (case.h).
  *
- * The file is fed to inih line by line through our own reader, which
- *   - counts lines (so handler errors know where they are),
- *   - rejects lines longer than inih's line buffer instead of letting inih
- *     split them silently, and NUL bytes,
- *   - strips a UTF-8 BOM and leading blanks (so indented keys are keys, never
- *     inih "multi-line continuations" of the previous value),
- *   - rejects unknown [section] headers, even ones without keys,
- *   - stops the parse at the first error we detected. */
+ * Loading is two passes over the events of the INI engine (ini.h): the file,
+ * then the overrides in order.  The first finds the scene (the last valid
+ * case.scene), whose own section is then known; the second applies every
+ * event in order and stops at the first error, so that the message names
+ * the first bad line or override.  Every key is described once, in the
+ * tables below or in its scene's key_block; parsing, range checks, writing
+ * back and the checkpoint all use them (keys.h). */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "config/case.h"
 
 #include <errno.h>
-#include <ini.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+#include "config/ini.h"
+#include "config/keys.h"
+#include "scenes/scene.h"
 
 #define HALF_PI 1.57079632679489661923
 #define MAX_CELLS 500000000.0 /* cap on nx*ny*nz */
-#define SHOWN_MAX 160         /* longest value or path quoted in an error message */
+#define SHOWN_MAX INI_SHOWN_MAX
+#define shown ini_shown
 
-enum ktype { K_DOUBLE, K_INT, K_LONG, K_BOOL, K_CHOICE, K_STRING };
-
-struct choice {
-    const char *name;
-    int value;
-};
-
-/* Range of a number: lo/hi with inclusive flags; +-HUGE_VAL for none. */
-struct key {
-    const char *section;
-    const char *name;
-    enum ktype type;
-    size_t off;
-    double lo, hi;
-    int lo_incl, hi_incl;
-    const struct choice *choices; /* K_CHOICE: terminated by name == NULL */
-    const char *range_text;      /* overrides the generated "must be ..." text */
-};
-
-static const struct choice scene_choices[] = {
-    {"none", SCENE_NONE}, {"bagnold", SCENE_BAGNOLD}, {"chute", SCENE_CHUTE},
-    {"bingham_channel", SCENE_BINGHAM_CHANNEL}, {"bingham_cavity", SCENE_BINGHAM_CAVITY},
-    {"heap", SCENE_HEAP}, {NULL, 0}};
+extern const struct choice scene_choice_table[];
 static const struct choice bc_choices[] = {
     {"periodic", BC_PERIODIC}, {"wall", BC_WALL}, {"slip", BC_SLIP},
     {"surface", BC_SURFACE}, {"lid", BC_LID}, {NULL, 0}};
@@ -67,32 +46,30 @@ static const struct choice precond_choices[] = {
     {"lu", PRECOND_LU}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
-_Static_assert(sizeof(enum scene) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum rheology_law) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum regularisation) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum solver_mode) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 
-#define OFF(m) offsetof(struct muflow_case, m)
-#define NONE_LO (-HUGE_VAL)
-#define NONE_HI (HUGE_VAL)
-/* number ranges */
-#define GT0 0.0, NONE_HI, 0, 0
-#define GE0 0.0, NONE_HI, 1, 0
-#define RANGE(lo, hi, li, hi_) (lo), (hi), (li), (hi_)
-#define NORANGE 0.0, 0.0, 0, 0
+#define T struct muflow_case
+#define GT0 KEY_GT0
+#define GE0 KEY_GE0
+#define RANGE KEY_RANGE
+#define NONE_LO KEY_NONE_LO
+#define NONE_HI KEY_NONE_HI
+#define DBL(s, n, m, r) KEY_DBL(T, s, n, m, r)
+#define DBLT(s, n, m, r, t) KEY_DBLT(T, s, n, m, t, r)
+#define INT(s, n, m, r) KEY_INT(T, s, n, m, r)
+#define LNG(s, n, m, r) KEY_LNG(T, s, n, m, r)
+#define BOOL(s, n, m) KEY_BOOL(T, s, n, m)
+#define CHO(s, n, m, ch) KEY_CHO(T, s, n, m, ch)
+#define STR(s, n, m) KEY_STR(T, s, n, m)
 
-#define DBL(s, n, m, r) {s, n, K_DOUBLE, OFF(m), r, NULL, NULL}
-#define DBLT(s, n, m, r, t) {s, n, K_DOUBLE, OFF(m), r, NULL, t}
-#define INT(s, n, m, r) {s, n, K_INT, OFF(m), r, NULL, NULL}
-#define LNG(s, n, m, r) {s, n, K_LONG, OFF(m), r, NULL, NULL}
-#define BOOL(s, n, m) {s, n, K_BOOL, OFF(m), NORANGE, NULL, NULL}
-#define CHO(s, n, m, ch) {s, n, K_CHOICE, OFF(m), NORANGE, ch, NULL}
-#define STR(s, n, m) {s, n, K_STRING, OFF(m), NORANGE, NULL, NULL}
-
+/* The core keys, in the order case_write_ini writes them; the scene's own
+ * section goes between [solver] and [output]. */
 static const struct key keys[] = {
-    CHO("case", "scene", scene, scene_choices),
+    CHO("case", "scene", scene, scene_choice_table),
     STR("case", "reference", reference),
 
     DBL("domain", "lx", len[0], GT0),
@@ -147,13 +124,6 @@ static const struct key keys[] = {
     DBL("solver", "augmentation", augmentation, GE0),
     DBL("solver", "progress_interval", progress_interval, GE0),
 
-    DBL("heap", "flow_rate", heap.flow_rate, GE0),
-    DBLT("heap", "tilt_min", heap.tilt_min, RANGE(0, HALF_PI, 0, 0), "must be in (0, pi/2) (radians)"),
-    DBLT("heap", "tilt_max", heap.tilt_max, RANGE(0, HALF_PI, 0, 0), "must be in (0, pi/2) (radians)"),
-    DBL("heap", "flow_rate_tolerance", heap.flow_rate_tolerance, RANGE(0, 0.5, 0, 1)),
-    INT("heap", "max_solves", heap.max_solves, RANGE(2, 1000, 1, 1)),
-    DBL("heap", "depth_fraction", heap.depth_fraction, RANGE(0, 1, 0, 0)),
-
     STR("output", "dir", output_dir),
     BOOL("output", "quiet", quiet),
     BOOL("output", "fields", fields),
@@ -164,7 +134,7 @@ static const struct key keys[] = {
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
 static const char *const sections[] = {"case", "domain", "boundary", "physics",
-                                       "rheology", "solver", "heap", "output"};
+                                       "rheology", "solver", "output"};
 #define NSECTIONS ((int)(sizeof(sections) / sizeof(sections[0])))
 
 /* ------------------------------------------------------------------------ */
@@ -173,7 +143,7 @@ void case_defaults(struct muflow_case *c)
 {
     memset(c, 0, sizeof(*c));
     snprintf(c->name, sizeof(c->name), "case");
-    c->scene = SCENE_NONE;
+    case_set_scene(c, 0); /* "none" */
     for (int d = 0; d < 3; d++) {
         c->len[d] = 1.0;
         c->n[d] = 1;
@@ -217,13 +187,6 @@ void case_defaults(struct muflow_case *c)
     c->preconditioner = PRECOND_AUTO;
     c->progress_interval = 1.0;
 
-    c->heap.flow_rate = 0.0;
-    c->heap.tilt_min = 0.37;  /* just above atan(mu_s) for the default mu_s */
-    c->heap.tilt_max = 0.45;
-    c->heap.flow_rate_tolerance = 1e-3;
-    c->heap.max_solves = 30;
-    c->heap.depth_fraction = 0.01;
-
     snprintf(c->output_dir, sizeof(c->output_dir), "out/%s", c->name);
     c->quiet = 0;
     c->fields = 1;
@@ -233,129 +196,179 @@ void case_defaults(struct muflow_case *c)
 }
 
 /* ------------------------------------------------------------------------ */
-/* Small string helpers */
+/* The scene and its parameter block */
 
-static int lower(int ch)
+const struct scene *case_scene(const struct muflow_case *c)
 {
-    return (ch >= 'A' && ch <= 'Z') ? ch - 'A' + 'a' : ch;
+    const struct scene *s = scene_at(c->scene);
+    return s ? s : scene_at(0);
 }
 
-static int equal_nocase(const char *a, const char *b)
+const void *case_scene_params(const struct muflow_case *c)
 {
-    for (; *a && *b; a++, b++)
-        if (lower((unsigned char)*a) != lower((unsigned char)*b))
-            return 0;
-    return *a == *b;
+    return c->scene_params.bytes;
 }
 
-static int is_blank(int ch)
+void *case_scene_params_mut(struct muflow_case *c)
 {
-    return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\n' || ch == '\v' || ch == '\f';
+    return c->scene_params.bytes;
 }
 
-/* Copy of s for an error message: at most SHOWN_MAX characters, control
- * characters replaced, "..." when cut. */
-static const char *shown(const char *s, char buf[SHOWN_MAX + 4])
+void case_set_scene(struct muflow_case *c, int scene)
 {
-    size_t i = 0;
-    for (; s[i] && i < SHOWN_MAX; i++) {
-        unsigned char ch = (unsigned char)s[i];
-        buf[i] = (ch < 32 || ch == 127) ? '?' : (char)ch;
-    }
-    if (s[i]) {
-        memcpy(buf + i, "...", 3);
-        i += 3;
-    }
-    buf[i] = '\0';
-    return buf;
+    c->scene = scene;
+    memset(&c->scene_params, 0, sizeof c->scene_params);
+    const struct key_block *kb = case_scene(c)->keys;
+    if (kb && kb->defaults)
+        kb->defaults(c->scene_params.bytes);
 }
 
-/* Optimal-string-alignment edit distance (insert, delete, substitute,
- * transpose adjacent); large for long strings. */
-static int edit_distance(const char *a, const char *b)
+static const struct key_block *scene_keys(const struct muflow_case *c)
 {
-    enum { M = 64 };
-    size_t la = strlen(a), lb = strlen(b);
-    if (la >= M || lb >= M)
-        return INT_MAX;
-    int d[M + 1][M + 1];
-    for (size_t i = 0; i <= la; i++)
-        d[i][0] = (int)i;
-    for (size_t j = 0; j <= lb; j++)
-        d[0][j] = (int)j;
-    for (size_t i = 1; i <= la; i++)
-        for (size_t j = 1; j <= lb; j++) {
-            int cost = a[i - 1] != b[j - 1];
-            int v = d[i - 1][j] + 1;
-            if (d[i][j - 1] + 1 < v)
-                v = d[i][j - 1] + 1;
-            if (d[i - 1][j - 1] + cost < v)
-                v = d[i - 1][j - 1] + cost;
-            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] &&
-                d[i - 2][j - 2] + 1 < v)
-                v = d[i - 2][j - 2] + 1;
-            d[i][j] = v;
-        }
-    return d[la][lb];
+    return case_scene(c)->keys;
 }
 
-static int known_section(const char *s)
+/* ------------------------------------------------------------------------ */
+/* Key look-up */
+
+static int known_section(const struct muflow_case *c, const char *s)
 {
     for (int i = 0; i < NSECTIONS; i++)
         if (strcmp(s, sections[i]) == 0)
             return 1;
-    return 0;
+    const struct key_block *kb = scene_keys(c);
+    return kb && strcmp(s, kb->section) == 0;
 }
 
-static const struct key *find_key(const char *section, const char *name)
+/* The key section.name and the struct it describes a member of. */
+static const struct key *find_key(const struct muflow_case *c, const char *section,
+                                  const char *name, void **base)
 {
     for (int i = 0; i < NKEYS; i++)
-        if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
+        if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0) {
+            if (base)
+                *base = (void *)c;
             return &keys[i];
+        }
+    const struct key_block *kb = scene_keys(c);
+    if (kb && strcmp(kb->section, section) == 0)
+        for (int i = 0; i < kb->nkeys; i++)
+            if (strcmp(kb->keys[i].name, name) == 0) {
+                if (base)
+                    *base = (void *)c->scene_params.bytes;
+                return &kb->keys[i];
+            }
     return NULL;
 }
 
+/* Calls visit on every key the case has: the core keys in order, the
+ * scene's section before [output]. */
+static int each_key(const struct muflow_case *c, int (*visit)(void *ctx, const struct key *k),
+                    void *ctx)
+{
+    const struct key_block *kb = scene_keys(c);
+    for (int i = 0; i < NKEYS; i++) {
+        if (kb && strcmp(keys[i].section, "output") == 0 &&
+            (i == 0 || strcmp(keys[i - 1].section, "output") != 0))
+            for (int j = 0; j < kb->nkeys; j++) {
+                int rc = visit(ctx, &kb->keys[j]);
+                if (rc)
+                    return rc;
+            }
+        int rc = visit(ctx, &keys[i]);
+        if (rc)
+            return rc;
+    }
+    return 0;
+}
+
+static const void *key_base(const struct muflow_case *c, const struct key *k)
+{
+    return (k >= keys && k < keys + NKEYS) ? (const void *)c : (const void *)c->scene_params.bytes;
+}
+
+struct nearest {
+    const char *full;
+    int best;
+    const struct key *hit;
+};
+
+static int nearer(void *vctx, const struct key *k)
+{
+    struct nearest *n = vctx;
+    char cand[96];
+    snprintf(cand, sizeof(cand), "%s.%s", k->section, k->name);
+    int dist = ini_edit_distance(n->full, cand);
+    if (dist < n->best) {
+        n->best = dist;
+        n->hit = k;
+    }
+    return 0;
+}
+
+struct same_name {
+    const char *name;
+    const struct key *hit;
+};
+
+static int named(void *vctx, const struct key *k)
+{
+    struct same_name *n = vctx;
+    if (strcmp(k->name, n->name) == 0) {
+        n->hit = k;
+        return 1;
+    }
+    return 0;
+}
+
 /* " (did you mean section.key?)" for a near miss of section.name, or "". */
-static void suggest_key(const char *section, const char *name, char *out, size_t outlen)
+static void suggest_key(const struct muflow_case *c, const char *section, const char *name,
+                        char *out, size_t outlen)
 {
     char full[160];
     out[0] = '\0';
     if (snprintf(full, sizeof(full), "%s.%s", section, name) >= (int)sizeof(full))
         return;
-    int best = INT_MAX;
-    const struct key *hit = NULL;
-    for (int i = 0; i < NKEYS; i++) {
-        char cand[96];
-        snprintf(cand, sizeof(cand), "%s.%s", keys[i].section, keys[i].name);
-        int dist = edit_distance(full, cand);
-        if (dist < best) {
-            best = dist;
-            hit = &keys[i];
-        }
-    }
-    if (best > 2) { /* right key name, wrong (or no) section? */
-        hit = NULL;
-        for (int i = 0; i < NKEYS && !hit; i++)
-            if (strcmp(keys[i].name, name) == 0)
-                hit = &keys[i];
+    struct nearest n = {full, INT_MAX, NULL};
+    each_key(c, nearer, &n);
+    const struct key *hit = n.hit;
+    if (n.best > 2) { /* right key name, wrong (or no) section? */
+        struct same_name s = {name, NULL};
+        each_key(c, named, &s);
+        hit = s.hit;
     }
     if (hit)
         snprintf(out, outlen, " (did you mean %s.%s?)", hit->section, hit->name);
 }
 
 /* Nearest known section within distance 2, or NULL. */
-static const char *near_section(const char *s)
+static const char *near_section(const struct muflow_case *c, const char *s)
 {
     int best = 3;
     const char *hit = NULL;
     for (int i = 0; i < NSECTIONS; i++) {
-        int dist = edit_distance(s, sections[i]);
+        int dist = ini_edit_distance(s, sections[i]);
         if (dist < best) {
             best = dist;
             hit = sections[i];
         }
     }
+    const struct key_block *kb = scene_keys(c);
+    if (kb && ini_edit_distance(s, kb->section) < best)
+        hit = kb->section;
     return hit;
+}
+
+/* " (a section of case.scene = NAME)" when s is another scene's section. */
+static void owner_hint(const char *s, char *out, size_t outlen)
+{
+    for (int i = 0; i < scene_count(); i++) {
+        const struct key_block *kb = scene_at(i)->keys;
+        if (kb && strcmp(kb->section, s) == 0) {
+            snprintf(out, outlen, " (a section of case.scene = %s)", scene_at(i)->name);
+            return;
+        }
+    }
 }
 
 /* ------------------------------------------------------------------------ */
@@ -364,14 +377,10 @@ static const char *near_section(const char *s)
 struct ctx {
     struct muflow_case *c;
     const char *where;      /* file name for messages ("case" without file) */
-    FILE *f;
-    int line;               /* lines handed to inih so far */
     int failed;
-    int err_line;           /* line of our first error (0: not from the file) */
-    int io_errno;
     char *err;
     size_t errlen;
-    unsigned char set[NKEYS]; /* key given explicitly */
+    unsigned char set[NKEYS]; /* core key given explicitly */
 };
 
 /* Records the first error only; the message is one line. */
@@ -380,7 +389,6 @@ static void fail(struct ctx *x, const char *fmt, ...)
     if (x->failed)
         return;
     x->failed = 1;
-    x->err_line = x->line;
     if (!x->err || x->errlen == 0)
         return;
     va_list ap;
@@ -390,115 +398,6 @@ static void fail(struct ctx *x, const char *fmt, ...)
     for (char *p = x->err; *p; p++)
         if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
             *p = '?';
-}
-
-static void range_text(const struct key *k, char *out, size_t outlen)
-{
-    if (k->range_text)
-        snprintf(out, outlen, "%s", k->range_text);
-    else if (k->hi == HUGE_VAL)
-        snprintf(out, outlen, "must be %s %.17g", k->lo_incl ? ">=" : ">", k->lo);
-    else
-        snprintf(out, outlen, "must be in %c%.17g, %.17g%c", k->lo_incl ? '[' : '(', k->lo,
-                 k->hi, k->hi_incl ? ']' : ')');
-}
-
-static int in_range(const struct key *k, double v)
-{
-    if (k->lo_incl ? v < k->lo : v <= k->lo)
-        return 0;
-    if (k->hi == HUGE_VAL)
-        return 1;
-    return k->hi_incl ? v <= k->hi : v < k->hi;
-}
-
-/* Parses value into key k's field; on error returns a message (static text or
- * written to msg). */
-static const char *parse_value(struct muflow_case *c, const struct key *k, const char *value,
-                               char *msg, size_t msglen)
-{
-    char *field = (char *)c + k->off;
-    if (value[0] == '\0')
-        return "empty value";
-    switch (k->type) {
-    case K_DOUBLE: {
-        char *end;
-        errno = 0;
-        double v = strtod(value, &end);
-        if (end == value || *end != '\0')
-            return "not a number";
-        if (errno == ERANGE)
-            return "out of the range of a double";
-        if (!isfinite(v))
-            return "not a finite number";
-        if (!in_range(k, v)) {
-            range_text(k, msg, msglen);
-            return msg;
-        }
-        memcpy(field, &v, sizeof(v));
-        return NULL;
-    }
-    case K_INT:
-    case K_LONG: {
-        char *end;
-        errno = 0;
-        long v = strtol(value, &end, 10);
-        if (end == value || *end != '\0')
-            return "not an integer";
-        if (errno == ERANGE || !in_range(k, (double)v)) {
-            range_text(k, msg, msglen);
-            return msg;
-        }
-        if (k->type == K_INT) {
-            int iv = (int)v; /* the range keeps it within int */
-            memcpy(field, &iv, sizeof(iv));
-        } else {
-            memcpy(field, &v, sizeof(v));
-        }
-        return NULL;
-    }
-    case K_BOOL: {
-        static const char *const words[8] = {"off", "on", "false", "true", "no", "yes", "0", "1"};
-        for (int i = 0; i < 8; i++)
-            if (equal_nocase(value, words[i])) {
-                int b = i % 2;
-                memcpy(field, &b, sizeof(b));
-                return NULL;
-            }
-        return "not a boolean (on|off|true|false|yes|no|1|0)";
-    }
-    case K_CHOICE: {
-        for (const struct choice *ch = k->choices; ch->name; ch++)
-            if (equal_nocase(value, ch->name)) {
-                memcpy(field, &ch->value, sizeof(int));
-                return NULL;
-            }
-        size_t used = (size_t)snprintf(msg, msglen, "must be one of ");
-        for (const struct choice *ch = k->choices; ch->name && used < msglen; ch++)
-            used += (size_t)snprintf(msg + used, msglen - used, "%s%s",
-                                     ch == k->choices ? "" : "|", ch->name);
-        return msg;
-    }
-    case K_STRING: {
-        _Static_assert(sizeof(c->output_dir) == sizeof(c->reference), "string key size");
-        size_t size = sizeof(c->output_dir); /* every string key has this size */
-        size_t len = strlen(value);
-        if (len >= size) {
-            snprintf(msg, msglen, "longer than %zu characters", size - 1);
-            return msg;
-        }
-        for (const char *p = value; *p; p++) {
-            unsigned char ch = (unsigned char)*p;
-            if (ch < 32 || ch == 127)
-                return "contains a control character";
-            if (ch == ';' && (p == value || is_blank((unsigned char)p[-1])))
-                return "contains ';' at the start or after a blank (an INI comment)";
-        }
-        memcpy(field, value, len + 1);
-        return NULL;
-    }
-    }
-    return "internal error: unknown key type";
 }
 
 /* One assignment section.name = value, from the file (arg == NULL) or from
@@ -513,28 +412,31 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
     else
         snprintf(prefix, sizeof(prefix), "%s", shown(x->where, b1));
 
-    const struct key *k = find_key(section, name);
+    void *base;
+    const struct key *k = find_key(x->c, section, name, &base);
     if (!k) {
-        if (!known_section(section)) {
+        if (!known_section(x->c, section)) {
             if (!arg && section[0] == '\0') {
-                suggest_key(section, name, hint, sizeof(hint));
+                suggest_key(x->c, section, name, hint, sizeof(hint));
                 fail(x, "%s: key %s before any [section]%s", prefix, shown(name, b2), hint);
                 return 0;
             }
-            suggest_key(section, name, hint, sizeof(hint));
+            suggest_key(x->c, section, name, hint, sizeof(hint));
+            if (!hint[0])
+                owner_hint(section, hint, sizeof(hint));
             if (!hint[0]) {
-                const char *near = near_section(section);
+                const char *near = near_section(x->c, section);
                 if (near)
                     snprintf(hint, sizeof(hint), " (did you mean %s?)", near);
             }
             fail(x, "%s: unknown section %s%s", prefix, shown(section, b2), hint);
             return 0;
         }
-        suggest_key(section, name, hint, sizeof(hint));
+        suggest_key(x->c, section, name, hint, sizeof(hint));
         fail(x, "%s: unknown key %s.%s%s", prefix, section, shown(name, b2), hint);
         return 0;
     }
-    const char *why = parse_value(x->c, k, value, msg, sizeof(msg));
+    const char *why = key_parse(base, k, value, msg, sizeof(msg));
     if (why) {
         if (arg)
             fail(x, "%s: %s", prefix, why);
@@ -542,84 +444,25 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
             fail(x, "%s: %s.%s = %s: %s", prefix, section, name, shown(value, b3), why);
         return 0;
     }
-    x->set[k - keys] = 1;
+    if (base == (void *)x->c)
+        x->set[k - keys] = 1;
     return 1;
 }
 
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* A [section] header of the file. */
+static int header(struct ctx *x, const char *name)
 {
-    struct ctx *x = user;
-    if (x->failed)
-        return 1; /* the parse stops at the next line anyway */
-    if (!value)
-        value = "";
-    return assign(x, section, name, value, NULL);
-}
-
-/* fgets-like reader for inih (see the comment at the top of the file). */
-static char *reader(char *buf, int num, void *stream)
-{
-    struct ctx *x = stream;
-    if (x->failed || num < 4)
-        return NULL;
-    size_t limit = (size_t)num - 3, len = 0;
-    int ch, any = 0, too_long = 0, nul = 0;
-    errno = 0;
-    while ((ch = getc(x->f)) != EOF) {
-        any = 1;
-        if (ch == '\n')
-            break;
-        if (ch == '\0')
-            nul = 1;
-        if (len < limit)
-            buf[len++] = (char)ch;
-        else
-            too_long = 1;
+    if (strlen(name) <= SHOWN_MAX && known_section(x->c, name))
+        return 1;
+    char b[SHOWN_MAX + 4], b2[SHOWN_MAX + 4], hint[96] = "";
+    if (strlen(name) <= SHOWN_MAX) {
+        owner_hint(name, hint, sizeof(hint));
+        const char *near = hint[0] ? NULL : near_section(x->c, name);
+        if (near)
+            snprintf(hint, sizeof(hint), " (did you mean [%s]?)", near);
     }
-    if (ch == EOF && ferror(x->f)) {
-        x->io_errno = errno ? errno : EIO;
-        return NULL;
-    }
-    if (!any)
-        return NULL;
-    buf[len] = '\0';
-    x->line++;
-    char b[SHOWN_MAX + 4];
-    if (too_long) {
-        fail(x, "%s: line %d: longer than %zu characters", shown(x->where, b), x->line, limit);
-        buf[0] = '\0';
-        return buf;
-    }
-    if (nul) {
-        fail(x, "%s: line %d: contains a NUL byte", shown(x->where, b), x->line);
-        buf[0] = '\0';
-        return buf;
-    }
-    size_t skip = 0;
-    if (x->line == 1 && len >= 3 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0)
-        skip = 3;
-    while (skip < len && is_blank((unsigned char)buf[skip]))
-        skip++;
-    memmove(buf, buf + skip, len - skip + 1);
-    if (buf[0] == '[') {
-        char *end = strchr(buf, ']');
-        if (end) {
-            char name[SHOWN_MAX + 4], b2[SHOWN_MAX + 4], hint[96] = "";
-            size_t n = (size_t)(end - buf - 1);
-            if (n > SHOWN_MAX)
-                n = SHOWN_MAX;
-            memcpy(name, buf + 1, n);
-            name[n] = '\0';
-            if ((size_t)(end - buf - 1) > SHOWN_MAX || !known_section(name)) {
-                const char *near = near_section(name);
-                if (near && (size_t)(end - buf - 1) <= SHOWN_MAX)
-                    snprintf(hint, sizeof(hint), " (did you mean [%s]?)", near);
-                fail(x, "%s: unknown section [%s]%s", shown(x->where, b), shown(name, b2), hint);
-                buf[0] = '\0';
-            }
-        }
-    }
-    return buf;
+    fail(x, "%s: unknown section [%s]%s", shown(x->where, b), shown(name, b2), hint);
+    return 0;
 }
 
 /* ------------------------------------------------------------------------ */
@@ -627,52 +470,10 @@ static char *reader(char *buf, int num, void *stream)
 
 static int key_index(const char *section, const char *name)
 {
-    const struct key *k = find_key(section, name);
-    return k ? (int)(k - keys) : -1;
-}
-
-/* The heap scene's cross-section: periodic along the flow, side wall at
- * y = 0 and symmetry plane at y = ly, static base and free surface in z. */
-static int check_heap(struct ctx *x, const char *where)
-{
-    const struct muflow_case *c = x->c;
-    static const enum bc_kind want[3][2] = {
-        {BC_PERIODIC, BC_PERIODIC}, {BC_WALL, BC_SLIP}, {BC_WALL, BC_SURFACE}};
-    static const char axis[3] = {'x', 'y', 'z'};
-    for (int d = 0; d < 3; d++)
-        for (int side = 0; side < 2; side++)
-            if (c->bc.face[d][side] != want[d][side]) {
-                fail(x,
-                     "%s: case.scene = heap needs boundary.%c%s = %s (periodic along the flow, "
-                     "side wall at y = 0, mid-plane at y = ly, base, free surface), not %s",
-                     where, axis[d], side ? "hi" : "lo", bc_choices[want[d][side]].name,
-                     bc_choices[c->bc.face[d][side]].name);
-                return 0;
-            }
-    if (c->rheo.law != LAW_MUI) {
-        fail(x, "%s: case.scene = heap needs rheology.law = mui", where);
-        return 0;
-    }
-    if (c->n[1] < 2 || c->n[2] < 2) {
-        fail(x, "%s: case.scene = heap needs domain.ny >= 2 and domain.nz >= 2 (got %d, %d)",
-             where, c->n[1], c->n[2]);
-        return 0;
-    }
-    if (c->heap.flow_rate > 0.0) {
-        if (!(c->heap.tilt_min < c->heap.tilt_max)) {
-            fail(x, "%s: heap.tilt_min = %.17g, heap.tilt_max = %.17g: the bracket needs "
-                    "tilt_min < tilt_max",
-                 where, c->heap.tilt_min, c->heap.tilt_max);
-            return 0;
-        }
-        if (c->mode != MODE_STEADY || c->checkpoint_every > 0) {
-            fail(x, "%s: heap.flow_rate > 0 (a tilt search over steady solves) needs "
-                    "solver.mode = steady and output.checkpoint_every = 0",
-                 where);
-            return 0;
-        }
-    }
-    return 1;
+    for (int i = 0; i < NKEYS; i++)
+        if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
+            return i;
+    return -1;
 }
 
 static void finish(struct ctx *x)
@@ -706,8 +507,14 @@ static void finish(struct ctx *x)
                 return;
             }
 
-    if (c->scene == SCENE_HEAP && !check_heap(x, where))
+    const struct scene *sc = case_scene(c);
+    const struct key_block *kb = sc->keys;
+    char msg[512];
+    if ((sc->check && sc->check(c, msg, sizeof msg) != 0) ||
+        (kb && kb->check && kb->check(c, c->scene_params.bytes, msg, sizeof msg) != 0)) {
+        fail(x, "%s: %s", where, msg);
         return;
+    }
 
     double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
     if (cells > MAX_CELLS) {
@@ -737,9 +544,9 @@ static void finish(struct ctx *x)
 
     if (!x->set[key_index("output", "dir")]) {
         /* "out/<name>", checked like an explicit output.dir (name < 128) */
-        char dir[sizeof(c->name) + 8], msg[160], b2[SHOWN_MAX + 4];
+        char dir[sizeof(c->name) + 8], m[160], b2[SHOWN_MAX + 4];
         snprintf(dir, sizeof(dir), "out/%s", c->name);
-        const char *why = parse_value(c, &keys[key_index("output", "dir")], dir, msg, sizeof(msg));
+        const char *why = key_parse(c, &keys[key_index("output", "dir")], dir, m, sizeof(m));
         if (why)
             fail(x, "%s: default output.dir = %s: %s; set output.dir", where, shown(dir, b2), why);
     }
@@ -762,74 +569,6 @@ static int set_name(struct ctx *x, const char *path)
     memcpy(x->c->name, base, len);
     x->c->name[len] = '\0';
     return 1;
-}
-
-static int load_file(struct ctx *x, const char *path)
-{
-    char b[SHOWN_MAX + 4];
-    x->f = fopen(path, "r");
-    if (!x->f) {
-        fail(x, "%s: cannot open: %s", shown(path[0] ? path : "(empty file name)", b),
-             strerror(errno));
-        return 0;
-    }
-    errno = 0;
-    int ret = ini_parse_stream(reader, x, handler, x);
-    if (x->io_errno && !x->failed) {
-        x->line = 0;
-        fail(x, "%s: cannot read: %s", shown(path, b), strerror(x->io_errno));
-    }
-    fclose(x->f);
-    x->f = NULL;
-    if (ret > 0 && (!x->failed || ret < x->err_line)) {
-        x->failed = 0; /* a syntax error comes first */
-        x->line = ret;
-        fail(x, "%s: line %d: syntax error (expected [section] or key = value)", shown(path, b),
-             ret);
-    } else if (ret < 0 && !x->failed) {
-        fail(x, "%s: cannot parse (inih error %d)", shown(path, b), ret);
-    }
-    return !x->failed;
-}
-
-/* "section.key=value": splits at the first '=' and the first '.' before it,
- * with blanks around the parts removed. */
-static int apply_override(struct ctx *x, const char *arg)
-{
-    char b[SHOWN_MAX + 4];
-    const char *eq = strchr(arg, '=');
-    const char *dot = NULL;
-    if (eq)
-        for (const char *p = arg; p < eq; p++)
-            if (*p == '.' && !dot)
-                dot = p;
-    if (!eq || !dot) {
-        fail(x, "override %s: expected section.key=value", shown(arg, b));
-        return 0;
-    }
-    size_t len = strlen(arg);
-    char *copy = malloc(len + 1);
-    if (!copy) {
-        fail(x, "override %s: out of memory", shown(arg, b));
-        return 0;
-    }
-    memcpy(copy, arg, len + 1);
-    char *section = copy, *name = copy + (dot - arg) + 1, *value = copy + (eq - arg) + 1;
-    copy[dot - arg] = '\0';
-    copy[eq - arg] = '\0';
-    char *parts[3] = {section, name, value};
-    for (int i = 0; i < 3; i++) {
-        char *s = parts[i];
-        while (*s && is_blank((unsigned char)*s))
-            s++;
-        char *e = s + strlen(s);
-        while (e > s && is_blank((unsigned char)e[-1]))
-            *--e = '\0';
-        parts[i] = s;
-    }
-    int ok = assign(x, parts[0], parts[1], parts[2], arg);
-    free(copy);
-    return ok;
 }
 
 /* case.reference relative to the case file's folder, made absolute so that a
@@ -856,6 +595,23 @@ static void resolve_reference(struct ctx *x, const char *path)
     snprintf(c->reference, sizeof(c->reference), "%s", real);
 }
 
+/* The scene the events choose: the last case.scene whose value names one. */
+static int scene_of(const struct ini_events *ev)
+{
+    int scene = 0;
+    for (int i = 0; i < ev->count; i++) {
+        const struct ini_event *v = &ev->ev[i];
+        if (v->kind == INI_ERROR)
+            break;
+        if (v->kind != INI_KEY || strcmp(v->section, "case") != 0 || strcmp(v->key, "scene") != 0)
+            continue;
+        for (const struct choice *ch = scene_choice_table; ch->name; ch++)
+            if (ini_equal_nocase(v->value, ch->name))
+                scene = ch->value;
+    }
+    return scene;
+}
+
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen)
 {
@@ -871,16 +627,35 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
     if (err && errlen)
         err[0] = '\0';
 
+    struct ini_events ev = {0};
+    char b[SHOWN_MAX + 4];
+    int oom = 0;
     if (path && set_name(&x, path))
-        load_file(&x, path);
-    x.line = 0;
-    for (int i = 0; i < noverrides && !x.failed; i++) {
-        if (!overrides || !overrides[i]) {
-            fail(&x, "override %d: missing", i + 1);
-            break;
+        oom = ini_read_file(&ev, path, x.where, err, errlen) != 0;
+    /* overrides up to a missing one (NULL), reported after the events before it */
+    for (int i = 0; i < noverrides && !oom && overrides && overrides[i]; i++)
+        oom = ini_add_override(&ev, overrides[i]) != 0;
+    if (oom && !x.failed)
+        fail(&x, "%s: out of memory", shown(x.where, b));
+    int scene = scene_of(&ev);
+    case_set_scene(&work, scene);
+    for (int i = 0; i < ev.count && !x.failed; i++) {
+        const struct ini_event *v = &ev.ev[i];
+        if (v->kind == INI_ERROR) {
+            fail(&x, "%s", v->message);
+        } else if (v->kind == INI_SECTION) {
+            header(&x, v->section);
+        } else {
+            assign(&x, v->section, v->key, v->value, v->arg);
+            /* an earlier case.scene does not undo the scene of the first
+             * pass: the last one is the case's, and its block is set up */
+            work.scene = scene;
         }
-        apply_override(&x, overrides[i]);
     }
+    for (int i = 0; i < noverrides && !x.failed; i++)
+        if (!overrides || !overrides[i])
+            fail(&x, "override %d: missing", i + 1);
+    ini_events_free(&ev);
     if (!x.failed)
         finish(&x);
     if (!x.failed && work.reference[0])
@@ -894,57 +669,18 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
 /* ------------------------------------------------------------------------ */
 /* Writing */
 
-/* Shortest %.*g that reads back as exactly v (at most 17 digits). */
-static void format_double(double v, char *out, size_t outlen)
-{
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, outlen, "%.*g", prec, v);
-        if (strtod(out, NULL) == v)
-            return;
-    }
-    snprintf(out, outlen, "%.17g", v);
-}
+struct visit_ctx {
+    const struct muflow_case *c;
+    int (*visit)(void *ctx, const char *section, const char *key, const char *value);
+    void *ctx;
+};
 
-/* The value of key k in c as case_write_ini writes it. */
-static void key_text(const struct muflow_case *c, const struct key *k, char *val, size_t len)
+static int visit_one(void *vctx, const struct key *k)
 {
-    const char *field = (const char *)c + k->off;
-    switch (k->type) {
-    case K_DOUBLE: {
-        double v;
-        memcpy(&v, field, sizeof(v));
-        format_double(v, val, len);
-        return;
-    }
-    case K_INT:
-    case K_BOOL:
-    case K_CHOICE: {
-        int v;
-        memcpy(&v, field, sizeof(v));
-        if (k->type == K_BOOL) {
-            snprintf(val, len, "%s", v ? "on" : "off");
-            return;
-        }
-        if (k->type == K_CHOICE)
-            for (const struct choice *ch = k->choices; ch->name; ch++)
-                if (ch->value == v) {
-                    snprintf(val, len, "%s", ch->name);
-                    return;
-                }
-        snprintf(val, len, "%d", v);
-        return;
-    }
-    case K_LONG: {
-        long v;
-        memcpy(&v, field, sizeof(v));
-        snprintf(val, len, "%ld", v);
-        return;
-    }
-    case K_STRING:
-        snprintf(val, len, "%.*s", (int)(sizeof(c->output_dir) - 1), field);
-        return;
-    }
-    snprintf(val, len, "?");
+    struct visit_ctx *v = vctx;
+    char val[sizeof(v->c->output_dir) + 8];
+    key_text(key_base(v->c, k), k, val, sizeof(val));
+    return v->visit(v->ctx, k->section, k->name, val);
 }
 
 int case_visit_keys(const struct muflow_case *c,
@@ -952,32 +688,33 @@ int case_visit_keys(const struct muflow_case *c,
                                  const char *value),
                     void *ctx)
 {
-    char val[sizeof(c->output_dir) + 8];
-    for (int i = 0; i < NKEYS; i++) {
-        key_text(c, &keys[i], val, sizeof(val));
-        int rc = visit(ctx, keys[i].section, keys[i].name, val);
-        if (rc)
-            return rc;
+    struct visit_ctx v = {c, visit, ctx};
+    return each_key(c, visit_one, &v);
+}
+
+struct write_ctx {
+    FILE *out;
+    const char *section;
+};
+
+static int write_one(void *vctx, const char *section, const char *key, const char *value)
+{
+    struct write_ctx *w = vctx;
+    if (!w->section || strcmp(w->section, section) != 0) {
+        fprintf(w->out, "%s[%s]\n", w->section ? "\n" : "", section);
+        w->section = section;
     }
+    if (value[0] == '\0') /* an unset string key (no reference): its default */
+        fprintf(w->out, "; %s is not set\n", key);
+    else
+        fprintf(w->out, "%s = %s\n", key, value);
     return 0;
 }
 
 void case_write_ini(const struct muflow_case *c, FILE *out)
 {
     char b[SHOWN_MAX + 4];
-    const char *section = NULL;
     fprintf(out, "; muflow case: %s\n", shown(c->name, b));
-    for (int i = 0; i < NKEYS; i++) {
-        const struct key *k = &keys[i];
-        if (!section || strcmp(section, k->section) != 0) {
-            fprintf(out, "%s[%s]\n", section ? "\n" : "", k->section);
-            section = k->section;
-        }
-        char val[sizeof(c->output_dir) + 8];
-        key_text(c, k, val, sizeof(val));
-        if (val[0] == '\0') /* an unset string key (no reference): its default */
-            fprintf(out, "; %s is not set\n", k->name);
-        else
-            fprintf(out, "%s = %s\n", k->name, val);
-    }
+    struct write_ctx w = {out, NULL};
+    case_visit_keys(c, write_one, &w);
 }

@@ -36,12 +36,36 @@ static hid_t native(enum stype t)
     return t == S_DOUBLE ? H5T_NATIVE_DOUBLE : t == S_LONG ? H5T_NATIVE_LONG : H5T_NATIVE_INT;
 }
 
-static const char *const vel_names[3] = {"velocity_x", "velocity_y", "velocity_z"};
-
-static void field_dims(const struct grid *g, hsize_t dims[3])
+/* The checkpointed fields of the registry (march/fields.h), dataset by
+ * dataset: a cell field under its name, three arrays as name_x, _y, _z.
+ * read: 0 to write them, 1 to read them back. */
+static int each_dataset(hid_t file, const struct march_state *st, int read, char *err,
+                        size_t errlen)
 {
+    static const char axis[3] = {'x', 'y', 'z'};
+    hsize_t dims[3];
     for (int d = 0; d < 3; d++)
-        dims[d] = (hsize_t)g->ext[d];
+        dims[d] = (hsize_t)st->g.ext[d];
+    const struct field_registry *r = &st->fields;
+    for (int i = 0; i < r->count; i++) {
+        const struct field_entry *e = &r->e[i];
+        if (!(e->spec.flags & FIELD_CHECKPOINT))
+            continue;
+        int n = field_arrays(e->spec.where);
+        for (int c = 0; c < n; c++) {
+            char name[96];
+            if (n == 1)
+                snprintf(name, sizeof name, "%s", e->spec.name);
+            else
+                snprintf(name, sizeof name, "%s_%c", e->spec.name, axis[c]);
+            int rc = read ? h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err, errlen)
+                          : h5io_write(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err,
+                                       errlen);
+            if (rc != 0)
+                return -1;
+        }
+    }
+    return 0;
 }
 
 static int write_wisdom(hid_t file, char *err, size_t errlen)
@@ -70,13 +94,7 @@ static int write_contents(hid_t file, const struct march_state *st, const struct
         if (h5io_attr_write(file, loop_state[m].name, native(loop_state[m].type), 1,
                             (const char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
-    hsize_t dims[3];
-    field_dims(g, dims);
-    for (int c = 0; c < 3; c++)
-        if (h5io_write(file, vel_names[c], H5T_NATIVE_DOUBLE, 3, dims, st->vel[c], err,
-                       errlen) != 0)
-            return -1;
-    if (h5io_write(file, "p_dyn", H5T_NATIVE_DOUBLE, 3, dims, st->p_dyn, err, errlen) != 0)
+    if (each_dataset(file, st, 0, err, errlen) != 0)
         return -1;
     hsize_t n = (hsize_t)fs->count;
     if (h5io_attr_write(file, "fields_count", H5T_NATIVE_INT, 1, &fs->count, err, errlen) != 0 ||
@@ -268,13 +286,7 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
         if (h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), 1,
                            (char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
-    hsize_t dims[3];
-    field_dims(g, dims);
-    for (int c = 0; c < 3; c++)
-        if (h5io_read(file, vel_names[c], H5T_NATIVE_DOUBLE, 3, dims, st->vel[c], err,
-                      errlen) != 0)
-            return -1;
-    if (h5io_read(file, "p_dyn", H5T_NATIVE_DOUBLE, 3, dims, st->p_dyn, err, errlen) != 0)
+    if (each_dataset(file, st, 1, err, errlen) != 0)
         return -1;
     int count;
     double next_time;

@@ -79,5 +79,5 @@ int field_series_write(struct field_series *s, const char *dir, const struct mar
     double T = st->cs->fields_interval;
     if (T > 0.0)
         s->next_time = (floor(st->time / T + TIME_SLACK) + 1.0) * T;
-    return xdmf_write(dir, &st->g, s->count, s->steps, s->times, err, errlen);
+    return xdmf_write(dir, &st->g, &st->fields, s->count, s->steps, s->times, err, errlen);
 }

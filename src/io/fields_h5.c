@@ -7,9 +7,6 @@
 #include <string.h>
 #include "io/h5io.h"
 
-const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS] = {
-    "pressure", "pressure_regularised", "shear_rate", "inertial_number", "viscosity"};
-
 void fields_h5_name(long step, char *buf, size_t len)
 {
     snprintf(buf, len, "fields_%06ld.h5", step);
@@ -49,32 +46,20 @@ static int faces(const struct march_state *st, int d)
 }
 
 /* out (x fastest) = cell field f at every cell, through map (NULL: f itself). */
-static void gather_cells(const struct march_state *st, const double *f, double (*map)(const struct march_state *, double, ptrdiff_t), double *out)
+static void gather_cells(const struct grid *g, const double *f, field_map map, const void *ctx,
+                         double *out)
 {
-    const struct grid *g = &st->g;
     size_t m = 0;
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++, m++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                out[m] = map ? map(st, f[p], p) : f[p];
+                out[m] = map ? map(ctx, f[p], p) : f[p];
             }
 }
 
-static double shear_rate(const struct march_state *st, double shear2, ptrdiff_t p)
-{
-    (void)st;
-    (void)p;
-    return sqrt(shear2);
-}
-
-static double inertial(const struct march_state *st, double shear2, ptrdiff_t p)
-{
-    return rheology_inertial_number(&st->cs->rheo, sqrt(shear2), st->preg[p]);
-}
-
 /* Face values of component c, x fastest, over the distinct faces. */
-static void gather_faces(const struct march_state *st, int c, double *out)
+static void gather_faces(const struct march_state *st, double *const vel[3], int c, double *out)
 {
     const struct grid *g = &st->g;
     int hi[3] = {g->n[0], g->n[1], g->n[2]};
@@ -83,12 +68,12 @@ static void gather_faces(const struct march_state *st, int c, double *out)
     for (int k = 0; k < hi[2]; k++)
         for (int j = 0; j < hi[1]; j++)
             for (int i = 0; i < hi[0]; i++)
-                out[m++] = st->vel[c][grid_idx(g, i, j, k)];
+                out[m++] = vel[c][grid_idx(g, i, j, k)];
 }
 
 /* Cell-centred velocity: mean of the low and high face of each component; the
  * high face of the last cell of a periodic direction is face 0. */
-static void gather_cell_velocity(const struct march_state *st, double *out)
+static void gather_cell_vector(const struct march_state *st, double *const vel[3], double *out)
 {
     const struct grid *g = &st->g;
     size_t m = 0;
@@ -100,8 +85,8 @@ static void gather_cell_velocity(const struct march_state *st, double *out)
                     up[c]++;
                     if (up[c] == g->n[c] && st->bc.face[c][0] == BC_PERIODIC)
                         up[c] = 0;
-                    out[m++] = 0.5 * (st->vel[c][grid_idx(g, lo[0], lo[1], lo[2])] +
-                                      st->vel[c][grid_idx(g, up[0], up[1], up[2])]);
+                    out[m++] = 0.5 * (vel[c][grid_idx(g, lo[0], lo[1], lo[2])] +
+                                      vel[c][grid_idx(g, up[0], up[1], up[2])]);
                 }
 }
 
@@ -117,27 +102,32 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
         h5io_attr_write_text(file, "status", run_status_name(st->status), err, errlen) != 0 ||
         fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0)
         return -1;
-    static const char *const comp[3] = {"u", "v", "w"};
-    for (int c = 0; c < 3; c++) {
-        hsize_t dims[3] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0]};
-        dims[2 - c] = (hsize_t)faces(st, c);
-        gather_faces(st, c, buf);
-        if (h5io_write(file, comp[c], H5T_NATIVE_DOUBLE, 3, dims, buf, err, errlen) != 0)
-            return -1;
-    }
+    /* the registry's outputs (march/fields.h): face fields as their face
+     * values and the cell-centred vector, cell fields through their maps */
+    const struct field_registry *r = &st->fields;
     hsize_t cdims[4] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0], 3};
-    const double *src[FIELDS_CELL_SCALARS] = {st->pressure, st->preg, st->shear2, st->shear2,
-                                              st->eta};
-    double (*map[FIELDS_CELL_SCALARS])(const struct march_state *, double, ptrdiff_t) = {
-        NULL, NULL, shear_rate, inertial, NULL};
-    for (int f = 0; f < FIELDS_CELL_SCALARS; f++) {
-        gather_cells(st, src[f], map[f], buf);
-        if (h5io_write(file, fields_cell_scalar_names[f], H5T_NATIVE_DOUBLE, 3, cdims, buf, err,
-                       errlen) != 0)
-            return -1;
+    for (int o = 0; o < r->noutputs; o++) {
+        const struct field_output *out = &r->out[o];
+        const struct field_entry *e = &r->e[out->source];
+        if (e->spec.where == FIELD_FACES) {
+            for (int c = 0; c < 3; c++) {
+                hsize_t dims[3] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0]};
+                dims[2 - c] = (hsize_t)faces(st, c);
+                gather_faces(st, e->v, c, buf);
+                if (h5io_write(file, out->components[c], H5T_NATIVE_DOUBLE, 3, dims, buf, err,
+                               errlen) != 0)
+                    return -1;
+            }
+            gather_cell_vector(st, e->v, buf);
+            if (h5io_write(file, out->name, H5T_NATIVE_DOUBLE, 4, cdims, buf, err, errlen) != 0)
+                return -1;
+        } else {
+            gather_cells(g, e->v[0], out->map, out->ctx, buf);
+            if (h5io_write(file, out->name, H5T_NATIVE_DOUBLE, 3, cdims, buf, err, errlen) != 0)
+                return -1;
+        }
     }
-    gather_cell_velocity(st, buf);
-    return h5io_write(file, FIELDS_CELL_VECTOR, H5T_NATIVE_DOUBLE, 4, cdims, buf, err, errlen);
+    return 0;
 }
 
 struct fields_ctx {

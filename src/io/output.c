@@ -6,7 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include "scenes/analytic.h"
+#include <stdarg.h>
+#include "scenes/scene.h"
 #include "io/output.h"
 
 int output_make_dir(const char *dir, char *err, size_t errlen)
@@ -156,31 +157,41 @@ int output_profile(const char *dir, const struct profile *pr, char *err, size_t 
     return close_rename(f, tmp, path, err, errlen);
 }
 
-int output_heap(const char *dir, const struct heap_profile *hp, char *err, size_t errlen)
+int output_open(struct output_file *o, const char *dir, const char *name, char *err,
+                size_t errlen)
 {
-    char path[600], tmp[620];
-    FILE *f = open_tmp(dir, "heap.csv", path, sizeof path, tmp, sizeof tmp, err, errlen);
-    if (!f)
-        return -1;
-    fprintf(f, "y,u_surface,flowing_depth\n");
-    for (int j = 0; j < hp->n; j++)
-        fprintf(f, "%.10g,%.12g,%.10g\n", hp->y[j], hp->u_surface[j], hp->depth[j]);
-    return close_rename(f, tmp, path, err, errlen);
+    o->f = open_tmp(dir, name, o->path, sizeof o->path, o->tmp, sizeof o->tmp, err, errlen);
+    return o->f ? 0 : -1;
 }
 
-static void summary_heap(FILE *f, const struct muflow_case *cs, const struct heap_result *h)
+int output_commit(struct output_file *o, char *err, size_t errlen)
 {
-    fprintf(f, "tilt = %.10g\n", h->tilt);
-    fprintf(f, "flow_rate = %.10g\n", h->flow_rate);
-    if (h->searched) {
-        fprintf(f, "flow_rate_target = %.10g\n", cs->heap.flow_rate);
-        fprintf(f, "flow_rate_error = %.6e\n", h->flow_rate / cs->heap.flow_rate - 1.0);
-        fprintf(f, "search_converged = %s\n", h->converged ? "true" : "false");
-    }
-    fprintf(f, "solves = %d\n", h->solves);
-    fprintf(f, "steps_total = %ld\n", h->steps);
-    fprintf(f, "u_surface_mid = %.10g\n", h->u_surface_mid);
-    fprintf(f, "depth_mid = %.10g\n", h->depth_mid);
+    int rc = close_rename(o->f, o->tmp, o->path, err, errlen);
+    o->f = NULL;
+    return rc;
+}
+
+void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
+{
+    if (r->nvalues >= RESULT_VALUES_MAX)
+        return;
+    struct result_value *v = &r->values[r->nvalues++];
+    snprintf(v->key, sizeof v->key, "%s", key);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(v->text, sizeof v->text, fmt, ap);
+    va_end(ap);
+}
+
+double run_result_value(const struct run_result *r, const char *key)
+{
+    for (int i = 0; i < r->nvalues; i++)
+        if (strcmp(r->values[i].key, key) == 0) {
+            char *end;
+            double v = strtod(r->values[i].text, &end);
+            return end != r->values[i].text ? v : NAN;
+        }
+    return NAN;
 }
 
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
@@ -198,17 +209,18 @@ int output_summary(const char *dir, const struct muflow_case *cs, const struct r
     fprintf(f, "wall_seconds = %.6g\n", r->wall_seconds);
     fprintf(f, "residual = %.6e\n", r->residual);
     fprintf(f, "divergence = %.6e\n", r->divergence);
-    const char *hname = scene_headline_name(cs->scene);
+    const struct scene *sc = case_scene(cs);
+    const char *hname = sc->headline_name;
     if (hname) {
         /* err_midline for the cavity: its reference is a curve, not a solution */
-        fprintf(f, "%s = %.6e\n", scene_error_name(cs->scene), r->errors.err_rms);
+        fprintf(f, "%s = %.6e\n", sc->error_name ? sc->error_name : "err_rms", r->errors.err_rms);
         fprintf(f, "err_max = %.6e\n", r->errors.err_max);
         fprintf(f, "err_rms_paper = %.6e\n", r->errors.err_rms_paper);
         fprintf(f, "%s = %.10g\n", hname, r->errors.headline);
         fprintf(f, "%s_exact = %.10g\n", hname, r->errors.headline_exact);
     }
-    if (r->heap.valid)
-        summary_heap(f, cs, &r->heap);
+    for (int i = 0; i < r->nvalues; i++)
+        fprintf(f, "%s = %s\n", r->values[i].key, r->values[i].text);
     fprintf(f, "\n");
     case_write_ini(cs, f);
     return close_rename(f, tmp, path, err, errlen);

@@ -18,8 +18,8 @@ static void attribute(FILE *f, const char *name, const char *type, const char *d
             name, type, dims, file, name);
 }
 
-int xdmf_write(const char *dir, const struct grid *g, int count, const long *steps,
-               const double *times, char *err, size_t errlen)
+int xdmf_write(const char *dir, const struct grid *g, const struct field_registry *r, int count,
+               const long *steps, const double *times, char *err, size_t errlen)
 {
     char path[700], tmp[720];
     if (snprintf(path, sizeof path, "%s/fields.xdmf", dir) >= (int)sizeof path ||
@@ -56,9 +56,12 @@ int xdmf_write(const char *dir, const struct grid *g, int count, const long *ste
                 "Format=\"XML\">%.17g %.17g %.17g</DataItem>\n"
                 "        </Geometry>\n",
                 steps[m], times[m], nodes, g->h[2], g->h[1], g->h[0]);
-        for (int s = 0; s < FIELDS_CELL_SCALARS; s++)
-            attribute(f, fields_cell_scalar_names[s], "Scalar", cells, file);
-        attribute(f, FIELDS_CELL_VECTOR, "Vector", vec, file);
+        /* the registry's outputs: cell scalars first, then the vectors */
+        for (int vector = 0; vector < 2; vector++)
+            for (int o = 0; o < r->noutputs; o++)
+                if ((r->e[r->out[o].source].spec.where == FIELD_FACES) == vector)
+                    attribute(f, r->out[o].name, vector ? "Vector" : "Scalar",
+                              vector ? vec : cells, file);
         fprintf(f, "      </Grid>\n");
     }
     fprintf(f, "    </Grid>\n"

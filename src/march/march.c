@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include "march/march.h"
+#include "march/step.h"
+#include "scenes/scene.h"
 
 /* Steps without a 10% improvement of the best residual after which a steady
  * march is declared unable to reach a steady state. */
@@ -16,11 +18,6 @@
  * step far from the solution can overshoot into spurious states. */
 #define REJECT_GROWTH 2.0
 #define MIN_DT_SCALE 1e-12
-/* max |div u| h / max |u| above which a state is not solenoidal to round-off
- * (advance projects it once more). */
-#define DIVERGENCE_ROUNDOFF 1e-12
-/* Round-off allowance of the residual, in machine epsilons of its terms. */
-#define ROUNDOFF_EPS (16.0 * DBL_EPSILON)
 
 const char *run_status_name(enum run_status s)
 {
@@ -35,72 +32,18 @@ const char *run_status_name(enum run_status s)
     return "?";
 }
 
-static void copy_fields(const struct grid *g, double *const src[3], double *dst[3])
+/* |D| and I for the field files, from |D|^2 (and the regularised pressure). */
+static double output_shear_rate(const void *ctx, double shear2, ptrdiff_t p)
 {
-    for (int c = 0; c < 3; c++)
-        memcpy(dst[c], src[c], g->size * sizeof(double));
+    (void)ctx;
+    (void)p;
+    return sqrt(shear2);
 }
 
-static void gravity_vector(const struct muflow_case *cs, double f[3])
+static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p)
 {
-    double rg = cs->density * cs->gravity;
-    f[0] = rg * sin(cs->tilt);
-    f[1] = 0.0;
-    f[2] = -rg * cos(cs->tilt);
-}
-
-/* Hydrostatic pressure of the body force: the pressure whose gradient removes
- * the curl-free part of the force under the walls' no-penetration condition,
- * with p = 0 on free surfaces.  The remaining force drives the flow. */
-static int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
-{
-    const struct grid *g = &st->g;
-    double f[3];
-    gravity_vector(st->cs, f);
-    enum poisson_bc pbc[3][2];
-    for (int d = 0; d < 3; d++)
-        for (int s = 0; s < 2; s++) {
-            enum bc_kind k = st->bc.face[d][s];
-            pbc[d][s] = k == BC_PERIODIC  ? POISSON_PERIODIC
-                        : k == BC_SURFACE ? POISSON_DIRICHLET
-                                          : POISSON_NEUMANN;
-        }
-    /* fluxes of the force through every face; a closed boundary face passes none */
-    double **flux = st->delta;
-    for (int a = 0; a < 3; a++)
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
-                for (int k = -1; k <= g->n[2]; k++) {
-                    int idx[3] = {i, j, k};
-                    int face = idx[a];
-                    double v = f[a];
-                    if (st->bc.face[a][0] != BC_PERIODIC &&
-                        ((face <= 0 && st->bc.face[a][0] != BC_SURFACE) ||
-                         (face >= g->n[a] && st->bc.face[a][1] != BC_SURFACE)))
-                        v = 0.0;
-                    flux[a][grid_idx(g, i, j, k)] = v;
-                }
-    kernel_divergence(g, flux, st->div);
-    struct poisson_fft *ps;
-    if (poisson_fft_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
-        return -1;
-    poisson_fft_solve(ps, st->div, st->p_hyd);
-    poisson_fft_destroy(ps);
-    bc_fill_scalar(g, &st->bc, st->p_hyd);
-    for (int a = 0; a < 3; a++)
-        for (size_t p = 0; p < g->size; p++)
-            st->force[a][p] = f[a];
-    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, st->force);
-    for (int a = 0; a < 3; a++) /* only unknown faces carry a force */
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
-                for (int k = -1; k <= g->n[2]; k++) {
-                    const struct box *b = &st->act[a];
-                    if (i < b->lo[0] || i >= b->hi[0] || j < b->lo[1] || j >= b->hi[1] ||
-                        k < b->lo[2] || k >= b->hi[2])
-                        st->force[a][grid_idx(g, i, j, k)] = 0.0;
-                }
-    return 0;
+    const struct march_state *st = ctx;
+    return rheology_inertial_number(&st->cs->rheo, sqrt(shear2), st->preg[p]);
 }
 
 /* Line blocks are exact for flows uniform across lines and cheap; a flow that
@@ -128,7 +71,94 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     return cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
 }
 
+/* The arrays of the march, declared once (march/fields.h). */
+static int register_fields(struct march_state *st)
+{
+    struct field_registry *r = &st->fields;
+    const struct field_spec specs[] = {
+        {"velocity", FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED},
+        {"p_dyn", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED},
+        {"p_hyd", FIELD_CELLS, 0},
+        {"force", FIELD_FACES, 0},
+        {"density_faces", FIELD_FACES, 0},
+        {"pressure", FIELD_CELLS, 0},
+        {"strain_normal2", FIELD_CELLS, 0},
+        {"strain_shear2", FIELD_EDGES, 0},
+        {"shear2", FIELD_CELLS, 0},
+        {"viscosity", FIELD_CELLS, 0},
+        {"pressure_regularised", FIELD_CELLS, 0},
+        {"tangent_cells", FIELD_CELLS3, 0},
+        {"viscosity_edges", FIELD_EDGES, 0},
+        {"tangent_edges", FIELD_EDGES, 0},
+        {"residual", FIELD_FACES, 0},
+        {"increment", FIELD_FACES, 0},
+        {"advection", FIELD_FACES, 0},
+        {"divergence", FIELD_CELLS, 0},
+        {"phi", FIELD_CELLS, 0},
+    };
+    double **into[] = {st->vel, &st->p_dyn, &st->p_hyd, st->force, st->rho_face, &st->pressure,
+                       &st->cn2, st->e2, &st->shear2, &st->eta, &st->preg, st->tan_c, st->eta_e,
+                       st->tan_e, st->res, st->delta, st->adv, &st->div, &st->phi};
+    _Static_assert(sizeof specs / sizeof specs[0] == sizeof into / sizeof into[0], "one each");
+    int idx[sizeof specs / sizeof specs[0]];
+    for (size_t m = 0; m < sizeof specs / sizeof specs[0]; m++)
+        if ((idx[m] = fields_add(r, &specs[m], into[m])) < 0)
+            return -1;
+    /* what the field files hold, in this order: the velocity (face values
+     * u, v, w and the cell-centred vector), then the cell scalars */
+    const struct field_output outs[] = {
+        {"velocity", {"u", "v", "w"}, idx[0], NULL, NULL},
+        {"pressure", {NULL}, idx[5], NULL, NULL},
+        {"pressure_regularised", {NULL}, idx[10], NULL, NULL},
+        {"shear_rate", {NULL}, idx[8], output_shear_rate, st},
+        {"inertial_number", {NULL}, idx[8], output_inertial_number, st},
+        {"viscosity", {NULL}, idx[9], NULL, NULL},
+    };
+    for (size_t m = 0; m < sizeof outs / sizeof outs[0]; m++)
+        if (fields_output(r, &outs[m]) != 0)
+            return -1;
+    return 0;
+}
+
+static enum poisson_bc projection_bc(enum bc_kind k)
+{
+    return k == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+}
+
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
+{
+    return march_create_with(st, cs, NULL, err, errlen);
+}
+
+/* The scene's modules, then the extra ones. */
+static int add_modules(struct march_state *st, const struct module *const *extra, char *err,
+                       size_t errlen)
+{
+    const struct module *const *lists[2] = {case_scene(st->cs)->modules, extra};
+    for (int l = 0; l < 2; l++)
+        for (const struct module *const *m = lists[l]; m && *m; m++) {
+            if (st->nmodules == MODULES_MAX) {
+                snprintf(err, errlen, "more than %d physics modules", MODULES_MAX);
+                return -1;
+            }
+            int i = st->nmodules++;
+            st->modules[i] = *m;
+            if ((*m)->create && (*m)->create(st, &st->module_state[i], err, errlen) != 0)
+                return -1;
+        }
+    return 0;
+}
+
+/* The scene's forcing and initial state (a restart overwrites the fields
+ * afterwards), before the hydrostatic split, which may depend on them. */
+static int scene_setup(struct march_state *st, char *err, size_t errlen)
+{
+    const struct scene *sc = case_scene(st->cs);
+    return sc->setup ? sc->setup(st, err, errlen) : 0;
+}
+
+int march_create_with(struct march_state *st, const struct muflow_case *cs,
+                      const struct module *const *extra, char *err, size_t errlen)
 {
     memset(st, 0, sizeof *st);
     st->cs = cs;
@@ -138,50 +168,46 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
         return -1;
     }
     const struct grid *g = &st->g;
+    fields_init(&st->fields, g);
     bc_unknown_boxes(g, &st->bc, st->act);
-    int ok = 1;
-    for (int c = 0; c < 3; c++) {
-        ok &= (st->vel[c] = field_alloc(g)) != NULL;
-        ok &= (st->force[c] = field_alloc(g)) != NULL;
-        ok &= (st->res[c] = field_alloc(g)) != NULL;
-        ok &= (st->delta[c] = field_alloc(g)) != NULL;
-        ok &= (st->adv[c] = field_alloc(g)) != NULL;
-        ok &= (st->good_vel[c] = field_alloc(g)) != NULL;
-        ok &= (st->e2[c] = field_alloc(g)) != NULL;
-        ok &= (st->tan_c[c] = field_alloc(g)) != NULL;
-        ok &= (st->eta_e[c] = field_alloc(g)) != NULL;
-        ok &= (st->tan_e[c] = field_alloc(g)) != NULL;
-    }
-    double **cells[] = {&st->p_dyn, &st->p_hyd, &st->pressure, &st->shear2, &st->eta,
-                        &st->cn2, &st->preg, &st->div, &st->phi, &st->good_p_dyn};
-    for (size_t m = 0; m < sizeof cells / sizeof cells[0]; m++)
-        ok &= (*cells[m] = field_alloc(g)) != NULL;
-    if (!ok) {
+    if (register_fields(st) != 0) {
         snprintf(err, errlen, "out of memory for a %d x %d x %d grid", g->n[0], g->n[1], g->n[2]);
         march_destroy(st);
         return -1;
     }
+    /* one density everywhere until a module says otherwise */
+    st->rho_ref = cs->density;
+    st->density_uniform = 1;
+    for (int c = 0; c < 3; c++)
+        for (size_t p = 0; p < g->size; p++)
+            st->rho_face[c][p] = cs->density;
     enum poisson_bc pbc[3][2];
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)
-            pbc[d][s] = st->bc.face[d][s] == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+            pbc[d][s] = projection_bc(st->bc.face[d][s]);
     enum viscous_precond kind = choose_preconditioner(st);
     st->full_tangent = kind == VISCOUS_LU && cs->newton;
-    if (cs->augmentation > 0.0)
-        ok &= (st->aug = field_alloc(g)) != NULL;
-    if (st->full_tangent) {
-        ok &= (st->b_c = field_alloc(g)) != NULL;
-        for (int c = 0; c < 3; c++)
-            ok &= (st->b_e[c] = field_alloc(g)) != NULL;
-        if (!ok) {
-            snprintf(err, errlen, "out of memory for the full tangent");
-            march_destroy(st);
-            return -1;
-        }
+    int ok = 1;
+    if (cs->augmentation > 0.0) {
+        const struct field_spec s = {"augmentation", FIELD_CELLS, 0};
+        ok &= fields_add(&st->fields, &s, &st->aug) >= 0;
     }
-    if (poisson_fft_create(&st->poisson, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0 ||
+    if (st->full_tangent) {
+        const struct field_spec sc = {"tangent_b_cells", FIELD_CELLS, 0},
+                                se = {"tangent_b_edges", FIELD_EDGES, 0};
+        ok &= fields_add(&st->fields, &sc, &st->b_c) >= 0 &&
+              fields_add(&st->fields, &se, st->b_e) >= 0;
+    }
+    if (!ok) {
+        snprintf(err, errlen, "out of memory for the full tangent");
+        march_destroy(st);
+        return -1;
+    }
+    if (pressure_create(&st->pressure_solver, g, (const enum poisson_bc(*)[2])pbc, err,
+                        errlen) != 0 ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
+        add_modules(st, extra, err, errlen) != 0 || scene_setup(st, err, errlen) != 0 ||
         hydrostatic_split(st, err, errlen) != 0) {
         march_destroy(st);
         return -1;
@@ -192,29 +218,34 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
     return 0;
 }
 
+int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    st->density_uniform = uniform;
+    if (uniform)
+        return pressure_set_coefficient(st->pressure_solver, NULL, err, errlen);
+    if (!st->beta[0]) {
+        const struct field_spec sb = {"projection_coefficient", FIELD_FACES, 0},
+                                sm = {"mass_faces", FIELD_FACES, 0};
+        if (fields_add(&st->fields, &sb, st->beta) < 0 ||
+            fields_add(&st->fields, &sm, st->mass_face) < 0) {
+            snprintf(err, errlen, "out of memory for the variable density");
+            return -1;
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        for (size_t p = 0; p < g->size; p++)
+            st->beta[c][p] = st->rho_face[c][p] > 0.0 ? st->rho_ref / st->rho_face[c][p] : 0.0;
+    return pressure_set_coefficient(st->pressure_solver, st->beta, err, errlen);
+}
+
 void march_destroy(struct march_state *st)
 {
-    for (int c = 0; c < 3; c++) {
-        field_free(st->vel[c]);
-        field_free(st->force[c]);
-        field_free(st->res[c]);
-        field_free(st->delta[c]);
-        field_free(st->adv[c]);
-        field_free(st->good_vel[c]);
-        field_free(st->e2[c]);
-        field_free(st->tan_c[c]);
-        field_free(st->eta_e[c]);
-        field_free(st->tan_e[c]);
-        field_free(st->b_e[c]);
-    }
-    field_free(st->b_c);
-    field_free(st->aug);
-    double *cells[] = {st->p_dyn, st->p_hyd, st->pressure, st->shear2, st->eta,
-                       st->cn2, st->preg, st->div, st->phi, st->good_p_dyn};
-    for (size_t m = 0; m < sizeof cells / sizeof cells[0]; m++)
-        field_free(cells[m]);
-    if (st->poisson)
-        poisson_fft_destroy(st->poisson);
+    for (int i = st->nmodules - 1; i >= 0; i--)
+        if (st->modules[i]->destroy)
+            st->modules[i]->destroy(st->module_state[i]);
+    fields_free(&st->fields);
+    pressure_destroy(st->pressure_solver);
     viscous_destroy(st->viscous);
     memset(st, 0, sizeof *st);
 }
@@ -241,12 +272,12 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     return 0;
 }
 
-static double force_scale(const struct march_state *st)
+double march_force_scale(const struct march_state *st)
 {
     return st->force_ref > 0.0 ? st->force_ref : 1.0;
 }
 
-static double min_spacing(const struct grid *g)
+double march_min_spacing(const struct grid *g)
 {
     double h = g->h[0];
     for (int d = 1; d < 3; d++)
@@ -255,72 +286,11 @@ static double min_spacing(const struct grid *g)
     return h;
 }
 
-/* Viscosity at the current state and the steady momentum residual
- *   R = f - grad p_dyn + div(eta gamma(u)) - rho div(u u). */
-static void evaluate_residual(struct march_state *st)
-{
-    const struct muflow_case *cs = st->cs;
-    const struct grid *g = &st->g;
-    bc_fill_velocity(g, &st->bc, st->vel);
-    kernel_strain(g, st->vel, st->cn2, st->e2);
-    bc_fill_scalar(g, &st->bc, st->cn2);
-    for (size_t p = 0; p < g->size; p++)
-        st->pressure[p] = cs->confining_pressure + st->p_hyd[p] + st->p_dyn[p];
-    bc_fill_scalar_linear(g, &st->bc, st->pressure);
-    kernel_viscosity_cells(g, &cs->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
-                           cs->newton ? st->tan_c : NULL, st->shear2, st->preg, st->b_c);
-    kernel_viscosity_edges(g, &cs->rheo, st->cn2, st->e2, st->pressure, st->eta_e,
-                           cs->newton ? st->tan_e : NULL, st->full_tangent ? st->b_e : NULL);
-    bc_fill_scalar(g, &st->bc, st->eta);
-    if (cs->newton)
-        for (int a = 0; a < 3; a++)
-            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
-                             st->res);
-    kernel_axpy(g, st->act, 1.0, st->force, st->res);
-    bc_fill_scalar(g, &st->bc, st->p_dyn);
-    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
-    if (cs->advection) {
-        kernel_advection(g, st->act, st->vel, st->adv);
-        kernel_axpy(g, st->act, cs->density, st->adv, st->res);
-    }
-    if (st->aug) {
-        /* The grad-div augmentation r = kappa max(eta) of the implicit
-         * operator.  It enters the operator and the Uzawa update only, not
-         * this residual: u is solenoidal to round-off after each projection,
-         * where grad(r div u) would be that round-off times r.  One r for the
-         * whole field, not kappa eta per cell: the Uzawa update contracts the
-         * pressure error by 1/(1 + r s) for each eigenvalue s of the Schur
-         * complement div A^-1 grad, and s can be as small as 1/max(eta) in any
-         * cell (a pressure mode in a yielded layer is resisted by the plug
-         * beside it).  With r = kappa eta_cell a Vola Bn = 1000 cavity
-         * contracted by 0.994 per step; with r = kappa max(eta) by < 1/kappa. */
-        double r = cs->augmentation * kernel_max_abs_cells(g, st->eta);
-        for (size_t p = 0; p < g->size; p++)
-            st->aug[p] = r;
-    }
-    if (st->force_ref == 0.0) {
-        double rg = cs->density * cs->gravity;
-        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->res);
-    }
-    double scale = force_scale(st);
-    st->residual = kernel_max_abs(g, st->act, st->res) / scale;
-    kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
-                            st->delta);
-    st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
-                                                 ROUNDOFF_EPS) / scale;
-    kernel_divergence(g, st->vel, st->div);
-    double umax = kernel_max_abs(g, st->act, st->vel);
-    double dmax = kernel_max_abs_cells(g, st->div);
-    st->divergence = umax > 0.0 ? dmax * min_spacing(g) / umax : dmax;
-}
-
 double march_mean_acceleration(const struct march_state *st)
 {
     /* mean residual per unit mass of the component the body force drives */
     double f[3];
-    gravity_vector(st->cs, f);
+    body_force_vector(st->cs, f);
     int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
     if (st->bc.face[a][0] != BC_PERIODIC)
         a = a == 0 ? 2 : 0;
@@ -335,30 +305,7 @@ double march_mean_acceleration(const struct march_state *st)
     return n > 0 ? s / n / st->cs->density : 0.0;
 }
 
-/* The implicit operator at the current state: mass + linearised stress. */
-static struct viscous_problem implicit_problem(const struct march_state *st, double mass)
-{
-    const struct muflow_case *cs = st->cs;
-    struct viscous_problem pb = {.mass = mass, .augmentation = st->aug};
-    /* Newton's basin shrinks with lambda: far from the solution the lagged
-     * (Picard) viscosity is the robust step, the tangent the fast one near it */
-    int tangent = cs->newton &&
-                  (cs->newton_below >= 1.0 || st->residual <= cs->newton_below * st->residual0);
-    int diagonal = tangent && !st->full_tangent;
-    for (int a = 0; a < 3; a++) {
-        pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
-        pb.A_edge[a] = diagonal ? st->tan_e[a] : st->eta_e[a];
-    }
-    if (tangent && st->full_tangent) {
-        pb.b_cell = st->b_c;
-        for (int a = 0; a < 3; a++)
-            pb.b_edge[a] = st->b_e[a];
-        pb.base = st->vel;
-    }
-    return pb;
-}
-
-void march_evaluate(struct march_state *st) { evaluate_residual(st); }
+void march_evaluate(struct march_state *st) { step_evaluate(st); }
 
 void march_apply_tangent(struct march_state *st, double *v[3], double *out[3])
 {
@@ -366,71 +313,13 @@ void march_apply_tangent(struct march_state *st, double *v[3], double *out[3])
     viscous_apply(st->viscous, &pb, v, out);
 }
 
-/* One implicit step of size dt from the current state (residual evaluated). */
-static int advance(struct march_state *st, double dt)
-{
-    const struct muflow_case *cs = st->cs;
-    const struct grid *g = &st->g;
-    struct viscous_problem pb = implicit_problem(st, cs->density / dt);
-    viscous_precondition(st->viscous, &pb);
-    struct viscous_stats vs;
-    int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, cs->linear_tolerance,
-                           cs->max_linear_iterations, &vs);
-    st->linear_iterations = vs.iterations;
-    if (rc < 0)
-        return -1;
-    /* u is solenoidal to round-off after the last projection, so
-     * div u* = div u + div delta is div delta but for that round-off.  The
-     * pressure updates are taken from div delta alone: the Uzawa update
-     * -r div u* and the projection's (rho/dt) lap^-1 div u* would carry u's
-     * round-off times r (large) or rho/dt (large once a rejected step cut dt:
-     * a Newton step at dt 1e-9 then raised the residual whatever its
-     * length).  The projection u = u* - grad lap^-1 div delta keeps div u at
-     * round-off; a state whose own divergence is above it (not one this
-     * march produced) gets a second projection. */
-    bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
-    kernel_divergence(g, st->delta, st->phi);
-    if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
-        for (int i = 0; i < g->n[0]; i++)
-            for (int j = 0; j < g->n[1]; j++)
-                for (int k = 0; k < g->n[2]; k++) {
-                    ptrdiff_t p = grid_idx(g, i, j, k);
-                    st->p_dyn[p] -= st->aug[p] * st->phi[p];
-                }
-    kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
-    poisson_fft_solve(st->poisson, st->phi, st->phi);
-    bc_fill_scalar(g, &st->bc, st->phi);
-    kernel_gradient_update(g, st->act, st->phi, 1.0, st->vel);
-    bc_fill_velocity(g, &st->bc, st->vel);
-    if (st->divergence > DIVERGENCE_ROUNDOFF) {
-        kernel_divergence(g, st->vel, st->div);
-        poisson_fft_solve(st->poisson, st->div, st->div);
-        bc_fill_scalar(g, &st->bc, st->div);
-        kernel_gradient_update(g, st->act, st->div, 1.0, st->vel);
-    }
-    /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
-     * dt it is small and the Uzawa update carries the pressure */
-    double scale = cs->density / dt;
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += scale * st->phi[p];
-            }
-    return 0;
-}
-
-static void save_good(struct march_state *st)
-{
-    copy_fields(&st->g, st->vel, st->good_vel);
-    memcpy(st->good_p_dyn, st->p_dyn, st->g.size * sizeof(double));
-}
+/* The last accepted state: every FIELD_SAVED field of the registry. */
+static void save_good(struct march_state *st) { fields_save(&st->fields); }
 
 static void restore_good(struct march_state *st)
 {
-    copy_fields(&st->g, st->good_vel, st->vel);
-    memcpy(st->p_dyn, st->good_p_dyn, st->g.size * sizeof(double));
-    evaluate_residual(st);
+    fields_restore(&st->fields);
+    step_evaluate(st);
 }
 
 static double choose_dt(const struct march_state *st)
@@ -452,7 +341,7 @@ static double choose_dt(const struct march_state *st)
     if (cs->advection) {
         double umax = kernel_max_abs(&st->g, st->act, st->vel);
         if (umax > 0.0) {
-            double lim = cs->cfl * min_spacing(&st->g) / umax;
+            double lim = cs->cfl * march_min_spacing(&st->g) / umax;
             if (dt > lim)
                 dt = lim;
         }
@@ -491,7 +380,7 @@ static void check_end(struct march_state *st)
     } else if (cs->mode == MODE_STEADY && st->step - st->best_step > STALL_STEPS) {
         st->status = STATUS_UNSTEADY;
         double acc = march_mean_acceleration(st);
-        if (fabs(acc) > 0.1 * st->residual * force_scale(st) / cs->density)
+        if (fabs(acc) > 0.1 * st->residual * march_force_scale(st) / cs->density)
             snprintf(st->message, sizeof st->message,
                      "no steady state: the layer accelerates (mean acceleration %.3e; "
                      "residual %.3e, no progress in %d steps)",
@@ -509,7 +398,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
     double t0 = omp_get_wtime() - st->wall_seconds; /* a restart keeps counting */
     st->status = STATUS_RUNNING;
     save_good(st);
-    evaluate_residual(st);
+    step_evaluate(st);
     if (st->step == 0 && st->residual0 == 0.0) /* march_reforce keeps it: below */
         st->residual0 = st->residual;
     for (;;) {
@@ -529,9 +418,9 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         double accepted_residual = st->residual, dt;
         for (;;) {
             dt = choose_dt(st) * st->dt_scale;
-            int broke = advance(st, dt) != 0;
+            int broke = step_advance(st, dt) != 0;
             if (!broke)
-                evaluate_residual(st);
+                step_evaluate(st);
             int bad = broke || !isfinite(st->residual) ||
                       (cs->mode == MODE_STEADY && st->residual > REJECT_GROWTH * accepted_residual);
             if (!bad || cs->mode != MODE_STEADY || st->dt_scale < MIN_DT_SCALE) {

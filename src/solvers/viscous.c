@@ -180,7 +180,10 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
     const struct grid *g = s->g;
     bc_fill_velocity_homogeneous(g, s->bc, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
-    kernel_lincomb(g, s->act, pb->mass, v, -1.0, out); /* mass v - div tau */
+    if (pb->mass_face[0]) /* mass v - div tau */
+        kernel_multiply_minus(g, s->act, pb->mass_face, v, out);
+    else
+        kernel_lincomb(g, s->act, pb->mass, v, -1.0, out);
     if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
         kernel_strain_products(g, pb->base, v, s->pn, s->pe);
         bc_fill_scalar(g, s->bc, s->pn);

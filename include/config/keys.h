@@ -1,0 +1,78 @@
+/* Key tables: one declaration per case key drives parsing, range checks,
+ * writing back and the checkpoint.  A table describes the members of one
+ * struct (by offset): the core case (case.h) or the parameter block of a
+ * scene or physics module, which lives in the case's own storage (so a case
+ * stays a plain value that can be copied). */
+#ifndef MUFLOW_CONFIG_KEYS_H
+#define MUFLOW_CONFIG_KEYS_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+
+enum ktype { K_DOUBLE, K_INT, K_LONG, K_BOOL, K_CHOICE, K_STRING };
+
+struct choice {
+    const char *name;
+    int value;
+};
+
+/* Range of a number: lo/hi with inclusive flags; +-HUGE_VAL for none. */
+struct key {
+    const char *section;
+    const char *name;
+    enum ktype type;
+    size_t off;                   /* of the member in the table's struct */
+    double lo, hi;
+    int lo_incl, hi_incl;
+    const struct choice *choices; /* K_CHOICE: terminated by name == NULL */
+    const char *range_text;       /* overrides the generated "must be ..." text */
+    size_t size;                  /* K_STRING: bytes of the member */
+};
+
+#define KEY_NONE_LO (-HUGE_VAL)
+#define KEY_NONE_HI (HUGE_VAL)
+/* number ranges */
+#define KEY_GT0 0.0, KEY_NONE_HI, 0, 0
+#define KEY_GE0 0.0, KEY_NONE_HI, 1, 0
+#define KEY_RANGE(lo, hi, li, hi_) (lo), (hi), (li), (hi_)
+#define KEY_NORANGE 0.0, 0.0, 0, 0
+
+/* Table entries for the members m of struct T. */
+/* (the range, four numbers, comes last: macros hand it on as several arguments) */
+#define KEY_DBL(T, s, n, m, ...) {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
+#define KEY_DBLT(T, s, n, m, t, ...) {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, t, 0}
+#define KEY_INT(T, s, n, m, ...) {s, n, K_INT, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
+#define KEY_LNG(T, s, n, m, ...) {s, n, K_LONG, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
+#define KEY_BOOL(T, s, n, m) {s, n, K_BOOL, offsetof(T, m), KEY_NORANGE, NULL, NULL, 0}
+#define KEY_CHO(T, s, n, m, ch) {s, n, K_CHOICE, offsetof(T, m), KEY_NORANGE, ch, NULL, 0}
+#define KEY_STR(T, s, n, m) \
+    {s, n, K_STRING, offsetof(T, m), KEY_NORANGE, NULL, NULL, sizeof(((T *)0)->m)}
+
+/* The case keys of a scene or physics module: one INI section, its keys
+ * (offsets into the block), the block's size, its defaults, and a check
+ * that needs every key (returns 0, or non-zero with one line in msg, which
+ * the caller prefixes with the file's name). */
+struct muflow_case;
+struct key_block {
+    const char *section;
+    const struct key *keys;
+    int nkeys;
+    size_t size;
+    void (*defaults)(void *block);
+    int (*check)(const struct muflow_case *cs, const void *block, char *msg, size_t msglen);
+};
+
+/* Parses value into key k's member of base; returns NULL, or a message
+ * (static text or written to msg). */
+const char *key_parse(void *base, const struct key *k, const char *value, char *msg,
+                      size_t msglen);
+
+/* The value of key k in base as case files and summaries write it: doubles
+ * as the shortest text that reads back to the same value. */
+void key_text(const void *base, const struct key *k, char *val, size_t len);
+
+/* "must be ..." for a number key. */
+void key_range_text(const struct key *k, char *out, size_t outlen);
+
+#endif

@@ -1,0 +1,34 @@
+/* A physics module: an optional piece of the step that a scene switches on
+ * (scenes/scene.h: modules).  It registers its own fields (march/fields.h)
+ * when the march is created and fills in the stages of the step it needs
+ * (march/step.h); a scene that does not use a module pays nothing for it.
+ *
+ * Hooks (every one may be NULL):
+ *   create      registers fields, allocates its state (*state)
+ *   properties  after the core properties (strain rates, pressure,
+ *               viscosities): density and mixture properties, ...
+ *   residual    adds its own terms to the momentum residual st->res
+ *   transport   after the projection: advects its tracers by the new
+ *               velocity over dt
+ *   end_step    the last stage of an accepted step
+ *   destroy     frees its state */
+#ifndef MUFLOW_MARCH_MODULE_H
+#define MUFLOW_MARCH_MODULE_H
+
+#include <stddef.h>
+
+struct march_state;
+
+struct module {
+    const char *name;
+    int (*create)(struct march_state *st, void **state, char *err, size_t errlen);
+    void (*properties)(struct march_state *st, void *state);
+    void (*residual)(struct march_state *st, void *state);
+    void (*transport)(struct march_state *st, void *state, double dt);
+    void (*end_step)(struct march_state *st, void *state, double dt);
+    void (*destroy)(void *state);
+};
+
+#define MODULES_MAX 8
+
+#endif

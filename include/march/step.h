@@ -1,0 +1,45 @@
+/* The step's stages, written out in one place (src/march/step.c), one file
+ * per stage:
+ *
+ *   evaluate (the state's residual, before a step and to judge it):
+ *     1. properties   strain rates, total and regularised pressure,
+ *                     viscosities and tangents (stage_properties.c); then
+ *                     the modules' properties
+ *     2. residual     R = f - grad p + div tau - rho div(u u), the modules'
+ *                     terms, its norms (stage_residual.c)
+ *   advance (one step of size dt from an evaluated state):
+ *     3. implicit     (rho_f / dt) du - div(T : grad du) = R, the face
+ *                     density rho_f in the mass term (stage_implicit.c)
+ *     4. projection   div(beta grad phi) = div du, beta = rho_ref / rho_f;
+ *                     u += du - beta grad phi, p += (rho_ref / dt) phi and
+ *                     the augmented-Lagrangian update (stage_projection.c)
+ *     5. transport    the modules' tracers advected by the new velocity
+ *     6. end of step  the modules' last word on the step
+ * The body force is split once (and again when it changes) into its
+ * hydrostatic pressure and the rest (hydrostatic.c). */
+#ifndef MUFLOW_MARCH_STEP_H
+#define MUFLOW_MARCH_STEP_H
+
+#include "march/march.h"
+
+void step_evaluate(struct march_state *st);
+/* Returns 0, or -1 when the implicit solve broke down (nothing changed
+ * that a restore of the saved fields does not undo). */
+int step_advance(struct march_state *st, double dt);
+
+/* The stages (each in its own file). */
+void stage_properties(struct march_state *st);
+void stage_residual(struct march_state *st);
+int stage_implicit(struct march_state *st, double dt);
+void stage_projection(struct march_state *st, double dt);
+
+/* The implicit operator at the current state for a step dt (dt = 0: the
+ * linearised stress alone, no mass term), as the viscous solver takes it. */
+struct viscous_problem implicit_problem(const struct march_state *st, double dt);
+
+/* The hydrostatic split of the body force (hydrostatic.c), and the force
+ * rho g (sin tilt, 0, -cos tilt) per unit volume at the case's density. */
+int hydrostatic_split(struct march_state *st, char *err, size_t errlen);
+void body_force_vector(const struct muflow_case *cs, double f[3]);
+
+#endif

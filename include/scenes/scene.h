@@ -1,0 +1,84 @@
+/* A scene: one file under src/scenes/ that says everything muflow knows of
+ * one flow problem, registered with one line in src/scenes/registry.c.
+ * Nothing outside the registry and the scene's own file switches on it.
+ *
+ * What a scene declares (every member but name may be left out):
+ *   keys        its own case-file section ([heap]), with ranges and checks
+ *   check       what it needs of the core keys (boundaries, law, grid)
+ *   modules     the physics modules it switches on (march/module.h)
+ *   setup       forcing and initial state after the fields exist (default:
+ *               rest, gravity along the tilted plane)
+ *   profile     the axis and velocity component of its profile, an optional
+ *               slab (the cavity's mid-line), the exact or reference profile
+ *   headline    the name of its headline value and of its error, and how
+ *               both are computed from the profile (and the state)
+ *   drive       a driver in place of the plain march (the heap's tilt search)
+ *   results     extra summary lines and one line for the terminal
+ *   write       extra output files (heap.csv) */
+#ifndef MUFLOW_SCENES_INTERFACE_H
+#define MUFLOW_SCENES_INTERFACE_H
+
+#include <stddef.h>
+#include "config/keys.h"
+
+struct grid;
+struct march_state;
+struct module;
+struct muflow_case;
+struct profile;
+struct run_result;
+struct scene_errors;
+
+/* What a driver gets from the run (app/run.c): the march to drive, the
+ * working copy of the case it may change (a tilt), the observer that does
+ * the run's per-step outputs, and room for what its results need later. */
+typedef int (*march_observer_fn)(void *ctx, const struct march_state *st);
+struct scene_drive {
+    struct march_state *st;
+    struct muflow_case *cs;
+    march_observer_fn observe;
+    void *observe_ctx;
+    int verbose;                   /* progress lines wanted */
+    unsigned char data[512];       /* the driver's own results, for results() */
+};
+
+struct scene {
+    const char *name;
+    const char *title;             /* one line, for --list and the header */
+    const struct key_block *keys;
+    const struct module *const *modules; /* NULL-terminated, or NULL */
+    int (*check)(const struct muflow_case *cs, char *msg, size_t msglen);
+    int (*setup)(struct march_state *st, char *err, size_t errlen);
+
+    int profile_axis, profile_component; /* -1: no profile */
+    /* limits the profile to the faces and cells of x in [lo, hi] (both
+     * inclusive); NULL: every layer's full mean */
+    void (*profile_slab)(const struct grid *g, int faces[2], int cells[2]);
+    /* u at the n coordinates x along the axis (NaN where undefined) */
+    void (*exact_profile)(const struct muflow_case *cs, int n, const double *x, double *u);
+
+    const char *headline_name;     /* NULL: no headline and no error lines */
+    const char *error_name;        /* name of err_rms in the summary (NULL: "err_rms") */
+    /* the errors and the headline; NULL: scene_errors_profile with the
+     * plug (centre) value as headline */
+    void (*errors)(const struct march_state *st, const struct profile *pr,
+                   struct scene_errors *e);
+
+    int (*drive)(struct scene_drive *d);
+    /* a message when the case cannot continue from a checkpoint (a search),
+     * else NULL */
+    const char *(*not_restartable)(const struct muflow_case *cs);
+    void (*results)(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res);
+    int (*write)(const char *dir, const struct march_state *st, char *err, size_t errlen);
+};
+
+/* The registry (src/scenes/registry.c). */
+int scene_count(void);
+const struct scene *scene_at(int index);
+/* Index of the scene called name, or -1. */
+int scene_find(const char *name);
+/* The scene choices of case.scene ({name, index} ..., {NULL, 0}). */
+const struct choice *scene_choices(void);
+
+#endif

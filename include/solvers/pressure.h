@@ -1,0 +1,34 @@
+/* The pressure Poisson solve of the projection, div(beta grad phi) = rhs,
+ * with a face coefficient beta (beta = rho_ref / rho on faces for a variable
+ * density; 0 on faces a solid blocks).  While beta is uniform (NULL) the FFT
+ * solver does it (poisson.h: exact, fastest); a variable beta goes to the
+ * multigrid-preconditioned CG (multigrid.h).  The caller does not choose. */
+#ifndef MUFLOW_SOLVERS_PRESSURE_H
+#define MUFLOW_SOLVERS_PRESSURE_H
+
+#include <stddef.h>
+#include "grid/grid.h"
+#include "solvers/poisson.h"
+
+struct pressure_solver;
+
+int pressure_create(struct pressure_solver **out, const struct grid *g,
+                    const enum poisson_bc bc[3][2], char *err, size_t errlen);
+void pressure_destroy(struct pressure_solver *ps);
+
+/* The coefficient for the next solves: NULL for beta = 1 (the FFT solver),
+ * or three face arrays (copied).  Returns 0, or -1 with the cause. */
+int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
+                             size_t errlen);
+
+/* 1 while the coefficient is uniform (the FFT path). */
+int pressure_uniform(const struct pressure_solver *ps);
+
+/* Solves for phi (interior written; may alias rhs on the FFT path only when
+ * the coefficient is uniform: the multigrid path needs a separate rhs, and
+ * copies it itself).  Returns 0, or -1 when the iteration did not converge
+ * (cause in the solver's last message, pressure_message). */
+int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi);
+const char *pressure_message(const struct pressure_solver *ps);
+
+#endif

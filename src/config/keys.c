@@ -1,0 +1,164 @@
+/* Parsing and writing one key of a key table (keys.h). */
+#include "config/keys.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include "config/ini.h"
+
+void key_range_text(const struct key *k, char *out, size_t outlen)
+{
+    if (k->range_text)
+        snprintf(out, outlen, "%s", k->range_text);
+    else if (k->hi == HUGE_VAL)
+        snprintf(out, outlen, "must be %s %.17g", k->lo_incl ? ">=" : ">", k->lo);
+    else
+        snprintf(out, outlen, "must be in %c%.17g, %.17g%c", k->lo_incl ? '[' : '(', k->lo,
+                 k->hi, k->hi_incl ? ']' : ')');
+}
+
+static int in_range(const struct key *k, double v)
+{
+    if (k->lo_incl ? v < k->lo : v <= k->lo)
+        return 0;
+    if (k->hi == HUGE_VAL)
+        return 1;
+    return k->hi_incl ? v <= k->hi : v < k->hi;
+}
+
+const char *key_parse(void *base, const struct key *k, const char *value, char *msg,
+                      size_t msglen)
+{
+    char *field = (char *)base + k->off;
+    if (value[0] == '\0')
+        return "empty value";
+    switch (k->type) {
+    case K_DOUBLE: {
+        char *end;
+        errno = 0;
+        double v = strtod(value, &end);
+        if (end == value || *end != '\0')
+            return "not a number";
+        if (errno == ERANGE)
+            return "out of the range of a double";
+        if (!isfinite(v))
+            return "not a finite number";
+        if (!in_range(k, v)) {
+            key_range_text(k, msg, msglen);
+            return msg;
+        }
+        memcpy(field, &v, sizeof(v));
+        return NULL;
+    }
+    case K_INT:
+    case K_LONG: {
+        char *end;
+        errno = 0;
+        long v = strtol(value, &end, 10);
+        if (end == value || *end != '\0')
+            return "not an integer";
+        if (errno == ERANGE || !in_range(k, (double)v)) {
+            key_range_text(k, msg, msglen);
+            return msg;
+        }
+        if (k->type == K_INT) {
+            int iv = (int)v; /* the range keeps it within int */
+            memcpy(field, &iv, sizeof(iv));
+        } else {
+            memcpy(field, &v, sizeof(v));
+        }
+        return NULL;
+    }
+    case K_BOOL: {
+        static const char *const words[8] = {"off", "on", "false", "true", "no", "yes", "0", "1"};
+        for (int i = 0; i < 8; i++)
+            if (ini_equal_nocase(value, words[i])) {
+                int b = i % 2;
+                memcpy(field, &b, sizeof(b));
+                return NULL;
+            }
+        return "not a boolean (on|off|true|false|yes|no|1|0)";
+    }
+    case K_CHOICE: {
+        for (const struct choice *ch = k->choices; ch->name; ch++)
+            if (ini_equal_nocase(value, ch->name)) {
+                memcpy(field, &ch->value, sizeof(int));
+                return NULL;
+            }
+        size_t used = (size_t)snprintf(msg, msglen, "must be one of ");
+        for (const struct choice *ch = k->choices; ch->name && used < msglen; ch++)
+            used += (size_t)snprintf(msg + used, msglen - used, "%s%s",
+                                     ch == k->choices ? "" : "|", ch->name);
+        return msg;
+    }
+    case K_STRING: {
+        size_t len = strlen(value);
+        if (len >= k->size) {
+            snprintf(msg, msglen, "longer than %zu characters", k->size - 1);
+            return msg;
+        }
+        for (const char *p = value; *p; p++) {
+            unsigned char ch = (unsigned char)*p;
+            if (ch < 32 || ch == 127)
+                return "contains a control character";
+            if (ch == ';' && (p == value || ini_is_blank((unsigned char)p[-1])))
+                return "contains ';' at the start or after a blank (an INI comment)";
+        }
+        memcpy(field, value, len + 1);
+        return NULL;
+    }
+    }
+    return "internal error: unknown key type";
+}
+
+/* Shortest %.*g that reads back as exactly v (at most 17 digits). */
+static void format_double(double v, char *out, size_t outlen)
+{
+    for (int prec = 1; prec <= 17; prec++) {
+        snprintf(out, outlen, "%.*g", prec, v);
+        if (strtod(out, NULL) == v)
+            return;
+    }
+    snprintf(out, outlen, "%.17g", v);
+}
+
+void key_text(const void *base, const struct key *k, char *val, size_t len)
+{
+    const char *field = (const char *)base + k->off;
+    switch (k->type) {
+    case K_DOUBLE: {
+        double v;
+        memcpy(&v, field, sizeof(v));
+        format_double(v, val, len);
+        return;
+    }
+    case K_INT:
+    case K_BOOL:
+    case K_CHOICE: {
+        int v;
+        memcpy(&v, field, sizeof(v));
+        if (k->type == K_BOOL) {
+            snprintf(val, len, "%s", v ? "on" : "off");
+            return;
+        }
+        if (k->type == K_CHOICE)
+            for (const struct choice *ch = k->choices; ch->name; ch++)
+                if (ch->value == v) {
+                    snprintf(val, len, "%s", ch->name);
+                    return;
+                }
+        snprintf(val, len, "%d", v);
+        return;
+    }
+    case K_LONG: {
+        long v;
+        memcpy(&v, field, sizeof(v));
+        snprintf(val, len, "%ld", v);
+        return;
+    }
+    case K_STRING:
+        snprintf(val, len, "%.*s", (int)(k->size - 1), field);
+        return;
+    }
+    snprintf(val, len, "?");
+}

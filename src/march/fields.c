@@ -1,0 +1,72 @@
+/* The field registry (fields.h). */
+#include <string.h>
+#include "march/fields.h"
+
+void fields_init(struct field_registry *r, const struct grid *g)
+{
+    memset(r, 0, sizeof *r);
+    r->g = g;
+}
+
+int fields_add(struct field_registry *r, const struct field_spec *s, double **v)
+{
+    if (r->count >= FIELDS_MAX)
+        return -1;
+    struct field_entry *e = &r->e[r->count];
+    memset(e, 0, sizeof *e);
+    e->spec = *s;
+    int n = field_arrays(s->where), ok = 1;
+    for (int c = 0; c < n; c++) {
+        ok &= (e->v[c] = field_alloc(r->g)) != NULL;
+        if (s->flags & FIELD_SAVED)
+            ok &= (e->saved[c] = field_alloc(r->g)) != NULL;
+    }
+    r->count++; /* even when incomplete: fields_free releases what was allocated */
+    if (!ok)
+        return -1;
+    for (int c = 0; c < n; c++)
+        v[c] = e->v[c];
+    return r->count - 1;
+}
+
+int fields_output(struct field_registry *r, const struct field_output *o)
+{
+    if (r->noutputs >= FIELDS_MAX || o->source < 0 || o->source >= r->count)
+        return -1;
+    r->out[r->noutputs++] = *o;
+    return 0;
+}
+
+int fields_find(const struct field_registry *r, const char *name)
+{
+    for (int i = 0; i < r->count; i++)
+        if (strcmp(r->e[i].spec.name, name) == 0)
+            return i;
+    return -1;
+}
+
+void fields_save(struct field_registry *r)
+{
+    for (int i = 0; i < r->count; i++)
+        if (r->e[i].spec.flags & FIELD_SAVED)
+            for (int c = 0; c < field_arrays(r->e[i].spec.where); c++)
+                memcpy(r->e[i].saved[c], r->e[i].v[c], r->g->size * sizeof(double));
+}
+
+void fields_restore(struct field_registry *r)
+{
+    for (int i = 0; i < r->count; i++)
+        if (r->e[i].spec.flags & FIELD_SAVED)
+            for (int c = 0; c < field_arrays(r->e[i].spec.where); c++)
+                memcpy(r->e[i].v[c], r->e[i].saved[c], r->g->size * sizeof(double));
+}
+
+void fields_free(struct field_registry *r)
+{
+    for (int i = 0; i < r->count; i++)
+        for (int c = 0; c < 3; c++) {
+            field_free(r->e[i].v[c]);
+            field_free(r->e[i].saved[c]);
+        }
+    r->count = r->noutputs = 0;
+}

@@ -1,0 +1,79 @@
+/* The hydrostatic split of the body force (step.h). */
+#include <math.h>
+#include <stdio.h>
+#include "march/step.h"
+
+void body_force_vector(const struct muflow_case *cs, double f[3])
+{
+    double rg = cs->density * cs->gravity;
+    f[0] = rg * sin(cs->tilt);
+    f[1] = 0.0;
+    f[2] = -rg * cos(cs->tilt);
+}
+
+/* Hydrostatic pressure of the body force: the pressure whose gradient removes
+ * the curl-free part of the force under the walls' no-penetration condition,
+ * with p = 0 on free surfaces.  The remaining force drives the flow.  With a
+ * variable face density rho_f the force is rho_f g, and the part removed is
+ * the one the variable projection would remove: div(beta grad p) =
+ * div(beta rho_f g) = div(rho_ref g), beta = rho_ref / rho_f. */
+int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    double f[3];
+    body_force_vector(st->cs, f);
+    enum poisson_bc pbc[3][2];
+    for (int d = 0; d < 3; d++)
+        for (int s = 0; s < 2; s++) {
+            enum bc_kind k = st->bc.face[d][s];
+            pbc[d][s] = k == BC_PERIODIC  ? POISSON_PERIODIC
+                        : k == BC_SURFACE ? POISSON_DIRICHLET
+                                          : POISSON_NEUMANN;
+        }
+    /* fluxes of the force through every face; a closed boundary face passes none */
+    double **flux = st->delta;
+    double scale = st->density_uniform ? 1.0 : st->rho_ref / st->cs->density;
+    for (int a = 0; a < 3; a++)
+        for (int i = -1; i <= g->n[0]; i++)
+            for (int j = -1; j <= g->n[1]; j++)
+                for (int k = -1; k <= g->n[2]; k++) {
+                    int idx[3] = {i, j, k};
+                    int face = idx[a];
+                    double v = f[a] * scale;
+                    if (st->bc.face[a][0] != BC_PERIODIC &&
+                        ((face <= 0 && st->bc.face[a][0] != BC_SURFACE) ||
+                         (face >= g->n[a] && st->bc.face[a][1] != BC_SURFACE)))
+                        v = 0.0;
+                    flux[a][grid_idx(g, i, j, k)] = v;
+                }
+    kernel_divergence(g, flux, st->div);
+    struct pressure_solver *ps;
+    if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
+        return -1;
+    if (!st->density_uniform &&
+        pressure_set_coefficient(ps, st->beta, err, errlen) != 0) {
+        pressure_destroy(ps);
+        return -1;
+    }
+    if (pressure_solve(ps, st->div, st->p_hyd) != 0) {
+        snprintf(err, errlen, "hydrostatic %s", pressure_message(ps));
+        pressure_destroy(ps);
+        return -1;
+    }
+    pressure_destroy(ps);
+    bc_fill_scalar(g, &st->bc, st->p_hyd);
+    for (int a = 0; a < 3; a++)
+        for (size_t p = 0; p < g->size; p++)
+            st->force[a][p] = st->density_uniform ? f[a] : f[a] * st->rho_face[a][p] / st->cs->density;
+    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, st->force);
+    for (int a = 0; a < 3; a++) /* only unknown faces carry a force */
+        for (int i = -1; i <= g->n[0]; i++)
+            for (int j = -1; j <= g->n[1]; j++)
+                for (int k = -1; k <= g->n[2]; k++) {
+                    const struct box *b = &st->act[a];
+                    if (i < b->lo[0] || i >= b->hi[0] || j < b->lo[1] || j >= b->hi[1] ||
+                        k < b->lo[2] || k >= b->hi[2])
+                        st->force[a][grid_idx(g, i, j, k)] = 0.0;
+                }
+    return 0;
+}

@@ -1,0 +1,50 @@
+/* Stage 3, implicit viscous step: (rho_f / dt) du - div(T : grad du) = R,
+ * linearised with the consistent tangent (step.h, viscous.h). */
+#include "march/step.h"
+
+struct viscous_problem implicit_problem(const struct march_state *st, double dt)
+{
+    const struct muflow_case *cs = st->cs;
+    /* dt = 0: the linearised stress alone (no mass term) */
+    struct viscous_problem pb = {.mass = dt > 0.0 ? cs->density / dt : 0.0,
+                                 .augmentation = st->aug};
+    if (dt > 0.0 && !st->density_uniform) {
+        /* the face density of the mass term; the scalar stays as the scale
+         * of the preconditioner's fallback */
+        const struct grid *g = &st->g;
+        pb.mass = st->rho_ref / dt;
+        for (int c = 0; c < 3; c++) {
+            for (size_t p = 0; p < g->size; p++)
+                st->mass_face[c][p] = st->rho_face[c][p] / dt;
+            pb.mass_face[c] = st->mass_face[c];
+        }
+    }
+    /* Newton's basin shrinks with lambda: far from the solution the lagged
+     * (Picard) viscosity is the robust step, the tangent the fast one near it */
+    int tangent = cs->newton &&
+                  (cs->newton_below >= 1.0 || st->residual <= cs->newton_below * st->residual0);
+    int diagonal = tangent && !st->full_tangent;
+    for (int a = 0; a < 3; a++) {
+        pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
+        pb.A_edge[a] = diagonal ? st->tan_e[a] : st->eta_e[a];
+    }
+    if (tangent && st->full_tangent) {
+        pb.b_cell = st->b_c;
+        for (int a = 0; a < 3; a++)
+            pb.b_edge[a] = st->b_e[a];
+        pb.base = st->vel;
+    }
+    return pb;
+}
+
+int stage_implicit(struct march_state *st, double dt)
+{
+    const struct muflow_case *cs = st->cs;
+    struct viscous_problem pb = implicit_problem(st, dt);
+    viscous_precondition(st->viscous, &pb);
+    struct viscous_stats vs;
+    int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, cs->linear_tolerance,
+                           cs->max_linear_iterations, &vs);
+    st->linear_iterations = vs.iterations;
+    return rc < 0 ? -1 : 0;
+}

@@ -1,0 +1,59 @@
+/* Stage 2, residual: the steady momentum residual
+ *   R = f - grad p_dyn + div(eta gamma(u)) - rho div(u u)  (+ the modules'),
+ * its size against the round-off of its terms, and the divergence (step.h). */
+#include <float.h>
+#include "march/step.h"
+
+/* Round-off allowance of the residual, in machine epsilons of its terms. */
+#define ROUNDOFF_EPS (16.0 * DBL_EPSILON)
+
+void stage_residual(struct march_state *st)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct grid *g = &st->g;
+    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
+                             st->res);
+    kernel_axpy(g, st->act, 1.0, st->force, st->res);
+    bc_fill_scalar(g, &st->bc, st->p_dyn);
+    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
+    if (cs->advection) {
+        kernel_advection(g, st->act, st->vel, st->adv);
+        if (st->density_uniform)
+            kernel_axpy(g, st->act, cs->density, st->adv, st->res);
+        else
+            kernel_multiply_add(g, st->act, st->rho_face, st->adv, st->res);
+    }
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->residual)
+            st->modules[m]->residual(st, st->module_state[m]);
+    if (st->aug) {
+        /* The grad-div augmentation r = kappa max(eta) of the implicit
+         * operator.  It enters the operator and the Uzawa update only, not
+         * this residual: u is solenoidal to round-off after each projection,
+         * where grad(r div u) would be that round-off times r.  One r for the
+         * whole field, not kappa eta per cell: the Uzawa update contracts the
+         * pressure error by 1/(1 + r s) for each eigenvalue s of the Schur
+         * complement div A^-1 grad, and s can be as small as 1/max(eta) in any
+         * cell (a pressure mode in a yielded layer is resisted by the plug
+         * beside it).  With r = kappa eta_cell a Vola Bn = 1000 cavity
+         * contracted by 0.994 per step; with r = kappa max(eta) by < 1/kappa. */
+        double r = cs->augmentation * kernel_max_abs_cells(g, st->eta);
+        for (size_t p = 0; p < g->size; p++)
+            st->aug[p] = r;
+    }
+    if (st->force_ref == 0.0) {
+        double rg = cs->density * cs->gravity;
+        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->res);
+    }
+    double scale = march_force_scale(st);
+    st->residual = kernel_max_abs(g, st->act, st->res) / scale;
+    kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
+                            st->delta);
+    st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
+                                                 ROUNDOFF_EPS) / scale;
+    kernel_divergence(g, st->vel, st->div);
+    double umax = kernel_max_abs(g, st->act, st->vel);
+    double dmax = kernel_max_abs_cells(g, st->div);
+    st->divergence = umax > 0.0 ? dmax * march_min_spacing(g) / umax : dmax;
+}

@@ -1,0 +1,123 @@
+/* Scene "bingham_cavity": the Bingham lid-driven square cavity in Stokes
+ * flow (seeds/002 sec. 3.1.2; cases/bingham_cavity.ini), compared with the
+ * published data of Vola et al. (2003) named by case.reference: the
+ * vertical mid-line profile (err_midline) and the largest stream function
+ * psi_max (the headline). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "diagnostics/profile.h"
+#include "diagnostics/reference.h"
+#include "scenes/bingham_cavity.h"
+#include "scenes/scene.h"
+
+double cavity_reference_bn(const struct muflow_case *cs)
+{
+    /* Bn = tau_0 L / (mu_p U) with L = lx, U the lid speed */
+    double bn = cs->rheo.yield_stress * cs->len[0] /
+                (cs->rheo.plastic_viscosity * fabs(cs->bc.lid_velocity));
+    return sqrt(2.0) * bn;
+}
+
+/* The profile is the vertical mid-line: the x-faces (and the cells beside
+ * them) nearest to x = lx/2. */
+static void midline(const struct grid *g, int faces[2], int cells[2])
+{
+    int even = g->n[0] % 2 == 0;
+    faces[0] = even ? g->n[0] / 2 : (g->n[0] - 1) / 2;
+    faces[1] = even ? faces[0] : faces[0] + 1;
+    cells[0] = even ? g->n[0] / 2 - 1 : faces[0];
+    cells[1] = even ? cells[0] + 1 : faces[0];
+}
+
+/* The reference mid-line at the profile's points (NaN without data). */
+static void reference_profile(const struct muflow_case *cs, int n, const double *x, double *u)
+{
+    struct curve ref = {0};
+    char err[256];
+    if (cs->reference[0] && reference_curve(cs->reference, "midline", cavity_reference_bn(cs),
+                                            &ref, err, sizeof err) != 0)
+        memset(&ref, 0, sizeof ref);
+    for (int i = 0; i < n; i++)
+        u[i] = ref.n > 1 ? curve_at(&ref, x[i]) : NAN;
+    curve_free(&ref);
+}
+
+/* Largest |psi| with u = d psi / dz, w = -d psi / dx and psi = 0 on the base:
+ * integrated up every x-face column (mean over y). */
+static double stream_function_max(const struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    double m = 0.0;
+    for (int i = 0; i <= g->n[0]; i++) {
+        double psi = 0.0;
+        for (int k = 0; k < g->n[2]; k++) {
+            double u = 0.0;
+            for (int j = 0; j < g->n[1]; j++)
+                u += st->vel[0][grid_idx(g, i, j, k)];
+            psi += u / g->n[1] * g->h[2];
+            m = fmax(m, fabs(psi));
+        }
+    }
+    return m;
+}
+
+/* The mid-line profile, completed by the wall (u = 0) and the lid,
+ * interpolated at the reference points; psi_max against the reference's
+ * psi_max curve. */
+static void errors(const struct march_state *st, const struct profile *pr, struct scene_errors *e)
+{
+    const struct muflow_case *cs = st->cs;
+    memset(e, 0, sizeof *e);
+    e->headline = stream_function_max(st);
+    e->headline_exact = NAN;
+    e->err_rms = e->err_max = e->err_rms_paper = NAN;
+    if (!cs->reference[0])
+        return;
+    char err[256];
+    double bn = cavity_reference_bn(cs);
+    struct curve psi = {0}, mid = {0};
+    if (reference_curve(cs->reference, "psi_max", NAN, &psi, err, sizeof err) == 0 && psi.n > 1)
+        e->headline_exact = curve_at(&psi, bn);
+    curve_free(&psi);
+    if (reference_curve(cs->reference, "midline", bn, &mid, err, sizeof err) != 0 || mid.n < 2) {
+        curve_free(&mid);
+        return;
+    }
+    struct curve ours = {.n = pr->n + 2};
+    ours.x = malloc((size_t)ours.n * sizeof(double));
+    ours.y = malloc((size_t)ours.n * sizeof(double));
+    if (ours.x && ours.y) {
+        ours.x[0] = 0.0;
+        ours.y[0] = 0.0;
+        for (int l = 0; l < pr->n; l++) {
+            ours.x[l + 1] = pr->coord[l];
+            ours.y[l + 1] = pr->velocity[l];
+        }
+        ours.x[pr->n + 1] = cs->len[2];
+        ours.y[pr->n + 1] = cs->bc.lid_velocity;
+        double s2 = 0.0, emax = 0.0;
+        for (int q = 0; q < mid.n; q++) {
+            double d = curve_at(&ours, mid.x[q]) - mid.y[q];
+            s2 += d * d;
+            emax = fmax(emax, fabs(d));
+        }
+        e->valid = 1;
+        e->err_rms = sqrt(s2 / mid.n);
+        e->err_max = emax;
+    }
+    curve_free(&ours);
+    curve_free(&mid);
+}
+
+const struct scene scene_bingham_cavity = {
+    .name = "bingham_cavity",
+    .title = "Bingham lid-driven cavity against Vola et al. (2003)",
+    .profile_axis = 2,
+    .profile_component = 0,
+    .profile_slab = midline,
+    .exact_profile = reference_profile,
+    .headline_name = "psi_max",
+    .error_name = "err_midline",
+    .errors = errors,
+};

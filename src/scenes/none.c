@@ -1,0 +1,10 @@
+/* Scene "none": a case without an exact solution or diagnostics of its
+ * own; the run reports its status, residual and fields only. */
+#include "scenes/scene.h"
+
+const struct scene scene_none = {
+    .name = "none",
+    .title = "no scene: status, residual and fields only",
+    .profile_axis = -1,
+    .profile_component = -1,
+};

@@ -1,0 +1,45 @@
+/* The scene registry: one line per scene (scenes/scene.h).  The first is the
+ * default ("none").  A new scene is its own file under src/scenes/ that
+ * defines `const struct scene scene_NAME`, plus its line here. */
+#include <string.h>
+#include "config/keys.h"
+#include "scenes/scene.h"
+
+#define SCENE_LIST(X)      \
+    X(none)                \
+    X(bagnold)             \
+    X(chute)               \
+    X(bingham_channel)     \
+    X(bingham_cavity)      \
+    X(heap)                \
+    X(couette)
+
+#define DECLARE(s) extern const struct scene scene_##s;
+SCENE_LIST(DECLARE)
+
+#define ENTRY(s) &scene_##s,
+static const struct scene *const registry[] = {SCENE_LIST(ENTRY)};
+#define NSCENES ((int)(sizeof registry / sizeof registry[0]))
+
+#define INDEX(s) index_##s,
+enum { SCENE_LIST(INDEX) };
+#define CHOICE(s) {#s, index_##s},
+/* The values of case.scene (config/case.c), in registry order. */
+const struct choice scene_choice_table[] = {SCENE_LIST(CHOICE){NULL, 0}};
+
+int scene_count(void) { return NSCENES; }
+
+const struct scene *scene_at(int index)
+{
+    return index >= 0 && index < NSCENES ? registry[index] : NULL;
+}
+
+int scene_find(const char *name)
+{
+    for (int i = 0; i < NSCENES; i++)
+        if (strcmp(registry[i]->name, name) == 0)
+            return i;
+    return -1;
+}
+
+const struct choice *scene_choices(void) { return scene_choice_table; }

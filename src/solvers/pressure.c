@@ -1,0 +1,95 @@
+/* The projection's Poisson solve: FFT while the coefficient is uniform,
+ * multigrid-preconditioned CG otherwise (pressure.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "solvers/multigrid.h"
+#include "solvers/pressure.h"
+
+/* Relative residual of the variable-coefficient solve: the projection then
+ * leaves div u at this fraction of div u*, far below the steady tolerance
+ * relative to the step's increment. */
+#define PRESSURE_RTOL 1e-12
+#define PRESSURE_MAX_ITER 500
+
+struct pressure_solver {
+    const struct grid *g;
+    enum poisson_bc bc[3][2];
+    struct poisson_fft *fft;
+    struct multigrid *mg;   /* created with the first variable coefficient */
+    int uniform;
+    double *rhs;            /* the multigrid path's copy of rhs (may alias phi) */
+    char message[256];
+};
+
+int pressure_create(struct pressure_solver **out, const struct grid *g,
+                    const enum poisson_bc bc[3][2], char *err, size_t errlen)
+{
+    struct pressure_solver *ps = calloc(1, sizeof *ps);
+    if (!ps) {
+        snprintf(err, errlen, "pressure solver: out of memory");
+        return -1;
+    }
+    ps->g = g;
+    memcpy(ps->bc, bc, sizeof ps->bc);
+    ps->uniform = 1;
+    if (poisson_fft_create(&ps->fft, g, bc, err, errlen) != 0) {
+        free(ps);
+        return -1;
+    }
+    *out = ps;
+    return 0;
+}
+
+void pressure_destroy(struct pressure_solver *ps)
+{
+    if (!ps)
+        return;
+    if (ps->fft)
+        poisson_fft_destroy(ps->fft);
+    if (ps->mg)
+        multigrid_destroy(ps->mg);
+    field_free(ps->rhs);
+    free(ps);
+}
+
+int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
+                             size_t errlen)
+{
+    ps->uniform = beta == NULL;
+    if (ps->uniform)
+        return 0;
+    if (!ps->mg) {
+        if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, NULL, err,
+                             errlen) != 0)
+            return -1;
+        if (!(ps->rhs = field_alloc(ps->g))) {
+            snprintf(err, errlen, "pressure solver: out of memory");
+            return -1;
+        }
+    }
+    return multigrid_set_coefficients(ps->mg, beta, err, errlen);
+}
+
+int pressure_uniform(const struct pressure_solver *ps) { return ps->uniform; }
+
+const char *pressure_message(const struct pressure_solver *ps) { return ps->message; }
+
+int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi)
+{
+    if (ps->uniform) {
+        poisson_fft_solve(ps->fft, rhs, phi);
+        return 0;
+    }
+    memcpy(ps->rhs, rhs, ps->g->size * sizeof(double));
+    memset(phi, 0, ps->g->size * sizeof(double));
+    struct multigrid_stats stats;
+    int rc = multigrid_pcg(ps->mg, ps->rhs, phi, PRESSURE_RTOL, PRESSURE_MAX_ITER, &stats);
+    if (rc != 0) {
+        snprintf(ps->message, sizeof ps->message,
+                 "pressure solve: relative residual %.2e after %d multigrid-CG iterations",
+                 stats.rel, stats.cycles);
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,293 @@
+/* The architecture's promises, each with a real use:
+ * - a scene that lives in its own file (src/scenes/couette.c, one registry
+ *   line, cases/couette.ini) runs to its exact profile at second order;
+ * - a physics module registers an extra field that is checkpointed,
+ *   continued and written to the field files with no change to any I/O
+ *   file: a restarted run ends bit for bit where the uninterrupted one does;
+ * - the variable-coefficient path (a face density that is not uniform) gives
+ *   the same flow as the uniform one when the density is in fact uniform,
+ *   through the multigrid projection instead of the FFT one. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp, open_memstream */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <hdf5.h>
+#include "app/run.h"
+#include "io/checkpoint.h"
+#include "io/fields_h5.h"
+#include "march/step.h"
+#include "scenes/scene.h"
+#include "test_main.h"
+
+#define COUETTE "../cases/couette.ini"
+
+static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
+{
+    char err[512];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* Couette-Poiseuille at nz = 10, 20, 40: steady, second order (the parabola
+ * meets the wall condition ghost = -interior, an O(h^2) approximation; the
+ * linear part is exact), the mid-height velocity U/2 + G H^2 / (8 mu) = 1.5. */
+static void test_couette_scene(void **state)
+{
+    (void)state;
+    assert_true(scene_find("couette") >= 0);
+    static const int nz[] = {10, 20, 40};
+    double err[3];
+    for (int m = 0; m < 3; m++) {
+        char o[32];
+        snprintf(o, sizeof o, "domain.nz=%d", nz[m]);
+        char *ov[] = {o};
+        struct muflow_case cs;
+        load(&cs, COUETTE, 1, ov);
+        struct run_result r;
+        char e[512];
+        assert_int_equal(run_case(&cs, 0, &r, e, sizeof e), 0);
+        print_message("couette nz %d: %s in %ld steps, err_rms %.3e, u_mid %.6f (exact %.6f)\n",
+                      nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
+                      r.errors.headline, r.errors.headline_exact);
+        assert_int_equal(r.status, STATUS_STEADY);
+        assert_true(fabs(r.errors.headline_exact - 1.5) < 1e-12);
+        err[m] = r.errors.err_rms;
+    }
+    double order = log2(err[0] / err[2]) / 2.0;
+    print_message("couette RMS order: %.3f\n", order);
+    /* a second-order scheme; 0.1 below 2 for the pre-asymptotic coarse grid */
+    assert_true(order > 1.9 && order < 2.1);
+}
+
+/* A module with a field of its own: a tracer that integrates the flow
+ * speed over time in every cell (d tracer / dt = |u| at the cell's low x
+ * face), checkpointed, restored on rejected steps and written out. */
+struct tracer_state {
+    double *tracer;
+};
+
+static int tracer_create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    struct tracer_state *t = calloc(1, sizeof *t);
+    if (!t) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    *state = t;
+    const struct field_spec spec = {"tracer", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED};
+    int idx = fields_add(&st->fields, &spec, &t->tracer);
+    const struct field_output out = {"tracer", {NULL}, idx, NULL, NULL};
+    if (idx < 0 || fields_output(&st->fields, &out) != 0) {
+        snprintf(err, errlen, "cannot register the tracer");
+        return -1;
+    }
+    return 0;
+}
+
+static void tracer_transport(struct march_state *st, void *state, double dt)
+{
+    struct tracer_state *t = state;
+    const struct grid *g = &st->g;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                t->tracer[p] += dt * fabs(st->vel[0][p]) * (1.0 + k);
+            }
+}
+
+static void tracer_destroy(void *state) { free(state); }
+
+static const struct module tracer_module = {
+    .name = "tracer",
+    .create = tracer_create,
+    .transport = tracer_transport,
+    .destroy = tracer_destroy,
+};
+static const struct module *const extra_modules[] = {&tracer_module, NULL};
+
+static double *read_dataset(const char *path, const char *name, size_t *n)
+{
+    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    assert_true(f >= 0);
+    hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
+    if (d < 0)
+        print_error("%s has no dataset %s\n", path, name);
+    assert_true(d >= 0);
+    hid_t sp = H5Dget_space(d);
+    *n = (size_t)H5Sget_simple_extent_npoints(sp);
+    double *a = malloc(*n * sizeof(double));
+    assert_non_null(a);
+    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a) >= 0);
+    H5Sclose(sp);
+    H5Dclose(d);
+    H5Fclose(f);
+    return a;
+}
+
+static void run_couette(const char *dir, const char *steps, const char *restart_from,
+                        struct run_result *r)
+{
+    char o1[600], o2[64];
+    snprintf(o1, sizeof o1, "output.dir=%s", dir);
+    snprintf(o2, sizeof o2, "solver.max_steps=%s", steps);
+    char *ov[] = {"solver.mode=transient", "solver.end_time=100", "solver.dt=0.002",
+                  "output.quiet=on", o1, o2};
+    struct muflow_case cs;
+    char err[512];
+    if (restart_from) {
+        char *ov2[] = {o1, o2};
+        int rc = checkpoint_load_case(restart_from, 2, ov2, &cs, err, sizeof err);
+        if (rc)
+            print_error("%s\n", err);
+        assert_int_equal(rc, 0);
+    } else {
+        load(&cs, COUETTE, 6, ov);
+    }
+    struct run_options opt = {.write_output = 1, .restart_from = restart_from,
+                              .modules = extra_modules};
+    int rc = run_case_opts(&cs, &opt, r, err, sizeof err);
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+static void test_module_field_restart(void **state)
+{
+    (void)state;
+    char base[] = "/tmp/muflow_arch_XXXXXX";
+    assert_non_null(mkdtemp(base));
+    char a[600], b[600], c[600], ck[700], fa[700], fb[700];
+    snprintf(a, sizeof a, "%s/first", base);
+    snprintf(b, sizeof b, "%s/continued", base);
+    snprintf(c, sizeof c, "%s/whole", base);
+    struct run_result r;
+    run_couette(a, "6", NULL, &r);
+    assert_int_equal(r.status, STATUS_STOPPED); /* max_steps in transient mode: a checkpoint */
+    assert_true(r.checkpointed);
+    snprintf(ck, sizeof ck, "%s/%s", a, CHECKPOINT_NAME);
+    size_t n;
+    double *stored = read_dataset(ck, "tracer", &n); /* the module's field is in it */
+    double sum = 0.0;
+    for (size_t i = 0; i < n; i++)
+        sum += stored[i];
+    assert_true(sum > 0.0);
+    free(stored);
+    run_couette(b, "12", ck, &r);
+    assert_int_equal(r.status, STATUS_STOPPED);
+    assert_int_equal(r.steps, 12);
+    run_couette(c, "12", NULL, &r);
+    assert_int_equal(r.steps, 12);
+    char name[64];
+    fields_h5_name(12, name, sizeof name);
+    snprintf(fb, sizeof fb, "%s/%s", b, name);
+    snprintf(fa, sizeof fa, "%s/%s", c, name);
+    size_t nb, nc;
+    double *tb = read_dataset(fb, "tracer", &nb), *tc = read_dataset(fa, "tracer", &nc);
+    assert_int_equal(nb, nc);
+    double most = 0.0;
+    for (size_t i = 0; i < nb; i++) {
+        assert_true(tb[i] == tc[i]); /* bit for bit */
+        most = fmax(most, tb[i]);
+    }
+    print_message("module field 'tracer': checkpointed, continued from step 6 to 12 bit for "
+                  "bit (max %.6g)\n", most);
+    free(tb);
+    free(tc);
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", base);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* A module that makes the density "variable" without changing its value:
+ * the multigrid projection and the face-density mass term must give the
+ * uniform path's flow (to the solvers' tolerances). */
+static int variable_create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    (void)state;
+    return march_density_changed(st, 0, err, errlen);
+}
+static const struct module variable_density = {.name = "variable", .create = variable_create};
+static const struct module *const variable_modules[] = {&variable_density, NULL};
+
+static void test_variable_coefficients(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=8", "domain.nz=16", "solver.mode=transient", "solver.end_time=0.05",
+                  "solver.dt=0.005", "physics.advection=on"};
+    struct muflow_case cs;
+    load(&cs, COUETTE, 6, ov);
+    struct march_state u, v;
+    char err[512];
+    assert_int_equal(march_create(&u, &cs, err, sizeof err), 0);
+    int rc = march_create_with(&v, &cs, variable_modules, err, sizeof err);
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_true(u.density_uniform && !v.density_uniform);
+    /* a perturbation that is not a steady flow: w varies along x */
+    for (struct march_state *s = &u; s; s = s == &u ? &v : NULL)
+        for (int i = 0; i < s->g.n[0]; i++)
+            for (int k = 1; k < s->g.n[2]; k++)
+                s->vel[2][grid_idx(&s->g, i, 0, k)] = 0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
+    assert_int_equal(march_run(&u, NULL, NULL), STATUS_FINISHED);
+    assert_int_equal(march_run(&v, NULL, NULL), STATUS_FINISHED);
+    double diff = 0.0, size = 0.0;
+    for (int c = 0; c < 3; c++)
+        for (size_t p = 0; p < u.g.size; p++) {
+            diff = fmax(diff, fabs(u.vel[c][p] - v.vel[c][p]));
+            size = fmax(size, fabs(u.vel[c][p]));
+        }
+    print_message("uniform density by the FFT and by the multigrid path: max |du| %.2e of %.3f\n",
+                  diff, size);
+    /* the multigrid-CG projection is solved to a relative residual of 1e-12 */
+    assert_true(diff <= 1e-9 * size);
+    march_destroy(&u);
+    march_destroy(&v);
+}
+
+/* A scene's own section: known to its cases only, written back (between
+ * [solver] and [output]) and read back to the same values. */
+static void test_scene_section(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char err[512];
+    char *bad[] = {"heap.flow_rate=40"};
+    assert_int_equal(case_load(&cs, "../cases/bagnold.ini", 1, bad, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "unknown section heap"));
+    assert_non_null(strstr(err, "case.scene = heap"));
+    char *ok[] = {"heap.flow_rate=14.9", "heap.max_solves=7"};
+    load(&cs, "../cases/heap.ini", 2, ok);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    assert_non_null(f);
+    case_write_ini(&cs, f);
+    fclose(f);
+    const char *heap = strstr(buf, "[heap]\nflow_rate = 14.9\n");
+    assert_non_null(heap);
+    assert_true(strstr(buf, "[solver]") < heap && heap < strstr(buf, "[output]"));
+    assert_non_null(strstr(heap, "max_solves = 7\n"));
+    free(buf);
+    /* the scene chosen by an override makes its section known to the file
+     * and the overrides before it */
+    char *late[] = {"heap.max_solves=9", "case.scene=heap"};
+    assert_int_equal(case_load(&cs, "../cases/couette.ini", 2, late, err, sizeof err), 2);
+    assert_non_null(strstr(err, "case.scene = heap needs")); /* couette's boundaries */
+}
+
+void group_architecture(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_scene_section),
+        cmocka_unit_test(test_couette_scene),
+        cmocka_unit_test(test_module_field_restart),
+        cmocka_unit_test(test_variable_coefficients),
+    };
+    RUN_GROUP(t, "architecture", tests);
+}
