@@ -12,6 +12,7 @@ int vof_transport_init(struct vof_transport *vt, const struct grid *g, const str
     }
     ok &= (vt->alpha = field_alloc(g)) != NULL;
     ok &= (vt->indicator = field_alloc(g)) != NULL;
+    /* field_alloc zeroes: the flux of a direction of one cell stays 0 */
     if (!ok) {
         vof_transport_free(vt);
         return -1;
@@ -81,10 +82,6 @@ int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3]
 
     /* c_c from the state at the start of the step, kept for every sweep */
     vof_indicator(g, T, vt->indicator);
-    for (int d = 0; d < 3; d++)
-        if (g->n[d] == 1)
-            for (size_t q = 0; q < g->size; q++)
-                vt->flux[d][q] = 0.0;
     for (int s = 0; s < vt->nsweeps; s++) {
         int d = vt->order[s];
         bc_fill_scalar(g, vt->bc, T);
