@@ -19,9 +19,10 @@
  * time, the upwind polygon's share of u dt) and c_c = 1 where T > 1/2 at the
  * start of the whole step, 0 elsewhere (Weymouth & Yue 2010, J. Comput.
  * Phys. 229).  The c_c term cancels over the sweeps of a step when the
- * velocity is discretely divergence-free, so the step conserves grain volume
- * exactly; keeping c_c fixed (instead of the T of each sweep) is what keeps
- * 0 <= T <= 1 for a sweep CFL number |u| dt / h_d <= 1/2 (VOF_CFL_MAX).
+ * velocity is discretely divergence-free, because c_c is the same in every
+ * sweep: the step conserves grain volume to round-off.  c_c being the 0/1
+ * indicator rather than T itself is what keeps 0 <= T <= 1 for a sweep CFL
+ * number |u| dt / h_d <= 1/2 (VOF_CFL_MAX).
  *
  * A direction of one cell (thin 2D grids) has a zero normal component and is
  * never swept.  Ghost layers of T are the caller's (bc_fill_scalar). */
