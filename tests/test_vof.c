@@ -466,6 +466,52 @@ static void test_cfl(void **state)
         field_free(vel[d]);
 }
 
+/* Inflow through a non-periodic face: the driver mirrors the interface of the
+ * first cell into the ghost (like the zero-gradient T), so the slab entering
+ * across face 0 is the mirror image of the first cell's slab next to that
+ * face: the same face value of T. */
+static void test_mirror_inflow(void **state)
+{
+    (void)state;
+    struct grid g;
+    make_grid(&g, 8, 8, 1, 1.0, 1.0, 0.125);
+    struct boundary bc = all_kind(BC_SLIP);
+    bc.face[2][0] = bc.face[2][1] = BC_PERIODIC;
+    double *T = field_alloc(&g), *alpha = field_alloc(&g), *normal[3], *vel[3];
+    for (int d = 0; d < 3; d++) {
+        normal[d] = field_alloc(&g);
+        vel[d] = field_alloc(&g);
+    }
+    const double n[3] = {0.8, 0.2, 0.0}, level = 1.0; /* cuts cells 1-4 of column 0 */
+    for (int i = 0; i < g.n[0]; i++)
+        for (int j = 0; j < g.n[1]; j++)
+            T[grid_idx(&g, i, j, 0)] = vof_plane_volume(n, level - (n[0] * i + n[1] * j));
+    bc_fill_scalar(&g, &bc, T);
+    vof_reconstruct(&g, T, normal, alpha);
+    const double dt = 0.01, width = 0.4, u_in = width * g.h[0] / dt;
+    for (int j = 0; j < g.n[1]; j++)
+        vel[0][grid_idx(&g, 0, j, 0)] = u_in;
+    struct vof_transport vt;
+    assert_int_equal(vof_transport_init(&vt, &g, &bc), 0);
+    assert_int_equal(vof_transport_step(&vt, T, vel, dt, NULL), 0);
+    int cut = 0;
+    for (int j = 0; j < g.n[1]; j++) {
+        ptrdiff_t p = grid_idx(&g, 0, j, 0);
+        double m[3] = {normal[0][p], normal[1][p], normal[2][p]};
+        double face_t = vof_slab_fraction(m, alpha[p], T[p], 0, 0.0, width);
+        cut += face_t > 0.0 && face_t < 1.0;
+        assert_true(fabs(vt.flux[0][p] - u_in * face_t) <= 1e-15 * u_in);
+    }
+    assert_true(cut >= 2); /* the interface does cross the inflow face */
+    vof_transport_free(&vt);
+    field_free(T);
+    field_free(alpha);
+    for (int d = 0; d < 3; d++) {
+        field_free(normal[d]);
+        field_free(vel[d]);
+    }
+}
+
 /* ---- translations in periodic boxes ----------------------------------------- */
 
 /* A disc of radius 0.25 at (0.5, 1.0) in the x-z plane of a thin grid
@@ -870,6 +916,7 @@ void group_vof(struct test_tally *t)
         cmocka_unit_test(test_slab_fraction),
         cmocka_unit_test(test_reconstruct_planes),
         cmocka_unit_test(test_cfl),
+        cmocka_unit_test(test_mirror_inflow),
         cmocka_unit_test(test_translate_disc_thin),
         cmocka_unit_test(test_translate_sphere),
         cmocka_unit_test(test_zalesak),
