@@ -40,6 +40,7 @@ static const struct {
     {"heap", group_heap},
     {"io", group_io},
     {"corpus", group_corpus},
+    {"vof", group_vof},
 };
 
 int main(int argc, char **argv)

@@ -1,0 +1,95 @@
+/* Whole VOF steps over the sweeps of kernels/vof.c (see vof_transport.h). */
+#include "physics/vof_transport.h"
+#include "kernels/vof.h"
+
+int vof_transport_init(struct vof_transport *vt, const struct grid *g, const struct boundary *bc)
+{
+    *vt = (struct vof_transport){.g = g, .bc = bc};
+    int ok = 1;
+    for (int d = 0; d < 3; d++) {
+        ok &= (vt->normal[d] = field_alloc(g)) != NULL;
+        ok &= (vt->flux[d] = field_alloc(g)) != NULL;
+    }
+    ok &= (vt->alpha = field_alloc(g)) != NULL;
+    ok &= (vt->indicator = field_alloc(g)) != NULL;
+    /* field_alloc zeroes: the flux of a direction of one cell stays 0 */
+    if (!ok) {
+        vof_transport_free(vt);
+        return -1;
+    }
+    return 0;
+}
+
+void vof_transport_free(struct vof_transport *vt)
+{
+    for (int d = 0; d < 3; d++) {
+        field_free(vt->normal[d]);
+        field_free(vt->flux[d]);
+    }
+    field_free(vt->alpha);
+    field_free(vt->indicator);
+    *vt = (struct vof_transport){0};
+}
+
+/* Ghost interfaces.  Periodic faces: the copy bc_fill_scalar makes, so that
+ * the flux through face 0 is computed from exactly the data (and by exactly
+ * the operations) of the flux through face n: they are the same double and
+ * the domain's total is conserved.  Other faces: the mirror image of the
+ * interior cell, like the mirrored T (zero-gradient), i.e. xi_e -> 1 - xi_e:
+ * m_e changes sign and alpha loses m_e.  Boundary faces there are closed
+ * (zero normal velocity), so this only matters to a caller with inflow. */
+static void fill_interface_ghosts(struct vof_transport *vt)
+{
+    const struct grid *g = vt->g;
+    for (int d = 0; d < 3; d++)
+        bc_fill_scalar(g, vt->bc, vt->normal[d]);
+    bc_fill_scalar(g, vt->bc, vt->alpha);
+    for (int e = 0; e < 3; e++) {
+        if (vt->bc->face[e][0] == BC_PERIODIC || g->n[e] == 1)
+            continue;
+        int a = (e + 1) % 3, b = (e + 2) % 3;
+        for (int side = 0; side < 2; side++)
+            for (int ia = 0; ia < g->n[a]; ia++)
+                for (int ib = 0; ib < g->n[b]; ib++) {
+                    int idx[3];
+                    idx[e] = side == 0 ? -1 : g->n[e];
+                    idx[a] = ia;
+                    idx[b] = ib;
+                    ptrdiff_t p = grid_idx(g, idx[0], idx[1], idx[2]);
+                    double m = vt->normal[e][p];
+                    vt->alpha[p] -= m;
+                    vt->normal[e][p] = -m;
+                }
+    }
+}
+
+int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3], double dt,
+                       double *max_cfl)
+{
+    const struct grid *g = vt->g;
+    double largest = vof_cfl(g, vel, dt, vt->cfl);
+    if (max_cfl)
+        *max_cfl = largest;
+    if (largest > VOF_CFL_MAX)
+        return -1;
+
+    static const int forward[3] = {0, 1, 2}, backward[3] = {2, 1, 0};
+    const int *seq = vt->steps % 2 == 0 ? forward : backward;
+    vt->nsweeps = 0;
+    for (int s = 0; s < 3; s++)
+        if (g->n[seq[s]] > 1)
+            vt->order[vt->nsweeps++] = seq[s];
+
+    /* c_c from the state at the start of the step, kept for every sweep */
+    vof_indicator(g, T, vt->indicator);
+    for (int s = 0; s < vt->nsweeps; s++) {
+        int d = vt->order[s];
+        bc_fill_scalar(g, vt->bc, T);
+        vof_reconstruct(g, T, vt->normal, vt->alpha);
+        fill_interface_ghosts(vt);
+        vof_sweep(g, d, vel[d], dt, vt->indicator, vt->normal, vt->alpha, T, vt->flux[d]);
+    }
+    bc_fill_scalar(g, vt->bc, T);
+    vt->steps++;
+    return 0;
+}
