@@ -36,7 +36,7 @@ TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
 HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version FORCE
+.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs FORCE
 
 all: $(BUILD)/muflow
 
@@ -61,6 +61,7 @@ $(BUILD)/libmuflow.a: $(LIB_OBJ)
 	ar rcs $@ $^
 
 # main.c prints the version: rebuilt when it changes ($(BUILD)/version holds it)
+FORCE:
 $(BUILD)/version: FORCE
 	@mkdir -p $(dir $@)
 	@echo '$(VERSION)' | cmp -s - $@ || echo '$(VERSION)' > $@
@@ -69,6 +70,10 @@ $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
 
 print-version:
 	@echo '$(VERSION)'
+
+# the package list README's "Two commands" must name (the tools test group)
+print-deb-pkgs:
+	@echo '$(DEB_PKGS)'
 
 $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)

@@ -1,7 +1,8 @@
 /* The tools around the solver, driven as a user would drive them, through the
  * shell: muflow --version, the test runner's command line, `make install`
  * with a pkg-config build of a small program against the installed library,
- * and tools/muflow_plot.py on real runs.  The runner works in tests/
+ * tools/muflow_plot.py on real runs, and README's package and library lists
+ * against the Makefile.  The runner works in tests/
  * (test_main.c), so the repository is "..". */
 #define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
 #include <limits.h>
@@ -378,6 +379,67 @@ static void test_plot(void **state)
     remove_tree(tmp);
 }
 
+/* ---------------------------------------------------------------------- */
+/* README against the Makefile */
+
+/* The text of README's section "## title" (to the next "## "). */
+static char *readme_section(const char *readme, const char *title)
+{
+    char head[128];
+    snprintf(head, sizeof head, "\n## %s\n", title);
+    const char *at = strstr(readme, head);
+    if (!at)
+        print_error("README.md has no section '## %s'\n", title);
+    assert_non_null(at);
+    at += strlen(head);
+    const char *end = strstr(at, "\n## ");
+    size_t n = end ? (size_t)(end - at) : strlen(at);
+    char *s = malloc(n + 1);
+    assert_non_null(s);
+    memcpy(s, at, n);
+    s[n] = '\0';
+    return s;
+}
+
+/* word in text between blanks, backticks, line ends or punctuation. */
+static int has_word(const char *text, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = strstr(text, word); p; p = strstr(p + 1, word)) {
+        char before = p == text ? ' ' : p[-1], after = p[n];
+        if (strchr(" `\n(", before) && strchr(" `\n),.;", after))
+            return 1;
+    }
+    return 0;
+}
+
+static void test_readme_packages(void **state)
+{
+    (void)state;
+    char *readme = test_read_file("../README.md", NULL);
+    char *pkgs = sh_ok("make -s --no-print-directory -C .. print-deb-pkgs");
+    char *two = readme_section(readme, "Two commands");
+    int n = 0;
+    for (char *w = strtok(pkgs, " \n"); w; w = strtok(NULL, " \n"), n++) {
+        if (!has_word(two, w))
+            print_error("README's \"Two commands\" does not name %s of DEB_PKGS\n", w);
+        assert_true(has_word(two, w));
+    }
+    assert_true(n >= 10);
+    char *libs = readme_section(readme, "Libraries");
+    const char *names[] = {"FFTW", "GSL", "libinih", "cmocka", "HDF5", "SuiteSparse", "UMFPACK",
+                           "CHOLMOD", "OpenBLAS"};
+    for (size_t m = 0; m < sizeof names / sizeof names[0]; m++) {
+        if (!strstr(libs, names[m]))
+            print_error("README's \"Libraries\" does not name %s\n", names[m]);
+        assert_non_null(strstr(libs, names[m]));
+    }
+    free(libs);
+    free(two);
+    free(pkgs);
+    free(readme);
+}
+
 void group_tools(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -386,6 +448,7 @@ void group_tools(struct test_tally *t)
         cmocka_unit_test(test_runner_any_folder),
         cmocka_unit_test(test_install),
         cmocka_unit_test(test_plot),
+        cmocka_unit_test(test_readme_packages),
     };
     RUN_GROUP(t, "tools", tests);
 }
