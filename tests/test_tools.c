@@ -349,6 +349,12 @@ static void test_plot(void **state)
     check_png(bag, "profile.png");
     check_png(bag, "history.png");
     check_png(bag, "field.png");
+    /* another cell field (log colours: eta spans decades) into another folder */
+    snprintf(png, sizeof png, "%s/viscosity", tmp);
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --field viscosity --out '%s'",
+             bag, png);
+    free(sh_ok(cmd));
+    check_png(png, "field.png");
 
     /* no scene (no profile.csv, no error, no headline) and no field files,
      * plots into --out: only the history, and no failure */

@@ -196,14 +196,20 @@ def plot_field(run, out, title, field):
     e1 = np.linspace(0.0, length[d1], n[d1] + 1)
     e2 = np.linspace(0.0, length[d2], n[d2] + 1)
     fig, ax = plt.subplots(figsize=(6, 5))
-    mesh = ax.pcolormesh(e1, e2, s, shading="flat", cmap="viridis")
+    norm = None
+    finite = s[np.isfinite(s)]
+    if field in ("viscosity", "shear_rate", "inertial_number") and finite.size and \
+            finite.min() > 0 and finite.max() > 100 * finite.min():
+        norm = matplotlib.colors.LogNorm()  # decades apart: rigid zones beside flowing ones
+    mesh = ax.pcolormesh(e1, e2, s, shading="flat", cmap="viridis", norm=norm)
     fig.colorbar(mesh, ax=ax, label=label)
     ax.set_xlabel(names[d1])
     ax.set_ylabel(names[d2])
     if max(length[d1], length[d2]) <= 3 * min(length[d1], length[d2]):
         ax.set_aspect("equal")  # else a thin profile grid: stretched to be seen
-    ax.set_title("%s: %s, step %d\n(cell layer %d of %d along %s)"
-                 % (title, label, step, n[third] // 2, n[third], names[third]), fontsize=10)
+    where = "" if n[third] == 1 else "\n(cell layer %d of %d along %s)" % (
+        n[third] // 2, n[third], names[third])
+    ax.set_title("%s: %s, step %d%s" % (title, label, step, where), fontsize=10)
     dest = os.path.join(out, "field.png")
     save(fig, dest)
     return dest
