@@ -1,6 +1,7 @@
-# muflow -- build, run, test.
+# muflow -- build, run, test, install.
 #   make run    installs missing Debian packages, builds, runs cases/bagnold.ini
 #   make test   installs missing Debian packages, builds and runs the test suite
+#   make install [PREFIX=/usr/local] [DESTDIR=]   (and make uninstall)
 CC      ?= gcc
 OPT     ?= -O3
 CFLAGS  ?= $(OPT) -g
@@ -13,12 +14,20 @@ DEB_PKGS += libxml2-utils
 # reference BLAS, 3x slower there); the serial build does not compete with
 # muflow's OpenMP threads
 DEB_PKGS += libopenblas0-serial
+# tools/muflow_plot.py (Debian's /usr/bin/python3 with numpy, matplotlib,
+# h5py), which the tools test group runs
+DEB_PKGS += python3-matplotlib python3-h5py
 PC_PKGS  = fftw3 hdf5 gsl inih
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse
 LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod -lumfpack \
           -lsuitesparseconfig -lm
 BUILD   ?= build
+
+# The version, defined here only: `git describe` of a release tag vX.Y.Z when
+# there is one (e.g. 0.2.0-3-gabc1234-dirty), else the VERSION file.
+VERSION := $(shell v=$$(git describe --tags --match 'v[0-9]*' --dirty 2>/dev/null) && \
+             echo "$$v" | sed 's/^v//' || cat VERSION)
 
 KERNEL_SRC = $(wildcard kernels/*.c)
 LIB_SRC    = $(filter-out src/app/main.c,$(wildcard src/*/*.c)) $(KERNEL_SRC)
@@ -27,7 +36,7 @@ TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
 HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps check-asan fuzz
+.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs FORCE
 
 all: $(BUILD)/muflow
 
@@ -51,6 +60,21 @@ $(BUILD)/libmuflow.a: $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
+# main.c prints the version: rebuilt when it changes ($(BUILD)/version holds it)
+FORCE:
+$(BUILD)/version: FORCE
+	@mkdir -p $(dir $@)
+	@echo '$(VERSION)' | cmp -s - $@ || echo '$(VERSION)' > $@
+$(BUILD)/obj/src/app/main.o: $(BUILD)/version
+$(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
+
+print-version:
+	@echo '$(VERSION)'
+
+# the package list README's "Two commands" must name (the tools test group)
+print-deb-pkgs:
+	@echo '$(DEB_PKGS)'
+
 $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
@@ -68,6 +92,46 @@ test: deps
 
 clean:
 	rm -rf $(BUILD) out
+
+# ---- install ------------------------------------------------------------------
+# The command, the library, its headers (include/ as PREFIX/include/muflow/,
+# so `#include "config/case.h"` as in the tree) and muflow.pc:
+#   cc prog.c $(pkg-config --cflags --libs muflow)
+# DESTDIR stages the tree elsewhere (packaging); muflow.pc names PREFIX.
+PREFIX     ?= /usr/local
+BINDIR     ?= $(PREFIX)/bin
+LIBDIR     ?= $(PREFIX)/lib
+INCLUDEDIR ?= $(PREFIX)/include
+PCDIR      ?= $(LIBDIR)/pkgconfig
+PUBLIC_HEADERS = $(wildcard include/*/*.h)
+
+$(BUILD)/muflow.pc: Makefile $(BUILD)/version
+	@mkdir -p $(dir $@)
+	@{ echo 'prefix=$(PREFIX)'; \
+	   echo 'libdir=$(if $(filter $(PREFIX)/%,$(LIBDIR)),$${prefix}/$(patsubst $(PREFIX)/%,%,$(LIBDIR)),$(LIBDIR))'; \
+	   echo 'includedir=$(if $(filter $(PREFIX)/%,$(INCLUDEDIR)),$${prefix}/$(patsubst $(PREFIX)/%,%,$(INCLUDEDIR)),$(INCLUDEDIR))'; \
+	   echo ''; \
+	   echo 'Name: muflow'; \
+	   echo 'Description: solver for dense granular flows (mu(I) rheology) on a staggered grid'; \
+	   echo 'Version: $(VERSION)'; \
+	   echo 'Requires: $(PC_PKGS)'; \
+	   echo 'Cflags: -fopenmp -I$${includedir}/muflow -I/usr/include/suitesparse'; \
+	   echo 'Libs: -fopenmp -L$${libdir} -lmuflow $(filter-out $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null),$(LDLIBS)) -lm'; \
+	} > $@
+
+install: $(BUILD)/muflow $(BUILD)/libmuflow.a $(BUILD)/muflow.pc
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(PCDIR) \
+	  $(addprefix $(DESTDIR)$(INCLUDEDIR)/muflow/,$(sort $(notdir $(patsubst %/,%,$(dir $(PUBLIC_HEADERS))))))
+	install -m 755 $(BUILD)/muflow $(DESTDIR)$(BINDIR)/muflow
+	install -m 644 $(BUILD)/libmuflow.a $(DESTDIR)$(LIBDIR)/libmuflow.a
+	for h in $(PUBLIC_HEADERS); do \
+	  install -m 644 $$h $(DESTDIR)$(INCLUDEDIR)/muflow/$${h#include/} || exit 1; \
+	done
+	install -m 644 $(BUILD)/muflow.pc $(DESTDIR)$(PCDIR)/muflow.pc
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/muflow $(DESTDIR)$(LIBDIR)/libmuflow.a $(DESTDIR)$(PCDIR)/muflow.pc
+	rm -rf $(DESTDIR)$(INCLUDEDIR)/muflow
 
 # AddressSanitizer + UBSan: a separate build in build/asan, the unit tests
 # (every group but the long scenes) and the shipped profile scenes from the

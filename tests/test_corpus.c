@@ -10,14 +10,14 @@
 #include "test_main.h"
 #include "fuzz/fuzz_input.h"
 
-#define CORPUS "fuzz/corpus" /* tests run in tests/ */
+#define CORPUS "fuzz/corpus" /* the runner works in tests/ (test_main.c) */
 
 static void test_corpus(void **state)
 {
     (void)state;
     DIR *d = opendir(CORPUS);
     if (!d)
-        print_error("cannot open %s (tests run from tests/)\n", CORPUS);
+        print_error("cannot open %s in tests/\n", CORPUS);
     assert_non_null(d);
     int files = 0, loaded = 0;
     struct dirent *e;

@@ -25,12 +25,15 @@
 #include "io/checkpoint.h"
 #include "io/fields_h5.h"
 #include "io/h5io.h"
+#include "io/output.h"
 #include "march/march.h"
 #include "app/run.h"
 #include "test_main.h"
 
 /* The cell datasets of a field file of a single-phase run, as README and
  * fields_h5.h document them: five scalars and the cell-centred velocity. */
+/* The heap scene's own output (scenes/heap.c: files). */
+static const char *const scene_files[] = {"heap.csv", NULL};
 #define FIELDS_CELL_SCALARS 5
 static const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS] = {
     "pressure", "pressure_regularised", "shear_rate", "inertial_number", "viscosity"};
@@ -885,6 +888,100 @@ static void test_restart_bad_checkpoint(void **state)
     remove_tree(dir);
 }
 
+/* ---------------------------------------------------------------------- */
+/* 7. a reused output folder: the earlier run's files go, nothing else */
+
+static void touch(const char *dir, const char *name)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs("x\n", f);
+    fclose(f);
+}
+
+/* The sorted names in dir (without . and ..), one line each. */
+static void list_dir(const char *dir, char *out, size_t len)
+{
+    char cmd[800];
+    snprintf(cmd, sizeof cmd, "LC_ALL=C ls -A '%s'", dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, len - 1, p);
+    out[n] = '\0';
+    assert_int_equal(pclose(p), 0);
+}
+
+static void test_remove_run_files(void **state)
+{
+    (void)state;
+    char dir[64], od[700], err[1024], path[800];
+    make_tmp(dir, sizeof dir, "stale");
+    /* an earlier run: stopped by max_steps, field files every 5 steps and a checkpoint */
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    char *ov[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
+                  "solver.max_steps=10", "output.fields_every=5", "output.quiet=on", od};
+    struct muflow_case cs;
+    load(&cs, CASES_DIR "bagnold.ini", 7, ov);
+    struct run_result r;
+    run_out(&cs, &r);
+    assert_int_equal(r.status, STATUS_STOPPED);
+    const char *written[] = {"fields_000000.h5", "fields_000005.h5", "fields_000010.h5",
+                             "fields.xdmf", "history.csv", "profile.csv", "summary.ini",
+                             CHECKPOINT_NAME};
+    for (size_t m = 0; m < sizeof written / sizeof written[0]; m++) {
+        snprintf(path, sizeof path, "%s/%s", dir, written[m]);
+        assert_true(file_exists(path));
+    }
+    /* what a killed run or the heap scene leaves, and a long step number */
+    const char *more[] = {"heap.csv", "heap.csv.tmp", "fields_000015.h5.tmp",
+                          "fields_1234567.h5", "fields.xdmf.tmp", "history.csv.tmp",
+                          "profile.csv.tmp", "summary.ini.tmp", CHECKPOINT_NAME ".tmp"};
+    for (size_t m = 0; m < sizeof more / sizeof more[0]; m++)
+        touch(dir, more[m]);
+    /* not the run's: kept */
+    const char *keep[] = {"notes.txt", "fields_abc.h5", "fields_12345.h5", "fields_000001.h5.bak",
+                          "summary.ini.orig", "history.csv~", "field.png", "Summary.ini",
+                          "xfields_000001.h5", "fields_000001.h5.tmp.tmp"};
+    for (size_t m = 0; m < sizeof keep / sizeof keep[0]; m++)
+        touch(dir, keep[m]);
+    snprintf(path, sizeof path, "%s/fields_000002.h5", dir); /* a folder of a run file's name */
+    assert_int_equal(mkdir(path, 0777), 0);
+    touch(path, "inside");
+    snprintf(path, sizeof path, "%s/plots", dir);
+    assert_int_equal(mkdir(path, 0777), 0);
+    touch(path, "summary.ini");
+
+    int removed = output_remove_run_files(dir, scene_files, err, sizeof err);
+    if (removed < 0)
+        print_error("%s\n", err);
+    assert_int_equal(removed, (int)(sizeof written / sizeof written[0] +
+                                    sizeof more / sizeof more[0]));
+    char names[4096];
+    list_dir(dir, names, sizeof names);
+    print_message("left:\n%s", names);
+    assert_string_equal(names, "Summary.ini\nfield.png\nfields_000001.h5.bak\n"
+                               "fields_000001.h5.tmp.tmp\nfields_000002.h5\nfields_12345.h5\n"
+                               "fields_abc.h5\nhistory.csv~\nnotes.txt\nplots\n"
+                               "summary.ini.orig\nxfields_000001.h5\n");
+    snprintf(path, sizeof path, "%s/plots/summary.ini", dir); /* not recursive */
+    assert_true(file_exists(path));
+    snprintf(path, sizeof path, "%s/fields_000002.h5/inside", dir);
+    assert_true(file_exists(path));
+    assert_int_equal(output_remove_run_files(dir, scene_files, err, sizeof err), 0); /* again: nothing */
+
+    /* a folder that does not exist yet: nothing to do */
+    snprintf(path, sizeof path, "%s/new", dir);
+    assert_int_equal(output_remove_run_files(path, scene_files, err, sizeof err), 0);
+    /* a file where the folder should be: the cause is named */
+    snprintf(path, sizeof path, "%s/notes.txt", dir);
+    assert_int_equal(output_remove_run_files(path, scene_files, err, sizeof err), -1);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "Not a directory"));
+    remove_tree(dir);
+}
+
 void group_io(struct test_tally *t)
 {
     h5io_init(); /* the failures above are expected: no HDF5 stack dumps */
@@ -898,6 +995,7 @@ void group_io(struct test_tally *t)
         cmocka_unit_test(test_cli_signals),
         cmocka_unit_test(test_checkpoint_write_fails),
         cmocka_unit_test(test_restart_bad_checkpoint),
+        cmocka_unit_test(test_remove_run_files),
     };
     RUN_GROUP(t, "io", tests);
 }

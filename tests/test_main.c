@@ -1,9 +1,17 @@
 /* Test runner: runs every group (or those named on the command line) and
- * ends with one closing line "tests: N passed, M failed". */
+ * ends with one closing line "tests: N passed, M failed".  A name that is no
+ * group is an error (exit status 2, the groups listed) before anything runs.
+ * The tests read their files relative to tests/ (../cases, fuzz/corpus), so
+ * the runner first moves there: it stays when started in tests/, else it
+ * looks for the repository from its own executable's folder upwards. */
+#define _DEFAULT_SOURCE /* readlink */
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "test_main.h"
 
 char *test_read_file(const char *path, size_t *len)
@@ -41,12 +49,79 @@ static const struct {
     {"io", group_io},
     {"corpus", group_corpus},
     {"vof", group_vof},
+    {"tools", group_tools},
 };
+#define NGROUPS (sizeof(groups) / sizeof(groups[0]))
+
+static int is_dir(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+}
+
+/* dir is the tests/ folder of a muflow tree: it holds fuzz/corpus beside ../cases */
+static int is_tests_dir(const char *dir)
+{
+    char a[PATH_MAX + 32], b[PATH_MAX + 32];
+    snprintf(a, sizeof a, "%s/fuzz/corpus", dir);
+    snprintf(b, sizeof b, "%s/../cases", dir);
+    return is_dir(a) && is_dir(b);
+}
+
+/* Moves to the tests/ folder: the current one, or tests/ of the first folder
+ * above this executable that has one.  Returns 0, or -1 when there is none. */
+static int enter_tests_dir(void)
+{
+    if (is_tests_dir("."))
+        return 0;
+    char dir[PATH_MAX], tests[PATH_MAX + 8];
+    ssize_t n = readlink("/proc/self/exe", dir, sizeof dir - 1);
+    if (n <= 0)
+        return -1;
+    dir[n] = '\0';
+    for (char *slash = strrchr(dir, '/'); slash; slash = strrchr(dir, '/')) {
+        *slash = '\0'; /* one folder up */
+        snprintf(tests, sizeof tests, "%s/tests", slash == dir ? "" : dir);
+        if (is_tests_dir(tests))
+            return chdir(tests);
+        if (slash == dir)
+            break;
+    }
+    return -1;
+}
+
+static void list_groups(FILE *f)
+{
+    fprintf(f, "groups:");
+    for (size_t g = 0; g < NGROUPS; g++)
+        fprintf(f, " %s", groups[g].name);
+    fprintf(f, "\n");
+}
 
 int main(int argc, char **argv)
 {
     struct test_tally tally = {0, 0};
-    for (size_t g = 0; g < sizeof(groups) / sizeof(groups[0]); g++) {
+    int unknown = 0;
+    for (int a = 1; a < argc; a++) {
+        size_t g = 0;
+        while (g < NGROUPS && strcmp(argv[a], groups[g].name) != 0)
+            g++;
+        if (g == NGROUPS) {
+            fprintf(stderr, "muflow_tests: no test group named '%s'\n", argv[a]);
+            unknown = 1;
+        }
+    }
+    if (unknown) {
+        fprintf(stderr, "usage: muflow_tests [group ...] (all groups without one)\n");
+        list_groups(stderr);
+        return 2;
+    }
+    if (enter_tests_dir() != 0) {
+        fprintf(stderr, "muflow_tests: cannot find the tests/ folder (fuzz/corpus beside "
+                        "../cases) here or above this executable\n");
+        return 2;
+    }
+    for (size_t g = 0; g < NGROUPS; g++) {
         int wanted = argc < 2;
         for (int a = 1; a < argc; a++)
             wanted |= strcmp(argv[a], groups[g].name) == 0;

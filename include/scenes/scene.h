@@ -71,6 +71,7 @@ struct scene {
     void (*results)(const struct march_state *st, const struct scene_drive *d,
                     struct run_result *res);
     int (*write)(const char *dir, const struct march_state *st, char *err, size_t errlen);
+    const char *const *files;      /* the names write() produces (NULL-terminated) */
 };
 
 /* The registry (src/scenes/registry.c). */

@@ -1,5 +1,6 @@
 /* muflow CASE [section.key=value ...]
  * muflow --restart DIR [section.key=value ...]
+ * muflow --version
  * Runs a case file (an INI file under cases/) with command-line overrides of
  * any key, or continues the run whose checkpoint is DIR/checkpoint.h5.
  * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
@@ -17,10 +18,15 @@
 
 #define EXIT_OUTPUT_FAILED 4
 
+#ifndef MUFLOW_VERSION /* the Makefile's VERSION: git describe, else the VERSION file */
+#error "MUFLOW_VERSION is defined by the Makefile"
+#endif
+
 static void usage(FILE *f)
 {
     fprintf(f, "usage: muflow CASE.ini [section.key=value ...]\n"
                "       muflow --restart DIR [section.key=value ...]\n"
+               "       muflow --version\n"
                "  runs the case to a steady state (solver.mode = steady) or to\n"
                "  solver.end_time (transient); any case key can be overridden, e.g.\n"
                "  muflow cases/bagnold.ini physics.tilt=0.45 domain.nz=80\n"
@@ -92,6 +98,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("muflow %s\n", MUFLOW_VERSION);
+        return 0;
     }
     static struct muflow_case cs;
     char err[1024], path[1100];

@@ -147,6 +147,10 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         return RUN_OK;
     if (output_make_dir(cs->output_dir, err, errlen) != 0)
         goto fail;
+    /* a fresh run starts from a folder without an earlier run's files; a
+     * continued run keeps them (its series and history go on from them) */
+    if (!opt->restart_from && output_remove_run_files(cs->output_dir, case_scene(cs)->files, err, errlen) < 0)
+        goto fail;
     if ((opt->restart_from ? history_resume(&ctx->hist, cs->output_dir, st->step, err, errlen)
                            : history_open(&ctx->hist, cs->output_dir, err, errlen)) != 0)
         goto fail;

@@ -1,5 +1,6 @@
 /* CSV and INI output of a run (output.h). */
 #define _POSIX_C_SOURCE 200809L /* getline */
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -7,6 +8,8 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <stdarg.h>
+#include <unistd.h>
+#include "io/checkpoint.h"
 #include "scenes/scene.h"
 #include "io/output.h"
 
@@ -37,6 +40,61 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
         return -1;
     }
     return 0;
+}
+
+/* A name a run writes (output.h), or its temporary name (name.tmp). */
+static int is_run_file(const char *name, const char *const *extra)
+{
+    static const char *const fixed[] = {"fields.xdmf", "history.csv", "profile.csv",
+                                        "summary.ini", CHECKPOINT_NAME};
+    size_t n = strlen(name);
+    if (n > 4 && strcmp(name + n - 4, ".tmp") == 0)
+        n -= 4;
+    for (size_t f = 0; f < sizeof fixed / sizeof fixed[0]; f++)
+        if (strlen(fixed[f]) == n && strncmp(name, fixed[f], n) == 0)
+            return 1;
+    for (const char *const *x = extra; x && *x; x++)
+        if (strlen(*x) == n && strncmp(name, *x, n) == 0)
+            return 1;
+    /* fields_<step>.h5: six digits or more (fields_h5_name) */
+    if (n < sizeof "fields_000000.h5" - 1 || strncmp(name, "fields_", 7) != 0 ||
+        strncmp(name + n - 3, ".h5", 3) != 0)
+        return 0;
+    for (size_t i = 7; i < n - 3; i++)
+        if (name[i] < '0' || name[i] > '9')
+            return 0;
+    return 1;
+}
+
+int output_remove_run_files(const char *dir, const char *const *extra, char *err, size_t errlen)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        if (errno == ENOENT)
+            return 0;
+        snprintf(err, errlen, "cannot read output folder %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    int removed = 0;
+    struct dirent *e;
+    char path[800];
+    while ((e = readdir(d))) {
+        if (!is_run_file(e->d_name, extra))
+            continue;
+        struct stat sb;
+        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >= (int)sizeof path ||
+            lstat(path, &sb) != 0 || S_ISDIR(sb.st_mode))
+            continue; /* a folder of that name is not the run's */
+        if (unlink(path) != 0 && errno != ENOENT) {
+            snprintf(err, errlen, "cannot remove %s of an earlier run: %s", path,
+                     strerror(errno));
+            closedir(d);
+            return -1;
+        }
+        removed++;
+    }
+    closedir(d);
+    return removed;
 }
 
 /* Opens dir/name.tmp for writing; fills the final and temporary paths. */

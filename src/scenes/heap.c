@@ -292,6 +292,8 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     return rc;
 }
 
+static const char *const heap_files[] = {"heap.csv", NULL};
+
 const struct scene scene_heap = {
     .name = "heap",
     .title = "surface flow on a heap between rough side walls (tilt for a flow rate)",
@@ -303,4 +305,5 @@ const struct scene scene_heap = {
     .not_restartable = not_restartable,
     .results = results,
     .write = write,
+    .files = heap_files,
 };

@@ -1,0 +1,460 @@
+/* The tools around the solver, driven as a user would drive them, through the
+ * shell: muflow --version, the test runner's command line, `make install`
+ * with a pkg-config build of a small program against the installed library,
+ * tools/muflow_plot.py on real runs, and README's package and library lists
+ * against the Makefile.  The runner works in tests/
+ * (test_main.c), so the repository is "..". */
+#define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "test_main.h"
+
+#define PYTHON "/usr/bin/python3" /* Debian's, with numpy, matplotlib, h5py */
+
+/* ---------------------------------------------------------------------- */
+/* helpers */
+
+/* Runs cmd with sh, stdout and stderr into a malloc'd string (*out);
+ * returns the exit status (-1 when it did not exit). */
+static int sh(const char *cmd, char **out)
+{
+    size_t flen = strlen(cmd) + sizeof "() 2>&1";
+    char *full = malloc(flen);
+    assert_non_null(full);
+    snprintf(full, flen, "(%s) 2>&1", cmd);
+    fflush(NULL);
+    FILE *p = popen(full, "r");
+    free(full);
+    assert_non_null(p);
+    size_t used = 0, cap = 4096;
+    char *buf = malloc(cap);
+    assert_non_null(buf);
+    size_t n;
+    while ((n = fread(buf + used, 1, cap - used - 1, p)) > 0) {
+        used += n;
+        if (cap - used < 2) {
+            cap *= 2;
+            buf = realloc(buf, cap);
+            assert_non_null(buf);
+        }
+    }
+    buf[used] = '\0';
+    int st = pclose(p);
+    if (out)
+        *out = buf;
+    else
+        free(buf);
+    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+/* sh() that must exit 0; prints the command and its output otherwise. */
+static char *sh_ok(const char *cmd)
+{
+    char *out;
+    int rc = sh(cmd, &out);
+    if (rc != 0)
+        print_error("`%s` exited %d:\n%s\n", cmd, rc, out);
+    assert_int_equal(rc, 0);
+    return out;
+}
+
+static void make_tmp(char *dir, size_t len, const char *tag)
+{
+    snprintf(dir, len, "/tmp/muflow_tools_%s_XXXXXX", tag);
+    assert_non_null(mkdtemp(dir));
+}
+
+static void remove_tree(const char *dir)
+{
+    char cmd[700];
+    assert_true(strncmp(dir, "/tmp/muflow_tools_", 18) == 0); /* never anything else */
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+static int file_exists(const char *path)
+{
+    struct stat sb;
+    return stat(path, &sb) == 0;
+}
+
+/* This executable's folder (the build folder) and path. */
+static void self_paths(char *exe, size_t len, char *dir, size_t dlen)
+{
+    ssize_t n = readlink("/proc/self/exe", exe, len - 1);
+    assert_true(n > 0);
+    exe[n] = '\0';
+    snprintf(dir, dlen, "%s", exe);
+    *strrchr(dir, '/') = '\0';
+}
+
+/* The muflow binary of this build. */
+static void muflow_bin(char *out, size_t len)
+{
+    char exe[PATH_MAX];
+    self_paths(exe, sizeof exe, out, len);
+    assert_true(strlen(out) + sizeof "/muflow" <= len);
+    strcat(out, "/muflow");
+}
+
+/* The value text of key in the [result] section of dir/summary.ini. */
+static void summary_value(const char *dir, const char *key, char *out, size_t len)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/summary.ini", dir);
+    char *text = test_read_file(path, NULL);
+    char *res = strstr(text, "[result]\n");
+    assert_non_null(res);
+    char *end = strstr(res + 1, "\n[");
+    char want[128];
+    snprintf(want, sizeof want, "\n%s = ", key);
+    char *at = strstr(res, want);
+    if (!at || (end && at > end))
+        print_error("no %s in [result] of %s\n", key, path);
+    assert_true(at && (!end || at < end));
+    at += strlen(want);
+    size_t n = strcspn(at, "\n");
+    assert_true(n < len);
+    memcpy(out, at, n);
+    out[n] = '\0';
+    free(text);
+}
+
+/* A PNG file of a plausible size. */
+static void check_png(const char *dir, const char *name)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    if (!file_exists(path))
+        print_error("%s missing\n", path);
+    size_t n;
+    char *data = test_read_file(path, &n);
+    assert_true(n > 2000);
+    assert_memory_equal(data, "\x89PNG\r\n\x1a\n", 8);
+    free(data);
+}
+
+/* ---------------------------------------------------------------------- */
+/* muflow --version */
+
+static void test_version(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 64];
+    muflow_bin(bin, sizeof bin);
+    snprintf(cmd, sizeof cmd, "'%s' --version", bin);
+    char *out = sh_ok(cmd);
+    /* the Makefile's VERSION, the one definition */
+    char *version = sh_ok("make -s --no-print-directory -C .. print-version");
+    char want[256];
+    snprintf(want, sizeof want, "muflow %s", version);
+    print_message("%s", out);
+    assert_string_equal(out, want);
+    assert_true(strlen(version) > 1 && version[0] >= '0' && version[0] <= '9');
+    /* without a release tag: the VERSION file */
+    char *tag;
+    if (sh("cd .. && git describe --tags --match 'v[0-9]*' >/dev/null 2>&1", &tag) != 0) {
+        char *file = test_read_file("../VERSION", NULL);
+        assert_string_equal(version, file);
+        free(file);
+    }
+    free(tag);
+    free(out);
+    free(version);
+}
+
+/* ---------------------------------------------------------------------- */
+/* the test runner's command line */
+
+static void test_runner_unknown_group(void **state)
+{
+    (void)state;
+    char exe[PATH_MAX], dir[PATH_MAX], cmd[PATH_MAX + 64];
+    self_paths(exe, sizeof exe, dir, sizeof dir);
+    snprintf(cmd, sizeof cmd, "'%s' nosuchgroup", exe);
+    char *out;
+    int rc = sh(cmd, &out);
+    print_message("exit %d: %s", rc, out);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(out, "no test group named 'nosuchgroup'"));
+    assert_non_null(strstr(out, "groups: rheology poisson multigrid case architecture viscous "
+                                "scenes bingham heap io corpus vof tools\n"));
+    assert_null(strstr(out, " passed"));
+    free(out);
+    /* a known group beside an unknown one: nothing runs */
+    snprintf(cmd, sizeof cmd, "'%s' corpus corpsu", exe);
+    rc = sh(cmd, &out);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(out, "'corpsu'"));
+    assert_null(strstr(out, "fuzz corpus"));
+    free(out);
+}
+
+/* The corpus group (files relative to tests/) from the repository root and
+ * from an unrelated folder. */
+static void test_runner_any_folder(void **state)
+{
+    (void)state;
+    char exe[PATH_MAX], dir[PATH_MAX], cmd[PATH_MAX + 64];
+    self_paths(exe, sizeof exe, dir, sizeof dir);
+    const char *from[] = {"..", "/tmp"};
+    for (int m = 0; m < 2; m++) {
+        snprintf(cmd, sizeof cmd, "cd %s && '%s' corpus", from[m], exe);
+        char *out = sh_ok(cmd);
+        assert_non_null(strstr(out, "fuzz corpus: "));
+        assert_non_null(strstr(out, "tests: 1 passed, 0 failed"));
+        free(out);
+    }
+}
+
+/* ---------------------------------------------------------------------- */
+/* make install into a DESTDIR, a program built against it with pkg-config */
+
+static const char prog[] =
+    "#include <stdio.h>\n"
+    "#include \"config/case.h\"\n"
+    "int main(int argc, char **argv)\n"
+    "{\n"
+    "    static struct muflow_case cs;\n"
+    "    char err[512];\n"
+    "    if (argc < 2 || case_load(&cs, argv[1], 0, NULL, err, sizeof err) != 0)\n"
+    "        return fprintf(stderr, \"%s\\n\", argc < 2 ? \"usage: prog CASE\" : err), 1;\n"
+    "    printf(\"%s %d %d %d\\n\", cs.name, cs.n[0], cs.n[1], cs.n[2]);\n"
+    "    return 0;\n"
+    "}\n";
+
+static void test_install(void **state)
+{
+    (void)state;
+    char root[PATH_MAX], exe[PATH_MAX], bdir[PATH_MAX], tmp[64], cmd[3 * PATH_MAX];
+    assert_non_null(realpath("..", root));
+    self_paths(exe, sizeof exe, bdir, sizeof bdir);
+    /* BUILD of this executable, relative to the repository when inside it */
+    size_t rl = strlen(root);
+    const char *build = strncmp(bdir, root, rl) == 0 && bdir[rl] == '/' ? bdir + rl + 1 : bdir;
+    make_tmp(tmp, sizeof tmp, "install");
+    char dest[128];
+    snprintf(dest, sizeof dest, "%s/stage", tmp);
+
+    snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                              "PREFIX=/usr/local install", root, build, dest);
+    free(sh_ok(cmd));
+    const char *files[] = {"bin/muflow", "lib/libmuflow.a", "lib/pkgconfig/muflow.pc",
+                           "include/muflow/config/case.h", "include/muflow/io/output.h",
+                           "include/muflow/kernels/rheology.h"};
+    for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
+        char path[700];
+        snprintf(path, sizeof path, "%s/usr/local/%s", dest, files[f]);
+        if (!file_exists(path))
+            print_error("%s not installed\n", path);
+        assert_true(file_exists(path));
+    }
+    /* every header of include/ */
+    snprintf(cmd, sizeof cmd, "cd '%s/include' && for h in */*.h; do "
+                              "cmp \"$h\" '%s/usr/local/include/muflow/'\"$h\" || exit 1; done",
+             root, dest);
+    free(sh_ok(cmd));
+    /* the installed command runs and has the build's version */
+    snprintf(cmd, sizeof cmd, "'%s/usr/local/bin/muflow' --version", dest);
+    char *ver = sh_ok(cmd);
+    assert_true(strncmp(ver, "muflow ", 7) == 0);
+
+    /* muflow.pc names /usr/local (PREFIX, not DESTDIR): pkg-config is pointed
+     * at the staged tree by redefining prefix */
+    char pcpath[256];
+    snprintf(pcpath, sizeof pcpath, "%s/usr/local/lib/pkgconfig/muflow.pc", dest);
+    char *pc = test_read_file(pcpath, NULL);
+    print_message("%s", pc);
+    assert_non_null(strstr(pc, "prefix=/usr/local\n"));
+    char vline[160];
+    snprintf(vline, sizeof vline, "Version: %.*s", (int)strcspn(ver + 7, "\n") + 1, ver + 7);
+    assert_non_null(strstr(pc, vline));
+    free(pc);
+    free(ver);
+    snprintf(cmd, sizeof cmd, "%s/prog.c", tmp);
+    FILE *f = fopen(cmd, "w");
+    assert_non_null(f);
+    fputs(prog, f);
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && export PKG_CONFIG_PATH='%s/usr/local/lib/pkgconfig' && "
+             "flags=$(pkg-config --define-variable=prefix='%s/usr/local' --cflags --libs muflow) "
+             "&& echo \"$flags\" && ${CC:-cc} -std=c11 -Wall -Wextra -Werror prog.c -o prog $flags "
+             "&& ./prog '%s/cases/bagnold.ini'",
+             tmp, dest, dest, root);
+    char *out = sh_ok(cmd);
+    print_message("%s", out);
+    assert_non_null(strstr(out, "-fopenmp"));
+    assert_non_null(strstr(out, "-lmuflow"));
+    assert_non_null(strstr(out, "\nbagnold 2 1 40\n")); /* cases/bagnold.ini's grid */
+    free(out);
+
+    /* make uninstall leaves none of the files */
+    snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                              "PREFIX=/usr/local uninstall", root, build, dest);
+    free(sh_ok(cmd));
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
+    free(sh_ok(cmd));
+    remove_tree(tmp);
+}
+
+/* ---------------------------------------------------------------------- */
+/* tools/muflow_plot.py */
+
+static int python_ready(void)
+{
+    return sh(PYTHON " -c 'import numpy, matplotlib, h5py'", NULL) == 0;
+}
+
+static void test_plot(void **state)
+{
+    (void)state;
+    if (!python_ready())
+        print_error(PYTHON " lacks numpy, matplotlib or h5py: make deps installs "
+                           "python3-matplotlib python3-h5py\n");
+    assert_true(python_ready());
+    char bin[PATH_MAX], tmp[64], cmd[4096], bag[128], none[128], png[160];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(tmp, sizeof tmp, "plot");
+    snprintf(bag, sizeof bag, "%s/bagnold", tmp);
+    snprintf(none, sizeof none, "%s/none", tmp);
+
+    /* bagnold: summary with err_rms and u_surface, profile, history, fields */
+    snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.quiet=on "
+                              "output.dir='%s'", bin, bag);
+    free(sh_ok(cmd));
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'", bag);
+    char *out = sh_ok(cmd);
+    print_message("%s", out);
+    char want[512], v[128], x[128];
+    const char *keys[] = {"status", "steps", "err_rms"};
+    for (int k = 0; k < 3; k++) {
+        summary_value(bag, keys[k], v, sizeof v);
+        snprintf(want, sizeof want, "%s = %s\n", keys[k], v);
+        if (!strstr(out, want))
+            print_error("muflow_plot.py did not print '%s'\n", want);
+        assert_non_null(strstr(out, want));
+    }
+    summary_value(bag, "u_surface", v, sizeof v);
+    summary_value(bag, "u_surface_exact", x, sizeof x);
+    snprintf(want, sizeof want, "u_surface = %s (exact %s)\n", v, x);
+    assert_non_null(strstr(out, want));
+    assert_non_null(strstr(out, "status = steady\n")); /* the values themselves */
+    free(out);
+    check_png(bag, "profile.png");
+    check_png(bag, "history.png");
+    check_png(bag, "field.png");
+    /* another cell field (log colours: eta spans decades) into another folder */
+    snprintf(png, sizeof png, "%s/viscosity", tmp);
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --field viscosity --out '%s'",
+             bag, png);
+    free(sh_ok(cmd));
+    check_png(png, "field.png");
+
+    /* no scene (no profile.csv, no error, no headline) and no field files,
+     * plots into --out: only the history, and no failure */
+    snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini case.scene=none domain.nz=10 "
+                              "output.fields=off output.quiet=on output.dir='%s'", bin, none);
+    free(sh_ok(cmd));
+    snprintf(png, sizeof png, "%s/png", none);
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --out '%s' --field viscosity",
+             none, png);
+    out = sh_ok(cmd);
+    print_message("%s", out);
+    summary_value(none, "steps", v, sizeof v);
+    snprintf(want, sizeof want, "steps = %s\n", v);
+    assert_non_null(strstr(out, want));
+    assert_null(strstr(out, "err_rms"));
+    assert_non_null(strstr(out, "no profile.csv"));
+    assert_non_null(strstr(out, "no fields_*.h5"));
+    check_png(png, "history.png");
+    snprintf(want, sizeof want, "%s/profile.png", png);
+    assert_false(file_exists(want));
+    snprintf(want, sizeof want, "%s/field.png", png);
+    assert_false(file_exists(want));
+    free(out);
+
+    /* a folder without muflow output: exit status 1 */
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'", png);
+    assert_int_equal(sh(cmd, NULL), 1);
+    remove_tree(tmp);
+}
+
+/* ---------------------------------------------------------------------- */
+/* README against the Makefile */
+
+/* The text of README's section "## title" (to the next "## "). */
+static char *readme_section(const char *readme, const char *title)
+{
+    char head[128];
+    snprintf(head, sizeof head, "\n## %s\n", title);
+    const char *at = strstr(readme, head);
+    if (!at)
+        print_error("README.md has no section '## %s'\n", title);
+    assert_non_null(at);
+    at += strlen(head);
+    const char *end = strstr(at, "\n## ");
+    size_t n = end ? (size_t)(end - at) : strlen(at);
+    char *s = malloc(n + 1);
+    assert_non_null(s);
+    memcpy(s, at, n);
+    s[n] = '\0';
+    return s;
+}
+
+/* word in text between blanks, backticks, line ends or punctuation. */
+static int has_word(const char *text, const char *word)
+{
+    size_t n = strlen(word);
+    for (const char *p = strstr(text, word); p; p = strstr(p + 1, word)) {
+        char before = p == text ? ' ' : p[-1], after = p[n];
+        if (strchr(" `\n(", before) && strchr(" `\n),.;", after))
+            return 1;
+    }
+    return 0;
+}
+
+static void test_readme_packages(void **state)
+{
+    (void)state;
+    char *readme = test_read_file("../README.md", NULL);
+    char *pkgs = sh_ok("make -s --no-print-directory -C .. print-deb-pkgs");
+    char *two = readme_section(readme, "Two commands");
+    int n = 0;
+    for (char *w = strtok(pkgs, " \n"); w; w = strtok(NULL, " \n"), n++) {
+        if (!has_word(two, w))
+            print_error("README's \"Two commands\" does not name %s of DEB_PKGS\n", w);
+        assert_true(has_word(two, w));
+    }
+    assert_true(n >= 10);
+    char *libs = readme_section(readme, "Libraries");
+    const char *names[] = {"FFTW", "GSL", "libinih", "cmocka", "HDF5", "SuiteSparse", "UMFPACK",
+                           "CHOLMOD", "OpenBLAS"};
+    for (size_t m = 0; m < sizeof names / sizeof names[0]; m++) {
+        if (!strstr(libs, names[m]))
+            print_error("README's \"Libraries\" does not name %s\n", names[m]);
+        assert_non_null(strstr(libs, names[m]));
+    }
+    free(libs);
+    free(two);
+    free(pkgs);
+    free(readme);
+}
+
+void group_tools(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_version),
+        cmocka_unit_test(test_runner_unknown_group),
+        cmocka_unit_test(test_runner_any_folder),
+        cmocka_unit_test(test_install),
+        cmocka_unit_test(test_plot),
+        cmocka_unit_test(test_readme_packages),
+    };
+    RUN_GROUP(t, "tools", tests);
+}
