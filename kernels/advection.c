@@ -19,7 +19,7 @@ void kernel_advection(const struct grid *g, const struct box act[3], double *con
                     if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1] ||
                         k < bx->lo[2] || k >= bx->hi[2])
                         res[grid_idx(g, i, j, k)] = 0.0;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {

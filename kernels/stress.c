@@ -18,7 +18,7 @@ static inline void stress_loop(const struct grid *g, const struct box act[3],
         const double *Aa = A_cell[a];
         double *res = out[a];
         const double *va = v[a];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = -1; i <= g->n[0]; i++)
             for (int j = -1; j <= g->n[1]; j++)
                 for (int k = -1; k <= g->n[2]; k++) {

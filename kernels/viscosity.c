@@ -26,7 +26,7 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -67,7 +67,7 @@ void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, cons
         double *ee = eta_e[c], *te = tan_e ? tan_e[c] : NULL, *be = b_e ? b_e[c] : NULL;
         /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
         const double *eac = e2[b], *ebc = e2[a];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = 0; i <= hi[0]; i++)
             for (int j = 0; j <= hi[1]; j++)
                 for (int k = 0; k <= hi[2]; k++) {
@@ -95,7 +95,7 @@ void kernel_tangent_cells(const struct grid *g, const double *pn, double *const 
                           const double *b_c, double *B_c)
 {
     const ptrdiff_t *o = g->stride;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -119,7 +119,7 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
         hi[c] = g->n[c] - 1;
         const double *pac = pe[b], *pbc = pe[a], *bc = b_e[c];
         double *Be = B_e[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = 0; i <= hi[0]; i++)
             for (int j = 0; j <= hi[1]; j++)
                 for (int k = 0; k <= hi[2]; k++) {

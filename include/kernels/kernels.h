@@ -22,6 +22,19 @@
 #include "grid/grid.h"
 #include "kernels/rheology.h"
 
+/* Fewer array slots than this (ghosts included; 32^3) and a kernel runs on the
+ * calling thread alone: every OpenMP loop of kernels/ (and of the Poisson
+ * solver) carries `if (kernel_parallel(g))`.  A parallel region costs a wake-up
+ * and a barrier (microseconds when the other core is free, a time slice when it
+ * is not), more than the whole loop on the thin profile grids (1 x 160 x 2,
+ * 2 x 1 x 40: under 2,000 slots); bench/analysis.md, section 7. */
+#define KERNEL_PARALLEL_MIN 32768
+
+static inline int kernel_parallel(const struct grid *g)
+{
+    return g->size >= KERNEL_PARALLEL_MIN;
+}
+
 /* cn2 = 0.5 sum_i gamma_ii^2 on interior cells; e2[c] = gamma_ab^2 on the
  * edges of plane c, face indices 0..n along a and b, cells -1..n along c
  * (velocity ghosts filled). */
