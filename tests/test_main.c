@@ -38,6 +38,7 @@ static const struct {
     {"heap", group_heap},
     {"io", group_io},
     {"corpus", group_corpus},
+    {"repro", group_repro},
 };
 
 int main(int argc, char **argv)

@@ -40,5 +40,6 @@ void group_bingham(struct test_tally *t);
 void group_heap(struct test_tally *t);
 void group_io(struct test_tally *t);
 void group_corpus(struct test_tally *t);
+void group_repro(struct test_tally *t);
 
 #endif
