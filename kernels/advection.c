@@ -21,6 +21,23 @@ static inline double edge_flux(const double *restrict va, const double *restrict
     return (f1 - f0) * ihb;
 }
 
+/* The active faces k in [k0, k1) of one k-row of component a. */
+static inline void advection_row(const double *restrict va, const double *restrict vb1,
+                                 const double *restrict vb2, ptrdiff_t oa, ptrdiff_t ob1,
+                                 ptrdiff_t ob2, double iha, double ihb1, double ihb2,
+                                 double *restrict res, ptrdiff_t p0, int k0, int k1)
+{
+    for (int k = k0; k < k1; k++) {
+        ptrdiff_t p = p0 + k;
+        double cp = 0.5 * (va[p] + va[p + oa]);
+        double cm = 0.5 * (va[p - oa] + va[p]);
+        double f = (cp * cp - cm * cm) * iha;
+        f += edge_flux(va, vb1, p, oa, ob1, ihb1);
+        f += edge_flux(va, vb2, p, oa, ob2, ihb2);
+        res[p] = -f;
+    }
+}
+
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3])
 {
@@ -29,11 +46,10 @@ void kernel_advection(const struct grid *g, const struct box act[3], double *con
     for (int a = 0; a < 3; a++) {
         const struct box *bx = &act[a];
         const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-        const double *restrict va = vel[a];
-        const double *restrict vb1 = vel[b1], *restrict vb2 = vel[b2];
+        const double *va = vel[a], *vb1 = vel[b1], *vb2 = vel[b2];
         const ptrdiff_t oa = o[a], ob1 = o[b1], ob2 = o[b2];
         const double iha = 1.0 / g->h[a], ihb1 = 1.0 / g->h[b1], ihb2 = 1.0 / g->h[b2];
-        double *restrict res = out[a];
+        double *res = out[a];
         const int klo = bx->lo[2], khi = bx->hi[2], kend = g->n[2] + 1;
 #pragma omp parallel for collapse(2) schedule(static) if (par)
         for (int i = -1; i <= g->n[0]; i++)
@@ -46,15 +62,7 @@ void kernel_advection(const struct grid *g, const struct box act[3], double *con
                 }
                 for (int k = -1; k < klo; k++)
                     res[p0 + k] = 0.0;
-                for (int k = klo; k < khi; k++) {
-                    ptrdiff_t p = p0 + k;
-                    double cp = 0.5 * (va[p] + va[p + oa]);
-                    double cm = 0.5 * (va[p - oa] + va[p]);
-                    double f = (cp * cp - cm * cm) * iha;
-                    f += edge_flux(va, vb1, p, oa, ob1, ihb1);
-                    f += edge_flux(va, vb2, p, oa, ob2, ihb2);
-                    res[p] = -f;
-                }
+                advection_row(va, vb1, vb2, oa, ob1, ob2, iha, ihb1, ihb2, res, p0, klo, khi);
                 for (int k = khi; k < kend; k++)
                     res[p0 + k] = 0.0;
             }
