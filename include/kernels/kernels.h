@@ -78,7 +78,8 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
  * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)
  * on the edges of plane c.  With the viscosities and v = u this is the stress
  * term of the momentum residual; with the tangent coefficients it is the
- * linearised operator, symmetric positive definite.  A_cell needs filled ghosts. */
+ * linearised operator, symmetric positive definite.  A_cell needs filled ghosts.
+ * out must not share memory with the inputs (the loops use restrict). */
 void kernel_stress_divergence(const struct grid *g, const struct box act[3],
                               const double *const A_cell[3], const double *const A_edge[3],
                               double *const v[3], double *out[3]);
@@ -102,7 +103,8 @@ void kernel_divergence(const struct grid *g, double *const vel[3], double *div);
 void kernel_gradient_update(const struct grid *g, const struct box act[3], const double *p,
                             double scale, double *vel[3]);
 
-/* out_c = -div(u u_c) (conservative, centred, second order) on act[c]. */
+/* out_c = -div(u u_c) (conservative, centred, second order) on act[c], zero
+ * elsewhere; out must not share memory with vel (restrict). */
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3]);
 

@@ -65,10 +65,10 @@ static int init_threads(void)
 }
 
 /* FFTW's threads for a grid: one below FFTW_THREADS_MIN cells.  Measured
- * (bench/bench_fftplan.c, bench/analysis.md): below 64^3 cells the 2-thread
- * transforms are no faster, and on the thin profile grids (80 to 7,000 cells)
- * one 2-thread solve took 30 to 300 times the 1-thread time on a busy machine
- * (a wake-up of the second thread per transform stage). */
+ * (bench/bench_fftplan.c, bench/analysis.md): up to 32^3 cells the 2-thread
+ * transforms were no faster (at 64 x 64 x 32, 1.2x faster), and on the thin
+ * profile grids one 2-thread solve took up to 300 times the 1-thread time on
+ * a busy machine (a wake-up of the second thread per transform stage). */
 #define FFTW_THREADS_MIN 65536
 
 static int fft_threads(const struct grid *g)
