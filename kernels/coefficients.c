@@ -10,7 +10,7 @@ void kernel_multiply_add(const struct grid *g, const struct box act[3], double *
         const struct box *bx = &act[c];
         const double *ac = a[c], *xc = x[c];
         double *yc = y[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
@@ -27,7 +27,7 @@ void kernel_multiply_minus(const struct grid *g, const struct box act[3], const 
         const struct box *bx = &act[c];
         const double *ac = a[c], *xc = x[c];
         double *yc = y[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
@@ -46,7 +46,7 @@ void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], 
         double c = scale / g->h[a];
         const double *ba = beta[a];
         double *va = vel[a];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {

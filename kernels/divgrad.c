@@ -5,7 +5,7 @@ void kernel_divergence(const struct grid *g, double *const vel[3], double *div)
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -25,7 +25,7 @@ void kernel_gradient_update(const struct grid *g, const struct box act[3], const
         const struct box *bx = &act[a];
         double c = scale / g->h[a];
         double *va = vel[a];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {

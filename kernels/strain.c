@@ -9,7 +9,7 @@ static void strain_pairs(const struct grid *g, double *const u[3], double *const
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -26,7 +26,7 @@ static void strain_pairs(const struct grid *g, double *const u[3], double *const
         int a, b, lo[3], hi[3];
         edge_range(g, c, &a, &b, lo, hi);
         double *ec = edge[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = lo[0]; i <= hi[0]; i++)
             for (int j = lo[1]; j <= hi[1]; j++)
                 for (int k = lo[2]; k <= hi[2]; k++) {

@@ -4,61 +4,105 @@
 #include "kernels/kernels.h"
 #include "stencil.h"
 
-/* With magnitude set, every difference v1 - v2 becomes |v1| + |v2| and every
+/* One component a of the divergence on the k-row (i, j), faces k in
+ * [k0, k1): everything that depends on a (the two other directions b1, b2,
+ * their arrays, strides and inverse spacings) is chosen by the caller, so the
+ * k loop is a unit-stride stencil of 7 loads without run-time selection or
+ * division (bench/analysis.md, section 1).  The shear plane (a, b) is normal
+ * to the third direction: its edge coefficients are A_edge[3 - a - b].
+ *
+ * With magnitude set, every difference v1 - v2 becomes |v1| + |v2| and every
  * term its absolute value: the size of what the residual sums, from which
  * its round-off follows. */
-static inline void stress_loop(const struct grid *g, const struct box act[3],
-                               const double *const A_cell[3], const double *const A_edge[3],
-                               double *const v[3], double *out[3], const int magnitude)
+struct stress_dir {
+    const double *Ae; /* edge coefficients of the plane (a, b) */
+    const double *vb; /* velocity component b */
+    ptrdiff_t ob;     /* stride along b */
+    double ihb;       /* 1 / h_b */
+};
+
+static inline __attribute__((always_inline)) void
+stress_row(const double *restrict Aa, const double *restrict va, ptrdiff_t oa, double iha,
+           const struct stress_dir *d1, const struct stress_dir *d2, double *restrict res,
+           ptrdiff_t p0, int k0, int k1, const int magnitude)
+{
+    const double *restrict Ae1 = d1->Ae, *restrict vb1 = d1->vb;
+    const double *restrict Ae2 = d2->Ae, *restrict vb2 = d2->vb;
+    const ptrdiff_t ob1 = d1->ob, ob2 = d2->ob;
+    const double ihb1 = d1->ihb, ihb2 = d2->ihb;
+    const double iha2 = iha * iha;
+    if (magnitude) {
+        for (int k = k0; k < k1; k++) {
+            ptrdiff_t p = p0 + k;
+            double f = (fabs(Aa[p]) * 2.0 * (fabs(va[p + oa]) + fabs(va[p])) +
+                        fabs(Aa[p - oa]) * 2.0 * (fabs(va[p]) + fabs(va[p - oa]))) * iha2;
+            ptrdiff_t e = p + ob1;
+            f += fabs(Ae1[p]) * ((fabs(va[p]) + fabs(va[p - ob1])) * ihb1 +
+                                 (fabs(vb1[p]) + fabs(vb1[p - oa])) * iha) * ihb1 +
+                 fabs(Ae1[e]) * ((fabs(va[e]) + fabs(va[e - ob1])) * ihb1 +
+                                 (fabs(vb1[e]) + fabs(vb1[e - oa])) * iha) * ihb1;
+            e = p + ob2;
+            f += fabs(Ae2[p]) * ((fabs(va[p]) + fabs(va[p - ob2])) * ihb2 +
+                                 (fabs(vb2[p]) + fabs(vb2[p - oa])) * iha) * ihb2 +
+                 fabs(Ae2[e]) * ((fabs(va[e]) + fabs(va[e - ob2])) * ihb2 +
+                                 (fabs(vb2[e]) + fabs(vb2[e - oa])) * iha) * ihb2;
+            res[p] = f;
+        }
+        return;
+    }
+    for (int k = k0; k < k1; k++) {
+        ptrdiff_t p = p0 + k;
+        /* normal stress at the cells p (above) and p - o_a (below) */
+        double tp = Aa[p] * 2.0 * (va[p + oa] - va[p]);
+        double tm = Aa[p - oa] * 2.0 * (va[p] - va[p - oa]);
+        double f = (tp - tm) * iha2;
+        /* shear stresses on the edges p + o_b (above) and p (below) */
+        ptrdiff_t e = p + ob1;
+        double s1 = Ae1[e] * ((va[e] - va[e - ob1]) * ihb1 + (vb1[e] - vb1[e - oa]) * iha);
+        double s0 = Ae1[p] * ((va[p] - va[p - ob1]) * ihb1 + (vb1[p] - vb1[p - oa]) * iha);
+        f += (s1 - s0) * ihb1;
+        e = p + ob2;
+        s1 = Ae2[e] * ((va[e] - va[e - ob2]) * ihb2 + (vb2[e] - vb2[e - oa]) * iha);
+        s0 = Ae2[p] * ((va[p] - va[p - ob2]) * ihb2 + (vb2[p] - vb2[p - oa]) * iha);
+        f += (s1 - s0) * ihb2;
+        res[p] = f;
+    }
+}
+
+/* Every slot of out[a] is written: the divergence on the active box of a,
+ * 0 elsewhere (ghosts and prescribed faces). */
+static inline __attribute__((always_inline)) void
+stress_loop(const struct grid *g, const struct box act[3], const double *const A_cell[3],
+            const double *const A_edge[3], double *const v[3], double *out[3],
+            const int magnitude)
 {
     const ptrdiff_t *o = g->stride;
-    const double *h = g->h;
+    const int par = kernel_parallel(g);
     for (int a = 0; a < 3; a++) {
         const struct box *bx = &act[a];
-        const double *Aa = A_cell[a];
+        const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
+        const struct stress_dir d1 = {A_edge[3 - a - b1], v[b1], o[b1], 1.0 / g->h[b1]};
+        const struct stress_dir d2 = {A_edge[3 - a - b2], v[b2], o[b2], 1.0 / g->h[b2]};
+        const double *Aa = A_cell[a], *va = v[a];
+        const ptrdiff_t oa = o[a];
+        const double iha = 1.0 / g->h[a];
         double *res = out[a];
-        const double *va = v[a];
-#pragma omp parallel for collapse(2) schedule(static)
+        const int klo = bx->lo[2], khi = bx->hi[2], kend = g->n[2] + 1;
+#pragma omp parallel for collapse(2) schedule(static) if (par)
         for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
-                for (int k = -1; k <= g->n[2]; k++) {
-                    ptrdiff_t p = grid_idx(g, i, j, k);
-                    if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1] ||
-                        k < bx->lo[2] || k >= bx->hi[2]) {
-                        res[p] = 0.0;
-                        continue;
-                    }
-                    if (magnitude) {
-                        double f = (fabs(Aa[p]) * 2.0 * (fabs(va[p + o[a]]) + fabs(va[p])) +
-                                    fabs(Aa[p - o[a]]) * 2.0 * (fabs(va[p]) + fabs(va[p - o[a]]))) /
-                                   (h[a] * h[a]);
-                        for (int m = 1; m < 3; m++) {
-                            int b = (a + m) % 3;
-                            const double *Ae = A_edge[3 - a - b];
-                            const double *vb = v[b];
-                            for (ptrdiff_t e = p; e <= p + o[b]; e += o[b])
-                                f += fabs(Ae[e]) *
-                                     ((fabs(va[e]) + fabs(va[e - o[b]])) / h[b] +
-                                      (fabs(vb[e]) + fabs(vb[e - o[a]])) / h[a]) / h[b];
-                        }
-                        res[p] = f;
-                        continue;
-                    }
-                    /* normal stress at the cells p (above) and p - o_a (below) */
-                    double tp = Aa[p] * 2.0 * (va[p + o[a]] - va[p]) / h[a];
-                    double tm = Aa[p - o[a]] * 2.0 * (va[p] - va[p - o[a]]) / h[a];
-                    double f = (tp - tm) / h[a];
-                    for (int m = 1; m < 3; m++) {
-                        int b = (a + m) % 3;
-                        int c = 3 - a - b; /* the plane of (a, b) is normal to c */
-                        const double *Ae = A_edge[c];
-                        ptrdiff_t e1 = p + o[b], e0 = p;
-                        double s1 = Ae[e1] * edge_gamma(v, a, b, e1, o[a], o[b], h[a], h[b]);
-                        double s0 = Ae[e0] * edge_gamma(v, a, b, e0, o[a], o[b], h[a], h[b]);
-                        f += (s1 - s0) / h[b];
-                    }
-                    res[p] = f;
+            for (int j = -1; j <= g->n[1]; j++) {
+                ptrdiff_t p0 = grid_idx(g, i, j, 0); /* slot of k = 0; k runs -1 .. n */
+                if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1]) {
+                    for (int k = -1; k < kend; k++)
+                        res[p0 + k] = 0.0;
+                    continue;
                 }
+                for (int k = -1; k < klo; k++)
+                    res[p0 + k] = 0.0;
+                stress_row(Aa, va, oa, iha, &d1, &d2, res, p0, klo, khi, magnitude);
+                for (int k = khi; k < kend; k++)
+                    res[p0 + k] = 0.0;
+            }
     }
 }
 

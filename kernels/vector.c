@@ -12,7 +12,7 @@
     do {                                                                               \
         double part_[MAX_THREADS];                                                     \
         int nt_ = 1;                                                                   \
-        _Pragma("omp parallel")                                                        \
+        _Pragma("omp parallel if (kernel_parallel(g))")                                \
         {                                                                              \
             int t_ = omp_get_thread_num();                                             \
             _Pragma("omp single") nt_ = omp_get_num_threads();                         \
@@ -65,7 +65,7 @@ void kernel_axpy(const struct grid *g, const struct box act[3], double alpha, do
         const struct box *bx = &act[c];
         const double *xc = x[c];
         double *yc = y[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
@@ -82,7 +82,7 @@ void kernel_lincomb(const struct grid *g, const struct box act[3], double alpha,
         const struct box *bx = &act[c];
         const double *xc = x[c];
         double *yc = y[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = bx->lo[0]; i < bx->hi[0]; i++)
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {

@@ -2,6 +2,7 @@
 #include <math.h>
 #include "kernels/kernels.h"
 #include "stencil.h"
+#include "rheology_inline.h"
 
 /* cell[q] + w * the sum over the three planes of the mean of the four edges
  * of plane c around cell q (faces q, q + o along the plane's directions): the
@@ -19,23 +20,32 @@ static inline double cell_edges_sum(const double *cell, double *const edge[3], d
     return cell[q] + w * s;
 }
 
-void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
-                            const double *cn2, double *const e2[3], const double *p,
-                            double *eta, double *tan_c[3], double *shear2, double *preg,
-                            double *b_c)
+/* The loops of the two viscosity kernels, instantiated per law and
+ * regularisation (RHEOLOGY_DISPATCH) inside one parallel region: the
+ * worksharing `omp for` is orphaned here, so the loop body is inlined with law
+ * and reg as constants (a `parallel for` would be outlined before inlining and
+ * keep them as run-time values). */
+#define KERNEL_INLINE static inline __attribute__((always_inline))
+
+KERNEL_INLINE void viscosity_cells_loop(const struct grid *g, const struct rheology *r,
+                                        double *const vel[3], const double *cn2,
+                                        double *const e2[3], const double *p, double *eta,
+                                        double *tan_c[3], double *shear2, double *preg,
+                                        double *b_c, const enum rheology_law law,
+                                        const enum regularisation reg)
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 double s2 = cell_edges_sum(cn2, e2, 1.0, q, o);
                 double shear = sqrt(s2);
-                double pr = rheology_pressure(r, p[q], NULL);
+                double pr = rheo_pressure(r, p[q], NULL);
                 struct rheology_point pt;
-                rheology_eval(r, shear, pr, &pt);
+                rheo_eval(r, law, reg, shear, pr, &pt);
                 eta[q] = pt.eta;
                 shear2[q] = s2;
                 preg[q] = pr;
@@ -52,50 +62,76 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
             }
 }
 
+void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, double *const vel[3],
+                            const double *cn2, double *const e2[3], const double *p,
+                            double *eta, double *tan_c[3], double *shear2, double *preg,
+                            double *b_c)
+{
+#define CELLS(law, reg)                                                                    \
+    viscosity_cells_loop(g, r, vel, cn2, e2, p, eta, tan_c, shear2, preg, b_c, law, reg)
+#pragma omp parallel if (kernel_parallel(g))
+    RHEOLOGY_DISPATCH(r, CELLS);
+#undef CELLS
+}
+
+/* Edges of plane c (a, b the plane's directions): face indices 0..n along a
+ * and b, interior cells along c. */
+KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheology *r, int c,
+                                        const double *cn2, double *const e2[3], const double *p,
+                                        double *ee, double *te, double *be,
+                                        const enum rheology_law law,
+                                        const enum regularisation reg)
+{
+    const ptrdiff_t *o = g->stride;
+    int a, b;
+    plane_dirs(c, &a, &b);
+    int hi[3];
+    hi[a] = g->n[a];
+    hi[b] = g->n[b];
+    hi[c] = g->n[c] - 1;
+    /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
+    const double *eac = e2[b], *ebc = e2[a], *own2 = e2[c];
+    const ptrdiff_t oa = o[a], ob = o[b], oc = o[c];
+#pragma omp for collapse(2) schedule(static)
+    for (int i = 0; i <= hi[0]; i++)
+        for (int j = 0; j <= hi[1]; j++)
+            for (int k = 0; k <= hi[2]; k++) {
+                ptrdiff_t e = grid_idx(g, i, j, k);
+                double own = own2[e];
+                /* normal strains: the four cells around the edge; (a, c) edges:
+                 * same a-face, c-faces k, k+1, b-cells on both sides; (b, c) alike */
+                double s2 = own + mean4(cn2, e, oa, ob) + mean4(eac, e + oc, oc, ob) +
+                            mean4(ebc, e + oc, oc, oa);
+                double shear = sqrt(s2);
+                double pr = rheo_pressure(r, mean4(p, e, oa, ob), NULL);
+                struct rheology_point pt;
+                rheo_eval(r, law, reg, shear, pr, &pt);
+                ee[e] = pt.eta;
+                if (te)
+                    te[e] = shear > 0.0 ? pt.eta + pt.deta_dshear * own / shear : pt.eta;
+                if (be)
+                    be[e] = shear > 0.0 ? pt.deta_dshear / (2.0 * shear) : 0.0;
+            }
+}
+
 void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
                             double *const e2[3], const double *p, double *eta_e[3],
                             double *tan_e[3], double *b_e[3])
 {
-    const ptrdiff_t *o = g->stride;
-    for (int c = 0; c < 3; c++) {
-        int a, b;
-        plane_dirs(c, &a, &b);
-        int hi[3];
-        hi[a] = g->n[a];
-        hi[b] = g->n[b];
-        hi[c] = g->n[c] - 1;
-        double *ee = eta_e[c], *te = tan_e ? tan_e[c] : NULL, *be = b_e ? b_e[c] : NULL;
-        /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
-        const double *eac = e2[b], *ebc = e2[a];
-#pragma omp parallel for collapse(2) schedule(static)
-        for (int i = 0; i <= hi[0]; i++)
-            for (int j = 0; j <= hi[1]; j++)
-                for (int k = 0; k <= hi[2]; k++) {
-                    ptrdiff_t e = grid_idx(g, i, j, k);
-                    double own = e2[c][e];
-                    /* normal strains: the four cells around the edge; (a, c) edges:
-                     * same a-face, c-faces k, k+1, b-cells on both sides; (b, c) alike */
-                    double s2 = own + mean4(cn2, e, o[a], o[b]) +
-                                mean4(eac, e + o[c], o[c], o[b]) +
-                                mean4(ebc, e + o[c], o[c], o[a]);
-                    double shear = sqrt(s2);
-                    double pr = rheology_pressure(r, mean4(p, e, o[a], o[b]), NULL);
-                    struct rheology_point pt;
-                    rheology_eval(r, shear, pr, &pt);
-                    ee[e] = pt.eta;
-                    if (te)
-                        te[e] = shear > 0.0 ? pt.eta + pt.deta_dshear * own / shear : pt.eta;
-                    if (be)
-                        be[e] = shear > 0.0 ? pt.deta_dshear / (2.0 * shear) : 0.0;
-                }
-    }
+#define EDGES(law, reg)                                                                    \
+    for (int c = 0; c < 3; c++)                                                            \
+        viscosity_edges_loop(g, r, c, cn2, e2, p, eta_e[c], tan_e ? tan_e[c] : NULL,       \
+                             b_e ? b_e[c] : NULL, law, reg)
+#pragma omp parallel if (kernel_parallel(g))
+    RHEOLOGY_DISPATCH(r, EDGES);
+#undef EDGES
 }
 
 void kernel_tangent_cells(const struct grid *g, const double *pn, double *const pe[3],
                           const double *b_c, double *B_c)
 {
     const ptrdiff_t *o = g->stride;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -119,7 +155,7 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
         hi[c] = g->n[c] - 1;
         const double *pac = pe[b], *pbc = pe[a], *bc = b_e[c];
         double *Be = B_e[c];
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = 0; i <= hi[0]; i++)
             for (int j = 0; j <= hi[1]; j++)
                 for (int k = 0; k <= hi[2]; k++) {

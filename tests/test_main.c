@@ -50,6 +50,7 @@ static const struct {
     {"corpus", group_corpus},
     {"vof", group_vof},
     {"tools", group_tools},
+    {"repro", group_repro},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

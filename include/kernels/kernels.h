@@ -22,6 +22,19 @@
 #include "grid/grid.h"
 #include "kernels/rheology.h"
 
+/* Fewer array slots than this (ghosts included; 32^3) and a kernel runs on the
+ * calling thread alone: every OpenMP loop of kernels/ (and of the Poisson
+ * solver) carries `if (kernel_parallel(g))`.  A parallel region costs a wake-up
+ * and a barrier (microseconds when the other core is free, a time slice when it
+ * is not), more than the whole loop on the thin profile grids (1 x 160 x 2,
+ * 2 x 1 x 40: under 2,000 slots); bench/analysis.md, section 7. */
+#define KERNEL_PARALLEL_MIN 32768
+
+static inline int kernel_parallel(const struct grid *g)
+{
+    return g->size >= KERNEL_PARALLEL_MIN;
+}
+
 /* cn2 = 0.5 sum_i gamma_ii^2 on interior cells; e2[c] = gamma_ab^2 on the
  * edges of plane c, face indices 0..n along a and b, cells -1..n along c
  * (velocity ghosts filled). */
@@ -65,7 +78,8 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
  * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)
  * on the edges of plane c.  With the viscosities and v = u this is the stress
  * term of the momentum residual; with the tangent coefficients it is the
- * linearised operator, symmetric positive definite.  A_cell needs filled ghosts. */
+ * linearised operator, symmetric positive definite.  A_cell needs filled ghosts.
+ * out must not share memory with the inputs (the loops use restrict). */
 void kernel_stress_divergence(const struct grid *g, const struct box act[3],
                               const double *const A_cell[3], const double *const A_edge[3],
                               double *const v[3], double *out[3]);
@@ -94,7 +108,8 @@ void kernel_gradient_update(const struct grid *g, const struct box act[3], const
 void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], const double *p,
                                  double scale, double *const beta[3], double *vel[3]);
 
-/* out_c = -div(u u_c) (conservative, centred, second order) on act[c]. */
+/* out_c = -div(u u_c) (conservative, centred, second order) on act[c], zero
+ * elsewhere; out must not share memory with vel (restrict). */
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3]);
 

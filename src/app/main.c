@@ -6,10 +6,13 @@
  * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
  * failure, 3 unsteady or stopped (max_steps, SIGINT / SIGTERM), 4 an output or
  * checkpoint could not be written. */
+#define _POSIX_C_SOURCE 200809L /* setenv, execv */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
+#include <omp.h>
 #include "scenes/scene.h"
 #include "config/case.h"
 #include "io/checkpoint.h"
@@ -21,6 +24,51 @@
 #ifndef MUFLOW_VERSION /* the Makefile's VERSION: git describe, else the VERSION file */
 #error "MUFLOW_VERSION is defined by the Makefile"
 #endif
+
+/* Passive waiting for OpenMP threads unless the user chose a policy.
+ *
+ * libgomp's default lets a thread that reaches a barrier spin for up to
+ * 300,000 iterations before it sleeps.  On a machine whose cores other
+ * processes also use, the thread being waited for is often preempted while its
+ * partner spins on the core it needs: a thin profile scene, which opens
+ * thousands of parallel regions, ran 10 to 1000 times slower at 2 threads than
+ * at 1 (bench/analysis.md, section 7).  With OMP_WAIT_POLICY=passive a waiting
+ * thread sleeps at once (GOMP_SPINCOUNT 0).
+ *
+ * libgomp reads the environment in its ELF constructor, before main, so
+ * setting the variable in main is too late; setting it in the executable's
+ * .preinit_array does not work either (glibc resets environ to the original
+ * block between the two).  So main sets it and executes /proc/self/exe again,
+ * with the same arguments, first thing: the new image's libgomp reads it.  The
+ * second image finds the variable set and goes on, so there is no loop.  A
+ * user's OMP_WAIT_POLICY or GOMP_SPINCOUNT (even an empty one) is left alone,
+ * one thread needs no policy (no re-exec), and under valgrind (its preload
+ * library in LD_PRELOAD) there is no re-exec either.  When the exec fails (no
+ * /proc) the run continues with libgomp's default.  The re-exec costs one more
+ * program start (loading the ten shared libraries again): 13 ms of CPU on the
+ * development machine, against seconds of spinning saved on a busy one
+ * (bench/analysis.md, "Start-up").
+ * `OMP_DISPLAY_ENV=verbose build/muflow --help` shows the effect: the last
+ * GOMP_SPINCOUNT printed is '0' (the tests check it). */
+static void passive_wait_default(char **argv)
+{
+    if (getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT") || omp_get_max_threads() < 2)
+        return;
+    /* Under valgrind the process is the tool's: /proc/self/exe is the tool,
+     * and an exec of the program itself would leave the tool behind. */
+    const char *preload = getenv("LD_PRELOAD");
+    if (preload && strstr(preload, "vgpreload"))
+        return;
+    char self[4096];
+    ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (n <= 0 || (size_t)n >= sizeof self - 1)
+        return;
+    self[n] = '\0';
+    if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0)
+        return;
+    execv(self, argv);
+    unsetenv("OMP_WAIT_POLICY"); /* the exec failed: this image keeps its default */
+}
 
 static void usage(FILE *f)
 {
@@ -95,6 +143,7 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
 
 int main(int argc, char **argv)
 {
+    passive_wait_default(argv);
     if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
         usage(argc < 2 ? stderr : stdout);
         return argc < 2 ? 2 : 0;

@@ -19,6 +19,7 @@
 #include "solvers/poisson.h"
 
 #include <fftw3.h>
+#include "kernels/kernels.h"
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -63,11 +64,19 @@ static int init_threads(void)
     return 0;
 }
 
-static int max_threads(void)
+/* FFTW's threads for a grid: one below FFTW_THREADS_MIN cells.  Measured
+ * (bench/bench_fftplan.c, bench/analysis.md): up to 32^3 cells the 2-thread
+ * transforms were no faster (at 64 x 64 x 32, 1.2x faster), and on the thin
+ * profile grids one 2-thread solve took up to 300 times the 1-thread time on
+ * a busy machine (a wake-up of the second thread per transform stage). */
+#define FFTW_THREADS_MIN 65536
+
+static int fft_threads(const struct grid *g)
 {
 #ifdef _OPENMP
-    return omp_get_max_threads();
+    return grid_cells(g) >= FFTW_THREADS_MIN ? omp_get_max_threads() : 1;
 #else
+    (void)g;
     return 1;
 #endif
 }
@@ -186,12 +195,20 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
         poisson_fft_destroy(ps);
         return -1;
     }
-    /* FFTW_MEASURE overwrites the buffer while planning; solve refills it. */
-    fftw_plan_with_nthreads(max_threads());
+    /* FFTW_ESTIMATE: the plan is a function of the sizes, kinds, thread count,
+     * buffer alignment and the FFTW build alone, so two processes with the same
+     * input, threads and machine make the same plan and compute the same bits
+     * (FFTW_MEASURE times candidate plans and may pick another one in every
+     * process).  Measuring would also cost 0.02 to 1 s of planning, won back
+     * only after 60 to 560 solves, for a gain under 1 % of a 3D step
+     * (bench/analysis.md, "Start-up").  Wisdom imported before planning (a
+     * checkpoint's, see io/checkpoint.h) is still used, so a run continued from
+     * a checkpoint of a binary that measured keeps that binary's plans. */
+    fftw_plan_with_nthreads(fft_threads(g));
     ps->fwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
-                               fwd_kind[0], fwd_kind[1], fwd_kind[2], FFTW_MEASURE);
+                               fwd_kind[0], fwd_kind[1], fwd_kind[2], FFTW_ESTIMATE);
     ps->bwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
-                               bwd_kind[0], bwd_kind[1], bwd_kind[2], FFTW_MEASURE);
+                               bwd_kind[0], bwd_kind[1], bwd_kind[2], FFTW_ESTIMATE);
     if (!ps->fwd || !ps->bwd) {
         set_err(err, errlen, "poisson: FFTW planning failed for %d x %d x %d cells",
                 g->n[0], g->n[1], g->n[2]);
@@ -207,9 +224,10 @@ void poisson_fft_solve(struct poisson_fft *ps, const double *rhs, double *phi)
     const struct grid *g = &ps->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     double *restrict buf = ps->buf;
+    const int par = kernel_parallel(g);
 
     /* gather the interior of rhs (may alias phi: everything is read first) */
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (par)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const double *src = rhs + grid_idx(g, i, j, 0);
@@ -222,7 +240,7 @@ void poisson_fft_solve(struct poisson_fft *ps, const double *rhs, double *phi)
 
     const double *ex = ps->eig[0], *ey = ps->eig[1], *ez = ps->eig[2];
     const double norm = ps->norm;
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (par)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             double *b = buf + ((size_t)i * (size_t)ny + (size_t)j) * (size_t)nz;
@@ -239,7 +257,7 @@ void poisson_fft_solve(struct poisson_fft *ps, const double *rhs, double *phi)
 
     fftw_execute(ps->bwd);
 
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (par)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const double *src = buf + ((size_t)i * (size_t)ny + (size_t)j) * (size_t)nz;

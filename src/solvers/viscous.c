@@ -263,7 +263,7 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
                             s->p[c][grid_idx(g, i, j, k)] = 1.0;
                     }
             viscous_apply(s, pb, s->p, s->q);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (kernel_parallel(s->g))
             for (int l = 0; l < b->nlines; l++)
                 for (int m = 0; m < b->len; m++) {
                     int off = probe_offset(r, m);
@@ -274,7 +274,7 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
                 }
         }
         int failed = 0;
-#pragma omp parallel for schedule(static) reduction(+ : failed)
+#pragma omp parallel for schedule(static) reduction(+ : failed) if (kernel_parallel(s->g))
         for (int l = 0; l < b->nlines; l++) {
             const double *pr = b->probe + (size_t)l * b->len * PROBES;
             double *band = b->band + (size_t)l * b->len * (BAND + 1);
@@ -314,7 +314,7 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
         struct line_blocks *b = &s->blk[c];
         if (b->nlines == 0)
             continue;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (kernel_parallel(s->g))
         for (int l = 0; l < b->nlines; l++) {
             double *buf = s->linebuf + (size_t)omp_get_thread_num() * s->maxlen;
             for (int m = 0; m < b->len; m++)

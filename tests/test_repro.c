@@ -1,0 +1,244 @@
+/* Reproducibility across processes, and the thread policy of the command.
+ *
+ * README "Reproducibility": the same binary, input, thread count and machine
+ * give the same bits.  Within one process that follows from fixed-order
+ * reductions (kernels/vector.c) and static schedules; across processes it also
+ * needs the same FFTW plans, which FFTW_ESTIMATE gives (FFTW_MEASURE times
+ * candidate plans and may choose another one in each process).  So the same
+ * case is run by two separate build/muflow processes and their summaries
+ * ([result] without wall_seconds) and field files (every dataset, read with
+ * the HDF5 library) are compared bit for bit: the thin bagnold grid (one
+ * thread below the kernels' size threshold) to its steady state, and a small
+ * 3D grid at 2 threads (kernels, reductions and transforms threaded) for a
+ * few steps.
+ *
+ * The thread policy: muflow re-executes itself with OMP_WAIT_POLICY=passive
+ * unless the user set OMP_WAIT_POLICY or GOMP_SPINCOUNT (src/app/main.c);
+ * libgomp's OMP_DISPLAY_ENV=verbose prints the spin count each image uses. */
+#define _POSIX_C_SOURCE 200809L
+#include <hdf5.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "io/fields_h5.h"
+#include "test_main.h"
+
+#define CASES_DIR "../cases/"
+
+static void muflow_bin(char *out, size_t len)
+{
+    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
+    assert_true(n > 0);
+    out[n] = '\0';
+    strcpy(strrchr(out, '/'), "/muflow"); /* the binary of this build */
+}
+
+/* Runs `sh -c cmd` and returns its stdout and stderr (caller frees) and, in
+ * *status, its exit status. */
+static char *run_sh(const char *cmd, int *status)
+{
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t cap = 1 << 16, used = 0;
+    char *out = malloc(cap);
+    assert_non_null(out);
+    size_t got;
+    while ((got = fread(out + used, 1, cap - 1 - used, p)) > 0) {
+        used += got;
+        if (used + 1 == cap) {
+            cap *= 2;
+            out = realloc(out, cap);
+            assert_non_null(out);
+        }
+    }
+    out[used] = '\0';
+    int st = pclose(p);
+    *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return out;
+}
+
+/* The [result] section of dir/summary.ini without its wall_seconds line. */
+static char *result_of(const char *dir)
+{
+    char path[700];
+    snprintf(path, sizeof path, "%s/summary.ini", dir);
+    char *text = test_read_file(path, NULL);
+    char *start = strstr(text, "[result]");
+    assert_non_null(start);
+    char *end = strstr(start, "\n\n");
+    if (end)
+        end[1] = '\0';
+    char *out = calloc(strlen(start) + 1, 1);
+    assert_non_null(out);
+    for (char *line = start; *line;) {
+        char *nl = strchr(line, '\n');
+        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
+        if (strncmp(line, "wall_seconds", 12) != 0)
+            strncat(out, line, len);
+        line += len;
+    }
+    free(text);
+    return out;
+}
+
+/* One dataset of doubles, all of it; its number of values in *n. */
+static double *read_set(hid_t file, const char *name, size_t *n)
+{
+    hid_t set = H5Dopen2(file, name, H5P_DEFAULT);
+    if (set < 0)
+        print_error("dataset %s missing\n", name);
+    assert_true(set >= 0);
+    hid_t space = H5Dget_space(set);
+    *n = (size_t)H5Sget_simple_extent_npoints(space);
+    double *buf = malloc((*n ? *n : 1) * sizeof(double));
+    assert_non_null(buf);
+    assert_true(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
+    H5Sclose(space);
+    H5Dclose(set);
+    return buf;
+}
+
+/* Every dataset of the field file of `step` in a and b, bit for bit. */
+static void same_field_bits(const char *a, const char *b, long step)
+{
+    char name[64], pa[800], pb[800];
+    fields_h5_name(step, name, sizeof name);
+    snprintf(pa, sizeof pa, "%s/%s", a, name);
+    snprintf(pb, sizeof pb, "%s/%s", b, name);
+    hid_t fa = H5Fopen(pa, H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t fb = H5Fopen(pb, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (fa < 0 || fb < 0)
+        print_error("cannot open %s or %s\n", pa, pb);
+    assert_true(fa >= 0 && fb >= 0);
+    /* every dataset of a single-phase field file (README, "Field files") */
+    static const char *const sets[] = {"u", "v", "w", "pressure", "pressure_regularised",
+                                       "shear_rate", "inertial_number", "viscosity",
+                                       "velocity"};
+    for (size_t s = 0; s < sizeof sets / sizeof sets[0]; s++) {
+        size_t na, nb;
+        double *x = read_set(fa, sets[s], &na), *y = read_set(fb, sets[s], &nb);
+        assert_true(na == nb && na > 0);
+        if (memcmp(x, y, na * sizeof(double)) != 0)
+            print_error("%s: dataset %s differs between the two processes\n", name, sets[s]);
+        assert_memory_equal(x, y, na * sizeof(double));
+        free(x);
+        free(y);
+    }
+    H5Fclose(fa);
+    H5Fclose(fb);
+}
+
+/* The step count of a summary's [result]. */
+static long steps_of(const char *result)
+{
+    const char *s = strstr(result, "\nsteps = ");
+    assert_non_null(s);
+    return strtol(s + 9, NULL, 10);
+}
+
+/* Runs `threads` muflow case + overrides into dir/a and dir/b and compares. */
+static void two_processes(const char *threads, const char *ovr, int expect_status)
+{
+    char bin[PATH_MAX], dir[64], cmd[2 * PATH_MAX + 1024], out[2][700];
+    muflow_bin(bin, sizeof bin);
+    snprintf(dir, sizeof dir, "/tmp/muflow_repro_XXXXXX");
+    assert_non_null(mkdtemp(dir));
+    for (int m = 0; m < 2; m++) {
+        snprintf(out[m], sizeof out[m], "%s/%c", dir, 'a' + m);
+        snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=%s '%s' %s output.dir='%s' output.quiet=on 2>&1",
+                 threads, bin, ovr, out[m]);
+        int st;
+        char *text = run_sh(cmd, &st);
+        if (st != expect_status)
+            print_error("%s\n-> status %d\n%s\n", cmd, st, text);
+        assert_int_equal(st, expect_status);
+        free(text);
+    }
+    char *ra = result_of(out[0]), *rb = result_of(out[1]);
+    print_message("%s threads, %s:\n%s", threads, ovr, ra);
+    assert_string_equal(ra, rb);
+    same_field_bits(out[0], out[1], steps_of(ra));
+    free(ra);
+    free(rb);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* bagnold as shipped: 2 x 1 x 40, steady after 15 steps. */
+static void test_two_processes_bagnold(void **state)
+{
+    (void)state;
+    two_processes("2", CASES_DIR "bagnold.ini", 0);
+}
+
+/* 32 x 32 x 40 cells (48,552 slots, above KERNEL_PARALLEL_MIN): the threaded
+ * path, 4 steps of the steady march (stopped by max_steps: status 3). */
+static void test_two_processes_3d(void **state)
+{
+    (void)state;
+    two_processes("2",
+                  CASES_DIR "bagnold.ini domain.nx=32 domain.ny=32 domain.lx=11.2 "
+                            "domain.ly=11.2 solver.preconditioner=line solver.max_steps=4",
+                  3);
+}
+
+/* The last "GOMP_SPINCOUNT = 'N'" libgomp prints (one block per image). */
+static long last_spincount(const char *text, int *blocks)
+{
+    long v = -1;
+    *blocks = 0;
+    for (const char *s = strstr(text, "GOMP_SPINCOUNT = '"); s;
+         s = strstr(s + 1, "GOMP_SPINCOUNT = '")) {
+        v = strtol(s + 18, NULL, 10);
+        (*blocks)++;
+    }
+    return v;
+}
+
+static void test_passive_wait_policy(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 256];
+    muflow_bin(bin, sizeof bin);
+    struct {
+        const char *env;
+        long spin;  /* expected spin count of the image that runs, -1: not 0 */
+        int blocks; /* images started: 2 when muflow re-executes itself */
+    } cases[] = {
+        {"OMP_NUM_THREADS=2", 0, 2},                           /* no policy: passive */
+        {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=active", -1, 1},  /* the user's choice */
+        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=1000", 1000, 1},
+        {"OMP_NUM_THREADS=1", -1, 1},                          /* one thread: no re-exec */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        snprintf(cmd, sizeof cmd,
+                 "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose %s '%s' --help "
+                 "2>&1",
+                 cases[c].env, bin);
+        int st, blocks;
+        char *text = run_sh(cmd, &st);
+        long spin = last_spincount(text, &blocks);
+        print_message("%s: GOMP_SPINCOUNT %ld, %d image(s)\n", cases[c].env, spin, blocks);
+        assert_int_equal(st, 0);
+        assert_non_null(strstr(text, "usage: muflow"));
+        assert_int_equal(blocks, cases[c].blocks);
+        if (cases[c].spin >= 0)
+            assert_int_equal(spin, cases[c].spin);
+        else
+            assert_true(spin > 0);
+        free(text);
+    }
+}
+
+void group_repro(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_passive_wait_policy),
+        cmocka_unit_test(test_two_processes_bagnold),
+        cmocka_unit_test(test_two_processes_3d),
+    };
+    RUN_GROUP(t, "repro", tests);
+}
