@@ -51,6 +51,7 @@ static const struct {
     {"vof", group_vof},
     {"tools", group_tools},
     {"repro", group_repro},
+    {"two_phase", group_two_phase},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -96,6 +96,10 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
  * cs->density everywhere.  Returns 0, or -1 when the pressure solver cannot
  * take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
+
+/* The state of module m in this march, or NULL when it is not switched on
+ * (a scene's setup configures its modules through it). */
+void *march_module_state(const struct march_state *st, const struct module *m);
 void march_destroy(struct march_state *st);
 
 /* Starts a new march from the current fields after the body force of the

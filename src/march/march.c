@@ -239,6 +239,14 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
     return pressure_set_coefficient(st->pressure_solver, st->beta, err, errlen);
 }
 
+void *march_module_state(const struct march_state *st, const struct module *m)
+{
+    for (int i = 0; i < st->nmodules; i++)
+        if (st->modules[i] == m)
+            return st->module_state[i];
+    return NULL;
+}
+
 void march_destroy(struct march_state *st)
 {
     for (int i = st->nmodules - 1; i >= 0; i--)

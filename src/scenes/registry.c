@@ -12,7 +12,8 @@
     X(bingham_channel)     \
     X(bingham_cavity)      \
     X(heap)                \
-    X(couette)
+    X(couette)             \
+    X(bagnold2)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

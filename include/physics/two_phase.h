@@ -1,0 +1,49 @@
+/* Two phases, grains and a Newtonian fluid, told apart by a volume fraction
+ * T (1 grains, 0 fluid): a physics module (march/module.h) for the scenes of
+ * seeds/001 (a granular layer under air) and the column collapse.
+ *
+ * It registers T (checkpointed, restored on a rejected step, written to the
+ * field files as "tracer") and, in the properties stage, makes the mixture:
+ *   density    rho = T rho_g + (1 - T) rho_f  (seeds/001 eq. 13), rho_g the
+ *              bulk density of the grains (physics.density); on a face the
+ *              mean of its two cells; the mass term and the projection take
+ *              it through march_density_changed;
+ *   viscosity  from the granular viscosity eta_g the core properties stage
+ *              computed (mu(I) with the regularised total pressure) and the
+ *              fluid's eta_f: density-weighted (eq. 14) or harmonic (eq. 15),
+ *              at cells and on edges (T on an edge: the mean of its four
+ *              cells); the tangent coefficients of the Newton step follow
+ *              the mixing rule's derivative with respect to eta_g.
+ * A scene's setup configures it (two_phase_configure) and sets T; T is held
+ * fixed unless a transport hook moves it (the VOF transport is the next
+ * step: physics/vof_transport.h). */
+#ifndef MUFLOW_PHYSICS_TWO_PHASE_H
+#define MUFLOW_PHYSICS_TWO_PHASE_H
+
+#include <stddef.h>
+#include "march/march.h"
+
+enum mixture_law { MIXTURE_WEIGHTED = 0, MIXTURE_HARMONIC };
+
+struct two_phase_params {
+    double fluid_density;    /* rho_f */
+    double fluid_viscosity;  /* eta_f */
+    enum mixture_law mixture;
+};
+
+extern const struct module two_phase_module;
+
+/* Sets the fluid and the mixture law, and returns T to initialise (a cell
+ * field of the march's grid), or NULL with the cause in err when the module
+ * is not switched on. */
+double *two_phase_configure(struct march_state *st, const struct two_phase_params *p, char *err,
+                            size_t errlen);
+
+/* After T was set or moved: the face density and the projection's
+ * coefficient from it.  Returns 0, or -1 with the cause. */
+int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen);
+
+/* Sum of T over the interior cells (the grains' volume in cells). */
+double two_phase_volume(const struct march_state *st);
+
+#endif

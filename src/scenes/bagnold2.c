@@ -1,0 +1,229 @@
+/* Scene "bagnold2": a granular layer of height h0 under a Newtonian fluid
+ * (air) in a square domain L x L, periodic along the flow, no slip at the
+ * base, inclined by zeta (seeds/001 sec. 2-3; cases/bagnold2.ini).  The two
+ * phases are the two_phase module's mixture (physics/two_phase.h); the
+ * interface is flat and held, so the steady state is the exact solution.
+ *
+ * Exact solution (seeds/001 eqs. 6-11, written from their derivation; the
+ * printed constants have sign slips): mu(I) = tan(zeta) in the grains, so
+ * I = I_zeta, with the pressure P(z) = g cos(zeta) [rho_g (h0 - z) +
+ * rho_f (L - h0)] (rho_g = phi rho_s the grains' bulk density):
+ *   grains  du/dz = (I_zeta / d) sqrt(P / rho_s), so with
+ *           p(z) = rho_g (h0 - z) + rho_f (L - h0) (P = g cos(zeta) p)
+ *           u(z) = (2 I_zeta / (3 d rho_g)) sqrt(g cos(zeta) / rho_s)
+ *                  [p(0)^(3/2) - p(z)^(3/2)];
+ *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
+ *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
+ * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
+ * The top is the flat stress-free boundary (`surface`: p = 0, du/dz = 0,
+ * w = 0), which for this flat, unidirectional state is the open top of the
+ * seed (p = 0, du/dz = 0). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "diagnostics/profile.h"
+#include "io/output.h"
+#include "physics/two_phase.h"
+#include "scenes/scene.h"
+
+struct bagnold2_params {
+    double interface_height;   /* h0 */
+    double fluid_density;      /* rho_f */
+    double fluid_viscosity;    /* eta_f */
+    int mixture;               /* enum mixture_law */
+};
+
+static const struct choice mixture_choices[] = {
+    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
+
+#define T struct bagnold2_params
+static const struct key bagnold2_keys[] = {
+    KEY_DBL(T, "bagnold2", "interface_height", interface_height, KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity, KEY_GT0),
+    KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices),
+};
+#undef T
+
+/* Table 1 of seeds/001 */
+static void defaults(void *block)
+{
+    struct bagnold2_params *b = block;
+    b->interface_height = 5e-4;
+    b->fluid_density = 1.0;
+    b->fluid_viscosity = 1.48e-5;
+    b->mixture = MIXTURE_WEIGHTED;
+}
+
+static const struct key_block bagnold2_block = {
+    .section = "bagnold2",
+    .keys = bagnold2_keys,
+    .nkeys = (int)(sizeof bagnold2_keys / sizeof bagnold2_keys[0]),
+    .size = sizeof(struct bagnold2_params),
+    .defaults = defaults,
+};
+
+static const struct bagnold2_params *params(const struct muflow_case *cs)
+{
+    return case_scene_params(cs);
+}
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    const struct bagnold2_params *b = params(c);
+    if (c->rheo.law != LAW_MUI) {
+        snprintf(msg, msglen, "case.scene = bagnold2 needs rheology.law = mui");
+        return 1;
+    }
+    if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
+        c->bc.face[2][1] != BC_SURFACE) {
+        snprintf(msg, msglen, "case.scene = bagnold2 needs periodic x, boundary.zlo = wall and "
+                              "boundary.zhi = surface");
+        return 1;
+    }
+    if (!(b->interface_height < c->len[2])) {
+        snprintf(msg, msglen, "bagnold2.interface_height = %.17g: must be below domain.lz = %.17g",
+                 b->interface_height, c->len[2]);
+        return 1;
+    }
+    double rg = c->rheo.phi * c->rheo.grain_density;
+    if (fabs(c->density - rg) > 1e-12 * rg) {
+        snprintf(msg, msglen, "physics.density = %.17g: the grains' bulk density must be "
+                              "rheology.phi * rheology.grain_density = %.17g",
+                 c->density, rg);
+        return 1;
+    }
+    return 0;
+}
+
+static double bagnold2_u(const struct muflow_case *cs, double z)
+{
+    const struct rheology *r = &cs->rheo;
+    const struct bagnold2_params *b = params(cs);
+    double ta = tan(cs->tilt);
+    if (ta <= r->mu_s)
+        return 0.0;
+    if (ta >= r->mu_s + r->delta_mu)
+        return NAN;
+    double iz = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
+    double L = cs->len[2], h0 = b->interface_height, rf = b->fluid_density;
+    double rs = r->grain_density, rg = r->phi * rs, d = r->grain_diameter;
+    double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);
+    /* du/dz = (I / d) sqrt(p / rho_s), p = gc (rg (h0 - z) + rf (L - h0)) */
+    double k = (iz / d) * sqrt(gc / rs) * 2.0 / (3.0 * rg);
+    double zz = fmin(z, h0);
+    double P0 = rg * h0 + rf * (L - h0), Pz = rg * (h0 - zz) + rf * (L - h0);
+    double u = k * (P0 * sqrt(P0) - Pz * sqrt(Pz));
+    if (z > h0)
+        u += (rf * gs / b->fluid_viscosity) * ((L * z - 0.5 * z * z) - (L * h0 - 0.5 * h0 * h0));
+    return u;
+}
+
+static void exact_profile(const struct muflow_case *cs, int n, const double *x, double *u)
+{
+    for (int i = 0; i < n; i++)
+        u[i] = bagnold2_u(cs, x[i]);
+}
+
+/* The flat interface at h0: each cell's fraction below it. */
+static int setup(struct march_state *st, char *err, size_t errlen)
+{
+    const struct bagnold2_params *b = params(st->cs);
+    const struct two_phase_params tp = {b->fluid_density, b->fluid_viscosity,
+                                        (enum mixture_law)b->mixture};
+    double *T = two_phase_configure(st, &tp, err, errlen);
+    if (!T)
+        return -1;
+    const struct grid *g = &st->g;
+    double h = g->h[2];
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                T[grid_idx(g, i, j, k)] = fmin(1.0, fmax(0.0, (b->interface_height - k * h) / h));
+    return two_phase_tracer_changed(st, err, errlen);
+}
+
+/* RMS and max of u - u_exact over the layers whose centre is in [lo, hi). */
+static void part_errors(const struct profile *pr, double lo, double hi, double *rms,
+                        double *emax)
+{
+    double s2 = 0.0, m = 0.0;
+    int n = 0;
+    for (int l = 0; l < pr->n; l++)
+        if (pr->coord[l] >= lo && pr->coord[l] < hi) {
+            double d = pr->velocity[l] - pr->exact[l];
+            s2 += d * d;
+            m = fmax(m, fabs(d));
+            n++;
+        }
+    *rms = n ? sqrt(s2 / n) : NAN;
+    *emax = n ? m : NAN;
+}
+
+/* The profile linearly interpolated at z. */
+static double profile_at(const struct profile *pr, double z)
+{
+    int l = 0;
+    while (l < pr->n - 2 && pr->coord[l + 1] < z)
+        l++;
+    double t = (z - pr->coord[l]) / (pr->coord[l + 1] - pr->coord[l]);
+    return pr->velocity[l] + t * (pr->velocity[l + 1] - pr->velocity[l]);
+}
+
+static void errors(const struct march_state *st, const struct profile *pr, struct scene_errors *e)
+{
+    const struct muflow_case *cs = st->cs;
+    profile_errors_default(pr, bagnold2_u(cs, cs->len[2]), e);
+    /* the headline: the velocity at the top of the domain, from the top two
+     * layers (du/dz = 0 there: u(L) = (9 u(L - h/2) - u(L - 3h/2)) / 8) */
+    e->headline = (9.0 * pr->velocity[pr->n - 1] - pr->velocity[pr->n - 2]) / 8.0;
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    const struct muflow_case *cs = st->cs;
+    struct profile pr;
+    if (profile_extract(&pr, st) != 0)
+        return;
+    double h0 = params(cs)->interface_height, rg, mg, ra, ma;
+    part_errors(&pr, 0.0, h0, &rg, &mg);
+    part_errors(&pr, h0, cs->len[2], &ra, &ma);
+    double ui = profile_at(&pr, h0), ui_exact = bagnold2_u(cs, h0);
+    double top = bagnold2_u(cs, cs->len[2]);
+    run_result_add(res, "err_rms_grains", "%.6e", rg);
+    run_result_add(res, "err_max_grains", "%.6e", mg);
+    run_result_add(res, "err_rms_air", "%.6e", ra);
+    run_result_add(res, "err_max_air", "%.6e", ma);
+    run_result_add(res, "u_interface", "%.10g", ui);
+    run_result_add(res, "u_interface_exact", "%.10g", ui_exact);
+    /* the grains' volume: held here (T is not transported in this scene) */
+    double v0 = 0.0;
+    for (int k = 0; k < st->g.n[2]; k++)
+        v0 += fmin(1.0, fmax(0.0, (h0 - k * st->g.h[2]) / st->g.h[2]));
+    v0 *= (double)st->g.n[0] * st->g.n[1];
+    run_result_add(res, "mass_error", "%.6e", two_phase_volume(st) / v0 - 1.0);
+    snprintf(res->scene_line, sizeof res->scene_line,
+             "grains err_rms %.3e (%.3f%% of u_top), air err_rms %.3e (%.3f%%), u_interface "
+             "%.6g (exact %.6g)",
+             rg, 100.0 * rg / top, ra, 100.0 * ra / top, ui, ui_exact);
+    profile_free(&pr);
+}
+
+static const struct module *const bagnold2_modules[] = {&two_phase_module, NULL};
+
+const struct scene scene_bagnold2 = {
+    .name = "bagnold2",
+    .title = "granular layer under air, two phases (seeds/001 sec. 2-3)",
+    .keys = &bagnold2_block,
+    .modules = bagnold2_modules,
+    .check = check,
+    .setup = setup,
+    .profile_axis = 2,
+    .profile_component = 0,
+    .exact_profile = exact_profile,
+    .headline_name = "u_top",
+    .errors = errors,
+    .results = results,
+};
