@@ -41,7 +41,7 @@
 #define MAX_LEVELS 32
 #define MAX_THREADS 256
 #define PAD 8                  /* doubles between per-thread partial sums (one cache line) */
-#define PAR_CELLS 8192         /* smaller levels run on one thread: fork/join costs more */
+#define PAR_CELLS 16384        /* smaller levels run on one thread: fork/join costs more */
 #define ANISO_CELLS 4096       /* above this, coarsen anisotropically rather than stop */
 
 enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
@@ -105,7 +105,7 @@ void multigrid_default_options(struct multigrid_options *o)
     o->pre = 2;
     o->post = 2;
     o->prolong = MG_PROLONG_FLUX;
-    o->average = MG_AVERAGE_HARMONIC;
+    o->average = MG_AVERAGE_ARITHMETIC;
     o->coarse_cells = 64;
 }
 
@@ -144,7 +144,7 @@ static void halo_fill(const struct multigrid *mg, const struct level *lv, double
             }
         }
         const ptrdiff_t sd = g->stride[d];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
         for (int u = lo1; u < hi1; u++)
             for (int v = lo2; v < hi2; v++) {
                 int c[3];
@@ -302,7 +302,7 @@ static void smooth_colour(const struct level *lv, int colour)
     const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double *restrict b = lv->b;
     double *restrict x = lv->x;
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -330,7 +330,7 @@ static void residual(const struct level *lv, const double *x, const double *b, d
     const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
     const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double sign = b ? -1.0 : 1.0;
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -352,7 +352,7 @@ static void zero_interior(const struct level *lv, double *f)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             double *row = f + grid_idx(g, i, j, 0);
@@ -396,7 +396,7 @@ static void restrict_residual(const struct level *f, struct level *c)
     double *restrict b = c->bbuf;
     const unsigned char *live = c->live;
     const int nx = gc->n[0], ny = gc->n[1], nz = gc->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (c->par)
+#pragma omp for collapse(2) schedule(static)
     for (int I = 0; I < nx; I++)
         for (int J = 0; J < ny; J++)
             for (int K = 0; K < nz; K++) {
@@ -435,7 +435,7 @@ static void prolong_add(const struct level *f, const struct level *c)
     double *restrict x = f->x;
     const unsigned char *live = f->live;
     const ptrdiff_t csx = gc->stride[0], csy = gc->stride[1];
-#pragma omp parallel for collapse(2) schedule(static) if (f->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(gf, i, j, 0);
@@ -1050,7 +1050,11 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 
 /* ---- cycles and solvers -------------------------------------------------------- */
 
-static void smooth(struct multigrid *mg, struct level *lv, int first_colour, int sweeps)
+/* Called by every thread of a team (or outside any parallel region): the
+ * kernels are orphaned worksharing loops, whose implicit barriers order the
+ * half sweeps and their halo fills. */
+static void smooth(const struct multigrid *mg, const struct level *lv, int first_colour,
+                   int sweeps)
 {
     for (int s = 0; s < sweeps; s++)
         for (int c = 0; c < 2; c++) {
@@ -1070,16 +1074,24 @@ static void vcycle_from(struct multigrid *mg, int l)
         return;
     }
     struct level *lc = &mg->lev[l + 1];
-    zero_interior(lv, lv->x);
-    smooth(mg, lv, 0, mg->opt.pre);
-    halo_fill(mg, lv, lv->x, HALO_OPERATOR);
-    residual(lv, lv->x, lv->b, 0.0, lv->r);
-    halo_fill(mg, lv, lv->r, HALO_MIRROR);
-    restrict_residual(lv, lc);
+    /* two parallel regions per level and cycle: fork/join costs more than the
+     * loops of a small level, and much more on a loaded machine */
+#pragma omp parallel if (lv->par)
+    {
+        zero_interior(lv, lv->x);
+        smooth(mg, lv, 0, mg->opt.pre);
+        halo_fill(mg, lv, lv->x, HALO_OPERATOR);
+        residual(lv, lv->x, lv->b, 0.0, lv->r);
+        halo_fill(mg, lv, lv->r, HALO_MIRROR);
+        restrict_residual(lv, lc);
+    }
     vcycle_from(mg, l + 1);
-    halo_fill(mg, lc, lc->x, HALO_MIRROR);
-    prolong_add(lv, lc);
-    smooth(mg, lv, 1, mg->opt.post);
+#pragma omp parallel if (lv->par)
+    {
+        halo_fill(mg, lc, lc->x, HALO_MIRROR);
+        prolong_add(lv, lc);
+        smooth(mg, lv, 1, mg->opt.post);
+    }
 }
 
 void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
@@ -1093,8 +1105,22 @@ void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
 
 void multigrid_apply(struct multigrid *mg, double *x, double *y)
 {
-    halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
-    residual(&mg->lev[0], x, NULL, 0.0, y);
+#pragma omp parallel if (mg->lev[0].par)
+    {
+        halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
+        residual(&mg->lev[0], x, NULL, 0.0, y);
+    }
+}
+
+/* r = rhs - shift - L phi (phi's ghosts filled here) */
+static void fine_residual(struct multigrid *mg, double *phi, const double *rhs, double shift,
+                          double *r)
+{
+#pragma omp parallel if (mg->lev[0].par)
+    {
+        halo_fill(mg, &mg->lev[0], phi, HALO_OPERATOR);
+        residual(&mg->lev[0], phi, rhs, shift, r);
+    }
 }
 
 static int singular(const struct multigrid *mg)
@@ -1122,14 +1148,17 @@ static void finish_phi(struct multigrid *mg, double *phi)
     const struct grid *g = &l0->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const unsigned char *live = l0->live;
-#pragma omp parallel for collapse(2) schedule(static) if (l0->par)
-    for (int i = 0; i < nx; i++)
-        for (int j = 0; j < ny; j++) {
-            const ptrdiff_t row = grid_idx(g, i, j, 0);
-            for (int k = 0; k < nz; k++)
-                phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
-        }
-    halo_fill(mg, l0, phi, HALO_MIRROR);
+#pragma omp parallel if (l0->par)
+    {
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++)
+                    phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
+            }
+        halo_fill(mg, l0, phi, HALO_MIRROR);
+    }
 }
 
 static void stats_init(struct multigrid_stats *st, double res0)
@@ -1162,7 +1191,7 @@ static void add_to(const struct level *lv, double *x, const double *z)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1180,19 +1209,19 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
     const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
     stats_init(&st, res0);
     if (!(res0 > 0.0)) {
+#pragma omp parallel if (l0->par)
         zero_interior(l0, phi);
         st.rel = 0.0;
         finish_phi(mg, phi);
         return stats_end(&st, rtol, stats);
     }
-    halo_fill(mg, l0, phi, HALO_OPERATOR);
-    residual(l0, phi, rhs, shift, mg->wr);
+    fine_residual(mg, phi, rhs, shift, mg->wr);
     st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
     while (st.rel > rtol && st.cycles < max_cycles) {
         multigrid_vcycle(mg, mg->wr, mg->wz);
+#pragma omp parallel if (l0->par)
         add_to(l0, phi, mg->wz);
-        halo_fill(mg, l0, phi, HALO_OPERATOR);
-        residual(l0, phi, rhs, shift, mg->wr);
+        fine_residual(mg, phi, rhs, shift, mg->wr);
         stats_step(&st, sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0);
     }
     finish_phi(mg, phi);
@@ -1232,7 +1261,7 @@ static void cg_direction(const struct level *lv, double beta, double *p, const d
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1250,17 +1279,18 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
     stats_init(&st, res0);
     if (!(res0 > 0.0)) {
+#pragma omp parallel if (l0->par)
         zero_interior(l0, phi);
         st.rel = 0.0;
         finish_phi(mg, phi);
         return stats_end(&st, rtol, stats);
     }
     double *r = mg->wr, *z = mg->wz, *p = mg->wp, *q = mg->wq;
-    halo_fill(mg, l0, phi, HALO_OPERATOR);
-    residual(l0, phi, rhs, shift, r);
+    fine_residual(mg, phi, rhs, shift, r);
     st.rel = sqrt(dot(mg, l0, r, r)) / res0;
     if (st.rel > rtol) {
         multigrid_vcycle(mg, r, z);
+#pragma omp parallel if (l0->par)
         cg_direction(l0, 0.0, p, z);
         double rz = dot(mg, l0, r, z);
         /* L and the V-cycle are both negative definite on the live cells: CG's
@@ -1277,6 +1307,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
                 break;
             multigrid_vcycle(mg, r, z);
             const double rz_new = dot(mg, l0, r, z);
+#pragma omp parallel if (l0->par)
             cg_direction(l0, rz_new / rz, p, z);
             rz = rz_new;
         }
