@@ -118,7 +118,7 @@ fuzz:
 BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
-BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput
+BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput $(BUILD)/bench_multigrid
 BENCH_OBJ     = $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard bench/*.c))
 
 .PHONY: bench bench-deps
@@ -136,6 +136,7 @@ bench: deps bench-deps
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
+	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et

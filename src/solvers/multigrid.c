@@ -485,6 +485,7 @@ static void transfer_weights(const struct multigrid *mg, struct level *f, const 
             continue;
         const int n = g->n[d], per = mg->periodic[d];
         const ptrdiff_t sd = g->stride[d];
+#pragma omp parallel for collapse(2) schedule(static) if (f->par)
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
                 for (int k = 0; k < g->n[2]; k++) {
@@ -558,31 +559,30 @@ static void coarsen_coefficients(const struct multigrid *mg, const struct level 
         const int nc = gc->n[d], per = mg->periodic[d], halved = c->coarse[d];
         const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1;
         const double inv = 1.0 / (n1 * n2);
-        const int faces = per ? nc : nc + 1;
+        int hi[3] = {gc->n[0], gc->n[1], gc->n[2]};
+        hi[d] = per ? nc : nc + 1;
         const double *fa = f->a[d];
         double *ca = c->a[d];
         const ptrdiff_t sd = gf->stride[d];
         const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && halved;
-        for (int I = 0; I < faces; I++)
-            for (int u = 0; u < gc->n[e1]; u++)
-                for (int v = 0; v < gc->n[e2]; v++) {
-                    const int boundary = !per && (I == 0 || I == nc);
+#pragma omp parallel for collapse(2) schedule(static) if (c->par)
+        for (int I = 0; I < hi[0]; I++)
+            for (int J = 0; J < hi[1]; J++)
+                for (int K = 0; K < hi[2]; K++) {
+                    const int cc[3] = {I, J, K};
+                    const int boundary = !per && (cc[d] == 0 || cc[d] == nc);
                     double s = 0.0;
                     for (int p = 0; p < n1; p++)
                         for (int q = 0; q < n2; q++) {
                             int fc[3];
-                            fc[d] = halved ? 2 * I : I;
-                            fc[e1] = n1 * u + p;
-                            fc[e2] = n2 * v + q;
+                            fc[d] = halved ? 2 * cc[d] : cc[d];
+                            fc[e1] = n1 * cc[e1] + p;
+                            fc[e2] = n2 * cc[e2] + q;
                             const ptrdiff_t pf = grid_idx(gf, fc[0], fc[1], fc[2]);
                             s += harmonic && !boundary ? harmonic3(fa[pf - sd], fa[pf], fa[pf + sd])
                                                        : fa[pf];
                         }
-                    int cc[3];
-                    cc[d] = I;
-                    cc[e1] = u;
-                    cc[e2] = v;
-                    ca[grid_idx(gc, cc[0], cc[1], cc[2])] = s * inv;
+                    ca[grid_idx(gc, I, J, K)] = s * inv;
                 }
     }
 }
@@ -599,8 +599,8 @@ static void finish_level_coefficients(const struct multigrid *mg, struct level *
         halo_faces(mg, lv, lv->a[d], d);
     }
     const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
-    for (size_t p = 0; p < g->size; p++)
-        lv->live[p] = 0;
+    memset(lv->live, 0, g->size); /* ghosts: dead */
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -1005,32 +1005,36 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
     const struct grid *g = &l0->g;
     mg->ready = 0;
     for (int d = 0; d < 3; d++) {
-        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
-        const int per = mg->periodic[d];
-        const int faces = per ? n : n + 1;
-        for (int I = 0; I < faces; I++)
-            for (int u = 0; u < g->n[e1]; u++)
-                for (int v = 0; v < g->n[e2]; v++) {
-                    int c[3];
-                    c[d] = I;
-                    c[e1] = u;
-                    c[e2] = v;
-                    const ptrdiff_t p = grid_idx(g, c[0], c[1], c[2]);
-                    double val = a[d][p];
-                    int side = I == 0 ? 0 : 1;
-                    int boundary = !per && (I == 0 || I == n);
-                    if (boundary && mg->bc[d][side] == POISSON_NEUMANN) {
+        const int n = g->n[d], per = mg->periodic[d];
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[d] = per ? n : n + 1; /* the faces read: a periodic direction's face n is face 0 */
+        const double *src = a[d];
+        double *dst = l0->a[d];
+        long bad = -1;
+#pragma omp parallel for collapse(2) schedule(static) if (l0->par) reduction(max : bad)
+        for (int i = 0; i < hi[0]; i++)
+            for (int j = 0; j < hi[1]; j++)
+                for (int k = 0; k < hi[2]; k++) {
+                    const int c[3] = {i, j, k}, t = c[d];
+                    const ptrdiff_t p = grid_idx(g, i, j, k);
+                    const int boundary = !per && (t == 0 || t == n);
+                    double val = src[p];
+                    if (boundary && mg->bc[d][t == 0 ? 0 : 1] == POISSON_NEUMANN)
                         val = 0.0; /* not read */
-                    } else if (!(val >= 0.0) || !isfinite(val)) {
-                        set_err(err, errlen,
-                                "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
-                                val, c[0], c[1], c[2], "xyz"[d]);
-                        return -1;
-                    } else if (boundary) {
+                    else if (!(val >= 0.0) || !isfinite(val))
+                        bad = p > bad ? p : bad;
+                    else if (boundary)
                         val *= 2.0; /* Dirichlet: half a cell from the centre to the face */
-                    }
-                    l0->a[d][p] = val;
+                    dst[p] = val;
                 }
+        if (bad >= 0) {
+            const int i = (int)(bad / g->stride[0]) - 1;
+            const int j = (int)((bad % g->stride[0]) / g->stride[1]) - 1;
+            const int k = (int)(bad % g->stride[1]) - 1;
+            set_err(err, errlen, "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
+                    src[bad], i, j, k, "xyz"[d]);
+            return -1;
+        }
     }
     finish_level_coefficients(mg, l0);
     for (int l = 1; l < mg->nlev; l++) {
@@ -1039,6 +1043,7 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
         transfer_weights(mg, &mg->lev[l - 1], &mg->lev[l]);
     }
     long live = 0;
+#pragma omp parallel for schedule(static) if (l0->par) reduction(+ : live)
     for (size_t p = 0; p < g->size; p++)
         live += l0->live[p];
     mg->live = live;
