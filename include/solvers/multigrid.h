@@ -54,6 +54,7 @@ struct multigrid_options {
     enum multigrid_prolong prolong;
     enum multigrid_average average;
     long coarse_cells;      /* stop coarsening at or below this many cells */
+    int gamma;              /* coarse visits per level: 1 V-cycle, 2 W-cycle */
 };
 
 /* The defaults chosen by measurement: V(2,2), linear prolongation, harmonic

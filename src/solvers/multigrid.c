@@ -59,7 +59,7 @@ struct level {
     /* prolongation from level l+1 into this level: along d, fine cell i takes
      * (1 - w) of its parent pi[d][2i] and w of the coarse neighbour
      * pi[d][2i+1] nearer to it (a ghost, -1 or nc, at the ends), w = pw[d] at
-     * the cell (NULL: direction not halved, w = 0) */
+     * the cell (0 along a direction not halved) */
     int *pi[3];
     double *pw[3];
     int par;               /* run the loops of this level with OpenMP */
@@ -107,6 +107,7 @@ void multigrid_default_options(struct multigrid_options *o)
     o->prolong = MG_PROLONG_FLUX;
     o->average = MG_AVERAGE_ARITHMETIC;
     o->coarse_cells = 64;
+    o->gamma = 2;
 }
 
 /* ---- halo fills: the only writers of ghost values ------------------------------ */
@@ -392,36 +393,45 @@ static void restrict_residual(const struct level *f, struct level *c)
         }
     }
     const double *restrict r = f->r;
-    const double *wd[3] = {f->pw[0], f->pw[1], f->pw[2]};
+    const double *restrict wx = f->pw[0], *restrict wy = f->pw[1], *restrict wz = f->pw[2];
+    /* the weight of a fine cell towards I along d is A + B w: (1, -1) for its
+     * parent, (0, 1) for its neighbour (branch-free inner loop) */
+    double A[3][4], B[3][4];
+    for (int d = 0; d < 3; d++)
+        for (int t = 0; t < cnt[d]; t++) {
+            A[d][t] = par[d][t] ? 1.0 : 0.0;
+            B[d][t] = par[d][t] ? -1.0 : 1.0;
+        }
     double *restrict b = c->bbuf;
     const unsigned char *live = c->live;
     const int nx = gc->n[0], ny = gc->n[1], nz = gc->n[2];
 #pragma omp for collapse(2) schedule(static)
     for (int I = 0; I < nx; I++)
-        for (int J = 0; J < ny; J++)
-            for (int K = 0; K < nz; K++) {
-                double s = 0.0;
-                for (int p = 0; p < cnt[0]; p++) {
-                    const int fi = m[0] * I + off[0][p];
-                    for (int q = 0; q < cnt[1]; q++) {
-                        const int fj = m[1] * J + off[1][q];
-                        const ptrdiff_t base = grid_idx(gf, fi, fj, 0);
-                        for (int t = 0; t < cnt[2]; t++) {
-                            const ptrdiff_t pf = base + m[2] * K + off[2][t];
-                            double w = 1.0;
-                            if (wd[0])
-                                w *= par[0][p] ? 1.0 - wd[0][pf] : wd[0][pf];
-                            if (wd[1])
-                                w *= par[1][q] ? 1.0 - wd[1][pf] : wd[1][pf];
-                            if (wd[2])
-                                w *= par[2][t] ? 1.0 - wd[2][pf] : wd[2][pf];
-                            s += w * r[pf];
+        for (int J = 0; J < ny; J++) {
+            double *restrict brow = b + grid_idx(gc, I, J, 0);
+            for (int K = 0; K < nz; K++)
+                brow[K] = 0.0;
+            for (int p = 0; p < cnt[0]; p++) {
+                const int fi = m[0] * I + off[0][p];
+                for (int q = 0; q < cnt[1]; q++) {
+                    const int fj = m[1] * J + off[1][q];
+                    const ptrdiff_t base = grid_idx(gf, fi, fj, 0);
+                    const double ax = A[0][p], bx = B[0][p], ay = A[1][q], by = B[1][q];
+                    for (int t = 0; t < cnt[2]; t++) {
+                        const double az = A[2][t], bz = B[2][t];
+                        const int o = off[2][t], mz = m[2];
+                        for (int K = 0; K < nz; K++) {
+                            const ptrdiff_t pf = base + mz * K + o;
+                            brow[K] += (ax + bx * wx[pf]) * (ay + by * wy[pf]) *
+                                       (az + bz * wz[pf]) * r[pf];
                         }
                     }
                 }
-                const ptrdiff_t pc = grid_idx(gc, I, J, K);
-                b[pc] = live[pc] ? scale * s : 0.0;
             }
+            const unsigned char *lrow = live + grid_idx(gc, I, J, 0);
+            for (int K = 0; K < nz; K++)
+                brow[K] = lrow[K] ? scale * brow[K] : 0.0;
+        }
 }
 
 /* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode. */
@@ -448,7 +458,7 @@ static void prolong_add(const struct level *f, const struct level *c)
                 if (!live[p])
                     continue;
                 const ptrdiff_t k0 = iz[2 * k] + 1, k1 = iz[2 * k + 1] + 1;
-                const double ux = wx ? wx[p] : 0.0, uy = wy ? wy[p] : 0.0, uz = wz ? wz[p] : 0.0;
+                const double ux = wx[p], uy = wy[p], uz = wz[p];
                 const double z0 = 1.0 - uz, z1 = uz;
                 const double v = (1.0 - ux) * ((1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
                                                uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1])) +
@@ -481,8 +491,8 @@ static void transfer_weights(const struct multigrid *mg, struct level *f, const 
     const struct grid *g = &f->g;
     for (int d = 0; d < 3; d++) {
         double *w = f->pw[d];
-        if (!w)
-            continue;
+        if (!c->coarse[d])
+            continue; /* stays 0 */
         const int n = g->n[d], per = mg->periodic[d];
         const ptrdiff_t sd = g->stride[d];
 #pragma omp parallel for collapse(2) schedule(static) if (f->par)
@@ -880,7 +890,9 @@ static int build_prolongation(struct level *f, const struct level *c)
                 ci[1] = (i & 1) ? i / 2 + 1 : i / 2 - 1;
             }
         }
-        if (c->coarse[d] && !(f->pw[d] = field_alloc(&f->g)))
+        /* a direction not halved has w = 0 (field_alloc zeroes), kept as an
+         * array so that the transfer loops have no branches */
+        if (!(f->pw[d] = field_alloc(&f->g)))
             return -1;
     }
     return 0;
@@ -925,6 +937,11 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         mg->opt = *opt;
     else
         multigrid_default_options(&mg->opt);
+    if (mg->opt.gamma < 1 || mg->opt.gamma > 2) {
+        free(mg);
+        set_err(err, errlen, "multigrid: gamma must be 1 (V-cycle) or 2 (W-cycle)");
+        return -1;
+    }
     if (mg->opt.pre < 0 || mg->opt.post < 0 || mg->opt.pre + mg->opt.post < 1) {
         free(mg);
         set_err(err, errlen, "multigrid: need at least one smoothing sweep");
@@ -1068,10 +1085,12 @@ static void smooth(const struct multigrid *mg, const struct level *lv, int first
         }
 }
 
-/* V-cycle on level l from x = 0: pre-smoothing red then black, post-smoothing
- * black then red (the adjoint order), restriction the scaled transpose of the
- * prolongation, an exact coarsest solve: a symmetric linear map. */
-static void vcycle_from(struct multigrid *mg, int l)
+/* Cycle on level l from x = 0 (warm: from the current x): pre-smoothing red
+ * then black, post-smoothing black then red (the adjoint order), restriction
+ * the scaled transpose of the prolongation, gamma cycles on the next level
+ * (1: V, 2: W; the later ones warm), an exact coarsest solve: a symmetric
+ * linear map of b. */
+static void vcycle_from(struct multigrid *mg, int l, int warm)
 {
     struct level *lv = &mg->lev[l];
     if (l == mg->nlev - 1) {
@@ -1083,14 +1102,17 @@ static void vcycle_from(struct multigrid *mg, int l)
      * loops of a small level, and much more on a loaded machine */
 #pragma omp parallel if (lv->par)
     {
-        zero_interior(lv, lv->x);
+        if (!warm)
+            zero_interior(lv, lv->x);
         smooth(mg, lv, 0, mg->opt.pre);
         halo_fill(mg, lv, lv->x, HALO_OPERATOR);
         residual(lv, lv->x, lv->b, 0.0, lv->r);
         halo_fill(mg, lv, lv->r, HALO_MIRROR);
         restrict_residual(lv, lc);
     }
-    vcycle_from(mg, l + 1);
+    const int visits = l + 1 == mg->nlev - 1 ? 1 : mg->opt.gamma; /* exact there */
+    for (int v = 0; v < visits; v++)
+        vcycle_from(mg, l + 1, v > 0);
 #pragma omp parallel if (lv->par)
     {
         halo_fill(mg, lc, lc->x, HALO_MIRROR);
@@ -1103,7 +1125,7 @@ void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
 {
     mg->lev[0].b = r;
     mg->lev[0].x = z;
-    vcycle_from(mg, 0);
+    vcycle_from(mg, 0, 0);
     mg->lev[0].b = NULL;
     mg->lev[0].x = NULL;
 }
@@ -1344,7 +1366,7 @@ size_t multigrid_bytes(const struct multigrid *mg)
         if (l > 0)
             b += 2 * f; /* x, b */
         for (int d = 0; d < 3; d++)
-            b += 2 * (size_t)lv->g.n[d] * sizeof(int) + (lv->pw[d] ? f : 0);
+            b += 2 * (size_t)lv->g.n[d] * sizeof(int) + (lv->pw[d] ? f : 0); /* pw: not on the coarsest */
     }
     b += 4 * mg->lev[0].g.size * sizeof(double); /* solver work arrays */
     const size_t cs = mg->lev[mg->nlev - 1].g.size;
