@@ -339,7 +339,7 @@ static double jump_mms(const int n[3], const enum kind k[3], int dj, double rati
     int rc = use_pcg ? multigrid_pcg(p.mg, p.rhs, p.phi, 1e-11, 100, &st)
                      : multigrid_solve(p.mg, p.rhs, p.phi, 1e-11, 200, &st);
     if (rc != 0)
-        fail_msg("%s did not converge: %d cycles, residual %.2e", use_pcg ? "pcg" : "vcycles",
+        fail_msg("%s did not converge: %d cycles, residual %.2e", use_pcg ? "pcg" : "cycles",
                  st.cycles, st.rel);
     *resid = discrete_residual(&p);
     *cycles = st.cycles;
@@ -497,7 +497,7 @@ static void test_discrete_all_kinds(void **state)
                         if (!(r < 1e-8) || rc != 0)
                             fail_msg("%s: residual %.3e (rc %d, %d cycles) for %s,%s,%s on "
                                      "%dx%dx%d",
-                                     use_pcg ? "pcg" : "vcycles", r, rc, st.cycles, kind_name[kx],
+                                     use_pcg ? "pcg" : "cycles", r, rc, st.cycles, kind_name[kx],
                                      kind_name[ky], kind_name[kz], p.g.n[0], p.g.n[1], p.g.n[2]);
                         worst = fmax(worst, r);
                         if (st.cycles > worst_cycles)
@@ -566,7 +566,7 @@ static void test_fft_agreement(void **state)
  * interface at the harmonic mean of their two cells; walls (Neumann) in x,
  * Dirichlet top and bottom in z (the hydrostatic set-up), periodic y.  The
  * interface is not aligned with any coarse grid.  Random rhs.  Returns the
- * mean reduction per cycle over a solve to 1e-10 (V-cycles, or PCG
+ * mean reduction per cycle over a solve to 1e-10 (stationary cycles, or PCG
  * iterations). */
 static double blob_rate(const int n[3], double ratio, int use_pcg, int *cycles)
 {

@@ -372,13 +372,21 @@ static void zero_interior(const struct level *lv, double *f)
  * f->r's ghosts are in HALO_MIRROR mode and the weights' in HALO_EVEN: a fine
  * ghost then carries the condition's sign and its mirror cell's weight, which
  * is exactly the transpose of the prolongation reading a coarse ghost. */
-static void restrict_residual(const struct level *f, struct level *c)
+static void restrict_residual(const struct multigrid *mg, const struct level *f,
+                              struct level *c)
 {
     const struct grid *gf = &f->g, *gc = &c->g;
     int off[3][4], par[3][4], cnt[3], m[3];
     double scale = 1.0;
     for (int d = 0; d < 3; d++) {
-        if (c->coarse[d]) {
+        if (c->coarse[d] && mg->opt.prolong == MG_PROLONG_CONSTANT) {
+            /* w = 0: only the two children, the neighbours' weight is 0 */
+            off[d][0] = 0, off[d][1] = 1;
+            par[d][0] = par[d][1] = 1;
+            cnt[d] = 2;
+            m[d] = 2;
+            scale *= 0.5;
+        } else if (c->coarse[d]) {
             static const int o[4] = {-1, 0, 1, 2}, pa[4] = {0, 1, 1, 0};
             for (int t = 0; t < 4; t++)
                 off[d][t] = o[t], par[d][t] = pa[t];
@@ -1090,7 +1098,7 @@ static void smooth(const struct multigrid *mg, const struct level *lv, int first
  * the scaled transpose of the prolongation, gamma cycles on the next level
  * (1: V, 2: W; the later ones warm), an exact coarsest solve: a symmetric
  * linear map of b. */
-static void vcycle_from(struct multigrid *mg, int l, int warm)
+static void cycle_from(struct multigrid *mg, int l, int warm)
 {
     struct level *lv = &mg->lev[l];
     if (l == mg->nlev - 1) {
@@ -1108,11 +1116,11 @@ static void vcycle_from(struct multigrid *mg, int l, int warm)
         halo_fill(mg, lv, lv->x, HALO_OPERATOR);
         residual(lv, lv->x, lv->b, 0.0, lv->r);
         halo_fill(mg, lv, lv->r, HALO_MIRROR);
-        restrict_residual(lv, lc);
+        restrict_residual(mg, lv, lc);
     }
     const int visits = l + 1 == mg->nlev - 1 ? 1 : mg->opt.gamma; /* exact there */
     for (int v = 0; v < visits; v++)
-        vcycle_from(mg, l + 1, v > 0);
+        cycle_from(mg, l + 1, v > 0);
 #pragma omp parallel if (lv->par)
     {
         halo_fill(mg, lc, lc->x, HALO_MIRROR);
@@ -1121,11 +1129,11 @@ static void vcycle_from(struct multigrid *mg, int l, int warm)
     }
 }
 
-void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
+void multigrid_cycle(struct multigrid *mg, const double *r, double *z)
 {
     mg->lev[0].b = r;
     mg->lev[0].x = z;
-    vcycle_from(mg, 0, 0);
+    cycle_from(mg, 0, 0);
     mg->lev[0].b = NULL;
     mg->lev[0].x = NULL;
 }
@@ -1208,6 +1216,8 @@ static int stats_end(struct multigrid_stats *st, double rtol, struct multigrid_s
 {
     st->converged = st->rel <= rtol;
     st->rate = st->cycles > 0 && st->rel > 0.0 ? pow(st->rel, 1.0 / st->cycles) : 0.0;
+    if (!isfinite(st->rel))
+        st->rate = INFINITY; /* diverged */
     if (out)
         *out = *st;
     return st->converged ? 0 : 1;
@@ -1245,7 +1255,7 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
     fine_residual(mg, phi, rhs, shift, mg->wr);
     st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
     while (st.rel > rtol && st.cycles < max_cycles) {
-        multigrid_vcycle(mg, mg->wr, mg->wz);
+        multigrid_cycle(mg, mg->wr, mg->wz);
 #pragma omp parallel if (l0->par)
         add_to(l0, phi, mg->wz);
         fine_residual(mg, phi, rhs, shift, mg->wr);
@@ -1316,11 +1326,11 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     fine_residual(mg, phi, rhs, shift, r);
     st.rel = sqrt(dot(mg, l0, r, r)) / res0;
     if (st.rel > rtol) {
-        multigrid_vcycle(mg, r, z);
+        multigrid_cycle(mg, r, z);
 #pragma omp parallel if (l0->par)
         cg_direction(l0, 0.0, p, z);
         double rz = dot(mg, l0, r, z);
-        /* L and the V-cycle are both negative definite on the live cells: CG's
+        /* L and the cycle are both negative definite on the live cells: CG's
          * iterates are those of the positive problem (-L, -V) */
         while (st.cycles < max_iter && rz != 0.0) {
             multigrid_apply(mg, p, q);
@@ -1332,7 +1342,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
             stats_step(&st, sqrt(rr) / res0);
             if (st.rel <= rtol)
                 break;
-            multigrid_vcycle(mg, r, z);
+            multigrid_cycle(mg, r, z);
             const double rz_new = dot(mg, l0, r, z);
 #pragma omp parallel if (l0->par)
             cg_direction(l0, rz_new / rz, p, z);
