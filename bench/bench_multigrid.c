@@ -11,8 +11,8 @@
  * present, the hardest case for a rate).
  *
  *  variants  the design choices on 256^2 and 64^3: prolongation (flux,
- *            linear, constant) x coarse averaging (harmonic, arithmetic) x
- *            V(1,1) / V(2,2), stationary cycles and PCG
+ *            linear, constant), coarse coefficients (coincident, harmonic),
+ *            sweeps and V / W cycles, stationary cycles and PCG
  *  scaling   default options, 32^2 .. 1024^2 and 32^3 .. 128^3: mean
  *            reduction per cycle, time per cycle, time to 1e-10
  *  big       256^3 to relative residual 1e-10 (blob 1e4, and a = 1) beside
@@ -163,35 +163,41 @@ static void out(const char *fmt, ...)
 }
 
 static const char *prolong_name[] = {"flux", "linear", "constant"};
-static const char *average_name[] = {"harmonic", "arithmetic"};
+static const char *average_name[] = {"harmonic", "coincident"};
 
 static void section_variants(void)
 {
     static const int sizes[][3] = {{256, 1, 256}, {64, 64, 64}};
+    /* prolongation, coarse coefficients, sweeps, gamma */
+    static const int var[][4] = {{0, 1, 1, 1}, {0, 1, 2, 1}, {0, 1, 1, 2}, {0, 1, 2, 2},
+                                 {0, 0, 2, 1}, {0, 0, 2, 2}, {1, 1, 2, 1}, {1, 1, 2, 2},
+                                 {2, 1, 2, 1}, {2, 1, 2, 2}};
     out("## Design variants (blob, coefficient ratio 1e4, rtol 1e-10)\n\n");
-    out("Mean reduction of the residual per cycle (stationary V-cycles, at most 60) and per "
+    out("Mean reduction of the residual per cycle (stationary cycles, at most 60) and per "
         "PCG iteration (at most 60); `-` = not converged in 60 (the rate is then that of the "
-        "60 cycles).\n\n");
-    out("| grid | prolongation | coarse coefficients | cycle | V-cycles: rate | cycles | "
+        "60 cycles; above 1: diverging).  Coarse coefficients: `coincident` = arithmetic mean "
+        "of the fine faces the coarse face covers, `harmonic` = series resistance of three "
+        "fine faces along the normal, arithmetic across.\n\n");
+    out("| grid | prolongation | coarse coefficients | cycle | cycles: rate | cycles | "
         "PCG: rate | iterations | PCG s |\n|---|---|---|---|---|---|---|---|---|\n");
     for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++) {
         struct problem pb;
         problem_init(&pb, sizes[s], 1e4);
-        for (int pr = 0; pr < 3; pr++)
-            for (int av = 0; av < 2; av++)
-                for (int nu = 1; nu <= 2; nu++) {
-                    struct multigrid_options o;
-                    multigrid_default_options(&o);
-                    o.prolong = (enum multigrid_prolong)pr;
-                    o.average = (enum multigrid_average)av;
-                    o.pre = o.post = nu;
-                    struct result v = run(&pb, &o, 0, 1e-10, 60);
-                    struct result c = run(&pb, &o, 1, 1e-10, 60);
-                    out("| %dx%dx%d | %s | %s | V(%d,%d) | %.3f | %s%d | %.3f | %s%d | %.3f |\n",
-                        sizes[s][0], sizes[s][1], sizes[s][2], prolong_name[pr], average_name[av],
-                        nu, nu, v.rate, v.converged ? "" : "- ", v.cycles, c.rate,
-                        c.converged ? "" : "- ", c.cycles, c.solve);
-                }
+        for (size_t k = 0; k < sizeof(var) / sizeof(var[0]); k++) {
+            struct multigrid_options o;
+            multigrid_default_options(&o);
+            o.prolong = (enum multigrid_prolong)var[k][0];
+            o.average = (enum multigrid_average)var[k][1];
+            o.pre = o.post = var[k][2];
+            o.gamma = var[k][3];
+            struct result v = run(&pb, &o, 0, 1e-10, 60);
+            struct result c = run(&pb, &o, 1, 1e-10, 60);
+            out("| %dx%dx%d | %s | %s | %c(%d,%d) | %.3f | %s%d | %.3f | %s%d | %.3f |\n",
+                sizes[s][0], sizes[s][1], sizes[s][2], prolong_name[var[k][0]],
+                average_name[var[k][1]], var[k][3] == 2 ? 'W' : 'V', var[k][2], var[k][2],
+                v.rate, v.converged ? "" : "- ", v.cycles, c.rate, c.converged ? "" : "- ",
+                c.cycles, c.solve);
+        }
         problem_free(&pb);
     }
     out("\n");
@@ -202,9 +208,10 @@ static void section_scaling(void)
     static const int sizes[][3] = {{32, 1, 32},   {64, 1, 64},    {128, 1, 128}, {256, 1, 256},
                                    {512, 1, 512}, {1024, 1, 1024}, {32, 32, 32},  {64, 64, 64},
                                    {128, 128, 128}};
-    out("## Scaling (default options, blob, coefficient ratio 1e4, rtol 1e-10, %d threads)\n\n",
+    out("## Scaling (default options: W(2,2), flux prolongation; blob, coefficient ratio 1e4, "
+        "rtol 1e-10, %d threads)\n\n",
         omp_get_max_threads());
-    out("| grid | levels (coarsest) | V-cycles: rate | cycles | s / cycle | PCG: rate | "
+    out("| grid | levels (coarsest) | W-cycles: rate | cycles | s / cycle | PCG: rate | "
         "iterations | s / iteration | PCG total s | set-up s |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n");
     for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++) {
@@ -242,7 +249,7 @@ static void section_big(void)
     out("| multigrid PCG | blob 1e4 | %.2f | %.2f | %d | %.3f | %.2f |\n", c.setup, c.solve,
         c.cycles, c.rate, (double)c.bytes / (1024.0 * 1024.0 * 1024.0));
     struct result v = run(&pb, NULL, 0, 1e-10, 100);
-    out("| multigrid V-cycles | blob 1e4 | %.2f | %.2f | %d | %.3f | %.2f |\n", v.setup, v.solve,
+    out("| multigrid W-cycles | blob 1e4 | %.2f | %.2f | %d | %.3f | %.2f |\n", v.setup, v.solve,
         v.cycles, v.rate, (double)v.bytes / (1024.0 * 1024.0 * 1024.0));
     problem_free(&pb);
     problem_init(&pb, n, 1.0);
@@ -250,7 +257,7 @@ static void section_big(void)
     out("| multigrid PCG | a = 1 | %.2f | %.2f | %d | %.3f | %.2f |\n", u.setup, u.solve, u.cycles,
         u.rate, (double)u.bytes / (1024.0 * 1024.0 * 1024.0));
     struct result w = run(&pb, NULL, 0, 1e-10, 100);
-    out("| multigrid V-cycles | a = 1 | %.2f | %.2f | %d | %.3f | %.2f |\n", w.setup, w.solve,
+    out("| multigrid W-cycles | a = 1 | %.2f | %.2f | %d | %.3f | %.2f |\n", w.setup, w.solve,
         w.cycles, w.rate, (double)w.bytes / (1024.0 * 1024.0 * 1024.0));
     struct poisson_fft *ps = NULL;
     char err[256];

@@ -97,7 +97,8 @@ struct multigrid_stats {
  * <= rtol or max_cycles.  phi's ghost layer is overwritten with the values the
  * conditions imply (periodic images, mirror for Neumann, negated mirror for
  * Dirichlet), so a gradient can be taken right away.  rhs must not alias phi.
- * Returns 0 when converged, 1 otherwise.  stats may be NULL. */
+ * Returns 0 when converged, 1 otherwise, -1 (nothing done) when no valid
+ * coefficients were set.  stats may be NULL. */
 int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
                     int max_cycles, struct multigrid_stats *stats);
 
@@ -106,11 +107,12 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats);
 
-/* One cycle from a zero initial guess: z ~ L^-1 r (a symmetric linear map,
- * usable as a preconditioner; r is read on the interior, z's interior is
- * written and its ghosts overwritten; r must not alias z nor the solver's own
- * work arrays).  r should be zero on dead cells and, for a singular problem,
- * have zero mean. */
+/* One cycle from a zero initial guess (coefficients set): z ~ L^-1 r, a
+ * symmetric linear map usable as a preconditioner.  r is read on the
+ * interior, z's interior is written and its ghosts overwritten; r must not
+ * alias z.  r should be zero on dead cells and, for a singular problem, have
+ * zero mean.  (multigrid_solve and multigrid_pcg call it on their own work
+ * arrays: do not call it from inside them.) */
 void multigrid_cycle(struct multigrid *mg, const double *r, double *z);
 
 /* y = L x on the interior, 0 on dead cells (x's ghosts are overwritten by the

@@ -1240,6 +1240,11 @@ static void add_to(const struct level *lv, double *x, const double *z)
 int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
                     int max_cycles, struct multigrid_stats *stats)
 {
+    if (!mg->ready) { /* no (valid) coefficients */
+        if (stats)
+            memset(stats, 0, sizeof(*stats));
+        return -1;
+    }
     struct level *l0 = &mg->lev[0];
     struct multigrid_stats st;
     const double shift = rhs_shift(mg, rhs);
@@ -1310,6 +1315,11 @@ static void cg_direction(const struct level *lv, double beta, double *p, const d
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats)
 {
+    if (!mg->ready) { /* no (valid) coefficients */
+        if (stats)
+            memset(stats, 0, sizeof(*stats));
+        return -1;
+    }
     struct level *l0 = &mg->lev[0];
     struct multigrid_stats st;
     const double shift = rhs_shift(mg, rhs);
