@@ -735,9 +735,23 @@ static void test_errors(void **state)
     assert_int_equal(multigrid_create(&mg, &p.g, bad, NULL, err, sizeof(err)), -1);
     assert_null(mg);
     assert_string_equal(err, "multigrid: periodic must be on both faces of direction x");
+    /* a solve without coefficients does nothing */
+    assert_int_equal(multigrid_create(&p.mg, &p.g, p.bc, NULL, err, sizeof(err)), 0);
+    struct multigrid_stats st;
+    assert_int_equal(multigrid_pcg(p.mg, p.rhs, p.phi, 1e-8, 10, &st), -1);
+    assert_int_equal(multigrid_solve(p.mg, p.rhs, p.phi, 1e-8, 10, NULL), -1);
+    multigrid_destroy(p.mg);
+    p.mg = NULL;
+    /* W-cycles at most */
+    struct multigrid_options o;
+    multigrid_default_options(&o);
+    o.gamma = 3;
+    assert_int_equal(multigrid_create(&mg, &p.g, p.bc, &o, err, sizeof(err)), -1);
     prob_setup(&p);
     p.a[2][grid_idx(&p.g, 1, 1, 2)] = -1.0;
     assert_int_equal(multigrid_set_coefficients(p.mg, p.a, err, sizeof(err)), -1);
+    assert_string_equal(err, "multigrid: coefficient -1 on face (1,1,2) of direction z");
+    assert_int_equal(multigrid_pcg(p.mg, p.rhs, p.phi, 1e-8, 10, &st), -1);
     p.a[2][grid_idx(&p.g, 1, 1, 2)] = NAN;
     assert_int_equal(multigrid_set_coefficients(p.mg, p.a, err, sizeof(err)), -1);
     /* a Neumann face is not read */
