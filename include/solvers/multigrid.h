@@ -89,7 +89,10 @@ struct multigrid_stats {
     double res0;           /* ||rhs - mean|| over the live cells (2-norm) */
     double rel;            /* final ||rhs - mean - L phi|| / res0 */
     double rate;           /* mean reduction per cycle, rel^(1/cycles) */
-    double history[MULTIGRID_HISTORY]; /* relative residual after cycle c+1 (first 64) */
+    double history[MULTIGRID_HISTORY];   /* relative residual after cycle c+1 (first 64) */
+    double reduction[MULTIGRID_HISTORY]; /* reduction by cycle c+1: history[c] over
+                                            history[c-1] (the first: over the initial
+                                            relative residual) */
 };
 
 /* Stationary cycles, phi <- phi + C(rhs - L phi), from the interior of phi

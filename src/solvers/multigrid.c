@@ -1206,8 +1206,10 @@ static void stats_init(struct multigrid_stats *st, double res0)
 
 static void stats_step(struct multigrid_stats *st, double rel)
 {
-    if (st->cycles < MULTIGRID_HISTORY)
+    if (st->cycles < MULTIGRID_HISTORY) {
         st->history[st->cycles] = rel;
+        st->reduction[st->cycles] = st->rel > 0.0 ? rel / st->rel : 0.0;
+    }
     st->cycles++;
     st->rel = rel;
 }
