@@ -113,8 +113,9 @@ fuzz:
 # `make bench` installs the plotting package (Debian's matplotlib, used through
 # /usr/bin/python3), builds the bench programs against build/libmuflow.a with
 # the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
-# cores, bounded on a busy machine) and writes bench/out/report.md with its PNG
-# plots, printing the tables.
+# cores, bounded on a busy machine, plus bench_multigrid: about 5 minutes on a
+# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB) and writes
+# bench/out/report.md with its PNG plots, printing the tables.
 BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
