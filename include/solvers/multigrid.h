@@ -75,7 +75,8 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
 
 /* Copies the face coefficients a[0..2] (>= 0 and finite on every face read),
  * coarsens them and factorises the coarsest level.  May be called again with
- * new coefficients (a new density field); allocates only the first time.
+ * new coefficients (a new density field): the level arrays are reused, only
+ * the coarsest level's (small) factorisation is rebuilt.
  * Returns 0, or -1 with a message (a negative or non-finite coefficient, the
  * coarsest factorisation failing). */
 int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
@@ -114,8 +115,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
  * symmetric linear map usable as a preconditioner.  r is read on the
  * interior, z's interior is written and its ghosts overwritten; r must not
  * alias z.  r should be zero on dead cells and, for a singular problem, have
- * zero mean.  (multigrid_solve and multigrid_pcg call it on their own work
- * arrays: do not call it from inside them.) */
+ * zero mean. */
 void multigrid_cycle(struct multigrid *mg, const double *r, double *z);
 
 /* y = L x on the interior, 0 on dead cells (x's ghosts are overwritten by the
