@@ -702,6 +702,20 @@ if any(studies.values()):
     md.append("")
 
 
+# ---------------------------------------------------------------------------
+# Multigrid (bench_multigrid): its markdown tables, headings moved one level down
+mgp = os.path.join(OUT, "multigrid.md")
+if os.path.exists(mgp):
+    with open(mgp) as f:
+        lines = f.read().splitlines()
+    md.append("## 6. Multigrid Poisson solver\n")
+    md.append("Geometric multigrid for div(a grad phi) = f (`src/solvers/multigrid.c`, "
+              "docs/design.md \"Multigrid\"), from `bench_multigrid`:\n")
+    for line in lines:
+        if line.startswith("# "):
+            continue  # its own title
+        md.append("#" + line if line.startswith("#") else line)
+    md.append("")
 md.append(capacity_note([sm.get("capacity_start"), sm.get("capacity_end")],
                         "the scene benchmarks (start, end)") + "\n")
 md.append("\n---\nRun time: scenes "

@@ -22,10 +22,13 @@
  * Method (docs/design.md, "Multigrid", has the measurements): a hierarchy of
  * local boxes halved in every direction that is even and not much coarser
  * than the finest spacing (directions of one cell are never coarsened), red-
- * black Gauss-Seidel smoothing, restriction the transpose of the prolongation
- * (cell-centred trilinear by default), coarse operators rediscretised from
- * averaged coefficients, the coarsest level factorised by CHOLMOD.  The V-cycle
- * is symmetric, so it serves as a CG preconditioner (multigrid_pcg).
+ * black Gauss-Seidel smoothing, operator-dependent (flux-continuous)
+ * prolongation and its transpose as restriction, coarse operators
+ * rediscretised from the fine faces each coarse face covers, W-cycles, the
+ * coarsest level factorised by CHOLMOD.  The cycle is symmetric, so it serves
+ * as a CG preconditioner: multigrid_pcg is the robust solver (rough or
+ * strongly varying coefficients); multigrid_solve (stationary cycles) is
+ * enough for piecewise-smooth coefficients.
  *
  * Every array argument is a field array of the grid given to create (grid.h
  * layout).  Nothing is allocated by the solves, the cycle or apply. */
@@ -44,8 +47,10 @@ enum multigrid_prolong {
     MG_PROLONG_CONSTANT    /* injection into the children */
 };
 enum multigrid_average {
-    MG_AVERAGE_HARMONIC = 0, /* harmonic along the face normal, arithmetic across */
-    MG_AVERAGE_ARITHMETIC    /* arithmetic mean of the fine faces the coarse face covers */
+    MG_AVERAGE_HARMONIC = 0, /* series resistance of three fine faces along the normal,
+                                arithmetic across (measured worse: design.md) */
+    MG_AVERAGE_ARITHMETIC    /* arithmetic mean of the fine faces the coarse face covers
+                                (the default) */
 };
 
 struct multigrid_options {
@@ -54,10 +59,12 @@ struct multigrid_options {
     enum multigrid_prolong prolong;
     enum multigrid_average average;
     long coarse_cells;      /* stop coarsening at or below this many cells */
+    int gamma;              /* coarse visits per level: 1 V-cycle, 2 W-cycle */
 };
 
-/* The defaults chosen by measurement: V(2,2), linear prolongation, harmonic
- * averaging, coarsest level of at most 64 cells (when sizes allow). */
+/* The defaults chosen by measurement: W(2,2), flux prolongation, coincident
+ * (arithmetic) coarse coefficients, coarsest level of at most 64 cells (when
+ * the sizes allow). */
 void multigrid_default_options(struct multigrid_options *o);
 
 /* Builds the level hierarchy for grid g and conditions bc[d][side] (opt NULL:
@@ -68,7 +75,8 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
 
 /* Copies the face coefficients a[0..2] (>= 0 and finite on every face read),
  * coarsens them and factorises the coarsest level.  May be called again with
- * new coefficients (a new density field); allocates only the first time.
+ * new coefficients (a new density field): the level arrays are reused, only
+ * the coarsest level's (small) factorisation is rebuilt.
  * Returns 0, or -1 with a message (a negative or non-finite coefficient, the
  * coarsest factorisation failing). */
 int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
@@ -77,36 +85,41 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 #define MULTIGRID_HISTORY 64
 
 struct multigrid_stats {
-    int cycles;            /* V-cycles (multigrid_solve) or PCG iterations (multigrid_pcg) */
+    int cycles;            /* cycles (multigrid_solve) or PCG iterations (multigrid_pcg) */
     int converged;         /* relative residual <= rtol */
     double res0;           /* ||rhs - mean|| over the live cells (2-norm) */
     double rel;            /* final ||rhs - mean - L phi|| / res0 */
     double rate;           /* mean reduction per cycle, rel^(1/cycles) */
-    double history[MULTIGRID_HISTORY]; /* relative residual after cycle c+1 (first 64) */
+    double history[MULTIGRID_HISTORY];   /* relative residual after cycle c+1 (first 64) */
+    double reduction[MULTIGRID_HISTORY]; /* reduction by cycle c+1: history[c] over
+                                            history[c-1] (the first: over the initial
+                                            relative residual) */
 };
 
-/* Stationary V-cycles, phi <- phi + V(rhs - L phi), from the interior of phi
+/* Stationary cycles, phi <- phi + C(rhs - L phi), from the interior of phi
  * as initial guess (zero it for a fresh solve), until the relative residual is
  * <= rtol or max_cycles.  phi's ghost layer is overwritten with the values the
  * conditions imply (periodic images, mirror for Neumann, negated mirror for
  * Dirichlet), so a gradient can be taken right away.  rhs must not alias phi.
- * Returns 0 when converged, 1 otherwise.  stats may be NULL. */
+ * Returns 0 when converged, 1 otherwise, -1 (nothing done) when no valid
+ * coefficients were set.  stats may be NULL. */
 int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
                     int max_cycles, struct multigrid_stats *stats);
 
-/* The same problem by conjugate gradients preconditioned with one V-cycle per
+/* The same problem by conjugate gradients preconditioned with one cycle per
  * iteration (the robust choice at large coefficient jumps, see design.md). */
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats);
 
-/* One V-cycle from a zero initial guess: z ~ L^-1 r (a symmetric linear map,
- * usable as a preconditioner; r is read on the interior, z's interior is
- * written and its ghosts overwritten; r must not alias z nor the solver's own
- * work arrays).  r should be zero on dead cells and, for a singular problem,
- * have zero mean. */
-void multigrid_vcycle(struct multigrid *mg, const double *r, double *z);
+/* One cycle from a zero initial guess (coefficients set): z ~ L^-1 r, a
+ * symmetric linear map usable as a preconditioner.  r is read on the
+ * interior, z's interior is written and its ghosts overwritten; r must not
+ * alias z.  r should be zero on dead cells and, for a singular problem, have
+ * zero mean. */
+void multigrid_cycle(struct multigrid *mg, const double *r, double *z);
 
-/* y = L x on the interior (x's ghosts are overwritten by the halo fill). */
+/* y = L x on the interior, 0 on dead cells (x's ghosts are overwritten by the
+ * halo fill). */
 void multigrid_apply(struct multigrid *mg, double *x, double *y);
 
 /* The level hierarchy: number of levels, cells of level l. */

@@ -41,7 +41,7 @@
 #define MAX_LEVELS 32
 #define MAX_THREADS 256
 #define PAD 8                  /* doubles between per-thread partial sums (one cache line) */
-#define PAR_CELLS 8192         /* smaller levels run on one thread: fork/join costs more */
+#define PAR_CELLS 16384        /* smaller levels run on one thread: fork/join costs more */
 #define ANISO_CELLS 4096       /* above this, coarsen anisotropically rather than stop */
 
 enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
@@ -59,7 +59,7 @@ struct level {
     /* prolongation from level l+1 into this level: along d, fine cell i takes
      * (1 - w) of its parent pi[d][2i] and w of the coarse neighbour
      * pi[d][2i+1] nearer to it (a ghost, -1 or nc, at the ends), w = pw[d] at
-     * the cell (NULL: direction not halved, w = 0) */
+     * the cell (0 along a direction not halved) */
     int *pi[3];
     double *pw[3];
     int par;               /* run the loops of this level with OpenMP */
@@ -105,25 +105,46 @@ void multigrid_default_options(struct multigrid_options *o)
     o->pre = 2;
     o->post = 2;
     o->prolong = MG_PROLONG_FLUX;
-    o->average = MG_AVERAGE_HARMONIC;
+    o->average = MG_AVERAGE_ARITHMETIC;
     o->coarse_cells = 64;
+    o->gamma = 2;
 }
 
 /* ---- halo fills: the only writers of ghost values ------------------------------ */
 
-/* Cell field f on level lv.  Directions in order, each over the ghost-extended
- * range of the directions before it, so edges and corners are filled too (the
- * trilinear transfers read them).  Periodic: wrap; otherwise 0 (operator),
- * the conditions' value (mirror) or the mirror whatever the condition (even:
- * the transfer weights). */
+/* The two ghosts of one grid line along d (see halo_fill). */
+static inline void halo_pair(double *f, const struct grid *g, int d, int e1, int e2, int u,
+                             int v, int src_lo, int src_hi, double s_lo, double s_hi)
+{
+    int c[3];
+    c[e1] = u;
+    c[e2] = v;
+    c[d] = 0;
+    const ptrdiff_t base = grid_idx(g, c[0], c[1], c[2]), sd = g->stride[d];
+    const int n = g->n[d];
+    f[base - sd] = s_lo * f[base + (ptrdiff_t)src_lo * sd];
+    f[base + (ptrdiff_t)n * sd] = s_hi * f[base + (ptrdiff_t)src_hi * sd];
+}
+
+/* Cell field f on level lv (orphaned worksharing: call it from every thread of
+ * a team, or outside a parallel region).  Periodic: wrap; otherwise 0
+ * (operator), the conditions' value (mirror) or the mirror whatever the
+ * condition (even: the transfer weights).  The transfer kinds go direction by
+ * direction, each over the ghost-extended range of the directions before it,
+ * so edges and corners are filled too (the transfers read them). */
 static void halo_fill(const struct multigrid *mg, const struct level *lv, double *f,
                       enum halo_kind kind)
 {
     const struct grid *g = &lv->g;
+    /* the 7-point operator reads face ghosts only: the three directions then
+     * write disjoint ghost sets from interior values and need no barrier
+     * between them (one at the end) -- two barriers fewer per half sweep */
+    const int faces_only = kind == HALO_OPERATOR;
     for (int d = 0; d < 3; d++) {
         const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
-        const int lo1 = e1 < d ? -1 : 0, hi1 = e1 < d ? g->n[e1] + 1 : g->n[e1];
-        const int lo2 = e2 < d ? -1 : 0, hi2 = e2 < d ? g->n[e2] + 1 : g->n[e2];
+        const int ext1 = e1 < d && !faces_only, ext2 = e2 < d && !faces_only;
+        const int lo1 = ext1 ? -1 : 0, hi1 = ext1 ? g->n[e1] + 1 : g->n[e1];
+        const int lo2 = ext2 ? -1 : 0, hi2 = ext2 ? g->n[e2] + 1 : g->n[e2];
         const int n = g->n[d];
         int src_lo, src_hi;
         double s_lo, s_hi;
@@ -143,18 +164,20 @@ static void halo_fill(const struct multigrid *mg, const struct level *lv, double
                 s_hi = mg->bc[d][1] == POISSON_DIRICHLET ? -1.0 : 1.0;
             }
         }
-        const ptrdiff_t sd = g->stride[d];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
-        for (int u = lo1; u < hi1; u++)
-            for (int v = lo2; v < hi2; v++) {
-                int c[3];
-                c[e1] = u;
-                c[e2] = v;
-                c[d] = 0;
-                const ptrdiff_t base = grid_idx(g, c[0], c[1], c[2]);
-                f[base - sd] = s_lo * f[base + (ptrdiff_t)src_lo * sd];
-                f[base + (ptrdiff_t)n * sd] = s_hi * f[base + (ptrdiff_t)src_hi * sd];
-            }
+        if (faces_only) {
+#pragma omp for collapse(2) schedule(static) nowait
+            for (int u = lo1; u < hi1; u++)
+                for (int v = lo2; v < hi2; v++)
+                    halo_pair(f, g, d, e1, e2, u, v, src_lo, src_hi, s_lo, s_hi);
+        } else {
+#pragma omp for collapse(2) schedule(static)
+            for (int u = lo1; u < hi1; u++)
+                for (int v = lo2; v < hi2; v++)
+                    halo_pair(f, g, d, e1, e2, u, v, src_lo, src_hi, s_lo, s_hi);
+        }
+    }
+    if (faces_only) {
+#pragma omp barrier
     }
 }
 
@@ -302,7 +325,7 @@ static void smooth_colour(const struct level *lv, int colour)
     const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double *restrict b = lv->b;
     double *restrict x = lv->x;
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -330,7 +353,7 @@ static void residual(const struct level *lv, const double *x, const double *b, d
     const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
     const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double sign = b ? -1.0 : 1.0;
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -352,7 +375,7 @@ static void zero_interior(const struct level *lv, double *f)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             double *row = f + grid_idx(g, i, j, 0);
@@ -371,13 +394,21 @@ static void zero_interior(const struct level *lv, double *f)
  * f->r's ghosts are in HALO_MIRROR mode and the weights' in HALO_EVEN: a fine
  * ghost then carries the condition's sign and its mirror cell's weight, which
  * is exactly the transpose of the prolongation reading a coarse ghost. */
-static void restrict_residual(const struct level *f, struct level *c)
+static void restrict_residual(const struct multigrid *mg, const struct level *f,
+                              struct level *c)
 {
     const struct grid *gf = &f->g, *gc = &c->g;
     int off[3][4], par[3][4], cnt[3], m[3];
     double scale = 1.0;
     for (int d = 0; d < 3; d++) {
-        if (c->coarse[d]) {
+        if (c->coarse[d] && mg->opt.prolong == MG_PROLONG_CONSTANT) {
+            /* w = 0: only the two children, the neighbours' weight is 0 */
+            off[d][0] = 0, off[d][1] = 1;
+            par[d][0] = par[d][1] = 1;
+            cnt[d] = 2;
+            m[d] = 2;
+            scale *= 0.5;
+        } else if (c->coarse[d]) {
             static const int o[4] = {-1, 0, 1, 2}, pa[4] = {0, 1, 1, 0};
             for (int t = 0; t < 4; t++)
                 off[d][t] = o[t], par[d][t] = pa[t];
@@ -392,36 +423,45 @@ static void restrict_residual(const struct level *f, struct level *c)
         }
     }
     const double *restrict r = f->r;
-    const double *wd[3] = {f->pw[0], f->pw[1], f->pw[2]};
+    const double *restrict wx = f->pw[0], *restrict wy = f->pw[1], *restrict wz = f->pw[2];
+    /* the weight of a fine cell towards I along d is A + B w: (1, -1) for its
+     * parent, (0, 1) for its neighbour (branch-free inner loop) */
+    double A[3][4], B[3][4];
+    for (int d = 0; d < 3; d++)
+        for (int t = 0; t < cnt[d]; t++) {
+            A[d][t] = par[d][t] ? 1.0 : 0.0;
+            B[d][t] = par[d][t] ? -1.0 : 1.0;
+        }
     double *restrict b = c->bbuf;
     const unsigned char *live = c->live;
     const int nx = gc->n[0], ny = gc->n[1], nz = gc->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (c->par)
+#pragma omp for collapse(2) schedule(static)
     for (int I = 0; I < nx; I++)
-        for (int J = 0; J < ny; J++)
-            for (int K = 0; K < nz; K++) {
-                double s = 0.0;
-                for (int p = 0; p < cnt[0]; p++) {
-                    const int fi = m[0] * I + off[0][p];
-                    for (int q = 0; q < cnt[1]; q++) {
-                        const int fj = m[1] * J + off[1][q];
-                        const ptrdiff_t base = grid_idx(gf, fi, fj, 0);
-                        for (int t = 0; t < cnt[2]; t++) {
-                            const ptrdiff_t pf = base + m[2] * K + off[2][t];
-                            double w = 1.0;
-                            if (wd[0])
-                                w *= par[0][p] ? 1.0 - wd[0][pf] : wd[0][pf];
-                            if (wd[1])
-                                w *= par[1][q] ? 1.0 - wd[1][pf] : wd[1][pf];
-                            if (wd[2])
-                                w *= par[2][t] ? 1.0 - wd[2][pf] : wd[2][pf];
-                            s += w * r[pf];
+        for (int J = 0; J < ny; J++) {
+            double *restrict brow = b + grid_idx(gc, I, J, 0);
+            for (int K = 0; K < nz; K++)
+                brow[K] = 0.0;
+            for (int p = 0; p < cnt[0]; p++) {
+                const int fi = m[0] * I + off[0][p];
+                for (int q = 0; q < cnt[1]; q++) {
+                    const int fj = m[1] * J + off[1][q];
+                    const ptrdiff_t base = grid_idx(gf, fi, fj, 0);
+                    const double ax = A[0][p], bx = B[0][p], ay = A[1][q], by = B[1][q];
+                    for (int t = 0; t < cnt[2]; t++) {
+                        const double az = A[2][t], bz = B[2][t];
+                        const int o = off[2][t], mz = m[2];
+                        for (int K = 0; K < nz; K++) {
+                            const ptrdiff_t pf = base + mz * K + o;
+                            brow[K] += (ax + bx * wx[pf]) * (ay + by * wy[pf]) *
+                                       (az + bz * wz[pf]) * r[pf];
                         }
                     }
                 }
-                const ptrdiff_t pc = grid_idx(gc, I, J, K);
-                b[pc] = live[pc] ? scale * s : 0.0;
             }
+            const unsigned char *lrow = live + grid_idx(gc, I, J, 0);
+            for (int K = 0; K < nz; K++)
+                brow[K] = lrow[K] ? scale * brow[K] : 0.0;
+        }
 }
 
 /* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode. */
@@ -435,7 +475,7 @@ static void prolong_add(const struct level *f, const struct level *c)
     double *restrict x = f->x;
     const unsigned char *live = f->live;
     const ptrdiff_t csx = gc->stride[0], csy = gc->stride[1];
-#pragma omp parallel for collapse(2) schedule(static) if (f->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(gf, i, j, 0);
@@ -448,7 +488,7 @@ static void prolong_add(const struct level *f, const struct level *c)
                 if (!live[p])
                     continue;
                 const ptrdiff_t k0 = iz[2 * k] + 1, k1 = iz[2 * k + 1] + 1;
-                const double ux = wx ? wx[p] : 0.0, uy = wy ? wy[p] : 0.0, uz = wz ? wz[p] : 0.0;
+                const double ux = wx[p], uy = wy[p], uz = wz[p];
                 const double z0 = 1.0 - uz, z1 = uz;
                 const double v = (1.0 - ux) * ((1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
                                                uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1])) +
@@ -481,10 +521,11 @@ static void transfer_weights(const struct multigrid *mg, struct level *f, const 
     const struct grid *g = &f->g;
     for (int d = 0; d < 3; d++) {
         double *w = f->pw[d];
-        if (!w)
-            continue;
+        if (!c->coarse[d])
+            continue; /* stays 0 */
         const int n = g->n[d], per = mg->periodic[d];
         const ptrdiff_t sd = g->stride[d];
+#pragma omp parallel for collapse(2) schedule(static) if (f->par)
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
                 for (int k = 0; k < g->n[2]; k++) {
@@ -558,31 +599,30 @@ static void coarsen_coefficients(const struct multigrid *mg, const struct level 
         const int nc = gc->n[d], per = mg->periodic[d], halved = c->coarse[d];
         const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1;
         const double inv = 1.0 / (n1 * n2);
-        const int faces = per ? nc : nc + 1;
+        int hi[3] = {gc->n[0], gc->n[1], gc->n[2]};
+        hi[d] = per ? nc : nc + 1;
         const double *fa = f->a[d];
         double *ca = c->a[d];
         const ptrdiff_t sd = gf->stride[d];
         const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && halved;
-        for (int I = 0; I < faces; I++)
-            for (int u = 0; u < gc->n[e1]; u++)
-                for (int v = 0; v < gc->n[e2]; v++) {
-                    const int boundary = !per && (I == 0 || I == nc);
+#pragma omp parallel for collapse(2) schedule(static) if (c->par)
+        for (int I = 0; I < hi[0]; I++)
+            for (int J = 0; J < hi[1]; J++)
+                for (int K = 0; K < hi[2]; K++) {
+                    const int cc[3] = {I, J, K};
+                    const int boundary = !per && (cc[d] == 0 || cc[d] == nc);
                     double s = 0.0;
                     for (int p = 0; p < n1; p++)
                         for (int q = 0; q < n2; q++) {
                             int fc[3];
-                            fc[d] = halved ? 2 * I : I;
-                            fc[e1] = n1 * u + p;
-                            fc[e2] = n2 * v + q;
+                            fc[d] = halved ? 2 * cc[d] : cc[d];
+                            fc[e1] = n1 * cc[e1] + p;
+                            fc[e2] = n2 * cc[e2] + q;
                             const ptrdiff_t pf = grid_idx(gf, fc[0], fc[1], fc[2]);
                             s += harmonic && !boundary ? harmonic3(fa[pf - sd], fa[pf], fa[pf + sd])
                                                        : fa[pf];
                         }
-                    int cc[3];
-                    cc[d] = I;
-                    cc[e1] = u;
-                    cc[e2] = v;
-                    ca[grid_idx(gc, cc[0], cc[1], cc[2])] = s * inv;
+                    ca[grid_idx(gc, I, J, K)] = s * inv;
                 }
     }
 }
@@ -599,8 +639,8 @@ static void finish_level_coefficients(const struct multigrid *mg, struct level *
         halo_faces(mg, lv, lv->a[d], d);
     }
     const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
-    for (size_t p = 0; p < g->size; p++)
-        lv->live[p] = 0;
+    memset(lv->live, 0, g->size); /* ghosts: dead */
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -880,7 +920,9 @@ static int build_prolongation(struct level *f, const struct level *c)
                 ci[1] = (i & 1) ? i / 2 + 1 : i / 2 - 1;
             }
         }
-        if (c->coarse[d] && !(f->pw[d] = field_alloc(&f->g)))
+        /* a direction not halved has w = 0 (field_alloc zeroes), kept as an
+         * array so that the transfer loops have no branches */
+        if (!(f->pw[d] = field_alloc(&f->g)))
             return -1;
     }
     return 0;
@@ -925,6 +967,11 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         mg->opt = *opt;
     else
         multigrid_default_options(&mg->opt);
+    if (mg->opt.gamma < 1 || mg->opt.gamma > 2) {
+        free(mg);
+        set_err(err, errlen, "multigrid: gamma must be 1 (V-cycle) or 2 (W-cycle)");
+        return -1;
+    }
     if (mg->opt.pre < 0 || mg->opt.post < 0 || mg->opt.pre + mg->opt.post < 1) {
         free(mg);
         set_err(err, errlen, "multigrid: need at least one smoothing sweep");
@@ -1005,32 +1052,36 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
     const struct grid *g = &l0->g;
     mg->ready = 0;
     for (int d = 0; d < 3; d++) {
-        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
-        const int per = mg->periodic[d];
-        const int faces = per ? n : n + 1;
-        for (int I = 0; I < faces; I++)
-            for (int u = 0; u < g->n[e1]; u++)
-                for (int v = 0; v < g->n[e2]; v++) {
-                    int c[3];
-                    c[d] = I;
-                    c[e1] = u;
-                    c[e2] = v;
-                    const ptrdiff_t p = grid_idx(g, c[0], c[1], c[2]);
-                    double val = a[d][p];
-                    int side = I == 0 ? 0 : 1;
-                    int boundary = !per && (I == 0 || I == n);
-                    if (boundary && mg->bc[d][side] == POISSON_NEUMANN) {
+        const int n = g->n[d], per = mg->periodic[d];
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[d] = per ? n : n + 1; /* the faces read: a periodic direction's face n is face 0 */
+        const double *src = a[d];
+        double *dst = l0->a[d];
+        long bad = -1;
+#pragma omp parallel for collapse(2) schedule(static) if (l0->par) reduction(max : bad)
+        for (int i = 0; i < hi[0]; i++)
+            for (int j = 0; j < hi[1]; j++)
+                for (int k = 0; k < hi[2]; k++) {
+                    const int c[3] = {i, j, k}, t = c[d];
+                    const ptrdiff_t p = grid_idx(g, i, j, k);
+                    const int boundary = !per && (t == 0 || t == n);
+                    double val = src[p];
+                    if (boundary && mg->bc[d][t == 0 ? 0 : 1] == POISSON_NEUMANN)
                         val = 0.0; /* not read */
-                    } else if (!(val >= 0.0) || !isfinite(val)) {
-                        set_err(err, errlen,
-                                "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
-                                val, c[0], c[1], c[2], "xyz"[d]);
-                        return -1;
-                    } else if (boundary) {
+                    else if (!(val >= 0.0) || !isfinite(val))
+                        bad = p > bad ? p : bad;
+                    else if (boundary)
                         val *= 2.0; /* Dirichlet: half a cell from the centre to the face */
-                    }
-                    l0->a[d][p] = val;
+                    dst[p] = val;
                 }
+        if (bad >= 0) {
+            const int i = (int)(bad / g->stride[0]) - 1;
+            const int j = (int)((bad % g->stride[0]) / g->stride[1]) - 1;
+            const int k = (int)(bad % g->stride[1]) - 1;
+            set_err(err, errlen, "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
+                    src[bad], i, j, k, "xyz"[d]);
+            return -1;
+        }
     }
     finish_level_coefficients(mg, l0);
     for (int l = 1; l < mg->nlev; l++) {
@@ -1039,6 +1090,7 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
         transfer_weights(mg, &mg->lev[l - 1], &mg->lev[l]);
     }
     long live = 0;
+#pragma omp parallel for schedule(static) if (l0->par) reduction(+ : live)
     for (size_t p = 0; p < g->size; p++)
         live += l0->live[p];
     mg->live = live;
@@ -1050,7 +1102,11 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 
 /* ---- cycles and solvers -------------------------------------------------------- */
 
-static void smooth(struct multigrid *mg, struct level *lv, int first_colour, int sweeps)
+/* Called by every thread of a team (or outside any parallel region): the
+ * kernels are orphaned worksharing loops, whose implicit barriers order the
+ * half sweeps and their halo fills. */
+static void smooth(const struct multigrid *mg, const struct level *lv, int first_colour,
+                   int sweeps)
 {
     for (int s = 0; s < sweeps; s++)
         for (int c = 0; c < 2; c++) {
@@ -1059,10 +1115,12 @@ static void smooth(struct multigrid *mg, struct level *lv, int first_colour, int
         }
 }
 
-/* V-cycle on level l from x = 0: pre-smoothing red then black, post-smoothing
- * black then red (the adjoint order), restriction the scaled transpose of the
- * prolongation, an exact coarsest solve: a symmetric linear map. */
-static void vcycle_from(struct multigrid *mg, int l)
+/* Cycle on level l from x = 0 (warm: from the current x): pre-smoothing red
+ * then black, post-smoothing black then red (the adjoint order), restriction
+ * the scaled transpose of the prolongation, gamma cycles on the next level
+ * (1: V, 2: W; the later ones warm), an exact coarsest solve: a symmetric
+ * linear map of b. */
+static void cycle_from(struct multigrid *mg, int l, int warm)
 {
     struct level *lv = &mg->lev[l];
     if (l == mg->nlev - 1) {
@@ -1070,31 +1128,56 @@ static void vcycle_from(struct multigrid *mg, int l)
         return;
     }
     struct level *lc = &mg->lev[l + 1];
-    zero_interior(lv, lv->x);
-    smooth(mg, lv, 0, mg->opt.pre);
-    halo_fill(mg, lv, lv->x, HALO_OPERATOR);
-    residual(lv, lv->x, lv->b, 0.0, lv->r);
-    halo_fill(mg, lv, lv->r, HALO_MIRROR);
-    restrict_residual(lv, lc);
-    vcycle_from(mg, l + 1);
-    halo_fill(mg, lc, lc->x, HALO_MIRROR);
-    prolong_add(lv, lc);
-    smooth(mg, lv, 1, mg->opt.post);
+    /* two parallel regions per level and cycle: fork/join costs more than the
+     * loops of a small level, and much more on a loaded machine */
+#pragma omp parallel if (lv->par)
+    {
+        if (!warm)
+            zero_interior(lv, lv->x);
+        smooth(mg, lv, 0, mg->opt.pre);
+        halo_fill(mg, lv, lv->x, HALO_OPERATOR);
+        residual(lv, lv->x, lv->b, 0.0, lv->r);
+        halo_fill(mg, lv, lv->r, HALO_MIRROR);
+        restrict_residual(mg, lv, lc);
+    }
+    const int visits = l + 1 == mg->nlev - 1 ? 1 : mg->opt.gamma; /* exact there */
+    for (int v = 0; v < visits; v++)
+        cycle_from(mg, l + 1, v > 0);
+#pragma omp parallel if (lv->par)
+    {
+        halo_fill(mg, lc, lc->x, HALO_MIRROR);
+        prolong_add(lv, lc);
+        smooth(mg, lv, 1, mg->opt.post);
+    }
 }
 
-void multigrid_vcycle(struct multigrid *mg, const double *r, double *z)
+void multigrid_cycle(struct multigrid *mg, const double *r, double *z)
 {
     mg->lev[0].b = r;
     mg->lev[0].x = z;
-    vcycle_from(mg, 0);
+    cycle_from(mg, 0, 0);
     mg->lev[0].b = NULL;
     mg->lev[0].x = NULL;
 }
 
 void multigrid_apply(struct multigrid *mg, double *x, double *y)
 {
-    halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
-    residual(&mg->lev[0], x, NULL, 0.0, y);
+#pragma omp parallel if (mg->lev[0].par)
+    {
+        halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
+        residual(&mg->lev[0], x, NULL, 0.0, y);
+    }
+}
+
+/* r = rhs - shift - L phi (phi's ghosts filled here) */
+static void fine_residual(struct multigrid *mg, double *phi, const double *rhs, double shift,
+                          double *r)
+{
+#pragma omp parallel if (mg->lev[0].par)
+    {
+        halo_fill(mg, &mg->lev[0], phi, HALO_OPERATOR);
+        residual(&mg->lev[0], phi, rhs, shift, r);
+    }
 }
 
 static int singular(const struct multigrid *mg)
@@ -1122,14 +1205,17 @@ static void finish_phi(struct multigrid *mg, double *phi)
     const struct grid *g = &l0->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const unsigned char *live = l0->live;
-#pragma omp parallel for collapse(2) schedule(static) if (l0->par)
-    for (int i = 0; i < nx; i++)
-        for (int j = 0; j < ny; j++) {
-            const ptrdiff_t row = grid_idx(g, i, j, 0);
-            for (int k = 0; k < nz; k++)
-                phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
-        }
-    halo_fill(mg, l0, phi, HALO_MIRROR);
+#pragma omp parallel if (l0->par)
+    {
+#pragma omp for collapse(2) schedule(static)
+        for (int i = 0; i < nx; i++)
+            for (int j = 0; j < ny; j++) {
+                const ptrdiff_t row = grid_idx(g, i, j, 0);
+                for (int k = 0; k < nz; k++)
+                    phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
+            }
+        halo_fill(mg, l0, phi, HALO_MIRROR);
+    }
 }
 
 static void stats_init(struct multigrid_stats *st, double res0)
@@ -1142,8 +1228,10 @@ static void stats_init(struct multigrid_stats *st, double res0)
 
 static void stats_step(struct multigrid_stats *st, double rel)
 {
-    if (st->cycles < MULTIGRID_HISTORY)
+    if (st->cycles < MULTIGRID_HISTORY) {
         st->history[st->cycles] = rel;
+        st->reduction[st->cycles] = st->rel > 0.0 ? rel / st->rel : 0.0;
+    }
     st->cycles++;
     st->rel = rel;
 }
@@ -1152,6 +1240,8 @@ static int stats_end(struct multigrid_stats *st, double rtol, struct multigrid_s
 {
     st->converged = st->rel <= rtol;
     st->rate = st->cycles > 0 && st->rel > 0.0 ? pow(st->rel, 1.0 / st->cycles) : 0.0;
+    if (!isfinite(st->rel))
+        st->rate = INFINITY; /* diverged */
     if (out)
         *out = *st;
     return st->converged ? 0 : 1;
@@ -1162,7 +1252,7 @@ static void add_to(const struct level *lv, double *x, const double *z)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1174,25 +1264,30 @@ static void add_to(const struct level *lv, double *x, const double *z)
 int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
                     int max_cycles, struct multigrid_stats *stats)
 {
+    if (!mg->ready) { /* no (valid) coefficients */
+        if (stats)
+            memset(stats, 0, sizeof(*stats));
+        return -1;
+    }
     struct level *l0 = &mg->lev[0];
     struct multigrid_stats st;
     const double shift = rhs_shift(mg, rhs);
     const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
     stats_init(&st, res0);
     if (!(res0 > 0.0)) {
+#pragma omp parallel if (l0->par)
         zero_interior(l0, phi);
         st.rel = 0.0;
         finish_phi(mg, phi);
         return stats_end(&st, rtol, stats);
     }
-    halo_fill(mg, l0, phi, HALO_OPERATOR);
-    residual(l0, phi, rhs, shift, mg->wr);
+    fine_residual(mg, phi, rhs, shift, mg->wr);
     st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
     while (st.rel > rtol && st.cycles < max_cycles) {
-        multigrid_vcycle(mg, mg->wr, mg->wz);
+        multigrid_cycle(mg, mg->wr, mg->wz);
+#pragma omp parallel if (l0->par)
         add_to(l0, phi, mg->wz);
-        halo_fill(mg, l0, phi, HALO_OPERATOR);
-        residual(l0, phi, rhs, shift, mg->wr);
+        fine_residual(mg, phi, rhs, shift, mg->wr);
         stats_step(&st, sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0);
     }
     finish_phi(mg, phi);
@@ -1232,7 +1327,7 @@ static void cg_direction(const struct level *lv, double beta, double *p, const d
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+#pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1244,26 +1339,32 @@ static void cg_direction(const struct level *lv, double beta, double *p, const d
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats)
 {
+    if (!mg->ready) { /* no (valid) coefficients */
+        if (stats)
+            memset(stats, 0, sizeof(*stats));
+        return -1;
+    }
     struct level *l0 = &mg->lev[0];
     struct multigrid_stats st;
     const double shift = rhs_shift(mg, rhs);
     const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
     stats_init(&st, res0);
     if (!(res0 > 0.0)) {
+#pragma omp parallel if (l0->par)
         zero_interior(l0, phi);
         st.rel = 0.0;
         finish_phi(mg, phi);
         return stats_end(&st, rtol, stats);
     }
     double *r = mg->wr, *z = mg->wz, *p = mg->wp, *q = mg->wq;
-    halo_fill(mg, l0, phi, HALO_OPERATOR);
-    residual(l0, phi, rhs, shift, r);
+    fine_residual(mg, phi, rhs, shift, r);
     st.rel = sqrt(dot(mg, l0, r, r)) / res0;
     if (st.rel > rtol) {
-        multigrid_vcycle(mg, r, z);
+        multigrid_cycle(mg, r, z);
+#pragma omp parallel if (l0->par)
         cg_direction(l0, 0.0, p, z);
         double rz = dot(mg, l0, r, z);
-        /* L and the V-cycle are both negative definite on the live cells: CG's
+        /* L and the cycle are both negative definite on the live cells: CG's
          * iterates are those of the positive problem (-L, -V) */
         while (st.cycles < max_iter && rz != 0.0) {
             multigrid_apply(mg, p, q);
@@ -1275,8 +1376,9 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
             stats_step(&st, sqrt(rr) / res0);
             if (st.rel <= rtol)
                 break;
-            multigrid_vcycle(mg, r, z);
+            multigrid_cycle(mg, r, z);
             const double rz_new = dot(mg, l0, r, z);
+#pragma omp parallel if (l0->par)
             cg_direction(l0, rz_new / rz, p, z);
             rz = rz_new;
         }
@@ -1308,7 +1410,7 @@ size_t multigrid_bytes(const struct multigrid *mg)
         if (l > 0)
             b += 2 * f; /* x, b */
         for (int d = 0; d < 3; d++)
-            b += 2 * (size_t)lv->g.n[d] * sizeof(int) + (lv->pw[d] ? f : 0);
+            b += 2 * (size_t)lv->g.n[d] * sizeof(int) + (lv->pw[d] ? f : 0); /* pw: not on the coarsest */
     }
     b += 4 * mg->lev[0].g.size * sizeof(double); /* solver work arrays */
     const size_t cs = mg->lev[mg->nlev - 1].g.size;
