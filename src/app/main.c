@@ -93,6 +93,13 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     fflush(stdout);
 }
 
+/* A warning of the case loader (a key given twice in the file). */
+static void print_warning(void *ctx, const char *line)
+{
+    (void)ctx;
+    fprintf(stderr, "muflow: warning: %s\n", line);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
@@ -117,7 +124,8 @@ int main(int argc, char **argv)
             return 2;
         }
         opt.restart_from = path;
-    } else if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) != 0) {
+    } else if (case_load_warn(&cs, argv[1], argc - 2, argv + 2, print_warning, NULL, err,
+                              sizeof err) != 0) {
         fprintf(stderr, "muflow: %s\n", err);
         return 2;
     }

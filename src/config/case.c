@@ -136,6 +136,7 @@ static const struct key keys[] = {
 static const char *const sections[] = {"case", "domain", "boundary", "physics",
                                        "rheology", "solver", "output"};
 #define NSECTIONS ((int)(sizeof(sections) / sizeof(sections[0])))
+#define SCENE_KEYS_MAX 64 /* a scene's keys beyond this are not checked for duplicates */
 
 /* ------------------------------------------------------------------------ */
 
@@ -381,7 +382,31 @@ struct ctx {
     char *err;
     size_t errlen;
     unsigned char set[NKEYS]; /* core key given explicitly */
+    case_warn_fn warn;      /* warnings (duplicates in the file), or NULL */
+    void *warn_ctx;
+    int keys_given;         /* key lines of the file and overrides */
+    /* the file's last line and value of each key (core, then the scene's),
+     * and the first line of each section header, for the duplicate warnings */
+    int key_line[NKEYS + SCENE_KEYS_MAX];
+    const char *key_value[NKEYS + SCENE_KEYS_MAX];
+    int section_line[NSECTIONS + 1];
 };
+
+/* One warning line (control characters replaced), when a callback is set. */
+static void warn(struct ctx *x, const char *fmt, ...)
+{
+    if (!x->warn)
+        return;
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    for (char *p = msg; *p; p++)
+        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
+            *p = '?';
+    x->warn(x->warn_ctx, msg);
+}
 
 /* Records the first error only; the message is one line. */
 static void fail(struct ctx *x, const char *fmt, ...)
@@ -449,6 +474,56 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
     return 1;
 }
 
+/* Slot of key k in ctx's duplicate tables. */
+static int key_slot(const struct muflow_case *c, const struct key *k)
+{
+    if (k >= keys && k < keys + NKEYS)
+        return (int)(k - keys);
+    const struct key_block *kb = scene_keys(c);
+    int j = kb ? (int)(k - kb->keys) : -1;
+    return j >= 0 && j < SCENE_KEYS_MAX ? NKEYS + j : -1;
+}
+
+/* A key line of the file that was applied: warns when the same key was
+ * given on an earlier line of the file (the later value is used).
+ * Overrides replace file values by design and never warn. */
+static void note_file_key(struct ctx *x, const struct ini_event *v)
+{
+    char b1[SHOWN_MAX + 4], b2[SHOWN_MAX + 4], b3[SHOWN_MAX + 4];
+    const struct key *k = find_key(x->c, v->section, v->key, NULL);
+    int slot = k ? key_slot(x->c, k) : -1;
+    if (slot < 0)
+        return;
+    if (x->key_line[slot] > 0)
+        warn(x, "%s: %s.%s given twice: line %d (%s) and line %d (%s); line %d is used",
+             shown(x->where, b1), k->section, k->name, x->key_line[slot],
+             shown(x->key_value[slot], b2), v->line, shown(v->value, b3), v->line);
+    x->key_line[slot] = v->line;
+    x->key_value[slot] = v->value;
+}
+
+/* A [section] header of the file that was accepted: warns when the section
+ * was opened before (its keys are then read as one section). */
+static void note_file_section(struct ctx *x, const struct ini_event *v)
+{
+    char b[SHOWN_MAX + 4];
+    int slot = -1;
+    for (int i = 0; i < NSECTIONS; i++)
+        if (strcmp(v->section, sections[i]) == 0)
+            slot = i;
+    const struct key_block *kb = scene_keys(x->c);
+    if (slot < 0 && kb && strcmp(v->section, kb->section) == 0)
+        slot = NSECTIONS;
+    if (slot < 0)
+        return;
+    if (x->section_line[slot] > 0)
+        warn(x, "%s: section [%s] given twice: line %d and line %d (their keys are read as one "
+                "section)",
+             shown(x->where, b), v->section, x->section_line[slot], v->line);
+    else
+        x->section_line[slot] = v->line;
+}
+
 /* A [section] header of the file. */
 static int header(struct ctx *x, const char *name)
 {
@@ -474,6 +549,18 @@ static int key_index(const char *section, const char *name)
         if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
             return i;
     return -1;
+}
+
+/* "bagnold|chute|..." : the scenes other than none. */
+static const char *scene_names(void)
+{
+    static char names[512];
+    size_t used = 0;
+    names[0] = '\0';
+    for (int i = 1; i < scene_count() && used < sizeof names; i++)
+        used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", i > 1 ? "|" : "",
+                                 scene_at(i)->name);
+    return names;
 }
 
 static void finish(struct ctx *x)
@@ -550,6 +637,36 @@ static void finish(struct ctx *x)
         if (why)
             fail(x, "%s: default output.dir = %s: %s; set output.dir", where, shown(dir, b2), why);
     }
+    if (x->failed)
+        return;
+
+    /* The implicit viscous solve works along a non-periodic direction
+     * (solvers/viscous.c): a box periodic on every face cannot be run. */
+    if (c->bc.face[0][0] == BC_PERIODIC && c->bc.face[1][0] == BC_PERIODIC &&
+        c->bc.face[2][0] == BC_PERIODIC) {
+        if (x->keys_given == 0)
+            fail(x,
+                 "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
+                 "periodic on every face, which muflow cannot solve; a case needs at least one "
+                 "direction whose faces are wall, slip, surface or lid (boundary.*) and, to be "
+                 "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
+                 "complete examples, muflow --list lists every key",
+                 where, c->n[0], c->n[1], c->n[2], scene_names());
+        else
+            fail(x,
+                 "%s: every boundary face is periodic: muflow needs at least one direction "
+                 "whose faces are wall, slip, surface or lid (boundary.xlo/xhi, ylo/yhi or "
+                 "zlo/zhi); the implicit viscous solve works along it",
+                 where);
+        return;
+    }
+    if (c->line_direction >= 0 && c->bc.face[c->line_direction][0] == BC_PERIODIC) {
+        fail(x,
+             "%s: solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
+             "non-periodic direction (auto chooses one)",
+             where, axis[c->line_direction], axis[c->line_direction]);
+        return;
+    }
 }
 
 /* c->name: base name of path without directory and a trailing ".ini". */
@@ -615,6 +732,13 @@ static int scene_of(const struct ini_events *ev)
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen)
 {
+    return case_load_warn(c, path, noverrides, overrides, NULL, NULL, err, errlen);
+}
+
+int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
+                   char *const overrides[], case_warn_fn warn_fn, void *warn_ctx, char *err,
+                   size_t errlen)
+{
     struct muflow_case work;
     struct ctx x;
     memset(&x, 0, sizeof(x));
@@ -624,6 +748,8 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
     x.where = path ? path : "case";
     x.err = err;
     x.errlen = errlen;
+    x.warn = warn_fn;
+    x.warn_ctx = warn_ctx;
     if (err && errlen)
         err[0] = '\0';
 
@@ -639,14 +765,18 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
         fail(&x, "%s: out of memory", shown(x.where, b));
     int scene = scene_of(&ev);
     case_set_scene(&work, scene);
+    for (int i = 0; i < ev.count; i++)
+        x.keys_given += ev.ev[i].kind == INI_KEY;
     for (int i = 0; i < ev.count && !x.failed; i++) {
         const struct ini_event *v = &ev.ev[i];
         if (v->kind == INI_ERROR) {
             fail(&x, "%s", v->message);
         } else if (v->kind == INI_SECTION) {
-            header(&x, v->section);
+            if (header(&x, v->section))
+                note_file_section(&x, v);
         } else {
-            assign(&x, v->section, v->key, v->value, v->arg);
+            if (assign(&x, v->section, v->key, v->value, v->arg) && !v->arg)
+                note_file_key(&x, v);
             /* an earlier case.scene does not undo the scene of the first
              * pass: the last one is the case's, and its block is set up */
             work.scene = scene;
