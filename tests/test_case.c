@@ -637,7 +637,7 @@ static void test_number_text(void **state)
         double v;
     };
     const struct key k =
-        KEY_DBL(struct holder, "s", "v", v, KEY_RANGE(KEY_NONE_LO, KEY_NONE_HI, 0, 0));
+        KEY_DBL(struct holder, "s", "v", v, "a number", KEY_RANGE(KEY_NONE_LO, KEY_NONE_HI, 0, 0));
     static const struct {
         double v;
         const char *text;
@@ -692,6 +692,146 @@ static void test_number_text(void **state)
             }
         }
     }
+}
+
+/* Every key of the tables (core and each scene's section). */
+struct key_ref {
+    const char *section, *name, *help;
+};
+
+static int all_keys(struct key_ref *out, int cap)
+{
+    int n = 0;
+    for (int i = 0; i < case_key_count() && n < cap; i++, n++)
+        out[n] = (struct key_ref){case_key_at(i)->section, case_key_at(i)->name,
+                                  case_key_at(i)->help};
+    for (int sc = 0; sc < scene_count(); sc++) {
+        const struct key_block *kb = scene_at(sc)->keys;
+        for (int j = 0; kb && j < kb->nkeys && n < cap; j++, n++)
+            out[n] = (struct key_ref){kb->keys[j].section, kb->keys[j].name, kb->keys[j].help};
+    }
+    assert_true(n < cap);
+    return n;
+}
+
+/* Each key has a one-line help text. */
+static void test_key_help(void **state)
+{
+    (void)state;
+    struct key_ref k[256];
+    int n = all_keys(k, 256);
+    assert_true(n > 50);
+    assert_null(case_key_at(case_key_count()));
+    for (int i = 0; i < n; i++) {
+        if (!k[i].help || !k[i].help[0])
+            print_error("%s.%s has no help text\n", k[i].section, k[i].name);
+        assert_non_null(k[i].help);
+        assert_true(k[i].help[0] != '\0');
+        assert_null(strchr(k[i].help, '\n'));
+    }
+}
+
+/* docs/case_keys.md names every key the tables have, each in its section's
+ * table, and no key they do not have. */
+static void test_docs_name_every_key(void **state)
+{
+    (void)state;
+    char *doc = test_read_file("../docs/case_keys.md", NULL);
+    struct key_ref k[256];
+    int n = all_keys(k, 256);
+    int found[256] = {0};
+    char section[64] = "";
+    int documented = 0;
+    for (char *line = doc; line && *line;) {
+        char *end = strchr(line, '\n');
+        if (end)
+            *end = '\0';
+        if (sscanf(line, "### `[%63[^]]", section) == 1) {
+            /* the section of the tables that follow */
+        } else if (strncmp(line, "| `", 3) == 0 && section[0]) {
+            /* the first cell: `a`, `b`, ... */
+            char *cell_end = strstr(line + 1, " |");
+            assert_non_null(cell_end);
+            *cell_end = '\0';
+            for (char *q = strchr(line, '`'); q; q = strchr(q, '`')) {
+                char *close = strchr(q + 1, '`');
+                assert_non_null(close);
+                *close = '\0';
+                int hit = 0;
+                for (int i = 0; i < n; i++)
+                    if (strcmp(k[i].section, section) == 0 && strcmp(k[i].name, q + 1) == 0)
+                        found[i] = hit = 1;
+                if (!hit)
+                    print_error("docs/case_keys.md documents %s.%s, which no key table has\n",
+                                section, q + 1);
+                assert_true(hit);
+                documented++;
+                q = close + 1;
+            }
+        }
+        line = end ? end + 1 : NULL;
+    }
+    for (int i = 0; i < n; i++) {
+        if (!found[i])
+            print_error("docs/case_keys.md does not document %s.%s\n", k[i].section, k[i].name);
+        assert_true(found[i]);
+    }
+    assert_int_equal(documented, n);
+    free(doc);
+}
+
+/* muflow --list: every scene with its title, every key with its default
+ * (as key_text writes the defaults), allowed values and help. */
+static void test_list_command(void **state)
+{
+    (void)state;
+    FILE *p = popen("../build/muflow --list", "r");
+    assert_non_null(p);
+    size_t cap = 1 << 16, len = 0;
+    char *out = malloc(cap);
+    assert_non_null(out);
+    size_t got;
+    while ((got = fread(out + len, 1, cap - 1 - len, p)) > 0)
+        len += got;
+    out[len] = '\0';
+    assert_int_equal(pclose(p), 0);
+    for (int sc = 0; sc < scene_count(); sc++) {
+        char line[256];
+        snprintf(line, sizeof line, "  %-16s %s\n", scene_at(sc)->name, scene_at(sc)->title);
+        assert_non_null(strstr(out, line));
+    }
+    static struct muflow_case d;
+    for (int sc = 0; sc < scene_count(); sc++) {
+        case_defaults(&d);
+        case_set_scene(&d, sc);
+        const struct key_block *kb = scene_at(sc)->keys;
+        int nk = sc == 0 ? case_key_count() : kb ? kb->nkeys : 0;
+        for (int i = 0; i < nk; i++) {
+            const struct key *k = sc == 0 ? case_key_at(i) : &kb->keys[i];
+            const void *base = sc == 0 ? (const void *)&d : case_scene_params(&d);
+            char def[600], allowed[600], want[1600];
+            if (k->default_text)
+                snprintf(def, sizeof def, "%s", k->default_text);
+            else
+                key_text(base, k, def, sizeof def);
+            if (!def[0])
+                snprintf(def, sizeof def, "(not set)");
+            key_allowed_text(k, allowed, sizeof allowed);
+            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name,
+                     def, allowed, k->help);
+            if (!strstr(out, want))
+                print_error("--list lacks \"%s\"\n", want);
+            assert_non_null(strstr(out, want));
+        }
+    }
+    /* spot checks against the documented values */
+    assert_non_null(strstr(out, "  domain.nx = 1  (integer in [1, 100000000])\n"));
+    assert_non_null(strstr(out, "  rheology.lambda = 0.0001  (real in (0, 1])\n"));
+    assert_non_null(strstr(out, "  heap.max_solves = 30  (integer in [2, 1000])\n"));
+    assert_non_null(strstr(out, "  rheology.grain_density = 1/phi  (real > 0)\n"));
+    assert_non_null(strstr(out, "  output.dir = out/<case name>"));
+    assert_non_null(strstr(out, "[heap]  (only with case.scene = heap)"));
+    free(out);
 }
 
 static void test_file_errors(void **state)
@@ -923,6 +1063,9 @@ void group_case(struct test_tally *t)
         cmocka_unit_test(test_decimal_forms),
         cmocka_unit_test_setup_teardown(test_duplicates, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_number_text),
+        cmocka_unit_test(test_key_help),
+        cmocka_unit_test(test_docs_name_every_key),
+        cmocka_unit_test(test_list_command),
         cmocka_unit_test_setup_teardown(test_file_errors, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_hostile, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_round_trip, tmp_setup, tmp_teardown),

@@ -113,4 +113,15 @@ int case_visit_keys(const struct muflow_case *c,
                                  const char *value),
                     void *ctx);
 
+/* The core key table (keys.h), in the order case_write_ini writes it; a
+ * scene's own keys are its key_block (scene.h). */
+struct key;
+int case_key_count(void);
+const struct key *case_key_at(int i); /* NULL out of range */
+
+/* muflow --list: the scenes (name and title) and every key, core and each
+ * scene's section, with its default, allowed values and meaning, all from
+ * the key tables. */
+void case_write_key_list(FILE *out);
+
 #endif

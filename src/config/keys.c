@@ -17,6 +17,61 @@ void key_range_text(const struct key *k, char *out, size_t outlen)
                  k->hi, k->hi_incl ? ']' : ')');
 }
 
+void key_allowed_text(const struct key *k, char *out, size_t outlen)
+{
+    switch (k->type) {
+    case K_DOUBLE:
+    case K_INT:
+    case K_LONG: {
+        const char *kind = k->type == K_DOUBLE ? "real" : "integer";
+        if (!k->range_text && k->lo == -HUGE_VAL && k->hi == HUGE_VAL) {
+            snprintf(out, outlen, "%s", kind);
+            return;
+        }
+        char range[160];
+        if (k->range_text)
+            snprintf(range, sizeof range, "%s", k->range_text);
+        else
+            key_range_text(k, range, sizeof range);
+        /* "must be > 0" -> "real > 0", "must be in [1, 2]" -> "integer in [1, 2]" */
+        if (strncmp(range, "must be ", 8) == 0)
+            snprintf(out, outlen, "%s %s", kind, range + 8);
+        else
+            snprintf(out, outlen, "%s: %s", kind, range);
+        return;
+    }
+    case K_BOOL:
+        snprintf(out, outlen, "on|off");
+        return;
+    case K_CHOICE: {
+        size_t used = 0;
+        out[0] = '\0';
+        for (const struct choice *ch = k->choices; ch->name && used < outlen; ch++)
+            used += (size_t)snprintf(out + used, outlen - used, "%s%s",
+                                     ch == k->choices ? "" : "|", ch->name);
+        return;
+    }
+    case K_STRING:
+        snprintf(out, outlen, "text of at most %zu characters", k->size - 1);
+        return;
+    }
+    snprintf(out, outlen, "?");
+}
+
+void key_write_help(const void *base, const struct key *k, FILE *out)
+{
+    char def[600], allowed[600];
+    if (k->default_text)
+        snprintf(def, sizeof def, "%s", k->default_text);
+    else
+        key_text(base, k, def, sizeof def);
+    if (!def[0])
+        snprintf(def, sizeof def, "(not set)");
+    key_allowed_text(k, allowed, sizeof allowed);
+    fprintf(out, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name, def, allowed,
+            k->help ? k->help : "");
+}
+
 static int in_range(const struct key *k, double v)
 {
     if (k->lo_incl ? v < k->lo : v <= k->lo)
