@@ -571,7 +571,7 @@ static void test_duplicates(void **state)
     assert_int_equal(count_lines(w), 2);
     char *key = strstr(w, "case.scene");
     assert_non_null(key);
-    const char *want[] = {path, "line 2 (bagnold)", "line 7 (chute)", "line 7 is used"};
+    const char *want[] = {path, "line 2 (bagnold)", "line 7 (chute)", "the later replaces the earlier"};
     char *end = strchr(key, '\n');
     *end = '\0';
     const char *start = key;

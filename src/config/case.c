@@ -534,9 +534,10 @@ static void note_file_key(struct ctx *x, const struct ini_event *v)
     if (slot < 0)
         return;
     if (x->key_line[slot] > 0)
-        warn(x, "%s: %s.%s given twice: line %d (%s) and line %d (%s); line %d is used",
+        warn(x, "%s: %s.%s given twice: line %d (%s) and line %d (%s); the later replaces the "
+                "earlier",
              shown(x->where, b1), k->section, k->name, x->key_line[slot],
-             shown(x->key_value[slot], b2), v->line, shown(v->value, b3), v->line);
+             shown(x->key_value[slot], b2), v->line, shown(v->value, b3));
     x->key_line[slot] = v->line;
     x->key_value[slot] = v->value;
 }
