@@ -12,6 +12,12 @@
  *               slab (the cavity's mid-line), the exact or reference profile
  *   headline    the name of its headline value and of its error, and how
  *               both are computed from the profile (and the state)
+ *   comparison  whether the profile and headline are compared with an exact
+ *               solution or published reference data (solution_name), which
+ *               names the outputs (u_exact / u_reference, psi_max_reference),
+ *               whether it has an err_rms_paper, and the parameters that
+ *               select the data (for "no reference data" messages)
+ *   keys' help  a one-line help text per key (muflow --list prints it)
  *   drive       a driver in place of the plain march (the heap's tilt search)
  *   results     extra summary lines and one line for the terminal
  *   write       extra output files (heap.csv) */
