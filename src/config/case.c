@@ -592,13 +592,12 @@ static int key_index(const char *section, const char *name)
 }
 
 /* "bagnold|chute|..." : the scenes other than none. */
-static const char *scene_names(void)
+static const char *scene_names(char *names, size_t len)
 {
-    static char names[512];
     size_t used = 0;
     names[0] = '\0';
-    for (int i = 1; i < scene_count() && used < sizeof names; i++)
-        used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", i > 1 ? "|" : "",
+    for (int i = 1; i < scene_count() && used < len; i++)
+        used += (size_t)snprintf(names + used, len - used, "%s%s", i > 1 ? "|" : "",
                                  scene_at(i)->name);
     return names;
 }
@@ -684,6 +683,7 @@ static void finish(struct ctx *x)
      * (solvers/viscous.c): a box periodic on every face cannot be run. */
     if (c->bc.face[0][0] == BC_PERIODIC && c->bc.face[1][0] == BC_PERIODIC &&
         c->bc.face[2][0] == BC_PERIODIC) {
+        char names[512];
         if (x->keys_given == 0)
             fail(x,
                  "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
@@ -691,7 +691,7 @@ static void finish(struct ctx *x)
                  "direction whose faces are wall, slip, surface or lid (boundary.*) and, to be "
                  "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
                  "complete examples, muflow --list lists every key",
-                 where, c->n[0], c->n[1], c->n[2], scene_names());
+                 where, c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
         else
             fail(x,
                  "%s: every boundary face is periodic: muflow needs at least one direction "
