@@ -13,6 +13,7 @@
 #include "scenes/scene.h"
 #include "test_main.h"
 #include "config/case.h"
+#include "config/keys.h"
 
 #define MAX_FILES 16
 
@@ -199,23 +200,72 @@ static void test_defaults(void **state)
     assert_string_equal(d.output_dir, "out/case");
     assert_int_equal(d.quiet, 0);
 
-    /* no file, no overrides: the defaults, valid as they are */
-    assert_int_equal(case_load(&c, NULL, 0, NULL, err, sizeof(err)), 0);
+    /* no file, no overrides: the defaults, which are not a case muflow can
+     * run (every face periodic leaves the implicit solve no direction) */
+    assert_int_equal(case_load(&c, NULL, 0, NULL, err, sizeof(err)), 2);
+    assert_non_null(strstr(err, "sets no key"));
+    /* with one non-periodic direction they load as they are */
+    char *walls[] = {"boundary.zlo=wall", "boundary.zhi=surface"};
+    assert_int_equal(case_load(&c, NULL, 2, walls, err, sizeof(err)), 0);
     assert_string_equal(err, "");
+    d.bc.face[2][0] = BC_WALL;
+    d.bc.face[2][1] = BC_SURFACE;
     assert_case_equal(&c, &d);
 }
 
+/* An empty case (no key at all) is refused with a message that says what
+ * is missing, not with the solver's complaint about solver.line_direction;
+ * overrides can complete it. */
 static void test_empty_file(void **state)
 {
     struct tmp *t = *state;
     struct muflow_case c, d;
-    char err[256];
+    char err[1024];
+    static const char *const texts[] = {"", "; nothing but a comment\n\n", "[domain]\n[case]\n"};
+    for (int i = 0; i < 3; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "empty%d.ini", i);
+        const char *path = put(t, name, texts[i]);
+        assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 2);
+        static const char *const want[] = {"sets no key", "case.scene", "bagnold",
+                                           "periodic on every face", "boundary.*",
+                                           "muflow --list"};
+        for (size_t w = 0; w < sizeof want / sizeof want[0]; w++) {
+            if (!strstr(err, want[w]))
+                print_error("\"%s\" lacks \"%s\"\n", err, want[w]);
+            assert_non_null(strstr(err, want[w]));
+        }
+        assert_non_null(strstr(err, path));
+        assert_null(strchr(err, '\n'));
+        assert_null(strstr(err, "line_direction"));
+    }
+
+    /* completed by overrides: the defaults with those faces */
     const char *path = put(t, "empty.ini", "; nothing but a comment\n\n");
-    assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 0);
+    char *walls[] = {"boundary.zlo=wall", "boundary.zhi=surface"};
+    assert_int_equal(case_load(&c, path, 2, walls, err, sizeof(err)), 0);
     case_defaults(&d);
     snprintf(d.name, sizeof(d.name), "empty");
     snprintf(d.output_dir, sizeof(d.output_dir), "out/empty");
+    d.bc.face[2][0] = BC_WALL;
+    d.bc.face[2][1] = BC_SURFACE;
     assert_case_equal(&c, &d);
+
+    /* keys, but every face periodic: said so */
+    path = put(t, "periodic.ini", "[case]\nscene = bagnold\n");
+    assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 2);
+    assert_non_null(strstr(err, path));
+    assert_non_null(strstr(err, "every boundary face is periodic"));
+    char *quiet[] = {"output.quiet=on"};
+    assert_int_equal(case_load(&c, path, 1, quiet, err, sizeof(err)), 2);
+    assert_non_null(strstr(err, "every boundary face is periodic"));
+
+    /* preconditioner lines along a periodic direction */
+    char *lines[] = {"boundary.zlo=wall", "boundary.zhi=surface", "solver.line_direction=x"};
+    assert_int_equal(case_load(&c, NULL, 3, lines, err, sizeof(err)), 2);
+    assert_non_null(strstr(err, "solver.line_direction = x: x is periodic"));
+    lines[2] = "solver.line_direction=z";
+    assert_int_equal(case_load(&c, NULL, 3, lines, err, sizeof(err)), 0);
 }
 
 static void test_full_file(void **state)
@@ -266,12 +316,12 @@ static void test_name_and_default_dir(void **state)
     struct tmp *t = *state;
     struct muflow_case c;
     char err[256];
-    const char *p1 = put(t, "my.case.ini", "[domain]\nnx = 2\n");
+    const char *p1 = put(t, "my.case.ini", "[domain]\nnx = 2\n[boundary]\nzlo = wall\nzhi = wall\n");
     assert_int_equal(case_load(&c, p1, 0, NULL, err, sizeof(err)), 0);
     assert_string_equal(c.name, "my.case");
     assert_string_equal(c.output_dir, "out/my.case");
 
-    const char *p2 = put(t, "noext", "[domain]\nnx = 2\n");
+    const char *p2 = put(t, "noext", "[domain]\nnx = 2\n[boundary]\nzlo = wall\nzhi = wall\n");
     assert_int_equal(case_load(&c, p2, 0, NULL, err, sizeof(err)), 0);
     assert_string_equal(c.name, "noext");
     assert_string_equal(c.output_dir, "out/noext");
@@ -292,7 +342,7 @@ static void test_syntax_variants(void **state)
                            "# hash comment\n"
                            "[solver]\n"
                            "newton = 0\n"
-                           "line_direction = Y\n"
+                           "line_direction = Z\n"
                            "[output]\n"
                            "quiet = ON\n");
     assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 0);
@@ -300,15 +350,15 @@ static void test_syntax_variants(void **state)
     assert_int_equal(c.bc.face[2][0], BC_WALL);
     assert_int_equal(c.bc.face[2][1], BC_SLIP);
     assert_int_equal(c.newton, 0);
-    assert_int_equal(c.line_direction, 1);
+    assert_int_equal(c.line_direction, 2);
     assert_int_equal(c.quiet, 1);
 
     static const char *const words[] = {"on", "off", "true", "false", "yes", "no", "1", "0"};
     for (int i = 0; i < 8; i++) {
         char ov[64];
-        char *ovs[1] = {ov};
+        char *ovs[3] = {ov, "boundary.zlo=wall", "boundary.zhi=wall"};
         snprintf(ov, sizeof(ov), "output.quiet = %s", words[i]);
-        assert_int_equal(case_load(&c, NULL, 1, ovs, err, sizeof(err)), 0);
+        assert_int_equal(case_load(&c, NULL, 3, ovs, err, sizeof(err)), 0);
         assert_int_equal(c.quiet, i % 2 == 0);
     }
 }
@@ -319,6 +369,7 @@ static void test_overrides(void **state)
     struct muflow_case c;
     char err[256];
     const char *path = put(t, "ov.ini",
+                           "[boundary]\nzlo = wall\nzhi = surface\n"
                            "[domain]\nnz = 16\nnz = 32\n" /* duplicate: last wins */
                            "[rheology]\nphi = 0.5\nlambda = 0.01\n"
                            "[output]\ndir = from_file\n");
@@ -406,6 +457,17 @@ static const struct bad bad_cases[] = {
     {NULL, "output.dir=", {"override output.dir=", "empty value"}},
     {NULL, "output.dir=a\nb", {"override output.dir=a?b", "control character"}},
     {NULL, "output.dir=a ; b", {"';'"}},
+    /* numbers are decimal: strtod's other forms are refused, the key named */
+    {"[physics]\ntilt = 0x1p-2\n", NULL, {"physics.tilt = 0x1p-2", "not a decimal number"}},
+    {NULL, "physics.tilt=0x1p-2", {"override physics.tilt=0x1p-2", "not a decimal number"}},
+    {NULL, "domain.lx=0X10", {"override domain.lx=0X10", "not a decimal number"}},
+    {NULL, "domain.lx=-0x1.8p1", {"override domain.lx=-0x1.8p1", "not a decimal number"}},
+    {NULL, "boundary.lid_velocity=0x.8", {"boundary.lid_velocity=0x.8", "not a decimal number"}},
+    {"[domain]\nlx = infinity\n", NULL, {"domain.lx = infinity", "not a finite number"}},
+    {NULL, "boundary.lid_velocity=-INF", {"boundary.lid_velocity=-INF", "not a finite number"}},
+    {NULL, "boundary.lid_velocity=nan(1)", {"boundary.lid_velocity=nan(1)", "not a finite number"}},
+    {"[domain]\nlx = 1e\n", NULL, {"domain.lx = 1e", "not a"}},
+    {"[domain]\nlx = .\n", NULL, {"domain.lx = .", "not a number"}},
     /* the first error is reported */
     {"[domain]\nnx = 0\nny = x\n", NULL, {"domain.nx = 0"}},
     {"[domain]\nnx = 2\nbad line\nny = x\n", NULL, {"line 3", "syntax error"}},
@@ -443,6 +505,333 @@ static void test_errors(void **state)
             t->nfiles--;
         }
     }
+}
+
+/* Every plain decimal form is a number. */
+static void test_decimal_forms(void **state)
+{
+    (void)state;
+    struct muflow_case c;
+    char err[512];
+    char *ovs[] = {"boundary.zlo=wall", "boundary.zhi=wall", "domain.lx=1.",
+                   "domain.ly=.5",       "domain.lz=+2",       "physics.tilt=-1E-1",
+                   "boundary.lid_velocity=-0", "physics.gravity=9.81e+0",
+                   "rheology.lambda=00.001"};
+    int rc = case_load(&c, NULL, (int)(sizeof ovs / sizeof ovs[0]), ovs, err, sizeof err);
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_true(c.len[0] == 1.0 && c.len[1] == 0.5 && c.len[2] == 2.0);
+    assert_true(c.tilt == -0.1 && c.gravity == 9.81 && c.rheo.lambda == 0.001);
+    assert_true(c.bc.lid_velocity == 0.0 && signbit(c.bc.lid_velocity));
+}
+
+static void collect_warning(void *ctx, const char *line)
+{
+    char **buf = ctx;
+    size_t old = *buf ? strlen(*buf) : 0, add = strlen(line);
+    char *p = realloc(*buf, old + add + 2);
+    assert_non_null(p);
+    memcpy(p + old, line, add);
+    p[old + add] = '\n';
+    p[old + add + 1] = '\0';
+    *buf = p;
+}
+
+static int count_lines(const char *s)
+{
+    int n = 0;
+    for (; s && *s; s++)
+        n += *s == '\n';
+    return n;
+}
+
+/* A key or section given twice in the file is warned about (one line naming
+ * the file, the key and both lines); the later value is used.  Overrides
+ * replace file values without a warning. */
+static void test_duplicates(void **state)
+{
+    struct tmp *t = *state;
+    struct muflow_case c;
+    char err[512];
+    char *w = NULL;
+    const char *path = put(t, "dup.ini",
+                           "[case]\n"
+                           "scene = bagnold\n"
+                           "[boundary]\n"
+                           "zlo = wall\n"
+                           "zhi = surface\n"
+                           "[case]\n"
+                           "scene = chute\n");
+    int rc = case_load_warn(&c, path, 0, NULL, collect_warning, &w, err, sizeof err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(c.scene, scene_find("chute")); /* the later line */
+    assert_non_null(w);
+    print_message("%s", w);
+    assert_int_equal(count_lines(w), 2);
+    char *key = strstr(w, "case.scene");
+    assert_non_null(key);
+    const char *want[] = {path, "line 2 (bagnold)", "line 7 (chute)", "the later replaces the earlier"};
+    char *end = strchr(key, '\n');
+    *end = '\0';
+    const char *start = key;
+    while (start > w && start[-1] != '\n')
+        start--;
+    for (int i = 0; i < 4; i++)
+        assert_non_null(strstr(start, want[i]));
+    *end = '\n';
+    assert_non_null(strstr(w, "section [case] given twice: line 1 and line 6"));
+    free(w);
+    w = NULL;
+
+    /* the silent loader reads the same case */
+    struct muflow_case d;
+    assert_int_equal(case_load(&d, path, 0, NULL, err, sizeof err), 0);
+    assert_case_equal(&c, &d);
+
+    /* overrides, even repeated, replace without a warning; a key three
+     * times in the file gives two warnings; a scene's own key too */
+    path = put(t, "dup3.ini",
+               "[boundary]\nzlo = wall\nzhi = wall\n"
+               "[domain]\nnx = 2\nnx = 3\nnx = 4\n");
+    char *ovs[] = {"domain.nx=5", "domain.nx=6", "boundary.zhi=surface"};
+    rc = case_load_warn(&c, path, 3, ovs, collect_warning, &w, err, sizeof err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(c.n[0], 6);
+    assert_int_equal(count_lines(w), 2);
+    assert_non_null(strstr(w, "domain.nx given twice: line 5 (2) and line 6 (3)"));
+    assert_non_null(strstr(w, "domain.nx given twice: line 6 (3) and line 7 (4)"));
+    free(w);
+    w = NULL;
+    rc = case_load_warn(&c, path, 0, NULL, NULL, NULL, err, sizeof err); /* no callback */
+    assert_int_equal(rc, 0);
+
+    path = put(t, "dupheap.ini",
+               "[case]\nscene = heap\n"
+               "[domain]\nny = 2\nnz = 2\n"
+               "[boundary]\nylo = wall\nyhi = slip\nzlo = wall\nzhi = surface\n"
+               "[heap]\nflow_rate = 1\ndepth_fraction = 0.1\nflow_rate = 2\n");
+    rc = case_load_warn(&c, path, 0, NULL, collect_warning, &w, err, sizeof err);
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(count_lines(w), 1);
+    assert_non_null(strstr(w, "heap.flow_rate given twice: line 12 (1) and line 14 (2)"));
+    free(w);
+    w = NULL;
+
+    /* no duplicates, no warnings */
+    path = put(t, "nodup.ini", "[boundary]\nzlo = wall\nzhi = wall\n[domain]\nnx = 2\n");
+    rc = case_load_warn(&c, path, 1, ovs, collect_warning, &w, err, sizeof err);
+    assert_int_equal(rc, 0);
+    assert_null(w);
+}
+
+/* Numbers are written with the fewest digits that read back exactly, in
+ * plain decimal unless scientific notation is at least two characters
+ * shorter. */
+static void test_number_text(void **state)
+{
+    (void)state;
+    struct holder {
+        double v;
+    };
+    const struct key k =
+        KEY_DBL(struct holder, "s", "v", v, "a number", KEY_RANGE(KEY_NONE_LO, KEY_NONE_HI, 0, 0));
+    static const struct {
+        double v;
+        const char *text;
+    } cases[] = {
+        {70, "70"},         {10, "10"},           {1, "1"},
+        {0.015625, "0.015625"}, {1e-4, "0.0001"}, {0.0025, "0.0025"},
+        {123456, "123456"}, {100000, "100000"},   {1e6, "1e+06"},
+        {1e12, "1e+12"},    {1e-5, "1e-05"},      {1e-8, "1e-08"},
+        {-1.5707963267948966, "-1.5707963267948966"}, {0.1, "0.1"},
+        {1.0 / 3.0, "0.3333333333333333"}, {1.7976931348623157e308, "1.7976931348623157e+308"},
+        {123456789012.0, "123456789012"}, {7.0710678118654755, "7.0710678118654755"},
+        {0.0, "0"},         {-2.5, "-2.5"},       {1e-300, "1e-300"},
+    };
+    char text[64];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        struct holder h = {cases[i].v};
+        key_text(&h, &k, text, sizeof text);
+        if (strcmp(text, cases[i].text) != 0)
+            print_error("%.17g written as %s, not %s\n", cases[i].v, text, cases[i].text);
+        assert_string_equal(text, cases[i].text);
+    }
+    /* random doubles: the text reads back exactly (through the key parser),
+     * and has no more significant digits than needed */
+    unsigned long long x = 88172645463325252ULL;
+    for (int i = 0; i < 200000; i++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        struct holder h, back = {0};
+        memcpy(&h.v, &x, sizeof h.v);
+        if (!isnormal(h.v))
+            continue;
+        key_text(&h, &k, text, sizeof text);
+        char msg[160];
+        const char *why = key_parse(&back, &k, text, msg, sizeof msg);
+        if (why || back.v != h.v)
+            print_error("%.17g -> %s -> %s\n", h.v, text, why ? why : "another value");
+        assert_null(why);
+        assert_true(back.v == h.v);
+        int digits = 0;
+        for (const char *p = text; *p && *p != 'e'; p++)
+            digits += *p >= '0' && *p <= '9';
+        char shortest[40];
+        for (int prec = 1; prec <= 17; prec++) {
+            snprintf(shortest, sizeof shortest, "%.*e", prec - 1, h.v);
+            if (strtod(shortest, NULL) == h.v) {
+                /* plain forms add at most the leading zeros of 0.000ddd */
+                assert_true(digits <= prec + 4 || strchr(text, 'e') == NULL);
+                if (strchr(text, 'e'))
+                    assert_true(digits == prec);
+                break;
+            }
+        }
+    }
+}
+
+/* Every key of the tables (core and each scene's section). */
+struct key_ref {
+    const char *section, *name, *help;
+};
+
+static int all_keys(struct key_ref *out, int cap)
+{
+    int n = 0;
+    for (int i = 0; i < case_key_count() && n < cap; i++, n++)
+        out[n] = (struct key_ref){case_key_at(i)->section, case_key_at(i)->name,
+                                  case_key_at(i)->help};
+    for (int sc = 0; sc < scene_count(); sc++) {
+        const struct key_block *kb = scene_at(sc)->keys;
+        for (int j = 0; kb && j < kb->nkeys && n < cap; j++, n++)
+            out[n] = (struct key_ref){kb->keys[j].section, kb->keys[j].name, kb->keys[j].help};
+    }
+    assert_true(n < cap);
+    return n;
+}
+
+/* Each key has a one-line help text. */
+static void test_key_help(void **state)
+{
+    (void)state;
+    struct key_ref k[256];
+    int n = all_keys(k, 256);
+    assert_true(n > 50);
+    assert_null(case_key_at(case_key_count()));
+    for (int i = 0; i < n; i++) {
+        if (!k[i].help || !k[i].help[0])
+            print_error("%s.%s has no help text\n", k[i].section, k[i].name);
+        assert_non_null(k[i].help);
+        assert_true(k[i].help[0] != '\0');
+        assert_null(strchr(k[i].help, '\n'));
+    }
+}
+
+/* docs/case_keys.md names every key the tables have, each in its section's
+ * table, and no key they do not have. */
+static void test_docs_name_every_key(void **state)
+{
+    (void)state;
+    char *doc = test_read_file("../docs/case_keys.md", NULL);
+    struct key_ref k[256];
+    int n = all_keys(k, 256);
+    int found[256] = {0};
+    char section[64] = "";
+    int documented = 0;
+    for (char *line = doc; line && *line;) {
+        char *end = strchr(line, '\n');
+        if (end)
+            *end = '\0';
+        if (sscanf(line, "### `[%63[^]]", section) == 1) {
+            /* the section of the tables that follow */
+        } else if (strncmp(line, "| `", 3) == 0 && section[0]) {
+            /* the first cell: `a`, `b`, ... */
+            char *cell_end = strstr(line + 1, " |");
+            assert_non_null(cell_end);
+            *cell_end = '\0';
+            for (char *q = strchr(line, '`'); q; q = strchr(q, '`')) {
+                char *close = strchr(q + 1, '`');
+                assert_non_null(close);
+                *close = '\0';
+                int hit = 0;
+                for (int i = 0; i < n; i++)
+                    if (strcmp(k[i].section, section) == 0 && strcmp(k[i].name, q + 1) == 0)
+                        found[i] = hit = 1;
+                if (!hit)
+                    print_error("docs/case_keys.md documents %s.%s, which no key table has\n",
+                                section, q + 1);
+                assert_true(hit);
+                documented++;
+                q = close + 1;
+            }
+        }
+        line = end ? end + 1 : NULL;
+    }
+    for (int i = 0; i < n; i++) {
+        if (!found[i])
+            print_error("docs/case_keys.md does not document %s.%s\n", k[i].section, k[i].name);
+        assert_true(found[i]);
+    }
+    assert_int_equal(documented, n);
+    free(doc);
+}
+
+/* muflow --list: every scene with its title, every key with its default
+ * (as key_text writes the defaults), allowed values and help. */
+static void test_list_command(void **state)
+{
+    (void)state;
+    FILE *p = popen("../build/muflow --list", "r");
+    assert_non_null(p);
+    size_t cap = 1 << 16, len = 0;
+    char *out = malloc(cap);
+    assert_non_null(out);
+    size_t got;
+    while ((got = fread(out + len, 1, cap - 1 - len, p)) > 0)
+        len += got;
+    out[len] = '\0';
+    assert_int_equal(pclose(p), 0);
+    for (int sc = 0; sc < scene_count(); sc++) {
+        char line[256];
+        snprintf(line, sizeof line, "  %-16s %s\n", scene_at(sc)->name, scene_at(sc)->title);
+        assert_non_null(strstr(out, line));
+    }
+    static struct muflow_case d;
+    for (int sc = 0; sc < scene_count(); sc++) {
+        case_defaults(&d);
+        case_set_scene(&d, sc);
+        const struct key_block *kb = scene_at(sc)->keys;
+        int nk = sc == 0 ? case_key_count() : kb ? kb->nkeys : 0;
+        for (int i = 0; i < nk; i++) {
+            const struct key *k = sc == 0 ? case_key_at(i) : &kb->keys[i];
+            const void *base = sc == 0 ? (const void *)&d : case_scene_params(&d);
+            char def[600], allowed[600], want[1600];
+            if (k->default_text)
+                snprintf(def, sizeof def, "%s", k->default_text);
+            else
+                key_text(base, k, def, sizeof def);
+            if (!def[0])
+                snprintf(def, sizeof def, "(not set)");
+            key_allowed_text(k, allowed, sizeof allowed);
+            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name,
+                     def, allowed, k->help);
+            if (!strstr(out, want))
+                print_error("--list lacks \"%s\"\n", want);
+            assert_non_null(strstr(out, want));
+        }
+    }
+    /* spot checks against the documented values */
+    assert_non_null(strstr(out, "  domain.nx = 1  (integer in [1, 100000000])\n"));
+    assert_non_null(strstr(out, "  rheology.lambda = 0.0001  (real in (0, 1])\n"));
+    assert_non_null(strstr(out, "  heap.max_solves = 30  (integer in [2, 1000])\n"));
+    assert_non_null(strstr(out, "  rheology.grain_density = 1/phi  (real > 0)\n"));
+    assert_non_null(strstr(out, "  output.dir = out/<case name>"));
+    assert_non_null(strstr(out, "[heap]  (only with case.scene = heap)"));
+    free(out);
 }
 
 static void test_file_errors(void **state)
@@ -533,11 +922,12 @@ static void test_hostile(void **state)
     n = snprintf(ov, big, "output.dir=");
     memset(ov + n, 'd', 511);
     ov[n + 511] = '\0';
-    assert_int_equal(case_load(&c, NULL, 1, ovs, err, sizeof(err)), 0);
+    char *ovw[3] = {ov, "boundary.zlo=wall", "boundary.zhi=wall"};
+    assert_int_equal(case_load(&c, NULL, 3, ovw, err, sizeof(err)), 0);
     assert_int_equal(strlen(c.output_dir), 511);
     ov[n + 511] = 'd';
     ov[n + 512] = '\0';
-    assert_int_equal(case_load(&c, NULL, 1, ovs, err, sizeof(err)), 2);
+    assert_int_equal(case_load(&c, NULL, 3, ovw, err, sizeof(err)), 2);
     assert_non_null(strstr(err, "output.dir"));
     assert_non_null(strstr(err, "longer than 511"));
 
@@ -582,6 +972,8 @@ static void test_round_trip(void **state)
     char err[512];
 
     case_defaults(&c);
+    c.bc.face[2][0] = BC_WALL; /* a runnable case: one non-periodic direction */
+    c.bc.face[2][1] = BC_SURFACE;
     round_trip(t, &c);
 
     const char *path = put(t, "full.ini", full_ini);
@@ -615,6 +1007,8 @@ static void test_round_trip(void **state)
             c.mode = (enum solver_mode)(reg % 2);
             c.line_direction = reg - 1;
             c.rheo.grain_density = 1.0 / 3.0;
+            for (int d = 0; d < 3; d++) /* lines along any direction */
+                c.bc.face[d][0] = c.bc.face[d][1] = BC_WALL;
             round_trip(t, &c);
         }
 }
@@ -624,6 +1018,11 @@ static void test_write_format(void **state)
     (void)state;
     struct muflow_case c;
     case_defaults(&c);
+    c.len[1] = 70;
+    c.rheo.yield_stress = 10;
+    c.rheo.plastic_viscosity = 0.0025;
+    c.dt = 1e-5;
+    c.end_time = 123456;
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
@@ -631,6 +1030,8 @@ static void test_write_format(void **state)
     case_write_ini(&c, f);
     fclose(f);
     static const char *const want[] = {
+        "ly = 70\n", "yield_stress = 10\n", "plastic_viscosity = 0.0025\n", "dt = 1e-05\n",
+        "end_time = 123456\n",
         "[case]\nscene = none\n", "[domain]\nlx = 1\n", "nz = 1\n",
         "[boundary]\nxlo = periodic\n", "[physics]\ntilt = 0\n", "advection = on\n",
         "[rheology]\nlaw = mui\nregularisation = mc\nlambda = 0.0001\n",
@@ -659,6 +1060,12 @@ void group_case(struct test_tally *t)
         cmocka_unit_test_setup_teardown(test_syntax_variants, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_overrides, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_errors, tmp_setup, tmp_teardown),
+        cmocka_unit_test(test_decimal_forms),
+        cmocka_unit_test_setup_teardown(test_duplicates, tmp_setup, tmp_teardown),
+        cmocka_unit_test(test_number_text),
+        cmocka_unit_test(test_key_help),
+        cmocka_unit_test(test_docs_name_every_key),
+        cmocka_unit_test(test_list_command),
         cmocka_unit_test_setup_teardown(test_file_errors, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_hostile, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_round_trip, tmp_setup, tmp_teardown),

@@ -52,6 +52,7 @@ static const struct {
     {"tools", group_tools},
     {"repro", group_repro},
     {"two_phase", group_two_phase},
+    {"outputs", group_outputs},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

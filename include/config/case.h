@@ -84,6 +84,16 @@ void *case_scene_params_mut(struct muflow_case *c);
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen);
 
+/* case_load that also reports warnings: each one line (naming the file, the
+ * key and the lines), passed to warn(ctx, line) as found.  Warned: a key
+ * given twice in the file (the later line is used) and a section header
+ * given twice (its keys are read as one section).  Overrides replace file
+ * values by design and are never warned about.  case_load warns nobody. */
+typedef void (*case_warn_fn)(void *ctx, const char *line);
+int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
+                   char *const overrides[], case_warn_fn warn, void *warn_ctx, char *err,
+                   size_t errlen);
+
 /* Defaults for every key (what a case file may leave out), scene "none". */
 void case_defaults(struct muflow_case *c);
 
@@ -102,5 +112,16 @@ int case_visit_keys(const struct muflow_case *c,
                     int (*visit)(void *ctx, const char *section, const char *key,
                                  const char *value),
                     void *ctx);
+
+/* The core key table (keys.h), in the order case_write_ini writes it; a
+ * scene's own keys are its key_block (scene.h). */
+struct key;
+int case_key_count(void);
+const struct key *case_key_at(int i); /* NULL out of range */
+
+/* muflow --list: the scenes (name and title) and every key, core and each
+ * scene's section, with its default, allowed values and meaning, all from
+ * the key tables. */
+void case_write_key_list(FILE *out);
 
 #endif

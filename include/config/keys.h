@@ -28,6 +28,9 @@ struct key {
     const struct choice *choices; /* K_CHOICE: terminated by name == NULL */
     const char *range_text;       /* overrides the generated "must be ..." text */
     size_t size;                  /* K_STRING: bytes of the member */
+    const char *help;             /* one line: what the key means (muflow --list) */
+    const char *default_text;     /* the default as --list shows it when it is not
+                                     the defaults' value (1/phi, out/<case name>) */
 };
 
 #define KEY_NONE_LO (-HUGE_VAL)
@@ -38,16 +41,20 @@ struct key {
 #define KEY_RANGE(lo, hi, li, hi_) (lo), (hi), (li), (hi_)
 #define KEY_NORANGE 0.0, 0.0, 0, 0
 
-/* Table entries for the members m of struct T. */
-/* (the range, four numbers, comes last: macros hand it on as several arguments) */
-#define KEY_DBL(T, s, n, m, ...) {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
-#define KEY_DBLT(T, s, n, m, t, ...) {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, t, 0}
-#define KEY_INT(T, s, n, m, ...) {s, n, K_INT, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
-#define KEY_LNG(T, s, n, m, ...) {s, n, K_LONG, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0}
-#define KEY_BOOL(T, s, n, m) {s, n, K_BOOL, offsetof(T, m), KEY_NORANGE, NULL, NULL, 0}
-#define KEY_CHO(T, s, n, m, ch) {s, n, K_CHOICE, offsetof(T, m), KEY_NORANGE, ch, NULL, 0}
-#define KEY_STR(T, s, n, m) \
-    {s, n, K_STRING, offsetof(T, m), KEY_NORANGE, NULL, NULL, sizeof(((T *)0)->m)}
+/* Table entries for the members m of struct T, each with its help line h.
+ * (the range, four numbers, comes last: macros hand it on as several arguments) */
+#define KEY_DBL(T, s, n, m, h, ...) \
+    {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
+#define KEY_DBLT(T, s, n, m, t, h, ...) \
+    {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, t, 0, h, NULL}
+#define KEY_INT(T, s, n, m, h, ...) {s, n, K_INT, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
+#define KEY_LNG(T, s, n, m, h, ...) \
+    {s, n, K_LONG, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
+#define KEY_BOOL(T, s, n, m, h) {s, n, K_BOOL, offsetof(T, m), KEY_NORANGE, NULL, NULL, 0, h, NULL}
+#define KEY_CHO(T, s, n, m, ch, h) \
+    {s, n, K_CHOICE, offsetof(T, m), KEY_NORANGE, ch, NULL, 0, h, NULL}
+#define KEY_STR(T, s, n, m, h) \
+    {s, n, K_STRING, offsetof(T, m), KEY_NORANGE, NULL, NULL, sizeof(((T *)0)->m), h, NULL}
 
 /* The case keys of a scene or physics module: one INI section, its keys
  * (offsets into the block), the block's size, its defaults, and a check
@@ -74,5 +81,14 @@ void key_text(const void *base, const struct key *k, char *val, size_t len);
 
 /* "must be ..." for a number key. */
 void key_range_text(const struct key *k, char *out, size_t outlen);
+
+/* What the key accepts, for muflow --list: "real > 0", "integer in [1, 1000]",
+ * "on|off", "a|b|c", "text of at most 511 characters". */
+void key_allowed_text(const struct key *k, char *out, size_t outlen);
+
+/* Writes one key for muflow --list: "section.key = default  (allowed)" and
+ * its help on the next line; the default read from base (a block holding
+ * the defaults), or the key's default_text. */
+void key_write_help(const void *base, const struct key *k, FILE *out);
 
 #endif

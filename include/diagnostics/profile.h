@@ -17,6 +17,8 @@ struct profile {
     double *inertial;      /* I, from |D| and the regularised pressure */
     double *viscosity;
     double *exact;         /* analytic or reference velocity (NaN where undefined) */
+    const char *exact_name; /* "exact" or "reference" (scene_solution_name): the
+                               column is <component>_<exact_name> in profile.csv */
 };
 
 struct scene_errors {

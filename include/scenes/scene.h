@@ -12,6 +12,12 @@
  *               slab (the cavity's mid-line), the exact or reference profile
  *   headline    the name of its headline value and of its error, and how
  *               both are computed from the profile (and the state)
+ *   comparison  whether the profile and headline are compared with an exact
+ *               solution or published reference data (solution_name), which
+ *               names the outputs (u_exact / u_reference, psi_max_reference),
+ *               whether it has an err_rms_paper, and the parameters that
+ *               select the data (for "no reference data" messages)
+ *   keys' help  a one-line help text per key (muflow --list prints it)
  *   drive       a driver in place of the plain march (the heap's tilt search)
  *   results     extra summary lines and one line for the terminal
  *   write       extra output files (heap.csv) */
@@ -58,7 +64,19 @@ struct scene {
     void (*exact_profile)(const struct muflow_case *cs, int n, const double *x, double *u);
 
     const char *headline_name;     /* NULL: no headline and no error lines */
-    const char *error_name;        /* name of err_rms in the summary (NULL: "err_rms") */
+    const char *error_name;        /* name of err_rms in the summary and on the
+                                      terminal (NULL: "err_rms") */
+    /* what exact_profile and the headline's comparison value are: NULL for an
+     * exact solution ("exact": u_exact, u_surface_exact), "reference" for
+     * published data (the cavity: u_reference, psi_max_reference, and "no
+     * reference data" where the data have none) */
+    const char *solution_name;
+    int no_err_rms_paper;          /* 1: the scene has no err_rms_paper (its error is
+                                      not over the profile's layers): not written */
+    /* the parameters that select the reference data, for the message when
+     * the data have none for them ("Bn = 1.414 (Vola's convention)"); NULL:
+     * none named */
+    void (*reference_parameters)(const struct muflow_case *cs, char *out, size_t outlen);
     /* the errors and the headline; NULL: scene_errors_profile with the
      * plug (centre) value as headline */
     void (*errors)(const struct march_state *st, const struct profile *pr,
@@ -73,6 +91,13 @@ struct scene {
     int (*write)(const char *dir, const struct march_state *st, char *err, size_t errlen);
     const char *const *files;      /* the names write() produces (NULL-terminated) */
 };
+
+/* "exact" or the scene's solution_name ("reference"). */
+const char *scene_solution_name(const struct scene *s);
+/* The scene's error name: error_name or "err_rms". */
+const char *scene_error_name(const struct scene *s);
+/* 1 when the scene compares with published data rather than an exact solution. */
+int scene_has_reference(const struct scene *s);
 
 /* The registry (src/scenes/registry.c). */
 int scene_count(void);

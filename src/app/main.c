@@ -1,6 +1,7 @@
 /* muflow CASE [section.key=value ...]
  * muflow --restart DIR [section.key=value ...]
  * muflow --version
+ * muflow --list
  * Runs a case file (an INI file under cases/) with command-line overrides of
  * any key, or continues the run whose checkpoint is DIR/checkpoint.h5.
  * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
@@ -75,6 +76,8 @@ static void usage(FILE *f)
     fprintf(f, "usage: muflow CASE.ini [section.key=value ...]\n"
                "       muflow --restart DIR [section.key=value ...]\n"
                "       muflow --version\n"
+               "       muflow --list     (the scenes and every case key: default, allowed\n"
+               "                          values, meaning)\n"
                "  runs the case to a steady state (solver.mode = steady) or to\n"
                "  solver.end_time (transient); any case key can be overridden, e.g.\n"
                "  muflow cases/bagnold.ini physics.tilt=0.45 domain.nz=80\n"
@@ -117,14 +120,40 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     printf("%s: %s after %ld steps, t = %.6g, wall %.3f s, residual %.3e (%s)\n", cs->name,
            run_status_name(r->status), r->steps, r->time, r->wall_seconds, r->residual,
            r->message);
-    const char *hname = case_scene(cs)->headline_name;
-    if (hname && r->errors.valid)
-        printf("%s: err_rms %.4e  err_max %.4e  err_rms_paper %.4e  %s %.6g (exact %.6g)\n",
-               cs->name, r->errors.err_rms, r->errors.err_max, r->errors.err_rms_paper, hname,
-               r->errors.headline, r->errors.headline_exact);
-    else if (hname)
+    const struct scene *sc = case_scene(cs);
+    const char *hname = sc->headline_name;
+    /* the scene's names: err_midline and "reference" for the cavity, whose
+     * comparison is published data rather than an exact solution */
+    const char *sname = scene_solution_name(sc);
+    char compared[96];
+    if (isfinite(r->errors.headline_exact))
+        snprintf(compared, sizeof compared, " (%s %.6g)", sname, r->errors.headline_exact);
+    else
+        snprintf(compared, sizeof compared, " (no %s value)", sname);
+    if (hname && r->errors.valid) {
+        printf("%s: %s %.4e  err_max %.4e", cs->name, scene_error_name(sc), r->errors.err_rms,
+               r->errors.err_max);
+        if (!sc->no_err_rms_paper)
+            printf("  err_rms_paper %.4e", r->errors.err_rms_paper);
+        printf("  %s %.6g%s\n", hname, r->errors.headline, compared);
+    } else if (hname && scene_has_reference(sc)) {
+        char params[160] = "";
+        if (sc->reference_parameters)
+            sc->reference_parameters(cs, params, sizeof params);
+        if (!cs->reference[0])
+            printf("%s: no reference data (case.reference is not set); %s %.6g\n", cs->name,
+                   hname, r->errors.headline);
+        else
+            /* the headline may still have a reference value (the cavity's
+             * psi_max curve covers Bn continuously, its mid-lines do not) */
+            printf("%s: no reference %s for these parameters%s%s%s in %s; %s %.6g%s\n",
+                   cs->name, isfinite(r->errors.headline_exact) ? "profile" : "data",
+                   params[0] ? " (" : "", params, params[0] ? ")" : "", cs->reference, hname,
+                   r->errors.headline, isfinite(r->errors.headline_exact) ? compared : "");
+    } else if (hname) {
         printf("%s: no analytic steady solution for these parameters; %s %.6g\n", cs->name,
                hname, r->errors.headline);
+    }
     if (r->scene_line[0])
         printf("%s: %s\n", cs->name, r->scene_line);
     printf("output: %s\n", cs->output_dir);
@@ -141,6 +170,13 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     fflush(stdout);
 }
 
+/* A warning of the case loader (a key given twice in the file). */
+static void print_warning(void *ctx, const char *line)
+{
+    (void)ctx;
+    fprintf(stderr, "muflow: warning: %s\n", line);
+}
+
 int main(int argc, char **argv)
 {
     passive_wait_default(argv);
@@ -150,6 +186,12 @@ int main(int argc, char **argv)
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("muflow %s\n", MUFLOW_VERSION);
+        return 0;
+    }
+    if (strcmp(argv[1], "--list") == 0) {
+        printf("muflow %s: the scenes and every case key (docs/case_keys.md has more)\n\n",
+               MUFLOW_VERSION);
+        case_write_key_list(stdout);
         return 0;
     }
     static struct muflow_case cs;
@@ -166,7 +208,8 @@ int main(int argc, char **argv)
             return 2;
         }
         opt.restart_from = path;
-    } else if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) != 0) {
+    } else if (case_load_warn(&cs, argv[1], argc - 2, argv + 2, print_warning, NULL, err,
+                              sizeof err) != 0) {
         fprintf(stderr, "muflow: %s\n", err);
         return 2;
     }

@@ -58,84 +58,124 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 #define RANGE KEY_RANGE
 #define NONE_LO KEY_NONE_LO
 #define NONE_HI KEY_NONE_HI
-#define DBL(s, n, m, r) KEY_DBL(T, s, n, m, r)
-#define DBLT(s, n, m, r, t) KEY_DBLT(T, s, n, m, t, r)
-#define INT(s, n, m, r) KEY_INT(T, s, n, m, r)
-#define LNG(s, n, m, r) KEY_LNG(T, s, n, m, r)
-#define BOOL(s, n, m) KEY_BOOL(T, s, n, m)
-#define CHO(s, n, m, ch) KEY_CHO(T, s, n, m, ch)
-#define STR(s, n, m) KEY_STR(T, s, n, m)
+#define DBL(s, n, m, r, h) KEY_DBL(T, s, n, m, h, r)
+#define DBLT(s, n, m, r, t, h) KEY_DBLT(T, s, n, m, t, h, r)
+#define INT(s, n, m, r, h) KEY_INT(T, s, n, m, h, r)
+#define LNG(s, n, m, r, h) KEY_LNG(T, s, n, m, h, r)
+#define BOOL(s, n, m, h) KEY_BOOL(T, s, n, m, h)
+#define CHO(s, n, m, ch, h) KEY_CHO(T, s, n, m, ch, h)
+#define STR(s, n, m, h) KEY_STR(T, s, n, m, h)
+#define FACE_HELP(f) f " face: wall (no slip), slip (free slip), surface (flat stress-free free " \
+                     "surface, p = 0), lid (moving no-slip wall), periodic (on both faces)"
 
 /* The core keys, in the order case_write_ini writes them; the scene's own
- * section goes between [solver] and [output]. */
+ * section goes between [solver] and [output].  The help lines follow the
+ * meaning column of docs/case_keys.md (muflow --list prints them). */
 static const struct key keys[] = {
-    CHO("case", "scene", scene, scene_choice_table),
-    STR("case", "reference", reference),
+    CHO("case", "scene", scene, scene_choice_table,
+        "the flow problem: its exact or reference solution, profile and headline value "
+        "(the scenes above)"),
+    STR("case", "reference", reference,
+        "published data to compare with (CSV rows dataset,parameter,coord,value), a path "
+        "relative to the case file's folder"),
 
-    DBL("domain", "lx", len[0], GT0),
-    DBL("domain", "ly", len[1], GT0),
-    DBL("domain", "lz", len[2], GT0),
-    INT("domain", "nx", n[0], RANGE(1, 100000000, 1, 1)),
-    INT("domain", "ny", n[1], RANGE(1, 100000000, 1, 1)),
-    INT("domain", "nz", n[2], RANGE(1, 100000000, 1, 1)),
+    DBL("domain", "lx", len[0], GT0, "box size along x (length)"),
+    DBL("domain", "ly", len[1], GT0, "box size along y (length)"),
+    DBL("domain", "lz", len[2], GT0, "box size along z (length)"),
+    INT("domain", "nx", n[0], RANGE(1, 100000000, 1, 1),
+        "cells along x (nx*ny*nz at most 500000000)"),
+    INT("domain", "ny", n[1], RANGE(1, 100000000, 1, 1),
+        "cells along y (nx*ny*nz at most 500000000)"),
+    INT("domain", "nz", n[2], RANGE(1, 100000000, 1, 1),
+        "cells along z (nx*ny*nz at most 500000000)"),
 
-    CHO("boundary", "xlo", bc.face[0][0], bc_choices),
-    CHO("boundary", "xhi", bc.face[0][1], bc_choices),
-    CHO("boundary", "ylo", bc.face[1][0], bc_choices),
-    CHO("boundary", "yhi", bc.face[1][1], bc_choices),
-    CHO("boundary", "zlo", bc.face[2][0], bc_choices),
-    CHO("boundary", "zhi", bc.face[2][1], bc_choices),
-    DBL("boundary", "lid_velocity", bc.lid_velocity, RANGE(NONE_LO, NONE_HI, 0, 0)),
-    CHO("boundary", "lid_direction", bc.lid_direction, axis_choices),
+    CHO("boundary", "xlo", bc.face[0][0], bc_choices, FACE_HELP("low x")),
+    CHO("boundary", "xhi", bc.face[0][1], bc_choices, FACE_HELP("high x")),
+    CHO("boundary", "ylo", bc.face[1][0], bc_choices, FACE_HELP("low y")),
+    CHO("boundary", "yhi", bc.face[1][1], bc_choices, FACE_HELP("high y")),
+    CHO("boundary", "zlo", bc.face[2][0], bc_choices, FACE_HELP("low z")),
+    CHO("boundary", "zhi", bc.face[2][1], bc_choices, FACE_HELP("high z")),
+    DBL("boundary", "lid_velocity", bc.lid_velocity, RANGE(NONE_LO, NONE_HI, 0, 0),
+        "speed of every lid face (velocity)"),
+    CHO("boundary", "lid_direction", bc.lid_direction, axis_choices,
+        "velocity component a lid drives (in the lid's plane)"),
 
-    DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1), "must be in [-pi/2, pi/2] (radians)"),
-    DBL("physics", "gravity", gravity, GE0),
-    DBL("physics", "density", density, GT0),
-    DBL("physics", "confining_pressure", confining_pressure, GE0),
-    BOOL("physics", "advection", advection),
+    DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
+         "must be in [-pi/2, pi/2] (radians)",
+         "tilt alpha of gravity: g = gravity (sin alpha, 0, -cos alpha) (rad)"),
+    DBL("physics", "gravity", gravity, GE0, "magnitude g of gravity (length/time^2)"),
+    DBL("physics", "density", density, GT0,
+        "bulk density (phi rho_s) in the momentum equation (mass/length^3)"),
+    DBL("physics", "confining_pressure", confining_pressure, GE0,
+        "pressure added to the pressure that enters the rheology"),
+    BOOL("physics", "advection", advection, "explicit advection of momentum (off: Stokes-like)"),
 
-    CHO("rheology", "law", rheo.law, law_choices),
-    CHO("rheology", "regularisation", rheo.reg, reg_choices),
-    DBL("rheology", "lambda", rheo.lambda, RANGE(0, 1, 0, 1)),
-    DBL("rheology", "mu_s", rheo.mu_s, GE0),
-    DBL("rheology", "delta_mu", rheo.delta_mu, GE0),
-    DBL("rheology", "i0", rheo.i0, GT0),
-    DBL("rheology", "phi", rheo.phi, RANGE(0, 1, 0, 1)),
-    DBL("rheology", "grain_diameter", rheo.grain_diameter, GT0),
-    DBL("rheology", "grain_density", rheo.grain_density, GT0),
-    BOOL("rheology", "pressure_regularisation", rheo.pressure_regularisation),
-    DBL("rheology", "yield_stress", rheo.yield_stress, GE0),
-    DBL("rheology", "plastic_viscosity", rheo.plastic_viscosity, GE0),
-    DBL("rheology", "viscosity", rheo.viscosity, GT0),
+    CHO("rheology", "law", rheo.law, law_choices, "viscosity law: mu(I), Bingham or Newtonian"),
+    CHO("rheology", "regularisation", rheo.reg, reg_choices,
+        "form of the regularised yield term (include/kernels/rheology.h)"),
+    DBL("rheology", "lambda", rheo.lambda, RANGE(0, 1, 0, 1),
+        "regularisation parameter, a shear rate (also of the pressure regularisation) (1/time)"),
+    DBL("rheology", "mu_s", rheo.mu_s, GE0, "static friction coefficient mu_s (mu(I))"),
+    DBL("rheology", "delta_mu", rheo.delta_mu, GE0, "friction increase mu_2 - mu_s (mu(I))"),
+    DBL("rheology", "i0", rheo.i0, GT0, "reference inertial number I_0 (mu(I))"),
+    DBL("rheology", "phi", rheo.phi, RANGE(0, 1, 0, 1), "solid volume fraction phi"),
+    DBL("rheology", "grain_diameter", rheo.grain_diameter, GT0, "grain diameter d (length)"),
+    {"rheology", "grain_density", K_DOUBLE, offsetof(T, rheo.grain_density), GT0, NULL, NULL, 0,
+     "grain density rho_s; 1/phi after the file and all overrides unless given (mass/length^3)",
+     "1/phi"},
+    BOOL("rheology", "pressure_regularisation", rheo.pressure_regularisation,
+         "the pressure in mu(I) is (p + sqrt(p^2 + lambda^2)) / 2 (off: max(p, 0))"),
+    DBL("rheology", "yield_stress", rheo.yield_stress, GE0,
+        "Bingham yield stress tau_0, in simple shear (pressure)"),
+    DBL("rheology", "plastic_viscosity", rheo.plastic_viscosity, GE0,
+        "Bingham plastic viscosity (pressure time)"),
+    DBL("rheology", "viscosity", rheo.viscosity, GT0, "Newtonian viscosity (pressure time)"),
 
-    CHO("solver", "mode", mode, mode_choices),
-    DBL("solver", "tolerance", tolerance, RANGE(0, 1, 0, 0)),
-    LNG("solver", "max_steps", max_steps, RANGE(1, 1e9, 1, 1)),
-    DBL("solver", "end_time", end_time, GT0),
-    DBL("solver", "dt", dt, GT0),
-    DBL("solver", "dt_max", dt_max, GT0),
-    DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1)),
-    BOOL("solver", "newton", newton),
-    DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1)),
-    DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0)),
-    INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1)),
-    CHO("solver", "line_direction", line_direction, dir_choices),
-    CHO("solver", "preconditioner", preconditioner, precond_choices),
-    DBL("solver", "augmentation", augmentation, GE0),
-    DBL("solver", "progress_interval", progress_interval, GE0),
+    CHO("solver", "mode", mode, mode_choices,
+        "steady: pseudo-time march to a steady state; transient: march to solver.end_time"),
+    DBL("solver", "tolerance", tolerance, RANGE(0, 1, 0, 0),
+        "steady: stop when the relative residual falls below this"),
+    LNG("solver", "max_steps", max_steps, RANGE(1, 1e9, 1, 1), "largest number of time steps"),
+    DBL("solver", "end_time", end_time, GT0, "transient: time to reach"),
+    DBL("solver", "dt", dt, GT0,
+        "steady: initial pseudo-time step; transient: upper bound of the step"),
+    DBL("solver", "dt_max", dt_max, GT0, "steady: cap of the growing pseudo-time step (>= dt)"),
+    DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1), "advective CFL number (with physics.advection)"),
+    BOOL("solver", "newton", newton, "consistent tangent viscosity (off: Picard, lagged viscosity)"),
+    DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
+        "the tangent is used once residual / first residual falls below this (Picard before; "
+        "1: from the start)"),
+    DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
+        "relative tolerance of the implicit viscous solve"),
+    INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
+        "iteration cap of the implicit viscous solve"),
+    CHO("solver", "line_direction", line_direction, dir_choices,
+        "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
+    CHO("solver", "preconditioner", preconditioner, precond_choices,
+        "of the implicit solve: line blocks, sparse Cholesky or LU (auto: lu or cholesky for "
+        "grids varying in two or more directions up to 4e5 unknowns, else line)"),
+    DBL("solver", "augmentation", augmentation, GE0,
+        "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
+    DBL("solver", "progress_interval", progress_interval, GE0,
+        "wall-clock seconds between progress lines (0: every step)"),
 
-    STR("output", "dir", output_dir),
-    BOOL("output", "quiet", quiet),
-    BOOL("output", "fields", fields),
-    LNG("output", "fields_every", fields_every, RANGE(0, 1e9, 1, 1)),
-    DBL("output", "fields_interval", fields_interval, GE0),
-    LNG("output", "checkpoint_every", checkpoint_every, RANGE(0, 1e9, 1, 1)),
+    {"output", "dir", K_STRING, offsetof(T, output_dir), KEY_NORANGE, NULL, NULL,
+     sizeof(((T *)0)->output_dir), "output folder", "out/<case name>"},
+    BOOL("output", "quiet", quiet, "no progress lines"),
+    BOOL("output", "fields", fields, "write HDF5 field files (fields_<step>.h5) and fields.xdmf"),
+    LNG("output", "fields_every", fields_every, RANGE(0, 1e9, 1, 1),
+        "a field file every this many steps, also step 0 (0: none by step count)"),
+    DBL("output", "fields_interval", fields_interval, GE0,
+        "a field file each time t passes a multiple of this, also t = 0 (0: none by time)"),
+    LNG("output", "checkpoint_every", checkpoint_every, RANGE(0, 1e9, 1, 1),
+        "a checkpoint every this many steps (0: only when the run is stopped)"),
 };
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
 static const char *const sections[] = {"case", "domain", "boundary", "physics",
                                        "rheology", "solver", "output"};
 #define NSECTIONS ((int)(sizeof(sections) / sizeof(sections[0])))
+#define SCENE_KEYS_MAX 64 /* a scene's keys beyond this are not checked for duplicates */
 
 /* ------------------------------------------------------------------------ */
 
@@ -381,7 +421,31 @@ struct ctx {
     char *err;
     size_t errlen;
     unsigned char set[NKEYS]; /* core key given explicitly */
+    case_warn_fn warn;      /* warnings (duplicates in the file), or NULL */
+    void *warn_ctx;
+    int keys_given;         /* key lines of the file and overrides */
+    /* the file's last line and value of each key (core, then the scene's),
+     * and the first line of each section header, for the duplicate warnings */
+    int key_line[NKEYS + SCENE_KEYS_MAX];
+    const char *key_value[NKEYS + SCENE_KEYS_MAX];
+    int section_line[NSECTIONS + 1];
 };
+
+/* One warning line (control characters replaced), when a callback is set. */
+static void warn(struct ctx *x, const char *fmt, ...)
+{
+    if (!x->warn)
+        return;
+    char msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    for (char *p = msg; *p; p++)
+        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
+            *p = '?';
+    x->warn(x->warn_ctx, msg);
+}
 
 /* Records the first error only; the message is one line. */
 static void fail(struct ctx *x, const char *fmt, ...)
@@ -449,6 +513,57 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
     return 1;
 }
 
+/* Slot of key k in ctx's duplicate tables. */
+static int key_slot(const struct muflow_case *c, const struct key *k)
+{
+    if (k >= keys && k < keys + NKEYS)
+        return (int)(k - keys);
+    const struct key_block *kb = scene_keys(c);
+    int j = kb ? (int)(k - kb->keys) : -1;
+    return j >= 0 && j < SCENE_KEYS_MAX ? NKEYS + j : -1;
+}
+
+/* A key line of the file that was applied: warns when the same key was
+ * given on an earlier line of the file (the later value is used).
+ * Overrides replace file values by design and never warn. */
+static void note_file_key(struct ctx *x, const struct ini_event *v)
+{
+    char b1[SHOWN_MAX + 4], b2[SHOWN_MAX + 4], b3[SHOWN_MAX + 4];
+    const struct key *k = find_key(x->c, v->section, v->key, NULL);
+    int slot = k ? key_slot(x->c, k) : -1;
+    if (slot < 0)
+        return;
+    if (x->key_line[slot] > 0)
+        warn(x, "%s: %s.%s given twice: line %d (%s) and line %d (%s); the later replaces the "
+                "earlier",
+             shown(x->where, b1), k->section, k->name, x->key_line[slot],
+             shown(x->key_value[slot], b2), v->line, shown(v->value, b3));
+    x->key_line[slot] = v->line;
+    x->key_value[slot] = v->value;
+}
+
+/* A [section] header of the file that was accepted: warns when the section
+ * was opened before (its keys are then read as one section). */
+static void note_file_section(struct ctx *x, const struct ini_event *v)
+{
+    char b[SHOWN_MAX + 4];
+    int slot = -1;
+    for (int i = 0; i < NSECTIONS; i++)
+        if (strcmp(v->section, sections[i]) == 0)
+            slot = i;
+    const struct key_block *kb = scene_keys(x->c);
+    if (slot < 0 && kb && strcmp(v->section, kb->section) == 0)
+        slot = NSECTIONS;
+    if (slot < 0)
+        return;
+    if (x->section_line[slot] > 0)
+        warn(x, "%s: section [%s] given twice: line %d and line %d (their keys are read as one "
+                "section)",
+             shown(x->where, b), v->section, x->section_line[slot], v->line);
+    else
+        x->section_line[slot] = v->line;
+}
+
 /* A [section] header of the file. */
 static int header(struct ctx *x, const char *name)
 {
@@ -474,6 +589,17 @@ static int key_index(const char *section, const char *name)
         if (strcmp(keys[i].section, section) == 0 && strcmp(keys[i].name, name) == 0)
             return i;
     return -1;
+}
+
+/* "bagnold|chute|..." : the scenes other than none. */
+static const char *scene_names(char *names, size_t len)
+{
+    size_t used = 0;
+    names[0] = '\0';
+    for (int i = 1; i < scene_count() && used < len; i++)
+        used += (size_t)snprintf(names + used, len - used, "%s%s", i > 1 ? "|" : "",
+                                 scene_at(i)->name);
+    return names;
 }
 
 static void finish(struct ctx *x)
@@ -550,6 +676,37 @@ static void finish(struct ctx *x)
         if (why)
             fail(x, "%s: default output.dir = %s: %s; set output.dir", where, shown(dir, b2), why);
     }
+    if (x->failed)
+        return;
+
+    /* The implicit viscous solve works along a non-periodic direction
+     * (solvers/viscous.c): a box periodic on every face cannot be run. */
+    if (c->bc.face[0][0] == BC_PERIODIC && c->bc.face[1][0] == BC_PERIODIC &&
+        c->bc.face[2][0] == BC_PERIODIC) {
+        char names[512];
+        if (x->keys_given == 0)
+            fail(x,
+                 "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
+                 "periodic on every face, which muflow cannot solve; a case needs at least one "
+                 "direction whose faces are wall, slip, surface or lid (boundary.*) and, to be "
+                 "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
+                 "complete examples, muflow --list lists every key",
+                 where, c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
+        else
+            fail(x,
+                 "%s: every boundary face is periodic: muflow needs at least one direction "
+                 "whose faces are wall, slip, surface or lid (boundary.xlo/xhi, ylo/yhi or "
+                 "zlo/zhi); the implicit viscous solve works along it",
+                 where);
+        return;
+    }
+    if (c->line_direction >= 0 && c->bc.face[c->line_direction][0] == BC_PERIODIC) {
+        fail(x,
+             "%s: solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
+             "non-periodic direction (auto chooses one)",
+             where, axis[c->line_direction], axis[c->line_direction]);
+        return;
+    }
 }
 
 /* c->name: base name of path without directory and a trailing ".ini". */
@@ -615,6 +772,13 @@ static int scene_of(const struct ini_events *ev)
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen)
 {
+    return case_load_warn(c, path, noverrides, overrides, NULL, NULL, err, errlen);
+}
+
+int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
+                   char *const overrides[], case_warn_fn warn_fn, void *warn_ctx, char *err,
+                   size_t errlen)
+{
     struct muflow_case work;
     struct ctx x;
     memset(&x, 0, sizeof(x));
@@ -624,6 +788,8 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
     x.where = path ? path : "case";
     x.err = err;
     x.errlen = errlen;
+    x.warn = warn_fn;
+    x.warn_ctx = warn_ctx;
     if (err && errlen)
         err[0] = '\0';
 
@@ -639,14 +805,18 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
         fail(&x, "%s: out of memory", shown(x.where, b));
     int scene = scene_of(&ev);
     case_set_scene(&work, scene);
+    for (int i = 0; i < ev.count; i++)
+        x.keys_given += ev.ev[i].kind == INI_KEY;
     for (int i = 0; i < ev.count && !x.failed; i++) {
         const struct ini_event *v = &ev.ev[i];
         if (v->kind == INI_ERROR) {
             fail(&x, "%s", v->message);
         } else if (v->kind == INI_SECTION) {
-            header(&x, v->section);
+            if (header(&x, v->section))
+                note_file_section(&x, v);
         } else {
-            assign(&x, v->section, v->key, v->value, v->arg);
+            if (assign(&x, v->section, v->key, v->value, v->arg) && !v->arg)
+                note_file_key(&x, v);
             /* an earlier case.scene does not undo the scene of the first
              * pass: the last one is the case's, and its block is set up */
             work.scene = scene;
@@ -664,6 +834,44 @@ int case_load(struct muflow_case *c, const char *path, int noverrides,
         return 2;
     *c = work;
     return 0;
+}
+
+/* ------------------------------------------------------------------------ */
+/* The key list (muflow --list) */
+
+int case_key_count(void) { return NKEYS; }
+
+const struct key *case_key_at(int i) { return i >= 0 && i < NKEYS ? &keys[i] : NULL; }
+
+void case_write_key_list(FILE *out)
+{
+    static struct muflow_case d; /* static: the case is large */
+    case_defaults(&d);
+    fprintf(out, "Scenes (case.scene):\n");
+    for (int i = 0; i < scene_count(); i++)
+        fprintf(out, "  %-16s %s\n", scene_at(i)->name, scene_at(i)->title);
+    fprintf(out, "\nKeys: section.key = default  (allowed values)\n      meaning\n");
+    const char *section = NULL;
+    for (int i = 0; i < NKEYS; i++) {
+        if (strcmp(keys[i].section, "output") == 0 && strcmp(section, "output") != 0)
+            for (int sc = 0; sc < scene_count(); sc++) { /* the scenes' own sections */
+                const struct key_block *kb = scene_at(sc)->keys;
+                if (!kb)
+                    continue;
+                static struct muflow_case ds;
+                case_defaults(&ds);
+                case_set_scene(&ds, sc);
+                fprintf(out, "\n[%s]  (only with case.scene = %s)\n", kb->section,
+                        scene_at(sc)->name);
+                for (int j = 0; j < kb->nkeys; j++)
+                    key_write_help(case_scene_params(&ds), &kb->keys[j], out);
+            }
+        if (!section || strcmp(section, keys[i].section) != 0) {
+            section = keys[i].section;
+            fprintf(out, "\n[%s]\n", section);
+        }
+        key_write_help(&d, &keys[i], out);
+    }
 }
 
 /* ------------------------------------------------------------------------ */

@@ -17,6 +17,61 @@ void key_range_text(const struct key *k, char *out, size_t outlen)
                  k->hi, k->hi_incl ? ']' : ')');
 }
 
+void key_allowed_text(const struct key *k, char *out, size_t outlen)
+{
+    switch (k->type) {
+    case K_DOUBLE:
+    case K_INT:
+    case K_LONG: {
+        const char *kind = k->type == K_DOUBLE ? "real" : "integer";
+        if (!k->range_text && k->lo == -HUGE_VAL && k->hi == HUGE_VAL) {
+            snprintf(out, outlen, "%s", kind);
+            return;
+        }
+        char range[160];
+        if (k->range_text)
+            snprintf(range, sizeof range, "%s", k->range_text);
+        else
+            key_range_text(k, range, sizeof range);
+        /* "must be > 0" -> "real > 0", "must be in [1, 2]" -> "integer in [1, 2]" */
+        if (strncmp(range, "must be ", 8) == 0)
+            snprintf(out, outlen, "%s %s", kind, range + 8);
+        else
+            snprintf(out, outlen, "%s: %s", kind, range);
+        return;
+    }
+    case K_BOOL:
+        snprintf(out, outlen, "on|off");
+        return;
+    case K_CHOICE: {
+        size_t used = 0;
+        out[0] = '\0';
+        for (const struct choice *ch = k->choices; ch->name && used < outlen; ch++)
+            used += (size_t)snprintf(out + used, outlen - used, "%s%s",
+                                     ch == k->choices ? "" : "|", ch->name);
+        return;
+    }
+    case K_STRING:
+        snprintf(out, outlen, "text of at most %zu characters", k->size - 1);
+        return;
+    }
+    snprintf(out, outlen, "?");
+}
+
+void key_write_help(const void *base, const struct key *k, FILE *out)
+{
+    char def[600], allowed[600];
+    if (k->default_text)
+        snprintf(def, sizeof def, "%s", k->default_text);
+    else
+        key_text(base, k, def, sizeof def);
+    if (!def[0])
+        snprintf(def, sizeof def, "(not set)");
+    key_allowed_text(k, allowed, sizeof allowed);
+    fprintf(out, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name, def, allowed,
+            k->help ? k->help : "");
+}
+
 static int in_range(const struct key *k, double v)
 {
     if (k->lo_incl ? v < k->lo : v <= k->lo)
@@ -24,6 +79,34 @@ static int in_range(const struct key *k, double v)
     if (k->hi == HUGE_VAL)
         return 1;
     return k->hi_incl ? v <= k->hi : v < k->hi;
+}
+
+/* A plain decimal number: [+-] digits [. digits] [(e|E) [+-] digits], at
+ * least one digit in the mantissa.  strtod also reads hexadecimal floats
+ * (0x1p-2), "inf", "infinity" and "nan(...)": none of them is a case-file
+ * number. */
+static int is_decimal(const char *s)
+{
+    int digits = 0;
+    if (*s == '+' || *s == '-')
+        s++;
+    for (; *s >= '0' && *s <= '9'; s++)
+        digits++;
+    if (*s == '.')
+        for (s++; *s >= '0' && *s <= '9'; s++)
+            digits++;
+    if (!digits)
+        return 0;
+    if (*s == 'e' || *s == 'E') {
+        s++;
+        if (*s == '+' || *s == '-')
+            s++;
+        if (!(*s >= '0' && *s <= '9'))
+            return 0;
+        while (*s >= '0' && *s <= '9')
+            s++;
+    }
+    return *s == '\0';
 }
 
 const char *key_parse(void *base, const struct key *k, const char *value, char *msg,
@@ -43,6 +126,8 @@ const char *key_parse(void *base, const struct key *k, const char *value, char *
             return "out of the range of a double";
         if (!isfinite(v))
             return "not a finite number";
+        if (!is_decimal(value))
+            return "not a decimal number (hexadecimal and other forms are not accepted)";
         if (!in_range(k, v)) {
             key_range_text(k, msg, msglen);
             return msg;
@@ -111,15 +196,67 @@ const char *key_parse(void *base, const struct key *k, const char *value, char *
     return "internal error: unknown key type";
 }
 
-/* Shortest %.*g that reads back as exactly v (at most 17 digits). */
+/* The shortest text that reads back as exactly v: the fewest significant
+ * digits (at most 17) that round-trip, written in plain decimal (70, 0.25,
+ * 0.0001, 123456) unless scientific notation (1e+12, 1e-08) is at least two
+ * characters shorter.  Both forms carry the same digits, so either reads
+ * back to v. */
 static void format_double(double v, char *out, size_t outlen)
 {
-    for (int prec = 1; prec <= 17; prec++) {
-        snprintf(out, outlen, "%.*g", prec, v);
-        if (strtod(out, NULL) == v)
-            return;
+    char sci[40];
+    int prec = 1;
+    for (; prec <= 17; prec++) {
+        snprintf(sci, sizeof sci, "%.*e", prec - 1, v);
+        if (strtod(sci, NULL) == v)
+            break;
     }
-    snprintf(out, outlen, "%.17g", v);
+    if (prec > 17) /* unreachable for a finite double */
+        prec = 17;
+    snprintf(sci, sizeof sci, "%.*e", prec - 1, v);
+    /* sci is [-]d[.ddd]e(+|-)XX: the digits and the decimal exponent */
+    char digits[24];
+    int nd = 0, neg = sci[0] == '-';
+    const char *p = sci + neg;
+    for (; *p && *p != 'e'; p++)
+        if (*p >= '0' && *p <= '9' && nd < (int)sizeof digits - 1)
+            digits[nd++] = *p;
+    digits[nd] = '\0';
+    int exp10 = *p == 'e' ? atoi(p + 1) : 0;
+    while (nd > 1 && digits[nd - 1] == '0') /* %.*e pads with zeros (v = 0) */
+        digits[--nd] = '\0';
+    if (!isfinite(v) || nd == 0) {
+        snprintf(out, outlen, "%s", sci);
+        return;
+    }
+    /* the plain form: digits with the point moved by exp10 */
+    char plain[400];
+    size_t n = 0;
+    if (neg)
+        plain[n++] = '-';
+    if (exp10 < 0) {
+        plain[n++] = '0';
+        plain[n++] = '.';
+        for (int i = 0; i < -exp10 - 1 && n < sizeof plain - 32; i++)
+            plain[n++] = '0';
+        for (int i = 0; i < nd; i++)
+            plain[n++] = digits[i];
+    } else {
+        for (int i = 0; i <= exp10 && n < sizeof plain - 32; i++)
+            plain[n++] = i < nd ? digits[i] : '0';
+        if (nd > exp10 + 1) {
+            plain[n++] = '.';
+            for (int i = exp10 + 1; i < nd; i++)
+                plain[n++] = digits[i];
+        }
+    }
+    plain[n] = '\0';
+    /* scientific: %.*e with the trailing zeros of the mantissa removed */
+    char shortsci[40];
+    snprintf(shortsci, sizeof shortsci, "%.*e", nd - 1, v);
+    const char *best = strlen(plain) <= strlen(shortsci) + 1 ? plain : shortsci;
+    if (strtod(best, NULL) != v) /* cannot happen: the same digits */
+        best = sci;
+    snprintf(out, outlen, "%s", best);
 }
 
 void key_text(const void *base, const struct key *k, char *val, size_t len)

@@ -23,6 +23,7 @@ int profile_extract(struct profile *pr, const struct march_state *st)
         return -1;
     pr->axis = sc->profile_axis;
     pr->component = sc->profile_component;
+    pr->exact_name = scene_solution_name(sc);
     const struct grid *g = &st->g;
     int n = pr->n = g->n[pr->axis];
     double **arrays[] = {&pr->coord, &pr->velocity, &pr->pressure, &pr->shear_rate,

@@ -38,10 +38,16 @@ static const struct choice mixture_choices[] = {
 
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
-    KEY_DBL(T, "bagnold2", "interface_height", interface_height, KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity, KEY_GT0),
-    KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices),
+    KEY_DBL(T, "bagnold2", "interface_height", interface_height,
+            "height h0 of the flat grains/fluid interface above the base (below domain.lz)",
+            KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, "density rho_f of the fluid above",
+            KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
+            "viscosity eta_f of the (Newtonian) fluid above", KEY_GT0),
+    KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
+            "mixture viscosity of a cell holding both: weighted (seeds/001 eq. 14) or harmonic "
+            "(eq. 15)"),
 };
 #undef T
 

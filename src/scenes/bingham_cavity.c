@@ -4,6 +4,7 @@
  * vertical mid-line profile (err_midline) and the largest stream function
  * psi_max (the headline). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/profile.h"
@@ -30,7 +31,10 @@ static void midline(const struct grid *g, int faces[2], int cells[2])
     cells[1] = even ? cells[0] + 1 : faces[0];
 }
 
-/* The reference mid-line at the profile's points (NaN without data). */
+/* The reference mid-line at the profile's points: interpolated between the
+ * data's points, NaN outside their range (the digitised curve starts and
+ * ends a little inside the walls; extrapolating it would invent values)
+ * and without data. */
 static void reference_profile(const struct muflow_case *cs, int n, const double *x, double *u)
 {
     struct curve ref = {0};
@@ -39,8 +43,15 @@ static void reference_profile(const struct muflow_case *cs, int n, const double 
                                             &ref, err, sizeof err) != 0)
         memset(&ref, 0, sizeof ref);
     for (int i = 0; i < n; i++)
-        u[i] = ref.n > 1 ? curve_at(&ref, x[i]) : NAN;
+        u[i] = ref.n > 1 && x[i] >= ref.x[0] && x[i] <= ref.x[ref.n - 1] ? curve_at(&ref, x[i])
+                                                                          : NAN;
     curve_free(&ref);
+}
+
+static void reference_parameters(const struct muflow_case *cs, char *out, size_t outlen)
+{
+    snprintf(out, outlen, "Bn = %.6g in Vola's convention, sqrt(2) tau_0 L / (mu_p U)",
+             cavity_reference_bn(cs));
 }
 
 /* Largest |psi| with u = d psi / dz, w = -d psi / dx and psi = 0 on the base:
@@ -119,5 +130,8 @@ const struct scene scene_bingham_cavity = {
     .exact_profile = reference_profile,
     .headline_name = "psi_max",
     .error_name = "err_midline",
+    .solution_name = "reference",
+    .no_err_rms_paper = 1,
+    .reference_parameters = reference_parameters,
     .errors = errors,
 };

@@ -101,14 +101,25 @@ int heap_profile_extract(struct heap_profile *hp, const struct march_state *st, 
 #define HALF_PI 1.57079632679489661923
 #define T struct heap_params
 static const struct key heap_keys[] = {
-    KEY_DBL(T, "heap", "flow_rate", flow_rate, KEY_GE0),
+    KEY_DBL(T, "heap", "flow_rate", flow_rate,
+            "target flow rate per unit width Q* = Q / (d sqrt(g d)): the tilt is searched over "
+            "steady solves (0: one solve at physics.tilt)",
+            KEY_GE0),
     KEY_DBLT(T, "heap", "tilt_min", tilt_min, "must be in (0, pi/2) (radians)",
+             "low end of the search's tilt bracket, Q*(tilt_min) < target (rad)",
              KEY_RANGE(0, HALF_PI, 0, 0)),
     KEY_DBLT(T, "heap", "tilt_max", tilt_max, "must be in (0, pi/2) (radians)",
+             "high end of the search's tilt bracket, Q*(tilt_max) > target (rad)",
              KEY_RANGE(0, HALF_PI, 0, 0)),
-    KEY_DBL(T, "heap", "flow_rate_tolerance", flow_rate_tolerance, KEY_RANGE(0, 0.5, 0, 1)),
-    KEY_INT(T, "heap", "max_solves", max_solves, KEY_RANGE(2, 1000, 1, 1)),
-    KEY_DBL(T, "heap", "depth_fraction", depth_fraction, KEY_RANGE(0, 1, 0, 0)),
+    KEY_DBL(T, "heap", "flow_rate_tolerance", flow_rate_tolerance,
+            "the search ends when |Q* / target - 1| is at most this", KEY_RANGE(0, 0.5, 0, 1)),
+    KEY_INT(T, "heap", "max_solves", max_solves,
+            "steady solves the search may take (the two bracket ends included)",
+            KEY_RANGE(2, 1000, 1, 1)),
+    KEY_DBL(T, "heap", "depth_fraction", depth_fraction,
+            "flowing depth of a column: where its velocity falls to this fraction of its "
+            "surface velocity",
+            KEY_RANGE(0, 1, 0, 0)),
 };
 #undef T
 

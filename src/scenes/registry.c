@@ -44,3 +44,18 @@ int scene_find(const char *name)
 }
 
 const struct choice *scene_choices(void) { return scene_choice_table; }
+
+const char *scene_solution_name(const struct scene *s)
+{
+    return s->solution_name ? s->solution_name : "exact";
+}
+
+const char *scene_error_name(const struct scene *s)
+{
+    return s->error_name ? s->error_name : "err_rms";
+}
+
+int scene_has_reference(const struct scene *s)
+{
+    return strcmp(scene_solution_name(s), "reference") == 0;
+}
