@@ -13,11 +13,15 @@ DEB_PKGS += libxml2-utils
 # reference BLAS, 3x slower there); the serial build does not compete with
 # muflow's OpenMP threads
 DEB_PKGS += libopenblas0-serial
-PC_PKGS  = fftw3 hdf5 gsl inih
+# hypre's BoomerAMG (the amg preconditioner, src/solvers/amg_hypre.c); Debian
+# builds it with OpenMPI, so MPI's headers and library come along (one rank)
+DEB_PKGS += libhypre-dev libopenmpi-dev
+PC_PKGS  = fftw3 hdf5 gsl inih ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
-             $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse
-LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod -lumfpack \
-          -lsuitesparseconfig -lm
+             $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
+             -I/usr/include/hypre
+LDLIBS  = -lfftw3_omp -lHYPRE $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
+          -lumfpack -lsuitesparseconfig -lm
 BUILD   ?= build
 
 KERNEL_SRC = $(wildcard kernels/*.c)
