@@ -99,7 +99,7 @@ int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char 
                     size_t errlen);
 
 /* What the last viscous_precondition built and how long it and the last
- * viscous_solve took, for measurements. */
+ * viscous_solve took (CPU seconds of the process), for measurements. */
 struct viscous_precond_info {
     int kind;               /* enum viscous_precond in use (VISCOUS_LINE after a fallback) */
     long unknowns, entries; /* of the probed matrix (AMG) */
