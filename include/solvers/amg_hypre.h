@@ -49,9 +49,10 @@ int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
                      const struct amg_options *o, char *err, size_t errlen);
 void amg_hypre_destroy(struct amg_hypre *a);
 
-/* Builds the multigrid hierarchy for A (copied into hypre's matrix).  Returns
- * 0, or -1 when hypre reports an error. */
-int amg_hypre_setup(struct amg_hypre *a, const struct csr_matrix *A);
+/* Builds the multigrid hierarchy for A, which is copied into hypre's matrix
+ * and then released (csr_free: the peak memory holds one copy less).
+ * Returns 0, or -1 when hypre reports an error. */
+int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
 
 /* x = one V-cycle applied to b (from x = 0). */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);

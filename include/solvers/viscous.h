@@ -85,7 +85,7 @@ struct viscous_amg {
     int drop_augmentation;  /* 1: built without the grad-div term */
 };
 
-/* amg_options_default, GMRES(40), the operator solved. */
+/* amg_options_default, GMRES(20), the operator solved. */
 void viscous_amg_defaults(struct viscous_amg *c);
 
 /* Overrides from a comma-separated key=value list: amg_options_parse's keys

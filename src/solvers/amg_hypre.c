@@ -239,7 +239,7 @@ static long parcsr_entries(hypre_ParCSRMatrix *A)
     return (long)hypre_CSRMatrixNumNonzeros(d) + (o ? hypre_CSRMatrixNumNonzeros(o) : 0);
 }
 
-int amg_hypre_setup(struct amg_hypre *a, const struct csr_matrix *M)
+int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
 {
     release_hierarchy(a);
     int n = a->n;
@@ -254,6 +254,7 @@ int amg_hypre_setup(struct amg_hypre *a, const struct csr_matrix *M)
     HYPRE_IJMatrixSetValues(a->ij, n, a->ncols, a->rows, M->col, M->val);
     if (HYPRE_IJMatrixAssemble(a->ij) != 0)
         return -1;
+    csr_free(M); /* hypre holds the copy it needs */
     void *obj;
     HYPRE_IJMatrixGetObject(a->ij, &obj);
     a->A = obj;

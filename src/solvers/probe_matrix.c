@@ -251,6 +251,13 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
     for (int r = n; r > 0; r--)
         A->rowptr[r] = A->rowptr[r - 1];
     A->rowptr[0] = 0;
+    /* the triplets are as large as the matrix: not kept between assemblies */
+    free(pm->trow);
+    free(pm->tcol);
+    free(pm->tval);
+    pm->trow = pm->tcol = NULL;
+    pm->tval = NULL;
+    pm->tcap = 0;
     for (int r = 0; r < n; r++)
         for (int a = A->rowptr[r] + 1; a < A->rowptr[r + 1]; a++) {
             int cc = A->col[a];

@@ -197,7 +197,7 @@ void viscous_amg_defaults(struct viscous_amg *c)
 {
     amg_options_default(&c->amg);
     c->bicgstab = 0;
-    c->restart = 40;
+    c->restart = 20;
     c->picard = 0;
     c->drop_augmentation = 0;
 }
@@ -386,11 +386,12 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         double t0 = cpu_now();
         int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
         double t1 = cpu_now();
+        s->info.unknowns = s->amat.n;
+        s->info.entries = csr_nnz(&s->amat);
+        /* hypre copies the matrix: ours is released before its setup */
         ok = ok && amg_hypre_setup(s->amg, &s->amat) == 0;
         s->info.probe_seconds = t1 - t0;
         s->info.setup_seconds = cpu_now() - t1;
-        s->info.unknowns = s->amat.n;
-        s->info.entries = csr_nnz(&s->amat);
         s->info.levels = ok ? amg_hypre_levels(s->amg) : 0;
         s->info.complexity = ok ? amg_hypre_complexity(s->amg) : 0.0;
         s->info.kind = ok ? VISCOUS_AMG : VISCOUS_LINE;
