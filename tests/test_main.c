@@ -33,6 +33,7 @@ static const struct {
     {"poisson", group_poisson},
     {"case", group_case},
     {"viscous", group_viscous},
+    {"amg", group_amg},
     {"scenes", group_scenes},
     {"bingham", group_bingham},
     {"heap", group_heap},

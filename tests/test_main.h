@@ -35,6 +35,7 @@ void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);
 void group_case(struct test_tally *t);
 void group_viscous(struct test_tally *t);
+void group_amg(struct test_tally *t);
 void group_scenes(struct test_tally *t);
 void group_bingham(struct test_tally *t);
 void group_heap(struct test_tally *t);
