@@ -83,14 +83,17 @@ struct viscous_amg {
                                operator (viscosities, no b terms) of the same state,
                                and preconditions the full tangent */
     int drop_augmentation;  /* 1: built without the grad-div term */
+    int reuse;              /* > 0: a hierarchy serves up to this many further
+                               steps while the Krylov iterations stay within twice
+                               those of its first solve (a failed solve rebuilds it) */
 };
 
-/* amg_options_default, GMRES(20), the operator solved. */
+/* amg_options_default, GMRES(20), the operator solved, set up every step. */
 void viscous_amg_defaults(struct viscous_amg *c);
 
 /* Overrides from a comma-separated key=value list: amg_options_parse's keys
  * plus krylov=gmres|bicgstab, restart=N, picard=0|1, aug=1|0 (0 drops the
- * augmentation from the multigrid's matrix).  Returns 0 or -1 with a message. */
+ * augmentation from the multigrid's matrix), reuse=N.  Returns 0 or -1 with a message. */
 int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t errlen);
 
 /* Sets them for a VISCOUS_AMG solver (before viscous_precondition).  Returns
@@ -108,6 +111,7 @@ struct viscous_precond_info {
     double solve_seconds;   /* the last viscous_solve */
     int levels;
     double complexity;      /* operator complexity */
+    int reused;             /* 1: the last viscous_precondition kept the hierarchy */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 

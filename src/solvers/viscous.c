@@ -48,6 +48,8 @@ struct viscous_solver {
     struct csr_matrix amat;            /* the probed matrix */
     double *amg_b, *amg_x;             /* gathered right-hand side and correction */
     int amg_ok;                        /* the last setup succeeded */
+    int amg_age;                       /* viscous_precondition calls since the setup */
+    int amg_fresh_iters, amg_last_iters; /* Krylov iterations just after it, and last */
     double *(*gv)[3];                  /* GMRES basis: restart + 1 field triples */
     int gv_len;
     double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
@@ -200,6 +202,7 @@ void viscous_amg_defaults(struct viscous_amg *c)
     c->restart = 20;
     c->picard = 0;
     c->drop_augmentation = 0;
+    c->reuse = 0;
 }
 
 int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t errlen)
@@ -224,6 +227,8 @@ int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t
             }
         } else if (strncmp(tok, "picard=", 7) == 0) {
             c->picard = atoi(tok + 7) != 0;
+        } else if (strncmp(tok, "reuse=", 6) == 0) {
+            c->reuse = atoi(tok + 6);
         } else if (strncmp(tok, "aug=", 4) == 0) {
             c->drop_augmentation = atoi(tok + 4) == 0;
         } else {
@@ -373,7 +378,17 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
+    if (s->amg && s->amg_ok && s->amg_cfg.reuse > 0 && s->amg_age < s->amg_cfg.reuse &&
+        s->amg_last_iters <= 2 * s->amg_fresh_iters + 2) {
+        /* the hierarchy of an earlier operator still serves: GMRES works on
+         * the current one, so only the iteration count can suffer */
+        s->amg_age++;
+        s->info.probe_seconds = s->info.setup_seconds = 0.0;
+        s->info.reused = 1;
+        return;
+    }
     s->amg_ok = 0;
+    s->info.reused = 0;
     if (s->amg) {
         /* the multigrid's matrix: the operator, or its Picard part, with or
          * without the augmentation */
@@ -396,6 +411,8 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->info.complexity = ok ? amg_hypre_complexity(s->amg) : 0.0;
         s->info.kind = ok ? VISCOUS_AMG : VISCOUS_LINE;
         s->amg_ok = ok;
+        s->amg_age = 0;
+        s->amg_fresh_iters = -1;
         if (ok)
             return;
     }
@@ -647,6 +664,18 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
 {
     double t0 = cpu_now();
     int rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    if (rc != 0 && s->amg_ok && s->amg_age > 0) {
+        /* a reused hierarchy that no longer serves: rebuilt for this operator */
+        s->amg_cfg.reuse = -s->amg_cfg.reuse; /* forces the setup */
+        viscous_precondition(s, pb);
+        s->amg_cfg.reuse = -s->amg_cfg.reuse;
+        rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    }
+    if (s->amg_ok) {
+        if (s->amg_fresh_iters < 0)
+            s->amg_fresh_iters = st->iterations;
+        s->amg_last_iters = st->iterations;
+    }
     s->info.solve_seconds = cpu_now() - t0;
     return rc;
 }
