@@ -181,13 +181,13 @@ int main(int argc, char **argv)
            "newton_steps=%d newton_iters=%.1f newton_setup=%.4f newton_solve=%.4f "
            "newton_step=%.4f first_setup=%.4f picard_steps=%d picard_iters=%.1f "
            "picard_setup=%.4f picard_solve=%.4f max_iters=%d fallbacks=%d maxrss_mb=%.1f "
-           "levels=%d complexity=%.2f nnz=%ld residual=%.3e flow_rate=%.8g u_surface=%.8g "
+           "unknowns=%ld levels=%d complexity=%.2f nnz=%ld residual=%.3e flow_rate=%.8g u_surface=%.8g "
            "config=\"%s\"\n",
            argv[1], n1, n2, kname, run_status_name(status), st.step, wall,
            o.newton.n + o.newton_first.n, mean(N->iters, N->n), mean(N->setup, N->n),
            mean(N->solve, N->n), mean(N->wall, N->n), o.newton_first.setup, P->n,
            mean(P->iters, P->n), mean(P->setup, P->n), mean(P->solve, P->n), o.max_iters,
-           o.fallbacks, ru.ru_maxrss / 1024.0, in.levels, in.complexity, in.entries,
+           o.fallbacks, ru.ru_maxrss / 1024.0, in.unknowns, in.levels, in.complexity, in.entries,
            st.residual, q, us, desc);
     march_destroy(&st);
     return 0;
