@@ -41,6 +41,7 @@ struct viscous_solver {
      * extra BiCGStab vectors (allocated with a direct kind only) */
     double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
     double *r0[3], *v[3], *t[3], *sh[3];
+    enum viscous_precond kind;         /* as created */
     /* algebraic multigrid (VISCOUS_AMG) */
     struct probe_matrix *probe;
     struct amg_hypre *amg;
@@ -147,7 +148,7 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         snprintf(err, errlen, "viscous solver: out of memory");
         return -1;
     }
-    s->info.kind = kind;
+    s->kind = s->info.kind = kind;
     if (kind != VISCOUS_LINE) {
         int periodic[3];
         for (int d = 0; d < 3; d++)
@@ -242,7 +243,7 @@ int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t
 int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char *err,
                     size_t errlen)
 {
-    if (s->info.kind != VISCOUS_AMG) {
+    if (s->kind != VISCOUS_AMG) {
         snprintf(err, errlen, "viscous solver: not an amg preconditioner");
         return -1;
     }
