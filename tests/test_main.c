@@ -43,6 +43,7 @@ static const struct {
     {"case", group_case},
     {"architecture", group_architecture},
     {"viscous", group_viscous},
+    {"amg", group_amg},
     {"scenes", group_scenes},
     {"bingham", group_bingham},
     {"heap", group_heap},

@@ -37,6 +37,7 @@ void group_multigrid(struct test_tally *t);
 void group_case(struct test_tally *t);
 void group_architecture(struct test_tally *t);
 void group_viscous(struct test_tally *t);
+void group_amg(struct test_tally *t);
 void group_scenes(struct test_tally *t);
 void group_bingham(struct test_tally *t);
 void group_heap(struct test_tally *t);

@@ -10,7 +10,7 @@
 #include "kernels/rheology.h"
 
 struct scene;
-enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU };
+enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 
 struct muflow_case {

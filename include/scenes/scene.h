@@ -45,7 +45,10 @@ struct scene_drive {
     march_observer_fn observe;
     void *observe_ctx;
     int verbose;                   /* progress lines wanted */
-    unsigned char data[512];       /* the driver's own results, for results() */
+    union {                        /* the driver's own results, for results() */
+        max_align_t align;
+        unsigned char bytes[512];
+    } data;
 };
 
 struct scene {

@@ -15,11 +15,9 @@
 
 #include <stddef.h>
 #include "grid/grid.h"
+#include "solvers/probe_matrix.h"
 
 struct sparse_direct;
-
-/* The operator to probe: out = A v (v's ghosts may be overwritten). */
-typedef void (*operator_fn)(void *ctx, double *v[3], double *out[3]);
 
 /* Numbering of the unknowns of act and the colouring for a stencil of the
  * given reach; symmetric selects Cholesky (else LU).  -1 with a message when

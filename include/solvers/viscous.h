@@ -21,6 +21,7 @@
 #include "grid/boundary.h"
 #include "grid/grid.h"
 #include "kernels/kernels.h"
+#include "solvers/amg_hypre.h"
 
 struct viscous_problem {
     double mass;                  /* rho / dt (the scale, and the mass term when
@@ -48,12 +49,14 @@ struct viscous_stats {
 
 struct viscous_solver;
 
-enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU };
+enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG };
 
 /* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
  * kind: line blocks; the probed sparse Cholesky factorisation of the
- * symmetric operator; or the probed sparse LU of the full tangent
- * (sparse_direct.h), each with line blocks as fallback.  Returns 0, or -1
+ * symmetric operator; the probed sparse LU of the full tangent
+ * (sparse_direct.h); or algebraic multigrid (BoomerAMG, amg_hypre.h) on the
+ * probed matrix inside restarted GMRES, for the symmetric operator and the
+ * full tangent alike; each with line blocks as fallback.  Returns 0, or -1
  * with a message in err. */
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
                    const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
@@ -72,6 +75,47 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
  * Returns 0 when converged, 1 when maxit was reached, -1 on a breakdown. */
 int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                   double *x[3], double rtol, int maxit, struct viscous_stats *st);
+
+/* Settings of the VISCOUS_AMG kind. */
+struct viscous_amg {
+    struct amg_options amg;
+    int bicgstab;           /* 1: BiCGStab instead of GMRES */
+    int restart;            /* GMRES restart length */
+    int picard;             /* 1: the multigrid is built on the symmetric Picard
+                               operator (viscosities, no b terms) of the same state,
+                               and preconditions the full tangent */
+    int drop_augmentation;  /* 1: built without the grad-div term */
+    int reuse;              /* > 0: a hierarchy serves up to this many further
+                               steps while the Krylov iterations stay within twice
+                               those of its first solve (a failed solve rebuilds it) */
+};
+
+/* amg_options_default, GMRES(20), the operator solved, set up every step. */
+void viscous_amg_defaults(struct viscous_amg *c);
+
+/* Overrides from a comma-separated key=value list: amg_options_parse's keys
+ * plus krylov=gmres|bicgstab, restart=N, picard=0|1, aug=1|0 (0 drops the
+ * augmentation from the multigrid's matrix), reuse=N.  Returns 0 or -1 with a message. */
+int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t errlen);
+
+/* Sets them for a VISCOUS_AMG solver (before viscous_precondition).  Returns
+ * 0, or -1 with a message (another kind, or out of memory). */
+int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char *err,
+                    size_t errlen);
+
+/* What the last viscous_precondition built and how long it and the last
+ * viscous_solve took (CPU seconds of the process), for measurements. */
+struct viscous_precond_info {
+    int kind;               /* enum viscous_precond in use (VISCOUS_LINE after a fallback) */
+    long unknowns, entries; /* of the probed matrix (AMG) */
+    double probe_seconds;   /* probing and assembly (AMG) */
+    double setup_seconds;   /* multigrid setup (AMG); probing and factorisation (LU) */
+    double solve_seconds;   /* the last viscous_solve */
+    int levels;
+    double complexity;      /* operator complexity */
+    int reused;             /* 1: the last viscous_precondition kept the hierarchy */
+};
+void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);

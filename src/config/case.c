@@ -43,7 +43,7 @@ static const struct choice dir_choices[] = {
 static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
-    {"lu", PRECOND_LU}, {NULL, 0}};
+    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
@@ -152,8 +152,8 @@ static const struct key keys[] = {
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky or LU (auto: lu or cholesky for "
-        "grids varying in two or more directions up to 4e5 unknowns, else line)"),
+        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto: lu or "
+        "cholesky for grids varying in two or more directions up to 4e5 unknowns, else line)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "progress_interval", progress_interval, GE0,

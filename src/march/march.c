@@ -58,6 +58,7 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_LINE: return VISCOUS_LINE;
     case PRECOND_CHOLESKY: return VISCOUS_CHOLESKY;
     case PRECOND_LU: return VISCOUS_LU;
+    case PRECOND_AMG: return VISCOUS_AMG;
     case PRECOND_AUTO: break;
     }
     int wide = 0;
@@ -186,7 +187,8 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         for (int s = 0; s < 2; s++)
             pbc[d][s] = projection_bc(st->bc.face[d][s]);
     enum viscous_precond kind = choose_preconditioner(st);
-    st->full_tangent = kind == VISCOUS_LU && cs->newton;
+    /* the probed LU and the AMG both take the full (non-symmetric) tangent */
+    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {
         const struct field_spec s = {"augmentation", FIELD_CELLS, 0};

@@ -226,8 +226,8 @@ static void report_solve(void *vctx, int solve, double tilt, double flow_rate,
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
-    struct tilt_search_result *sr = (struct tilt_search_result *)d->data;
-    _Static_assert(sizeof(struct tilt_search_result) <= sizeof d->data, "drive data");
+    struct tilt_search_result *sr = (struct tilt_search_result *)d->data.bytes;
+    _Static_assert(sizeof(struct tilt_search_result) <= sizeof d->data.bytes, "drive data");
     memset(sr, 0, sizeof *sr);
     const struct heap_params *h = params(d->cs);
     if (!(h->flow_rate > 0.0)) {
@@ -254,7 +254,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 {
     const struct muflow_case *cs = st->cs;
     const struct heap_params *h = params(cs);
-    const struct tilt_search_result *sr = (const struct tilt_search_result *)d->data;
+    const struct tilt_search_result *sr = (const struct tilt_search_result *)d->data.bytes;
     struct heap_profile hp;
     int have = heap_profile_extract(&hp, st, h->depth_fraction) == 0;
     double q = heap_flow_rate(st);

@@ -1,11 +1,16 @@
-/* Matrix-free implicit viscous solve: PCG with probed line blocks (viscous.h). */
+/* Matrix-free implicit viscous solve: PCG with probed line blocks, BiCGStab
+ * with a probed sparse factorisation, GMRES with algebraic multigrid
+ * (viscous.h). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
+#include "solvers/amg_hypre.h"
+#include "solvers/probe_matrix.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous.h"
 
@@ -36,9 +41,32 @@ struct viscous_solver {
      * extra BiCGStab vectors (allocated with a direct kind only) */
     double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
     double *r0[3], *v[3], *t[3], *sh[3];
+    enum viscous_precond kind;         /* as created */
+    /* algebraic multigrid (VISCOUS_AMG) */
+    struct probe_matrix *probe;
+    struct amg_hypre *amg;
+    struct viscous_amg amg_cfg;
+    struct csr_matrix amat;            /* the probed matrix */
+    double *amg_b, *amg_x;             /* gathered right-hand side and correction */
+    int amg_ok;                        /* the last setup succeeded */
+    int amg_age;                       /* viscous_precondition calls since the setup */
+    int amg_fresh_iters, amg_last_iters; /* Krylov iterations just after it, and last */
+    double *(*gv)[3];                  /* GMRES basis: restart + 1 field triples */
+    int gv_len;
+    double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
+    struct viscous_precond_info info;
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
+
+/* CPU seconds of the process (all threads): the timings of viscous_precond_info,
+ * which a shared machine does not inflate the way it does wall time. */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
 
 static int pick_line_direction(const struct grid *g, const struct boundary *bc, int wanted)
 {
@@ -120,15 +148,22 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         snprintf(err, errlen, "viscous solver: out of memory");
         return -1;
     }
+    s->kind = s->info.kind = kind;
     if (kind != VISCOUS_LINE) {
         int periodic[3];
         for (int d = 0; d < 3; d++)
             periodic[d] = bc->face[d][0] == BC_PERIODIC;
         /* the full tangent reaches two nodes (|D| on an edge averages its
          * neighbours' strains), the symmetric operator one */
-        int full = kind == VISCOUS_LU;
-        if (sparse_direct_create(&s->direct, g, periodic, act, full ? 2 : 1, !full, err, errlen) !=
-            0) {
+        int full = kind == VISCOUS_LU || kind == VISCOUS_AMG;
+        if (kind == VISCOUS_AMG) {
+            viscous_amg_defaults(&s->amg_cfg);
+            if (viscous_set_amg(s, &s->amg_cfg, err, errlen) != 0) {
+                viscous_destroy(s);
+                return -1;
+            }
+        } else if (sparse_direct_create(&s->direct, g, periodic, act, full ? 2 : 1, !full, err,
+                                        errlen) != 0) {
             viscous_destroy(s);
             return -1;
         }
@@ -149,6 +184,113 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
     return 0;
 }
 
+static void free_gmres(struct viscous_solver *s)
+{
+    for (int m = 0; m < s->gv_len; m++)
+        for (int c = 0; c < 3; c++)
+            field_free(s->gv[m][c]);
+    free(s->gv);
+    free(s->gwork);
+    s->gv = NULL;
+    s->gwork = NULL;
+    s->gv_len = 0;
+}
+
+void viscous_amg_defaults(struct viscous_amg *c)
+{
+    amg_options_default(&c->amg);
+    c->bicgstab = 0;
+    c->restart = 20;
+    c->picard = 0;
+    c->drop_augmentation = 0;
+    c->reuse = 0;
+}
+
+int viscous_amg_parse(struct viscous_amg *c, const char *spec, char *err, size_t errlen)
+{
+    if (!spec)
+        return 0;
+    char buf[512], rest[512] = "";
+    snprintf(buf, sizeof buf, "%s", spec);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        if (strncmp(tok, "krylov=", 7) == 0) {
+            if (strcmp(tok + 7, "gmres") != 0 && strcmp(tok + 7, "bicgstab") != 0) {
+                snprintf(err, errlen, "amg option %s: gmres or bicgstab", tok);
+                return -1;
+            }
+            c->bicgstab = strcmp(tok + 7, "bicgstab") == 0;
+        } else if (strncmp(tok, "restart=", 8) == 0) {
+            c->restart = atoi(tok + 8);
+            if (c->restart < 1) {
+                snprintf(err, errlen, "amg option %s: at least 1", tok);
+                return -1;
+            }
+        } else if (strncmp(tok, "picard=", 7) == 0) {
+            c->picard = atoi(tok + 7) != 0;
+        } else if (strncmp(tok, "reuse=", 6) == 0) {
+            c->reuse = atoi(tok + 6);
+        } else if (strncmp(tok, "aug=", 4) == 0) {
+            c->drop_augmentation = atoi(tok + 4) == 0;
+        } else {
+            size_t l = strlen(rest);
+            snprintf(rest + l, sizeof rest - l, "%s%s", l ? "," : "", tok);
+        }
+    }
+    return amg_options_parse(&c->amg, rest, err, errlen);
+}
+
+int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char *err,
+                    size_t errlen)
+{
+    if (s->kind != VISCOUS_AMG) {
+        snprintf(err, errlen, "viscous solver: not an amg preconditioner");
+        return -1;
+    }
+    s->amg_cfg = *c;
+    amg_hypre_destroy(s->amg);
+    s->amg = NULL;
+    s->amg_ok = 0;
+    /* the full tangent reaches two nodes, the Picard operator one: 75 or 27
+     * probes on a 2D grid */
+    probe_matrix_destroy(s->probe);
+    s->probe = NULL;
+    int periodic[3];
+    for (int d = 0; d < 3; d++)
+        periodic[d] = s->bc->face[d][0] == BC_PERIODIC;
+    if (probe_matrix_create(&s->probe, s->g, periodic, s->act, c->picard ? 1 : 2, err, errlen) !=
+        0)
+        return -1;
+    long n = probe_matrix_unknowns(s->probe);
+    if (!s->amg_b) {
+        s->amg_b = malloc((size_t)n * sizeof(double));
+        s->amg_x = malloc((size_t)n * sizeof(double));
+    }
+    free_gmres(s);
+    int m = c->restart;
+    s->gv = calloc((size_t)m + 1, sizeof *s->gv);
+    /* Hessenberg (m+1) x m, rotations cos/sin (m each), rhs (m+1), y (m) */
+    s->gwork = malloc(((size_t)(m + 1) * m + 4 * (size_t)m + 1) * sizeof(double));
+    int ok = s->amg_b && s->amg_x && s->gv && s->gwork;
+    if (s->gv) {
+        s->gv_len = m + 1;
+        for (int k = 0; k <= m; k++)
+            for (int cc = 0; cc < 3; cc++)
+                ok &= (s->gv[k][cc] = field_alloc(s->g)) != NULL;
+    }
+    if (!ok) {
+        snprintf(err, errlen, "viscous solver: out of memory for GMRES(%d)", m);
+        return -1;
+    }
+    return amg_hypre_create(&s->amg, (int)n, probe_matrix_components(s->probe), &c->amg, err,
+                            errlen);
+}
+
+void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info)
+{
+    *info = s->info;
+}
+
 void viscous_destroy(struct viscous_solver *s)
 {
     if (!s)
@@ -164,6 +306,12 @@ void viscous_destroy(struct viscous_solver *s)
     free(s->linebuf);
     field_free(s->divbuf);
     sparse_direct_destroy(s->direct);
+    amg_hypre_destroy(s->amg);
+    probe_matrix_destroy(s->probe);
+    csr_free(&s->amat);
+    free(s->amg_b);
+    free(s->amg_x);
+    free_gmres(s);
     field_free(s->pn);
     field_free(s->Bc);
     for (int c = 0; c < 3; c++) {
@@ -234,9 +382,51 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
+    if (s->amg && s->amg_ok && s->amg_cfg.reuse > 0 && s->amg_age < s->amg_cfg.reuse &&
+        s->amg_last_iters <= 2 * s->amg_fresh_iters + 2) {
+        /* the hierarchy of an earlier operator still serves: GMRES works on
+         * the current one, so only the iteration count can suffer */
+        s->amg_age++;
+        s->info.probe_seconds = s->info.setup_seconds = 0.0;
+        s->info.reused = 1;
+        return;
+    }
+    s->amg_ok = 0;
+    s->info.reused = 0;
+    if (s->amg) {
+        /* the multigrid's matrix: the operator, or its Picard part, with or
+         * without the augmentation */
+        struct viscous_problem q = *pb;
+        if (s->amg_cfg.picard)
+            q.b_cell = NULL;
+        if (s->amg_cfg.drop_augmentation)
+            q.augmentation = NULL;
+        struct apply_ctx a = {s, &q};
+        double t0 = cpu_now();
+        int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
+        double t1 = cpu_now();
+        s->info.unknowns = s->amat.n;
+        s->info.entries = csr_nnz(&s->amat);
+        /* hypre copies the matrix: ours is released before its setup */
+        ok = ok && amg_hypre_setup(s->amg, &s->amat) == 0;
+        s->info.probe_seconds = t1 - t0;
+        s->info.setup_seconds = cpu_now() - t1;
+        s->info.levels = ok ? amg_hypre_levels(s->amg) : 0;
+        s->info.complexity = ok ? amg_hypre_complexity(s->amg) : 0.0;
+        s->info.kind = ok ? VISCOUS_AMG : VISCOUS_LINE;
+        s->amg_ok = ok;
+        s->amg_age = 0;
+        s->amg_fresh_iters = -1;
+        if (ok)
+            return;
+    }
     if (s->direct) {
         struct apply_ctx a = {s, pb};
+        double t0 = cpu_now();
         s->direct_ok = sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+        s->info.setup_seconds = cpu_now() - t0; /* probing included */
+        s->info.unknowns = sparse_direct_unknowns(s->direct);
+        s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
         if (s->direct_ok)
             return;
     }
@@ -308,6 +498,12 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
 {
     if (s->direct_ok) {
         sparse_direct_solve(s->direct, r, z);
+        return;
+    }
+    if (s->amg_ok) {
+        probe_matrix_gather(s->probe, r, s->amg_b);
+        amg_hypre_apply(s->amg, s->amg_b, s->amg_x);
+        probe_matrix_scatter(s->probe, s->amg_x, z);
         return;
     }
     for (int c = 0; c < 3; c++) {
@@ -385,8 +581,111 @@ static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, 
     return 1;
 }
 
+/* Restarted GMRES (Saad and Schultz), right-preconditioned: the residual
+ * it monitors is the true one, and every restart recomputes it from x. */
+static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
+                 double bnorm, double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    const struct grid *g = s->g;
+    const struct box *act = s->act;
+    const int m = s->gv_len - 1;
+    double *H = s->gwork;                       /* H[i * m + j], (m+1) x m */
+    double *cs = H + (size_t)(m + 1) * m, *sn = cs + m, *e = sn + m, *y = e + m + 1;
+    double **r = s->r, **z = s->z;
+    int it = 0;
+    for (;;) {
+        double beta = sqrt(kernel_dot(g, act, r, r));
+        st->iterations = it;
+        st->relative_residual = beta / bnorm;
+        if (!isfinite(beta))
+            return -1;
+        if (beta <= rtol * bnorm)
+            return 0;
+        if (it >= maxit)
+            return 1;
+        kernel_lincomb(g, act, 1.0 / beta, r, 0.0, s->gv[0]);
+        e[0] = beta;
+        int k = 0;
+        while (k < m && it < maxit) {
+            double **w = s->gv[k + 1];
+            precondition_apply(s, s->gv[k], z);
+            viscous_apply(s, pb, z, w);
+            it++;
+            for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
+                double h = kernel_dot(g, act, w, s->gv[i]);
+                H[i * m + k] = h;
+                kernel_axpy(g, act, -h, s->gv[i], w);
+            }
+            double hn = sqrt(kernel_dot(g, act, w, w));
+            H[(k + 1) * m + k] = hn;
+            if (hn > 0.0)
+                kernel_lincomb(g, act, 1.0 / hn, w, 0.0, w);
+            for (int i = 0; i < k; i++) { /* earlier rotations */
+                double a = H[i * m + k], b = H[(i + 1) * m + k];
+                H[i * m + k] = cs[i] * a + sn[i] * b;
+                H[(i + 1) * m + k] = -sn[i] * a + cs[i] * b;
+            }
+            double a = H[k * m + k], b = H[(k + 1) * m + k], d = hypot(a, b);
+            if (!(d > 0.0) || !isfinite(d))
+                return -1;
+            cs[k] = a / d;
+            sn[k] = b / d;
+            H[k * m + k] = d;
+            H[(k + 1) * m + k] = 0.0;
+            e[k + 1] = -sn[k] * e[k];
+            e[k] = cs[k] * e[k];
+            k++;
+            st->iterations = it;
+            st->relative_residual = fabs(e[k]) / bnorm;
+            if (fabs(e[k]) <= rtol * bnorm || hn == 0.0)
+                break;
+        }
+        for (int i = k - 1; i >= 0; i--) { /* H y = e, upper triangular */
+            double t = e[i];
+            for (int j = i + 1; j < k; j++)
+                t -= H[i * m + j] * y[j];
+            y[i] = t / H[i * m + i];
+        }
+        /* x += M^-1 (V y); then the true residual */
+        double **u = s->gv[0];
+        kernel_lincomb(g, act, y[0], s->gv[0], 0.0, u);
+        for (int i = 1; i < k; i++)
+            kernel_axpy(g, act, y[i], s->gv[i], u);
+        precondition_apply(s, u, z);
+        kernel_axpy(g, act, 1.0, z, x);
+        viscous_apply(s, pb, x, s->q);
+        for (int c = 0; c < 3; c++)
+            memcpy(r[c], rhs[c], g->size * sizeof(double));
+        kernel_axpy(g, act, -1.0, s->q, r);
+    }
+}
+
+static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
+                 double *x[3], double rtol, int maxit, struct viscous_stats *st);
+
 int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                   double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    double t0 = cpu_now();
+    int rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    if (rc != 0 && s->amg_ok && s->amg_age > 0) {
+        /* a reused hierarchy that no longer serves: rebuilt for this operator */
+        s->amg_cfg.reuse = -s->amg_cfg.reuse; /* forces the setup */
+        viscous_precondition(s, pb);
+        s->amg_cfg.reuse = -s->amg_cfg.reuse;
+        rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    }
+    if (s->amg_ok) {
+        if (s->amg_fresh_iters < 0)
+            s->amg_fresh_iters = st->iterations;
+        s->amg_last_iters = st->iterations;
+    }
+    s->info.solve_seconds = cpu_now() - t0;
+    return rc;
+}
+
+static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
+                 double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
     const struct grid *g = s->g;
     const struct box *act = s->act;
@@ -403,6 +702,9 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
         return 0;
     if (!isfinite(bnorm))
         return -1;
+    if (s->amg_ok)
+        return s->amg_cfg.bicgstab ? bicgstab(s, pb, bnorm, x, rtol, maxit, st)
+                                   : gmres(s, pb, rhs, bnorm, x, rtol, maxit, st);
     if (pb->b_cell && s->r0[0])
         return bicgstab(s, pb, bnorm, x, rtol, maxit, st);
     precondition_apply(s, s->r, s->z);

@@ -1,0 +1,65 @@
+/* Algebraic multigrid (hypre's BoomerAMG) on a probed matrix, as a
+ * preconditioner: one V-cycle from zero per application.
+ *
+ * The matrix comes from probe_matrix.h (compressed rows); BoomerAMG is set
+ * up on it afresh at each amg_hypre_setup.  Serial: hypre runs on one MPI
+ * rank (MPI_COMM_SELF); MPI is initialised on first use if the program did
+ * not (and finalised at exit).  This file and amg_hypre.c are the only
+ * places that know about hypre or MPI. */
+#ifndef MUFLOW_AMG_HYPRE_H
+#define MUFLOW_AMG_HYPRE_H
+
+#include <stddef.h>
+#include "solvers/probe_matrix.h"
+
+/* BoomerAMG settings (hypre's numeric codes, named in amg_options_parse). */
+struct amg_options {
+    int coarsen;        /* 10 HMIS, 8 PMIS, 6 Falgout */
+    int interp;         /* 6 ext+i, 0 classical, 13 FF1, 14 extended */
+    double theta;       /* strong threshold */
+    int relax;          /* 8 l1 symmetric Gauss-Seidel, 6 hybrid symmetric GS,
+                           3 hybrid GS (forward down, backward up), 18 l1 Jacobi */
+    int sweeps;         /* smoothing sweeps per level and direction */
+    int systems;        /* 1: the three velocity components coarsened and
+                           interpolated apart (unknown-based systems AMG) */
+    int agg_levels;     /* levels of aggressive coarsening */
+    int pmax;           /* interpolation entries per row (0: no limit) */
+    double max_row_sum; /* weak-coupling row-sum test (1: off) */
+    int print;          /* hypre's setup statistics on stdout */
+};
+
+/* HMIS, ext+i (4 entries per row), theta 0.5, l1 symmetric Gauss-Seidel,
+ * one sweep, systems on. */
+void amg_options_default(struct amg_options *o);
+
+/* Overrides from a comma-separated list of key=value: coarsen=hmis|pmis|
+ * falgout|N, interp=ext+i|classical|ff1|ext|N, theta=X, relax=l1gs|hgs|hsgs|
+ * l1jacobi|N, sweeps=N, systems=0|1, agg=N, pmax=N, rowsum=X, print=0|1.
+ * Returns 0, or -1 with a message for an unknown key or value. */
+int amg_options_parse(struct amg_options *o, const char *spec, char *err, size_t errlen);
+
+/* "HMIS ext+i(4) theta 0.5 l1-GS x1 systems" */
+void amg_options_describe(const struct amg_options *o, char *buf, size_t len);
+
+struct amg_hypre;
+
+/* For n unknowns; dof_func[k] the velocity component of unknown k (copied,
+ * used with systems).  Returns 0, or -1 with a message. */
+int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
+                     const struct amg_options *o, char *err, size_t errlen);
+void amg_hypre_destroy(struct amg_hypre *a);
+
+/* Builds the multigrid hierarchy for A, which is copied into hypre's matrix
+ * and then released (csr_free: the peak memory holds one copy less).
+ * Returns 0, or -1 when hypre reports an error. */
+int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
+
+/* x = one V-cycle applied to b (from x = 0). */
+void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
+
+/* Levels and operator complexity (sum of the levels' entries over A's) of the
+ * last setup. */
+int amg_hypre_levels(const struct amg_hypre *a);
+double amg_hypre_complexity(const struct amg_hypre *a);
+
+#endif

@@ -1,0 +1,308 @@
+/* BoomerAMG on the probed matrix (amg_hypre.h).  The only file that talks to
+ * hypre and MPI. */
+#define _DEFAULT_SOURCE /* ffs() in hypre's internal headers */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <mpi.h>
+#include <HYPRE.h>
+#include <HYPRE_parcsr_ls.h>
+/* hypre's internal headers, for the vectors' data and the hierarchy's sizes;
+ * they are not -Wextra clean */
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include <_hypre_parcsr_ls.h>
+#pragma GCC diagnostic pop
+#include "solvers/amg_hypre.h"
+
+_Static_assert(sizeof(HYPRE_Int) == sizeof(int), "hypre built with 32-bit indices expected");
+_Static_assert(sizeof(HYPRE_Real) == sizeof(double), "hypre built in double precision expected");
+
+struct amg_hypre {
+    int n;
+    int *dof_func;
+    int *rows, *ncols;          /* 0 .. n-1 and the entries of each row */
+    struct amg_options o;
+    HYPRE_IJMatrix ij;
+    HYPRE_ParCSRMatrix A;
+    HYPRE_IJVector ijb, ijx;
+    HYPRE_ParVector b, x;
+    HYPRE_Solver amg;
+    int levels;
+    double complexity;
+};
+
+/* ---- MPI and hypre, once per process ------------------------------------ */
+
+static int hypre_started;
+
+static void finish_at_exit(void)
+{
+    HYPRE_Finalize();
+    int done = 0;
+    MPI_Finalized(&done);
+    if (!done)
+        MPI_Finalize();
+}
+
+/* A serial program gets a one-rank MPI (MPI_COMM_SELF is what hypre sees). */
+static int start_hypre(void)
+{
+    if (hypre_started)
+        return 0;
+    int init = 0;
+    MPI_Initialized(&init);
+    int own = !init;
+    if (own && MPI_Init(NULL, NULL) != MPI_SUCCESS)
+        return -1;
+    HYPRE_Init();
+    if (own)
+        atexit(finish_at_exit);
+    hypre_started = 1;
+    return 0;
+}
+
+/* ---- options --------------------------------------------------------------- */
+
+void amg_options_default(struct amg_options *o)
+{
+    *o = (struct amg_options){.coarsen = 10, .interp = 6, .theta = 0.5, .relax = 8, .sweeps = 1,
+                              .systems = 1, .agg_levels = 0, .pmax = 4, .max_row_sum = 0.9,
+                              .print = 0};
+}
+
+struct named {
+    const char *name;
+    int code;
+};
+static const struct named coarsen_names[] = {
+    {"hmis", 10}, {"pmis", 8}, {"falgout", 6}, {"cljp", 0}, {NULL, 0}};
+static const struct named interp_names[] = {
+    {"ext+i", 6}, {"classical", 0}, {"ff1", 13}, {"ext", 14}, {"direct", 3}, {NULL, 0}};
+static const struct named relax_names[] = {
+    {"l1gs", 8}, {"hsgs", 6}, {"hgs", 3}, {"l1jacobi", 18}, {"jacobi", 0}, {NULL, 0}};
+
+static int lookup(const struct named *t, const char *v, int *code)
+{
+    for (; t->name; t++)
+        if (strcmp(t->name, v) == 0) {
+            *code = t->code;
+            return 0;
+        }
+    char *end;
+    long x = strtol(v, &end, 10);
+    if (*v && !*end) {
+        *code = (int)x;
+        return 0;
+    }
+    return -1;
+}
+
+static const char *name_of(const struct named *t, int code)
+{
+    for (; t->name; t++)
+        if (t->code == code)
+            return t->name;
+    return "?";
+}
+
+int amg_options_parse(struct amg_options *o, const char *spec, char *err, size_t errlen)
+{
+    if (!spec)
+        return 0;
+    char buf[512];
+    snprintf(buf, sizeof buf, "%s", spec);
+    for (char *save = NULL, *tok = strtok_r(buf, ",", &save); tok;
+         tok = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(tok, '=');
+        if (!eq) {
+            snprintf(err, errlen, "amg option '%s': key=value expected", tok);
+            return -1;
+        }
+        *eq = '\0';
+        const char *k = tok, *v = eq + 1;
+        int bad = 0;
+        if (strcmp(k, "coarsen") == 0)
+            bad = lookup(coarsen_names, v, &o->coarsen);
+        else if (strcmp(k, "interp") == 0)
+            bad = lookup(interp_names, v, &o->interp);
+        else if (strcmp(k, "relax") == 0)
+            bad = lookup(relax_names, v, &o->relax);
+        else if (strcmp(k, "theta") == 0)
+            o->theta = atof(v);
+        else if (strcmp(k, "rowsum") == 0)
+            o->max_row_sum = atof(v);
+        else if (strcmp(k, "sweeps") == 0)
+            o->sweeps = atoi(v);
+        else if (strcmp(k, "systems") == 0)
+            o->systems = atoi(v);
+        else if (strcmp(k, "agg") == 0)
+            o->agg_levels = atoi(v);
+        else if (strcmp(k, "pmax") == 0)
+            o->pmax = atoi(v);
+        else if (strcmp(k, "print") == 0)
+            o->print = atoi(v);
+        else
+            bad = 1;
+        if (bad) {
+            snprintf(err, errlen, "amg option %s=%s: unknown", k, v);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+void amg_options_describe(const struct amg_options *o, char *buf, size_t len)
+{
+    snprintf(buf, len, "%s %s(%d) theta %g %s x%d%s%s", name_of(coarsen_names, o->coarsen),
+             name_of(interp_names, o->interp), o->pmax, o->theta, name_of(relax_names, o->relax),
+             o->sweeps, o->systems ? " systems" : "", o->agg_levels ? " agg" : "");
+}
+
+/* ---- the preconditioner ---------------------------------------------------- */
+
+int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
+                     const struct amg_options *o, char *err, size_t errlen)
+{
+    if (start_hypre() != 0) {
+        snprintf(err, errlen, "amg: MPI_Init failed");
+        return -1;
+    }
+    struct amg_hypre *a = calloc(1, sizeof *a);
+    if (!a) {
+        snprintf(err, errlen, "amg: out of memory");
+        return -1;
+    }
+    a->n = n;
+    a->o = *o;
+    a->dof_func = malloc((size_t)n * sizeof(int));
+    a->rows = malloc((size_t)n * sizeof(int));
+    a->ncols = malloc((size_t)n * sizeof(int));
+    if (!a->dof_func || !a->rows || !a->ncols) {
+        amg_hypre_destroy(a);
+        snprintf(err, errlen, "amg: out of memory");
+        return -1;
+    }
+    memcpy(a->dof_func, dof_func, (size_t)n * sizeof(int));
+    for (int r = 0; r < n; r++)
+        a->rows[r] = r;
+    HYPRE_IJVector *v[2] = {&a->ijb, &a->ijx};
+    HYPRE_ParVector *pv[2] = {&a->b, &a->x};
+    for (int m = 0; m < 2; m++) {
+        HYPRE_IJVectorCreate(MPI_COMM_SELF, 0, n - 1, v[m]);
+        HYPRE_IJVectorSetObjectType(*v[m], HYPRE_PARCSR);
+        HYPRE_IJVectorInitialize(*v[m]);
+        HYPRE_IJVectorAssemble(*v[m]);
+        void *obj;
+        HYPRE_IJVectorGetObject(*v[m], &obj);
+        *pv[m] = obj;
+    }
+    *out = a;
+    return 0;
+}
+
+static void release_hierarchy(struct amg_hypre *a)
+{
+    if (a->amg)
+        HYPRE_BoomerAMGDestroy(a->amg);
+    if (a->ij)
+        HYPRE_IJMatrixDestroy(a->ij);
+    a->amg = NULL;
+    a->ij = NULL;
+    a->A = NULL;
+}
+
+void amg_hypre_destroy(struct amg_hypre *a)
+{
+    if (!a)
+        return;
+    release_hierarchy(a);
+    if (a->ijb)
+        HYPRE_IJVectorDestroy(a->ijb);
+    if (a->ijx)
+        HYPRE_IJVectorDestroy(a->ijx);
+    free(a->dof_func);
+    free(a->rows);
+    free(a->ncols);
+    free(a);
+}
+
+static double *vector_data(HYPRE_ParVector v)
+{
+    return hypre_VectorData(hypre_ParVectorLocalVector((hypre_ParVector *)v));
+}
+
+static long parcsr_entries(hypre_ParCSRMatrix *A)
+{
+    hypre_CSRMatrix *d = hypre_ParCSRMatrixDiag(A), *o = hypre_ParCSRMatrixOffd(A);
+    return (long)hypre_CSRMatrixNumNonzeros(d) + (o ? hypre_CSRMatrixNumNonzeros(o) : 0);
+}
+
+int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
+{
+    release_hierarchy(a);
+    int n = a->n;
+    if (M->n != n)
+        return -1;
+    for (int r = 0; r < n; r++)
+        a->ncols[r] = M->rowptr[r + 1] - M->rowptr[r];
+    HYPRE_IJMatrixCreate(MPI_COMM_SELF, 0, n - 1, 0, n - 1, &a->ij);
+    HYPRE_IJMatrixSetObjectType(a->ij, HYPRE_PARCSR);
+    HYPRE_IJMatrixSetRowSizes(a->ij, a->ncols);
+    HYPRE_IJMatrixInitialize(a->ij);
+    HYPRE_IJMatrixSetValues(a->ij, n, a->ncols, a->rows, M->col, M->val);
+    if (HYPRE_IJMatrixAssemble(a->ij) != 0)
+        return -1;
+    csr_free(M); /* hypre holds the copy it needs */
+    void *obj;
+    HYPRE_IJMatrixGetObject(a->ij, &obj);
+    a->A = obj;
+
+    const struct amg_options *o = &a->o;
+    HYPRE_BoomerAMGCreate(&a->amg);
+    HYPRE_BoomerAMGSetPrintLevel(a->amg, o->print ? 1 : 0);
+    HYPRE_BoomerAMGSetMaxIter(a->amg, 1);
+    HYPRE_BoomerAMGSetTol(a->amg, 0.0);
+    HYPRE_BoomerAMGSetCoarsenType(a->amg, o->coarsen);
+    HYPRE_BoomerAMGSetInterpType(a->amg, o->interp);
+    HYPRE_BoomerAMGSetPMaxElmts(a->amg, o->pmax);
+    HYPRE_BoomerAMGSetStrongThreshold(a->amg, o->theta);
+    HYPRE_BoomerAMGSetMaxRowSum(a->amg, o->max_row_sum);
+    HYPRE_BoomerAMGSetRelaxType(a->amg, o->relax);
+    HYPRE_BoomerAMGSetNumSweeps(a->amg, o->sweeps);
+    HYPRE_BoomerAMGSetAggNumLevels(a->amg, o->agg_levels);
+    if (o->systems) {
+        int *f = malloc((size_t)n * sizeof(int)); /* hypre takes and frees it */
+        if (!f)
+            return -1;
+        memcpy(f, a->dof_func, (size_t)n * sizeof(int));
+        HYPRE_BoomerAMGSetNumFunctions(a->amg, 3);
+        HYPRE_BoomerAMGSetDofFunc(a->amg, f);
+    }
+    memset(vector_data(a->x), 0, (size_t)n * sizeof(double));
+    if (HYPRE_BoomerAMGSetup(a->amg, a->A, a->b, a->x) != 0) {
+        HYPRE_ClearAllErrors();
+        return -1;
+    }
+    hypre_ParAMGData *d = (hypre_ParAMGData *)a->amg;
+    a->levels = hypre_ParAMGDataNumLevels(d);
+    hypre_ParCSRMatrix **As = hypre_ParAMGDataAArray(d);
+    long fine = parcsr_entries(As[0]), all = 0;
+    for (int l = 0; l < a->levels; l++)
+        all += parcsr_entries(As[l]);
+    a->complexity = fine > 0 ? (double)all / (double)fine : 0.0;
+    return 0;
+}
+
+void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
+{
+    memcpy(vector_data(a->b), b, (size_t)a->n * sizeof(double));
+    memset(vector_data(a->x), 0, (size_t)a->n * sizeof(double));
+    HYPRE_BoomerAMGSolve(a->amg, a->A, a->b, a->x);
+    HYPRE_ClearAllErrors(); /* "not converged" after its one cycle is expected */
+    memcpy(x, vector_data(a->x), (size_t)a->n * sizeof(double));
+}
+
+int amg_hypre_levels(const struct amg_hypre *a) { return a->levels; }
+double amg_hypre_complexity(const struct amg_hypre *a) { return a->complexity; }

@@ -1,0 +1,326 @@
+/* Probing a matrix-free operator into a sparse matrix (probe_matrix.h). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "solvers/probe_matrix.h"
+
+#define MAX_PROBES 600
+
+struct probe_matrix {
+    const struct grid *g;
+    int periodic[3];
+    int period[3];             /* colour period per direction */
+    int reach;
+    long n;                    /* unknowns */
+    int *index[3];             /* unknown number of each field slot, or -1 */
+    int *comp;                 /* component of unknown k */
+    ptrdiff_t *slot;           /* field slot of unknown k */
+    int *pos;                  /* i, j, k of unknown k (3 per unknown) */
+    /* triplets of the last assembly (reused) */
+    int *trow, *tcol;
+    double *tval;
+    size_t tcap;
+};
+
+/* Colours need 2 reach + 1 distinct residues in a row's reach; a periodic
+ * direction's period must also divide its cell count, and one of at most
+ * 2 reach + 1 cells holds every cell in its own colour. */
+static int colour_period(int n, int periodic, int reach)
+{
+    int p = 2 * reach + 1;
+    if (!periodic)
+        return p;
+    if (n <= p)
+        return n;
+    for (int q = p; q <= n; q++)
+        if (n % q == 0)
+            return q;
+    return n;
+}
+
+long probe_matrix_unknowns(const struct probe_matrix *pm) { return pm->n; }
+
+int probe_matrix_probes(const struct probe_matrix *pm)
+{
+    return 3 * pm->period[0] * pm->period[1] * pm->period[2];
+}
+
+const int *probe_matrix_components(const struct probe_matrix *pm) { return pm->comp; }
+
+int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const int periodic[3],
+                        const struct box act[3], int reach, char *err, size_t errlen)
+{
+    struct probe_matrix *pm = calloc(1, sizeof *pm);
+    if (!pm) {
+        snprintf(err, errlen, "probed matrix: out of memory");
+        return -1;
+    }
+    pm->g = g;
+    pm->reach = reach;
+    for (int d = 0; d < 3; d++) {
+        pm->periodic[d] = periodic[d];
+        pm->period[d] = colour_period(g->n[d], periodic[d], reach);
+    }
+    if (probe_matrix_probes(pm) > MAX_PROBES) {
+        snprintf(err, errlen,
+                 "probed matrix: %d probes needed (periodic cell counts without a small "
+                 "divisor); use solver.preconditioner = line",
+                 probe_matrix_probes(pm));
+        free(pm);
+        return -1;
+    }
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &act[c];
+        pm->n += (long)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2]);
+    }
+    int ok = 1;
+    for (int c = 0; c < 3; c++) {
+        pm->index[c] = malloc(g->size * sizeof(int));
+        ok &= pm->index[c] != NULL;
+    }
+    pm->comp = malloc((size_t)pm->n * sizeof(int));
+    pm->slot = malloc((size_t)pm->n * sizeof(ptrdiff_t));
+    pm->pos = malloc((size_t)pm->n * 3 * sizeof(int));
+    ok &= pm->comp && pm->slot && pm->pos;
+    if (!ok) {
+        probe_matrix_destroy(pm);
+        snprintf(err, errlen, "probed matrix: out of memory");
+        return -1;
+    }
+    long k = 0;
+    for (int c = 0; c < 3; c++) {
+        for (size_t p = 0; p < g->size; p++)
+            pm->index[c][p] = -1;
+        const struct box *b = &act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int kk = b->lo[2]; kk < b->hi[2]; kk++, k++) {
+                    ptrdiff_t p = grid_idx(g, i, j, kk);
+                    pm->index[c][p] = (int)k;
+                    pm->comp[k] = c;
+                    pm->slot[k] = p;
+                    pm->pos[3 * k] = i;
+                    pm->pos[3 * k + 1] = j;
+                    pm->pos[3 * k + 2] = kk;
+                }
+    }
+    *out = pm;
+    return 0;
+}
+
+void probe_matrix_destroy(struct probe_matrix *pm)
+{
+    if (!pm)
+        return;
+    for (int c = 0; c < 3; c++)
+        free(pm->index[c]);
+    free(pm->comp);
+    free(pm->slot);
+    free(pm->pos);
+    free(pm->trow);
+    free(pm->tcol);
+    free(pm->tval);
+    free(pm);
+}
+
+/* The unknown of component c probed with colour `colour` that row r's stencil
+ * reaches, or -1: per direction the offset within +-reach with the right
+ * residue is unique (a short periodic direction holds one cell per colour). */
+static int probed_column(const struct probe_matrix *pm, int c, const int at[3],
+                         const int colour[3])
+{
+    int q[3];
+    for (int d = 0; d < 3; d++) {
+        int n = pm->g->n[d], P = pm->period[d];
+        if (pm->periodic[d] && P == n) {
+            q[d] = colour[d];
+            continue;
+        }
+        int off = ((colour[d] - at[d]) % P + P) % P;
+        if (off > pm->reach)
+            off -= P;
+        if (off < -pm->reach || off > pm->reach)
+            return -1;
+        q[d] = at[d] + off;
+        if (pm->periodic[d])
+            q[d] = ((q[d] % n) + n) % n;
+        else if (q[d] < -1 || q[d] > n)
+            return -1;
+    }
+    return pm->index[c][grid_idx(pm->g, q[0], q[1], q[2])];
+}
+
+static int grow_triplets(struct probe_matrix *pm, size_t cap)
+{
+    int *r = realloc(pm->trow, cap * sizeof(int));
+    if (r)
+        pm->trow = r;
+    int *c = realloc(pm->tcol, cap * sizeof(int));
+    if (c)
+        pm->tcol = c;
+    double *v = realloc(pm->tval, cap * sizeof(double));
+    if (v)
+        pm->tval = v;
+    if (!r || !c || !v)
+        return -1;
+    pm->tcap = cap;
+    return 0;
+}
+
+/* Room for n rows and nz entries in A. */
+static int csr_reserve(struct csr_matrix *A, int n, size_t nz)
+{
+    if (A->n != n || !A->rowptr) {
+        int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
+        if (!rp)
+            return -1;
+        A->rowptr = rp;
+        A->n = n;
+    }
+    if (nz > A->cap || !A->col) {
+        size_t cap = nz > 0 ? nz : 1;
+        int *c = realloc(A->col, cap * sizeof(int));
+        if (c)
+            A->col = c;
+        double *v = realloc(A->val, cap * sizeof(double));
+        if (v)
+            A->val = v;
+        if (!c || !v)
+            return -1;
+        A->cap = cap;
+    }
+    return 0;
+}
+
+int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
+                          double *resp[3], int lower, struct csr_matrix *A)
+{
+    const struct grid *g = pm->g;
+    if (!pm->tcap && grow_triplets(pm, (size_t)pm->n * (lower ? 16 : 40) + 16) != 0)
+        return -1;
+    size_t nz = 0;
+    for (int c = 0; c < 3; c++)
+        for (int a0 = 0; a0 < pm->period[0]; a0++)
+            for (int a1 = 0; a1 < pm->period[1]; a1++)
+                for (int a2 = 0; a2 < pm->period[2]; a2++) {
+                    int colour[3] = {a0, a1, a2};
+                    for (int m = 0; m < 3; m++)
+                        memset(probe[m], 0, g->size * sizeof(double));
+                    int any = 0;
+                    for (long k = 0; k < pm->n; k++) {
+                        const int *at = pm->pos + 3 * k;
+                        if (pm->comp[k] == c && at[0] % pm->period[0] == a0 &&
+                            at[1] % pm->period[1] == a1 && at[2] % pm->period[2] == a2) {
+                            probe[c][pm->slot[k]] = 1.0;
+                            any = 1;
+                        }
+                    }
+                    if (!any)
+                        continue;
+                    op(ctx, probe, resp);
+                    for (long r = 0; r < pm->n; r++) {
+                        int col = probed_column(pm, c, pm->pos + 3 * r, colour);
+                        if (col < 0 || (lower && col > r))
+                            continue;
+                        double v = resp[pm->comp[r]][pm->slot[r]];
+                        if (v == 0.0)
+                            continue;
+                        if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0)
+                            return -1;
+                        pm->trow[nz] = (int)r;
+                        pm->tcol[nz] = col;
+                        pm->tval[nz] = v;
+                        nz++;
+                    }
+                }
+    /* rows by counting sort (stable), then columns ascending within a row;
+     * every (row, column) comes from exactly one probe */
+    int n = (int)pm->n;
+    if (csr_reserve(A, n, nz) != 0)
+        return -1;
+    memset(A->rowptr, 0, ((size_t)n + 1) * sizeof(int));
+    for (size_t q = 0; q < nz; q++)
+        A->rowptr[pm->trow[q] + 1]++;
+    for (int r = 0; r < n; r++)
+        A->rowptr[r + 1] += A->rowptr[r];
+    for (size_t q = 0; q < nz; q++) {
+        int at = A->rowptr[pm->trow[q]]++;
+        A->col[at] = pm->tcol[q];
+        A->val[at] = pm->tval[q];
+    }
+    for (int r = n; r > 0; r--)
+        A->rowptr[r] = A->rowptr[r - 1];
+    A->rowptr[0] = 0;
+    /* the triplets are as large as the matrix: not kept between assemblies */
+    free(pm->trow);
+    free(pm->tcol);
+    free(pm->tval);
+    pm->trow = pm->tcol = NULL;
+    pm->tval = NULL;
+    pm->tcap = 0;
+    for (int r = 0; r < n; r++)
+        for (int a = A->rowptr[r] + 1; a < A->rowptr[r + 1]; a++) {
+            int cc = A->col[a];
+            double vv = A->val[a];
+            int b = a - 1;
+            for (; b >= A->rowptr[r] && A->col[b] > cc; b--) {
+                A->col[b + 1] = A->col[b];
+                A->val[b + 1] = A->val[b];
+            }
+            A->col[b + 1] = cc;
+            A->val[b + 1] = vv;
+        }
+    return 0;
+}
+
+void probe_matrix_gather(const struct probe_matrix *pm, double *const r[3], double *b)
+{
+    for (long k = 0; k < pm->n; k++)
+        b[k] = r[pm->comp[k]][pm->slot[k]];
+}
+
+void probe_matrix_scatter(const struct probe_matrix *pm, const double *x, double *z[3])
+{
+    for (long k = 0; k < pm->n; k++)
+        z[pm->comp[k]][pm->slot[k]] = x[k];
+}
+
+int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T)
+{
+    int n = A->n;
+    size_t nz = (size_t)csr_nnz(A);
+    if (csr_reserve(T, n, nz) != 0)
+        return -1;
+    memset(T->rowptr, 0, ((size_t)n + 1) * sizeof(int));
+    for (size_t q = 0; q < nz; q++)
+        T->rowptr[A->col[q] + 1]++;
+    for (int r = 0; r < n; r++)
+        T->rowptr[r + 1] += T->rowptr[r];
+    for (int r = 0; r < n; r++) /* rows ascending: T's columns come out sorted */
+        for (int a = A->rowptr[r]; a < A->rowptr[r + 1]; a++) {
+            int at = T->rowptr[A->col[a]]++;
+            T->col[at] = r;
+            T->val[at] = A->val[a];
+        }
+    for (int r = n; r > 0; r--)
+        T->rowptr[r] = T->rowptr[r - 1];
+    T->rowptr[0] = 0;
+    return 0;
+}
+
+int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B)
+{
+    if (!A->rowptr || !B->rowptr || A->n != B->n)
+        return 0;
+    if (memcmp(A->rowptr, B->rowptr, ((size_t)A->n + 1) * sizeof(int)) != 0)
+        return 0;
+    return memcmp(A->col, B->col, (size_t)csr_nnz(A) * sizeof(int)) == 0;
+}
+
+void csr_free(struct csr_matrix *A)
+{
+    free(A->rowptr);
+    free(A->col);
+    free(A->val);
+    memset(A, 0, sizeof *A);
+}
