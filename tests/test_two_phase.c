@@ -1,6 +1,6 @@
 /* The two-phase module on the granular layer under air (scene bagnold2,
- * seeds/001 eqs. 6-11) with the interface held flat, steady, on the thin
- * grid 2 x 1 x 100.  Tolerances from the measured errors (cases/bagnold2.ini
+ * seeds/001 eqs. 6-11) with the interface held flat, steady, on the seed's
+ * grid 50 x 100.  Tolerances from the measured errors (cases/bagnold2.ini
  * as shipped): grains err_rms 7.16e-6 m/s (0.016% of the top velocity
  * 0.0451 m/s), u at the interface 0.0226091 against 0.0226634 (0.24%); the
  * air err_rms 9.97e-4 m/s (2.2% of the top velocity) is the shift of the
