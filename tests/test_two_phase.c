@@ -32,7 +32,9 @@ static void test_layer_under_air(void **state)
     assert_true(grains <= 3e-4 * top);
     assert_true(fabs(ui / ue - 1.0) <= 5e-3);
     assert_true(air <= 0.03 * top);
-    assert_true(run_result_value(&r, "mass_error") == 0.0); /* the interface is held */
+    /* the interface is held: the grains' volume changes only by the rounding
+     * of two sums of 5000 cells in different orders (n eps ~ 1e-12) */
+    assert_true(fabs(run_result_value(&r, "mass_error")) <= 1e-12);
 }
 
 static void test_bad_input(void **state)
