@@ -3,8 +3,10 @@
  * kernels instead, so the coefficient costs a scene nothing until it varies. */
 #include "kernels/kernels.h"
 
-void kernel_multiply_add(const struct grid *g, const struct box act[3], double *const a[3],
-                         double *const x[3], double *y[3])
+/* y = a .* x + sign y, face by face over the unknowns. */
+static void multiply_combine(const struct grid *g, const struct box act[3],
+                             const double *const a[3], double *const x[3], double sign,
+                             double *y[3])
 {
     for (int c = 0; c < 3; c++) {
         const struct box *bx = &act[c];
@@ -15,26 +17,21 @@ void kernel_multiply_add(const struct grid *g, const struct box act[3], double *
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    yc[p] += ac[p] * xc[p];
+                    yc[p] = ac[p] * xc[p] + sign * yc[p];
                 }
     }
+}
+
+void kernel_multiply_add(const struct grid *g, const struct box act[3], double *const a[3],
+                         double *const x[3], double *y[3])
+{
+    multiply_combine(g, act, (const double *const *)a, x, 1.0, y);
 }
 
 void kernel_multiply_minus(const struct grid *g, const struct box act[3], const double *const a[3],
                            double *const x[3], double *y[3])
 {
-    for (int c = 0; c < 3; c++) {
-        const struct box *bx = &act[c];
-        const double *ac = a[c], *xc = x[c];
-        double *yc = y[c];
-#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
-        for (int i = bx->lo[0]; i < bx->hi[0]; i++)
-            for (int j = bx->lo[1]; j < bx->hi[1]; j++)
-                for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
-                    ptrdiff_t p = grid_idx(g, i, j, k);
-                    yc[p] = ac[p] * xc[p] - yc[p];
-                }
-    }
+    multiply_combine(g, act, a, x, -1.0, y);
 }
 
 void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], const double *p,

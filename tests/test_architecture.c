@@ -77,10 +77,8 @@ static int tracer_create(struct march_state *st, void **state, char *err, size_t
         return -1;
     }
     *state = t;
-    const struct field_spec spec = {"tracer", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED};
-    int idx = fields_add(&st->fields, &spec, &t->tracer);
-    const struct field_output out = {"tracer", {NULL}, idx, NULL, NULL};
-    if (idx < 0 || fields_output(&st->fields, &out) != 0) {
+    if (fields_add_written(&st->fields, "tracer", FIELD_CHECKPOINT | FIELD_SAVED, &t->tracer) !=
+        0) {
         snprintf(err, errlen, "cannot register the tracer");
         return -1;
     }

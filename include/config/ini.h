@@ -16,6 +16,7 @@
 #ifndef MUFLOW_CONFIG_INI_H
 #define MUFLOW_CONFIG_INI_H
 
+#include <stdarg.h>
 #include <stddef.h>
 
 #define INI_SHOWN_MAX 160 /* longest value or path quoted in an error message */
@@ -51,6 +52,9 @@ int ini_add_override(struct ini_events *out, const char *arg);
 void ini_events_free(struct ini_events *e);
 
 /* Text helpers shared by the key table. */
+/* vsnprintf into out, then every control character replaced by '?': a
+ * message stays one line whatever the input quoted in it. */
+void ini_format_line(char *out, size_t len, const char *fmt, va_list ap);
 /* Copy of s for an error message: at most INI_SHOWN_MAX characters, control
  * characters replaced, "..." when cut. */
 const char *ini_shown(const char *s, char buf[INI_SHOWN_MAX + 4]);

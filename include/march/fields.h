@@ -63,6 +63,9 @@ void fields_init(struct field_registry *r, const struct grid *g);
 int fields_add(struct field_registry *r, const struct field_spec *s, double **v);
 /* Declares an output of field `source` (see struct field_output); 0 or -1. */
 int fields_output(struct field_registry *r, const struct field_output *o);
+/* A cell field that the field files hold under its own name (a module's
+ * tracer): fields_add and fields_output in one; 0 or -1. */
+int fields_add_written(struct field_registry *r, const char *name, unsigned flags, double **v);
 int fields_find(const struct field_registry *r, const char *name);
 void fields_save(struct field_registry *r);
 void fields_restore(struct field_registry *r);

@@ -439,11 +439,8 @@ static void warn(struct ctx *x, const char *fmt, ...)
     char msg[1024];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    ini_format_line(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    for (char *p = msg; *p; p++)
-        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
-            *p = '?';
     x->warn(x->warn_ctx, msg);
 }
 
@@ -457,11 +454,8 @@ static void fail(struct ctx *x, const char *fmt, ...)
         return;
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(x->err, x->errlen, fmt, ap);
+    ini_format_line(x->err, x->errlen, fmt, ap);
     va_end(ap);
-    for (char *p = x->err; *p; p++)
-        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
-            *p = '?';
 }
 
 /* One assignment section.name = value, from the file (arg == NULL) or from

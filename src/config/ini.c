@@ -113,16 +113,21 @@ void ini_events_free(struct ini_events *e)
 }
 
 /* An INI_ERROR event with a formatted one-line message; 0 or -1 (memory). */
+void ini_format_line(char *out, size_t len, const char *fmt, va_list ap)
+{
+    vsnprintf(out, len, fmt, ap);
+    for (char *p = out; *p; p++)
+        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
+            *p = '?';
+}
+
 static int push_error(struct ini_events *e, int line, const char *fmt, ...)
 {
     char msg[1024];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    ini_format_line(msg, sizeof msg, fmt, ap);
     va_end(ap);
-    for (char *p = msg; *p; p++)
-        if ((unsigned char)*p < 32 || (unsigned char)*p == 127)
-            *p = '?';
     struct ini_event *v = push(e);
     if (!v)
         return -1;

@@ -37,6 +37,14 @@ int fields_output(struct field_registry *r, const struct field_output *o)
     return 0;
 }
 
+int fields_add_written(struct field_registry *r, const char *name, unsigned flags, double **v)
+{
+    const struct field_spec spec = {name, FIELD_CELLS, flags};
+    int idx = fields_add(r, &spec, v);
+    const struct field_output out = {name, {NULL}, idx, NULL, NULL};
+    return idx < 0 ? -1 : fields_output(r, &out);
+}
+
 int fields_find(const struct field_registry *r, const char *name)
 {
     for (int i = 0; i < r->count; i++)

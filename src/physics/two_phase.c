@@ -18,10 +18,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     *state = tp;
-    const struct field_spec spec = {"tracer", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED};
-    int idx = fields_add(&st->fields, &spec, &tp->T);
-    const struct field_output out = {"tracer", {NULL}, idx, NULL, NULL};
-    if (idx < 0 || fields_output(&st->fields, &out) != 0) {
+    if (fields_add_written(&st->fields, "tracer", FIELD_CHECKPOINT | FIELD_SAVED, &tp->T) != 0) {
         snprintf(err, errlen, "two phases: out of memory for the tracer");
         return -1;
     }
