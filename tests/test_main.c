@@ -50,6 +50,7 @@ static const struct {
     {"corpus", group_corpus},
     {"vof", group_vof},
     {"tools", group_tools},
+    {"honest", group_honest},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

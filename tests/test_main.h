@@ -44,5 +44,6 @@ void group_io(struct test_tally *t);
 void group_corpus(struct test_tally *t);
 void group_vof(struct test_tally *t);
 void group_tools(struct test_tally *t);
+void group_honest(struct test_tally *t);
 
 #endif

@@ -76,6 +76,12 @@ struct march_state {
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */
     long best_step;             /* the step it was reached at */
+    double best_time;           /* and the pseudo-time */
+    /* the mean acceleration each time the pseudo-time doubled (newest
+     * first): whether an acceleration is sustained or decaying */
+    double mark_time;
+    double mark_acc[3];
+    long marks;
     double dt_scale;            /* pseudo-time step reduction after rejections */
     enum run_status status;
     char message[256];          /* why the run ended */

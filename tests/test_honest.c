@@ -1,0 +1,106 @@
+/* Honest endings: a run says it has no steady state only when it has none,
+ * the automatic preconditioner works on every grid, a run that misses its
+ * goal can be continued, a blow-up stops at once with a sane state, memory is
+ * estimated before it is allocated, warnings are not hidden by quiet. */
+#define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "scenes/scene.h"
+#include "march/march.h"
+#include "app/run.h"
+#include <omp.h>
+#include "test_main.h"
+
+#define CASES_DIR "../cases/"
+
+static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
+{
+    char err[512];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* On one thread: the thin profile grids run faster there (about 200 parallel
+ * regions a step for a few hundred cells), and the machine is shared. */
+static void run(const struct muflow_case *cs, struct run_result *r)
+{
+    char err[512];
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case(cs, 0, r, err, sizeof err);
+    omp_set_num_threads(threads);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* From a small pseudo-time step the march follows the physical start-up of
+ * the layer: its residual stays near 4.3e-2 for hundreds of steps while the
+ * layer speeds up (200 steps used to be called "accelerates").  It must end
+ * steady, on the profile of the default run. */
+static void test_startup_is_not_a_stall(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "solver.dt=0.003"};
+    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("bagnold H/10 from dt 0.003: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps > 2 * 200); /* it does pass the old window */
+    assert_true(r.errors.err_rms < 2e-3);
+}
+
+/* Papanastasiou at lambda 1e-8: the first Newton steps overshoot, rejections
+ * cut dt to ~1e-8, and the march crawls ~250 steps in which the pseudo-time
+ * hardly moves before it converges.  That crawl is no stall. */
+static void test_cut_steps_are_not_a_stall(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.ny=240", "rheology.lambda=1e-8",
+                  "rheology.regularisation=papanastasiou"};
+    load(&cs, CASES_DIR "chute.ini", 3, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("papanastasiou chute b/240, lambda 1e-8: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps > 202);
+    assert_true(fabs(r.errors.headline - r.errors.headline_exact) <
+                1e-2 * fabs(r.errors.headline_exact));
+}
+
+/* Above atan(mu_s + dmu) there is none: still said, in bounded steps. */
+static void test_true_acceleration_still_said(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "physics.tilt=0.6"};
+    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("bagnold tilt 0.6: %s after %ld steps: %s\n", run_status_name(r.status),
+                  r.steps, r.message);
+    assert_int_equal(r.status, STATUS_UNSTEADY);
+    assert_non_null(strstr(r.message, "accelerates"));
+    assert_true(r.steps < 2000);
+}
+
+void group_honest(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_startup_is_not_a_stall),
+        cmocka_unit_test(test_cut_steps_are_not_a_stall),
+        cmocka_unit_test(test_true_acceleration_still_said),
+    };
+    RUN_GROUP(t, "honest", tests);
+}
