@@ -52,6 +52,7 @@ struct march_state {
     double *tan_c[3];           /* normal-stress tangent coefficients (cells) */
     double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
     double *aug;                /* augmentation r = kappa max(eta) per cell, or NULL */
+    enum viscous_precond precond; /* of the implicit solve (automatic or the case's) */
     int full_tangent;           /* Newton with the full (non-symmetric) tangent */
     double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
     double *res[3];             /* momentum residual */

@@ -56,6 +56,16 @@ int sparse_direct_probes(const struct sparse_direct *s)
     return 3 * s->period[0] * s->period[1] * s->period[2];
 }
 
+int sparse_direct_probes_for(const struct grid *g, const int periodic[3], int reach)
+{
+    int p = 3;
+    for (int d = 0; d < 3; d++)
+        p *= colour_period(g->n[d], periodic[d], reach);
+    return p;
+}
+
+int sparse_direct_max_probes(void) { return MAX_PROBES; }
+
 int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const int periodic[3],
                          const struct box act[3], int reach, int symmetric, char *err,
                          size_t errlen)
