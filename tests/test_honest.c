@@ -12,6 +12,7 @@
 #include "scenes/scene.h"
 #include "march/march.h"
 #include "app/run.h"
+#include "io/checkpoint.h"
 #include <omp.h>
 #include "test_main.h"
 
@@ -134,6 +135,99 @@ static void test_auto_preconditioner(void **state)
     march_destroy(&st);
 }
 
+/* A fresh temporary folder under /tmp (the caller removes it). */
+static void make_tmp(char *dir, size_t len, const char *tag)
+{
+    snprintf(dir, len, "/tmp/muflow_honest_%s_XXXXXX", tag);
+    assert_non_null(mkdtemp(dir));
+}
+
+static void remove_tree(const char *dir)
+{
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* The muflow binary beside this test binary. */
+static void muflow_bin(char *out, size_t len)
+{
+    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
+    assert_true(n > 0);
+    out[n] = '\0';
+    strcpy(strrchr(out, '/'), "/muflow");
+}
+
+/* Runs a shell command, its stdout into out; returns the exit status. */
+static int shell(const char *cmd, char *out, size_t len)
+{
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, len - 1, p);
+    out[n] = '\0';
+    int st = pclose(p);
+    assert_true(WIFEXITED(st));
+    return WEXITSTATUS(st);
+}
+
+/* A steady run that stops at max_steps leaves a checkpoint, and continuing
+ * from it with a larger max_steps ends where the uninterrupted run does. */
+static void test_max_steps_checkpoint(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "maxsteps");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs, cc;
+    char *ov[] = {"solver.max_steps=5", "output.quiet=on", od};
+    load(&cs, CASES_DIR "bagnold.ini", 3, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), RUN_OK);
+    assert_int_equal(r.status, STATUS_UNSTEADY);
+    assert_int_equal(r.steps, 5);
+    assert_true(r.checkpointed);
+    char ck[300];
+    snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
+    char *ov2[] = {"solver.max_steps=100"};
+    int lrc = checkpoint_load_case(ck, 1, ov2, &cc, err, sizeof err);
+    if (lrc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(lrc, 0);
+    struct run_options cont = {.write_output = 1, .restart_from = ck};
+    assert_int_equal(run_case_opts(&cc, &cont, &r, err, sizeof err), RUN_OK);
+    print_message("max_steps 5, continued: %s after %ld steps, err_rms %.4e\n",
+                  run_status_name(r.status), r.steps, r.errors.err_rms);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_int_equal(r.steps, 15);
+    assert_true(fabs(r.errors.err_rms - 1.2807e-4) < 5e-9);
+    remove_tree(dir);
+}
+
+/* The README's commands: a run, then `muflow --restart DIR` and
+ * `muflow --restart DIR solver.max_steps=20000`. */
+static void test_readme_restart_commands(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "readme");
+    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini output.dir=%s", bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "steady after 15 steps"));
+    const char *extra[] = {"", " solver.max_steps=20000"};
+    for (int m = 0; m < 2; m++) {
+        snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' --restart %s%s", bin, dir, extra[m]);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("muflow --restart DIR%s: exit %d\n", extra[m], rc);
+        assert_int_equal(rc, 0);
+        assert_non_null(strstr(out, "continuing from"));
+        assert_non_null(strstr(out, "steady after 15 steps"));
+        assert_non_null(strstr(out, "err_rms 1.2807e-04"));
+    }
+    remove_tree(dir);
+}
+
 void group_honest(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -141,6 +235,8 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_cut_steps_are_not_a_stall),
         cmocka_unit_test(test_true_acceleration_still_said),
         cmocka_unit_test(test_auto_preconditioner),
+        cmocka_unit_test(test_max_steps_checkpoint),
+        cmocka_unit_test(test_readme_restart_commands),
     };
     RUN_GROUP(t, "honest", tests);
 }

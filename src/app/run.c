@@ -175,7 +175,7 @@ static void note(int *rc, char *err, size_t errlen, const char *cause)
     *rc = RUN_ERR_OUTPUT;
 }
 
-/* The outputs of the final state: field file, checkpoint (when stopped),
+/* The outputs of the final state: field file, checkpoint,
  * history, profile, summary; each attempted even when an earlier one failed. */
 static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
                           const struct profile *pr, struct run_result *res, char *err,
@@ -191,7 +191,13 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     if (cs->fields && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (st->status == STATUS_STOPPED && !ctx->checkpoint_failed && !ctx->no_checkpoint) {
+    /* every run ends with a checkpoint of its final state: one that missed its
+     * goal (max_steps in either mode, a signal, no steady state, the last
+     * sane state of a divergence) continues from it with other keys, and one
+     * that reached it can go on with a tighter tolerance or a later end time;
+     * `muflow --restart out/bagnold` after `make run` is then a command that
+     * works (a steady run stopped at max_steps used to leave nothing) */
+    if (!ctx->checkpoint_failed && !ctx->no_checkpoint) {
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
