@@ -228,6 +228,53 @@ static void test_readme_restart_commands(void **state)
     remove_tree(dir);
 }
 
+/* An unstable explicit advection (cfl 2, Newtonian cavity at 32 x 32): the
+ * run stops as the state blows up, names step, time and reason, keeps the
+ * last state below the threshold (psi_max of a cavity flow, not 4.5e74 after
+ * 2095 steps) and writes one history row per step. */
+static void test_blowup_stops_early(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "blowup");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs;
+    char *ov[] = {"domain.nx=32", "domain.nz=32", "rheology.law=newtonian",
+                  "rheology.viscosity=1e-5", "physics.advection=on", "solver.mode=transient",
+                  "solver.end_time=20", "solver.cfl=2", "solver.dt=1", "output.quiet=on",
+                  "output.fields=off", od};
+    load(&cs, CASES_DIR "bingham_cavity.ini", 12, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+    omp_set_num_threads(threads);
+    assert_int_equal(rc, RUN_OK);
+    print_message("cavity cfl 2: %s after %ld steps, t = %g, psi_max %.4g: %s\n",
+                  run_status_name(r.status), r.steps, r.time, r.errors.headline, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_true(r.steps < 100);
+    assert_non_null(strstr(r.message, "blows up at step"));
+    assert_non_null(strstr(r.message, ", t = "));
+    assert_true(r.residual <= 1e3);
+    assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.2); /* Vola Bn 0: 0.0996 */
+    char path[300];
+    snprintf(path, sizeof path, "%s/history.csv", dir);
+    char *h = test_read_file(path, NULL);
+    long last = -1, rows = 0;
+    for (char *line = strchr(h, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
+        long step = strtol(line + 1, NULL, 10);
+        assert_true(step > last); /* increasing: no duplicates */
+        last = step;
+        rows++;
+    }
+    free(h);
+    assert_int_equal(last, r.steps);
+    assert_int_equal(rows, r.steps + 1);
+    remove_tree(dir);
+}
+
 void group_honest(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -237,6 +284,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_auto_preconditioner),
         cmocka_unit_test(test_max_steps_checkpoint),
         cmocka_unit_test(test_readme_restart_commands),
+        cmocka_unit_test(test_blowup_stops_early),
     };
     RUN_GROUP(t, "honest", tests);
 }

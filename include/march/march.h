@@ -84,6 +84,10 @@ struct march_state {
     double mark_acc[3];
     long marks;
     double dt_scale;            /* pseudo-time step reduction after rejections */
+    /* the step, time and dt of the saved (last accepted) fields: a run that
+     * ends on a bad state goes back to them as a whole */
+    long good_step;
+    double good_time, good_dt;
     enum run_status status;
     char message[256];          /* why the run ended */
 };

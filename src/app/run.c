@@ -18,6 +18,7 @@ struct observer_ctx {
     struct field_series series;
     double last_print;
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
+    long last_row;         /* the step of the last history row (-1: none) */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
@@ -41,7 +42,12 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
                         const struct scene_errors *e)
 {
     const struct muflow_case *cs = ctx->cs;
-    history_row(&ctx->hist, st, e);
+    /* the march observes a step again when it ends on the state it had
+     * already observed (a breakdown of the viscous solve restores it): one
+     * row per step */
+    if (st->step != ctx->last_row)
+        history_row(&ctx->hist, st, e);
+    ctx->last_row = st->step;
     if (field_series_due(&ctx->series, cs, st) && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
         return ctx->failed = 1;
@@ -229,7 +235,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         return RUN_ERR_SETUP;
     }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .no_checkpoint = !!why};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .no_checkpoint = !!why};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {

@@ -33,6 +33,17 @@
  * step far from the solution can overshoot into spurious states. */
 #define REJECT_GROWTH 2.0
 #define MIN_DT_SCALE 1e-12
+/* Transient mode has no rejections: a state whose residual (relative to
+ * rho g, or without gravity to the first residual) exceeds BLOWUP times its
+ * start is blowing up, and a time step below DT_COLLAPSE times the case's
+ * dt has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
+ * unstable explicit advection): the residual grows about 8-fold every 10
+ * steps from the start, passes 1e3 at step 33 (t = 11.0, max |u| below the
+ * lid speed) and 1e20 at step 260, where dt was 1e-10 and the run went on
+ * for 2095 steps (48 s) to a non-finite state, keeping one with psi_max
+ * 4.5e74 as "the last finite state". */
+#define BLOWUP 1e3
+#define DT_COLLAPSE 1e-8
 
 const char *run_status_name(enum run_status s)
 {
@@ -345,11 +356,22 @@ void march_apply_tangent(struct march_state *st, double *v[3], double *out[3])
 }
 
 /* The last accepted state: every FIELD_SAVED field of the registry. */
-static void save_good(struct march_state *st) { fields_save(&st->fields); }
+
+/* The last accepted state as a whole: its fields, step, time and dt. */
+static void save_good_state(struct march_state *st)
+{
+    fields_save(&st->fields);
+    st->good_step = st->step;
+    st->good_time = st->time;
+    st->good_dt = st->dt;
+}
 
 static void restore_good(struct march_state *st)
 {
     fields_restore(&st->fields);
+    st->step = st->good_step;
+    st->time = st->good_time;
+    st->dt = st->good_dt;
     step_evaluate(st);
 }
 
@@ -425,10 +447,32 @@ static void check_end(struct march_state *st)
         mark_doubling(st);
     if (!isfinite(st->residual) || !isfinite(st->divergence)) {
         long bad = st->step;
+        double t = st->time;
         restore_good(st);
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,
-                 "non-finite values at step %ld; the last finite state is kept", bad);
+                 "non-finite values at step %ld, t = %.6g; the state of step %ld is kept", bad, t,
+                 st->step);
+    } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
+               st->residual > BLOWUP * fmax(1.0, st->residual0)) {
+        long bad = st->step;
+        double t = st->time, r = st->residual;
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the state blows up at step %ld, t = %.6g: residual %.3e, over %g times its "
+                 "start (an unstable time step? solver.cfl, solver.dt); the state of step %ld "
+                 "is kept", bad, t, r, BLOWUP, st->step);
+    } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
+               st->time < cs->end_time * (1.0 - 1e-12) && choose_dt(st) < DT_COLLAPSE * cs->dt) {
+        long bad = st->step;
+        double t = st->time, dt = choose_dt(st);
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the time step collapses at step %ld, t = %.6g: dt %.3e < %g solver.dt (max |u| "
+                 "%.3e); the state of step %ld is kept", bad, t, dt, DT_COLLAPSE,
+                 kernel_max_abs(&st->g, st->act, st->vel), st->step);
     } else if (cs->mode == MODE_STEADY && st->residual_excess <= cs->tolerance &&
                st->divergence <= cs->tolerance) {
         st->status = STATUS_STEADY;
@@ -474,7 +518,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
     const struct muflow_case *cs = st->cs;
     double t0 = omp_get_wtime() - st->wall_seconds; /* a restart keeps counting */
     st->status = STATUS_RUNNING;
-    save_good(st);
+    save_good_state(st);
     step_evaluate(st);
     if (st->step == 0 && st->residual0 == 0.0) /* march_reforce keeps it: below */
         st->residual0 = st->residual;
@@ -487,7 +531,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         }
         if (st->status != STATUS_RUNNING)
             break;
-        save_good(st);
+        save_good_state(st);
         if (st->residual < STALL_FACTOR * st->best_residual) {
             st->best_residual = st->residual;
             st->best_step = st->step;
