@@ -275,6 +275,42 @@ static void test_blowup_stops_early(void **state)
     remove_tree(dir);
 }
 
+/* The memory estimate: refused before allocating when it exceeds what is
+ * available (one line naming the grid keys, the estimate and the memory,
+ * exit 2, nothing written), printed in the header otherwise. */
+static void test_memory_estimate(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "memory");
+    /* 100 MB available, a 100 x 100 x 50 grid needs about 370 MB */
+    snprintf(cmd, sizeof cmd,
+             "MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini domain.nx=100 "
+             "domain.ny=100 domain.nz=50 output.dir=%s/run 2>&1",
+             bin, dir);
+    int rc = shell(cmd, out, sizeof out);
+    print_message("refused: exit %d: %s", rc, out);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(out, "domain.nx x domain.ny x domain.nz = 100 x 100 x 50"));
+    assert_non_null(strstr(out, "needs about"));
+    assert_non_null(strstr(out, "100 MB of memory available"));
+    assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1); /* one line */
+    char run_dir[200];
+    snprintf(run_dir, sizeof run_dir, "%s/run", dir);
+    assert_int_not_equal(access(run_dir, F_OK), 0); /* nothing written */
+    /* fits: the estimate is in the header line */
+    snprintf(cmd, sizeof cmd,
+             "OMP_NUM_THREADS=1 MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini "
+             "domain.nz=10 output.dir=%s/run",
+             bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    const char *m = strstr(out, "memory ~");
+    assert_non_null(m);
+    assert_true(m < strchr(out, '\n'));
+    remove_tree(dir);
+}
+
 void group_honest(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -285,6 +321,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_max_steps_checkpoint),
         cmocka_unit_test(test_readme_restart_commands),
         cmocka_unit_test(test_blowup_stops_early),
+        cmocka_unit_test(test_memory_estimate),
     };
     RUN_GROUP(t, "honest", tests);
 }

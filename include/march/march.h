@@ -53,6 +53,7 @@ struct march_state {
     double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
     double *aug;                /* augmentation r = kappa max(eta) per cell, or NULL */
     enum viscous_precond precond; /* of the implicit solve (automatic or the case's) */
+    double memory_estimate;     /* bytes the run was estimated to need before allocating */
     int full_tangent;           /* Newton with the full (non-symmetric) tangent */
     double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
     double *res[3];             /* momentum residual */
@@ -121,6 +122,12 @@ int march_reforce(struct march_state *st, char *err, size_t errlen);
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
 
 const char *run_status_name(enum run_status s);
+
+/* Bytes of memory available to a new allocation: MemAvailable of
+ * /proc/meminfo, else sysconf's available pages; the environment variable
+ * MUFLOW_AVAILABLE_MEMORY (bytes) replaces it (tests).  0 when unknown.
+ * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
+double march_available_memory(void);
 
 /* What residuals are relative to (rho g, or the first residual), and the
  * smallest cell size of the directions with more than one cell. */

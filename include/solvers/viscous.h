@@ -73,6 +73,10 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
 int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                   double *x[3], double rtol, int maxit, struct viscous_stats *st);
 
+/* Bytes viscous_create allocates on g for kind, without the sparse
+ * factorisation (sparse_direct_memory_estimate). */
+double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
+
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 

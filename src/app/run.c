@@ -118,10 +118,12 @@ int run_exit_code(enum run_status s)
 static void print_header(const struct muflow_case *cs, const struct march_state *st,
                          const char *restart_from, int threads_then)
 {
-    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads\n",
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads, "
+           "memory ~%.0f MB\n",
            cs->name, case_scene(cs)->name, st->g.n[0], st->g.n[1], st->g.n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
-           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads());
+           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads(),
+           st->memory_estimate / 1e6);
     if (restart_from)
         printf("muflow %s: continuing from %s at step %ld, t = %.6g\n", cs->name, restart_from,
                st->step, st->time);
