@@ -311,6 +311,27 @@ static void test_memory_estimate(void **state)
     remove_tree(dir);
 }
 
+/* A restart with another thread count warns on stderr even when quiet (a
+ * restart inherits the checkpoint's output.quiet). */
+static void test_warning_not_quiet(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "warn");
+    snprintf(cmd, sizeof cmd,
+             "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini domain.nz=10 solver.max_steps=3 "
+             "output.quiet=on output.dir=%s 2>&1",
+             bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 3); /* max_steps: unsteady */
+    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=2 '%s' --restart %s solver.max_steps=100 2>&1 >/dev/null", bin, dir);
+    int rc = shell(cmd, out, sizeof out);
+    print_message("restart on 2 threads, quiet: exit %d, stderr: %s", rc, out);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "warning: the checkpoint was written with 1 threads, this run has 2"));
+    remove_tree(dir);
+}
+
 void group_honest(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -322,6 +343,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_readme_restart_commands),
         cmocka_unit_test(test_blowup_stops_early),
         cmocka_unit_test(test_memory_estimate),
+        cmocka_unit_test(test_warning_not_quiet),
     };
     RUN_GROUP(t, "honest", tests);
 }

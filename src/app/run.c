@@ -116,7 +116,7 @@ int run_exit_code(enum run_status s)
 }
 
 static void print_header(const struct muflow_case *cs, const struct march_state *st,
-                         const char *restart_from, int threads_then)
+                         const char *restart_from)
 {
     printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads, "
            "memory ~%.0f MB\n",
@@ -128,6 +128,13 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
         printf("muflow %s: continuing from %s at step %ld, t = %.6g\n", cs->name, restart_from,
                st->step, st->time);
     fflush(stdout);
+}
+
+/* Warnings go to stderr whatever output.quiet says (quiet silences progress,
+ * not problems; a restart inherits the checkpoint's quiet and used to hide
+ * this one). */
+static void warn_threads(const char *restart_from, int threads_then)
+{
     if (restart_from && threads_then != omp_get_max_threads())
         fprintf(stderr,
                 "muflow: warning: the checkpoint was written with %d threads, this run has %d: "
@@ -168,7 +175,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         goto fail;
     }
     if (!cs->quiet)
-        print_header(cs, st, opt->restart_from, threads_then);
+        print_header(cs, st, opt->restart_from);
+    warn_threads(opt->restart_from, threads_then);
     return RUN_OK;
 fail:
     march_destroy(st);
