@@ -332,6 +332,27 @@ static void test_warning_not_quiet(void **state)
     remove_tree(dir);
 }
 
+/* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
+ * its first step: end_time 1 would take ~1e11 steps) stops the run at once
+ * with the step, the time and the reason, keeping the state before. */
+static void test_dt_collapse_stops(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "rheology.law=newtonian", "physics.advection=on",
+                  "solver.mode=transient", "solver.end_time=1", "solver.dt=0.1",
+                  "physics.gravity=1e12"};
+    load(&cs, CASES_DIR "bagnold.ini", 7, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("g = 1e12: %s after %ld steps, t = %g: %s\n", run_status_name(r.status),
+                  r.steps, r.time, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_non_null(strstr(r.message, "the time step collapses at step 1, t = 0.1"));
+    assert_int_equal(r.steps, 0);
+    assert_true(r.time == 0.0);
+}
+
 void group_honest(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -342,6 +363,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_max_steps_checkpoint),
         cmocka_unit_test(test_readme_restart_commands),
         cmocka_unit_test(test_blowup_stops_early),
+        cmocka_unit_test(test_dt_collapse_stops),
         cmocka_unit_test(test_memory_estimate),
         cmocka_unit_test(test_warning_not_quiet),
     };

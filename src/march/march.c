@@ -36,8 +36,8 @@
 #define MIN_DT_SCALE 1e-12
 /* Transient mode has no rejections: a state whose residual (relative to
  * rho g, or without gravity to the first residual) exceeds BLOWUP times its
- * start is blowing up, and a time step below DT_COLLAPSE times the case's
- * dt has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
+ * start is blowing up, and a CFL step below DT_COLLAPSE times the case's
+ * dt (or end time, if smaller) has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
  * unstable explicit advection): the residual grows about 8-fold every 10
  * steps from the start, passes 1e3 at step 33 (t = 11.0, max |u| below the
  * lid speed) and 1e20 at step 260, where dt was 1e-10 and the run went on
@@ -460,6 +460,16 @@ static void restore_good(struct march_state *st)
     step_evaluate(st);
 }
 
+/* The advective limit of the step (infinite without advection). */
+static double cfl_dt(const struct march_state *st)
+{
+    const struct muflow_case *cs = st->cs;
+    if (!cs->advection)
+        return INFINITY;
+    double umax = kernel_max_abs(&st->g, st->act, st->vel);
+    return umax > 0.0 ? cs->cfl * march_min_spacing(&st->g) / umax : INFINITY;
+}
+
 static double choose_dt(const struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
@@ -476,15 +486,8 @@ static double choose_dt(const struct march_state *st)
         if (st->time + dt > cs->end_time)
             dt = cs->end_time - st->time;
     }
-    if (cs->advection) {
-        double umax = kernel_max_abs(&st->g, st->act, st->vel);
-        if (umax > 0.0) {
-            double lim = cs->cfl * march_min_spacing(&st->g) / umax;
-            if (dt > lim)
-                dt = lim;
-        }
-    }
-    return dt;
+    double lim = cfl_dt(st);
+    return dt > lim ? lim : dt;
 }
 
 /* Records the mean acceleration each time the pseudo-time doubles.  Called
@@ -549,15 +552,16 @@ static void check_end(struct march_state *st)
                  "start (an unstable time step? solver.cfl, solver.dt); the state of step %ld "
                  "is kept", bad, t, r, BLOWUP, st->step);
     } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
-               st->time < cs->end_time * (1.0 - 1e-12) && choose_dt(st) < DT_COLLAPSE * cs->dt) {
+               cfl_dt(st) < DT_COLLAPSE * fmin(cs->dt, cs->end_time)) {
+        /* the CFL limit, not the last step to end_time, which may be short */
         long bad = st->step;
-        double t = st->time, dt = choose_dt(st);
+        double t = st->time, dt = cfl_dt(st), umax = kernel_max_abs(&st->g, st->act, st->vel);
         restore_good(st);
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,
-                 "the time step collapses at step %ld, t = %.6g: dt %.3e < %g solver.dt (max |u| "
-                 "%.3e); the state of step %ld is kept", bad, t, dt, DT_COLLAPSE,
-                 kernel_max_abs(&st->g, st->act, st->vel), st->step);
+                 "the time step collapses at step %ld, t = %.6g: CFL step %.3e (max |u| %.3e) "
+                 "below %g of min(solver.dt, end_time); the state of step %ld is kept",
+                 bad, t, dt, umax, DT_COLLAPSE, st->step);
     } else if (cs->mode == MODE_STEADY && st->residual_excess <= cs->tolerance &&
                st->divergence <= cs->tolerance) {
         st->status = STATUS_STEADY;
