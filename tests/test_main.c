@@ -54,6 +54,7 @@ static const struct {
     {"repro", group_repro},
     {"two_phase", group_two_phase},
     {"outputs", group_outputs},
+    {"honest", group_honest},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -38,7 +38,9 @@ struct run_options {
 /* Returns RUN_OK when the run took place (whatever its status), else an
  * enum run_error with the cause in err.  A run stopped by a signal, by
  * max_steps in transient mode or by a failed checkpoint ends with status
- * STATUS_STOPPED; the first two write a checkpoint of their final state. */
+ * STATUS_STOPPED.  With write_output, every run but one whose checkpoint
+ * failed (or whose scene cannot continue, the heap search) writes a
+ * checkpoint of its final state (res->checkpointed). */
 int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
                   struct run_result *res, char *err, size_t errlen);
 

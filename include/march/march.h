@@ -52,6 +52,8 @@ struct march_state {
     double *tan_c[3];           /* normal-stress tangent coefficients (cells) */
     double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
     double *aug;                /* augmentation r = kappa max(eta) per cell, or NULL */
+    enum viscous_precond precond; /* of the implicit solve (automatic or the case's) */
+    double memory_estimate;     /* bytes the run was estimated to need before allocating */
     int full_tangent;           /* Newton with the full (non-symmetric) tangent */
     double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
     double *res[3];             /* momentum residual */
@@ -76,7 +78,17 @@ struct march_state {
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */
     long best_step;             /* the step it was reached at */
+    double best_time;           /* and the pseudo-time */
+    /* the mean acceleration each time the pseudo-time doubled (newest
+     * first): whether an acceleration is sustained or decaying */
+    double mark_time;
+    double mark_acc[3];
+    long marks;
     double dt_scale;            /* pseudo-time step reduction after rejections */
+    /* the step, time and dt of the saved (last accepted) fields: a run that
+     * ends on a bad state goes back to them as a whole */
+    long good_step;
+    double good_time, good_dt;
     enum run_status status;
     char message[256];          /* why the run ended */
 };
@@ -114,6 +126,12 @@ int march_reforce(struct march_state *st, char *err, size_t errlen);
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx);
 
 const char *run_status_name(enum run_status s);
+
+/* Bytes of memory available to a new allocation: MemAvailable of
+ * /proc/meminfo, else sysconf's available pages; the environment variable
+ * MUFLOW_AVAILABLE_MEMORY (bytes) replaces it (tests).  0 when unknown.
+ * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
+double march_available_memory(void);
 
 /* What residuals are relative to (rho g, or the first residual), and the
  * smallest cell size of the directions with more than one cell. */

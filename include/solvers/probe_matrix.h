@@ -61,4 +61,10 @@ static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr
 int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B);
 void csr_free(struct csr_matrix *A);
 
+/* The probes a matrix of this grid would need, and the most that are
+ * accepted (beyond it the colouring is refused: periodic cell counts without
+ * a small divisor). */
+int probe_matrix_probes_for(const struct grid *g, const int periodic[3], int reach);
+int probe_matrix_max_probes(void);
+
 #endif

@@ -27,6 +27,15 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
                          size_t errlen);
 void sparse_direct_destroy(struct sparse_direct *s);
 
+/* The probes (operator applications per factorisation) the colouring of
+ * sparse_direct_create needs on g, and the most it accepts. */
+int sparse_direct_probes_for(const struct grid *g, const int periodic[3], int reach);
+int sparse_direct_max_probes(void);
+
+/* Bytes of the matrix and factorisation for that many unknowns on a grid
+ * varying in dims directions (a measured model, see the source). */
+double sparse_direct_memory_estimate(long unknowns, int dims);
+
 /* Probes op (work: two field triples, overwritten), assembles and factorises.
  * Returns 0, or -1 when the factorisation fails (not positive definite,
  * singular, out of memory). */

@@ -117,6 +117,10 @@ struct viscous_precond_info {
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 
+/* Bytes viscous_create allocates on g for kind, without the sparse
+ * factorisation (sparse_direct_memory_estimate). */
+double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
+
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 

@@ -85,7 +85,7 @@ static void usage(FILE *f)
                "  goes to DIR unless output.dir is overridden), e.g.\n"
                "  muflow --restart out/bagnold solver.max_steps=20000\n"
                "  output: summary.ini, profile.csv, history.csv, fields_*.h5, fields.xdmf,\n"
-               "  checkpoint.h5 (when stopped) in output.dir\n"
+               "  checkpoint.h5 (at the end of the run) in output.dir\n"
                "  SIGINT / SIGTERM: the step ends, a checkpoint and the outputs are written\n");
 }
 

@@ -18,6 +18,7 @@ struct observer_ctx {
     struct field_series series;
     double last_print;
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
+    long last_row;         /* the step of the last history row (-1: none) */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
@@ -41,7 +42,12 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
                         const struct scene_errors *e)
 {
     const struct muflow_case *cs = ctx->cs;
-    history_row(&ctx->hist, st, e);
+    /* the march observes a step again when it ends on the state it had
+     * already observed (a breakdown of the viscous solve restores it): one
+     * row per step */
+    if (st->step != ctx->last_row)
+        history_row(&ctx->hist, st, e);
+    ctx->last_row = st->step;
     if (field_series_due(&ctx->series, cs, st) && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
         return ctx->failed = 1;
@@ -110,16 +116,25 @@ int run_exit_code(enum run_status s)
 }
 
 static void print_header(const struct muflow_case *cs, const struct march_state *st,
-                         const char *restart_from, int threads_then)
+                         const char *restart_from)
 {
-    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads\n",
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads, "
+           "memory ~%.0f MB\n",
            cs->name, case_scene(cs)->name, st->g.n[0], st->g.n[1], st->g.n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
-           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads());
+           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads(),
+           st->memory_estimate / 1e6);
     if (restart_from)
         printf("muflow %s: continuing from %s at step %ld, t = %.6g\n", cs->name, restart_from,
                st->step, st->time);
     fflush(stdout);
+}
+
+/* Warnings go to stderr whatever output.quiet says (quiet silences progress,
+ * not problems; a restart inherits the checkpoint's quiet and used to hide
+ * this one). */
+static void warn_threads(const char *restart_from, int threads_then)
+{
     if (restart_from && threads_then != omp_get_max_threads())
         fprintf(stderr,
                 "muflow: warning: the checkpoint was written with %d threads, this run has %d: "
@@ -160,7 +175,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         goto fail;
     }
     if (!cs->quiet)
-        print_header(cs, st, opt->restart_from, threads_then);
+        print_header(cs, st, opt->restart_from);
+    warn_threads(opt->restart_from, threads_then);
     return RUN_OK;
 fail:
     march_destroy(st);
@@ -175,7 +191,7 @@ static void note(int *rc, char *err, size_t errlen, const char *cause)
     *rc = RUN_ERR_OUTPUT;
 }
 
-/* The outputs of the final state: field file, checkpoint (when stopped),
+/* The outputs of the final state: field file, checkpoint,
  * history, profile, summary; each attempted even when an earlier one failed. */
 static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
                           const struct profile *pr, struct run_result *res, char *err,
@@ -191,7 +207,13 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     if (cs->fields && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (st->status == STATUS_STOPPED && !ctx->checkpoint_failed && !ctx->no_checkpoint) {
+    /* every run ends with a checkpoint of its final state: one that missed its
+     * goal (max_steps in either mode, a signal, no steady state, the last
+     * sane state of a divergence) continues from it with other keys, and one
+     * that reached it can go on with a tighter tolerance or a later end time;
+     * `muflow --restart out/bagnold` after `make run` is then a command that
+     * works (a steady run stopped at max_steps used to leave nothing) */
+    if (!ctx->checkpoint_failed && !ctx->no_checkpoint) {
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
@@ -223,7 +245,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         return RUN_ERR_SETUP;
     }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .no_checkpoint = !!why};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .no_checkpoint = !!why};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {

@@ -5,19 +5,46 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "march/march.h"
 #include "march/step.h"
+#include "solvers/sparse_direct.h"
 #include "scenes/scene.h"
 
-/* Steps without a 10% improvement of the best residual after which a steady
- * march is declared unable to reach a steady state. */
+/* A steady march is judged unable to reach a steady state only when the best
+ * residual has not improved by 10% for STALL_STEPS steps AND for a
+ * pseudo-time of STALL_STEPS unreduced steps (choose_dt without the cut of
+ * rejected steps).  The step count alone took the pseudo-time march through
+ * a physical start-up for a stall (bagnold from dt 0.001: residual flat at
+ * 4.3e-2 for 400 steps while the layer speeds up, steady after 4041), and a
+ * crawl of cut steps (dt ~1e-8 after rejections: the papanastasiou chute,
+ * 300 steps in which the pseudo-time moves by 1e-6) for no progress. */
 #define STALL_STEPS 200
 #define STALL_FACTOR 0.9
+/* A net acceleration ends the run only when it is sustained: at the last
+ * three doublings of the pseudo-time it lost less than ACC_DECAY over the
+ * last doubling and no more than over the one before.  A start-up transient
+ * has an acceleration whose decay per doubling grows (friction engages: 1e-5,
+ * 3e-3, 6%, 24%, 68% for bagnold from dt 0.001), a layer above
+ * atan(mu_s + dmu) one whose decay shrinks towards a positive limit (15%,
+ * 10%, 6.5%, 4.2%, 2.8% at tilt 0.6). */
+#define ACC_DECAY 0.1
 /* A steady-mode step that multiplies the residual by more than this is
  * rejected and retried with a ten times smaller pseudo-time step: a linearised
  * step far from the solution can overshoot into spurious states. */
 #define REJECT_GROWTH 2.0
 #define MIN_DT_SCALE 1e-12
+/* Transient mode has no rejections: a state whose residual (relative to
+ * rho g, or without gravity to the first residual) exceeds BLOWUP times its
+ * start is blowing up, and a CFL step below DT_COLLAPSE times the case's
+ * dt (or end time, if smaller) has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
+ * unstable explicit advection): the residual grows about 8-fold every 10
+ * steps from the start, passes 1e3 at step 33 (t = 11.0, max |u| below the
+ * lid speed) and 1e20 at step 260, where dt was 1e-10 and the run went on
+ * for 2095 steps (48 s) to a non-finite state, keeping one with psi_max
+ * 4.5e74 as "the last finite state". */
+#define BLOWUP 1e3
+#define DT_COLLAPSE 1e-8
 
 const char *run_status_name(enum run_status s)
 {
@@ -47,8 +74,14 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
 }
 
 /* Line blocks are exact for flows uniform across lines and cheap; a flow that
- * varies in two or more directions gets the sparse Cholesky factorisation
- * while the grid is small enough for it. */
+ * varies in two or more directions gets a sparse factorisation while it is
+ * affordable.  A flow varies only across its bounded (non-periodic)
+ * directions: the body force is uniform, so with one bounded direction the
+ * lines along it are exact whatever the periodic extent (measured: bagnold
+ * 15 x 5 x 40 took 15.3 s with the LU of 375 probes a step, 0.11 s with the
+ * line blocks, same profile; 16 x 8 x 40 needed 960 probes and failed).  The
+ * probes are one operator application each per step: beyond the
+ * factorisation's limit the line blocks serve instead of failing. */
 #define CHOLESKY_MAX_UNKNOWNS 400000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
@@ -61,48 +94,58 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_AMG: return VISCOUS_AMG;
     case PRECOND_AUTO: break;
     }
-    int wide = 0;
-    for (int d = 0; d < 3; d++)
-        wide += st->g.n[d] > 2;
+    int bounded = 0, periodic[3];
+    for (int d = 0; d < 3; d++) {
+        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+        bounded += st->g.n[d] > 2 && !periodic[d];
+    }
     long unknowns = 3L * (long)grid_cells(&st->g);
-    if (wide < 2 || unknowns > CHOLESKY_MAX_UNKNOWNS)
+    if (bounded < 2 || unknowns > CHOLESKY_MAX_UNKNOWNS)
         return VISCOUS_LINE;
     /* in a flow that varies in two directions the strain components couple
-     * through |D|: Newton needs the full tangent, which is not symmetric */
-    return cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
+     * through |D|: Newton needs the full tangent, which is not symmetric
+     * (and reaches two nodes, the symmetric operator one) */
+    enum viscous_precond kind = cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
+    int reach = kind == VISCOUS_LU ? 2 : 1;
+    if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
+        return VISCOUS_LINE;
+    return kind;
 }
 
 /* The arrays of the march, declared once (march/fields.h). */
+static const struct field_spec march_specs[] = {
+    {"velocity", FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED},
+    {"p_dyn", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED},
+    {"p_hyd", FIELD_CELLS, 0},
+    {"force", FIELD_FACES, 0},
+    {"density_faces", FIELD_FACES, 0},
+    {"pressure", FIELD_CELLS, 0},
+    {"strain_normal2", FIELD_CELLS, 0},
+    {"strain_shear2", FIELD_EDGES, 0},
+    {"shear2", FIELD_CELLS, 0},
+    {"viscosity", FIELD_CELLS, 0},
+    {"pressure_regularised", FIELD_CELLS, 0},
+    {"tangent_cells", FIELD_CELLS3, 0},
+    {"viscosity_edges", FIELD_EDGES, 0},
+    {"tangent_edges", FIELD_EDGES, 0},
+    {"residual", FIELD_FACES, 0},
+    {"increment", FIELD_FACES, 0},
+    {"advection", FIELD_FACES, 0},
+    {"divergence", FIELD_CELLS, 0},
+    {"phi", FIELD_CELLS, 0},
+};
+#define NSPECS (sizeof march_specs / sizeof march_specs[0])
+
 static int register_fields(struct march_state *st)
 {
     struct field_registry *r = &st->fields;
-    const struct field_spec specs[] = {
-        {"velocity", FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED},
-        {"p_dyn", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED},
-        {"p_hyd", FIELD_CELLS, 0},
-        {"force", FIELD_FACES, 0},
-        {"density_faces", FIELD_FACES, 0},
-        {"pressure", FIELD_CELLS, 0},
-        {"strain_normal2", FIELD_CELLS, 0},
-        {"strain_shear2", FIELD_EDGES, 0},
-        {"shear2", FIELD_CELLS, 0},
-        {"viscosity", FIELD_CELLS, 0},
-        {"pressure_regularised", FIELD_CELLS, 0},
-        {"tangent_cells", FIELD_CELLS3, 0},
-        {"viscosity_edges", FIELD_EDGES, 0},
-        {"tangent_edges", FIELD_EDGES, 0},
-        {"residual", FIELD_FACES, 0},
-        {"increment", FIELD_FACES, 0},
-        {"advection", FIELD_FACES, 0},
-        {"divergence", FIELD_CELLS, 0},
-        {"phi", FIELD_CELLS, 0},
-    };
+    const struct field_spec *specs = march_specs;
     double **into[] = {st->vel, &st->p_dyn, &st->p_hyd, st->force, st->rho_face, &st->pressure,
                        &st->cn2, st->e2, &st->shear2, &st->eta, &st->preg, st->tan_c, st->eta_e,
                        st->tan_e, st->res, st->delta, st->adv, &st->div, &st->phi};
-    _Static_assert(sizeof specs / sizeof specs[0] == sizeof into / sizeof into[0], "one each");
-    int idx[sizeof specs / sizeof specs[0]];
-    for (size_t m = 0; m < sizeof specs / sizeof specs[0]; m++)
+    _Static_assert(NSPECS == sizeof into / sizeof into[0], "one each");
+    int idx[NSPECS];
+    for (size_t m = 0; m < NSPECS; m++)
         if ((idx[m] = fields_add(r, &specs[m], into[m])) < 0)
             return -1;
     /* what the field files hold, in this order: the velocity (face values
@@ -124,6 +167,70 @@ static int register_fields(struct march_state *st)
 static enum poisson_bc projection_bc(enum bc_kind k)
 {
     return k == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+}
+
+/* What the process holds before the march allocates (libraries, FFTW):
+ * the peak RSS of the smallest run, bagnold 2 x 1 x 40, is 20 MB. */
+#define BASE_BYTES 20e6
+
+/* Bytes the march will allocate on st->g with the preconditioner kind: the
+ * registry's fields (saved copies included) and the optional ones of this
+ * case, the pressure solver's two arrays, the viscous solver's work and the
+ * sparse factorisation when chosen.  Modules' own fields are not known
+ * before they are created.  Measured against the peak RSS: bagnold
+ * 100 x 100 x 50 (line blocks) 353 MB, estimate 367 MB; cavity 128 x 128
+ * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB. */
+static double memory_estimate(const struct march_state *st, enum viscous_precond kind)
+{
+    const struct grid *g = &st->g;
+    const struct muflow_case *cs = st->cs;
+    double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
+    for (size_t m = 0; m < NSPECS; m++)
+        arrays += field_arrays(march_specs[m].where) * ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
+    if (cs->augmentation > 0.0)
+        arrays += 1.0;
+    if (kind == VISCOUS_LU && cs->newton)
+        arrays += 4.0;
+    double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
+                   viscous_memory_estimate(g, kind);
+    if (kind != VISCOUS_LINE) {
+        int dims = 0;
+        for (int d = 0; d < 3; d++)
+            dims += g->n[d] > 1;
+        bytes += sparse_direct_memory_estimate(3L * (long)grid_cells(g), dims);
+    }
+    return bytes;
+}
+
+double march_available_memory(void)
+{
+    /* MUFLOW_AVAILABLE_MEMORY (bytes) stands in for the machine's, so that
+     * the refusal can be tested on any machine */
+    const char *env = getenv("MUFLOW_AVAILABLE_MEMORY");
+    if (env && *env)
+        return strtod(env, NULL);
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        char line[256];
+        double kb = -1.0;
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "MemAvailable: %lf kB", &kb) == 1)
+                break;
+        fclose(f);
+        if (kb >= 0.0)
+            return kb * 1024.0;
+    }
+    long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+    return pages > 0 && size > 0 ? (double)pages * (double)size : 0.0;
+}
+
+/* "12.3 GB", "353 MB" */
+static void format_bytes(char *out, size_t len, double b)
+{
+    if (b >= 1e9)
+        snprintf(out, len, "%.1f GB", b / 1e9);
+    else
+        snprintf(out, len, "%.0f MB", b / 1e6);
 }
 
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
@@ -171,6 +278,24 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     const struct grid *g = &st->g;
     fields_init(&st->fields, g);
     bc_unknown_boxes(g, &st->bc, st->act);
+    /* refuse before allocating what the machine does not have: a grid inside
+     * the key limits (1000 x 1000 x 500) grew past 6.4 GB in a minute
+     * without a word */
+    enum viscous_precond kind = st->precond = choose_preconditioner(st);
+    st->memory_estimate = memory_estimate(st, kind);
+    double avail = march_available_memory();
+    if (avail > 0.0 && st->memory_estimate > avail) {
+        char need[32], have[32];
+        format_bytes(need, sizeof need, st->memory_estimate);
+        format_bytes(have, sizeof have, avail);
+        snprintf(err, errlen,
+                 "domain.nx x domain.ny x domain.nz = %d x %d x %d: the run needs about %s "
+                 "(fields, solver work%s), more than the %s of memory available on this machine",
+                 g->n[0], g->n[1], g->n[2], need, kind == VISCOUS_LINE ? "" : ", sparse factorisation",
+                 have);
+        march_destroy(st);
+        return -1;
+    }
     if (register_fields(st) != 0) {
         snprintf(err, errlen, "out of memory for a %d x %d x %d grid", g->n[0], g->n[1], g->n[2]);
         march_destroy(st);
@@ -186,7 +311,6 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)
             pbc[d][s] = projection_bc(st->bc.face[d][s]);
-    enum viscous_precond kind = choose_preconditioner(st);
     /* the probed LU and the AMG both take the full (non-symmetric) tangent */
     st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton;
     int ok = 1;
@@ -275,6 +399,9 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     st->rejected = 0;
     st->best_residual = INFINITY;
     st->best_step = 0;
+    st->best_time = 0.0;
+    st->mark_time = 0.0;
+    st->marks = 0;
     st->dt_scale = 1.0;
     st->wall_seconds = 0.0;
     st->status = STATUS_RUNNING;
@@ -324,12 +451,33 @@ void march_apply_tangent(struct march_state *st, double *v[3], double *out[3])
 }
 
 /* The last accepted state: every FIELD_SAVED field of the registry. */
-static void save_good(struct march_state *st) { fields_save(&st->fields); }
+
+/* The last accepted state as a whole: its fields, step, time and dt. */
+static void save_good_state(struct march_state *st)
+{
+    fields_save(&st->fields);
+    st->good_step = st->step;
+    st->good_time = st->time;
+    st->good_dt = st->dt;
+}
 
 static void restore_good(struct march_state *st)
 {
     fields_restore(&st->fields);
+    st->step = st->good_step;
+    st->time = st->good_time;
+    st->dt = st->good_dt;
     step_evaluate(st);
+}
+
+/* The advective limit of the step (infinite without advection). */
+static double cfl_dt(const struct march_state *st)
+{
+    const struct muflow_case *cs = st->cs;
+    if (!cs->advection)
+        return INFINITY;
+    double umax = kernel_max_abs(&st->g, st->act, st->vel);
+    return umax > 0.0 ? cs->cfl * march_min_spacing(&st->g) / umax : INFINITY;
 }
 
 static double choose_dt(const struct march_state *st)
@@ -348,27 +496,82 @@ static double choose_dt(const struct march_state *st)
         if (st->time + dt > cs->end_time)
             dt = cs->end_time - st->time;
     }
-    if (cs->advection) {
-        double umax = kernel_max_abs(&st->g, st->act, st->vel);
-        if (umax > 0.0) {
-            double lim = cs->cfl * march_min_spacing(&st->g) / umax;
-            if (dt > lim)
-                dt = lim;
-        }
-    }
-    return dt;
+    double lim = cfl_dt(st);
+    return dt > lim ? lim : dt;
+}
+
+/* Records the mean acceleration each time the pseudo-time doubles.  Called
+ * on every evaluated state; idempotent for a state already seen (a restart
+ * evaluates the checkpoint's state again). */
+static void mark_doubling(struct march_state *st)
+{
+    if (st->time <= 0.0 || (st->marks > 0 && st->time < 2.0 * st->mark_time))
+        return;
+    st->mark_acc[2] = st->mark_acc[1];
+    st->mark_acc[1] = st->mark_acc[0];
+    st->mark_acc[0] = march_mean_acceleration(st);
+    st->mark_time = st->time;
+    st->marks++;
+}
+
+/* No 10% progress of the best residual in STALL_STEPS steps and in the
+ * pseudo-time of as many unreduced steps. */
+static int stalled(const struct march_state *st)
+{
+    return st->step - st->best_step > STALL_STEPS &&
+           st->time - st->best_time >= STALL_STEPS * choose_dt(st);
+}
+
+/* acc (now) and the marks have one sign, the last doubling lost less than
+ * ACC_DECAY and no more than the one before, and acc kept 90% of the last
+ * mark. */
+static int acceleration_sustained(const struct march_state *st, double acc)
+{
+    if (st->marks < 3)
+        return 0;
+    const double *m = st->mark_acc;
+    for (int i = 0; i < 3; i++)
+        if (m[i] * acc <= 0.0)
+            return 0;
+    double d0 = 1.0 - m[0] / m[1], d1 = 1.0 - m[1] / m[2];
+    return d0 < ACC_DECAY && d0 <= d1 && fabs(acc) >= (1.0 - ACC_DECAY) * fabs(m[0]);
 }
 
 /* Sets status and message when the run must end with the current state. */
 static void check_end(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
+    if (cs->mode == MODE_STEADY && isfinite(st->residual))
+        mark_doubling(st);
     if (!isfinite(st->residual) || !isfinite(st->divergence)) {
         long bad = st->step;
+        double t = st->time;
         restore_good(st);
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,
-                 "non-finite values at step %ld; the last finite state is kept", bad);
+                 "non-finite values at step %ld, t = %.6g; the state of step %ld is kept", bad, t,
+                 st->step);
+    } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
+               st->residual > BLOWUP * fmax(1.0, st->residual0)) {
+        long bad = st->step;
+        double t = st->time, r = st->residual;
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the state blows up at step %ld, t = %.6g: residual %.3e, over %g times its "
+                 "start (an unstable time step? solver.cfl, solver.dt); the state of step %ld "
+                 "is kept", bad, t, r, BLOWUP, st->step);
+    } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
+               cfl_dt(st) < DT_COLLAPSE * fmin(cs->dt, cs->end_time)) {
+        /* the CFL limit, not the last step to end_time, which may be short */
+        long bad = st->step;
+        double t = st->time, dt = cfl_dt(st), umax = kernel_max_abs(&st->g, st->act, st->vel);
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the time step collapses at step %ld, t = %.6g: CFL step %.3e (max |u| %.3e) "
+                 "below %g of min(solver.dt, end_time); the state of step %ld is kept",
+                 bad, t, dt, umax, DT_COLLAPSE, st->step);
     } else if (cs->mode == MODE_STEADY && st->residual_excess <= cs->tolerance &&
                st->divergence <= cs->tolerance) {
         st->status = STATUS_STEADY;
@@ -387,18 +590,25 @@ static void check_end(struct march_state *st)
         snprintf(st->message, sizeof st->message, "no %s after max_steps = %ld (residual %.3e)",
                  cs->mode == MODE_STEADY ? "steady state" : "end time", cs->max_steps,
                  st->residual);
-    } else if (cs->mode == MODE_STEADY && st->step - st->best_step > STALL_STEPS) {
-        st->status = STATUS_UNSTEADY;
+    } else if (cs->mode == MODE_STEADY && stalled(st)) {
         double acc = march_mean_acceleration(st);
-        if (fabs(acc) > 0.1 * st->residual * march_force_scale(st) / cs->density)
+        if (fabs(acc) <= 0.1 * st->residual * march_force_scale(st) / cs->density) {
+            st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
-                     "no steady state: the layer accelerates (mean acceleration %.3e; "
-                     "residual %.3e, no progress in %d steps)",
-                     acc, st->residual, STALL_STEPS);
-        else
+                     "no steady state: the residual stalls at %.3e (no 10%% progress in %ld "
+                     "steps, pseudo-time %.3g)",
+                     st->residual, st->step - st->best_step, st->time - st->best_time);
+        } else if (acceleration_sustained(st, acc)) {
+            st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
-                     "no steady state: the residual stalls at %.3e for %d steps", st->residual,
-                     STALL_STEPS);
+                     "no steady state: the layer accelerates (mean acceleration %.3e, "
+                     "%.1f%% and %.1f%% lost over the last two doublings of the pseudo-time; "
+                     "residual %.3e, no progress in %ld steps)",
+                     acc, 100.0 * (1.0 - st->mark_acc[0] / st->mark_acc[1]),
+                     100.0 * (1.0 - st->mark_acc[1] / st->mark_acc[2]), st->residual,
+                     st->step - st->best_step);
+        }
+        /* else a decaying acceleration: a transient the march is following */
     }
 }
 
@@ -407,7 +617,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
     const struct muflow_case *cs = st->cs;
     double t0 = omp_get_wtime() - st->wall_seconds; /* a restart keeps counting */
     st->status = STATUS_RUNNING;
-    save_good(st);
+    save_good_state(st);
     step_evaluate(st);
     if (st->step == 0 && st->residual0 == 0.0) /* march_reforce keeps it: below */
         st->residual0 = st->residual;
@@ -420,10 +630,11 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         }
         if (st->status != STATUS_RUNNING)
             break;
-        save_good(st);
+        save_good_state(st);
         if (st->residual < STALL_FACTOR * st->best_residual) {
             st->best_residual = st->residual;
             st->best_step = st->step;
+            st->best_time = st->time;
         }
         double accepted_residual = st->residual, dt;
         for (;;) {

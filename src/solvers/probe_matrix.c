@@ -38,6 +38,16 @@ static int colour_period(int n, int periodic, int reach)
     return n;
 }
 
+int probe_matrix_probes_for(const struct grid *g, const int periodic[3], int reach)
+{
+    int p = 3;
+    for (int d = 0; d < 3; d++)
+        p *= colour_period(g->n[d], periodic[d], reach);
+    return p;
+}
+
+int probe_matrix_max_probes(void) { return MAX_PROBES; }
+
 long probe_matrix_unknowns(const struct probe_matrix *pm) { return pm->n; }
 
 int probe_matrix_probes(const struct probe_matrix *pm)

@@ -733,3 +733,16 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     }
     return 1;
 }
+
+double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
+{
+    /* as viscous_create allocates: per component the line blocks' band and
+     * probes (BAND + 1 + PROBES doubles a node) and r, z, p, q; the
+     * divergence buffer; with a direct kind pn, Bc and seven per component
+     * (and the factorisation, sparse_direct_memory_estimate) */
+    double cells = (double)grid_cells(g), points = (double)g->size;
+    double doubles = 3.0 * cells * (BAND + 1 + PROBES) + (3.0 * 4.0 + 1.0) * points;
+    if (kind != VISCOUS_LINE)
+        doubles += (2.0 + 3.0 * 7.0) * points;
+    return doubles * sizeof(double);
+}

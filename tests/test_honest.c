@@ -1,0 +1,371 @@
+/* Honest endings: a run says it has no steady state only when it has none,
+ * the automatic preconditioner works on every grid, a run that misses its
+ * goal can be continued, a blow-up stops at once with a sane state, memory is
+ * estimated before it is allocated, warnings are not hidden by quiet. */
+#define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "scenes/scene.h"
+#include "march/march.h"
+#include "app/run.h"
+#include "io/checkpoint.h"
+#include <omp.h>
+#include "test_main.h"
+
+#define CASES_DIR "../cases/"
+
+static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
+{
+    char err[512];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* On one thread: the thin profile grids run faster there (about 200 parallel
+ * regions a step for a few hundred cells), and the machine is shared. */
+static void run(const struct muflow_case *cs, struct run_result *r)
+{
+    char err[512];
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case(cs, 0, r, err, sizeof err);
+    omp_set_num_threads(threads);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+}
+
+/* From a small pseudo-time step the march follows the physical start-up of
+ * the layer: its residual stays near 4.3e-2 for hundreds of steps while the
+ * layer speeds up (200 steps used to be called "accelerates").  It must end
+ * steady, on the profile of the default run. */
+static void test_startup_is_not_a_stall(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "solver.dt=0.003"};
+    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("bagnold H/10 from dt 0.003: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps > 2 * 200); /* it does pass the old window */
+    assert_true(r.errors.err_rms < 2e-3);
+}
+
+/* Papanastasiou at lambda 1e-8: the first Newton steps overshoot, rejections
+ * cut dt to ~1e-8, and the march crawls ~250 steps in which the pseudo-time
+ * hardly moves before it converges.  That crawl is no stall. */
+static void test_cut_steps_are_not_a_stall(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.ny=240", "rheology.lambda=1e-8",
+                  "rheology.regularisation=papanastasiou"};
+    load(&cs, CASES_DIR "chute.ini", 3, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("papanastasiou chute b/240, lambda 1e-8: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps > 202);
+    assert_true(fabs(r.errors.headline - r.errors.headline_exact) <
+                1e-2 * fabs(r.errors.headline_exact));
+}
+
+/* Above atan(mu_s + dmu) there is none: still said, in bounded steps. */
+static void test_true_acceleration_still_said(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "physics.tilt=0.6"};
+    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("bagnold tilt 0.6: %s after %ld steps: %s\n", run_status_name(r.status),
+                  r.steps, r.message);
+    assert_int_equal(r.status, STATUS_UNSTEADY);
+    assert_non_null(strstr(r.message, "accelerates"));
+    assert_true(r.steps < 2000);
+}
+
+/* The automatic preconditioner: a flow bounded in one direction only gets the
+ * line blocks, exact for it, whatever the periodic extent (16 x 8 used to
+ * fail for want of 960 probes, 15 x 5 took the LU of 375 probes a step);
+ * two bounded directions keep the sparse factorisation. */
+static void test_auto_preconditioner(void **state)
+{
+    (void)state;
+    static const char *sizes[][2] = {{"domain.nx=16", "domain.ny=8"},
+                                     {"domain.nx=15", "domain.ny=5"}};
+    for (int m = 0; m < 2; m++) {
+        struct muflow_case cs;
+        char *ov[] = {(char *)sizes[m][0], (char *)sizes[m][1], "domain.nz=10"};
+        load(&cs, CASES_DIR "bagnold.ini", 3, ov);
+        struct march_state st;
+        char err[512];
+        int rc = march_create(&st, &cs, err, sizeof err);
+        if (rc != 0)
+            print_error("%s\n", err);
+        assert_int_equal(rc, 0);
+        assert_int_equal(st.precond, VISCOUS_LINE);
+        march_destroy(&st);
+        struct run_result r;
+        run(&cs, &r);
+        print_message("bagnold %s %s nz=10: %s after %ld steps, err_rms %.4e\n", sizes[m][0],
+                      sizes[m][1], run_status_name(r.status), r.steps, r.errors.err_rms);
+        assert_int_equal(r.status, STATUS_STEADY);
+        /* the 1D profile of H/10 (2 x 1 x 10): err_rms 1.9358e-3 */
+        assert_true(fabs(r.errors.err_rms - 1.9358e-3) < 1e-6);
+    }
+    struct muflow_case cs;
+    char *ov[] = {"domain.nx=16", "domain.nz=16"};
+    load(&cs, CASES_DIR "bingham_cavity.ini", 2, ov);
+    struct march_state st;
+    char err[512];
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(st.precond, VISCOUS_LU);
+    march_destroy(&st);
+}
+
+/* A fresh temporary folder under /tmp (the caller removes it). */
+static void make_tmp(char *dir, size_t len, const char *tag)
+{
+    snprintf(dir, len, "/tmp/muflow_honest_%s_XXXXXX", tag);
+    assert_non_null(mkdtemp(dir));
+}
+
+static void remove_tree(const char *dir)
+{
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
+/* The muflow binary beside this test binary. */
+static void muflow_bin(char *out, size_t len)
+{
+    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
+    assert_true(n > 0);
+    out[n] = '\0';
+    strcpy(strrchr(out, '/'), "/muflow");
+}
+
+/* Runs a shell command, its stdout into out; returns the exit status. */
+static int shell(const char *cmd, char *out, size_t len)
+{
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    size_t n = fread(out, 1, len - 1, p);
+    out[n] = '\0';
+    int st = pclose(p);
+    assert_true(WIFEXITED(st));
+    return WEXITSTATUS(st);
+}
+
+/* A steady run that stops at max_steps leaves a checkpoint, and continuing
+ * from it with a larger max_steps ends where the uninterrupted run does. */
+static void test_max_steps_checkpoint(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "maxsteps");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs, cc;
+    char *ov[] = {"solver.max_steps=5", "output.quiet=on", od};
+    load(&cs, CASES_DIR "bagnold.ini", 3, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), RUN_OK);
+    assert_int_equal(r.status, STATUS_UNSTEADY);
+    assert_int_equal(r.steps, 5);
+    assert_true(r.checkpointed);
+    char ck[300];
+    snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
+    char *ov2[] = {"solver.max_steps=100"};
+    int lrc = checkpoint_load_case(ck, 1, ov2, &cc, err, sizeof err);
+    if (lrc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(lrc, 0);
+    struct run_options cont = {.write_output = 1, .restart_from = ck};
+    assert_int_equal(run_case_opts(&cc, &cont, &r, err, sizeof err), RUN_OK);
+    print_message("max_steps 5, continued: %s after %ld steps, err_rms %.4e\n",
+                  run_status_name(r.status), r.steps, r.errors.err_rms);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_int_equal(r.steps, 15);
+    assert_true(fabs(r.errors.err_rms - 1.2807e-4) < 5e-9);
+    remove_tree(dir);
+}
+
+/* The README's commands: a run, then `muflow --restart DIR` and
+ * `muflow --restart DIR solver.max_steps=20000`. */
+static void test_readme_restart_commands(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "readme");
+    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini output.dir=%s", bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    assert_non_null(strstr(out, "steady after 15 steps"));
+    const char *extra[] = {"", " solver.max_steps=20000"};
+    for (int m = 0; m < 2; m++) {
+        snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' --restart %s%s", bin, dir, extra[m]);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("muflow --restart DIR%s: exit %d\n", extra[m], rc);
+        assert_int_equal(rc, 0);
+        assert_non_null(strstr(out, "continuing from"));
+        assert_non_null(strstr(out, "steady after 15 steps"));
+        assert_non_null(strstr(out, "err_rms 1.2807e-04"));
+    }
+    remove_tree(dir);
+}
+
+/* An unstable explicit advection (cfl 2, Newtonian cavity at 32 x 32): the
+ * run stops as the state blows up, names step, time and reason, keeps the
+ * last state below the threshold (psi_max of a cavity flow, not 4.5e74 after
+ * 2095 steps) and writes one history row per step. */
+static void test_blowup_stops_early(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "blowup");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs;
+    char *ov[] = {"domain.nx=32", "domain.nz=32", "rheology.law=newtonian",
+                  "rheology.viscosity=1e-5", "physics.advection=on", "solver.mode=transient",
+                  "solver.end_time=20", "solver.cfl=2", "solver.dt=1", "output.quiet=on",
+                  "output.fields=off", od};
+    load(&cs, CASES_DIR "bingham_cavity.ini", 12, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+    omp_set_num_threads(threads);
+    assert_int_equal(rc, RUN_OK);
+    print_message("cavity cfl 2: %s after %ld steps, t = %g, psi_max %.4g: %s\n",
+                  run_status_name(r.status), r.steps, r.time, r.errors.headline, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_true(r.steps < 100);
+    assert_non_null(strstr(r.message, "blows up at step"));
+    assert_non_null(strstr(r.message, ", t = "));
+    assert_true(r.residual <= 1e3);
+    assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.2); /* Vola Bn 0: 0.0996 */
+    char path[300];
+    snprintf(path, sizeof path, "%s/history.csv", dir);
+    char *h = test_read_file(path, NULL);
+    long last = -1, rows = 0;
+    for (char *line = strchr(h, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
+        long step = strtol(line + 1, NULL, 10);
+        assert_true(step > last); /* increasing: no duplicates */
+        last = step;
+        rows++;
+    }
+    free(h);
+    assert_int_equal(last, r.steps);
+    assert_int_equal(rows, r.steps + 1);
+    remove_tree(dir);
+}
+
+/* The memory estimate: refused before allocating when it exceeds what is
+ * available (one line naming the grid keys, the estimate and the memory,
+ * exit 2, nothing written), printed in the header otherwise. */
+static void test_memory_estimate(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "memory");
+    /* 100 MB available, a 100 x 100 x 50 grid needs about 370 MB */
+    snprintf(cmd, sizeof cmd,
+             "MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini domain.nx=100 "
+             "domain.ny=100 domain.nz=50 output.dir=%s/run 2>&1",
+             bin, dir);
+    int rc = shell(cmd, out, sizeof out);
+    print_message("refused: exit %d: %s", rc, out);
+    assert_int_equal(rc, 2);
+    assert_non_null(strstr(out, "domain.nx x domain.ny x domain.nz = 100 x 100 x 50"));
+    assert_non_null(strstr(out, "needs about"));
+    assert_non_null(strstr(out, "100 MB of memory available"));
+    assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1); /* one line */
+    char run_dir[200];
+    snprintf(run_dir, sizeof run_dir, "%s/run", dir);
+    assert_int_not_equal(access(run_dir, F_OK), 0); /* nothing written */
+    /* fits: the estimate is in the header line */
+    snprintf(cmd, sizeof cmd,
+             "OMP_NUM_THREADS=1 MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini "
+             "domain.nz=10 output.dir=%s/run",
+             bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    const char *m = strstr(out, "memory ~");
+    assert_non_null(m);
+    assert_true(m < strchr(out, '\n'));
+    remove_tree(dir);
+}
+
+/* A restart with another thread count warns on stderr even when quiet (a
+ * restart inherits the checkpoint's output.quiet). */
+static void test_warning_not_quiet(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "warn");
+    snprintf(cmd, sizeof cmd,
+             "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini domain.nz=10 solver.max_steps=3 "
+             "output.quiet=on output.dir=%s 2>&1",
+             bin, dir);
+    assert_int_equal(shell(cmd, out, sizeof out), 3); /* max_steps: unsteady */
+    snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=2 '%s' --restart %s solver.max_steps=100 2>&1 >/dev/null", bin, dir);
+    int rc = shell(cmd, out, sizeof out);
+    print_message("restart on 2 threads, quiet: exit %d, stderr: %s", rc, out);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "warning: the checkpoint was written with 1 threads, this run has 2"));
+    remove_tree(dir);
+}
+
+/* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
+ * its first step: end_time 1 would take ~1e11 steps) stops the run at once
+ * with the step, the time and the reason, keeping the state before. */
+static void test_dt_collapse_stops(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char *ov[] = {"domain.nz=10", "rheology.law=newtonian", "physics.advection=on",
+                  "solver.mode=transient", "solver.end_time=1", "solver.dt=0.1",
+                  "physics.gravity=1e12"};
+    load(&cs, CASES_DIR "bagnold.ini", 7, ov);
+    struct run_result r;
+    run(&cs, &r);
+    print_message("g = 1e12: %s after %ld steps, t = %g: %s\n", run_status_name(r.status),
+                  r.steps, r.time, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_non_null(strstr(r.message, "the time step collapses at step 1, t = 0.1"));
+    assert_int_equal(r.steps, 0);
+    assert_true(r.time == 0.0);
+}
+
+void group_honest(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_startup_is_not_a_stall),
+        cmocka_unit_test(test_cut_steps_are_not_a_stall),
+        cmocka_unit_test(test_true_acceleration_still_said),
+        cmocka_unit_test(test_auto_preconditioner),
+        cmocka_unit_test(test_max_steps_checkpoint),
+        cmocka_unit_test(test_readme_restart_commands),
+        cmocka_unit_test(test_blowup_stops_early),
+        cmocka_unit_test(test_dt_collapse_stops),
+        cmocka_unit_test(test_memory_estimate),
+        cmocka_unit_test(test_warning_not_quiet),
+    };
+    RUN_GROUP(t, "honest", tests);
+}
