@@ -780,6 +780,74 @@ static void test_docs_name_every_key(void **state)
     free(doc);
 }
 
+/* The keys of each section come in the order docs/case_keys.md lists them
+ * (summary.ini writes them in the key table's order). */
+struct order_ctx {
+    char keys[256][64];
+    int n;
+};
+
+static int collect_order(void *vctx, const char *section, const char *key, const char *value)
+{
+    (void)value;
+    struct order_ctx *o = vctx;
+    if (o->n < 256)
+        snprintf(o->keys[o->n++], 64, "%s.%s", section, key);
+    return 0;
+}
+
+static void test_docs_key_order(void **state)
+{
+    (void)state;
+    char *doc = test_read_file("../docs/case_keys.md", NULL);
+    struct order_ctx documented = {.n = 0};
+    char section[64] = "";
+    for (char *line = doc; line && *line;) {
+        char *end = strchr(line, '\n');
+        if (end)
+            *end = '\0';
+        if (sscanf(line, "### `[%63[^]]", section) == 1) {
+        } else if (section[0] && strncmp(line, "| `", 3) == 0) {
+            /* the first column: one key or several, each in backticks */
+            char *bar = strchr(line + 1, '|');
+            for (char *p = line + 1; bar && p < bar;) {
+                char *open = strchr(p, '`');
+                if (!open || open > bar)
+                    break;
+                char *close = strchr(open + 1, '`');
+                if (!close || close > bar)
+                    break;
+                if (documented.n < 256)
+                    snprintf(documented.keys[documented.n++], 64, "%s.%.*s", section,
+                             (int)(close - open - 1), open + 1);
+                p = close + 1;
+            }
+        }
+        line = end ? end + 1 : NULL;
+    }
+    free(doc);
+    /* every scene's keys: the core ones and its own section */
+    for (int sc = 0; sc < scene_count(); sc++) {
+        struct muflow_case c;
+        case_defaults(&c);
+        case_set_scene(&c, sc);
+        struct order_ctx written = {.n = 0};
+        case_visit_keys(&c, collect_order, &written);
+        int at = 0; /* position in the documented list */
+        for (int i = 0; i < written.n; i++) {
+            int found = -1;
+            for (int j = 0; j < documented.n && found < 0; j++)
+                if (strcmp(documented.keys[j], written.keys[i]) == 0)
+                    found = j;
+            if (found < at)
+                print_error("%s is written before a key that docs/case_keys.md lists "
+                            "before it\n", written.keys[i]);
+            assert_true(found >= at);
+            at = found;
+        }
+    }
+}
+
 /* muflow --list: every scene with its title, every key with its default
  * (as key_text writes the defaults), allowed values and help. */
 static void test_list_command(void **state)
@@ -1070,6 +1138,7 @@ void group_case(struct test_tally *t)
         cmocka_unit_test_setup_teardown(test_hostile, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_round_trip, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_write_format),
+        cmocka_unit_test(test_docs_key_order),
     };
     RUN_GROUP(t, "case", tests);
 }

@@ -134,6 +134,10 @@ static void test_cavity_reference_names(void **state)
     assert_int_equal(inside, 14); /* the cells next to the walls lie outside the data */
     free(csv);
     curve_free(&mid);
+    /* and so does the history's error column */
+    char *hist = read_in(dir, "history.csv");
+    assert_non_null(strstr(hist, ",rejected_steps,err_midline\n"));
+    free(hist);
     remove_dir(dir);
 }
 

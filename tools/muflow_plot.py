@@ -61,7 +61,7 @@ def headline(result):
     keys = ["status", "steps"]
     keys += [k for k in ("err_rms", "err_midline") if k in values]
     # the headline value is the key that has a key_exact beside it
-    keys += [k for k, _ in result if k + "_exact" in values]
+    keys += [k for k, _ in result if k + "_exact" in values or k + "_reference" in values]
     keys += [k for k in ("tilt", "flow_rate") if k in values]
     lines = []
     for k in keys:
@@ -70,6 +70,8 @@ def headline(result):
         text = values[k]
         if k + "_exact" in values:
             text += " (exact %s)" % values[k + "_exact"]
+        elif k + "_reference" in values:
+            text += " (reference %s)" % values[k + "_reference"]
         lines.append((k, text))
     return lines
 
@@ -112,7 +114,10 @@ def plot_profile(run, out, title):
     coord, vel = cols[0], cols[1]
     fig, ax = plt.subplots(figsize=(5, 5))
     ax.plot(vel, coord, "o", ms=4, label="muflow")
-    exact = header.index(header[1] + "_exact") if header[1] + "_exact" in header else -1
+    exact = -1
+    for suffix in ("_exact", "_reference"):
+        if header[1] + suffix in header:
+            exact = header.index(header[1] + suffix)
     if exact >= 0 and np.isfinite(cols[exact]).any():
         ok = np.isfinite(cols[exact])
         ax.plot(cols[exact][ok], coord[ok], "-", label="analytic / reference")
@@ -141,7 +146,7 @@ def plot_history(run, out, title):
     step = col["step"]
     fig, ax = plt.subplots(figsize=(6, 4))
     drawn = 0
-    for name, style in (("residual", "-"), ("err_rms", "--")):
+    for name, style in (("residual", "-"), ("err_rms", "--"), ("err_midline", "--")):
         y = col.get(name)
         if y is None:
             continue

@@ -68,11 +68,14 @@ struct history {
     FILE *f;
     char path[600], tmp[620];
 };
-int history_open(struct history *h, const char *dir, char *err, size_t errlen);
+/* error_name: the scene's name of its error column (err_rms, err_midline). */
+int history_open(struct history *h, const char *dir, const char *error_name, char *err,
+                 size_t errlen);
 /* Like history_open for a run that continues from a checkpoint of step upto:
  * the new file starts with the rows of steps <= upto of the previous one
  * (history.csv.tmp when a run died before renaming it, else history.csv). */
-int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen);
+int history_resume(struct history *h, const char *dir, const char *error_name, long upto,
+                   char *err, size_t errlen);
 /* Pushes the rows so far to the .tmp file (before a checkpoint, so that a
  * restart after a crash finds them). */
 void history_flush(struct history *h);

@@ -30,8 +30,8 @@ static void print_progress(const struct march_state *st, const struct scene_erro
 {
     printf("  step %6ld  t %-11.5g dt %-10.3g residual %.3e  div %.1e  cg %3d", st->step,
            st->time, st->dt, st->residual, st->divergence, st->linear_iterations);
-    if (e->valid)
-        printf("  err_rms %.3e", e->err_rms);
+    if (e->valid) /* err_midline for a scene compared with a reference curve */
+        printf("  %s %.3e", scene_error_name(case_scene(st->cs)), e->err_rms);
     printf("  [%.2f s]\n", st->wall_seconds);
     fflush(stdout);
 }
@@ -166,8 +166,10 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
      * continued run keeps them (its series and history go on from them) */
     if (!opt->restart_from && output_remove_run_files(cs->output_dir, case_scene(cs)->files, err, errlen) < 0)
         goto fail;
-    if ((opt->restart_from ? history_resume(&ctx->hist, cs->output_dir, st->step, err, errlen)
-                           : history_open(&ctx->hist, cs->output_dir, err, errlen)) != 0)
+    const char *ename = scene_error_name(case_scene(cs));
+    if ((opt->restart_from
+             ? history_resume(&ctx->hist, cs->output_dir, ename, st->step, err, errlen)
+             : history_open(&ctx->hist, cs->output_dir, ename, err, errlen)) != 0)
         goto fail;
     if (interrupt_install() != 0) {
         snprintf(err, errlen, "cannot install the SIGINT/SIGTERM handler: %s", strerror(errno));

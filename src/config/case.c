@@ -145,17 +145,17 @@ static const struct key keys[] = {
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
+    CHO("solver", "preconditioner", preconditioner, precond_choices,
+        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto: lu or "
+        "cholesky for grids varying in two or more directions up to 4e5 unknowns, else line)"),
+    DBL("solver", "augmentation", augmentation, GE0,
+        "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
         "relative tolerance of the implicit viscous solve"),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
-    CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto: lu or "
-        "cholesky for grids varying in two or more directions up to 4e5 unknowns, else line)"),
-    DBL("solver", "augmentation", augmentation, GE0,
-        "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "progress_interval", progress_interval, GE0,
         "wall-clock seconds between progress lines (0: every step)"),
 

@@ -129,18 +129,21 @@ static int close_rename(FILE *f, const char *tmp, const char *path, char *err, s
     return 0;
 }
 
-int history_open(struct history *h, const char *dir, char *err, size_t errlen)
+int history_open(struct history *h, const char *dir, const char *error_name, char *err,
+                 size_t errlen)
 {
     h->f = open_tmp(dir, "history.csv", h->path, sizeof h->path, h->tmp, sizeof h->tmp, err,
                     errlen);
     if (!h->f)
         return -1;
     fprintf(h->f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
-                  "linear_iterations,rejected_steps,err_rms\n");
+                  "linear_iterations,rejected_steps,%s\n",
+            error_name);
     return 0;
 }
 
-int history_resume(struct history *h, const char *dir, long upto, char *err, size_t errlen)
+int history_resume(struct history *h, const char *dir, const char *error_name, long upto,
+                   char *err, size_t errlen)
 {
     char path[600], tmp[620];
     snprintf(path, sizeof path, "%s/history.csv", dir);
@@ -150,7 +153,7 @@ int history_resume(struct history *h, const char *dir, long upto, char *err, siz
         remove(tmp); /* still read through src; history_open makes a new one */
     else
         src = fopen(path, "r");
-    if (history_open(h, dir, err, errlen) != 0) {
+    if (history_open(h, dir, error_name, err, errlen) != 0) {
         if (src)
             fclose(src);
         return -1;
