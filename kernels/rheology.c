@@ -5,8 +5,9 @@
  * Pure functions: no I/O, no globals, no allocation, since rheology_eval is
  * called once per cell inside an OpenMP loop.  The one exception,
  * rheology_curve_setup, runs once when a case is loaded (it allocates GSL's
- * root finder) and fills the derived values the evaluation then reads.  Only sqrt/hypot/exp/expm1 are
- * used (no pow).  The derivatives are exact analytic ones, because the
+ * root finder) and fills the derived values the evaluation then reads.  The
+ * evaluation uses sqrt/hypot/exp/expm1 (and log for the Barker & Gray curve's
+ * low branch), no pow.  The derivatives are exact analytic ones, because the
  * Newton/Picard tangents and the unit tests compare against them.
  *
  * Every law is written as  eta = Y f(|D|) + rest,  where Y is the yield
@@ -136,9 +137,10 @@ int rheology_curve_setup(struct rheology *r, char *msg, size_t msglen)
         snprintf(msg, msglen,
                  "rheology.curve = barker_gray: the mu(I) curve of rheology.mu_s = %.6g, "
                  "rheology.delta_mu = %.6g, rheology.i0 = %.6g has no well-posed I_1^N: the "
-                 "bracket [%.3g, I(mu = tan((atan mu_s + atan mu_2) / 2)) = %.6g] is empty (a "
-                 "constant mu, delta_mu = 0, is ill posed everywhere)",
-                 r->mu_s, r->delta_mu, r->i0, RHEOLOGY_I1N_LOW, hi);
+                 "bracket [%.3g, I(mu = tan((atan mu_s + atan mu_2) / 2))] is empty%s",
+                 r->mu_s, r->delta_mu, r->i0, RHEOLOGY_I1N_LOW,
+                 r->delta_mu > 0.0 ? ""
+                                   : " (delta_mu = 0: a constant mu is ill posed everywhere)");
         return 1;
     }
     if (!found) {

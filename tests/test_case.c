@@ -390,6 +390,18 @@ static void test_overrides(void **state)
     assert_string_equal(c.output_dir, "elsewhere");
     assert_int_equal(c.scene, scene_find("bagnold"));
 
+    /* the Barker & Gray curve's derived values, from the final keys (the
+     * refdata's BG2017_glass set: I_1^N 0.0039718, A_minus 15642) */
+    char *ovs_bg[] = {"rheology.curve=barker_gray", "rheology.mu_s=0.342",
+                      "rheology.delta_mu=0.215", "rheology.i0=0.069"};
+    assert_int_equal(case_load(&c, path, 4, ovs_bg, err, sizeof(err)), 0);
+    assert_int_equal(c.rheo.curve, CURVE_BARKER_GRAY);
+    assert_true(c.rheo.alpha == 1.9 && c.rheo.mu_inf == 0.05);
+    assert_true(fabs(c.rheo.i1n - 0.0039718) < 0.5e-7);
+    assert_true(fabs(c.rheo.a_minus - 15642) < 0.5);
+    assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 0);
+    assert_true(c.rheo.curve == CURVE_JOP && c.rheo.i1n == 0.0 && c.rheo.a_minus == 0.0);
+
     /* explicit grain_density is kept when phi changes */
     char *ovs2[] = {"rheology.grain_density=2650", "rheology.phi=0.55"};
     assert_int_equal(case_load(&c, path, 2, ovs2, err, sizeof(err)), 0);
@@ -447,6 +459,13 @@ static const struct bad bad_cases[] = {
     {"[solver]\ndt = 0.1\ndt_max = 0.01\n", NULL, {"solver.dt_max", "solver.dt"}},
     {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL, {"domain", "nx*ny*nz"}},
     {"[rheology]\nlaw = bingham\n", NULL, {"bingham", "plastic_viscosity", "yield_stress"}},
+    /* the Barker & Gray curve: alpha in (0, 2), and a jop curve with a well-posed band */
+    {NULL, "rheology.alpha=2", {"override rheology.alpha=2", "must be in (0, 2)"}},
+    {"[rheology]\ncurve = barker_gray\nmu_s = 2\ndelta_mu = 0.1\n", NULL,
+     {"rheology.curve = barker_gray", "rheology.mu_s = 2, rheology.delta_mu = 0.1",
+      "rheology.i0"}},
+    {"[rheology]\ncurve = barker_gray\ndelta_mu = 0\n", NULL,
+     {"rheology.mu_s", "rheology.delta_mu = 0", "no well-posed I_1^N"}},
     {"[domain]\nnx\n", NULL, {"line 2", "syntax error"}},
     {"[domain\nnx = 1\n", NULL, {"line 1", "syntax error"}},
     {NULL, "solver.max_step=3", {"override solver.max_step=3",
