@@ -76,6 +76,31 @@ double rheology_mu_of_i(const struct rheology *r, double inertial_number)
     return r->mu_s + r->delta_mu * I / (r->i0 + I);
 }
 
+double rheology_i_of_mu(const struct rheology *r, double mu)
+{
+    double mu_2 = r->mu_s + r->delta_mu;
+    if (r->curve != CURVE_BARKER_GRAY || r->mu_inf == 0.0) {
+        double rest = r->curve == CURVE_BARKER_GRAY ? 0.0 : r->mu_s;
+        if (!(mu > rest))
+            return 0.0;
+        if (mu >= mu_2)
+            return NAN;
+        if (r->curve != CURVE_BARKER_GRAY || mu > rheology_mu_of_i(r, r->i1n))
+            return r->i0 * (mu - r->mu_s) / (mu_2 - mu);
+        return r->a_minus * exp(-r->alpha / (mu * mu));
+    }
+    if (!(mu > 0.0))
+        return 0.0;
+    if (mu <= rheology_mu_of_i(r, r->i1n)) /* low branch: ln(A/I) = alpha / mu^2 */
+        return r->a_minus * exp(-r->alpha / (mu * mu));
+    /* mu_inf I^2 + b I + c = 0 with b = mu_2 - mu, c = (mu_s - mu) I0 < 0 (mu
+     * is above mu(I_1^N) > mu_s): the positive root, in the form that does
+     * not cancel for either sign of b */
+    double a = r->mu_inf, b = mu_2 - mu, c = (r->mu_s - mu) * r->i0;
+    double sq = sqrt(b * b - 4.0 * a * c);
+    return b >= 0.0 ? 2.0 * c / (-b - sq) : (sq - b) / (2.0 * a);
+}
+
 double rheology_well_posedness(const struct rheology *r, enum rheology_curve curve, double I)
 {
     double mu, m1;

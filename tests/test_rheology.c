@@ -682,6 +682,37 @@ static void test_bg_well_posed_below(void **state)
     assert_true(rheology_well_posedness(&r, CURVE_BARKER_GRAY, 1e-30) > 0.0);
 }
 
+/* 5d'. rheology_i_of_mu inverts rheology_mu_of_i on both curves and both
+ * branches (1e-12: a square root or a log away from the forward value), with
+ * mu_inf = 0.05 (quadratic high branch, no upper bound) and mu_inf = 0 (the
+ * jop-like high branch, bounded by mu_2). */
+static void test_bg_inverse(void **state)
+{
+    (void)state;
+    const double Is[] = {1e-200, 1e-8, 1e-3, 0.0039, 0.004, 0.02, 0.3, 3.0, 300.0};
+    char ctx[96];
+    for (size_t s = 0; s < COUNT(bg_sets); s++)
+        for (int m = 0; m < 2; m++) {
+            struct rheology r = bg_rheology(&bg_sets[s], REG_MC);
+            r.mu_inf = m ? 0.0 : BG_MU_INF;
+            char msg[512];
+            assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 0);
+            for (size_t i = 0; i < COUNT(Is); i++) {
+                snprintf(ctx, sizeof ctx, "%s mu_inf=%g I=%g", bg_sets[s].name, r.mu_inf, Is[i]);
+                assert_close(rheology_i_of_mu(&r, rheology_mu_of_i(&r, Is[i])), Is[i], 1e-12,
+                             0.0, ctx);
+            }
+            assert_true(rheology_i_of_mu(&r, 0.0) == 0.0);
+            if (m)
+                assert_true(isnan(rheology_i_of_mu(&r, bg_sets[s].mu_2)));
+            struct rheology jop = r;
+            jop.curve = CURVE_JOP;
+            assert_close(rheology_i_of_mu(&jop, rheology_mu_of_i(&jop, 0.1)), 0.1, 1e-12, 0.0,
+                         "jop");
+            assert_true(rheology_i_of_mu(&jop, jop.mu_s) == 0.0);
+        }
+}
+
 /* eta = mu_BG(I) p f(D), written out naively (I = D / sqrt(phi p)). */
 static double ref_eta_bg(const struct rheology *r, double D, double p)
 {
@@ -832,6 +863,7 @@ void group_rheology(struct test_tally *t)
         cmocka_unit_test(test_bg_table),
         cmocka_unit_test(test_bg_continuity),
         cmocka_unit_test(test_bg_well_posed_below),
+        cmocka_unit_test(test_bg_inverse),
         cmocka_unit_test(test_bg_viscosity),
         cmocka_unit_test(test_bg_refused),
         cmocka_unit_test(test_no_nan_sweep),

@@ -83,6 +83,12 @@ void rheology_eval(const struct rheology *r, double shear, double p_reg, struct 
  * solutions and tests (barker_gray needs rheology_curve_setup first). */
 double rheology_mu_of_i(const struct rheology *r, double inertial_number);
 
+/* The inverse of rheology_mu_of_i: the I at which r's curve reaches mu
+ * (analytic solutions at a given friction, e.g. the Bagnold profile); 0 at or
+ * below the curve's value at rest (mu_s; 0 for barker_gray), NAN at or above
+ * its bound (mu_s + delta_mu; barker_gray with mu_inf > 0 has none). */
+double rheology_i_of_mu(const struct rheology *r, double mu);
+
 /* The well-posedness function C(I) = 4 nu^2 - 4 nu + mu^2 (1 - nu/2)^2,
  * nu = I mu'(I) / mu(I), of the given curve with r's parameters (well posed
  * where C < 0).  curve may differ from r->curve: CURVE_JOP is the standard
