@@ -68,7 +68,7 @@ static void test_bagnold_table1(void **state)
 /* bagnold with rheology.curve = barker_gray (the partially regularised mu(I)
  * of Barker & Gray 2017, the Jop2006_brief parameters of the case): I = I_a
  * everywhere again, now the I at which that curve reaches tan(tilt).  On the
- * high branch (tilt 0.406, I_a 0.059 > I_1^N 0.0197) second order from H/10
+ * high branch (tilt 0.406, I_a 0.0605 > I_1^N 0.0197) second order from H/10
  * to H/160 as with the jop curve (measured err_rms 1.91e-3 .. 8.26e-6, order
  * 1.96; 1.263e-4 at H/40 against jop's 1.281e-4), in 36-46 steps from rest
  * (eta = 0 at rest, mu(0) = 0: the first steps are cut to dt 1e-10).  At
