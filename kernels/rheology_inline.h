@@ -114,11 +114,13 @@ static inline double rheo_pressure(const struct rheology *r, double p, double *d
  * yield kernel f, f' = df of the regularisation already evaluated at D > 0.
  * Everything is written with m1 = I mu'(I) and dI/dD = I/D, dI/dp = -I/(2p):
  *   d eta / dD = p (m1 f / D + mu f'),   d eta / dp = f (mu - m1 / 2).
+ * Low branch: mu = sqrt(alpha / ln(A_minus / I)), m1 = mu^3 / (2 alpha).
  * High branch with r = I / (I0 + I) = D / (D0 + D):
- *   mu = mu_s + dmu r + mu_inf I r,   m1 = dmu r (1 - r) + mu_inf I r (2 - r),
- * where the mu_inf terms are kept as (I p) = D d sqrt(rho_s p), so that
- * p -> 0 (I -> inf) gives eta -> 0 and no inf * 0.
- * Low branch: mu = sqrt(alpha / ln(A_minus / I)), m1 = mu^3 / (2 alpha). */
+ *   mu = mu_s + dmu r + mu_inf I r,   m1 = dmu r (1 - r) + mu_inf I r (2 - r).
+ * I itself is only compared with I_1^N: I overflows (p -> 0, |D| large) where
+ * the terms do not, so they are grouped as I p = D q, q = d sqrt(rho_s p),
+ * r (1 - r) / D = (1 - r) / (D0 + D), f I = (f D) d sqrt(rho_s) / sqrt(p),
+ * with f D <= 1 and f' D bounded for every kernel. */
 static inline void rheo_eval_barker_gray(const struct rheology *r, double D, double p, double f,
                                          double df, struct rheology_point *out)
 {
@@ -135,26 +137,32 @@ static inline void rheo_eval_barker_gray(const struct rheology *r, double D, dou
         double mp = mu * p;
         out->eta = mp * f;
         /* m1 f p / D ~ 1 / (D ln^(3/2)) is unbounded as D -> 0 (mu' is
-         * infinite at I = 0); it overflows only for subnormal D, where the
-         * largest finite number stands for it (the kernels use it times
-         * gamma^2 / |D|, which tends to 0 with mu) */
+         * infinite at I = 0).  The symmetric tangent uses it times
+         * gamma^2 / |D| <= |D|, which tends to 0 with mu; the full tangent's
+         * eta' / (2 |D|) is unbounded at rest, as for the simple form.  It
+         * overflows only for subnormal D, where the largest finite number
+         * stands for it. */
         out->deta_dshear = fmin(m1 * p * f / D, DBL_MAX) + mp * df;
         out->deta_dp = f * (mu - 0.5 * m1);
         return;
     }
-    double i0 = r->i0, dmu = r->delta_mu, minf = r->mu_inf;
-    double D0 = i0 * sp / (d * sqrt_rho); /* the D at which I = I0 */
-    double sum = D0 + D;                  /* > 0: D > 0 on this branch */
+    double dmu = r->delta_mu, minf = r->mu_inf;
+    double D0 = r->i0 * sp / (d * sqrt_rho); /* the D at which I = I0 */
+    double sum = D0 + D;                     /* > 0: D > 0 on this branch */
     double rr = D / sum, one_m_r = D0 / sum;
-    double Ip = D * d * sqrt_rho * sp;    /* I p, finite as p -> 0 */
-    double mp = (r->mu_s + dmu * rr) * p + minf * rr * Ip;
-    double m1p = dmu * rr * one_m_r * p + minf * rr * (2.0 - rr) * Ip;
-    out->eta = mp * f;
-    out->deta_dshear = f * m1p / D + mp * df;
-    /* mu - m1/2; the mu_inf I term makes it grow like 1/sqrt(p) as p -> 0
-     * (infinite at p = 0, which only max(p, 0) reaches) */
-    double half_i_r2 = minf > 0.0 ? 0.5 * minf * I * rr * rr : 0.0;
-    out->deta_dp = fmin(f * (r->mu_s + 0.5 * dmu * rr * (1.0 + rr) + half_i_r2), DBL_MAX);
+    double q = d * sqrt_rho * sp;            /* I p / D, 0 at p = 0 */
+    double fD = f * D, dfD = df * D;
+    double jop = r->mu_s + dmu * rr;         /* mu without the mu_inf term */
+    out->eta = f * p * jop + minf * rr * fD * q;
+    out->deta_dshear = f * dmu * p * (one_m_r / sum) + minf * rr * (2.0 - rr) * f * q +
+                       df * p * jop + minf * rr * dfD * q;
+    /* mu - m1/2 = mu_s + dmu r (1 + r)/2 + mu_inf I r^2/2: the last term
+     * grows like 1/sqrt(p) as p -> 0 and is infinite at p = 0 (which only
+     * pressure_regularisation = off reaches), where DBL_MAX stands for it */
+    double dp = f * (r->mu_s + 0.5 * dmu * rr * (1.0 + rr));
+    if (minf > 0.0)
+        dp += fmin(0.5 * minf * rr * rr * fD * (d * sqrt_rho / sp), DBL_MAX);
+    out->deta_dp = fmin(dp, DBL_MAX);
 }
 
 /* rheology_eval with the law, regularisation and curve given apart

@@ -731,7 +731,8 @@ static double ref_eta_bg(const struct rheology *r, double D, double p)
  * naive form (1e-12, as test 1), the tangents against central differences
  * (check_tangents, as for the Jop curve) on both branches and near I_1^N on
  * either side (0.5 and 2 I_1^N; the difference step does not cross it), at
- * rest eta = 0 with finite slopes, and for |D| >> lam eta |D| -> mu(I) p. */
+ * rest eta = 0 with finite slopes, extreme magnitudes where I overflows,
+ * and for |D| >> lam eta |D| -> mu(I) p. */
 static void test_bg_viscosity(void **state)
 {
     (void)state;
@@ -757,6 +758,33 @@ static void test_bg_viscosity(void **state)
                                  ctx);
                     check_tangents(&r, D, ps[j], ctx);
                 }
+            /* extreme magnitudes: I overflows a double (1e300 / sqrt(1e-30)) where
+             * eta and its slopes do not; against the naive form in long double
+             * (range 1e4932) and central differences */
+            const double big[][2] = {{1e300, 1e-30}, {1e150, 1e-200}, {1e-3, 1e250}};
+            for (size_t i = 0; i < COUNT(big); i++) {
+                long double D = big[i][0], p = big[i][1], I = D / sqrtl(PHI * p);
+                long double mu = (I <= r.i1n)
+                                     ? sqrtl(r.alpha / logl(r.a_minus / I))
+                                     : (r.mu_s * r.i0 + (r.mu_s + r.delta_mu) * I +
+                                        r.mu_inf * I * I) / (r.i0 + I);
+                long double f = all_regs[k] == REG_SIMPLE ? 1.0L / (D + LAM)
+                                : all_regs[k] == REG_PAPANASTASIOU ? -expm1l(-D / LAM) / D
+                                                                    : 1.0L / hypotl(D, LAM);
+                struct rheology_point pt = eval(&r, big[i][0], big[i][1]);
+                assert_finite_point(&pt, ctx);
+                assert_close(pt.eta, (double)(mu * p * f), 1e-12, 0.0, ctx);
+                if (I > 1e308L) {
+                    /* f' ~ 1/D^2 underflows beyond D ~ 1e154 (for every law),
+                     * so only the p-slope is checked; the D-slope is finite */
+                    double hp = 1e-5 * big[i][1];
+                    double fdp = (eval(&r, big[i][0], big[i][1] + hp).eta -
+                                  eval(&r, big[i][0], big[i][1] - hp).eta) / (2.0 * hp);
+                    assert_close(pt.deta_dp, fdp, 1e-6, 0.0, ctx);
+                } else {
+                    check_tangents(&r, big[i][0], big[i][1], ctx);
+                }
+            }
             struct rheology_point rest = eval(&r, 0.0, 1.0);
             assert_finite_point(&rest, ctx);
             assert_true(rest.eta == 0.0);
