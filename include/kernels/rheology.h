@@ -91,8 +91,8 @@ double rheology_i_of_mu(const struct rheology *r, double mu);
 
 /* The well-posedness function C(I) = 4 nu^2 - 4 nu + mu^2 (1 - nu/2)^2,
  * nu = I mu'(I) / mu(I), of the given curve with r's parameters at I > 0
- * (Barker et al. 2015; well posed where C < 0).  curve may differ from r->curve: CURVE_JOP is the standard
- * curve whose lower root is I_1^N. */
+ * (Barker et al. 2015; well posed where C < 0).  curve may differ from
+ * r->curve: CURVE_JOP is the standard curve whose lower root is I_1^N. */
 double rheology_well_posedness(const struct rheology *r, enum rheology_curve curve, double I);
 
 /* Bracket of I_1^N, [RHEOLOGY_I1N_LOW, the I where the jop curve's mu is
