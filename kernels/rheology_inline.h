@@ -11,6 +11,7 @@
 #ifndef MUFLOW_RHEOLOGY_INLINE_H
 #define MUFLOW_RHEOLOGY_INLINE_H
 
+#include <float.h>
 #include <math.h>
 #include "kernels/rheology.h"
 
@@ -109,12 +110,67 @@ static inline double rheo_pressure(const struct rheology *r, double p, double *d
     return lam * lam / (2.0 * hmp);
 }
 
-/* rheology_eval with the law and regularisation given apart (constants in an
- * instantiated loop); law and reg must be those of r, or what they stand for
- * (rheology_variant). */
+/* The Barker & Gray curve in eta = mu(I) p f(D) (rheology.h), with the
+ * yield kernel f, f' = df of the regularisation already evaluated at D > 0.
+ * Everything is written with m1 = I mu'(I) and dI/dD = I/D, dI/dp = -I/(2p):
+ *   d eta / dD = p (m1 f / D + mu f'),   d eta / dp = f (mu - m1 / 2).
+ * Low branch: mu = sqrt(alpha / ln(A_minus / I)), m1 = mu^3 / (2 alpha).
+ * High branch with r = I / (I0 + I) = D / (D0 + D):
+ *   mu = mu_s + dmu r + mu_inf I r,   m1 = dmu r (1 - r) + mu_inf I r (2 - r).
+ * I itself is only compared with I_1^N: I overflows (p -> 0, |D| large) where
+ * the terms do not, so they are grouped as I p = D q, q = d sqrt(rho_s p),
+ * r (1 - r) / D = (1 - r) / (D0 + D), f I = (f D) d sqrt(rho_s) / sqrt(p),
+ * with f D <= 1 and f' D bounded for every kernel. */
+static inline void rheo_eval_barker_gray(const struct rheology *r, double D, double p, double f,
+                                         double df, struct rheology_point *out)
+{
+    double sqrt_rho = sqrt(r->grain_density), d = r->grain_diameter;
+    double sp = sqrt(p);
+    /* I = D d sqrt(rho_s / p), inf at p = 0 (and where it overflows) */
+    double I = p > 0.0 ? D * d * sqrt_rho / sp : INFINITY;
+    if (I <= r->i1n) {
+        /* ln(A/I) as a difference: A / I overflows for subnormal I; I = 0
+         * (underflow) gives ln = inf and mu = 0, the curve's value at rest */
+        double L = log(r->a_minus) - log(I);
+        double mu = sqrt(r->alpha / L);
+        double m1 = mu * mu * mu / (2.0 * r->alpha);
+        double mp = mu * p;
+        out->eta = mp * f;
+        /* m1 f p / D ~ 1 / (D ln^(3/2)) is unbounded as D -> 0 (mu' is
+         * infinite at I = 0).  The symmetric tangent uses it times
+         * gamma^2 / |D| <= |D|, which tends to 0 with mu; the full tangent's
+         * eta' / (2 |D|) is unbounded at rest, as for the simple form.  It
+         * overflows only for subnormal D, where the largest finite number
+         * stands for it. */
+        out->deta_dshear = fmin(m1 * p * f / D, DBL_MAX) + mp * df;
+        out->deta_dp = f * (mu - 0.5 * m1);
+        return;
+    }
+    double dmu = r->delta_mu, minf = r->mu_inf;
+    double D0 = r->i0 * sp / (d * sqrt_rho); /* the D at which I = I0 */
+    double sum = D0 + D;                     /* > 0: D > 0 on this branch */
+    double rr = D / sum, one_m_r = D0 / sum;
+    double q = d * sqrt_rho * sp;            /* I p / D, 0 at p = 0 */
+    double fD = f * D, dfD = df * D;
+    double jop = r->mu_s + dmu * rr;         /* mu without the mu_inf term */
+    out->eta = f * p * jop + minf * rr * fD * q;
+    out->deta_dshear = f * dmu * p * (one_m_r / sum) + minf * rr * (2.0 - rr) * f * q +
+                       df * p * jop + minf * rr * dfD * q;
+    /* mu - m1/2 = mu_s + dmu r (1 + r)/2 + mu_inf I r^2/2: the last term
+     * grows like 1/sqrt(p) as p -> 0 and is infinite at p = 0 (which only
+     * pressure_regularisation = off reaches), where DBL_MAX stands for it */
+    double dp = f * (r->mu_s + 0.5 * dmu * rr * (1.0 + rr));
+    if (minf > 0.0)
+        dp += fmin(0.5 * minf * rr * rr * fD * (d * sqrt_rho / sp), DBL_MAX);
+    out->deta_dp = fmin(dp, DBL_MAX);
+}
+
+/* rheology_eval with the law, regularisation and curve given apart
+ * (constants in an instantiated loop); they must be those of r, or what they
+ * stand for (RHEOLOGY_DISPATCH). */
 static inline void rheo_eval(const struct rheology *r, enum rheology_law law,
-                             enum regularisation reg, double shear, double p_reg,
-                             struct rheology_point *out)
+                             enum regularisation reg, enum rheology_curve curve, double shear,
+                             double p_reg, struct rheology_point *out)
 {
     double D = fabs(shear);
     double lam = r->lambda;
@@ -142,6 +198,20 @@ static inline void rheo_eval(const struct rheology *r, enum rheology_law law,
     }
 
     double p = p_reg > 0.0 ? p_reg : 0.0;
+    if (curve == CURVE_BARKER_GRAY) {
+        if (!(D > 0.0)) {
+            /* at rest I = 0 and mu(0) = 0: eta = 0 with a zero pressure slope;
+             * d eta / dD has no finite limit (see rheo_eval_barker_gray), and
+             * the kernels, like every law at D = 0, use eta alone there */
+            out->eta = 0.0;
+            out->deta_dshear = 0.0;
+            out->deta_dp = 0.0;
+            return;
+        }
+        rheo_yield_kernel(reg, D, lam, &f, &df);
+        rheo_eval_barker_gray(r, D, p, f, df, out);
+        return;
+    }
     double mu_s = r->mu_s, dmu = r->delta_mu;
     /* D0 = i0 sqrt(p / rho_s) / d.  dD0/dp = D0 / (2p) is infinite at p = 0,
      * so it only ever appears as p dD0/dp = D0 / 2, which is finite. */
@@ -177,30 +247,44 @@ static inline void rheo_eval(const struct rheology *r, enum rheology_law law,
     out->deta_dp = mu_s * f + dmu * (den - 0.5 * D0) * inv_den * inv_den;
 }
 
-/* Runs CALL(law, reg) with the law and regularisation of r as constants:
- * one instantiation per distinct code path of rheo_eval (Newtonian ignores
- * the regularisation; mc is Bercovier's yield term for Bingham, and an
- * unknown regularisation is Bercovier's as in rheo_yield_kernel). */
+/* Runs CALL(law, reg, curve) with the law, regularisation and curve of r as
+ * constants: one instantiation per distinct code path of rheo_eval
+ * (Newtonian ignores the regularisation; mc is Bercovier's yield term for
+ * Bingham, and an unknown regularisation is Bercovier's as in
+ * rheo_yield_kernel; the curve matters for mu(I) only, and for Barker & Gray
+ * mc is again Bercovier's kernel). */
 #define RHEOLOGY_DISPATCH(r, CALL)                                                  \
     do {                                                                            \
         switch ((r)->law) {                                                         \
         case LAW_NEWTONIAN:                                                         \
-            CALL(LAW_NEWTONIAN, REG_SIMPLE);                                        \
+            CALL(LAW_NEWTONIAN, REG_SIMPLE, CURVE_JOP);                             \
             break;                                                                  \
         case LAW_BINGHAM:                                                           \
             switch ((r)->reg) {                                                     \
-            case REG_SIMPLE: CALL(LAW_BINGHAM, REG_SIMPLE); break;                  \
-            case REG_PAPANASTASIOU: CALL(LAW_BINGHAM, REG_PAPANASTASIOU); break;    \
-            default: CALL(LAW_BINGHAM, REG_BERCOVIER); break;                       \
+            case REG_SIMPLE: CALL(LAW_BINGHAM, REG_SIMPLE, CURVE_JOP); break;       \
+            case REG_PAPANASTASIOU:                                                 \
+                CALL(LAW_BINGHAM, REG_PAPANASTASIOU, CURVE_JOP);                    \
+                break;                                                              \
+            default: CALL(LAW_BINGHAM, REG_BERCOVIER, CURVE_JOP); break;            \
             }                                                                       \
             break;                                                                  \
         case LAW_MUI:                                                               \
         default:                                                                    \
+            if ((r)->curve == CURVE_BARKER_GRAY) {                                  \
+                switch ((r)->reg) {                                                 \
+                case REG_SIMPLE: CALL(LAW_MUI, REG_SIMPLE, CURVE_BARKER_GRAY); break;\
+                case REG_PAPANASTASIOU:                                             \
+                    CALL(LAW_MUI, REG_PAPANASTASIOU, CURVE_BARKER_GRAY);            \
+                    break;                                                          \
+                default: CALL(LAW_MUI, REG_BERCOVIER, CURVE_BARKER_GRAY); break;    \
+                }                                                                   \
+                break;                                                              \
+            }                                                                       \
             switch ((r)->reg) {                                                     \
-            case REG_SIMPLE: CALL(LAW_MUI, REG_SIMPLE); break;                      \
-            case REG_PAPANASTASIOU: CALL(LAW_MUI, REG_PAPANASTASIOU); break;        \
-            case REG_MC: CALL(LAW_MUI, REG_MC); break;                              \
-            default: CALL(LAW_MUI, REG_BERCOVIER); break;                           \
+            case REG_SIMPLE: CALL(LAW_MUI, REG_SIMPLE, CURVE_JOP); break;           \
+            case REG_PAPANASTASIOU: CALL(LAW_MUI, REG_PAPANASTASIOU, CURVE_JOP); break;\
+            case REG_MC: CALL(LAW_MUI, REG_MC, CURVE_JOP); break;                   \
+            default: CALL(LAW_MUI, REG_BERCOVIER, CURVE_JOP); break;                \
             }                                                                       \
             break;                                                                  \
         }                                                                           \

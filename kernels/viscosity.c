@@ -20,8 +20,8 @@ static inline double cell_edges_sum(const double *cell, double *const edge[3], d
     return cell[q] + w * s;
 }
 
-/* The loops of the two viscosity kernels, instantiated per law and
- * regularisation (RHEOLOGY_DISPATCH) inside one parallel region: the
+/* The loops of the two viscosity kernels, instantiated per law,
+ * regularisation and friction curve (RHEOLOGY_DISPATCH) inside one parallel region: the
  * worksharing `omp for` is orphaned here, so the loop body is inlined with law
  * and reg as constants (a `parallel for` would be outlined before inlining and
  * keep them as run-time values). */
@@ -32,7 +32,8 @@ KERNEL_INLINE void viscosity_cells_loop(const struct grid *g, const struct rheol
                                         double *const e2[3], const double *p, double *eta,
                                         double *tan_c[3], double *shear2, double *preg,
                                         double *b_c, const enum rheology_law law,
-                                        const enum regularisation reg)
+                                        const enum regularisation reg,
+                                        const enum rheology_curve curve)
 {
     const ptrdiff_t *o = g->stride;
     const double *h = g->h;
@@ -45,7 +46,7 @@ KERNEL_INLINE void viscosity_cells_loop(const struct grid *g, const struct rheol
                 double shear = sqrt(s2);
                 double pr = rheo_pressure(r, p[q], NULL);
                 struct rheology_point pt;
-                rheo_eval(r, law, reg, shear, pr, &pt);
+                rheo_eval(r, law, reg, curve, shear, pr, &pt);
                 eta[q] = pt.eta;
                 shear2[q] = s2;
                 preg[q] = pr;
@@ -67,8 +68,8 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
                             double *eta, double *tan_c[3], double *shear2, double *preg,
                             double *b_c)
 {
-#define CELLS(law, reg)                                                                    \
-    viscosity_cells_loop(g, r, vel, cn2, e2, p, eta, tan_c, shear2, preg, b_c, law, reg)
+#define CELLS(law, reg, curve)                                                             \
+    viscosity_cells_loop(g, r, vel, cn2, e2, p, eta, tan_c, shear2, preg, b_c, law, reg, curve)
 #pragma omp parallel if (kernel_parallel(g))
     RHEOLOGY_DISPATCH(r, CELLS);
 #undef CELLS
@@ -80,7 +81,8 @@ KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheol
                                         const double *cn2, double *const e2[3], const double *p,
                                         double *ee, double *te, double *be,
                                         const enum rheology_law law,
-                                        const enum regularisation reg)
+                                        const enum regularisation reg,
+                                        const enum rheology_curve curve)
 {
     const ptrdiff_t *o = g->stride;
     int a, b;
@@ -105,7 +107,7 @@ KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheol
                 double shear = sqrt(s2);
                 double pr = rheo_pressure(r, mean4(p, e, oa, ob), NULL);
                 struct rheology_point pt;
-                rheo_eval(r, law, reg, shear, pr, &pt);
+                rheo_eval(r, law, reg, curve, shear, pr, &pt);
                 ee[e] = pt.eta;
                 if (te)
                     te[e] = shear > 0.0 ? pt.eta + pt.deta_dshear * own / shear : pt.eta;
@@ -118,10 +120,10 @@ void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, cons
                             double *const e2[3], const double *p, double *eta_e[3],
                             double *tan_e[3], double *b_e[3])
 {
-#define EDGES(law, reg)                                                                    \
+#define EDGES(law, reg, curve)                                                             \
     for (int c = 0; c < 3; c++)                                                            \
         viscosity_edges_loop(g, r, c, cn2, e2, p, eta_e[c], tan_e ? tan_e[c] : NULL,       \
-                             b_e ? b_e[c] : NULL, law, reg)
+                             b_e ? b_e[c] : NULL, law, reg, curve)
 #pragma omp parallel if (kernel_parallel(g))
     RHEOLOGY_DISPATCH(r, EDGES);
 #undef EDGES

@@ -85,6 +85,12 @@ static void assert_case_equal(const struct muflow_case *a, const struct muflow_c
     assert_true(a->rheo.mu_s == b->rheo.mu_s);
     assert_true(a->rheo.delta_mu == b->rheo.delta_mu);
     assert_true(a->rheo.i0 == b->rheo.i0);
+    assert_int_equal(a->rheo.curve, b->rheo.curve);
+    assert_true(a->rheo.alpha == b->rheo.alpha);
+    assert_true(a->rheo.mu_inf == b->rheo.mu_inf);
+    /* derived when loaded, from the keys: the same keys give the same values */
+    assert_true(a->rheo.i1n == b->rheo.i1n);
+    assert_true(a->rheo.a_minus == b->rheo.a_minus);
     assert_true(a->rheo.phi == b->rheo.phi);
     assert_true(a->rheo.grain_diameter == b->rheo.grain_diameter);
     assert_true(a->rheo.grain_density == b->rheo.grain_density);
@@ -139,6 +145,9 @@ static const char full_ini[] =
     "mu_s = 0.4\n"
     "delta_mu = 0.3\n"
     "i0 = 0.3\n"
+    "curve = jop\n"
+    "alpha = 1.5\n"
+    "mu_inf = 0.1\n"
     "phi = 0.5\n"
     "grain_diameter = 0.01\n"
     "grain_density = 2500\n"
@@ -294,6 +303,8 @@ static void test_full_file(void **state)
     assert_int_equal(c.rheo.reg, REG_BERCOVIER);
     assert_true(c.rheo.lambda == 1e-3 && c.rheo.mu_s == 0.4 && c.rheo.delta_mu == 0.3);
     assert_true(c.rheo.i0 == 0.3 && c.rheo.phi == 0.5 && c.rheo.grain_diameter == 0.01);
+    assert_int_equal(c.rheo.curve, CURVE_JOP);
+    assert_true(c.rheo.alpha == 1.5 && c.rheo.mu_inf == 0.1);
     assert_true(c.rheo.grain_density == 2500);
     assert_int_equal(c.rheo.pressure_regularisation, 0);
     assert_true(c.rheo.yield_stress == 1.5 && c.rheo.plastic_viscosity == 2);
@@ -390,6 +401,18 @@ static void test_overrides(void **state)
     assert_string_equal(c.output_dir, "elsewhere");
     assert_int_equal(c.scene, scene_find("bagnold"));
 
+    /* the Barker & Gray curve's derived values, from the final keys (the
+     * refdata's BG2017_glass set: I_1^N 0.0039718, A_minus 15642) */
+    char *ovs_bg[] = {"rheology.curve=barker_gray", "rheology.mu_s=0.342",
+                      "rheology.delta_mu=0.215", "rheology.i0=0.069"};
+    assert_int_equal(case_load(&c, path, 4, ovs_bg, err, sizeof(err)), 0);
+    assert_int_equal(c.rheo.curve, CURVE_BARKER_GRAY);
+    assert_true(c.rheo.alpha == 1.9 && c.rheo.mu_inf == 0.05);
+    assert_true(fabs(c.rheo.i1n - 0.0039718) < 0.5e-7);
+    assert_true(fabs(c.rheo.a_minus - 15642) < 0.5);
+    assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof(err)), 0);
+    assert_true(c.rheo.curve == CURVE_JOP && c.rheo.i1n == 0.0 && c.rheo.a_minus == 0.0);
+
     /* explicit grain_density is kept when phi changes */
     char *ovs2[] = {"rheology.grain_density=2650", "rheology.phi=0.55"};
     assert_int_equal(case_load(&c, path, 2, ovs2, err, sizeof(err)), 0);
@@ -447,6 +470,13 @@ static const struct bad bad_cases[] = {
     {"[solver]\ndt = 0.1\ndt_max = 0.01\n", NULL, {"solver.dt_max", "solver.dt"}},
     {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL, {"domain", "nx*ny*nz"}},
     {"[rheology]\nlaw = bingham\n", NULL, {"bingham", "plastic_viscosity", "yield_stress"}},
+    /* the Barker & Gray curve: alpha in (0, 2), and a jop curve with a well-posed band */
+    {NULL, "rheology.alpha=2", {"override rheology.alpha=2", "must be in (0, 2)"}},
+    {"[rheology]\ncurve = barker_gray\nmu_s = 2\ndelta_mu = 0.1\n", NULL,
+     {"rheology.curve = barker_gray", "rheology.mu_s = 2, rheology.delta_mu = 0.1",
+      "rheology.i0"}},
+    {"[rheology]\ncurve = barker_gray\ndelta_mu = 0\n", NULL,
+     {"rheology.mu_s", "rheology.delta_mu = 0", "no well-posed I_1^N"}},
     {"[domain]\nnx\n", NULL, {"line 2", "syntax error"}},
     {"[domain\nnx = 1\n", NULL, {"line 1", "syntax error"}},
     {NULL, "solver.max_step=3", {"override solver.max_step=3",
@@ -1063,6 +1093,16 @@ static void test_round_trip(void **state)
     assert_int_equal(rc, 0);
     assert_string_equal(c.output_dir, "a dir/with:colon=and;semi");
     assert_true(c.rheo.grain_density == 2500); /* explicit in the file */
+    round_trip(t, &c);
+
+    /* the Barker & Gray curve: keys written back, derived values the same */
+    char *ovs_bg[] = {"boundary.zlo=wall", "boundary.zhi=surface", "rheology.curve=barker_gray",
+                      "rheology.alpha=1.25", "rheology.mu_inf=0.125"};
+    rc = case_load(&c, NULL, 5, ovs_bg, err, sizeof(err));
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_true(c.rheo.i1n > 0.0 && c.rheo.a_minus > c.rheo.i1n);
     round_trip(t, &c);
 
     for (int law = 0; law < 3; law++)

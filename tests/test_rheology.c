@@ -8,6 +8,7 @@
  * (so D0 = I0 sqrt(phi p)), lam = 1e-4. */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include "test_main.h"
 #include "kernels/rheology.h"
 
@@ -441,28 +442,422 @@ static void test_mu_of_i(void **state)
                  1e-15, 0.0, "I dimensional");
 }
 
+/* ------------------------------------------------------------------------ */
+/* The Barker & Gray (2017) curve (rheology.curve = barker_gray) against
+ * /work/shared/refdata/item6_barker_gray_regularised_muI.csv: its two
+ * tables, written out here with the digits the file prints. */
+
+struct bg_set {
+    const char *name;
+    double mu_s, mu_2, i0;
+    double i1n, i2n_standard, a_minus, i2n_regularised; /* refdata, printed digits */
+    double tol_i1n, tol_i2n, tol_a, tol_i2n_reg;         /* half a unit of the last digit */
+};
+
+static const struct bg_set bg_sets[] = {
+    {"BG2017_glass", 0.342, 0.557, 0.069, 0.0039718, 0.28017, 15642, 16.992,
+     0.5e-7, 0.5e-5, 0.5, 0.5e-3},
+    {"Jop2006_brief", 0.383, 0.643, 0.279, 0.019713, 0.84578, 2794.1, 14.925,
+     0.5e-6, 0.5e-5, 0.05, 0.5e-3},
+};
+#define BG_MU_INF 0.05
+#define BG_ALPHA 1.9
+
+static struct rheology bg_rheology(const struct bg_set *b, enum regularisation reg)
+{
+    struct rheology r = paper(reg);
+    r.mu_s = b->mu_s;
+    r.delta_mu = b->mu_2 - b->mu_s;
+    r.i0 = b->i0;
+    r.curve = CURVE_BARKER_GRAY;
+    r.alpha = BG_ALPHA;
+    r.mu_inf = BG_MU_INF;
+    return r;
+}
+
+static struct rheology bg_ready(const struct bg_set *b, enum regularisation reg)
+{
+    struct rheology r = bg_rheology(b, reg);
+    char msg[512] = "";
+    if (rheology_curve_setup(&r, msg, sizeof msg) != 0) {
+        print_error("rheology_curve_setup [%s]: %s\n", b->name, msg);
+        fail();
+    }
+    return r;
+}
+
+/* The well-posedness function written out naively from the refdata's
+ * formulas, independent of the module: curve (mu_s I0 + mu_2 I + minf I^2) /
+ * (I0 + I) (minf = 0: the standard curve) and its derivative by the quotient
+ * rule. */
+static double naive_c(const struct bg_set *b, double minf, double I)
+{
+    double num = b->mu_s * b->i0 + b->mu_2 * I + minf * I * I, den = b->i0 + I;
+    double mu = num / den;
+    double dmu = ((b->mu_2 + 2.0 * minf * I) * den - num) / (den * den);
+    double nu = I * dmu / mu;
+    return 4.0 * nu * nu - 4.0 * nu + mu * mu * pow(1.0 - nu / 2.0, 2);
+}
+
+/* Root of f(I) in [a, b] (f(a) f(b) < 0) by bisection to the last bit:
+ * plain and independent of the module's Brent solver. */
+static double bisect(double (*f)(const struct rheology *, const struct bg_set *, double),
+                     const struct rheology *r, const struct bg_set *b, double a, double c)
+{
+    double fa = f(r, b, a);
+    for (int it = 0; it < 2000 && c - a > 1e-16 * c; it++) {
+        double m = 0.5 * (a + c), fm = f(r, b, m);
+        if ((fm < 0.0) == (fa < 0.0)) {
+            a = m;
+            fa = fm;
+        } else {
+            c = m;
+        }
+    }
+    return 0.5 * (a + c);
+}
+
+static double c_standard(const struct rheology *r, const struct bg_set *b, double I)
+{
+    (void)b;
+    return rheology_well_posedness(r, CURVE_JOP, I);
+}
+
+static double c_regularised(const struct rheology *r, const struct bg_set *b, double I)
+{
+    (void)b;
+    return rheology_well_posedness(r, CURVE_BARKER_GRAY, I);
+}
+
+static double c_naive_standard(const struct rheology *r, const struct bg_set *b, double I)
+{
+    (void)r;
+    return naive_c(b, 0.0, I);
+}
+
+/* 5. I_1^N, A_minus (what the case loader stores) and I_2N (the upper
+ * well-posed bound, standard and regularised curve; here only) against the
+ * refdata table to its printed digits.  I_1^N also against a bisection of
+ * the naive C, to 1e-12 relative (both are roots of the same function to a
+ * few ulps; C has slope ~30 there, so rounding moves the root by ~1e-15). */
+static void test_bg_thresholds(void **state)
+{
+    (void)state;
+    for (size_t s = 0; s < COUNT(bg_sets); s++) {
+        const struct bg_set *b = &bg_sets[s];
+        struct rheology r = bg_ready(b, REG_MC);
+        double zs = 0.5 * (atan(b->mu_s) + atan(b->mu_2));
+        double hi = b->i0 * (tan(zs) - b->mu_s) / (b->mu_2 - tan(zs));
+        double i1n_naive = bisect(c_naive_standard, &r, b, RHEOLOGY_I1N_LOW, hi);
+        double i2n = bisect(c_standard, &r, b, hi, 100.0);
+        double i2n_reg = bisect(c_regularised, &r, b, hi, 1e4);
+        printf("    %s: I1N %.8g (refdata %.8g), A_minus %.8g (%.8g), I2N %.8g (%.8g), "
+               "I2N_regularised %.8g (%.8g)\n",
+               b->name, r.i1n, b->i1n, r.a_minus, b->a_minus, i2n, b->i2n_standard, i2n_reg,
+               b->i2n_regularised);
+        assert_close(r.i1n, b->i1n, 0.0, b->tol_i1n, b->name);
+        assert_close(r.a_minus, b->a_minus, 0.0, b->tol_a, b->name);
+        assert_close(i2n, b->i2n_standard, 0.0, b->tol_i2n, b->name);
+        assert_close(i2n_reg, b->i2n_regularised, 0.0, b->tol_i2n_reg, b->name);
+        assert_close(r.i1n, i1n_naive, 1e-12, 0.0, b->name);
+        /* the module's C is the naive one (to rounding) on both curves */
+        const double Is[] = {1e-6, 1e-3, r.i1n, 0.05, 0.5, 5.0};
+        for (size_t i = 0; i < COUNT(Is); i++) {
+            assert_close(rheology_well_posedness(&r, CURVE_JOP, Is[i]), naive_c(b, 0.0, Is[i]),
+                         1e-12, 1e-15, b->name);
+            if (Is[i] > r.i1n)
+                assert_close(rheology_well_posedness(&r, CURVE_BARKER_GRAY, Is[i]),
+                             naive_c(b, BG_MU_INF, Is[i]), 1e-12, 1e-15, b->name);
+        }
+        /* A_minus is eq. 17 of Barker & Gray (2017) */
+        double q = b->mu_s * b->i0 + b->mu_2 * r.i1n + BG_MU_INF * r.i1n * r.i1n;
+        assert_close(r.a_minus,
+                     r.i1n * exp(BG_ALPHA * pow(b->i0 + r.i1n, 2) / (q * q)), 1e-13, 0.0,
+                     b->name);
+    }
+}
+
+/* 5b. The refdata's second table (BG2017_glass): the standard and the
+ * regularised mu(I) to the 8 printed decimals, C of the standard curve to
+ * its 6 printed significant digits. */
+static void test_bg_table(void **state)
+{
+    (void)state;
+    static const double rows[][4] = {
+        {1e-08, 0.34200003, 0.26013001, 0.116964},   {1e-07, 0.34200031, 0.27150036, 0.11696},
+        {1e-06, 0.34200312, 0.28450518, 0.116929},   {1e-05, 0.34203115, 0.29957774, 0.11661},
+        {0.0001, 0.34231114, 0.31733131, 0.113443},  {0.001, 0.34507143, 0.33866832, 0.083245},
+        {0.002, 0.34805634, 0.34598414, 0.0526059},  {0.005, 0.35652703, 0.35654392, -0.0238694},
+        {0.01, 0.36921519, 0.36927848, -0.113258},   {0.05, 0.43233613, 0.43338655, -0.260952},
+        {0.2, 0.50185130, 0.50928625, -0.0684127},   {0.5, 0.53092794, 0.55289631, 0.104694},
+        {1, 0.54312254, 0.58989523, 0.194651},       {10, 0.55552667, 1.05210031, 0.297289},
+        {100, 0.55685175, 5.55340413, 0.308938},     {5000, 0.55699703, 250.55354708, 0.310223},
+    };
+    struct rheology bg = bg_ready(&bg_sets[0], REG_MC);
+    struct rheology jop = bg;
+    jop.curve = CURVE_JOP;
+    char ctx[64];
+    for (size_t i = 0; i < COUNT(rows); i++) {
+        double I = rows[i][0];
+        snprintf(ctx, sizeof ctx, "I=%g", I);
+        assert_close(rheology_mu_of_i(&jop, I), rows[i][1], 0.0, 0.5e-8, ctx);
+        assert_close(rheology_mu_of_i(&bg, I), rows[i][2], 0.0, 0.5e-8, ctx);
+        double c = rows[i][3];
+        assert_close(rheology_well_posedness(&bg, CURVE_JOP, I), c, 0.0,
+                     0.5 * pow(10.0, floor(log10(fabs(c))) - 5.0), ctx);
+    }
+}
+
+/* 5c. mu(I) at I_1^N: the two branches give the same value (A_minus is
+ * chosen for that: to rounding, 1e-14), but not the same slope.  Low branch
+ * mu' = mu^3 / (2 alpha I); high branch mu' = (dmu I0 + mu_inf I (2 I0 + I)) /
+ * (I0 + I)^2: 2.932 against 2.791 (glass, 5.0% more below), 0.8558 against
+ * 0.8193 (Jop2006_brief, 4.5%), so the curve
+ * is continuous but not C^1 at I_1^N.  One-sided differences of
+ * rheology_mu_of_i (step 1e-7 I_1^N, error ~1e-6 relative) confirm both. */
+static void test_bg_continuity(void **state)
+{
+    (void)state;
+    for (size_t s = 0; s < COUNT(bg_sets); s++) {
+        const struct bg_set *b = &bg_sets[s];
+        struct rheology r = bg_ready(b, REG_MC);
+        double I = r.i1n, dmu = b->mu_2 - b->mu_s;
+        double mu_low = sqrt(BG_ALPHA / log(r.a_minus / I));
+        double mu_high = (b->mu_s * b->i0 + b->mu_2 * I + BG_MU_INF * I * I) / (b->i0 + I);
+        assert_close(mu_low, mu_high, 1e-14, 0.0, b->name);
+        assert_close(rheology_mu_of_i(&r, I), mu_high, 1e-14, 0.0, b->name);
+        assert_close(rheology_mu_of_i(&r, nextafter(I, 1.0)), mu_high, 1e-14, 0.0, b->name);
+
+        double slope_low = pow(mu_low, 3) / (2.0 * BG_ALPHA * I);
+        double slope_high =
+            (dmu * b->i0 + BG_MU_INF * I * (2.0 * b->i0 + I)) / pow(b->i0 + I, 2);
+        double h = 1e-7 * I;
+        double fd_low = (rheology_mu_of_i(&r, I) - rheology_mu_of_i(&r, I - h)) / h;
+        double fd_high = (rheology_mu_of_i(&r, I + h) - rheology_mu_of_i(&r, I)) / h;
+        printf("    %s: mu(I1N) %.10g; slope below %.6g, above %.6g (jump %.2f%%)\n", b->name,
+               mu_high, slope_low, slope_high, 100.0 * (slope_low / slope_high - 1.0));
+        assert_close(fd_low, slope_low, 1e-5, 0.0, b->name);
+        assert_close(fd_high, slope_high, 1e-5, 0.0, b->name);
+        assert_true(fabs(slope_low / slope_high - 1.0) > 0.01); /* not C^1 */
+    }
+}
+
+/* 5d. Well posed below I_1^N: on the regularised curve nu = mu^2/(2 alpha),
+ * so C ~ mu^2 (1 - 2/alpha) < 0 as I -> 0 exactly when alpha < 2.  C < 0 at
+ * 300 log-spaced I from 1e-300 to just below I_1^N for alpha = 1.9 and 1.5
+ * (and in the band up to I2N_regularised); with alpha = 2.5 (refused by
+ * the key, A_minus set here by hand) C > 0 near I = 0: ill posed again. */
+static void test_bg_well_posed_below(void **state)
+{
+    (void)state;
+    const double alphas[] = {1.9, 1.5, 1.0};
+    char ctx[96];
+    for (size_t s = 0; s < COUNT(bg_sets); s++)
+        for (size_t a = 0; a < COUNT(alphas); a++) {
+            struct rheology r = bg_rheology(&bg_sets[s], REG_MC);
+            r.alpha = alphas[a];
+            char msg[512];
+            assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 0);
+            double lo = log(1e-300), hi = log(r.i1n * (1.0 - 1e-9));
+            for (int k = 0; k <= 300; k++) {
+                double I = exp(lo + (hi - lo) * k / 300.0);
+                snprintf(ctx, sizeof ctx, "%s alpha=%g I=%g", bg_sets[s].name, alphas[a], I);
+                double c = rheology_well_posedness(&r, CURVE_BARKER_GRAY, I);
+                if (!(c < 0.0)) {
+                    print_error("C = %g >= 0 [%s]\n", c, ctx);
+                    fail();
+                }
+            }
+            /* and above I_1^N up to 0.9 I2N_regularised */
+            double span = log(0.9 * bg_sets[s].i2n_regularised / r.i1n);
+            for (int k = 1; k <= 100; k++) {
+                double I = r.i1n * exp(span * k / 100.0);
+                assert_true(rheology_well_posedness(&r, CURVE_BARKER_GRAY, I) < 0.0);
+            }
+        }
+    struct rheology r = bg_ready(&bg_sets[0], REG_MC);
+    r.alpha = 2.5;
+    double q = 0.342 * 0.069 + 0.557 * r.i1n + BG_MU_INF * r.i1n * r.i1n;
+    r.a_minus = r.i1n * exp(r.alpha * pow(0.069 + r.i1n, 2) / (q * q));
+    assert_true(rheology_well_posedness(&r, CURVE_BARKER_GRAY, 1e-30) > 0.0);
+}
+
+/* 5d'. rheology_i_of_mu inverts rheology_mu_of_i on both curves and both
+ * branches (1e-12: a square root or a log away from the forward value), with
+ * mu_inf = 0.05 (quadratic high branch, no upper bound) and mu_inf = 0 (the
+ * jop-like high branch, bounded by mu_2). */
+static void test_bg_inverse(void **state)
+{
+    (void)state;
+    const double Is[] = {1e-200, 1e-8, 1e-3, 0.0039, 0.004, 0.02, 0.3, 3.0, 300.0};
+    char ctx[96];
+    for (size_t s = 0; s < COUNT(bg_sets); s++)
+        for (int m = 0; m < 2; m++) {
+            struct rheology r = bg_rheology(&bg_sets[s], REG_MC);
+            r.mu_inf = m ? 0.0 : BG_MU_INF;
+            char msg[512];
+            assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 0);
+            for (size_t i = 0; i < COUNT(Is); i++) {
+                snprintf(ctx, sizeof ctx, "%s mu_inf=%g I=%g", bg_sets[s].name, r.mu_inf, Is[i]);
+                assert_close(rheology_i_of_mu(&r, rheology_mu_of_i(&r, Is[i])), Is[i], 1e-12,
+                             0.0, ctx);
+            }
+            assert_true(rheology_i_of_mu(&r, 0.0) == 0.0);
+            if (m)
+                assert_true(isnan(rheology_i_of_mu(&r, bg_sets[s].mu_2)));
+            struct rheology jop = r;
+            jop.curve = CURVE_JOP;
+            assert_close(rheology_i_of_mu(&jop, rheology_mu_of_i(&jop, 0.1)), 0.1, 1e-12, 0.0,
+                         "jop");
+            assert_true(rheology_i_of_mu(&jop, jop.mu_s) == 0.0);
+        }
+}
+
+/* eta = mu_BG(I) p f(D), written out naively (I = D / sqrt(phi p)). */
+static double ref_eta_bg(const struct rheology *r, double D, double p)
+{
+    double I = D / sqrt(PHI * p), mu;
+    if (I <= r->i1n)
+        mu = sqrt(r->alpha / log(r->a_minus / I));
+    else
+        mu = (r->mu_s * r->i0 + (r->mu_s + r->delta_mu) * I + r->mu_inf * I * I) / (r->i0 + I);
+    double f = r->reg == REG_SIMPLE           ? 1.0 / (D + LAM)
+               : r->reg == REG_PAPANASTASIOU ? (1.0 - exp(-D / LAM)) / D
+                                              : 1.0 / sqrt(D * D + LAM * LAM);
+    return mu * p * f;
+}
+
+/* 5e. The viscosity of every regularisation with the curve: against the
+ * naive form (1e-12, as test 1), the tangents against central differences
+ * (check_tangents, as for the Jop curve) on both branches and near I_1^N on
+ * either side (0.5 and 2 I_1^N; the difference step does not cross it), at
+ * rest eta = 0 with finite slopes, extreme magnitudes where I overflows,
+ * and for |D| >> lam eta |D| -> mu(I) p. */
+static void test_bg_viscosity(void **state)
+{
+    (void)state;
+    const double Ds[] = {0.1 * LAM, 0.3 * LAM, LAM, 3.0 * LAM, 0.1, 10.0};
+    const double ps[] = {1e-3, 1.0, 30.0};
+    char ctx[128];
+    for (size_t s = 0; s < COUNT(bg_sets); s++)
+        for (size_t k = 0; k < N_REGS; k++) {
+            struct rheology r = bg_ready(&bg_sets[s], all_regs[k]);
+            snprintf(ctx, sizeof ctx, "bg %s %s", bg_sets[s].name,
+                     regularisation_name(all_regs[k]));
+            for (size_t i = 0; i < COUNT(Ds); i++)
+                for (size_t j = 0; j < COUNT(ps); j++) {
+                    assert_close(eval(&r, Ds[i], ps[j]).eta, ref_eta_bg(&r, Ds[i], ps[j]), 1e-12,
+                                 0.0, ctx);
+                    check_tangents(&r, Ds[i], ps[j], ctx);
+                }
+            const double factors[] = {0.5, 2.0};
+            for (size_t i = 0; i < COUNT(factors); i++)
+                for (size_t j = 0; j < COUNT(ps); j++) {
+                    double D = factors[i] * r.i1n * sqrt(PHI * ps[j]);
+                    assert_close(eval(&r, D, ps[j]).eta, ref_eta_bg(&r, D, ps[j]), 1e-12, 0.0,
+                                 ctx);
+                    check_tangents(&r, D, ps[j], ctx);
+                }
+            /* extreme magnitudes: I overflows a double (1e300 / sqrt(1e-30)) where
+             * eta and its slopes do not; against the naive form in long double
+             * (range 1e4932) and central differences */
+            const double big[][2] = {{1e300, 1e-30}, {1e150, 1e-200}, {1e-3, 1e250}};
+            for (size_t i = 0; i < COUNT(big); i++) {
+                long double D = big[i][0], p = big[i][1], I = D / sqrtl(PHI * p);
+                long double mu = (I <= r.i1n)
+                                     ? sqrtl(r.alpha / logl(r.a_minus / I))
+                                     : (r.mu_s * r.i0 + (r.mu_s + r.delta_mu) * I +
+                                        r.mu_inf * I * I) / (r.i0 + I);
+                long double f = all_regs[k] == REG_SIMPLE ? 1.0L / (D + LAM)
+                                : all_regs[k] == REG_PAPANASTASIOU ? -expm1l(-D / LAM) / D
+                                                                    : 1.0L / hypotl(D, LAM);
+                struct rheology_point pt = eval(&r, big[i][0], big[i][1]);
+                assert_finite_point(&pt, ctx);
+                assert_close(pt.eta, (double)(mu * p * f), 1e-12, 0.0, ctx);
+                if (I > 1e308L) {
+                    /* f' ~ 1/D^2 underflows beyond D ~ 1e154 (for every law),
+                     * so only the p-slope is checked; the D-slope is finite */
+                    double hp = 1e-5 * big[i][1];
+                    double fdp = (eval(&r, big[i][0], big[i][1] + hp).eta -
+                                  eval(&r, big[i][0], big[i][1] - hp).eta) / (2.0 * hp);
+                    assert_close(pt.deta_dp, fdp, 1e-6, 0.0, ctx);
+                } else {
+                    check_tangents(&r, big[i][0], big[i][1], ctx);
+                }
+            }
+            struct rheology_point rest = eval(&r, 0.0, 1.0);
+            assert_finite_point(&rest, ctx);
+            assert_true(rest.eta == 0.0);
+            /* D >> lam: the stress is mu(I) p within lam / D (as test 1b) */
+            double D = 10.0, p = 2.0, I = D / sqrt(PHI * p);
+            assert_close(eval(&r, D, p).eta * D, rheology_mu_of_i(&r, I) * p, 1.01 * LAM / D,
+                         0.0, ctx);
+        }
+}
+
+/* 5f. Bad input is refused naming the key: alpha = 2 (and 0), a jop curve
+ * without a well-posed band (mu_s = 2, delta_mu = 0.1: C > 0 throughout the
+ * bracket) and delta_mu = 0 (empty bracket). */
+static void test_bg_refused(void **state)
+{
+    (void)state;
+    char msg[512];
+    const double bad_alpha[] = {2.0, 0.0, 2.5, -1.0};
+    for (size_t i = 0; i < COUNT(bad_alpha); i++) {
+        struct rheology r = bg_rheology(&bg_sets[0], REG_MC);
+        r.alpha = bad_alpha[i];
+        msg[0] = '\0';
+        assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 1);
+        assert_non_null(strstr(msg, "rheology.alpha"));
+    }
+    const double bad_curves[][2] = {{2.0, 0.1}, {0.383, 0.0}};
+    for (size_t i = 0; i < COUNT(bad_curves); i++) {
+        struct rheology r = bg_rheology(&bg_sets[0], REG_MC);
+        r.mu_s = bad_curves[i][0];
+        r.delta_mu = bad_curves[i][1];
+        msg[0] = '\0';
+        assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 1);
+        printf("    refused: %s\n", msg);
+        assert_non_null(strstr(msg, "rheology.mu_s"));
+        assert_non_null(strstr(msg, "rheology.delta_mu"));
+        assert_non_null(strstr(msg, "rheology.i0"));
+        assert_null(strchr(msg, '\n'));
+    }
+    /* the jop curve needs nothing and is left as it was */
+    struct rheology r = paper(REG_MC);
+    assert_int_equal(rheology_curve_setup(&r, msg, sizeof msg), 0);
+    assert_true(r.i1n == 0.0 && r.a_minus == 0.0);
+}
+
 /* No NaN/Inf anywhere in D >= 0, p_reg >= 0 over 400 orders of magnitude,
- * for every law and regularisation, and eta >= 0. */
+ * for every law, regularisation and curve, and eta >= 0. */
 static void test_no_nan_sweep(void **state)
 {
     (void)state;
     const double vals[] = {0.0, 4.9406564584124654e-324, 1e-300, 1e-12, LAM, 1.0, 1e6, 1e100};
     const enum rheology_law laws[] = {LAW_MUI, LAW_BINGHAM, LAW_NEWTONIAN};
-    char ctx[96];
+    const enum rheology_curve curves[] = {CURVE_JOP, CURVE_BARKER_GRAY};
+    char ctx[128];
     for (size_t l = 0; l < COUNT(laws); l++)
-        for (size_t k = 0; k < N_REGS; k++) {
-            struct rheology r = bingham(all_regs[k]);
-            r.law = laws[l];
-            r.viscosity = 1.0;
-            for (size_t i = 0; i < COUNT(vals); i++)
-                for (size_t j = 0; j < COUNT(vals); j++) {
-                    snprintf(ctx, sizeof ctx, "%s/%s D=%g p=%g", rheology_law_name(laws[l]),
-                             regularisation_name(all_regs[k]), vals[i], vals[j]);
-                    struct rheology_point pt = eval(&r, vals[i], vals[j]);
-                    assert_finite_point(&pt, ctx);
-                    assert_true(pt.eta >= 0.0);
-                }
-        }
+        for (size_t k = 0; k < N_REGS; k++)
+            for (size_t c = 0; c < COUNT(curves); c++) {
+                struct rheology r = curves[c] == CURVE_BARKER_GRAY
+                                        ? bg_ready(&bg_sets[0], all_regs[k])
+                                        : paper(all_regs[k]);
+                r.law = laws[l];
+                r.yield_stress = TAU0;
+                r.plastic_viscosity = ETA_P;
+                r.viscosity = 1.0;
+                for (size_t i = 0; i < COUNT(vals); i++)
+                    for (size_t j = 0; j < COUNT(vals); j++) {
+                        snprintf(ctx, sizeof ctx, "%s/%s/%s D=%g p=%g",
+                                 rheology_law_name(laws[l]), regularisation_name(all_regs[k]),
+                                 rheology_curve_name(curves[c]), vals[i], vals[j]);
+                        struct rheology_point pt = eval(&r, vals[i], vals[j]);
+                        assert_finite_point(&pt, ctx);
+                        assert_true(pt.eta >= 0.0);
+                    }
+            }
 }
 
 static void test_names(void **state)
@@ -475,6 +870,8 @@ static void test_names(void **state)
     assert_string_equal(regularisation_name(REG_BERCOVIER), "bercovier");
     assert_string_equal(regularisation_name(REG_PAPANASTASIOU), "papanastasiou");
     assert_string_equal(regularisation_name(REG_MC), "mc");
+    assert_string_equal(rheology_curve_name(CURVE_JOP), "jop");
+    assert_string_equal(rheology_curve_name(CURVE_BARKER_GRAY), "barker_gray");
 }
 
 void group_rheology(struct test_tally *t)
@@ -490,6 +887,13 @@ void group_rheology(struct test_tally *t)
         cmocka_unit_test(test_papanastasiou_series),
         cmocka_unit_test(test_bingham_newtonian),
         cmocka_unit_test(test_mu_of_i),
+        cmocka_unit_test(test_bg_thresholds),
+        cmocka_unit_test(test_bg_table),
+        cmocka_unit_test(test_bg_continuity),
+        cmocka_unit_test(test_bg_well_posed_below),
+        cmocka_unit_test(test_bg_inverse),
+        cmocka_unit_test(test_bg_viscosity),
+        cmocka_unit_test(test_bg_refused),
         cmocka_unit_test(test_no_nan_sweep),
         cmocka_unit_test(test_names),
     };

@@ -65,6 +65,60 @@ static void test_bagnold_table1(void **state)
     assert_true(order >= 1.8);
 }
 
+/* bagnold with rheology.curve = barker_gray (the partially regularised mu(I)
+ * of Barker & Gray 2017, the Jop2006_brief parameters of the case): I = I_a
+ * everywhere again, now the I at which that curve reaches tan(tilt).  On the
+ * high branch (tilt 0.406, I_a 0.0605 > I_1^N 0.0197) second order from H/10
+ * to H/160 as with the jop curve (measured err_rms 1.91e-3 .. 8.26e-6, order
+ * 1.96; 1.263e-4 at H/40 against jop's 1.281e-4), in 36-46 steps from rest
+ * (eta = 0 at rest, mu(0) = 0: the first steps are cut to dt 1e-10).  At
+ * tilt 0.36, below atan(mu_s) where the jop layer stays at rest, the layer
+ * flows on the low branch (I_a = 4.19e-3 < I_1^N 0.0197): u_surface 0.109645 against
+ * the exact 0.109621. */
+static void test_bagnold_barker_gray(void **state)
+{
+    (void)state;
+    static const int nz[] = {10, 40, 160};
+    double err[3];
+    for (int m = 0; m < 3; m++) {
+        struct muflow_case cs;
+        char o1[64];
+        snprintf(o1, sizeof o1, "domain.nz=%d", nz[m]);
+        char *ov[] = {o1, "rheology.curve=barker_gray"};
+        load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+        struct run_result r;
+        run(&cs, &r);
+        print_message("bagnold barker_gray H/%-3d %s in %3ld steps: err_rms %.3e u_surface "
+                      "%.6f (exact %.6f)\n",
+                      nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
+                      r.errors.headline, r.errors.headline_exact);
+        assert_int_equal(r.status, STATUS_STEADY);
+        err[m] = r.errors.err_rms;
+        if (nz[m] == 40)
+            assert_true(r.errors.err_rms <= 2e-4);
+    }
+    double order = log2(err[0] / err[2]) / 4.0;
+    print_message("bagnold barker_gray RMS order H/10 -> H/160: %.3f\n", order);
+    assert_true(order >= 1.8);
+
+    struct muflow_case cs;
+    char *ov[] = {"physics.tilt=0.36", "rheology.curve=barker_gray"};
+    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    double ia = rheology_i_of_mu(&cs.rheo, tan(0.36));
+    assert_true(ia > 0.0 && ia < cs.rheo.i1n); /* the low branch */
+    struct run_result r;
+    run(&cs, &r);
+    print_message("bagnold barker_gray tilt 0.36 (I_a %.3e, I_1^N %.4g): %s in %ld steps, "
+                  "u_surface %.6f (exact %.6f), err_rms %.3e\n",
+                  ia, cs.rheo.i1n, run_status_name(r.status), r.steps, r.errors.headline,
+                  r.errors.headline_exact, r.errors.err_rms);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.errors.headline_exact > 0.1);
+    assert_true(fabs(r.errors.headline - r.errors.headline_exact) <=
+                1e-3 * r.errors.headline_exact);
+    assert_true(r.errors.err_rms <= 1e-3 * r.errors.headline_exact);
+}
+
 static void chute_run(const char *reg, int ny, const char *lambda, struct run_result *r)
 {
     struct muflow_case cs;
@@ -242,6 +296,9 @@ static void test_cli_bad_input(void **state)
         {CASES_DIR "bagnold.ini domain.nz=ten", "domain.nz"},
         {CASES_DIR "bagnold.ini rheology.lamda=1e-8", "rheology.lambda"},
         {CASES_DIR "bagnold.ini boundary.xlo=wall", "boundary.x"},
+        {CASES_DIR "bagnold.ini rheology.curve=barker_gray rheology.alpha=2", "rheology.alpha"},
+        {CASES_DIR "bagnold.ini rheology.curve=barker_gray rheology.mu_s=2",
+         "rheology.mu_s = 2, rheology.delta_mu = 0.26, rheology.i0 = 0.279"},
         {CASES_DIR "missing.ini", "missing.ini"},
     };
     char dir[] = "/tmp/muflow_cli_XXXXXX";
@@ -317,6 +374,7 @@ void group_scenes(struct test_tally *t)
         cmocka_unit_test(test_chute_regularisations),
         cmocka_unit_test(test_chute_lambda),
         cmocka_unit_test(test_chute_lambda_1e8),
+        cmocka_unit_test(test_bagnold_barker_gray),
         cmocka_unit_test(test_bagnold_below_threshold),
         cmocka_unit_test(test_bagnold_above_threshold),
         cmocka_unit_test(test_transient_startup),

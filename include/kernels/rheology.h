@@ -13,12 +13,35 @@
  * The pressure entering mu(I) is the regularised total pressure
  *   p_reg = (p + sqrt(p^2 + lam^2)) / 2 .
  * Papanastasiou is evaluated with expm1 and a series near |D| = 0, so a fluid
- * at rest has the finite limit mu_s p / lam, never 0/0. */
+ * at rest has the finite limit mu_s p / lam, never 0/0.
+ *
+ * The friction curve mu(I) of the law (rheology.curve):
+ *   jop           mu = mu_s + dmu I / (I0 + I), the forms above.
+ *   barker_gray   the partially regularised curve of Barker & Gray (2017),
+ *                 mu_2 = mu_s + dmu:
+ *                   mu = sqrt(alpha / ln(A_minus / I))                  I <= I_1^N
+ *                   mu = (mu_s I0 + mu_2 I + mu_inf I^2) / (I0 + I)    I >  I_1^N
+ *                 I_1^N is the lower root of the well-posedness function
+ *                 C(I) = 4 nu^2 - 4 nu + mu^2 (1 - nu/2)^2, nu = I mu'/mu, of the
+ *                 jop curve (well posed where C < 0), and
+ *                 A_minus = I_1^N exp(alpha / mu_high(I_1^N)^2) makes mu continuous.
+ *                 The low branch has nu = mu^2 / (2 alpha), so it is well posed
+ *                 down to I = 0 only for alpha < 2; mu(0) = 0 (no static yield).
+ *                 The whole curve takes the place of the yield stress in each
+ *                 regularised kernel f(|D|) (the yield kernel of the regularisation:
+ *                 simple 1/(|D| + lam), bercovier and mc 1/sqrt(|D|^2 + lam^2),
+ *                 papanastasiou (1 - exp(-|D|/lam)) / |D|), with I from |D| itself:
+ *                   eta = mu(I) p_reg f(|D|),
+ *                 so for mc it is mc's form with the curve in the bracket, and a
+ *                 fluid at rest has eta = 0 (mu(0) = 0), finite in every form. */
 #ifndef MUFLOW_RHEOLOGY_H
 #define MUFLOW_RHEOLOGY_H
 
+#include <stddef.h>
+
 enum rheology_law { LAW_MUI = 0, LAW_BINGHAM, LAW_NEWTONIAN };
 enum regularisation { REG_SIMPLE = 0, REG_BERCOVIER, REG_PAPANASTASIOU, REG_MC };
+enum rheology_curve { CURVE_JOP = 0, CURVE_BARKER_GRAY };
 
 struct rheology {
     enum rheology_law law;
@@ -27,6 +50,11 @@ struct rheology {
     int pressure_regularisation; /* 1: p_reg as above; 0: max(p, 0) */
     /* mu(I) */
     double mu_s, delta_mu, i0;
+    enum rheology_curve curve; /* the friction curve mu(I) */
+    double alpha, mu_inf;     /* barker_gray: low-I exponent, high-I slope */
+    /* barker_gray, derived when the case is loaded (rheology_curve_setup),
+     * not keys: the lower well-posed bound I_1^N and A_minus */
+    double i1n, a_minus;
     double phi;               /* solid volume fraction */
     double grain_diameter;    /* d */
     double grain_density;     /* rho_s */
@@ -51,13 +79,40 @@ double rheology_pressure(const struct rheology *r, double p, double *dpreg_dp);
  * (already regularised) pressure p_reg >= 0. */
 void rheology_eval(const struct rheology *r, double shear, double p_reg, struct rheology_point *out);
 
-/* Unregularised mu(I) friction coefficient, for analytic solutions and tests. */
+/* Unregularised mu(I) friction coefficient of r's curve, for analytic
+ * solutions and tests (barker_gray needs rheology_curve_setup first). */
 double rheology_mu_of_i(const struct rheology *r, double inertial_number);
+
+/* The inverse of rheology_mu_of_i: the I at which r's curve reaches mu
+ * (analytic solutions at a given friction, e.g. the Bagnold profile); 0 at or
+ * below the curve's value at rest (mu_s; 0 for barker_gray), NAN at or above
+ * its bound (mu_s + delta_mu; barker_gray with mu_inf > 0 has none). */
+double rheology_i_of_mu(const struct rheology *r, double mu);
+
+/* The well-posedness function C(I) = 4 nu^2 - 4 nu + mu^2 (1 - nu/2)^2,
+ * nu = I mu'(I) / mu(I), of the given curve with r's parameters at I > 0
+ * (Barker et al. 2015; well posed where C < 0).  curve may differ from
+ * r->curve: CURVE_JOP is the standard curve whose lower root is I_1^N. */
+double rheology_well_posedness(const struct rheology *r, enum rheology_curve curve, double I);
+
+/* Bracket of I_1^N, [RHEOLOGY_I1N_LOW, the I where the jop curve's mu is
+ * tan((atan mu_s + atan mu_2) / 2)], as in the public implementation the
+ * refdata item 6 follows. */
+#define RHEOLOGY_I1N_LOW 1e-9
+
+/* Derived values of the curve, once per case: for barker_gray, I_1^N (the
+ * lower root of the jop curve's C(I), by GSL's Brent solver) and A_minus
+ * into r; for jop nothing.  Returns 0, or 1 with one line in msg naming the
+ * keys (rheology.alpha out of (0, 2), or no well-posed I_1^N for
+ * rheology.mu_s / delta_mu / i0).  Not for the kernels' loops: it allocates
+ * the root finder. */
+int rheology_curve_setup(struct rheology *r, char *msg, size_t msglen);
 
 /* Inertial number I = |D| d / sqrt(p / rho_s) (0 when p <= 0). */
 double rheology_inertial_number(const struct rheology *r, double shear, double p);
 
 const char *rheology_law_name(enum rheology_law law);
 const char *regularisation_name(enum regularisation reg);
+const char *rheology_curve_name(enum rheology_curve curve);
 
 #endif

@@ -124,6 +124,11 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
            regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads(),
            st->memory_estimate / 1e6);
+    /* the curve's derived values, which no key shows (jop: nothing to add) */
+    if (cs->rheo.law == LAW_MUI && cs->rheo.curve != CURVE_JOP)
+        printf("muflow %s: mu(I) curve %s: alpha %g, mu_inf %g, I_1^N = %.8g, A_minus = %.8g\n",
+               cs->name, rheology_curve_name(cs->rheo.curve), cs->rheo.alpha, cs->rheo.mu_inf,
+               cs->rheo.i1n, cs->rheo.a_minus);
     if (restart_from)
         printf("muflow %s: continuing from %s at step %ld, t = %.6g\n", cs->name, restart_from,
                st->step, st->time);

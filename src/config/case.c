@@ -36,6 +36,8 @@ static const struct choice law_choices[] = {
 static const struct choice reg_choices[] = {
     {"simple", REG_SIMPLE}, {"bercovier", REG_BERCOVIER},
     {"papanastasiou", REG_PAPANASTASIOU}, {"mc", REG_MC}, {NULL, 0}};
+static const struct choice curve_choices[] = {
+    {"jop", CURVE_JOP}, {"barker_gray", CURVE_BARKER_GRAY}, {NULL, 0}};
 static const struct choice mode_choices[] = {
     {"steady", MODE_STEADY}, {"transient", MODE_TRANSIENT}, {NULL, 0}};
 static const struct choice dir_choices[] = {
@@ -49,6 +51,7 @@ static const struct choice precond_choices[] = {
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum rheology_law) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum regularisation) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum rheology_curve) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum solver_mode) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 
@@ -118,6 +121,15 @@ static const struct key keys[] = {
     DBL("rheology", "mu_s", rheo.mu_s, GE0, "static friction coefficient mu_s (mu(I))"),
     DBL("rheology", "delta_mu", rheo.delta_mu, GE0, "friction increase mu_2 - mu_s (mu(I))"),
     DBL("rheology", "i0", rheo.i0, GT0, "reference inertial number I_0 (mu(I))"),
+    CHO("rheology", "curve", rheo.curve, curve_choices,
+        "friction curve of mu(I): jop (mu_s + delta_mu I/(I0 + I)) or barker_gray (partially "
+        "regularised, well posed below I_1^N; include/kernels/rheology.h)"),
+    DBLT("rheology", "alpha", rheo.alpha, RANGE(0, 2, 0, 0),
+         "must be in (0, 2): the barker_gray low-I branch is well posed only for alpha < 2",
+         "barker_gray: alpha of the low-I branch mu = sqrt(alpha / ln(A_minus / I)), well posed "
+         "only for alpha < 2"),
+    DBL("rheology", "mu_inf", rheo.mu_inf, GE0,
+        "barker_gray: mu_inf of the high-I branch (mu_s I0 + mu_2 I + mu_inf I^2) / (I0 + I)"),
     DBL("rheology", "phi", rheo.phi, RANGE(0, 1, 0, 1), "solid volume fraction phi"),
     DBL("rheology", "grain_diameter", rheo.grain_diameter, GT0, "grain diameter d (length)"),
     {"rheology", "grain_density", K_DOUBLE, offsetof(T, rheo.grain_density), GT0, NULL, NULL, 0,
@@ -205,6 +217,9 @@ void case_defaults(struct muflow_case *c)
     c->rheo.mu_s = 0.383;
     c->rheo.delta_mu = 0.26;
     c->rheo.i0 = 0.279;
+    c->rheo.curve = CURVE_JOP;
+    c->rheo.alpha = 1.9;  /* Barker & Gray (2017), as in the refdata item 6 */
+    c->rheo.mu_inf = 0.05;
     c->rheo.phi = 0.6;
     c->rheo.grain_diameter = 1.0;
     c->rheo.grain_density = 1.0 / 0.6;
@@ -660,6 +675,17 @@ static void finish(struct ctx *x)
              "rheology.yield_stress > 0",
              where);
         return;
+    }
+
+    /* the curve's derived values (I_1^N, A_minus), once, from the final keys */
+    if (c->rheo.law == LAW_MUI) {
+        if (rheology_curve_setup(&c->rheo, msg, sizeof msg) != 0) {
+            fail(x, "%s: %s", where, msg);
+            return;
+        }
+    } else {
+        c->rheo.i1n = 0.0;
+        c->rheo.a_minus = 0.0;
     }
 
     if (!x->set[key_index("output", "dir")]) {

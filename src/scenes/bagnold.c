@@ -4,7 +4,9 @@
  *
  * Exact solution (eqs. 18-19, 30-32): mu(I) = tan(alpha) everywhere, so
  * I = I_a is fixed, p = rho g cos(alpha) (H - z) and du/dz = I_a sqrt(p /
- * rho_s) / d; steady flow exists for mu_s < tan(alpha) < mu_s + dmu only. */
+ * rho_s) / d; steady flow exists for mu_s < tan(alpha) < mu_s + dmu only
+ * (jop curve).  With rheology.curve = barker_gray the same holds with I_a
+ * from that curve, which has no static yield: every tilt flows. */
 #include <math.h>
 #include "diagnostics/profile.h"
 #include "scenes/scene.h"
@@ -14,11 +16,17 @@ static double bagnold_u(const struct muflow_case *cs, double z)
 {
     const struct rheology *r = &cs->rheo;
     double ta = tan(cs->tilt);
-    if (ta <= r->mu_s)
-        return 0.0;
-    if (ta >= r->mu_s + r->delta_mu)
-        return NAN;
-    double ia = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
+    double ia;
+    if (r->curve == CURVE_JOP) {
+        if (ta <= r->mu_s)
+            return 0.0;
+        if (ta >= r->mu_s + r->delta_mu)
+            return NAN;
+        ia = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
+    } else {
+        /* any curve: the I at which it reaches tan(alpha) */
+        ia = rheology_i_of_mu(r, ta);
+    }
     double H = cs->len[2];
     double k = cs->density * cs->gravity * cos(cs->tilt);
     double depth = H - z;

@@ -107,11 +107,17 @@ static double bagnold2_u(const struct muflow_case *cs, double z)
     const struct rheology *r = &cs->rheo;
     const struct bagnold2_params *b = params(cs);
     double ta = tan(cs->tilt);
-    if (ta <= r->mu_s)
-        return 0.0;
-    if (ta >= r->mu_s + r->delta_mu)
-        return NAN;
-    double iz = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
+    double iz;
+    if (r->curve == CURVE_JOP) {
+        if (ta <= r->mu_s)
+            return 0.0;
+        if (ta >= r->mu_s + r->delta_mu)
+            return NAN;
+        iz = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
+    } else {
+        /* any curve: the I at which it reaches tan(alpha), as in bagnold */
+        iz = rheology_i_of_mu(r, ta);
+    }
     double L = cs->len[2], h0 = b->interface_height, rf = b->fluid_density;
     double rs = r->grain_density, rg = r->phi * rs, d = r->grain_diameter;
     double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);

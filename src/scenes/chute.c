@@ -7,6 +7,7 @@
  * I = I0 (k Y - mu_s p) / (A - k Y) integrates in closed form.  Headline:
  * the plug velocity. */
 #include <math.h>
+#include <stdio.h>
 #include "diagnostics/profile.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
@@ -32,8 +33,23 @@ static double chute_u(const struct muflow_case *cs, double y)
 
 POINTWISE_PROFILE(exact_profile, chute_u)
 
+/* The closed form integrates the jop curve (a plug where k |Y| < mu_s p);
+ * another curve would need its own profile. */
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    if (c->rheo.law == LAW_MUI && c->rheo.curve != CURVE_JOP) {
+        snprintf(msg, msglen,
+                 "case.scene = chute needs rheology.curve = jop: its exact profile is that "
+                 "curve's (rheology.curve = %s)",
+                 rheology_curve_name(c->rheo.curve));
+        return 1;
+    }
+    return 0;
+}
+
 const struct scene scene_chute = {
     .name = "chute",
+    .check = check,
     .title = "vertical chute between rough plates under a confining pressure",
     .profile_axis = 1,
     .profile_component = 2,
