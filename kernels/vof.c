@@ -1,6 +1,7 @@
 /* Geometric VOF: PLIC reconstruction, volume/plane-constant relations and the
  * conservative direction-split sweep (see kernels/vof.h). */
 #include <math.h>
+#include "kernels/kernels.h"
 #include "kernels/vof.h"
 
 /* ---- volume / plane constant (Scardovelli & Zaleski 2000) ----------------
@@ -244,7 +245,7 @@ void vof_reconstruct(const struct grid *g, const double *T, double *normal[3], d
 {
     const ptrdiff_t *o = g->stride;
     const int active[3] = {g->n[0] > 1, g->n[1] > 1, g->n[2] > 1};
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -269,7 +270,7 @@ void vof_reconstruct(const struct grid *g, const double *T, double *normal[3], d
 
 void vof_indicator(const struct grid *g, const double *T, double *indicator)
 {
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -286,7 +287,7 @@ void vof_sweep(const struct grid *g, int d, const double *vel_d, double dt,
     const double rate = dt / g->h[d];
     int hi[3] = {g->n[0], g->n[1], g->n[2]};
     hi[d] = g->n[d] + 1; /* faces 0..n along d */
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < hi[0]; i++)
         for (int j = 0; j < hi[1]; j++)
             for (int k = 0; k < hi[2]; k++) {
@@ -303,7 +304,7 @@ void vof_sweep(const struct grid *g, int d, const double *vel_d, double dt,
                 double m[3] = {normal[0][up], normal[1][up], normal[2][up]};
                 flux[p] = vof_slab_fraction(m, alpha[up], T[up], d, lo, width) * u;
             }
-#pragma omp parallel for collapse(2) schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -325,7 +326,7 @@ double vof_cfl(const struct grid *g, double *const vel[3], double dt, double cfl
             const double *u = vel[d];
             int hi[3] = {g->n[0], g->n[1], g->n[2]};
             hi[d] = g->n[d] + 1;
-#pragma omp parallel for collapse(2) schedule(static) reduction(max : mx)
+#pragma omp parallel for collapse(2) schedule(static) reduction(max : mx) if (kernel_parallel(g))
             for (int i = 0; i < hi[0]; i++)
                 for (int j = 0; j < hi[1]; j++)
                     for (int k = 0; k < hi[2]; k++)

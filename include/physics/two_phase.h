@@ -15,8 +15,10 @@
  *              cells); the tangent coefficients of the Newton step follow
  *              the mixing rule's derivative with respect to eta_g.
  * A scene's setup configures it (two_phase_configure) and sets T; T is held
- * fixed unless a transport hook moves it (the VOF transport is the next
- * step: physics/vof_transport.h). */
+ * or, in the transport stage, carried by the projected velocity with the
+ * geometric VOF of physics/vof_transport.h (conservative and bounded to
+ * round-off while the velocity is solenoidal), in sub-steps that keep each
+ * sweep within its CFL limit. */
 #ifndef MUFLOW_PHYSICS_TWO_PHASE_H
 #define MUFLOW_PHYSICS_TWO_PHASE_H
 
@@ -29,6 +31,8 @@ struct two_phase_params {
     double fluid_density;    /* rho_f */
     double fluid_viscosity;  /* eta_f */
     enum mixture_law mixture;
+    int transported;         /* 1: T moves with the flow (geometric VOF, sub-stepped
+                                within each step); 0: T is held */
 };
 
 extern const struct module two_phase_module;

@@ -153,7 +153,9 @@ static const struct key keys[] = {
         "steady: initial pseudo-time step; transient: upper bound of the step"),
     DBL("solver", "dt_max", dt_max, GT0, "steady: cap of the growing pseudo-time step (>= dt)"),
     DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1), "advective CFL number (with physics.advection)"),
-    BOOL("solver", "newton", newton, "consistent tangent viscosity (off: Picard, lagged viscosity)"),
+    BOOL("solver", "newton", newton,
+         "consistent tangent viscosity in steady mode (off: Picard, lagged viscosity; a "
+         "transient step always lags it)"),
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),

@@ -20,8 +20,14 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
         }
     }
     /* Newton's basin shrinks with lambda: far from the solution the lagged
-     * (Picard) viscosity is the robust step, the tangent the fast one near it */
-    int tangent = cs->newton &&
+     * (Picard) viscosity is the robust step, the tangent the fast one near it.
+     * A time-accurate step takes the lagged viscosity: with the tangent, a
+     * linearly implicit step on the friction plateau (where d tau / d gamma
+     * is small) overshoots and, without the steady march's rejections, the
+     * grains' viscosity collapses (a layer under air slid freely at steps of
+     * 2e-4 s; with the lagged viscosity it reaches the steady state,
+     * docs/design.md "Two phases"); for a Newtonian fluid both are one. */
+    int tangent = cs->newton && cs->mode == MODE_STEADY &&
                   (cs->newton_below >= 1.0 || st->residual <= cs->newton_below * st->residual0);
     int diagonal = tangent && !st->full_tangent;
     for (int a = 0; a < 3; a++) {

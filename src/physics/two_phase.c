@@ -2,12 +2,26 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include "kernels/vof.h"
 #include "physics/two_phase.h"
+#include "physics/vof_transport.h"
+
+/* Sub-steps of the transport keep each sweep's CFL number below this
+ * (VOF_CFL_MAX with a margin for the rounding of the ratio). */
+#define TRANSPORT_CFL 0.45
+/* A change of T below this in every cell leaves the density as it was (its
+ * relative effect on the mixture density is below 1e-12 / 1500). */
+#define TRACER_UNCHANGED 1e-12
 
 struct two_phase {
     struct two_phase_params p;
     double *T;
     int configured;
+    int transported;        /* T moves with the flow (else it is held) */
+    struct vof_transport vt;
+    int vt_ready;
+    double *before;         /* T at the start of the transport stage */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -25,7 +39,15 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     return 0;
 }
 
-static void destroy(void *state) { free(state); }
+static void destroy(void *state)
+{
+    struct two_phase *tp = state;
+    if (tp && tp->vt_ready)
+        vof_transport_free(&tp->vt);
+    if (tp)
+        field_free(tp->before);
+    free(state);
+}
 
 double *two_phase_configure(struct march_state *st, const struct two_phase_params *p, char *err,
                             size_t errlen)
@@ -37,6 +59,15 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
     }
     tp->p = *p;
     tp->configured = 1;
+    tp->transported = p->transported;
+    if (tp->transported && !tp->vt_ready) {
+        if (vof_transport_init(&tp->vt, &st->g, &st->bc) != 0 ||
+            !(tp->before = field_alloc(&st->g))) {
+            snprintf(err, errlen, "two phases: out of memory for the transport");
+            return NULL;
+        }
+        tp->vt_ready = 1;
+    }
     return tp->T;
 }
 
@@ -139,9 +170,44 @@ static void properties(struct march_state *st, void *state)
             bc_fill_scalar(g, &st->bc, st->tan_c[a]);
 }
 
+/* The transport stage: T carried by the projected velocity over the step,
+ * geometric VOF (physics/vof_transport.h), in as many equal sub-steps as the
+ * sweeps' CFL limit needs, so that the implicit step's dt is not bound by
+ * it; then the mixture density follows T. */
+static void transport(struct march_state *st, void *state, double dt)
+{
+    struct two_phase *tp = state;
+    if (!tp->configured || !tp->transported)
+        return;
+    double cfl[3];
+    long n = (long)ceil(vof_cfl(&st->g, st->vel, dt, cfl) / TRANSPORT_CFL);
+    if (n < 1)
+        n = 1;
+    bc_fill_velocity(&st->g, &st->bc, st->vel);
+    memcpy(tp->before, tp->T, st->g.size * sizeof(double));
+    for (long m = 0; m < n; m++)
+        vof_transport_step(&tp->vt, tp->T, st->vel, dt / (double)n, NULL);
+    /* the density (and the multigrid's coefficients, rebuilt with a
+     * factorisation of its coarsest level) only when T moved: a flat layer
+     * sheared along itself keeps T to round-off */
+    double moved = 0.0;
+    const struct grid *g = &st->g;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                moved = fmax(moved, fabs(tp->T[q] - tp->before[q]));
+            }
+    if (moved > TRACER_UNCHANGED) {
+        char err[256];
+        two_phase_tracer_changed(st, err, sizeof err);
+    }
+}
+
 const struct module two_phase_module = {
     .name = "two_phase",
     .create = create,
     .properties = properties,
+    .transport = transport,
     .destroy = destroy,
 };

@@ -141,8 +141,10 @@ static void exact_profile(const struct muflow_case *cs, int n, const double *x, 
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct bagnold2_params *b = params(st->cs);
+    /* steady mode holds the flat interface; a transient run carries it */
     const struct two_phase_params tp = {b->fluid_density, b->fluid_viscosity,
-                                        (enum mixture_law)b->mixture};
+                                        (enum mixture_law)b->mixture,
+                                        st->cs->mode == MODE_TRANSIENT};
     double *T = two_phase_configure(st, &tp, err, errlen);
     if (!T)
         return -1;
@@ -210,7 +212,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "err_max_air", "%.6e", ma);
     run_result_add(res, "u_interface", "%.10g", ui);
     run_result_add(res, "u_interface_exact", "%.10g", ui_exact);
-    /* the grains' volume: held here (T is not transported in this scene) */
+    /* the grains' volume against the initial flat layer's */
     double v0 = 0.0;
     for (int k = 0; k < st->g.n[2]; k++)
         v0 += fmin(1.0, fmax(0.0, (h0 - k * st->g.h[2]) / st->g.h[2]));
