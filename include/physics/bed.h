@@ -3,13 +3,14 @@
  * a physics module (march/module.h) that sets, in the properties stage,
  * every viscosity and its Newton tangent (cells and edges) from one mixture
  * velocity:
- *   eta = eta_f + t (eta_e - eta_f) + mu_s p_p f(|D|),
- * t the bed's share of the stress location's control volume (a bed flat at
- * height h_p), eta_e = eta_f (1 + 5 phi0 / 2) the mixture's effective
- * (Einstein) viscosity, f the case's regularised yield kernel ~ 1/|D|
+ *   in the bed   eta_bed = eta_e + mu_s p_p f(|D|),  above it eta_f,
+ * eta_e = eta_f (1 + 5 phi0 / 2) the mixture's effective (Einstein)
+ * viscosity, f the case's regularised yield kernel ~ 1/|D|
  * (rheology.regularisation, rheology.lambda), and p_p the buoyant weight of
- * the grains above, phi0 (rho_p - rho_f) g (h_p - z), averaged over the
- * control volume (so the yield stress is continuous where the bed ends).
+ * the grains above, phi0 (rho_p - rho_f) g (h_p - z), averaged over the bed's
+ * part of the stress location's control volume.  A control volume that the
+ * bed's top (flat, at h_p) cuts, with the bed's share t, takes the two in
+ * series: 1/eta = t / eta_bed + (1 - t) / eta_f.
  * The core's law is only a placeholder (the scene asks for newtonian, the
  * cheapest): the module overwrites what it computed.  The bed is held: the
  * volume fraction is not transported. */
@@ -33,8 +34,8 @@ extern const struct module bed_module;
  * Returns 0, or -1 with the cause in err. */
 int bed_configure(struct march_state *st, const struct bed_params *p, char *err, size_t errlen);
 
-/* The bed fraction t and the mean particle pressure p_p of the control
- * volume [z - dz/2, z + dz/2] (for the module and its tests). */
+/* The bed's share t of the control volume [z - dz/2, z + dz/2] and the
+ * mean particle pressure p_p over that share (0 where t = 0). */
 void bed_point(const struct bed_params *p, double z, double dz, double *t, double *pp);
 
 #endif

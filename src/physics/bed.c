@@ -48,25 +48,38 @@ void bed_point(const struct bed_params *p, double z, double dz, double *t, doubl
     } else {
         /* the bed ends inside: the mean of weight (h - z') over [lo, h] */
         *t = (h - lo) / dz;
-        *pp = p->weight * (h - lo) * (h - lo) / (2.0 * dz);
+        *pp = 0.5 * p->weight * (h - lo);
     }
 }
 
-/* eta and its slope d eta / d|D| at one stress location. */
+/* eta and its slope d eta / d|D| at one stress location.  Where the bed
+ * ends inside the control volume the bed's part (eta_e plus its friction)
+ * and the fluid's are taken in series, 1/eta = t/eta_bed + (1 - t)/eta_f:
+ * the shear stress is continuous across the bed's top, so the velocity
+ * jump over the volume is the sum of the two parts' strains.  The
+ * arithmetic mean made the whole fluid profile first-order wrong (measured:
+ * err_rms order 0.93 with the bed top on a face, docs/design.md). */
 static inline double point_eta(const struct bed_params *p, const struct rheology *r, double z,
                                double dz, double shear, double *deta)
 {
     double t, pp, f, df;
     bed_point(p, z, dz, &t, &pp);
-    double eta_e = p->fluid_viscosity * (1.0 + 2.5 * p->phi);
-    double eta = p->fluid_viscosity + t * (eta_e - p->fluid_viscosity);
+    if (t <= 0.0) {
+        *deta = 0.0;
+        return p->fluid_viscosity;
+    }
+    double eb = p->fluid_viscosity * (1.0 + 2.5 * p->phi), deb = 0.0;
     if (pp > 0.0) {
         rheology_yield_kernel(r->reg, shear, r->lambda, &f, &df);
-        eta += p->mu_s * pp * f;
-        *deta = p->mu_s * pp * df;
-    } else {
-        *deta = 0.0;
+        eb += p->mu_s * pp * f;
+        deb = p->mu_s * pp * df;
     }
+    if (t >= 1.0) {
+        *deta = deb;
+        return eb;
+    }
+    double eta = 1.0 / (t / eb + (1.0 - t) / p->fluid_viscosity);
+    *deta = eta * eta * t / (eb * eb) * deb;
     return eta;
 }
 
