@@ -150,18 +150,23 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     struct bedload_exact x = exact_of(c);
+    if (!(x.G < 0.0)) {
+        snprintf(msg, msglen, "physics.tilt = %.17g: the pressure gradient must drive the flow "
+                              "along +x (physics.density * gravity * sin(tilt) > 0; G = %.6g)",
+                 c->tilt, x.G);
+        return 1;
+    }
     if (!(x.A > 0.0)) {
         snprintf(msg, msglen, "bedload.mu_s = %.17g: no bed load, A = G + mu_s phi = %.6g <= 0 "
-                              "(G = %.6g: the pressure gradient physics.density * gravity * "
-                              "sin(tilt) over the buoyant weight moves the whole bed)",
+                              "(G = %.6g: the friction cannot hold the bed against the pressure "
+                              "gradient)",
                  b->mu_s, x.A, x.G);
         return 1;
     }
     if (!(x.delta > 0.0 && x.delta <= x.h)) {
         snprintf(msg, msglen, "bedload.bed_height = %.17g: no bed load for these parameters, the "
-                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g] (G = "
-                              "%.6g must be < 0: physics.gravity * sin(physics.tilt) > 0)",
-                 b->bed_height, x.delta, x.h, x.G);
+                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g]",
+                 b->bed_height, x.delta, x.h);
         return 1;
     }
     return 0;
