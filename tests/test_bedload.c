@@ -11,10 +11,12 @@
  * The measured mobile layer is within 0.25 cells of the exact one on every
  * grid of the study, so that is the bound; err_rms bounds are the measured
  * values plus 15%. */
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include "app/run.h"
+#include "physics/bed.h"
 #include "test_main.h"
 
 #define CASE "../cases/bedload.ini"
@@ -80,6 +82,50 @@ static void test_set_b(void **state)
     assert_true(fabs(run_result_value(&r, "mobile_layer") - me) <= 0.25 * dz);
 }
 
+/* The bed's viscosity: its three parts, and its slope (the module's Newton
+ * tangents) against central differences, for every regularisation, in the
+ * bed, in a volume the bed's top cuts and above it. */
+static void test_viscosity(void **state)
+{
+    (void)state;
+    const struct bed_params p = {.height = 0.03, .phi = 0.6, .fluid_viscosity = 0.27,
+                                 .mu_s = 0.32, .weight = 0.6 * 120.0 * 9.81};
+    const double dz = 0.002, eta_e = 0.27 * 2.5;
+    double t, pp;
+    bed_point(&p, 0.01, dz, &t, &pp);
+    assert_true(t == 1.0 && fabs(pp - p.weight * 0.02) <= 1e-12 * pp);
+    bed_point(&p, 0.0305, dz, &t, &pp); /* the volume [0.0295, 0.0315] */
+    assert_true(fabs(t - 0.25) < 1e-12 && fabs(pp - p.weight * 0.00025) <= 1e-9 * pp);
+    bed_point(&p, 0.032, dz, &t, &pp);
+    assert_true(t == 0.0 && pp == 0.0);
+    const enum regularisation regs[] = {REG_SIMPLE, REG_BERCOVIER, REG_PAPANASTASIOU, REG_MC};
+    const double zs[] = {0.01, 0.0295, 0.0305, 0.05};
+    const double shears[] = {1e-7, 1e-6, 3e-6, 1e-3, 2.0};
+    for (int ir = 0; ir < 4; ir++) {
+        struct rheology r = {.law = LAW_NEWTONIAN, .reg = regs[ir], .lambda = 1e-6};
+        for (int iz = 0; iz < 4; iz++)
+            for (int is = 0; is < 5; is++) {
+                double D = shears[is], d, dp, dm, f, df;
+                double eta = bed_viscosity(&p, &r, zs[iz], dz, D, &d);
+                bed_point(&p, zs[iz], dz, &t, &pp);
+                rheology_yield_kernel(r.reg, D, r.lambda, &f, &df);
+                double eb = eta_e + p.mu_s * pp * f;
+                double want = t >= 1.0 ? eb
+                              : t <= 0.0 ? 0.27
+                                         : 1.0 / (t / eb + (1.0 - t) / 0.27);
+                assert_true(fabs(eta / want - 1.0) <= 1e-13);
+                double hs = 1e-5 * D;
+                double ep = bed_viscosity(&p, &r, zs[iz], dz, D + hs, &dp);
+                double em = bed_viscosity(&p, &r, zs[iz], dz, D - hs, &dm);
+                double fd = (ep - em) / (2.0 * hs);
+                if (t <= 0.0)
+                    assert_true(d == 0.0);
+                else /* truncation, plus the rounding of eta over 2 hs */
+                    assert_true(fabs(fd - d) <= 1e-6 * fabs(d) + 100.0 * DBL_EPSILON * eta / hs);
+            }
+    }
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -113,6 +159,7 @@ static void test_bad_input(void **state)
 void group_bedload(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_viscosity),
         cmocka_unit_test(test_set_a),
         cmocka_unit_test(test_set_b),
         cmocka_unit_test(test_bad_input),

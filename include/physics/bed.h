@@ -38,4 +38,10 @@ int bed_configure(struct march_state *st, const struct bed_params *p, char *err,
  * mean particle pressure p_p over that share (0 where t = 0). */
 void bed_point(const struct bed_params *p, double z, double dz, double *t, double *pp);
 
+/* The viscosity of the stress location at height z (control volume of
+ * height dz) at shear rate |D| = shear, and d eta / d|D| in *deta (what the
+ * module's tangents are built from; r gives the regularisation). */
+double bed_viscosity(const struct bed_params *p, const struct rheology *r, double z, double dz,
+                     double shear, double *deta);
+
 #endif

@@ -59,8 +59,8 @@ void bed_point(const struct bed_params *p, double z, double dz, double *t, doubl
  * jump over the volume is the sum of the two parts' strains.  The
  * arithmetic mean made the whole fluid profile first-order wrong (measured:
  * err_rms order 0.93 with the bed top on a face, docs/design.md). */
-static inline double point_eta(const struct bed_params *p, const struct rheology *r, double z,
-                               double dz, double shear, double *deta)
+double bed_viscosity(const struct bed_params *p, const struct rheology *r, double z, double dz,
+                     double shear, double *deta)
 {
     double t, pp, f, df;
     bed_point(p, z, dz, &t, &pp);
@@ -101,7 +101,7 @@ static void properties(struct march_state *st, void *state)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 double D = sqrt(st->shear2[q]), de;
-                double eta = point_eta(p, r, (k + 0.5) * dz, dz, D, &de);
+                double eta = bed_viscosity(p, r, (k + 0.5) * dz, dz, D, &de);
                 st->eta[q] = eta;
                 if (st->b_c)
                     st->b_c[q] = D > 0.0 ? de / (2.0 * D) : 0.0;
@@ -122,7 +122,7 @@ static void properties(struct march_state *st, void *state)
                     double own = st->e2[c][e];
                     double D = sqrt(kernel_edge_shear2(g, st->cn2, st->e2, c, e)), de;
                     double z = c == 2 ? (k + 0.5) * dz : k * dz;
-                    double eta = point_eta(p, r, z, dz, D, &de);
+                    double eta = bed_viscosity(p, r, z, dz, D, &de);
                     st->eta_e[c][e] = eta;
                     if (cs->newton)
                         st->tan_e[c][e] = D > 0.0 ? eta + de * own / D : eta;
