@@ -36,6 +36,12 @@ void rheology_eval(const struct rheology *r, double shear, double p_reg, struct 
     rheo_eval(r, r->law, r->reg, r->curve, shear, p_reg, out);
 }
 
+void rheology_yield_kernel(enum regularisation reg, double shear, double lambda, double *f,
+                           double *df)
+{
+    rheo_yield_kernel(reg, fabs(shear), lambda, f, df);
+}
+
 /* mu and m1 = I mu'(I) of the curve mu_s + dmu r + mu_inf I r, r = I/(I0+I)
  * (the jop curve for mu_inf = 0), at finite I > 0. */
 static void high_branch(const struct rheology *r, double mu_inf, double I, double *mu,

@@ -170,3 +170,14 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
                 }
     }
 }
+
+double kernel_edge_shear2(const struct grid *g, const double *cn2, double *const e2[3], int c,
+                          ptrdiff_t e)
+{
+    const ptrdiff_t *o = g->stride;
+    int a, b;
+    plane_dirs(c, &a, &b);
+    /* the same sum as viscosity_edges_loop */
+    return e2[c][e] + mean4(cn2, e, o[a], o[b]) + mean4(e2[b], e + o[c], o[c], o[b]) +
+           mean4(e2[a], e + o[c], o[c], o[a]);
+}

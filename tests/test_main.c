@@ -55,6 +55,7 @@ static const struct {
     {"two_phase", group_two_phase},
     {"outputs", group_outputs},
     {"honest", group_honest},
+    {"bedload", group_bedload},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -51,6 +51,13 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
                             double *eta, double *tan_c[3], double *shear2, double *preg,
                             double *b_c);
 
+/* |D|^2 on edge e of plane c (the edge's own shear component plus the mean
+ * squares of the other components around it), exactly as
+ * kernel_viscosity_edges evaluates it: for a module that sets edge
+ * viscosities of its own law (physics/bed.h) and must see the same |D|. */
+double kernel_edge_shear2(const struct grid *g, const double *cn2, double *const e2[3], int c,
+                          ptrdiff_t e);
+
 /* Edge viscosity of each shear component and its tangent coefficient
  * eta + (d eta/d|D|) gamma_ab^2 / |D| (derivative of tau_ab = eta gamma_ab
  * with respect to gamma_ab), on face indices 0..n along a and b, cells

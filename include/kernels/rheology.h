@@ -79,6 +79,12 @@ double rheology_pressure(const struct rheology *r, double p, double *dpreg_dp);
  * (already regularised) pressure p_reg >= 0. */
 void rheology_eval(const struct rheology *r, double shear, double p_reg, struct rheology_point *out);
 
+/* The regularised yield kernel f(|D|) ~ 1/|D| of reg (simple, bercovier and
+ * mc, papanastasiou: the forms above) and f'(|D|), for a module that adds a
+ * yield stress of its own (physics/bed.h: the bed's Coulomb friction). */
+void rheology_yield_kernel(enum regularisation reg, double shear, double lambda, double *f,
+                           double *df);
+
 /* Unregularised mu(I) friction coefficient of r's curve, for analytic
  * solutions and tests (barker_gray needs rheology_curve_setup first). */
 double rheology_mu_of_i(const struct rheology *r, double inertial_number);

@@ -13,7 +13,8 @@
     X(bingham_cavity)      \
     X(heap)                \
     X(couette)             \
-    X(bagnold2)
+    X(bagnold2)            \
+    X(bedload)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)
