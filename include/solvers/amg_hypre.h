@@ -5,7 +5,9 @@
  * up on it afresh at each amg_hypre_setup.  Serial: hypre runs on one MPI
  * rank (MPI_COMM_SELF); MPI is initialised on first use if the program did
  * not (and finalised at exit).  This file and amg_hypre.c are the only
- * places that know about hypre or MPI. */
+ * places that know about hypre or MPI.  The program does not link them:
+ * hypre's shared library (and with it OpenMPI) is opened on first use
+ * (dlopen), so runs without the AMG do not pay for loading them. */
 #ifndef MUFLOW_AMG_HYPRE_H
 #define MUFLOW_AMG_HYPRE_H
 
@@ -43,8 +45,14 @@ void amg_options_describe(const struct amg_options *o, char *buf, size_t len);
 
 struct amg_hypre;
 
+/* Opens hypre's library if not yet open: 1 when it is there, else 0 with a
+ * one-line message naming solver.preconditioner = amg.  (The environment
+ * variable MUFLOW_HYPRE_LIB names another file to open.) */
+int amg_hypre_available(char *err, size_t errlen);
+
 /* For n unknowns; dof_func[k] the velocity component of unknown k (copied,
- * used with systems).  Returns 0, or -1 with a message. */
+ * used with systems).  Returns 0, or -1 with a message (a missing library:
+ * amg_hypre_available's). */
 int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
                      const struct amg_options *o, char *err, size_t errlen);
 void amg_hypre_destroy(struct amg_hypre *a);
