@@ -65,6 +65,11 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
 /* x = one V-cycle applied to b (from x = 0). */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
 
+/* Bytes hypre takes for a hierarchy of this many unknowns (with the default
+ * options, the full tangent on a 2D grid), its library and MPI included: a
+ * measured model for the run's memory estimate. */
+double amg_hypre_memory_estimate(long unknowns);
+
 /* Levels and operator complexity (sum of the levels' entries over A's) of the
  * last setup. */
 int amg_hypre_levels(const struct amg_hypre *a);
