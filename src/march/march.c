@@ -86,13 +86,16 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
 
 /* Above this many unknowns auto takes BoomerAMG (GMRES(20), one V-cycle an
  * iteration) instead of the LU for a flow with Newton's full tangent and no
- * grad-div augmentation.  Measured on the heap at the tilt 0.4061, one
- * process after the other, 1 thread, CPU s per step of the steady solve:
- * 35 x 50 (5,250) LU 0.082, AMG 0.073 (a tie within the noise); 70 x 100
- * (21,000) LU 0.59, AMG 0.31 (docs/design.md: 2.7x at 140 x 200, 5x and
- * 2.6x less memory at 280 x 400).  With the augmentation (the cavity)
- * BoomerAMG's GMRES stalls: the LU stays. */
-#define AMG_MIN_UNKNOWNS 20000L
+ * grad-div augmentation.  Measured on the heap at the tilt 0.4061 (one
+ * steady solve, the same steps and state with either), one process after
+ * the other, 1 thread, CPU s per step of the whole run (two rounds):
+ * 35 x 50 (5,250 unknowns) LU 0.082-0.093, AMG 0.075-0.076 (within the
+ * noise); 50 x 70 (10,500) LU 0.235-0.243, AMG 0.170-0.172 (1.4x);
+ * 70 x 100 (21,000) LU 0.55-0.67, AMG 0.37 (1.5-1.8x; docs/design.md per
+ * linear solve: 2x, 2.7x at 140 x 200, 5x and 2.6x less memory at
+ * 280 x 400).  Below the threshold the exact LU, as fast, is kept.  With the
+ * augmentation (the cavity) BoomerAMG's GMRES stalls: the LU stays. */
+#define AMG_MIN_UNKNOWNS 10000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
 {
