@@ -18,7 +18,8 @@ DEB_PKGS += libopenblas0-serial
 # h5py), which the tools test group runs
 DEB_PKGS += python3-matplotlib python3-h5py
 # hypre's BoomerAMG (the amg preconditioner, src/solvers/amg_hypre.c); Debian
-# builds it with OpenMPI, so MPI's headers and library come along (one rank)
+# builds it with OpenMPI, so MPI's headers and library come along (one rank);
+# the headers give amg_hypre.c its types, the libraries are opened at run time
 DEB_PKGS += libhypre-dev libopenmpi-dev
 PC_PKGS  = fftw3 hdf5 gsl inih
 PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
@@ -28,7 +29,8 @@ ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
 LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
           -lumfpack -lsuitesparseconfig -lm
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
-# the first AMG is created (every other run starts 7 ms faster), by the soname
+# the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
+# shared libraries instead of 74: bench/analysis.md), by the soname
 # the -dev package's libHYPRE.so points to; mpi.h and hypre's headers give the
 # types.  ompi-c is only in the Cflags' packages.
 HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
