@@ -18,14 +18,22 @@ DEB_PKGS += libopenblas0-serial
 # h5py), which the tools test group runs
 DEB_PKGS += python3-matplotlib python3-h5py
 # hypre's BoomerAMG (the amg preconditioner, src/solvers/amg_hypre.c); Debian
-# builds it with OpenMPI, so MPI's headers and library come along (one rank)
+# builds it with OpenMPI, so MPI's headers and library come along (one rank);
+# the headers give amg_hypre.c its types, the libraries are opened at run time
 DEB_PKGS += libhypre-dev libopenmpi-dev
-PC_PKGS  = fftw3 hdf5 gsl inih ompi-c
+PC_PKGS  = fftw3 hdf5 gsl inih
+PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
-             $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
+             $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
              -I/usr/include/hypre
-LDLIBS  = -lfftw3_omp -lHYPRE $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
+LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
           -lumfpack -lsuitesparseconfig -lm
+# hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
+# the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
+# shared libraries instead of 74: bench/analysis.md), by the soname
+# the -dev package's libHYPRE.so points to; mpi.h and hypre's headers give the
+# types.  ompi-c is only in the Cflags' packages.
+HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
 BUILD   ?= build
 
 # The version, defined here only: `git describe` of a release tag vX.Y.Z when
@@ -71,6 +79,8 @@ $(BUILD)/version: FORCE
 	@echo '$(VERSION)' | cmp -s - $@ || echo '$(VERSION)' > $@
 $(BUILD)/obj/src/app/main.o: $(BUILD)/version
 $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
+# the hypre library amg_hypre.c opens (HYPRE_LIB above)
+$(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_HYPRE_LIB='"$(HYPRE_LIB)"')
 
 print-version:
 	@echo '$(VERSION)'
@@ -172,7 +182,8 @@ FUZZ_FLAGS   = -std=c11 -Wall -Wextra -g -O1 -fopenmp -Iinclude -I/usr/include/s
                -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
 $(FUZZ_BUILD)/fuzz_case: $(FUZZ_SRC) $(HEADERS)
 	@mkdir -p $(FUZZ_BUILD)
-	$(FUZZ_CC) $(FUZZ_FLAGS) $(shell pkg-config --cflags $(PC_PKGS) 2>/dev/null) $(FUZZ_SRC) -o $@ \
+	$(FUZZ_CC) $(FUZZ_FLAGS) $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/hypre \
+	  $(FUZZ_SRC) -o $@ \
 	  $(LDLIBS)
 fuzz:
 	@$(MAKE) --no-print-directory deps DEB_PKGS="$(DEB_PKGS) $(FUZZ_PKGS)"

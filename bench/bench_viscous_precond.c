@@ -104,8 +104,10 @@ int main(int argc, char **argv)
     snprintf(o1, sizeof o1, heap ? "domain.ny=%d" : "domain.nx=%d", n1);
     snprintf(o2, sizeof o2, "domain.nz=%d", n2);
     snprintf(o3, sizeof o3, "solver.max_steps=%ld", steps);
-    char *ov[32] = {o1, o2, o3, "output.quiet=on"};
-    int nov = 4;
+    /* the march is created with the LU (auto would take the AMG above 1e4
+     * unknowns) and its solver swapped below for MUFLOW_PRECOND's */
+    char *ov[32] = {o1, o2, o3, "output.quiet=on", "solver.preconditioner=lu"};
+    int nov = 5;
     if (heap) {
         ov[nov++] = "heap.flow_rate=0";
         ov[nov++] = "physics.tilt=0.4061";
@@ -171,7 +173,8 @@ int main(int argc, char **argv)
     if (heap) {
         q = heap_flow_rate(&st);
         struct heap_profile hp;
-        if (heap_profile_extract(&hp, &st, cs.heap.depth_fraction) == 0) {
+        const struct heap_params *hpar = case_scene_params(&cs);
+        if (heap_profile_extract(&hp, &st, hpar->depth_fraction) == 0) {
             us = hp.u_surface_mid;
             heap_profile_free(&hp);
         }

@@ -5,6 +5,8 @@
 #include <string.h>
 #include "test_main.h"
 #include "solvers/viscous.h"
+#include "config/case.h"
+#include "march/march.h"
 
 struct vfix {
     struct grid g;
@@ -300,12 +302,57 @@ void group_viscous(struct test_tally *t)
     RUN_GROUP(t, "viscous", tests);
 }
 
+/* solver.preconditioner = auto (march.c, choose_preconditioner): the AMG
+ * for a grid bounded in two directions with Newton's full tangent, no
+ * augmentation and more than 1e4 unknowns; the LU below that or with the
+ * grad-div augmentation; Cholesky without Newton.  Only the choice is
+ * checked (march_create), no step is taken. */
+static enum viscous_precond auto_choice(const char *file, int n, char *ov[])
+{
+    struct muflow_case cs;
+    char err[512];
+    int rc = case_load(&cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    struct march_state st;
+    rc = march_create(&st, &cs, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    enum viscous_precond kind = st.precond;
+    march_destroy(&st);
+    return kind;
+}
+
+static void test_auto_choice(void **state)
+{
+    (void)state;
+    /* the heap: 14 x 20 (840 unknowns) as the heap tests run it and 35 x 50
+     * (5,250), the LU; 70 x 100 (21,000), the paper's mesh, the AMG */
+    char *coarse[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 3, coarse), VISCOUS_LU);
+    char *mid[] = {"domain.ny=35", "domain.nz=50", "heap.flow_rate=0"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 3, mid), VISCOUS_LU);
+    char *fine[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 3, fine), VISCOUS_AMG);
+    char *picard[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0", "solver.newton=off"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 4, picard), VISCOUS_CHOLESKY);
+    char *lu[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
+                  "solver.preconditioner=lu"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 4, lu), VISCOUS_LU);
+    /* the cavity with its augmentation at 24,300 unknowns keeps the LU */
+    char *cavity[] = {"domain.nx=90", "domain.nz=90"};
+    assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 2, cavity), VISCOUS_LU);
+}
+
 /* Its own group: hypre initialises MPI (OpenMPI), under which LeakSanitizer's
  * exit-time scan crashes; `make check-asan` runs it without leak detection. */
 void group_amg(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_amg_matches_lu_2d),
+        cmocka_unit_test(test_auto_choice),
     };
     RUN_GROUP(t, "amg", tests);
 }

@@ -5,7 +5,9 @@
  * up on it afresh at each amg_hypre_setup.  Serial: hypre runs on one MPI
  * rank (MPI_COMM_SELF); MPI is initialised on first use if the program did
  * not (and finalised at exit).  This file and amg_hypre.c are the only
- * places that know about hypre or MPI. */
+ * places that know about hypre or MPI.  The program does not link them:
+ * hypre's shared library (and with it OpenMPI) is opened on first use
+ * (dlopen), so runs without the AMG do not pay for loading them. */
 #ifndef MUFLOW_AMG_HYPRE_H
 #define MUFLOW_AMG_HYPRE_H
 
@@ -43,8 +45,14 @@ void amg_options_describe(const struct amg_options *o, char *buf, size_t len);
 
 struct amg_hypre;
 
+/* Opens hypre's library if not yet open: 1 when it is there, else 0 with a
+ * one-line message naming solver.preconditioner = amg.  (The environment
+ * variable MUFLOW_HYPRE_LIB names another file to open.) */
+int amg_hypre_available(char *err, size_t errlen);
+
 /* For n unknowns; dof_func[k] the velocity component of unknown k (copied,
- * used with systems).  Returns 0, or -1 with a message. */
+ * used with systems).  Returns 0, or -1 with a message (a missing library:
+ * amg_hypre_available's). */
 int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
                      const struct amg_options *o, char *err, size_t errlen);
 void amg_hypre_destroy(struct amg_hypre *a);
@@ -56,6 +64,11 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
 
 /* x = one V-cycle applied to b (from x = 0). */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
+
+/* Bytes hypre takes for a hierarchy of this many unknowns (with the default
+ * options, the full tangent on a 2D grid), its library and MPI included: a
+ * measured model for the run's memory estimate. */
+double amg_hypre_memory_estimate(long unknowns);
 
 /* Levels and operator complexity (sum of the levels' entries over A's) of the
  * last setup. */

@@ -160,8 +160,9 @@ static const struct key keys[] = {
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto: lu or "
-        "cholesky for grids varying in two or more directions up to 4e5 unknowns, else line)"),
+        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto, for grids "
+        "varying in two or more directions: amg with newton, no augmentation and over 1e4 "
+        "unknowns, else lu or cholesky up to 4e5 unknowns; line otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),

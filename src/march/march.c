@@ -84,6 +84,19 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * factorisation's limit the line blocks serve instead of failing. */
 #define CHOLESKY_MAX_UNKNOWNS 400000L
 
+/* Above this many unknowns auto takes BoomerAMG (GMRES(20), one V-cycle an
+ * iteration) instead of the LU for a flow with Newton's full tangent and no
+ * grad-div augmentation.  Measured on the heap at the tilt 0.4061 (one
+ * steady solve, the same steps and state with either), one process after
+ * the other, 1 thread, CPU s per step of the whole run (two rounds):
+ * 35 x 50 (5,250 unknowns) LU 0.082-0.093, AMG 0.075-0.076 (within the
+ * noise); 50 x 70 (10,500) LU 0.235-0.243, AMG 0.170-0.172 (1.4x);
+ * 70 x 100 (21,000) LU 0.55-0.67, AMG 0.37 (1.5-1.8x; docs/design.md per
+ * linear solve: 2x, 2.7x at 140 x 200, 5x and 2.6x less memory at
+ * 280 x 400).  Below the threshold the exact LU, as fast, is kept.  With the
+ * augmentation (the cavity) BoomerAMG's GMRES stalls: the LU stays. */
+#define AMG_MIN_UNKNOWNS 10000L
+
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
@@ -100,14 +113,24 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
         bounded += st->g.n[d] > 2 && !periodic[d];
     }
     long unknowns = 3L * (long)grid_cells(&st->g);
-    if (bounded < 2 || unknowns > CHOLESKY_MAX_UNKNOWNS)
+    if (bounded < 2)
         return VISCOUS_LINE;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
-     * (and reaches two nodes, the symmetric operator one) */
+     * (and reaches two nodes, the symmetric operator one); the LU and the
+     * AMG both take it from the same probes */
     enum viscous_precond kind = cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
     if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
+        return VISCOUS_LINE;
+    /* the AMG has no fill: it serves beyond the factorisation's limit too;
+     * without hypre's library (opened here, as the AMG would) the LU or the
+     * line blocks as before */
+    char why[256];
+    if (kind == VISCOUS_LU && !(cs->augmentation > 0.0) && unknowns > AMG_MIN_UNKNOWNS &&
+        amg_hypre_available(why, sizeof why))
+        return VISCOUS_AMG;
+    if (unknowns > CHOLESKY_MAX_UNKNOWNS)
         return VISCOUS_LINE;
     return kind;
 }
@@ -189,11 +212,13 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
         arrays += field_arrays(march_specs[m].where) * ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
     if (cs->augmentation > 0.0)
         arrays += 1.0;
-    if (kind == VISCOUS_LU && cs->newton)
-        arrays += 4.0;
+    if ((kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton)
+        arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
                    viscous_memory_estimate(g, kind);
-    if (kind != VISCOUS_LINE) {
+    if (kind == VISCOUS_AMG) {
+        bytes += amg_hypre_memory_estimate(3L * (long)grid_cells(g));
+    } else if (kind != VISCOUS_LINE) {
         int dims = 0;
         for (int d = 0; d < 3; d++)
             dims += g->n[d] > 1;

@@ -744,5 +744,10 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
     double doubles = 3.0 * cells * (BAND + 1 + PROBES) + (3.0 * 4.0 + 1.0) * points;
     if (kind != VISCOUS_LINE)
         doubles += (2.0 + 3.0 * 7.0) * points;
+    /* the AMG's GMRES(20) basis (21 vectors of three components) and its
+     * gathered right-hand side and correction (hypre's share:
+     * amg_hypre_memory_estimate) */
+    if (kind == VISCOUS_AMG)
+        doubles += 3.0 * 21.0 * points + 2.0 * 3.0 * cells;
     return doubles * sizeof(double);
 }
