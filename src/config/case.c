@@ -161,8 +161,9 @@ static const struct key keys[] = {
         "1: from the start)"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
         "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto, for grids "
-        "varying in two or more directions: amg with newton, no augmentation and over 1e4 "
-        "unknowns, else lu or cholesky up to 4e5 unknowns; line otherwise)"),
+        "varying in two or more directions: amg on a 2D cross-section with newton, no "
+        "augmentation and over 1e4 unknowns, else lu or cholesky up to 4e5 unknowns; line "
+        "otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),

@@ -126,9 +126,14 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     /* the AMG has no fill: it serves beyond the factorisation's limit too;
      * without hypre's library (opened here, as the AMG would) the LU or the
      * line blocks as before */
+    /* measured on 2D cross-sections only: a grid that varies in three
+     * directions keeps the LU (or the line blocks beyond its size) */
+    int wide = 0;
+    for (int d = 0; d < 3; d++)
+        wide += st->g.n[d] > 2;
     char why[256];
-    if (kind == VISCOUS_LU && !(cs->augmentation > 0.0) && unknowns > AMG_MIN_UNKNOWNS &&
-        amg_hypre_available(why, sizeof why))
+    if (kind == VISCOUS_LU && wide == 2 && !(cs->augmentation > 0.0) &&
+        unknowns > AMG_MIN_UNKNOWNS && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
     if (unknowns > CHOLESKY_MAX_UNKNOWNS)
         return VISCOUS_LINE;
