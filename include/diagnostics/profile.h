@@ -48,6 +48,14 @@ void profile_errors_default(const struct profile *pr, double exact_centre, struc
 /* The centre layer, or the mean of the two centre layers (a plug). */
 double profile_centre_value(const struct profile *pr);
 
+/* Value at the boundary of a field with zero normal slope there, from the
+ * two nearest cell centres (a quadratic a + b s^2 in the distance s through
+ * both): u(0) = (9 u(h/2) - u(3h/2)) / 8. */
+static inline double profile_zero_slope_end(double nearest, double next)
+{
+    return (9.0 * nearest - next) / 8.0;
+}
+
 /* The scene's exact profile at one coordinate (NaN without one). */
 double profile_exact_at(const struct muflow_case *cs, double x);
 

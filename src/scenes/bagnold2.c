@@ -189,8 +189,8 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     const struct muflow_case *cs = st->cs;
     profile_errors_default(pr, bagnold2_u(cs, cs->len[2]), e);
     /* the headline: the velocity at the top of the domain, from the top two
-     * layers (du/dz = 0 there: u(L) = (9 u(L - h/2) - u(L - 3h/2)) / 8) */
-    e->headline = (9.0 * pr->velocity[pr->n - 1] - pr->velocity[pr->n - 2]) / 8.0;
+     * layers (du/dz = 0 there) */
+    e->headline = profile_zero_slope_end(pr->velocity[pr->n - 1], pr->velocity[pr->n - 2]);
 }
 
 static void results(const struct march_state *st, const struct scene_drive *d,

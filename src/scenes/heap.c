@@ -7,19 +7,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include "config/case.h"
+#include "diagnostics/profile.h"
 #include "io/output.h"
 #include "scenes/heap.h"
 #include "scenes/scene.h"
 #include "scenes/tilt_search.h"
 
-/* Value at the boundary of a field with zero normal slope there, from the
- * two nearest cell centres (a quadratic a + b s^2 in the distance s through
- * both): u(0) = (9 u(h/2) - u(3h/2)) / 8.  The free surface carries no shear
- * stress and the mid-plane is a symmetry plane, so both have zero slope. */
-static double zero_slope_end(double nearest, double next)
-{
-    return (9.0 * nearest - next) / 8.0;
-}
 
 /* u of column j, layer k: the mean over the x-faces of the periodic x. */
 static double column_u(const struct march_state *st, int j, int k)
@@ -87,11 +80,13 @@ int heap_profile_extract(struct heap_profile *hp, const struct march_state *st, 
     }
     for (int j = 0; j < n; j++) {
         hp->y[j] = (j + 0.5) * g->h[1];
-        hp->u_surface[j] = zero_slope_end(column_u(st, j, top), column_u(st, j, top - 1));
+        hp->u_surface[j] = profile_zero_slope_end(column_u(st, j, top), column_u(st, j, top - 1));
         hp->depth[j] = column_depth(st, j, fraction * hp->u_surface[j]);
     }
-    hp->u_surface_mid = zero_slope_end(hp->u_surface[n - 1], hp->u_surface[n - 2]);
-    hp->depth_mid = zero_slope_end(hp->depth[n - 1], hp->depth[n - 2]);
+    /* the free surface carries no shear stress and the mid-plane is a
+     * symmetry plane: both have zero slope */
+    hp->u_surface_mid = profile_zero_slope_end(hp->u_surface[n - 1], hp->u_surface[n - 2]);
+    hp->depth_mid = profile_zero_slope_end(hp->depth[n - 1], hp->depth[n - 2]);
     return 0;
 }
 
