@@ -198,7 +198,8 @@ fuzz:
 # /usr/bin/python3), builds the bench programs against build/libmuflow.a with
 # the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
 # cores, bounded on a busy machine, plus bench_multigrid: about 5 minutes on a
-# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB) and writes
+# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB; plus
+# bench_process, about a minute: whole `muflow CASE` processes) and writes
 # bench/out/report.md with its PNG plots, printing the tables.
 BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
