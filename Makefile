@@ -198,12 +198,17 @@ fuzz:
 # /usr/bin/python3), builds the bench programs against build/libmuflow.a with
 # the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
 # cores, bounded on a busy machine, plus bench_multigrid: about 5 minutes on a
-# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB) and writes
+# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB; plus
+# bench_process, about a minute: whole `muflow CASE` processes) and writes
 # bench/out/report.md with its PNG plots, printing the tables.
 BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
-BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput $(BUILD)/bench_multigrid
+# bench_process: whole `muflow CASE` processes (fork, exec, wait4), PROCESS_REPEATS
+# runs of each configuration after a warm-up (about a minute on 2 idle cores)
+PROCESS_REPEATS ?= 21
+BENCH_PROGS   = $(BUILD)/bench_scenes $(BUILD)/bench_throughput $(BUILD)/bench_multigrid \
+                $(BUILD)/bench_process
 BENCH_OBJ     = $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard bench/*.c))
 
 .PHONY: bench bench-deps
@@ -217,8 +222,9 @@ $(BUILD)/bench_%: $(BUILD)/obj/bench/bench_%.o $(BUILD)/obj/bench/bench.o $(BUIL
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
 bench: deps bench-deps
-	@$(MAKE) --no-print-directory $(BENCH_PROGS)
+	@$(MAKE) --no-print-directory $(BENCH_PROGS) $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 $(BUILD)/bench_process $(BENCH_OUT) $(PROCESS_REPEATS) $(BUILD)/muflow
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
 	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)

@@ -102,12 +102,18 @@ static double busy_seconds(void)
     return hz > 0 ? ticks / (double)hz : NAN;
 }
 
-static double own_seconds(void)
+static double rusage_seconds(int who)
 {
     struct rusage ru;
-    getrusage(RUSAGE_SELF, &ru);
+    getrusage(who, &ru);
     return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
            (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+/* this process and the children it has waited for (bench_process's runs) */
+static double own_seconds(void)
+{
+    return rusage_seconds(RUSAGE_SELF) + rusage_seconds(RUSAGE_CHILDREN);
 }
 
 void bench_cpu_start(struct bench_cpu *c)
@@ -117,13 +123,19 @@ void bench_cpu_start(struct bench_cpu *c)
     c->own = own_seconds();
 }
 
+double bench_cpu_foreign_seconds(const struct bench_cpu *c, double *wall)
+{
+    *wall = bench_now() - c->wall;
+    double busy = busy_seconds() - c->busy, own = own_seconds() - c->own;
+    return isfinite(busy) ? busy - own : NAN;
+}
+
 double bench_cpu_foreign(const struct bench_cpu *c)
 {
-    double wall = bench_now() - c->wall;
-    double busy = busy_seconds() - c->busy, own = own_seconds() - c->own;
-    if (!(wall > 0.0) || !isfinite(busy))
+    double wall, s = bench_cpu_foreign_seconds(c, &wall);
+    if (!(wall > 0.0) || !isfinite(s))
         return NAN;
-    double f = (busy - own) / wall;
+    double f = s / wall;
     return f > 0.0 ? f : 0.0;
 }
 

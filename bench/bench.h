@@ -25,8 +25,9 @@ void bench_mkdir(const char *dir);
 double bench_now(void);
 
 /* What other processes take of the machine while a section runs: the busy
- * time of all processors (/proc/stat) less this process's own CPU time
- * (getrusage), divided by the wall time, in cores.  Under a load of other
+ * time of all processors (/proc/stat) less this process's own CPU time and
+ * that of the children it has waited for (getrusage: RUSAGE_SELF and
+ * RUSAGE_CHILDREN), divided by the wall time, in cores.  Under a load of other
  * processes the 2-thread timings suffer first (an OpenMP barrier waits for
  * the thread that was preempted), so every section reports it. */
 struct bench_cpu {
@@ -34,6 +35,10 @@ struct bench_cpu {
 };
 void bench_cpu_start(struct bench_cpu *c);
 double bench_cpu_foreign(const struct bench_cpu *c); /* cores; NAN when unknown */
+/* The same as CPU seconds since bench_cpu_start, not clipped at 0 (the
+ * /proc/stat ticks are 10 ms: sum it over short intervals, then divide), and
+ * the wall seconds in *wall; NAN when unknown. */
+double bench_cpu_foreign_seconds(const struct bench_cpu *c, double *wall);
 
 /* How many cores the process really gets: the time of a fixed compute-bound
  * workload (no memory traffic) on 1 thread over its time split across

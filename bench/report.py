@@ -139,6 +139,107 @@ def fig_path(name):
     return os.path.join(OUT, name)
 
 
+
+# ---------------------------------------------------------------------------
+# The three stages the bandwidth target is missed by, against the triad of the
+# same run, with the instruction profile of bench/analysis.md (callgrind).
+BOUND_STAGES = [
+    ("viscosity", ["kernel_viscosity_cells", "kernel_viscosity_edges"],
+     "cells + edges (strain and ghost fills not counted: a lower bound)"),
+    ("stress_divergence", ["kernel_stress_divergence"], "the kernel alone"),
+    ("viscous_apply", ["kernel_stress_divergence"],
+     "the stress divergence (+ a lincomb, a few instructions)"),
+]
+
+
+def callgrind_counts():
+    """{kernel: (calls, before, after)} instructions per cell and call from the
+    table of bench/analysis.md ("Instructions per cell and call")."""
+    out = {}
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "analysis.md")
+    if not os.path.exists(path):
+        return out
+    import re
+    pat = re.compile(r"^\|\s*`(kernel_\w+)`[^|]*\|\s*(\d+)\s*\|\s*([\d.,]+)\s*\|\s*([\d.,]+)\s*\|")
+    with open(path) as f:
+        for line in f:
+            m = pat.match(line)
+            if m and m.group(1) not in out:
+                out[m.group(1)] = (int(m.group(2)), float(m.group(3).replace(",", "")),
+                                   float(m.group(4).replace(",", "")))
+    return out
+
+
+def cpu_ghz():
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("cpu MHz"):
+                    return float(line.split(":", 1)[1]) / 1e3
+    except (OSError, ValueError):
+        pass
+    return float("nan")
+
+
+def bound_table(st, bw, tmax, cells):
+    """Markdown: for the viscosity, stress-divergence and viscous-apply stages,
+    the fraction of this run's triad and, below 50 %, the instruction profile."""
+    cg = callgrind_counts()
+    ghz = cpu_ghz()
+    triad_sp = bw[tmax] / bw[1] if 1 in bw and tmax in bw and tmax > 1 else float("nan")
+    rows = []
+    for name, kernels, what in BOUND_STAGES:
+        a = st.get((tmax, name))
+        if a is None:
+            continue
+        t = float(a["median_s"])
+        rd, wr, wa = float(a["reads"]), float(a["writes"]), float(a["wa"])
+        if not t > 0:
+            continue
+        f24 = 8 * (rd + wr) * cells / t / 1e9 / bw[tmax]
+        f32 = 8 * (rd + wr + wa) * cells / t / 1e9 / (bw[tmax] * 32 / 24)
+        ns = t * 1e9 / cells
+        b1 = st.get((1, name))
+        sp = float(b1["median_s"]) / t if b1 is not None and float(b1["median_s"]) > 0 else float("nan")
+        row = [name, f"{100*f32:.0f} % ({100*f24:.0f} %)", fnum(ns, "{:.2f}"),
+               fnum(sp, "{:.2f}")]
+        if f32 >= TARGET_FRACTION:
+            row += ["–", "–", "at or above 50 %: bandwidth, not instructions"]
+        elif not all(k in cg for k in kernels):
+            row += ["not in bench/analysis.md", "–", "–"]
+        else:
+            ipc = sum(cg[k][2] for k in kernels)
+            per_core = ipc / ns / tmax  # instructions per ns and core
+            parts = " + ".join(f"`{k}` {cg[k][2]:g}" for k in kernels)
+            row += [f"{ipc:.0f} ({parts}; {what})",
+                    f"{per_core:.2f}" + (f" (IPC {per_core/ghz:.2f} at {ghz:.2f} GHz)"
+                                         if ghz == ghz else ""),
+                    (f"its instructions ({ipc:.0f} a cell, under {100*f32:.0f} % of the "
+                     "bandwidth drawn); it scales " + fnum(sp, "{:.2f}") + f"x on {tmax} threads "
+                     "against the triad's " + fnum(triad_sp, "{:.2f}") + "x"
+                     + (": beyond the memory's scaling, so not the memory"
+                        if sp == sp and triad_sp == triad_sp and sp > triad_sp else
+                        ": not beyond the memory's scaling (a busy machine, see the "
+                        "parallel capacity below, or memory stalls as well)"))]
+        rows.append(row)
+    if not rows:
+        return ""
+    return ("\n### 3b. The stages below the bandwidth target: what binds them\n\n"
+            "The stage table above already gives each stage's bandwidth against the triad "
+            f"measured in the same run (the mean of the {tmax}-thread triad medians before "
+            "and after the stages). For the viscosity, the stress divergence and the viscous "
+            "operator's apply: the fraction of that triad (write-allocate counted; without "
+            "it in brackets), and where it is below 50 % the instructions each cell costs "
+            "(callgrind's inclusive counts per cell and call of bench/analysis.md, "
+            "\"Instructions per cell and call\", measured at 32 x 32 x 16 on 1 thread, not "
+            "by this run) and the rate they are executed at here (instructions per cell "
+            f"over this run's ns per cell, per core of the {tmax}): a stage that runs "
+            "instructions at 1-3 per cycle while drawing well under half the bandwidth is "
+            "bound by its instruction count, not by the memory.\n\n"
+            + table(["stage", "fraction of the triad", "ns / cell", f"speed-up {tmax} vs 1",
+                     "instructions / cell (callgrind)", "instructions / ns / core",
+                     "bound by"], rows) + "\n")
+
 # ---------------------------------------------------------------------------
 sm = meta("scenes_meta.csv")
 tm = meta("throughput_meta.csv")
@@ -542,6 +643,7 @@ if tri and stg:
                      f"speed-up {tmax} vs 1"], rows))
     notes = {r["stage"]: r["note"] for r in stg}
     md.append("\nWhat each stage is: " + "; ".join(f"*{k}*: {v}" for k, v in notes.items()) + ".\n")
+    md.append(bound_table(st, bw, tmax, cells))
     if steps:
         srows = []
         for t in sorted({int(r["threads"]) for r in steps}, reverse=True):
@@ -716,10 +818,222 @@ if os.path.exists(mgp):
             continue  # its own title
         md.append("#" + line if line.startswith("#") else line)
     md.append("")
+# ---------------------------------------------------------------------------
+# Whole processes (bench_process): `build/muflow CASE` forked, executed and
+# waited for, as a user runs it
+pr_runs = read("process_runs.csv")
+pm = meta("process_meta.csv")
+TARGET_PROCESS_MS = 30.0
+TARGET_LOADED_RATIO = 2.0
+if pr_runs:
+    def runs_of(section, case, cond, threads):
+        return [r for r in pr_runs if r["section"] == section and r["case"] == case
+                and r["condition"] == cond and int(r["threads"]) == threads
+                and int(r["rep"]) >= 0]
+
+    def stats(rr):
+        ok = [r for r in rr if int(r["exit"]) == 0]
+        w = np.array([float(r["wall_s"]) for r in ok]) * 1e3
+        cpu_ms = np.array([float(r["user_s"]) + float(r["sys_s"]) for r in ok]) * 1e3
+        wall = sum(float(r["wall_s"]) for r in rr)
+        fs = [float(r["foreign_cpu_s"]) for r in rr]
+        sp = [float(r["spinner_cpu_s"]) for r in rr]
+        d = {"n": len(ok), "fail": len(rr) - len(ok), "med": float("nan"), "q1": float("nan"),
+             "q3": float("nan"), "min": float("nan"), "max": float("nan"),
+             "cpu": float("nan"), "foreign": float("nan"), "spinner": float("nan"),
+             "others": float("nan"), "by_rep": {int(r["rep"]): float(r["wall_s"]) for r in ok}}
+        if len(w):
+            d.update(med=float(np.median(w)), q1=float(np.percentile(w, 25)),
+                     q3=float(np.percentile(w, 75)), min=float(w.min()), max=float(w.max()),
+                     cpu=float(np.median(cpu_ms)))
+        if wall > 0 and all(math.isfinite(x) for x in fs):
+            d["foreign"] = max(sum(fs) / wall, 0.0)
+            if all(math.isfinite(x) for x in sp):
+                d["spinner"] = max(sum(sp) / wall, 0.0)
+                d["others"] = max((sum(fs) - sum(sp)) / wall, 0.0)
+        return d
+
+    def ms(d):
+        if not d["n"]:
+            return "no successful run"
+        txt = (f"**{d['med']:.1f}** (IQR {d['q1']:.1f}–{d['q3']:.1f}, "
+               f"min–max {d['min']:.1f}–{d['max']:.1f}, {d['n']} runs)")
+        return txt + (f", {d['fail']} failed" if d["fail"] else "")
+
+    def pair_ratios(num, den):
+        """per repeat num/den (the two ran back to back): median, q1, q3"""
+        r = [num["by_rep"][k] / den["by_rep"][k] for k in num["by_rep"]
+             if k in den["by_rep"] and den["by_rep"][k] > 0]
+        if not r:
+            return float("nan"), float("nan"), float("nan")
+        return (float(np.median(r)), float(np.percentile(r, 25)), float(np.percentile(r, 75)))
+
+    def iqr_range(num, den):
+        """the ratio num/den's range from the two IQRs: q1/q3 .. q3/q1"""
+        if not (num["n"] and den["n"]) or not (den["q1"] > 0 and den["q3"] > 0):
+            return float("nan"), float("nan")
+        return num["q1"] / den["q3"], num["q3"] / den["q1"]
+
+    def cores(x):
+        return fnum(x, "{:.2f}")
+
+    busy = []
+    md.append("## 7. Whole-process speed: `build/muflow CASE` as a user runs it\n")
+    md.append(
+        "`bench_process` forks and executes `" + pm.get("muflow", "build/muflow") + " CASE.ini "
+        "[overrides] output.dir=OUTDIR/proc/CASE` and times the whole process: "
+        "`clock_gettime(CLOCK_MONOTONIC)` from before `fork` to the return of `wait4`, "
+        "whose rusage gives the child's CPU time (user + system). Every output is written, "
+        "into the same folder run after run as a user's reruns do; the child's standard "
+        "output goes to /dev/null. Each configuration runs once as a warm-up, then "
+        f"{pm.get('repeats', '?')} times; configurations alternate run by run (their order "
+        "reversed every other repeat), so a drift of the machine's load hits them alike. "
+        "Times in ms: median, interquartile range (IQR), min–max. *Other processes*: the "
+        "CPU the rest of the machine used during the runs (/proc/stat's busy time less the "
+        "benchmark and its waited-for children, over the runs' wall time), in cores. "
+        f"OMP_WAIT_POLICY in the environment: {pm.get('omp_wait_policy', '?')} (unset: "
+        "muflow chooses passive itself, re-executing itself only for grids that open "
+        "parallel regions, src/app/main.c; none of the grids here does).\n")
+
+    # 7a: bagnold as shipped, 2 threads, idle
+    bi = stats(runs_of("load", "bagnold", "idle", 2))
+    verdict = "–"
+    if bi["n"]:
+        verdict = "met" if bi["med"] <= TARGET_PROCESS_MS else "missed"
+        if bi["foreign"] > BUSY_CORES:
+            verdict += " (machine not idle)"
+            busy.append("7a")
+    md.append("### 7a. `build/muflow cases/bagnold.ini`, 2 threads\n")
+    md.append(table(["command", "wall ms", "child CPU ms (median)", "other processes (cores)",
+                     "load average (1 min) before / after", f"target <= {TARGET_PROCESS_MS:g} ms "
+                     "(idle machine)"],
+                    [["`muflow cases/bagnold.ini` (H/40, 2 x 1 x 40, 2 threads)", ms(bi),
+                      fnum(bi["cpu"], "{:.1f}"), cores(bi["foreign"]),
+                      f"{pm.get('load_loadavg_start', '?')} / {pm.get('load_loadavg_end', '?')}",
+                      verdict]]))
+    md.append("\nThe load average counts this benchmark's own runs (one or two runnable "
+              "threads) besides the other processes.\n")
+    if bi["n"]:
+        headline.append(["`muflow cases/bagnold.ini`, whole process, 2 threads",
+                         f"{bi['med']:.1f} ms median of {bi['n']} (IQR {bi['q1']:.1f}–"
+                         f"{bi['q3']:.1f}); other processes {cores(bi['foreign'])} cores",
+                         f"<= {TARGET_PROCESS_MS:g} ms idle: {verdict}"])
+
+    # 7b: idle against one spinning process
+    rows = []
+    for case, label in (("bagnold", "bagnold H/40 (`cases/bagnold.ini`)"),
+                        ("chute_b160", "chute b/160 (`cases/chute.ini domain.ny=160`)")):
+        i = stats(runs_of("load", case, "idle", 2))
+        lo = stats(runs_of("load", case, "loaded", 2))
+        if not i["n"] and not lo["n"]:
+            continue
+        ratio = lo["med"] / i["med"] if i["n"] and lo["n"] else float("nan")
+        pr_med, pr_q1, pr_q3 = pair_ratios(lo, i)
+        r_lo, r_hi = iqr_range(lo, i)
+        v = "–" if not math.isfinite(ratio) else ("met" if ratio <= TARGET_LOADED_RATIO else "missed")
+        if math.isfinite(i["others"]) and (i["others"] > BUSY_CORES or lo["others"] > BUSY_CORES):
+            v += " (other load too)"
+            busy.append("7b")
+        rows.append([label, ms(i), cores(i["foreign"]), ms(lo), cores(lo["spinner"]),
+                     cores(lo["others"]),
+                     f"**{fnum(ratio, '{:.2f}')}** ({fnum(r_lo, '{:.2f}')}–{fnum(r_hi, '{:.2f}')})",
+                     f"{fnum(pr_med, '{:.2f}')} ({fnum(pr_q1, '{:.2f}')}–{fnum(pr_q3, '{:.2f}')})",
+                     v])
+        headline.append([f"{label.split(' (')[0]}: one spinning process / idle, whole process, "
+                         "2 threads",
+                         f"{fnum(ratio, '{:.2f}')} ({fnum(lo['med'], '{:.1f}')} / "
+                         f"{fnum(i['med'], '{:.1f}')} ms)",
+                         f"<= {TARGET_LOADED_RATIO:g}x: {v}"])
+    if rows:
+        md.append("### 7b. Idle against one spinning process, 2 threads\n")
+        md.append(
+            "*Loaded*: with one spinning process, a child of the benchmark in a busy loop "
+            "(`for (;;) x++`), continued (SIGCONT) 20 ms before each loaded run and stopped "
+            "(SIGSTOP) after it, so it competes for the 2 cores during the whole run. Its CPU "
+            "share during the loaded runs is given apart from the other processes'. "
+            "*loaded / idle*: ratio of the medians (in brackets its range from the two IQRs, "
+            "q1/q3 to q3/q1); beside it the per-repeat ratios (the two ran back to back): "
+            "median and IQR.\n")
+        md.append(table(["case", "idle: wall ms", "idle: other processes (cores)",
+                         "loaded: wall ms", "loaded: spinning process (cores)",
+                         "loaded: other processes besides it (cores)", "loaded / idle",
+                         "per-repeat ratio (IQR)", f"target <= {TARGET_LOADED_RATIO:g}x"], rows))
+        md.append("")
+
+    # 7c: 1 against 2 threads for every profile scene
+    scenes = []
+    for r in pr_runs:
+        if r["section"] == "threads" and r["case"] not in scenes:
+            scenes.append(r["case"])
+    rows = []
+    thr_summary = []
+    fsum = wsum = 0.0
+    for case in scenes:
+        d2 = stats(runs_of("threads", case, "idle", 2))
+        d1 = stats(runs_of("threads", case, "idle", 1))
+        for rr in (runs_of("threads", case, "idle", 1), runs_of("threads", case, "idle", 2)):
+            for r in rr:
+                if math.isfinite(float(r["foreign_cpu_s"])):
+                    fsum += float(r["foreign_cpu_s"])
+                    wsum += float(r["wall_s"])
+        ratio = d1["med"] / d2["med"] if d1["n"] and d2["n"] else float("nan")
+        lo, hi = iqr_range(d1, d2)
+        pr_med, pr_q1, pr_q3 = pair_ratios(d1, d2)
+        if not math.isfinite(ratio):
+            v = "–"
+        elif ratio >= 1.0:
+            v = "met"
+        elif hi >= 1.0 or (math.isfinite(pr_q3) and pr_q3 >= 1.0):
+            v = "within the spread"
+        else:
+            v = "missed"
+        rows.append([case.replace("_", " "), ms(d2), ms(d1),
+                     f"**{fnum(ratio, '{:.3f}')}** ({fnum(lo, '{:.2f}')}–{fnum(hi, '{:.2f}')})",
+                     f"{fnum(pr_med, '{:.2f}')} ({fnum(pr_q1, '{:.2f}')}–{fnum(pr_q3, '{:.2f}')})",
+                     fnum(d2["cpu"], "{:.1f}") + " / " + fnum(d1["cpu"], "{:.1f}"), v])
+        thr_summary.append((case.replace("_", " "), ratio, lo, hi, v))
+    if thr_summary:
+        verdicts = {}
+        for name, _, _, _, v in thr_summary:
+            verdicts.setdefault(v, []).append(name)
+        headline.append(["whole process, t1 / t2 (1 thread's median over 2 threads'; "
+                         "range from their IQRs)",
+                         "; ".join(f"{n} {fnum(r, '{:.3f}')} ({fnum(a, '{:.2f}')}–"
+                                   f"{fnum(b, '{:.2f}')})" for n, r, a, b, _ in thr_summary),
+                         ">= 1 within the spread: " + "; ".join(
+                             f"{v}: {', '.join(ns)}" for v, ns in verdicts.items())])
+    if rows:
+        fthr = max(fsum / wsum, 0.0) if wsum > 0 else float("nan")
+        md.append("### 7c. 1 thread against 2, every profile scene\n")
+        md.append(
+            "Each case as shipped (the chute, b/80, with each regularisation set by "
+            "`rheology.regularisation=`), `OMP_NUM_THREADS` = 1 or 2 in the child's "
+            "environment, the spinning process stopped. *t1 / t2*: ratio of the medians "
+            "(above 1: 2 threads faster), in brackets its range from the two IQRs (q1/q3 to "
+            "q3/q1); beside it the per-repeat ratios' median and IQR (each pair ran back to "
+            "back). Target: t1 / t2 >= 1 (\"met\"), or 1 within either spread (\"within "
+            "the spread\"); \"missed\" when both lie below 1.\n")
+        md.append(table(["scene", "2 threads: wall ms", "1 thread: wall ms", "t1 / t2",
+                         "per-repeat t1 / t2 (IQR)", "child CPU ms, 2 / 1 threads",
+                         "target >= 1"], rows))
+        md.append(f"\nOther processes during these runs: {cores(fthr)} cores; load average "
+                  f"{pm.get('threads_loadavg_start', '?')} before, "
+                  f"{pm.get('threads_loadavg_end', '?')} after.")
+        if math.isfinite(fthr) and fthr > BUSY_CORES:
+            busy.append("7c")
+    if busy:
+        md.append("\n**Other processes used more than "
+                  f"{BUSY_CORES} cores during {', '.join(sorted(set(busy)))}:** the idle "
+                  "figures there are not those of an idle machine (a 2-thread barrier waits "
+                  "for a preempted thread); rerun `make bench` on a quiet machine before "
+                  "judging the targets.")
+    md.append(f"\nbench_process took {pm.get('seconds', '?')} s.\n")
+
 md.append(capacity_note([sm.get("capacity_start"), sm.get("capacity_end")],
                         "the scene benchmarks (start, end)") + "\n")
 md.append("\n---\nRun time: scenes "
-          f"{sm.get('seconds', '?')} s, throughput {tm.get('seconds', '?')} s. Other processes "
+          f"{sm.get('seconds', '?')} s, throughput {tm.get('seconds', '?')} s, whole processes "
+          f"{pm.get('seconds', '?')} s. Other processes "
           f"during the whole run: {fnum(sm.get('foreign_cores_all'), '{:.2f}')} cores (scenes), "
           f"{fnum(tm.get('foreign_cores_all'), '{:.2f}')} cores (throughput).\n")
 
