@@ -21,8 +21,9 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
     }
     /* Newton's basin shrinks with lambda: far from the solution the lagged
      * (Picard) viscosity is the robust step, the tangent the fast one near it */
-    int tangent = cs->newton &&
-                  (cs->newton_below >= 1.0 || st->residual <= cs->newton_below * st->residual0);
+    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
+    int tangent = cs->newton && (cs->newton_below >= 1.0 || st->picard_stalled ||
+                                 st->residual <= cs->newton_below * r0);
     int diagonal = tangent && !st->full_tangent;
     for (int a = 0; a < 3; a++) {
         pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
