@@ -246,17 +246,20 @@ bench-cavity: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT) $(CAVITY_N) $(CAVITY_OPTS) $(CAVITY_BN)
 	/usr/bin/python3 bench/plot_cavity.py $(BENCH_OUT)
 
-# 128 x 128 for Vola's Bn = 0, 1, 10, 100, 1000 (minutes each).  At Bn <= 10 the
+# 128 x 128 for Vola's Bn = 0, 1, 10, 100, 1000 (minutes each).  At Bn = 1 the
 # Picard steps run to a residual of 1e-4 before Newton (solver.newton_below):
-# on this grid the Newton basin is entered later, and Newton switched on at
-# 1e-2 does not reach it at Bn = 1 (no progress in 120 steps).
+# with the case's 1e-2 the Newton steps on this grid let the residual creep to
+# 1.6e-2 and stay there (docs/design.md, "Globalisation"); Bn = 0 (Newtonian,
+# Picard and tangent alike) goes with it.  Bn = 10, 100, 1000 run with the
+# case's defaults (Bn = 10 needed 1e-4 too before the Picard-stall
+# switch and the RMS rejection test).
 bench-cavity-128: deps bench-deps
 	@$(MAKE) --no-print-directory $(BUILD)/bench_cavity
 	@mkdir -p $(BENCH_OUT)/cavity128/a $(BENCH_OUT)/cavity128/b
 	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT)/cavity128/a 128 \
-	  solver.newton_below=1e-4 0 0.70710678118654752 7.0710678118654752
-	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT)/cavity128/b 128 70.710678118654752 \
-	  707.10678118654752
+	  solver.newton_below=1e-4 0 0.70710678118654752
+	OMP_NUM_THREADS=2 $(BUILD)/bench_cavity $(BENCH_OUT)/cavity128/b 128 7.0710678118654752 \
+	  70.710678118654752 707.10678118654752
 	(cat $(BENCH_OUT)/cavity128/a/cavity_table_n128.csv; \
 	 tail -n +2 $(BENCH_OUT)/cavity128/b/cavity_table_n128.csv) > $(BENCH_OUT)/cavity_table_n128.csv
 

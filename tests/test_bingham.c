@@ -163,6 +163,28 @@ static void test_cavity_bn1000_converges(void **state)
     assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.0182);
 }
 
+/* The way into Newton's basin (march.c, PICARD_STALL): at Vola's Bn = 1000
+ * on 64 x 64 the Picard steps from rest sat near a residual of 3e-2 for 140
+ * steps before the fixed 100-fold drop (solver.newton_below = 1e-2) let the
+ * tangent in: 233 steps.  With the tangent taking over once the Picard steps
+ * stall for 10 steps (below a 10-fold drop) the case's defaults reach the
+ * steady state in 71 steps; the bound leaves 70% to spare and is still half
+ * the 233 of the fixed switch. */
+static void test_cavity_bn1000_64_enters_newton(void **state)
+{
+    (void)state;
+    char o1[64];
+    snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", 1000.0 / sqrt(2.0));
+    char *ov[] = {"domain.nx=64", "domain.nz=64", o1, "solver.max_steps=120"};
+    struct muflow_case cs;
+    struct run_result r;
+    run_with(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
+    print_message("cavity 64x64 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
+                  run_status_name(r.status), r.steps, r.residual, r.errors.headline);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps <= 120);
+}
+
 /* A cavity run's summary.ini names its results psi_max and err_midline (the
  * reference is Vola's mid-line curve), not err_rms. */
 static void test_cavity_summary_keys(void **state)
@@ -207,6 +229,7 @@ void group_bingham(struct test_tally *t)
         cmocka_unit_test(test_cavity_against_vola),
         cmocka_unit_test(test_cavity_bn100),
         cmocka_unit_test(test_cavity_bn1000_converges),
+        cmocka_unit_test(test_cavity_bn1000_64_enters_newton),
         cmocka_unit_test(test_cavity_summary_keys),
     };
     RUN_GROUP(t, "bingham", tests);

@@ -46,6 +46,8 @@ struct muflow_case {
     double dt_max;           /* steady: cap of the growing pseudo-time step */
     double cfl;              /* advective CFL number (when advection is on) */
     int newton;              /* 1: consistent tangent viscosity; 0: Picard (lagged) */
+    double continuation;     /* steady: the regularisation starts at this multiple of
+                                rheology.lambda, lowered 10-fold per stage (1: off) */
     double newton_below;     /* the tangent is used once residual / first residual
                                 falls below this (Picard before): 1 = always */
     double linear_tolerance; /* relative tolerance of the implicit viscous CG */

@@ -69,6 +69,7 @@ struct march_state {
     double residual_excess;     /* the same beyond the round-off of its terms: what the
                                    steady criterion tests */
     double divergence;          /* max |div u| h / max |u| */
+    double residual_rms;        /* root mean square of the residual / force scale */
     double residual0;
     double force_ref;           /* what residuals are relative to: rho g, or without
                                    gravity the first residual */
@@ -85,6 +86,14 @@ struct march_state {
     double mark_acc[3];
     long marks;
     double dt_scale;            /* pseudo-time step reduction after rejections */
+    /* continuation in the regularisation (solver.continuation): the rheology
+     * the march evaluates, whose lambda starts above the case's and is
+     * lowered stage by stage, and the residual a stage started from */
+    struct rheology rheo;
+    double stage_residual0;
+    /* the Picard steps (solver.newton_below) have stalled: the tangent from
+     * now on (in this continuation stage) */
+    int picard_stalled;
     /* the step, time and dt of the saved (last accepted) fields: a run that
      * ends on a bad state goes back to them as a whole */
     long good_step;

@@ -156,6 +156,9 @@ static const struct key keys[] = {
     BOOL("solver", "newton", newton,
          "consistent tangent viscosity in steady mode (off: Picard, lagged viscosity; a "
          "transient step always lags it)"),
+    DBL("solver", "continuation", continuation, RANGE(1, 1e12, 1, 1),
+        "steady: solve with rheology.lambda times this first, then lower lambda 10-fold each "
+        "time the residual has fallen 1000-fold, to rheology.lambda (1: off)"),
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
@@ -240,6 +243,7 @@ void case_defaults(struct muflow_case *c)
     c->cfl = 0.5;
     c->newton = 1;
     c->newton_below = 1.0;
+    c->continuation = 1.0;
     c->linear_tolerance = 1e-8;
     c->max_linear_iterations = 500;
     c->line_direction = -1;

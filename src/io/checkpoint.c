@@ -16,24 +16,28 @@ static const struct {
     const char *name;
     size_t off;
     enum stype type;
+    int optional; /* added later: a checkpoint without it keeps march_create's value */
 } loop_state[] = {
-    {"step", offsetof(struct march_state, step), S_LONG},
-    {"time", offsetof(struct march_state, time), S_DOUBLE},
-    {"dt", offsetof(struct march_state, dt), S_DOUBLE},
-    {"residual0", offsetof(struct march_state, residual0), S_DOUBLE},
-    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE},
-    {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE},
-    {"best_step", offsetof(struct march_state, best_step), S_LONG},
-    {"best_time", offsetof(struct march_state, best_time), S_DOUBLE},
-    {"mark_time", offsetof(struct march_state, mark_time), S_DOUBLE},
-    {"mark_acc0", offsetof(struct march_state, mark_acc[0]), S_DOUBLE},
-    {"mark_acc1", offsetof(struct march_state, mark_acc[1]), S_DOUBLE},
-    {"mark_acc2", offsetof(struct march_state, mark_acc[2]), S_DOUBLE},
-    {"marks", offsetof(struct march_state, marks), S_LONG},
-    {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE},
-    {"rejected", offsetof(struct march_state, rejected), S_LONG},
-    {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE},
-    {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT},
+    {"step", offsetof(struct march_state, step), S_LONG, 0},
+    {"time", offsetof(struct march_state, time), S_DOUBLE, 0},
+    {"dt", offsetof(struct march_state, dt), S_DOUBLE, 0},
+    {"residual0", offsetof(struct march_state, residual0), S_DOUBLE, 0},
+    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE, 0},
+    {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE, 0},
+    {"best_step", offsetof(struct march_state, best_step), S_LONG, 0},
+    {"best_time", offsetof(struct march_state, best_time), S_DOUBLE, 0},
+    {"mark_time", offsetof(struct march_state, mark_time), S_DOUBLE, 0},
+    {"mark_acc0", offsetof(struct march_state, mark_acc[0]), S_DOUBLE, 0},
+    {"mark_acc1", offsetof(struct march_state, mark_acc[1]), S_DOUBLE, 0},
+    {"mark_acc2", offsetof(struct march_state, mark_acc[2]), S_DOUBLE, 0},
+    {"marks", offsetof(struct march_state, marks), S_LONG, 0},
+    {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE, 0},
+    {"lambda", offsetof(struct march_state, rheo.lambda), S_DOUBLE, 1},
+    {"stage_residual0", offsetof(struct march_state, stage_residual0), S_DOUBLE, 1},
+    {"picard_stalled", offsetof(struct march_state, picard_stalled), S_INT, 1},
+    {"rejected", offsetof(struct march_state, rejected), S_LONG, 0},
+    {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE, 0},
+    {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT, 0},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 
@@ -289,7 +293,8 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
     if (h5io_attr_read(file, "omp_threads", H5T_NATIVE_INT, 1, threads, err, errlen) != 0)
         return -1;
     for (int m = 0; m < NSTATE; m++)
-        if (h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), 1,
+        if (!(loop_state[m].optional && H5Aexists(file, loop_state[m].name) <= 0) &&
+            h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), 1,
                            (char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
     if (each_dataset(file, st, 1, err, errlen) != 0)

@@ -12,9 +12,9 @@ void stage_properties(struct march_state *st)
     for (size_t p = 0; p < g->size; p++)
         st->pressure[p] = cs->confining_pressure + st->p_hyd[p] + st->p_dyn[p];
     bc_fill_scalar_linear(g, &st->bc, st->pressure);
-    kernel_viscosity_cells(g, &cs->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
+    kernel_viscosity_cells(g, &st->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
                            cs->newton ? st->tan_c : NULL, st->shear2, st->preg, st->b_c);
-    kernel_viscosity_edges(g, &cs->rheo, st->cn2, st->e2, st->pressure, st->eta_e,
+    kernel_viscosity_edges(g, &st->rheo, st->cn2, st->e2, st->pressure, st->eta_e,
                            cs->newton ? st->tan_e : NULL, st->full_tangent ? st->b_e : NULL);
     bc_fill_scalar(g, &st->bc, st->eta);
     if (cs->newton)

@@ -2,6 +2,7 @@
  *   R = f - grad p_dyn + div(eta gamma(u)) - rho div(u u)  (+ the modules'),
  * its size against the round-off of its terms, and the divergence (step.h). */
 #include <float.h>
+#include <math.h>
 #include "march/step.h"
 
 /* Round-off allowance of the residual, in machine epsilons of its terms. */
@@ -48,6 +49,13 @@ void stage_residual(struct march_state *st)
     }
     double scale = march_force_scale(st);
     st->residual = kernel_max_abs(g, st->act, st->res) / scale;
+    {
+        long n = 0;
+        for (int c = 0; c < 3; c++)
+            n += (long)(st->act[c].hi[0] - st->act[c].lo[0]) * (st->act[c].hi[1] - st->act[c].lo[1]) *
+                 (st->act[c].hi[2] - st->act[c].lo[2]);
+        st->residual_rms = n > 0 ? sqrt(kernel_dot(g, st->act, st->res, st->res) / (double)n) / scale : 0.0;
+    }
     kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
                             st->delta);
     st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
