@@ -1261,26 +1261,43 @@ static void add_to(const struct level *lv, double *x, const double *z)
         }
 }
 
-int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
-                    int max_cycles, struct multigrid_stats *stats)
+/* What both solves start with: no coefficients (-1 into *rc), or the
+ * shifted rhs's norm; a zero rhs is solved by phi = 0 (its result into
+ * *rc).  Returns 1 when *rc is the solve's answer, 0 to go on. */
+static int solve_begin(struct multigrid *mg, const double *rhs, double *phi, double rtol,
+                       struct multigrid_stats *stats, struct multigrid_stats *st,
+                       double *shift, double *res0, int *rc)
 {
     if (!mg->ready) { /* no (valid) coefficients */
         if (stats)
             memset(stats, 0, sizeof(*stats));
-        return -1;
+        *rc = -1;
+        return 1;
     }
     struct level *l0 = &mg->lev[0];
-    struct multigrid_stats st;
-    const double shift = rhs_shift(mg, rhs);
-    const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
-    stats_init(&st, res0);
-    if (!(res0 > 0.0)) {
+    *shift = rhs_shift(mg, rhs);
+    *res0 = sqrt(live_norm2(mg, l0, rhs, *shift));
+    stats_init(st, *res0);
+    if (!(*res0 > 0.0)) {
 #pragma omp parallel if (l0->par)
         zero_interior(l0, phi);
-        st.rel = 0.0;
+        st->rel = 0.0;
         finish_phi(mg, phi);
-        return stats_end(&st, rtol, stats);
+        *rc = stats_end(st, rtol, stats);
+        return 1;
     }
+    return 0;
+}
+
+int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double rtol,
+                    int max_cycles, struct multigrid_stats *stats)
+{
+    struct level *l0 = &mg->lev[0];
+    struct multigrid_stats st;
+    double shift, res0;
+    int rc;
+    if (solve_begin(mg, rhs, phi, rtol, stats, &st, &shift, &res0, &rc))
+        return rc;
     fine_residual(mg, phi, rhs, shift, mg->wr);
     st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
     while (st.rel > rtol && st.cycles < max_cycles) {
@@ -1339,23 +1356,12 @@ static void cg_direction(const struct level *lv, double beta, double *p, const d
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats)
 {
-    if (!mg->ready) { /* no (valid) coefficients */
-        if (stats)
-            memset(stats, 0, sizeof(*stats));
-        return -1;
-    }
     struct level *l0 = &mg->lev[0];
     struct multigrid_stats st;
-    const double shift = rhs_shift(mg, rhs);
-    const double res0 = sqrt(live_norm2(mg, l0, rhs, shift));
-    stats_init(&st, res0);
-    if (!(res0 > 0.0)) {
-#pragma omp parallel if (l0->par)
-        zero_interior(l0, phi);
-        st.rel = 0.0;
-        finish_phi(mg, phi);
-        return stats_end(&st, rtol, stats);
-    }
+    double shift, res0;
+    int rc;
+    if (solve_begin(mg, rhs, phi, rtol, stats, &st, &shift, &res0, &rc))
+        return rc;
     double *r = mg->wr, *z = mg->wz, *p = mg->wp, *q = mg->wq;
     fine_residual(mg, phi, rhs, shift, r);
     st.rel = sqrt(dot(mg, l0, r, r)) / res0;
