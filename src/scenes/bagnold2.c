@@ -137,6 +137,12 @@ static void exact_profile(const struct muflow_case *cs, int n, const double *x, 
         u[i] = bagnold2_u(cs, x[i]);
 }
 
+/* The share of layer k (cells of height h) below the flat interface at h0. */
+static double layer_fraction(double h0, int k, double h)
+{
+    return fmin(1.0, fmax(0.0, (h0 - k * h) / h));
+}
+
 /* The flat interface at h0: each cell's fraction below it. */
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
@@ -153,7 +159,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
-                T[grid_idx(g, i, j, k)] = fmin(1.0, fmax(0.0, (b->interface_height - k * h) / h));
+                T[grid_idx(g, i, j, k)] = layer_fraction(b->interface_height, k, h);
     return two_phase_tracer_changed(st, err, errlen);
 }
 
@@ -215,7 +221,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     /* the grains' volume against the initial flat layer's */
     double v0 = 0.0;
     for (int k = 0; k < st->g.n[2]; k++)
-        v0 += fmin(1.0, fmax(0.0, (h0 - k * st->g.h[2]) / st->g.h[2]));
+        v0 += layer_fraction(h0, k, st->g.h[2]);
     v0 *= (double)st->g.n[0] * st->g.n[1];
     run_result_add(res, "mass_error", "%.6e", two_phase_volume(st) / v0 - 1.0);
     snprintf(res->scene_line, sizeof res->scene_line,
