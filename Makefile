@@ -26,14 +26,19 @@ PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
              -I/usr/include/hypre
-LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lcholmod \
-          -lumfpack -lsuitesparseconfig -lm
+LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
 # the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
 # shared libraries instead of 74: bench/analysis.md), by the soname
 # the -dev package's libHYPRE.so points to; mpi.h and hypre's headers give the
 # types.  ompi-c is only in the Cflags' packages.
 HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
+# SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse.c opens
+# them with the first sparse factorisation: they and their BLAS were over half
+# of the loader's relocations); their sonames come from the -dev package.
+soname = $(shell objdump -p $(shell $(CC) -print-file-name=$(1)) 2>/dev/null | awk '/SONAME/ {print $$2}')
+CHOLMOD_LIB := $(call soname,libcholmod.so)
+UMFPACK_LIB := $(call soname,libumfpack.so)
 BUILD   ?= build
 
 # The version, defined here only: `git describe` of a release tag vX.Y.Z when
@@ -81,6 +86,8 @@ $(BUILD)/obj/src/app/main.o: $(BUILD)/version
 $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
 # the hypre library amg_hypre.c opens (HYPRE_LIB above)
 $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_HYPRE_LIB='"$(HYPRE_LIB)"')
+$(BUILD)/obj/src/solvers/suitesparse.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
+                                                   $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
 
 print-version:
 	@echo '$(VERSION)'

@@ -26,8 +26,8 @@
  *    operation is coarse_solve (a gather of the coarsest level, as an MPI
  *    version would gather it to one rank), and dot products. */
 #include "solvers/multigrid.h"
+#include "solvers/suitesparse.h"
 
-#include <cholmod.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -747,7 +747,7 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
     /* upper triangle of -L (stype 1); duplicates (two periodic faces between the
      * same pair of cells) are summed by the conversion */
     size_t nzmax = (size_t)n * 4;
-    cholmod_triplet *T = cholmod_allocate_triplet((size_t)n, (size_t)n, nzmax, 1, CHOLMOD_REAL,
+    cholmod_triplet *T = suitesparse.cholmod_allocate_triplet((size_t)n, (size_t)n, nzmax, 1, CHOLMOD_REAL,
                                                   &cs->cm);
     if (!T) {
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
@@ -785,29 +785,29 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
         nz++;
     }
     T->nnz = nz;
-    cholmod_sparse *A = cholmod_triplet_to_sparse(T, nz, &cs->cm);
-    cholmod_free_triplet(&T, &cs->cm);
+    cholmod_sparse *A = suitesparse.cholmod_triplet_to_sparse(T, nz, &cs->cm);
+    suitesparse.cholmod_free_triplet(&T, &cs->cm);
     if (!A) {
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
         return -1;
     }
-    cholmod_free_factor(&cs->L, &cs->cm);
-    cs->L = cholmod_analyze(A, &cs->cm);
-    int ok = cs->L && cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
-    cholmod_free_sparse(&A, &cs->cm);
+    suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
+    cs->L = suitesparse.cholmod_analyze(A, &cs->cm);
+    int ok = cs->L && suitesparse.cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
+    suitesparse.cholmod_free_sparse(&A, &cs->cm);
     if (!ok) {
         set_err(err, errlen, "multigrid: the coarsest factorisation failed (status %d)",
                 cs->cm.status);
         return -1;
     }
-    cholmod_free_dense(&cs->B, &cs->cm);
-    cs->B = cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cs->cm);
+    suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
+    cs->B = suitesparse.cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cs->cm);
     if (!cs->B) {
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
         return -1;
     }
     /* one solve here lets cholmod_solve2 allocate its workspace (X, Y, E) now */
-    cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
+    suitesparse.cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
     if (!cs->X) {
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
         return -1;
@@ -827,7 +827,7 @@ static void coarse_solve(struct multigrid *mg)
     double *B = cs->B->x;
     for (long r = 0; r < cs->n; r++)
         B[r] = cs->pinned[r] ? 0.0 : -lv->b[cs->slot[r]];
-    cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
+    suitesparse.cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
     const double *X = cs->X->x;
     for (long r = 0; r < cs->n; r++)
         lv->x[cs->slot[r]] = X[r];
@@ -885,12 +885,12 @@ void multigrid_destroy(struct multigrid *mg)
         level_free(&mg->lev[l], l > 0);
     struct coarse_direct *cs = &mg->cs;
     if (cs->started) {
-        cholmod_free_factor(&cs->L, &cs->cm);
-        cholmod_free_dense(&cs->B, &cs->cm);
-        cholmod_free_dense(&cs->X, &cs->cm);
-        cholmod_free_dense(&cs->Y, &cs->cm);
-        cholmod_free_dense(&cs->E, &cs->cm);
-        cholmod_finish(&cs->cm);
+        suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
+        suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
+        suitesparse.cholmod_free_dense(&cs->X, &cs->cm);
+        suitesparse.cholmod_free_dense(&cs->Y, &cs->cm);
+        suitesparse.cholmod_free_dense(&cs->E, &cs->cm);
+        suitesparse.cholmod_finish(&cs->cm);
     }
     free(cs->slot);
     free(cs->row);
@@ -937,6 +937,8 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         set_err(err, errlen, "multigrid: missing argument");
         return -1;
     }
+    if (suitesparse_load(err, errlen) != 0) /* the coarsest level's factorisation */
+        return -1;
     for (int d = 0; d < 3; d++) {
         if (g->n[d] < 1 || !(g->h[d] > 0.0) || !isfinite(g->h[d])) {
             set_err(err, errlen, "multigrid: invalid grid in direction %c", "xyz"[d]);
@@ -1031,7 +1033,7 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         ok = cs->slot && cs->row && cs->pinned && cs->queue;
     }
     if (ok) {
-        cholmod_start(&cs->cm);
+        suitesparse.cholmod_start(&cs->cm);
         cs->started = 1;
         cs->cm.error_handler = quiet_handler;
         cs->cm.print = 0;

@@ -3,9 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <cholmod.h>
-#include <umfpack.h>
 #include "solvers/sparse_direct.h"
+#include "solvers/suitesparse.h"
 
 struct sparse_direct {
     struct probe_matrix *pm;   /* numbering, colouring and probing */
@@ -48,6 +47,8 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
      * step on a 70 x 100 cross-section.  A top pad keeps that much freed
      * memory in the heap, so the next factorisation reuses the same pages. */
     mallopt(M_TOP_PAD, 256 << 20);
+    if (suitesparse_load(err, errlen) != 0)
+        return -1;
     struct sparse_direct *s = calloc(1, sizeof *s);
     if (!s) {
         snprintf(err, errlen, "sparse factorisation: out of memory");
@@ -62,11 +63,11 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
     s->rhs = malloc((size_t)s->n * sizeof(double));
     s->sol = malloc((size_t)s->n * sizeof(double));
     int ok = s->rhs && s->sol;
-    cholmod_start(&s->cm);
+    suitesparse.cholmod_start(&s->cm);
     s->cm.error_handler = quiet_handler;
     s->cm.print = 0;
     if (ok && symmetric)
-        ok = (s->B = cholmod_zeros((size_t)s->n, 1, CHOLMOD_REAL, &s->cm)) != NULL;
+        ok = (s->B = suitesparse.cholmod_zeros((size_t)s->n, 1, CHOLMOD_REAL, &s->cm)) != NULL;
     if (!ok) {
         sparse_direct_destroy(s);
         snprintf(err, errlen, "sparse factorisation: out of memory");
@@ -87,15 +88,15 @@ void sparse_direct_destroy(struct sparse_direct *s)
     free(s->rhs);
     free(s->sol);
     if (s->symbolic)
-        umfpack_di_free_symbolic(&s->symbolic);
+        suitesparse.umfpack_di_free_symbolic(&s->symbolic);
     if (s->numeric)
-        umfpack_di_free_numeric(&s->numeric);
-    cholmod_free_factor(&s->L, &s->cm);
-    cholmod_free_dense(&s->B, &s->cm);
-    cholmod_free_dense(&s->X, &s->cm);
-    cholmod_free_dense(&s->Y, &s->cm);
-    cholmod_free_dense(&s->E, &s->cm);
-    cholmod_finish(&s->cm);
+        suitesparse.umfpack_di_free_numeric(&s->numeric);
+    suitesparse.cholmod_free_factor(&s->L, &s->cm);
+    suitesparse.cholmod_free_dense(&s->B, &s->cm);
+    suitesparse.cholmod_free_dense(&s->X, &s->cm);
+    suitesparse.cholmod_free_dense(&s->Y, &s->cm);
+    suitesparse.cholmod_free_dense(&s->E, &s->cm);
+    suitesparse.cholmod_finish(&s->cm);
     free(s);
 }
 
@@ -124,23 +125,23 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
     if (s->symmetric) {
         cholmod_sparse v = cholmod_view(A);
         if (fresh || !s->L) {
-            cholmod_free_factor(&s->L, &s->cm);
-            if (!(s->L = cholmod_analyze(&v, &s->cm)))
+            suitesparse.cholmod_free_factor(&s->L, &s->cm);
+            if (!(s->L = suitesparse.cholmod_analyze(&v, &s->cm)))
                 return -1;
         }
-        int okf = cholmod_factorize(&v, s->L, &s->cm);
+        int okf = suitesparse.cholmod_factorize(&v, s->L, &s->cm);
         return okf && s->cm.status == CHOLMOD_OK ? 0 : -1;
     }
     if (fresh || !s->symbolic) {
         if (s->symbolic)
-            umfpack_di_free_symbolic(&s->symbolic);
-        if (umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val, &s->symbolic, NULL,
+            suitesparse.umfpack_di_free_symbolic(&s->symbolic);
+        if (suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val, &s->symbolic, NULL,
                                 NULL) != UMFPACK_OK)
             return -1;
     }
     if (s->numeric)
-        umfpack_di_free_numeric(&s->numeric);
-    return umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic, &s->numeric, NULL, NULL) ==
+        suitesparse.umfpack_di_free_numeric(&s->numeric);
+    return suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic, &s->numeric, NULL, NULL) ==
                    UMFPACK_OK
                ? 0
                : -1;
@@ -152,11 +153,11 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
     probe_matrix_gather(s->pm, r, b);
     const double *x = s->sol;
     if (s->symmetric) {
-        cholmod_solve2(CHOLMOD_A, s->L, s->B, NULL, &s->X, NULL, &s->Y, &s->E, &s->cm);
+        suitesparse.cholmod_solve2(CHOLMOD_A, s->L, s->B, NULL, &s->X, NULL, &s->Y, &s->E, &s->cm);
         x = s->X->x;
     } else {
         const struct csr_matrix *A = &s->cur;
-        umfpack_di_solve(UMFPACK_A, A->rowptr, A->col, A->val, s->sol, s->rhs, s->numeric, NULL,
+        suitesparse.umfpack_di_solve(UMFPACK_A, A->rowptr, A->col, A->val, s->sol, s->rhs, s->numeric, NULL,
                          NULL);
     }
     probe_matrix_scatter(s->pm, x, z);
