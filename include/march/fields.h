@@ -69,6 +69,9 @@ int fields_add_written(struct field_registry *r, const char *name, unsigned flag
 int fields_find(const struct field_registry *r, const char *name);
 void fields_save(struct field_registry *r);
 void fields_restore(struct field_registry *r);
+/* Moves every FIELD_SAVED field to saved + alpha (current - saved): a
+ * shorter step along the last one (the steady march's line search). */
+void fields_blend(struct field_registry *r, double alpha);
 void fields_free(struct field_registry *r);
 
 #endif

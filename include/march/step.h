@@ -36,6 +36,9 @@ void stage_projection(struct march_state *st, double dt);
 /* The implicit operator at the current state for a step dt (dt = 0: the
  * linearised stress alone, no mass term), as the viscous solver takes it. */
 struct viscous_problem implicit_problem(const struct march_state *st, double dt);
+/* Whether the next step linearises with the tangent (Newton) rather than the
+ * lagged viscosity (Picard). */
+int implicit_uses_tangent(const struct march_state *st);
 
 /* The hydrostatic split of the body force (hydrostatic.c), and the force
  * rho g (sin tilt, 0, -cos tilt) per unit volume at the case's density. */

@@ -69,6 +69,18 @@ void fields_restore(struct field_registry *r)
                 memcpy(r->e[i].v[c], r->e[i].saved[c], r->g->size * sizeof(double));
 }
 
+void fields_blend(struct field_registry *r, double alpha)
+{
+    for (int i = 0; i < r->count; i++)
+        if (r->e[i].spec.flags & FIELD_SAVED)
+            for (int c = 0; c < field_arrays(r->e[i].spec.where); c++) {
+                double *v = r->e[i].v[c];
+                const double *s = r->e[i].saved[c];
+                for (size_t p = 0; p < r->g->size; p++)
+                    v[p] = s[p] + alpha * (v[p] - s[p]);
+            }
+}
+
 void fields_free(struct field_registry *r)
 {
     for (int i = 0; i < r->count; i++)

@@ -2,6 +2,14 @@
  * linearised with the consistent tangent (step.h, viscous.h). */
 #include "march/step.h"
 
+int implicit_uses_tangent(const struct march_state *st)
+{
+    const struct muflow_case *cs = st->cs;
+    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
+    return cs->newton && cs->mode == MODE_STEADY &&
+           (cs->newton_below >= 1.0 || st->picard_stalled || st->residual <= cs->newton_below * r0);
+}
+
 struct viscous_problem implicit_problem(const struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;
@@ -27,10 +35,7 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
      * grains' viscosity collapses (a layer under air slid freely at steps of
      * 2e-4 s; with the lagged viscosity it reaches the steady state,
      * docs/design.md "Two phases"); for a Newtonian fluid both are one. */
-    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
-    int tangent = cs->newton && cs->mode == MODE_STEADY &&
-                  (cs->newton_below >= 1.0 || st->picard_stalled ||
-                   st->residual <= cs->newton_below * r0);
+    int tangent = implicit_uses_tangent(st);
     int diagonal = tangent && !st->full_tangent;
     for (int a = 0; a < 3; a++) {
         pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
