@@ -58,7 +58,7 @@ int main(int argc, char **argv)
             ov[nov++] = argv[a];
     for (int t = 0; t < 2; t++)
         fprintf(tfs[t], "n,bn,bn_vola,status,steps,wall_seconds,psi_max,psi_max_vola,"
-                        "err_midline\n");
+                        "err_midline,rejected\n");
     for (int a = 3; a < argc; a++) {
         if (strchr(argv[a], '='))
             continue;
@@ -98,15 +98,15 @@ int main(int argc, char **argv)
         fclose(f);
         write_fields(dir, bn, &st);
         for (int t = 0; t < 2; t++) {
-            fprintf(tfs[t], "%d,%g,%g,%s,%ld,%.3f,%.6g,%.6g,%.6g\n", n, bn,
+            fprintf(tfs[t], "%d,%g,%g,%s,%ld,%.3f,%.6g,%.6g,%.6g,%ld\n", n, bn,
                     cavity_reference_bn(&cs), run_status_name(st.status), st.step, wall,
-                    e.headline, e.headline_exact, e.err_rms);
+                    e.headline, e.headline_exact, e.err_rms, st.rejected);
             fflush(tfs[t]);
         }
-        printf("cavity %dx%d Bn %-8g (Vola %-8g): %s in %ld steps, %.2f s, psi_max %.5f "
-               "(Vola %.5f), err_midline %.4f\n",
-               n, n, bn, cavity_reference_bn(&cs), run_status_name(st.status), st.step, wall,
-               e.headline, e.headline_exact, e.err_rms);
+        printf("cavity %dx%d Bn %-8g (Vola %-8g): %s in %ld steps (%ld rejected), %.2f s, "
+               "psi_max %.5f (Vola %.5f), err_midline %.4f\n",
+               n, n, bn, cavity_reference_bn(&cs), run_status_name(st.status), st.step,
+               st.rejected, wall, e.headline, e.headline_exact, e.err_rms);
         fflush(stdout);
         profile_free(&pr);
         march_destroy(&st);

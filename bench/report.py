@@ -795,7 +795,8 @@ if any(studies.values()):
                 continue
             vola = r["psi_max_vola"]
             row += [f"{fnum(r['psi_max'], '{:.5f}')}", fnum(r["err_midline"], "{:.4f}"),
-                    f"{r['status']}, {r['steps']}"]
+                    f"{r['status']}, {r['steps']}"
+                    + (f" ({r['rejected']} rejected)" if r.get("rejected") else "")]
         row += [fnum(vola, "{:.4f}"), fnum(ref.get(bn), "{:.4f}")]
         rows.append(row)
     md.append(table(["Bn (Vola)", "psi_max 64", "err_midline 64", "64: status, steps",

@@ -19,6 +19,7 @@ struct result_value {
 struct run_result {
     enum run_status status;
     long steps;
+    long rejected_steps; /* steady mode: steps retried with a smaller pseudo-time step */
     double time, wall_seconds, residual, divergence;
     struct scene_errors errors;
     char message[256];

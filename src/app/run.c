@@ -98,6 +98,7 @@ void run_result_from(const struct march_state *st, struct run_result *res)
 {
     res->status = st->status;
     res->steps = st->step;
+    res->rejected_steps = st->rejected;
     res->time = st->time;
     res->wall_seconds = st->wall_seconds;
     res->residual = st->residual;

@@ -267,6 +267,7 @@ int output_summary(const char *dir, const struct muflow_case *cs, const struct r
     fprintf(f, "status = %s\n", run_status_name(r->status));
     fprintf(f, "message = %s\n", r->message);
     fprintf(f, "steps = %ld\n", r->steps);
+    fprintf(f, "rejected_steps = %ld\n", r->rejected_steps);
     fprintf(f, "time = %.10g\n", r->time);
     fprintf(f, "wall_seconds = %.6g\n", r->wall_seconds);
     fprintf(f, "residual = %.6e\n", r->residual);
