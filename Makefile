@@ -278,3 +278,14 @@ bench-cavity-128: deps bench-deps
 bench-heap: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
+
+# The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
+# COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
+# reference, the grid convergence of x_f(4), wall time on 2 threads, steps
+# and cell-steps per second; $(BENCH_OUT)/collapse_table.md and
+# collapse_front.png.  About 10 minutes on 2 idle cores, most of it N = 64.
+COLLAPSE_N ?= 16 32 64
+.PHONY: bench-collapse
+bench-collapse: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N)
