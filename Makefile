@@ -282,13 +282,19 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps
-# and cell-steps per second; $(BENCH_OUT)/collapse_table.md and
-# collapse_front.png.  About 10 minutes on 2 idle cores, most of it N = 64.
+# and cell-steps per second ($(BENCH_OUT)/collapse_table.md,
+# collapse_front.png); then the deposits of a = 0.5, 1.42 and 6.26 at
+# COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
+# (collapse_deposits.md, collapse_deposit_a*.png).  About 10 minutes on 2
+# idle cores, half of it N = 64.
 COLLAPSE_N ?= 16 32 64
+COLLAPSE_DEPOSIT_N ?= 32
 .PHONY: bench-collapse
 bench-collapse: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(COLLAPSE_DEPOSIT_N)
 
 # Pictures of the column collapse: cases/collapse.ini with a field file every
 # 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and
