@@ -283,16 +283,20 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps
 # and cell-steps per second ($(BENCH_OUT)/collapse_table.md,
-# collapse_front.png); then the deposits of a = 0.5, 1.42 and 6.26 at
+# collapse_front.png); the same with the granular viscosity clipped to
+# [d sqrt(g d), 1e4] (collapse_table_clip.md); then the deposits of a = 0.5,
+# 1.42 and 6.26 at
 # COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
-# (collapse_deposits.md, collapse_deposit_a*.png).  About 10 minutes on 2
-# idle cores, half of it N = 64.
+# (collapse_deposits.md, collapse_deposit_a*.png).  About 20 minutes on 2
+# idle cores, most of it the two runs at N = 64.
 COLLAPSE_N ?= 16 32 64
 COLLAPSE_DEPOSIT_N ?= 32
 .PHONY: bench-collapse
 bench-collapse: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N) \
+	  collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N)
 

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Column collapse study: a = 0.5 to t = 4 at three resolutions.
 
-usage: collapse_study.py MUFLOW OUTDIR [N ...]
+usage: collapse_study.py MUFLOW OUTDIR [N ...] [section.key=value ...] [--tag NAME]
 
 Runs cases/collapse.ini through the muflow command (the caller's
 OMP_NUM_THREADS, 2 in `make bench-collapse`) at N cells per H0 (default 16,
@@ -9,7 +9,8 @@ OMP_NUM_THREADS, 2 in `make bench-collapse`) at N cells per H0 (default 16,
 criterion, and writes OUTDIR/collapse_table.md (x_f(t) and h(0,t) against
 the Basilisk reference at t = 0..4, the grid convergence of x_f(4), wall
 time, steps, cell-steps per second), collapse_runs.csv and the plot
-collapse_front.png."""
+collapse_front.png; with --tag NAME, collapse_table_NAME.md and so on, and
+the overrides (section.key=value) go to every run."""
 import csv
 import math
 import os
@@ -65,12 +66,12 @@ def at(ts, vs, t):
     return vs[0] if t == 0 else float("nan")
 
 
-def run(muflow, outdir, n):
-    d = os.path.join(outdir, "collapse_n%d" % n)
+def run(muflow, outdir, n, overrides, tag):
+    d = os.path.join(outdir, "collapse%s_n%d" % ("_" + tag if tag else "", n))
     nx, nz = 5 * n, (3 * n) // 2
     cmd = [muflow, CASE, "domain.nx=%d" % nx, "domain.nz=%d" % nz,
            "domain.ly=%.17g" % (1.0 / n), "collapse.rest_energy=0", "output.fields=off",
-           "output.quiet=on", "output.dir=" + d]
+           "output.quiet=on", "output.dir=" + d] + overrides
     print(" ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
     s = summary(os.path.join(d, "summary.ini"))
@@ -83,13 +84,22 @@ def run(muflow, outdir, n):
 
 def main():
     muflow, outdir = sys.argv[1], sys.argv[2]
-    ns = [int(a) for a in sys.argv[3:]] or [16, 32, 64]
+    args = sys.argv[3:]
+    tag = ""
+    if "--tag" in args:
+        i = args.index("--tag")
+        tag = args[i + 1]
+        del args[i:i + 2]
+    overrides = [a for a in args if "=" in a]
+    ns = [int(a) for a in args if "=" not in a] or [16, 32, 64]
+    suffix = "_" + tag if tag else ""
     os.makedirs(outdir, exist_ok=True)
     ref = reference()
-    runs = [run(muflow, outdir, n) for n in ns]
+    runs = [run(muflow, outdir, n, overrides, tag) for n in ns]
     lines = ["# Column collapse, a = 0.5, to t = 4 (units H0, sqrt(H0/g))", "",
-             "cases/collapse.ini at N cells per H0; reference: Basilisk (Lagree et al. 2011 "
-             "set-up), cases/data/lagree2011_collapse.csv.", "",
+             "cases/collapse.ini at N cells per H0%s; reference: Basilisk (Lagree et al. 2011 "
+             "set-up), cases/data/lagree2011_collapse.csv." % (
+                 (", overrides " + " ".join(overrides)) if overrides else ""), "",
              "## Front x_f(t)", "",
              "| t | reference | " + " | ".join("N = %d" % r["n"] for r in runs) + " |",
              "|---|---|" + "---|" * len(runs)]
@@ -128,9 +138,9 @@ def main():
             r["tracer_over"]))
     lines.append("")
     lines.append("Threads: OMP_NUM_THREADS = %s." % os.environ.get("OMP_NUM_THREADS", "unset"))
-    with open(os.path.join(outdir, "collapse_table.md"), "w") as f:
+    with open(os.path.join(outdir, "collapse_table%s.md" % suffix), "w") as f:
         f.write("\n".join(lines) + "\n")
-    with open(os.path.join(outdir, "collapse_runs.csv"), "w") as f:
+    with open(os.path.join(outdir, "collapse_runs%s.csv" % suffix), "w") as f:
         f.write("n,t,x_front,h_axis\n")
         for r in runs:
             for t in TIMES:
@@ -144,7 +154,7 @@ def main():
     plt.ylabel("x_f / H0")
     plt.legend()
     plt.tight_layout()
-    plt.savefig(os.path.join(outdir, "collapse_front.png"), dpi=120)
+    plt.savefig(os.path.join(outdir, "collapse_front%s.png" % suffix), dpi=120)
     print("\n".join(lines))
 
 
