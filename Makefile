@@ -287,8 +287,8 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 # [d sqrt(g d), 1e4] (collapse_table_clip.md); then the deposits of a = 0.5,
 # 1.42 and 6.26 at
 # COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
-# (collapse_deposits.md, collapse_deposit_a*.png).  About 20 minutes on 2
-# idle cores, most of it the two runs at N = 64.
+# (collapse_deposits.md, collapse_deposit_a*.png), without and with the
+# clip.  About 25 minutes on 2 idle cores, most of it the two runs at N = 64.
 COLLAPSE_N ?= 16 32 64
 COLLAPSE_DEPOSIT_N ?= 32
 .PHONY: bench-collapse
@@ -299,6 +299,8 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	  collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(COLLAPSE_DEPOSIT_N) collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
 
 # Pictures of the column collapse: cases/collapse.ini with a field file every
 # 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and

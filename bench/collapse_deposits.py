@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Column collapse deposits: a = 0.5, 1.42 and 6.26 against contact dynamics.
 
-usage: collapse_deposits.py MUFLOW OUTDIR [N]
+usage: collapse_deposits.py MUFLOW OUTDIR [N] [section.key=value ...] [--tag NAME]
 
 Runs cases/collapse.ini (the caller's OMP_NUM_THREADS) at N cells per H0
 (default 32) for the three aspect ratios of Lagree, Staron & Popinet (2011)
@@ -10,7 +10,8 @@ with the overrides the README gives, each until the grains come to rest
 the final contact-dynamics profile of cases/data/staron_cd_deposits.csv
 (both of its sides folded onto x >= 0): OUTDIR/collapse_deposit_a*.png and
 collapse_deposits.md (run-out L_f, (L_f - R0)/R0 and the height on the axis
-H_f, muflow against contact dynamics)."""
+H_f, muflow against contact dynamics); with --tag NAME the files are named
+with _NAME and the overrides go to every run."""
 import csv
 import os
 import subprocess
@@ -50,14 +51,14 @@ def cd_profile(a):
     return sorted(pts)
 
 
-def run(muflow, outdir, a, n):
+def run(muflow, outdir, a, n, overrides, suffix):
     r0, d, lx = CASES[a]
     nx = int(round(lx * n))
-    out = os.path.join(outdir, "collapse_a%g_n%d" % (a, n))
+    out = os.path.join(outdir, "collapse%s_a%g_n%d" % (suffix, a, n))
     cmd = [muflow, CASE, "collapse.half_width=%.17g" % r0, "rheology.grain_diameter=%.17g" % d,
            "domain.lx=%g" % lx, "domain.nx=%d" % nx, "domain.nz=%d" % (3 * n // 2),
            "domain.ly=%.17g" % (1.0 / n), "solver.end_time=%g" % END_TIME,
-           "output.fields=off", "output.quiet=on", "output.dir=" + out]
+           "output.fields=off", "output.quiet=on", "output.dir=" + out] + overrides
     print(" ".join(cmd), flush=True)
     subprocess.run(cmd, check=True)
     s = summary(os.path.join(out, "summary.ini"))
@@ -68,9 +69,19 @@ def run(muflow, outdir, a, n):
 
 def main():
     muflow, outdir = sys.argv[1], sys.argv[2]
-    n = int(sys.argv[3]) if len(sys.argv) > 3 else 32
+    args = sys.argv[3:]
+    tag = ""
+    if "--tag" in args:
+        i = args.index("--tag")
+        tag = args[i + 1]
+        del args[i:i + 2]
+    overrides = [x for x in args if "=" in x]
+    counts = [int(x) for x in args if "=" not in x]
+    n = counts[0] if counts else 32
+    suffix = "_" + tag if tag else ""
     os.makedirs(outdir, exist_ok=True)
-    lines = ["# Column collapse deposits against contact dynamics (N = %d cells per H0)" % n, "",
+    lines = ["# Column collapse deposits against contact dynamics (N = %d cells per H0%s)" % (
+        n, (", " + " ".join(overrides)) if overrides else ""), "",
              "Contact dynamics: Staron's discrete-grain runs, final snapshot "
              "(cases/data/staron_cd_deposits.csv), both sides folded; run-out = mean of the two "
              "sides' extents.  muflow: x_front and h_axis of the final state.", "",
@@ -79,7 +90,7 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|"]
     for a in sorted(CASES):
         r0 = CASES[a][0]
-        s, prof = run(muflow, outdir, a, n)
+        s, prof = run(muflow, outdir, a, n, overrides, suffix)
         cd = cd_profile(a)
         rows = [r for r in open(CD) if not r.startswith("#")]
         xs = [float(r["coord"]) for r in csv.DictReader(rows)
@@ -101,9 +112,9 @@ def main():
         plt.title("a = %g" % a)
         plt.legend(fontsize=8)
         plt.tight_layout()
-        plt.savefig(os.path.join(outdir, "collapse_deposit_a%g.png" % a), dpi=120)
+        plt.savefig(os.path.join(outdir, "collapse_deposit%s_a%g.png" % (suffix, a)), dpi=120)
         plt.close()
-    with open(os.path.join(outdir, "collapse_deposits.md"), "w") as f:
+    with open(os.path.join(outdir, "collapse_deposits%s.md" % suffix), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
