@@ -270,3 +270,39 @@ bench-cavity-128: deps bench-deps
 bench-heap: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
+
+# The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
+# COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
+# reference, the grid convergence of x_f(4), wall time on 2 threads, steps
+# and cell-steps per second ($(BENCH_OUT)/collapse_table.md,
+# collapse_front.png); the same with the granular viscosity clipped to
+# [d sqrt(g d), 1e4] (collapse_table_clip.md); then the deposits of a = 0.5,
+# 1.42 and 6.26 at
+# COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
+# (collapse_deposits.md, collapse_deposit_a*.png), without and with the
+# clip.  About 25 minutes on 2 idle cores, most of it the two runs at N = 64.
+COLLAPSE_N ?= 16 32 64
+COLLAPSE_DEPOSIT_N ?= 32
+.PHONY: bench-collapse
+bench-collapse: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) $(COLLAPSE_N) \
+	  collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(COLLAPSE_DEPOSIT_N)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(COLLAPSE_DEPOSIT_N) collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
+
+# Pictures of the column collapse: cases/collapse.ini with a field file every
+# 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and
+# |u| per field file (PNG) and the animation (GIF through Pillow; also MP4 when
+# Debian's ffmpeg is installed) into $(COLLAPSE_PICTURES)/pictures.  About a
+# minute on 2 idle cores.
+COLLAPSE_PICTURES ?= out/collapse_pictures
+.PHONY: collapse-pictures
+collapse-pictures: deps $(BUILD)/muflow
+	@$(MAKE) --no-print-directory deps DEB_PKGS="python3-matplotlib python3-h5py python3-pil"
+	OMP_NUM_THREADS=2 $(BUILD)/muflow cases/collapse.ini output.dir=$(COLLAPSE_PICTURES) \
+	  output.fields_interval=0.25 solver.end_time=6 output.quiet=on
+	/usr/bin/python3 tools/collapse_movie.py $(COLLAPSE_PICTURES)

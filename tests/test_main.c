@@ -56,6 +56,7 @@ static const struct {
     {"outputs", group_outputs},
     {"honest", group_honest},
     {"bedload", group_bedload},
+    {"collapse", group_collapse},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -12,6 +12,7 @@
 struct scene;
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
+enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
 
 struct muflow_case {
     char name[128];          /* case name: the file's base name without .ini */
@@ -33,6 +34,7 @@ struct muflow_case {
     double density;          /* bulk density (phi rho_s) in the momentum equation */
     double confining_pressure; /* added to the pressure that enters the rheology */
     int advection;           /* 1: explicit advection of momentum; 0: Stokes-like */
+    int advection_scheme;    /* enum advection_scheme */
 
     /* [rheology] */
     struct rheology rheo;

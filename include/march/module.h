@@ -11,6 +11,9 @@
  *   transport   after the projection: advects its tracers by the new
  *               velocity over dt
  *   end_step    the last stage of an accepted step
+ *   max_dt      the largest time step its stages allow at the current state
+ *               (a transient step is the smallest of these, the CFL limit
+ *               and solver.dt; INFINITY: none)
  *   destroy     frees its state */
 #ifndef MUFLOW_MARCH_MODULE_H
 #define MUFLOW_MARCH_MODULE_H
@@ -26,6 +29,7 @@ struct module {
     void (*residual)(struct march_state *st, void *state);
     void (*transport)(struct march_state *st, void *state, double dt);
     void (*end_step)(struct march_state *st, void *state, double dt);
+    double (*max_dt)(const struct march_state *st, void *state);
     void (*destroy)(void *state);
 };
 

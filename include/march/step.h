@@ -43,6 +43,9 @@ int implicit_uses_tangent(const struct march_state *st);
 /* The hydrostatic split of the body force (hydrostatic.c), and the force
  * rho g (sin tilt, 0, -cos tilt) per unit volume at the case's density. */
 int hydrostatic_split(struct march_state *st, char *err, size_t errlen);
+/* The force of the current face density less grad p_hyd (after the density
+ * changed). */
+void hydrostatic_force(struct march_state *st);
 void body_force_vector(const struct muflow_case *cs, double f[3]);
 
 #endif

@@ -33,6 +33,14 @@ struct two_phase_params {
     enum mixture_law mixture;
     int transported;         /* 1: T moves with the flow (geometric VOF, sub-stepped
                                 within each step); 0: T is held */
+    /* the granular viscosity eta_g clipped to [eta_min, eta_max] before it is
+     * mixed (the published runs' bounds); 0 and 0: no clip */
+    double eta_min, eta_max;
+    /* > 0: the time step is limited to this sweep CFL number of the VOF
+     * transport at the step's start velocity (at most VOF_CFL_MAX; the
+     * sub-steps still guard the velocity the step ends with); 0: no limit,
+     * the sub-steps alone */
+    double step_cfl;
 };
 
 extern const struct module two_phase_module;

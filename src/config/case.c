@@ -43,6 +43,9 @@ static const struct choice mode_choices[] = {
 static const struct choice dir_choices[] = {
     {"auto", -1}, {"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
+static const struct choice advection_choices[] = {
+    {"centred", ADVECTION_CENTRED}, {"upwind", ADVECTION_UPWIND},
+    {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
     {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {NULL, 0}};
@@ -112,6 +115,9 @@ static const struct key keys[] = {
     DBL("physics", "confining_pressure", confining_pressure, GE0,
         "pressure added to the pressure that enters the rheology"),
     BOOL("physics", "advection", advection, "explicit advection of momentum (off: Stokes-like)"),
+    CHO("physics", "advection_scheme", advection_scheme, advection_choices,
+        "form of the advection term: centred (second order, energy-neutral), upwind (first "
+        "order, donor cell) or vanleer (upwind, second order with van Leer's limiter)"),
 
     CHO("rheology", "law", rheo.law, law_choices, "viscosity law: mu(I), Bingham or Newtonian"),
     CHO("rheology", "regularisation", rheo.reg, reg_choices,

@@ -62,6 +62,19 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     }
     pressure_destroy(ps);
     bc_fill_scalar(g, &st->bc, st->p_hyd);
+    hydrostatic_force(st);
+    return 0;
+}
+
+/* force = rho_f g - grad p_hyd on the unknown faces (zero elsewhere): called
+ * by the split and whenever the face density changes (a moving tracer), so
+ * that gravity acts on the density the fluid has now; the pressure that the
+ * fixed p_hyd no longer balances is taken up by the projection's p_dyn. */
+void hydrostatic_force(struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    double f[3];
+    body_force_vector(st->cs, f);
     for (int a = 0; a < 3; a++)
         for (size_t p = 0; p < g->size; p++)
             st->force[a][p] = st->density_uniform ? f[a] : f[a] * st->rho_face[a][p] / st->cs->density;
@@ -75,5 +88,4 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                         k < b->lo[2] || k >= b->hi[2])
                         st->force[a][grid_idx(g, i, j, k)] = 0.0;
                 }
-    return 0;
 }

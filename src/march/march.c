@@ -400,6 +400,7 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
 {
     const struct grid *g = &st->g;
     st->density_uniform = uniform;
+    hydrostatic_force(st); /* gravity acts on the density of now */
     if (uniform)
         return pressure_set_coefficient(st->pressure_solver, NULL, err, errlen);
     if (!st->beta[0]) {
@@ -549,6 +550,10 @@ static double choose_dt(const struct march_state *st)
             dt = cs->end_time - st->time;
     }
     double lim = cfl_dt(st);
+    /* and the modules' own limits (a tracer's transport) */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->max_dt)
+            lim = fmin(lim, st->modules[m]->max_dt(st, st->module_state[m]));
     return dt > lim ? lim : dt;
 }
 

@@ -19,7 +19,11 @@ void stage_residual(struct march_state *st)
     bc_fill_scalar(g, &st->bc, st->p_dyn);
     kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
     if (cs->advection) {
-        kernel_advection(g, st->act, st->vel, st->adv);
+        if (cs->advection_scheme != ADVECTION_CENTRED)
+            kernel_advection_upwind(g, st->act, st->vel,
+                                    cs->advection_scheme == ADVECTION_VANLEER, st->adv);
+        else
+            kernel_advection(g, st->act, st->vel, st->adv);
         if (st->density_uniform)
             kernel_axpy(g, st->act, cs->density, st->adv, st->res);
         else

@@ -113,12 +113,31 @@ static inline double mix(const struct two_phase *tp, double rg, double t, double
     return w * eta_g + (1.0 - w) * ef;
 }
 
+/* The granular viscosity within the clip (when there is one); *clipped
+ * says whether it was cut (its derivatives then vanish). */
+static inline double clip(const struct two_phase *tp, double eta_g, int *clipped)
+{
+    *clipped = 0;
+    if (!(tp->p.eta_max > 0.0))
+        return eta_g;
+    double e = fmin(fmax(eta_g, tp->p.eta_min), tp->p.eta_max);
+    *clipped = e != eta_g;
+    return e;
+}
+
 /* eta (and the tangent A, the full tangent's b) of one stress location:
  * A = eta + eta_g' x (its derivative part), which scales with d eta / d eta_g. */
 static inline void mix_point(const struct two_phase *tp, double rg, double t, double *eta,
                              double *tan, double *b)
 {
-    double d, eg = *eta;
+    int cut;
+    double d, eg = clip(tp, *eta, &cut);
+    if (cut) {
+        if (tan)
+            *tan = eg;
+        if (b)
+            *b = 0.0;
+    }
     double m = mix(tp, rg, t, eg, &d);
     if (tan)
         *tan = m + d * (*tan - eg);
@@ -141,7 +160,15 @@ static void properties(struct march_state *st, void *state)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
-                double eg = st->eta[q], d;
+                int cut;
+                double eg = clip(tp, st->eta[q], &cut), d;
+                if (cut) {
+                    if (cs->newton)
+                        for (int a = 0; a < 3; a++)
+                            st->tan_c[a][q] = eg;
+                    if (st->b_c)
+                        st->b_c[q] = 0.0;
+                }
                 double m = mix(tp, rg, tp->T[q], eg, &d);
                 if (cs->newton)
                     for (int a = 0; a < 3; a++)
@@ -204,10 +231,23 @@ static void transport(struct march_state *st, void *state, double dt)
     }
 }
 
+/* The VOF limit of the step: step_cfl h_d / max |u_d| over the swept
+ * directions, at the velocity the step starts from. */
+static double max_dt(const struct march_state *st, void *state)
+{
+    struct two_phase *tp = state;
+    if (!tp->configured || !tp->transported || !(tp->p.step_cfl > 0.0))
+        return INFINITY;
+    double cfl[3];
+    double c = vof_cfl(&st->g, st->vel, 1.0, cfl);
+    return c > 0.0 ? fmin(tp->p.step_cfl, VOF_CFL_MAX) / c : INFINITY;
+}
+
 const struct module two_phase_module = {
     .name = "two_phase",
     .create = create,
     .properties = properties,
     .transport = transport,
+    .max_dt = max_dt,
     .destroy = destroy,
 };

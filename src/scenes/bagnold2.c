@@ -148,9 +148,10 @@ static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct bagnold2_params *b = params(st->cs);
     /* steady mode holds the flat interface; a transient run carries it */
-    const struct two_phase_params tp = {b->fluid_density, b->fluid_viscosity,
-                                        (enum mixture_law)b->mixture,
-                                        st->cs->mode == MODE_TRANSIENT};
+    const struct two_phase_params tp = {.fluid_density = b->fluid_density,
+                                        .fluid_viscosity = b->fluid_viscosity,
+                                        .mixture = (enum mixture_law)b->mixture,
+                                        .transported = st->cs->mode == MODE_TRANSIENT};
     double *T = two_phase_configure(st, &tp, err, errlen);
     if (!T)
         return -1;

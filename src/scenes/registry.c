@@ -14,7 +14,8 @@
     X(heap)                \
     X(couette)             \
     X(bagnold2)            \
-    X(bedload)
+    X(bedload)             \
+    X(collapse)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

@@ -11,6 +11,7 @@
  * relative to the step's increment. */
 #define PRESSURE_RTOL 1e-12
 #define PRESSURE_MAX_ITER 500
+#define PRESSURE_RESTARTS 4
 
 struct pressure_solver {
     const struct grid *g;
@@ -85,6 +86,14 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi)
     memset(phi, 0, ps->g->size * sizeof(double));
     struct multigrid_stats stats;
     int rc = multigrid_pcg(ps->mg, ps->rhs, phi, PRESSURE_RTOL, PRESSURE_MAX_ITER, &stats);
+    /* CG in floating point can stagnate (its directions lose conjugacy): a
+     * restart from the iterate reached, with a fresh residual, recovers.
+     * Measured on the column collapse (a = 1.42, 72 x 24): 5 of 629 solves
+     * stalled at 5e-10 to 5e-5 after 500 iterations, which the projection
+     * took as they were (the grains' volume off by 1e-10); restarted, they
+     * converge and the volume holds to round-off. */
+    for (int restart = 0; rc != 0 && restart < PRESSURE_RESTARTS; restart++)
+        rc = multigrid_pcg(ps->mg, ps->rhs, phi, PRESSURE_RTOL, PRESSURE_MAX_ITER, &stats);
     if (rc != 0) {
         snprintf(ps->message, sizeof ps->message,
                  "pressure solve: relative residual %.2e after %d multigrid-CG iterations",

@@ -1,0 +1,38 @@
+/* The granular column collapse (scene "collapse", cases/collapse.ini): what
+ * is measured on the state, for the scene, its tests and benchmarks.
+ *
+ * Coordinates: x from the symmetry axis (the low x face), z from the base;
+ * a 2D cross-section (x-z, the y cells averaged).  T is the grains' volume
+ * fraction (the two_phase module's tracer).  Every measure loops over the
+ * grid's own cells and sums: a decomposed grid adds one reduction each. */
+#ifndef MUFLOW_SCENES_COLLAPSE_H
+#define MUFLOW_SCENES_COLLAPSE_H
+
+#include "march/march.h"
+
+struct collapse_sample {
+    double t;
+    double x_front;   /* largest x of the T = 1/2 contour (linear between centres) */
+    double h_axis;    /* height on the axis: the column heights of the first two
+                         columns fitted by h = a + b x^2 (symmetric about x = 0) */
+    double kinetic;   /* sum of rho u^2 / 2 over the faces, per unit width */
+    double volume;    /* sum of T dx dz, per unit width */
+    double t_min, t_max; /* the extremes of T over the cells */
+};
+
+/* T of the two_phase module (the field "tracer"), or NULL. */
+const double *collapse_tracer(const struct march_state *st);
+
+/* The measures of the current state into s (s->t = st->time). */
+void collapse_measure(const struct march_state *st, const double *T, struct collapse_sample *s);
+
+/* Column heights h(x_i) = sum_k T dz at the cell centres x_i (n[0] values,
+ * averaged over y). */
+void collapse_heights(const struct grid *g, const double *T, double *h);
+
+/* The share of the cell [x0, x0 + hx] x [z0, z0 + hz] inside the rectangle
+ * [0, r] x [0, hgt]: the initial column's T. */
+double collapse_rectangle_fraction(double x0, double hx, double z0, double hz, double r,
+                                   double hgt);
+
+#endif

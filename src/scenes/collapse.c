@@ -1,0 +1,462 @@
+/* Scene "collapse": a rectangular column of grains released on a rough base
+ * under air spreads and stops (Lagree, Staron & Popinet 2011; the set-up of
+ * their example files; cases/collapse.ini).  Half the column: the symmetry
+ * plane at x = 0 (slip), no slip at the base, the flat stress-free top (p = 0
+ * there, no flow through it: the closed-top approximation of an open top,
+ * harmless at the light phase's density ratio 1e-3), a 2D cross-section.
+ *
+ * The two phases are the two_phase module (physics/two_phase.h), T carried
+ * by the geometric VOF; the grains' viscosity is the case's mu(I) with the
+ * regularised pressure, optionally clipped to [rho d sqrt(g d), eta_max]
+ * as in the published runs.  The scene's own module records the measures
+ * of scenes/collapse.h at every step and the surface profile h(x) at given
+ * times, and holds the dynamic pressure's level at the top at 0 (the
+ * projection fixes only its gradient, the rheology needs its value).  The
+ * run ends at end_time or when the kinetic energy has fallen below a
+ * fraction of its peak: the deposit has come to rest. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "diagnostics/reference.h"
+#include "io/output.h"
+#include "physics/two_phase.h"
+#include "scenes/collapse.h"
+#include "scenes/scene.h"
+
+struct collapse_params {
+    double half_width;       /* R0 */
+    double height;           /* H0 */
+    double fluid_density;
+    double fluid_viscosity;
+    int viscosity_clip;
+    double eta_max;
+    double rest_energy;      /* fraction of the peak kinetic energy: at rest */
+    double profile_interval; /* time between surface profiles */
+    double vof_cfl;
+};
+
+#define T struct collapse_params
+static const struct key collapse_keys[] = {
+    KEY_DBL(T, "collapse", "half_width", half_width,
+            "half-width R0 of the column (the axis at x = 0; below domain.lx)", KEY_GT0),
+    KEY_DBL(T, "collapse", "height", height, "height H0 of the column (below domain.lz)",
+            KEY_GT0),
+    KEY_DBL(T, "collapse", "fluid_density", fluid_density, "density rho_f of the light phase",
+            KEY_GT0),
+    KEY_DBL(T, "collapse", "fluid_viscosity", fluid_viscosity,
+            "viscosity eta_f of the (Newtonian) light phase", KEY_GT0),
+    KEY_BOOL(T, "collapse", "viscosity_clip", viscosity_clip,
+             "clip the granular viscosity to [rho d sqrt(g d), eta_max] before mixing (the "
+             "published runs)"),
+    KEY_DBL(T, "collapse", "eta_max", eta_max, "upper bound of the viscosity clip", KEY_GT0),
+    KEY_DBL(T, "collapse", "rest_energy", rest_energy,
+            "the run ends (finished, at rest) when the kinetic energy falls below this "
+            "fraction of its peak; 0: only at solver.end_time",
+            KEY_RANGE(0.0, 1.0, 1, 0)),
+    KEY_DBL(T, "collapse", "profile_interval", profile_interval,
+            "time between the surface profiles h(x) of surface.csv", KEY_GT0),
+    KEY_DBL(T, "collapse", "vof_cfl", vof_cfl,
+            "largest sweep CFL number of the VOF transport that the time step allows",
+            KEY_RANGE(0.0, 0.5, 0, 1)),
+};
+#undef T
+
+/* a = 0.5 of the published runs (units H0 = g = rho = 1) */
+static void defaults(void *block)
+{
+    struct collapse_params *c = block;
+    c->half_width = 2.0;
+    c->height = 1.0;
+    c->fluid_density = 1e-3;
+    c->fluid_viscosity = 1e-4;
+    c->viscosity_clip = 0;
+    c->eta_max = 10.0;
+    c->rest_energy = 1e-4;
+    c->profile_interval = 1.0;
+    c->vof_cfl = 0.4;
+}
+
+static const struct key_block collapse_block = {
+    .section = "collapse",
+    .keys = collapse_keys,
+    .nkeys = (int)(sizeof collapse_keys / sizeof collapse_keys[0]),
+    .size = sizeof(struct collapse_params),
+    .defaults = defaults,
+};
+
+static const struct collapse_params *params(const struct muflow_case *cs)
+{
+    return case_scene_params(cs);
+}
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    const struct collapse_params *p = params(c);
+    if (c->rheo.law != LAW_MUI) {
+        snprintf(msg, msglen, "case.scene = collapse needs rheology.law = mui");
+        return 1;
+    }
+    if (c->mode != MODE_TRANSIENT) {
+        snprintf(msg, msglen, "case.scene = collapse needs solver.mode = transient");
+        return 1;
+    }
+    const struct boundary *b = &c->bc;
+    if (b->face[0][0] != BC_SLIP || b->face[0][1] == BC_PERIODIC || b->face[2][0] != BC_WALL ||
+        b->face[2][1] != BC_SURFACE || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
+                              "xhi not periodic, zlo = wall, zhi = surface, periodic y and "
+                              "domain.ny = 1");
+        return 1;
+    }
+    if (!(p->half_width < c->len[0]) || !(p->height < c->len[2])) {
+        snprintf(msg, msglen, "collapse.half_width = %.17g, collapse.height = %.17g: the "
+                              "column must fit inside domain.lx = %.17g and domain.lz = %.17g",
+                 p->half_width, p->height, c->len[0], c->len[2]);
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- the record: measures at every step, profiles at given times ---- */
+
+struct record {
+    struct collapse_sample *s;
+    long n, cap;
+    long last_step;          /* the step of the last sample (-1: none) */
+    double peak;             /* largest kinetic energy so far, and when */
+    double peak_time;
+    double volume0;
+    int nx;                  /* profiles: times and nx heights each */
+    double *ptime, *ph;
+    long np, pcap;
+    double next_profile;
+};
+
+static int create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    struct record *r = calloc(1, sizeof *r);
+    if (!r) {
+        snprintf(err, errlen, "collapse: out of memory");
+        return -1;
+    }
+    r->last_step = -1;
+    r->nx = st->g.n[0];
+    *state = r;
+    return 0;
+}
+
+static void destroy(void *state)
+{
+    struct record *r = state;
+    if (r) {
+        free(r->s);
+        free(r->ptime);
+        free(r->ph);
+    }
+    free(r);
+}
+
+/* The dynamic pressure's mean over the top layer of cells set to 0: the
+ * pressure at the top is the hydrostatic one, 0 on the face (the light
+ * phase's weight over half a cell in the top cells). */
+static void end_step(struct march_state *st, void *state, double dt)
+{
+    (void)state;
+    (void)dt;
+    const struct grid *g = &st->g;
+    int k = g->n[2] - 1;
+    double s = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            s += st->p_dyn[grid_idx(g, i, j, k)];
+    s /= (double)g->n[0] * g->n[1];
+    for (size_t p = 0; p < g->size; p++)
+        st->p_dyn[p] -= s;
+}
+
+static const struct module collapse_module = {
+    .name = "collapse",
+    .create = create,
+    .end_step = end_step,
+    .destroy = destroy,
+};
+
+static int grow(void **a, long *cap, long need, size_t each)
+{
+    if (need <= *cap)
+        return 0;
+    long c = *cap ? 2 * *cap : 1024;
+    while (c < need)
+        c *= 2;
+    void *b = realloc(*a, (size_t)c * each);
+    if (!b)
+        return -1;
+    *a = b;
+    *cap = c;
+    return 0;
+}
+
+/* Adds the state's sample (once per step) and a profile when one is due. */
+static int record_state(struct record *r, const struct march_state *st)
+{
+    const double *T = collapse_tracer(st);
+    if (!T || st->step == r->last_step)
+        return 0;
+    long scap = r->cap;
+    if (grow((void **)&r->s, &scap, r->n + 1, sizeof *r->s) != 0)
+        return -1;
+    r->cap = scap;
+    struct collapse_sample *s = &r->s[r->n++];
+    collapse_measure(st, T, s);
+    r->last_step = st->step;
+    if (r->n == 1)
+        r->volume0 = s->volume;
+    if (s->kinetic > r->peak) {
+        r->peak = s->kinetic;
+        r->peak_time = s->t;
+    }
+    if (s->t >= r->next_profile * (1.0 - 1e-12)) {
+        long pc = r->pcap, hc = r->pcap;
+        if (grow((void **)&r->ptime, &pc, r->np + 1, sizeof(double)) != 0 ||
+            grow((void **)&r->ph, &hc, r->np + 1, (size_t)r->nx * sizeof(double)) != 0)
+            return -1;
+        r->pcap = pc;
+        r->ptime[r->np] = s->t;
+        collapse_heights(&st->g, T, r->ph + (size_t)r->np * r->nx);
+        r->np++;
+        double every = params(st->cs)->profile_interval;
+        while (r->next_profile <= s->t * (1.0 + 1e-12))
+            r->next_profile += every;
+    }
+    return 0;
+}
+
+static struct record *record_of(const struct march_state *st)
+{
+    return march_module_state(st, &collapse_module);
+}
+
+/* ---- the driver: the march, recorded, until end_time or rest ---- */
+
+struct drive_ctx {
+    struct scene_drive *d;
+    int at_rest, failed;
+};
+
+static int observe(void *vctx, const struct march_state *st)
+{
+    struct drive_ctx *c = vctx;
+    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
+    struct record *r = record_of(st);
+    if (record_state(r, st) != 0) {
+        c->failed = 1;
+        return 1;
+    }
+    double rest = params(st->cs)->rest_energy;
+    if (!stop && st->status == STATUS_RUNNING && st->step > 0 && rest > 0.0 && r->peak > 0.0 &&
+        r->s[r->n - 1].kinetic < rest * r->peak) {
+        c->at_rest = 1;
+        return 1;
+    }
+    return stop;
+}
+
+static int drive(struct scene_drive *d)
+{
+    struct march_state *st = d->st;
+    struct drive_ctx c = {.d = d};
+    march_run(st, observe, &c);
+    struct record *r = record_of(st);
+    if (c.failed) {
+        st->status = STATUS_STOPPED;
+        snprintf(st->message, sizeof st->message,
+                 "out of memory for the collapse's record at step %ld", st->step);
+    } else if (c.at_rest && st->status == STATUS_STOPPED) {
+        st->status = STATUS_FINISHED;
+        snprintf(st->message, sizeof st->message,
+                 "the grains came to rest at t = %.6g: kinetic energy %.3e below %g of its "
+                 "peak %.3e (t = %.4g)",
+                 st->time, r->s[r->n - 1].kinetic, params(st->cs)->rest_energy, r->peak,
+                 r->peak_time);
+    }
+    return 0;
+}
+
+static const char *not_restartable(const struct muflow_case *cs)
+{
+    (void)cs;
+    return "the collapse's record (collapse.csv, surface.csv) covers the whole run from the "
+           "initial column: it cannot continue from a checkpoint";
+}
+
+/* ---- results and files ---- */
+
+/* A time the run reached to the rounding of its sum of steps (the end
+ * time, 4, is reached as 3.9999999999999996). */
+#define RECORD_TIME_EPS 1e-9
+
+/* Field `which` of the record (0 x_front, 1 h_axis) at time t, linear
+ * between samples; NaN outside the record. */
+static double record_at(const struct record *r, int which, double t)
+{
+    for (long m = 1; m < r->n; m++)
+        if (r->s[m].t >= t - RECORD_TIME_EPS) {
+            const struct collapse_sample *a = &r->s[m - 1], *b = &r->s[m];
+            double va = which ? a->h_axis : a->x_front, vb = which ? b->h_axis : b->x_front;
+            double w = b->t > a->t ? fmin(1.0, (t - a->t) / (b->t - a->t)) : 1.0;
+            return va + w * (vb - va);
+        }
+    return r->n > 0 && fabs(r->s[0].t - t) < 1e-12 ? (which ? r->s[0].h_axis : r->s[0].x_front)
+                                                    : NAN;
+}
+
+/* The largest |measure - reference| over the reference times the run
+ * reached, and their count. */
+static double reference_error(const struct muflow_case *cs, const struct record *r,
+                              const char *dataset, int which, int *count)
+{
+    *count = 0;
+    if (!cs->reference[0])
+        return NAN;
+    const struct collapse_params *p = params(cs);
+    struct curve c;
+    char err[256];
+    if (reference_curve(cs->reference, dataset, p->height / p->half_width, &c, err,
+                        sizeof err) != 0)
+        return NAN;
+    double e = 0.0;
+    for (int m = 0; m < c.n; m++) {
+        double v = record_at(r, which, c.x[m]);
+        if (isnan(v))
+            continue;
+        e = fmax(e, fabs(v - c.y[m]));
+        (*count)++;
+    }
+    curve_free(&c);
+    return *count ? e : NAN;
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    const struct record *r = record_of(st);
+    if (!r || r->n == 0)
+        return;
+    const struct collapse_sample *s = &r->s[r->n - 1];
+    double lo = INFINITY, hi = -INFINITY;
+    for (long m = 0; m < r->n; m++) {
+        lo = fmin(lo, r->s[m].t_min);
+        hi = fmax(hi, r->s[m].t_max);
+    }
+    double mass = s->volume / r->volume0 - 1.0;
+    run_result_add(res, "x_front", "%.10g", s->x_front);
+    run_result_add(res, "h_axis", "%.10g", s->h_axis);
+    run_result_add(res, "kinetic_energy", "%.6e", s->kinetic);
+    run_result_add(res, "kinetic_energy_peak", "%.6e", r->peak);
+    run_result_add(res, "mass_error", "%.6e", mass);
+    run_result_add(res, "tracer_min", "%.6e", lo);
+    run_result_add(res, "tracer_max_minus_1", "%.6e", hi - 1.0);
+    int nx, nh;
+    double ex = reference_error(st->cs, r, "x_front", 0, &nx);
+    double eh = reference_error(st->cs, r, "h_axis", 1, &nh);
+    if (nx > 0)
+        run_result_add(res, "x_front_err_max", "%.6e", ex);
+    if (nh > 0)
+        run_result_add(res, "h_axis_err_max", "%.6e", eh);
+    int n = snprintf(res->scene_line, sizeof res->scene_line,
+                     "x_front %.4f  h_axis %.4f  mass error %.2e  T in [%.2g, 1%+.2g]",
+                     s->x_front, s->h_axis, mass, lo, hi - 1.0);
+    if (nx > 0 && n > 0 && (size_t)n < sizeof res->scene_line)
+        snprintf(res->scene_line + n, sizeof res->scene_line - (size_t)n,
+                 "  |x_front - reference| <= %.3f at %d times", ex, nx);
+}
+
+/* collapse.csv: the measures at every step; surface.csv: h(x) at the
+ * profile times and at the end. */
+static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    const struct record *r = record_of(st);
+    const double *T = collapse_tracer(st);
+    if (!r || !T)
+        return 0;
+    struct output_file f;
+    if (output_open(&f, dir, "collapse.csv", err, errlen) != 0)
+        return -1;
+    fprintf(f.f, "t,x_front,h_axis,kinetic_energy,grains_volume,tracer_min,tracer_max\n");
+    for (long m = 0; m < r->n; m++) {
+        const struct collapse_sample *s = &r->s[m];
+        fprintf(f.f, "%.10g,%.10g,%.10g,%.10e,%.16e,%.6e,%.16e\n", s->t, s->x_front, s->h_axis,
+                s->kinetic, s->volume, s->t_min, s->t_max);
+    }
+    if (output_commit(&f, err, errlen) != 0)
+        return -1;
+    if (output_open(&f, dir, "surface.csv", err, errlen) != 0)
+        return -1;
+    const struct grid *g = &st->g;
+    double *h = malloc((size_t)g->n[0] * sizeof *h);
+    if (!h) {
+        fclose(f.f);
+        snprintf(err, errlen, "surface.csv: out of memory");
+        return -1;
+    }
+    collapse_heights(g, T, h);
+    fprintf(f.f, "t,final,x,h\n");
+    for (long m = 0; m < r->np; m++)
+        for (int i = 0; i < r->nx; i++)
+            fprintf(f.f, "%.10g,0,%.10g,%.10g\n", r->ptime[m], (i + 0.5) * g->h[0],
+                    r->ph[(size_t)m * r->nx + i]);
+    for (int i = 0; i < g->n[0]; i++)
+        fprintf(f.f, "%.10g,1,%.10g,%.10g\n", st->time, (i + 0.5) * g->h[0], h[i]);
+    free(h);
+    return output_commit(&f, err, errlen);
+}
+
+/* ---- set-up ---- */
+
+static int setup(struct march_state *st, char *err, size_t errlen)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct collapse_params *p = params(cs);
+    double d = cs->rheo.grain_diameter;
+    const struct two_phase_params tp = {
+        .fluid_density = p->fluid_density,
+        .fluid_viscosity = p->fluid_viscosity,
+        .mixture = MIXTURE_WEIGHTED,
+        .transported = 1,
+        .eta_min = p->viscosity_clip ? cs->density * d * sqrt(cs->gravity * d) : 0.0,
+        .eta_max = p->viscosity_clip ? p->eta_max : 0.0,
+        .step_cfl = p->vof_cfl,
+    };
+    double *T = two_phase_configure(st, &tp, err, errlen);
+    if (!T)
+        return -1;
+    const struct grid *g = &st->g;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                T[grid_idx(g, i, j, k)] = collapse_rectangle_fraction(
+                    i * g->h[0], g->h[0], k * g->h[2], g->h[2], p->half_width, p->height);
+    return two_phase_tracer_changed(st, err, errlen);
+}
+
+static const struct module *const collapse_modules[] = {&two_phase_module, &collapse_module,
+                                                        NULL};
+static const char *const collapse_files[] = {"collapse.csv", "surface.csv", NULL};
+
+const struct scene scene_collapse = {
+    .name = "collapse",
+    .title = "granular column collapse under air, two phases (Lagree, Staron & Popinet 2011)",
+    .keys = &collapse_block,
+    .modules = collapse_modules,
+    .check = check,
+    .setup = setup,
+    .profile_axis = -1,
+    .profile_component = -1,
+    .drive = drive,
+    .not_restartable = not_restartable,
+    .results = results,
+    .write = write,
+    .files = collapse_files,
+};
