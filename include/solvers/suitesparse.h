@@ -31,6 +31,14 @@ struct suitesparse_api {
 /* The functions, valid once suitesparse_load has returned 0. */
 extern struct suitesparse_api suitesparse;
 
+/* CHOLMOD's own OpenMP loops run on the calling thread between these two:
+ * Debian's CHOLMOD opens a parallel region per supernode (some 5,000 per
+ * factorisation of a 160 x 48 cross-section), and their forks and joins
+ * cost more than the loops (bench/analysis.md, "CHOLMOD's OpenMP loops").
+ * The dense work is BLAS's either way.  Returns what _end restores. */
+int suitesparse_serial_begin(void);
+void suitesparse_serial_end(int saved);
+
 /* Opens the libraries (once; later calls return at once).  Returns 0, or -1
  * with the library or symbol that is missing in err. */
 int suitesparse_load(char *err, size_t errlen);

@@ -129,7 +129,9 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
             if (!(s->L = suitesparse.cholmod_analyze(&v, &s->cm)))
                 return -1;
         }
+        int serial = suitesparse_serial_begin();
         int okf = suitesparse.cholmod_factorize(&v, s->L, &s->cm);
+        suitesparse_serial_end(serial);
         return okf && s->cm.status == CHOLMOD_OK ? 0 : -1;
     }
     if (fresh || !s->symbolic) {
@@ -153,7 +155,9 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
     probe_matrix_gather(s->pm, r, b);
     const double *x = s->sol;
     if (s->symmetric) {
+        int serial = suitesparse_serial_begin();
         suitesparse.cholmod_solve2(CHOLMOD_A, s->L, s->B, NULL, &s->X, NULL, &s->Y, &s->E, &s->cm);
+        suitesparse_serial_end(serial);
         x = s->X->x;
     } else {
         const struct csr_matrix *A = &s->cur;

@@ -2,6 +2,7 @@
 #include "solvers/suitesparse.h"
 
 #include <dlfcn.h>
+#include <omp.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -26,6 +27,18 @@ static void *open_library(const char *name, char *err, size_t errlen)
                  name, why ? why : "not found");
     }
     return lib;
+}
+
+int suitesparse_serial_begin(void)
+{
+    int saved = omp_get_max_active_levels();
+    omp_set_max_active_levels(0); /* every parallel region inactive: one thread */
+    return saved;
+}
+
+void suitesparse_serial_end(int saved)
+{
+    omp_set_max_active_levels(saved);
 }
 
 int suitesparse_load(char *err, size_t errlen)
