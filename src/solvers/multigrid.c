@@ -244,56 +244,15 @@ static double sum_partials(const double *part, int nt)
     return s;
 }
 
-/* sum over the interior of u v */
-static double dot(struct multigrid *mg, const struct level *lv, const double *u, const double *v)
-{
-    const struct grid *g = &lv->g;
-    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
-    double *part = mg->partial;
-    for (int t = 0; t < nt; t++)
-        part[t * PAD] = 0.0;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-    {
-        double s = 0.0;
-#pragma omp for collapse(2) schedule(static)
-        for (int i = 0; i < nx; i++)
-            for (int j = 0; j < ny; j++) {
-                const ptrdiff_t row = grid_idx(g, i, j, 0);
-                for (int k = 0; k < nz; k++)
-                    s += u[row + k] * v[row + k];
-            }
-        part[thread_id() * PAD] = s;
-    }
-    return sum_partials(part, nt);
-}
+/* The reductions over a level's interior: sum u v over every cell, or over
+ * the live cells sum u or sum (u - shift)^2.  One loop for the three, its
+ * kind a constant at each inlined call, so that all three keep the same
+ * deterministic per-thread partials. */
+enum level_sum { SUM_DOT, SUM_LIVE, SUM_LIVE_SQUARES };
 
-/* sum of f over the live cells */
-static double live_sum(struct multigrid *mg, const struct level *lv, const double *f)
-{
-    const struct grid *g = &lv->g;
-    const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
-    const unsigned char *live = lv->live;
-    double *part = mg->partial;
-    for (int t = 0; t < nt; t++)
-        part[t * PAD] = 0.0;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-    {
-        double s = 0.0;
-#pragma omp for collapse(2) schedule(static)
-        for (int i = 0; i < nx; i++)
-            for (int j = 0; j < ny; j++) {
-                const ptrdiff_t row = grid_idx(g, i, j, 0);
-                for (int k = 0; k < nz; k++)
-                    s += live[row + k] ? f[row + k] : 0.0;
-            }
-        part[thread_id() * PAD] = s;
-    }
-    return sum_partials(part, nt);
-}
-
-/* sum of (f - shift)^2 over the live cells */
-static double live_norm2(struct multigrid *mg, const struct level *lv, const double *f,
-                         double shift)
+static inline __attribute__((always_inline)) double
+level_reduce(struct multigrid *mg, const struct level *lv, enum level_sum kind, const double *u,
+             const double *v, double shift)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2], nt = team_size(lv);
@@ -309,13 +268,38 @@ static double live_norm2(struct multigrid *mg, const struct level *lv, const dou
             for (int j = 0; j < ny; j++) {
                 const ptrdiff_t row = grid_idx(g, i, j, 0);
                 for (int k = 0; k < nz; k++) {
-                    double v = f[row + k] - shift;
-                    s += live[row + k] ? v * v : 0.0;
+                    if (kind == SUM_DOT) {
+                        s += u[row + k] * v[row + k];
+                    } else if (kind == SUM_LIVE) {
+                        s += live[row + k] ? u[row + k] : 0.0;
+                    } else {
+                        double w = u[row + k] - shift;
+                        s += live[row + k] ? w * w : 0.0;
+                    }
                 }
             }
         part[thread_id() * PAD] = s;
     }
     return sum_partials(part, nt);
+}
+
+/* sum over the interior of u v */
+static double dot(struct multigrid *mg, const struct level *lv, const double *u, const double *v)
+{
+    return level_reduce(mg, lv, SUM_DOT, u, v, 0.0);
+}
+
+/* sum of f over the live cells */
+static double live_sum(struct multigrid *mg, const struct level *lv, const double *f)
+{
+    return level_reduce(mg, lv, SUM_LIVE, f, NULL, 0.0);
+}
+
+/* sum of (f - shift)^2 over the live cells */
+static double live_norm2(struct multigrid *mg, const struct level *lv, const double *f,
+                         double shift)
+{
+    return level_reduce(mg, lv, SUM_LIVE_SQUARES, f, NULL, shift);
 }
 
 /* ---- stencil kernels ----------------------------------------------------------- */
