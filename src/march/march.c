@@ -768,11 +768,11 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         double accepted_residual = st->residual, accepted_rms = st->residual_rms, dt;
         for (;;) {
             dt = choose_dt(st) * st->dt_scale;
-            int newton_step = implicit_uses_tangent(st);
+            int newton_step = implicit_uses_tangent(st); /* steady mode only */
             int broke = step_advance(st, dt) != 0;
             if (!broke)
                 step_evaluate(st);
-            if (!broke && cs->mode == MODE_STEADY && cs->newton_below < 1.0 && newton_step &&
+            if (!broke && newton_step && cs->newton_below < 1.0 &&
                 isfinite(st->residual) && st->residual_rms > accepted_rms &&
                 st->residual > accepted_residual)
                 broke = line_search(st, dt, accepted_rms) != 0;

@@ -16,6 +16,7 @@
 #include <_hypre_parcsr_ls.h>
 #pragma GCC diagnostic pop
 #include "solvers/amg_hypre.h"
+#include "solvers/dynlib.h"
 
 _Static_assert(sizeof(HYPRE_Int) == sizeof(int), "hypre built with 32-bit indices expected");
 _Static_assert(sizeof(HYPRE_Real) == sizeof(double), "hypre built in double precision expected");
@@ -94,14 +95,7 @@ static int load_hypre(char *err, size_t errlen)
     }
     const char *missing = NULL;
     void *p;
-#define RESOLVE(f)                                                                                \
-    if (!missing) {                                                                               \
-        p = dlsym(lib, #f);                                                                       \
-        if (p)                                                                                    \
-            hy.f = (__typeof__(hy.f))p;                                                           \
-        else                                                                                      \
-            missing = #f;                                                                         \
-    }
+#define RESOLVE(f) DYNLIB_RESOLVE(lib, hy, f, missing)
     HYPRE_FUNCTIONS(RESOLVE)
 #undef RESOLVE
     if (!missing) {

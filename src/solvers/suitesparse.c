@@ -1,7 +1,7 @@
 /* CHOLMOD and UMFPACK opened on first use (see suitesparse.h). */
 #include "solvers/suitesparse.h"
+#include "solvers/dynlib.h"
 
-#include <dlfcn.h>
 #include <omp.h>
 #include <stdio.h>
 #include <string.h>
@@ -55,22 +55,12 @@ int suitesparse_load(char *err, size_t errlen)
     }
     struct suitesparse_api api;
     const char *missing = NULL;
-    void *p;
-#define RESOLVE_IN(lib, f)                                                                        \
-    if (!missing) {                                                                               \
-        p = dlsym(lib, #f);                                                                       \
-        if (p)                                                                                    \
-            api.f = (__typeof__(api.f))p;                                                         \
-        else                                                                                      \
-            missing = #f;                                                                         \
-    }
-#define RESOLVE_CHOLMOD(f) RESOLVE_IN(cholmod, f)
-#define RESOLVE_UMFPACK(f) RESOLVE_IN(umfpack, f)
+#define RESOLVE_CHOLMOD(f) DYNLIB_RESOLVE(cholmod, api, f, missing)
+#define RESOLVE_UMFPACK(f) DYNLIB_RESOLVE(umfpack, api, f, missing)
     SUITESPARSE_CHOLMOD_FUNCTIONS(RESOLVE_CHOLMOD)
     SUITESPARSE_UMFPACK_FUNCTIONS(RESOLVE_UMFPACK)
 #undef RESOLVE_CHOLMOD
 #undef RESOLVE_UMFPACK
-#undef RESOLVE_IN
     if (missing) {
         snprintf(err, errlen, "sparse factorisation: SuiteSparse's libraries lack %s", missing);
         dlclose(umfpack);

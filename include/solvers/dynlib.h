@@ -1,0 +1,20 @@
+/* Symbols of a shared library opened on first use (amg_hypre.c,
+ * suitesparse.c): each is resolved into a pointer typed from the library's
+ * own prototype. */
+#ifndef MUFLOW_DYNLIB_H
+#define MUFLOW_DYNLIB_H
+
+#include <dlfcn.h>
+
+/* table.f = the symbol f of lib, unless an earlier symbol was missing
+ * (missing: NULL, or the first name not found, which this sets). */
+#define DYNLIB_RESOLVE(lib, table, f, missing)                                                    \
+    if (!(missing)) {                                                                             \
+        void *dynlib_sym_ = dlsym((lib), #f);                                                     \
+        if (dynlib_sym_)                                                                          \
+            (table).f = (__typeof__((table).f))dynlib_sym_;                                       \
+        else                                                                                      \
+            (missing) = #f;                                                                       \
+    }
+
+#endif
