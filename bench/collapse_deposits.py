@@ -21,6 +21,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from summary_ini import summary
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "collapse.ini")
 CD = os.path.join(HERE, "..", "cases", "data", "staron_cd_deposits.csv")
@@ -30,18 +32,6 @@ CASES = {0.5: (2.0, 1.0 / 30.0, 5.0),
          6.26: (1.0 / 6.26, 1.0 / 65.0, 3.0)}
 END_TIME = 12.0
 
-
-def summary(path):
-    out, section = {}, None
-    with open(path) as f:
-        for line in f:
-            line = line.split(";")[0].strip()
-            if line.startswith("["):
-                section = line.strip("[]")
-            elif section == "result" and "=" in line:
-                k, v = line.split("=", 1)
-                out[k.strip()] = v.strip()
-    return out
 
 
 def cd_profile(a):

@@ -21,24 +21,13 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from summary_ini import summary
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "collapse.ini")
 REFERENCE = os.path.join(HERE, "..", "cases", "data", "lagree2011_collapse.csv")
 TIMES = [0, 1, 2, 3, 4]
 
-
-def summary(path):
-    """The [result] section of a summary.ini as a dict of strings."""
-    out, section = {}, None
-    with open(path) as f:
-        for line in f:
-            line = line.split(";")[0].strip()
-            if line.startswith("["):
-                section = line.strip("[]")
-            elif section == "result" and "=" in line:
-                k, v = line.split("=", 1)
-                out[k.strip()] = v.strip()
-    return out
 
 
 def reference():

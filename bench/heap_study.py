@@ -23,24 +23,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from summary_ini import summary
+
 TARGETS = [14.9, 40.2, 90.1]
 MESHES = [(35, 50), (70, 100), (140, 200)]
 PAPER_MESH = (70, 100)
 STUDY_TARGET = 40.2
 
-
-def summary(path):
-    """The [result] section of a summary.ini as a dict of strings."""
-    out, section = {}, None
-    with open(path) as f:
-        for line in f:
-            line = line.strip()
-            if line.startswith("["):
-                section = line.strip("[]")
-            elif section == "result" and "=" in line:
-                k, v = line.split("=", 1)
-                out[k.strip()] = v.strip()
-    return out
 
 
 def run(muflow, outdir, ny, nz, q, bracket):
