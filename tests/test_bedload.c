@@ -129,10 +129,10 @@ static void test_viscosity(void **state)
 /* The two-fluid model (bedload.model = two_fluid, physics/bed_two_fluid.h),
  * set A, lambda 1e-6.  Measured (README "Bed load (two-fluid model)"):
  *   nz = 20: err_rms 3.568e-4 (u^m), err_rms_particles 5.72e-5 (u^p in the
- *            bed), mobile layer 0.0119291 m against 0.0120997 (0.052 cells),
- *            11 steps;
+ *            bed), mobile layer (of the grains, from u^p) 0.0119213 m
+ *            against 0.0120997 (0.055 cells), 11 steps;
  *   nz = 40: err_rms 8.575e-5 (order 2.06), err_rms_particles 1.93e-6,
- *            mobile layer 0.0121024 (0.002 cells), 15 steps.
+ *            mobile layer 0.0120847 (0.009 cells), 15 steps.
  * The slip u^m - u^p in the mobile layer is the Darcy velocity that carries
  * the grains' friction gradient, mu_s phi (rho_p - rho_f) g K / eta_f =
  * 3.881e-6 m/s, on every grid; in the fixed bed u^m is the Darcy seepage
