@@ -216,6 +216,12 @@ static void test_bad_input(void **state)
     print_message("%s\n", err);
     assert_non_null(strstr(err, "bedload.model = two_fluid"));
     assert_null(strchr(err, '\n'));
+    /* and the steady state only */
+    char *ot[] = {"bedload.model=two_fluid", "solver.mode=transient", "solver.end_time=1"};
+    assert_int_equal(case_load(&cs, CASE, 3, ot, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "bedload.model = two_fluid"));
+    assert_null(strchr(err, '\n'));
 }
 
 void group_bedload(struct test_tally *t)

@@ -162,6 +162,11 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                               "needs periodic y (boundary.ylo = boundary.yhi = periodic)");
         return 1;
     }
+    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
+        snprintf(msg, msglen, "bedload.model = two_fluid needs solver.mode = steady (the grains' "
+                              "pseudo-time mass is not their inertia)");
+        return 1;
+    }
     if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
         snprintf(msg, msglen, "bedload.model = two_fluid needs domain.nz >= 3");
         return 1;
