@@ -60,9 +60,11 @@ struct scene {
     int (*setup)(struct march_state *st, char *err, size_t errlen);
 
     int profile_axis, profile_component; /* -1: no profile */
-    /* limits the profile to the faces and cells of x in [lo, hi] (both
-     * inclusive); NULL: every layer's full mean */
+    /* limits the profile to the faces and cells of index in [lo, hi] (both
+     * inclusive) along profile_slab_axis (0: x, the cavity's mid-line; 1: y,
+     * the duct's mid-plane); NULL: every layer's full mean */
     void (*profile_slab)(const struct grid *g, int faces[2], int cells[2]);
+    int profile_slab_axis;
     /* u at the n coordinates x along the axis (NaN where undefined) */
     void (*exact_profile)(const struct muflow_case *cs, int n, const double *x, double *u);
 

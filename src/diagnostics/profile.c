@@ -41,16 +41,18 @@ int profile_extract(struct profile *pr, const struct march_state *st)
         profile_free(pr);
         return -1;
     }
-    /* a slab of x (the cavity's mid-line), or every x */
-    int faces[2] = {-1, g->n[0] + 1}, cellr[2] = {-1, g->n[0] + 1};
+    /* a slab along the slab axis (the cavity's mid-line in x, the duct's
+     * mid-plane in y), or every node */
+    int sa = sc->profile_slab_axis;
+    int faces[2] = {-1, g->n[sa] + 1}, cellr[2] = {-1, g->n[sa] + 1};
     if (sc->profile_slab)
         sc->profile_slab(g, faces, cellr);
     for (int i = b->lo[0]; i < b->hi[0]; i++)
         for (int j = b->lo[1]; j < b->hi[1]; j++)
             for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                if (i < faces[0] || i > faces[1])
-                    continue;
                 int idx[3] = {i, j, k};
+                if (idx[sa] < faces[0] || idx[sa] > faces[1])
+                    continue;
                 int l = idx[pr->axis];
                 pr->velocity[l] += st->vel[pr->component][grid_idx(g, i, j, k)];
                 nodes[l]++;
@@ -58,9 +60,9 @@ int profile_extract(struct profile *pr, const struct march_state *st)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
-                if (i < cellr[0] || i > cellr[1])
-                    continue;
                 int idx[3] = {i, j, k};
+                if (idx[sa] < cellr[0] || idx[sa] > cellr[1])
+                    continue;
                 int l = idx[pr->axis];
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 double shear = sqrt(st->shear2[p]);

@@ -6,14 +6,8 @@
  * (tilt = pi/2 as in bingham_channel), so the weight of the grains in the
  * particle pressure needs a gravity of its own (bedload.gravity).
  *
- * Exact solution (Ouriemi, Aussillous & Guazzelli 2009, as written in the
- * refdata item 4): y = z / D, u = U0 u*(y), U0 = (rho_p - rho_f) g D^2 / eta_f,
- * G = (dp/dx) / ((rho_p - rho_f) g), h = h_p / D, eta = 1 + 5 phi0 / 2,
- * A = G + mu_s phi0 (bed load needs A > 0),
- *   mobile layer  delta = eta (1 - h) [sqrt(1 - G / (eta A)) - 1], h_c = h - delta
- *   fixed bed     y < h_c:       u* = 0
- *   mobile layer  h_c <= y <= h: u* = A / (2 eta) (y - h_c)^2
- *   fluid         y > h:         u* = -G/2 (1 - y)(y - h) + A/(2 eta) delta^2 (1 - y)/(1 - h).
+ * Exact solution: Ouriemi, Aussillous & Guazzelli (2009), in
+ * scenes/bedload.h (shared with the duct scene).
  * Headline: the maximum velocity (in the fluid layer, where d(u*)/dy = 0). */
 #include <math.h>
 #include <stdio.h>
@@ -23,45 +17,14 @@
 #include "io/output.h"
 #include "physics/bed.h"
 #include "physics/bed_two_fluid.h"
+#include "scenes/bedload.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
-struct bedload_params {
-    double bed_height;        /* h_p */
-    double phi;               /* phi0 */
-    double particle_density;  /* rho_p */
-    double fluid_density;     /* rho_f */
-    double fluid_viscosity;   /* eta_f */
-    double mu_s;              /* Coulomb friction */
-    double gravity;           /* g in the particle pressure */
-    int model;                /* enum bedload_model */
-    double grain_diameter;    /* d (two_fluid: the permeability) */
-    double kozeny;            /* k_CK (two_fluid) */
-};
-
-enum bedload_model { BEDLOAD_MIXED = 0, BEDLOAD_TWO_FLUID };
-static const struct choice model_choices[] = {
-    {"mixed", BEDLOAD_MIXED}, {"two_fluid", BEDLOAD_TWO_FLUID}, {NULL, 0}};
-
 #define T struct bedload_params
 static const struct key bedload_keys[] = {
-    KEY_DBL(T, "bedload", "bed_height", bed_height,
-            "height h_p of the flat granular bed above the lower wall (inside (0, domain.lz))",
-            KEY_GT0),
-    KEY_DBL(T, "bedload", "phi", phi, "volume fraction phi0 of the grains in the bed",
-            KEY_RANGE(0.0, 1.0, 0, 0)),
-    KEY_DBL(T, "bedload", "particle_density", particle_density,
-            "density rho_p of the grains (above fluid_density)", KEY_GT0),
-    KEY_DBL(T, "bedload", "fluid_density", fluid_density, "density rho_f of the fluid",
-            KEY_GT0),
-    KEY_DBL(T, "bedload", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the fluid (the bed's is eta_f (1 + 5 phi / 2))", KEY_GT0),
-    KEY_DBL(T, "bedload", "mu_s", mu_s,
-            "Coulomb friction coefficient of the bed (yield stress mu_s p_p)", KEY_GT0),
-    KEY_DBL(T, "bedload", "gravity", gravity,
-            "gravity g in the grains' buoyant weight p_p = phi (rho_p - rho_f) g (h_p - z)",
-            KEY_GT0),
-    KEY_CHO(T, "bedload", "model", model, model_choices,
+    BEDLOAD_KEYS(T, "bedload"),
+    KEY_CHO(T, "bedload", "model", model, bedload_model_choices,
             "mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle velocities "
             "coupled by Darcy drag (eq. 12)"),
     KEY_DBL(T, "bedload", "grain_diameter", grain_diameter,
@@ -73,20 +36,7 @@ static const struct key bedload_keys[] = {
 #undef T
 
 /* Set A of the refdata (the sedFoam tutorial's parameters) */
-static void defaults(void *block)
-{
-    struct bedload_params *b = block;
-    b->bed_height = 0.03225;
-    b->phi = 0.6;
-    b->particle_density = 1190.0;
-    b->fluid_density = 1070.0;
-    b->fluid_viscosity = 0.27;
-    b->mu_s = 0.32;
-    b->gravity = 9.81;
-    b->model = BEDLOAD_MIXED;
-    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in the seed's test */
-    b->kozeny = 180.0;
-}
+static void defaults(void *block) { bedload_defaults(block); }
 
 static const struct key_block bedload_block = {
     .section = "bedload",
@@ -101,43 +51,15 @@ static const struct bedload_params *params(const struct muflow_case *cs)
     return case_scene_params(cs);
 }
 
-/* The dimensionless solution's constants. */
-struct bedload_exact {
-    double D, U0, G, h, eta, A, delta, hc;
-};
-
 static struct bedload_exact exact_of(const struct muflow_case *cs)
 {
-    const struct bedload_params *b = params(cs);
-    struct bedload_exact x;
-    double drho = b->particle_density - b->fluid_density;
-    x.D = cs->len[2];
-    x.U0 = drho * b->gravity * x.D * x.D / b->fluid_viscosity;
-    /* dp/dx = -(the body force along x) */
-    x.G = -cs->density * cs->gravity * sin(cs->tilt) / (drho * b->gravity);
-    x.h = b->bed_height / x.D;
-    x.eta = 1.0 + 2.5 * b->phi;
-    x.A = x.G + b->mu_s * b->phi;
-    x.delta = x.eta * (1.0 - x.h) * (sqrt(1.0 - x.G / (x.eta * x.A)) - 1.0);
-    x.hc = x.h - x.delta;
-    return x;
-}
-
-static double ustar(const struct bedload_exact *x, double y)
-{
-    if (y < x->hc)
-        return 0.0;
-    double k = x->A / (2.0 * x->eta);
-    if (y <= x->h)
-        return k * (y - x->hc) * (y - x->hc);
-    return -0.5 * x->G * (1.0 - y) * (y - x->h) +
-           k * x->delta * x->delta * (1.0 - y) / (1.0 - x->h);
+    return bedload_exact_of(cs, params(cs));
 }
 
 static double bedload_u(const struct muflow_case *cs, double z)
 {
     struct bedload_exact x = exact_of(cs);
-    return x.U0 * ustar(&x, z / x.D);
+    return bedload_exact_u(&x, z);
 }
 
 POINTWISE_PROFILE(exact_profile, bedload_u)
@@ -171,51 +93,13 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         snprintf(msg, msglen, "bedload.model = two_fluid needs domain.nz >= 3");
         return 1;
     }
-    if (!(b->bed_height < c->len[2])) {
-        snprintf(msg, msglen, "bedload.bed_height = %.17g: must be inside the channel, below "
-                              "domain.lz = %.17g",
-                 b->bed_height, c->len[2]);
-        return 1;
-    }
-    if (!(b->particle_density > b->fluid_density)) {
-        snprintf(msg, msglen, "bedload.particle_density = %.17g: must exceed "
-                              "bedload.fluid_density = %.17g (a bed that does not sink)",
-                 b->particle_density, b->fluid_density);
-        return 1;
-    }
-    struct bedload_exact x = exact_of(c);
-    if (!(x.G < 0.0)) {
-        snprintf(msg, msglen, "physics.tilt = %.17g: the pressure gradient must drive the flow "
-                              "along +x (physics.density * gravity * sin(tilt) > 0; G = %.6g)",
-                 c->tilt, x.G);
-        return 1;
-    }
-    if (!(x.A > 0.0)) {
-        snprintf(msg, msglen, "bedload.mu_s = %.17g: no bed load, A = G + mu_s phi = %.6g <= 0 "
-                              "(G = %.6g: the friction cannot hold the bed against the pressure "
-                              "gradient)",
-                 b->mu_s, x.A, x.G);
-        return 1;
-    }
-    if (!(x.delta > 0.0 && x.delta <= x.h)) {
-        snprintf(msg, msglen, "bedload.bed_height = %.17g: no bed load for these parameters, the "
-                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g]",
-                 b->bed_height, x.delta, x.h);
-        return 1;
-    }
-    return 0;
+    return bedload_check_params(c, b, "bedload", msg, msglen);
 }
 
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct bedload_params *b = params(st->cs);
-    const struct bed_params bp = {
-        .height = b->bed_height,
-        .phi = b->phi,
-        .fluid_viscosity = b->fluid_viscosity,
-        .mu_s = b->mu_s,
-        .weight = b->phi * (b->particle_density - b->fluid_density) * b->gravity,
-    };
+    const struct bed_params bp = bedload_bed_params(b);
     if (b->model == BEDLOAD_TWO_FLUID) {
         const struct two_fluid_params tp = {
             .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
@@ -224,45 +108,20 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     return bed_configure(st, &bp, err, errlen);
 }
 
-/* The measured mobile layer: the first layer from the bottom where u rises
- * above this fraction of the maximum, then the zero of the straight line
- * through sqrt(u) of it and the layer above.  The exact profile is
- * quadratic in the mobile layer, u ~ (z - z_c)^2, so sqrt(u) is linear and
- * the zero is z_c itself; a plain threshold crossing would sit
- * sqrt(2 eta frac u*_max / A) D above it (6% of delta for set A at 1e-3).
- * The fixed bed creeps at ~lambda D (1e-8 m/s at lambda 1e-6), far below. */
-#define MOBILE_FRACTION 1e-3
-
+/* The measured mobile layer: h_p less the measured top of the fixed bed
+ * (scenes/bedload.h). */
 static double measured_bed_top(const struct profile *pr, const double *u)
 {
     double umax = 0.0;
     for (int l = 0; l < pr->n; l++)
         umax = fmax(umax, pr->velocity[l]);
-    for (int l = 0; l < pr->n - 1; l++)
-        if (u[l] > MOBILE_FRACTION * umax) {
-            if (l == 0)
-                return 0.0;
-            double s0 = sqrt(fmax(u[l], 0.0)), s1 = sqrt(fmax(u[l + 1], 0.0));
-            if (!(s1 > s0))
-                return pr->coord[l];
-            return pr->coord[l] - s0 * (pr->coord[l + 1] - pr->coord[l]) / (s1 - s0);
-        }
-    return NAN;
-}
-
-static double exact_max(const struct bedload_exact *x)
-{
-    /* d(u*)/dy = 0 in the fluid layer: -G/2 (1 + h - 2y) = K / (1 - h) */
-    double K = x->A / (2.0 * x->eta) * x->delta * x->delta;
-    double y = 0.5 * (1.0 + x->h) + K / (x->G * (1.0 - x->h));
-    y = fmin(1.0, fmax(x->h, y));
-    return x->U0 * ustar(x, y);
+    return bedload_bed_top(pr->n, pr->coord, u, umax);
 }
 
 static void errors(const struct march_state *st, const struct profile *pr, struct scene_errors *e)
 {
     struct bedload_exact x = exact_of(st->cs);
-    profile_errors_default(pr, exact_max(&x), e);
+    profile_errors_default(pr, bedload_exact_max(&x), e);
     double m = 0.0;
     for (int l = 0; l < pr->n; l++)
         m = fmax(m, pr->velocity[l]);
@@ -298,16 +157,11 @@ static void results(const struct march_state *st, const struct scene_drive *d,
                 ub[l] = pr.velocity[l];
     double mobile = hp - measured_bed_top(&pr, ub), mobile_exact = x.delta * x.D;
     free(ub);
-    /* per unit width: the midpoint rule over the layers, and the integral of
-     * the exact profile (zone II: A/(2 eta) delta^3 / 3; zone I: -G (1-h)^3/12
-     * + A/(2 eta) delta^2 (1 - h) / 2) */
+    /* per unit width: the midpoint rule over the layers, and the exact integral */
     double q = 0.0;
     for (int l = 0; l < pr.n; l++)
         q += pr.velocity[l] * st->g.h[2];
-    double k = x.A / (2.0 * x.eta), s = 1.0 - x.h;
-    double q_exact = x.U0 * x.D *
-                     (k * x.delta * x.delta * x.delta / 3.0 - x.G * s * s * s / 12.0 +
-                      k * x.delta * x.delta * s / 2.0);
+    double q_exact = bedload_exact_flow_rate(&x);
     if (params(cs)->model == BEDLOAD_TWO_FLUID) {
         /* u^p in the bed (layers whose centre is below h_p) against the exact
          * profile, which has u^p = u^f there; the largest |u^m - u^p| */

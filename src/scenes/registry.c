@@ -15,7 +15,8 @@
     X(couette)             \
     X(bagnold2)            \
     X(bedload)             \
-    X(collapse)
+    X(collapse)            \
+    X(duct)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

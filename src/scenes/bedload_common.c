@@ -1,0 +1,138 @@
+/* The pieces the bed-load scenes share (scenes/bedload.h): parameters,
+ * checks, the exact plane solution, the measured bed top. */
+#include <math.h>
+#include <stdio.h>
+#include "scenes/bedload.h"
+
+const struct choice bedload_model_choices[] = {
+    {"mixed", BEDLOAD_MIXED}, {"two_fluid", BEDLOAD_TWO_FLUID}, {NULL, 0}};
+
+void bedload_defaults(struct bedload_params *b)
+{
+    b->bed_height = 0.03225;
+    b->phi = 0.6;
+    b->particle_density = 1190.0;
+    b->fluid_density = 1070.0;
+    b->fluid_viscosity = 0.27;
+    b->mu_s = 0.32;
+    b->gravity = 9.81;
+    b->model = BEDLOAD_MIXED;
+    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in the seed's test */
+    b->kozeny = 180.0;
+}
+
+struct bed_params bedload_bed_params(const struct bedload_params *b)
+{
+    return (struct bed_params){
+        .height = b->bed_height,
+        .phi = b->phi,
+        .fluid_viscosity = b->fluid_viscosity,
+        .mu_s = b->mu_s,
+        .weight = b->phi * (b->particle_density - b->fluid_density) * b->gravity,
+    };
+}
+
+struct bedload_exact bedload_exact_of(const struct muflow_case *cs, const struct bedload_params *b)
+{
+    struct bedload_exact x;
+    double drho = b->particle_density - b->fluid_density;
+    x.D = cs->len[2];
+    x.U0 = drho * b->gravity * x.D * x.D / b->fluid_viscosity;
+    /* dp/dx = -(the body force along x) */
+    x.G = -cs->density * cs->gravity * sin(cs->tilt) / (drho * b->gravity);
+    x.h = b->bed_height / x.D;
+    x.eta = 1.0 + 2.5 * b->phi;
+    x.A = x.G + b->mu_s * b->phi;
+    x.delta = x.eta * (1.0 - x.h) * (sqrt(1.0 - x.G / (x.eta * x.A)) - 1.0);
+    x.hc = x.h - x.delta;
+    return x;
+}
+
+static double ustar(const struct bedload_exact *x, double y)
+{
+    if (y < x->hc)
+        return 0.0;
+    double k = x->A / (2.0 * x->eta);
+    if (y <= x->h)
+        return k * (y - x->hc) * (y - x->hc);
+    return -0.5 * x->G * (1.0 - y) * (y - x->h) +
+           k * x->delta * x->delta * (1.0 - y) / (1.0 - x->h);
+}
+
+double bedload_exact_u(const struct bedload_exact *x, double z)
+{
+    return x->U0 * ustar(x, z / x->D);
+}
+
+double bedload_exact_max(const struct bedload_exact *x)
+{
+    /* d(u*)/dy = 0 in the fluid layer: -G/2 (1 + h - 2y) = K / (1 - h) */
+    double K = x->A / (2.0 * x->eta) * x->delta * x->delta;
+    double y = 0.5 * (1.0 + x->h) + K / (x->G * (1.0 - x->h));
+    y = fmin(1.0, fmax(x->h, y));
+    return x->U0 * ustar(x, y);
+}
+
+double bedload_exact_flow_rate(const struct bedload_exact *x)
+{
+    /* zone II: A/(2 eta) delta^3 / 3; zone I: -G (1-h)^3/12 + A/(2 eta) delta^2 (1 - h) / 2 */
+    double k = x->A / (2.0 * x->eta), s = 1.0 - x->h;
+    return x->U0 * x->D *
+           (k * x->delta * x->delta * x->delta / 3.0 - x->G * s * s * s / 12.0 +
+            k * x->delta * x->delta * s / 2.0);
+}
+
+int bedload_check_params(const struct muflow_case *c, const struct bedload_params *b,
+                         const char *section, char *msg, size_t msglen)
+{
+    if (!(b->bed_height < c->len[2])) {
+        snprintf(msg, msglen, "%s.bed_height = %.17g: must be inside the channel, below "
+                              "domain.lz = %.17g",
+                 section, b->bed_height, c->len[2]);
+        return 1;
+    }
+    if (!(b->particle_density > b->fluid_density)) {
+        snprintf(msg, msglen, "%s.particle_density = %.17g: must exceed "
+                              "%s.fluid_density = %.17g (a bed that does not sink)",
+                 section, b->particle_density, section, b->fluid_density);
+        return 1;
+    }
+    struct bedload_exact x = bedload_exact_of(c, b);
+    if (!(x.G < 0.0)) {
+        snprintf(msg, msglen, "physics.tilt = %.17g: the pressure gradient must drive the flow "
+                              "along +x (physics.density * gravity * sin(tilt) > 0; G = %.6g)",
+                 c->tilt, x.G);
+        return 1;
+    }
+    if (!(x.A > 0.0)) {
+        snprintf(msg, msglen, "%s.mu_s = %.17g: no bed load, A = G + mu_s phi = %.6g <= 0 "
+                              "(G = %.6g: the friction cannot hold the bed against the pressure "
+                              "gradient)",
+                 section, b->mu_s, x.A, x.G);
+        return 1;
+    }
+    if (!(x.delta > 0.0 && x.delta <= x.h)) {
+        snprintf(msg, msglen, "%s.bed_height = %.17g: no bed load for these parameters, the "
+                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g]",
+                 section, b->bed_height, x.delta, x.h);
+        return 1;
+    }
+    return 0;
+}
+
+/* The fixed bed creeps at ~lambda D (1e-8 m/s at lambda 1e-6), far below
+ * the threshold; a plain threshold crossing would sit
+ * sqrt(2 eta frac u*_max / A) D above h_c (6% of delta for set A at 1e-3). */
+double bedload_bed_top(int n, const double *z, const double *u, double umax)
+{
+    for (int l = 0; l < n - 1; l++)
+        if (u[l] > BEDLOAD_MOBILE_FRACTION * umax) {
+            if (l == 0)
+                return 0.0;
+            double s0 = sqrt(fmax(u[l], 0.0)), s1 = sqrt(fmax(u[l + 1], 0.0));
+            if (!(s1 > s0))
+                return z[l];
+            return z[l] - s0 * (z[l + 1] - z[l]) / (s1 - s0);
+        }
+    return NAN;
+}

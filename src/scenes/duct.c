@@ -1,0 +1,261 @@
+/* Scene "duct": the bed-load flow of the bedload scene in a square duct
+ * (seeds/002 sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
+ * fluid driven by a pressure gradient along the periodic x over a flat
+ * granular bed, the mixed-fluid model (physics/bed.h), solved on half the
+ * cross-section u(y, z): side wall at y = 0 (no slip), symmetry plane at
+ * y = ly = W/2 (slip), walls at z = 0 and z = D = lz, the bed filling
+ * z < h_p.  Parameters and their checks, the plane solution the duct is
+ * compared with, and the measured bed top are the bedload scene's
+ * (scenes/bedload.h), in the section [duct].
+ *
+ * No exact solution: the profile is the mid-plane's (the last column of
+ * cells, y = W/2 - dy/2) against the plane channel's exact profile at the
+ * same pressure gradient (solution "plane", difference diff_plane); the
+ * headline is the largest velocity of the cross-section against the plane
+ * channel's.  The summary adds the flow rate of the full duct (twice the
+ * half's), the mean velocity against the plane channel's (the friction of
+ * the side walls), and the mid-plane's bed top. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include "diagnostics/profile.h"
+#include "io/output.h"
+#include "physics/bed.h"
+#include "scenes/bedload.h"
+#include "scenes/scene.h"
+#include "scene_common.h"
+
+#define T struct bedload_params
+static const struct key duct_keys[] = {
+    BEDLOAD_KEYS(T, "duct"),
+    KEY_CHO(T, "duct", "model", model, bedload_model_choices,
+            "mixed: one mixture velocity (eq. 13); two_fluid is refused (its Newton step is a "
+            "line solve along z, plane flow only)"),
+};
+#undef T
+
+static void defaults(void *block) { bedload_defaults(block); }
+
+static const struct key_block duct_block = {
+    .section = "duct",
+    .keys = duct_keys,
+    .nkeys = (int)(sizeof duct_keys / sizeof duct_keys[0]),
+    .size = sizeof(struct bedload_params),
+    .defaults = defaults,
+};
+_Static_assert(sizeof(struct bedload_params) <= sizeof(((struct muflow_case *)0)->scene_params),
+               "duct parameters fit the case's scene block");
+
+static const struct bedload_params *params(const struct muflow_case *cs)
+{
+    return case_scene_params(cs);
+}
+
+static double plane_u(const struct muflow_case *cs, double z)
+{
+    struct bedload_exact x = bedload_exact_of(cs, params(cs));
+    return bedload_exact_u(&x, z);
+}
+
+POINTWISE_PROFILE(plane_profile, plane_u)
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    static const enum bc_kind want[3][2] = {
+        {BC_PERIODIC, BC_PERIODIC}, {BC_WALL, BC_SLIP}, {BC_WALL, BC_WALL}};
+    static const char axis[3] = {'x', 'y', 'z'};
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (c->bc.face[d][side] != want[d][side]) {
+                snprintf(msg, msglen,
+                         "case.scene = duct needs boundary.%c%s = %s (periodic along the flow, "
+                         "side wall at y = 0, symmetry plane at y = ly, walls at z = 0 and "
+                         "z = lz), not %s",
+                         axis[d], side ? "hi" : "lo", bc_kind_name(want[d][side]),
+                         bc_kind_name(c->bc.face[d][side]));
+                return 1;
+            }
+    if (c->rheo.law != LAW_NEWTONIAN) {
+        snprintf(msg, msglen, "case.scene = duct needs rheology.law = newtonian (the bed module "
+                              "sets every viscosity; rheology.regularisation and lambda are its "
+                              "friction's)");
+        return 1;
+    }
+    if (c->n[1] < 2 || c->n[2] < 2) {
+        snprintf(msg, msglen, "case.scene = duct needs domain.ny >= 2 and domain.nz >= 2 (got %d, %d)",
+                 c->n[1], c->n[2]);
+        return 1;
+    }
+    const struct bedload_params *b = params(c);
+    if (b->model != BEDLOAD_MIXED) {
+        snprintf(msg, msglen, "duct.model = two_fluid: not available in the duct (the two-fluid "
+                              "Newton step is a line solve along z, for the plane flow of "
+                              "case.scene = bedload only); allowed: mixed");
+        return 1;
+    }
+    return bedload_check_params(c, b, "duct", msg, msglen);
+}
+
+/* From rest: a start from the plane profile shaped across by
+ * 1 - (1 - y / ly)^2 stalled (residual 2e2 after 201 steps at 20 x 40). */
+static int setup(struct march_state *st, char *err, size_t errlen)
+{
+    const struct bed_params bp = bedload_bed_params(params(st->cs));
+    return bed_configure(st, &bp, err, errlen);
+}
+
+/* The profile: the last column of cells, beside the symmetry plane. */
+static void midplane(const struct grid *g, int faces[2], int cells[2])
+{
+    faces[0] = faces[1] = cells[0] = cells[1] = g->n[1] - 1;
+}
+
+/* u of column j, layer k: the mean over the x-faces of the periodic x. */
+static double column_u(const struct march_state *st, int j, int k)
+{
+    const struct grid *g = &st->g;
+    double s = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        s += st->vel[0][grid_idx(g, i, j, k)];
+    return s / g->n[0];
+}
+
+static double largest_u(const struct march_state *st)
+{
+    double m = 0.0;
+    for (int j = 0; j < st->g.n[1]; j++)
+        for (int k = 0; k < st->g.n[2]; k++)
+            m = fmax(m, column_u(st, j, k));
+    return m;
+}
+
+/* The mid-plane's velocity on the symmetry plane itself, layer k: zero
+ * slope in y there, from the last two columns. */
+static double symmetry_u(const struct march_state *st, int k)
+{
+    int n = st->g.n[1];
+    return profile_zero_slope_end(column_u(st, n - 1, k), column_u(st, n - 2, k));
+}
+
+static void errors(const struct march_state *st, const struct profile *pr, struct scene_errors *e)
+{
+    struct bedload_exact x = bedload_exact_of(st->cs, params(st->cs));
+    profile_errors_default(pr, bedload_exact_max(&x), e);
+    e->headline = largest_u(st);
+}
+
+struct duct_measures {
+    double q_half, q, q_plane, mean, mean_plane;
+    double mobile, mobile_plane, u_sym_max, secondary;
+};
+
+static void measure(const struct march_state *st, struct duct_measures *m)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct grid *g = &st->g;
+    struct bedload_exact x = bedload_exact_of(cs, params(cs));
+    double W = 2.0 * g->len[1], D = g->len[2];
+    m->q_half = 0.0;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++)
+            m->q_half += column_u(st, j, k);
+    m->q_half *= g->h[1] * g->h[2];
+    m->q = 2.0 * m->q_half;
+    m->q_plane = bedload_exact_flow_rate(&x) * W;
+    m->mean = m->q / (W * D);
+    m->mean_plane = m->q_plane / (W * D);
+    int n = g->n[2];
+    double *z = malloc((size_t)n * sizeof *z), *u = malloc((size_t)n * sizeof *u);
+    m->mobile = m->u_sym_max = NAN;
+    if (z && u) {
+        double umax = 0.0;
+        for (int k = 0; k < n; k++) {
+            z[k] = (k + 0.5) * g->h[2];
+            u[k] = symmetry_u(st, k);
+            umax = fmax(umax, u[k]);
+        }
+        m->u_sym_max = umax;
+        m->mobile = params(cs)->bed_height - bedload_bed_top(n, z, u, umax);
+    }
+    free(z);
+    free(u);
+    m->mobile_plane = x.delta * x.D;
+    /* v and w vanish for the unidirectional flow: their largest size
+     * relative to the largest u */
+    double s = 0.0;
+    for (int c = 1; c < 3; c++) {
+        const struct box *b = &st->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++)
+                    s = fmax(s, fabs(st->vel[c][grid_idx(g, i, j, k)]));
+    }
+    double um = largest_u(st);
+    m->secondary = um > 0.0 ? s / um : s;
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    struct duct_measures m;
+    measure(st, &m);
+    run_result_add(res, "flow_rate", "%.10g", m.q);
+    run_result_add(res, "flow_rate_half", "%.10g", m.q_half);
+    run_result_add(res, "flow_rate_plane", "%.10g", m.q_plane);
+    run_result_add(res, "mean_velocity", "%.10g", m.mean);
+    run_result_add(res, "mean_velocity_plane", "%.10g", m.mean_plane);
+    run_result_add(res, "velocity_ratio", "%.10g", m.mean / m.mean_plane);
+    run_result_add(res, "u_max_midplane", "%.10g", m.u_sym_max);
+    run_result_add(res, "mobile_layer_midplane", "%.10g", m.mobile);
+    run_result_add(res, "mobile_layer_plane", "%.10g", m.mobile_plane);
+    run_result_add(res, "secondary_velocity", "%.3e", m.secondary);
+    snprintf(res->scene_line, sizeof res->scene_line,
+             "flow rate %.6g m^3/s (plane channel of the same width %.6g), mean velocity "
+             "ratio %.5f, mid-plane: u_max %.6g m/s, mobile layer %.6g m (plane %.6g)",
+             m.q, m.q_plane, m.mean / m.mean_plane, m.u_sym_max, m.mobile, m.mobile_plane);
+}
+
+/* midplane.csv: per layer z, u of the last column (y = W/2 - dy/2), u on
+ * the symmetry plane (zero slope, from the last two columns) and the plane
+ * channel's exact u. */
+static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    struct output_file f;
+    int rc = output_open(&f, dir, "midplane.csv", err, errlen);
+    if (rc != 0)
+        return rc;
+    fprintf(f.f, "z,u_column,u_symmetry,u_plane\n");
+    for (int k = 0; k < g->n[2]; k++) {
+        double z = (k + 0.5) * g->h[2];
+        fprintf(f.f, "%.10g,%.12g,%.12g,%.12g\n", z, column_u(st, g->n[1] - 1, k),
+                symmetry_u(st, k), plane_u(st->cs, z));
+    }
+    return output_commit(&f, err, errlen);
+}
+
+static const char *const duct_files[] = {"midplane.csv", NULL};
+static const struct module *const duct_modules[] = {&bed_module, NULL};
+
+const struct scene scene_duct = {
+    .name = "duct",
+    .title = "flow over a granular bed in a square duct, half cross-section, mixed-fluid model",
+    .keys = &duct_block,
+    .modules = duct_modules,
+    .check = check,
+    .setup = setup,
+    .profile_axis = 2,
+    .profile_component = 0,
+    .profile_slab = midplane,
+    .profile_slab_axis = 1,
+    .exact_profile = plane_profile,
+    .headline_name = "u_max",
+    .error_name = "diff_plane",
+    .solution_name = "plane",
+    .no_err_rms_paper = 1,
+    .errors = errors,
+    .results = results,
+    .write = write,
+    .files = duct_files,
+};
