@@ -1,0 +1,187 @@
+#!/usr/bin/python3
+"""Square duct study (seeds/002 sec. 4.1, figs. 10-11): mesh study, plots.
+
+usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
+
+Runs cases/duct_square.ini through the muflow command (the caller's
+OMP_NUM_THREADS) on each mesh of the half cross-section (ny x nz; the
+paper's are 20 x 40 and 40 x 80), into OUTDIR/duct_runs/NYxNZ (--reuse: a
+mesh whose summary.ini says steady is not run again).  Writes
+OUTDIR/duct_table.md (per mesh: steps, wall seconds, flow rate of the full
+duct, mean velocity against the plane channel's, u_max, the mid-plane's
+u_max and mobile layer, and the difference of the mid-plane profile
+(midplane.csv, u on the symmetry plane) from the next finer mesh's
+interpolated to the coarse heights, RMS and max), and the plots
+duct_midplane.png (the mid-plane profiles of every mesh with the plane
+channel's exact profile: the paper's fig. 11) and duct_map.png (u over the
+whole cross-section of the finest mesh, mirrored about the symmetry plane,
+with the bed's top: the paper's fig. 10)."""
+import argparse
+import glob
+import os
+import subprocess
+import sys
+
+import h5py
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from summary_ini import summary  # noqa: E402
+
+CASE = "cases/duct_square.ini"
+
+
+def run(muflow, outdir, ny, nz, reuse):
+    d = os.path.join(outdir, "duct_runs", f"{ny}x{nz}")
+    sp = os.path.join(d, "summary.ini")
+    if not (reuse and os.path.exists(sp) and summary(sp).get("status") == "steady"):
+        args = [muflow, CASE, f"domain.ny={ny}", f"domain.nz={nz}", f"output.dir={d}",
+                "solver.progress_interval=60"]
+        print(" ".join(args), flush=True)
+        p = subprocess.run(args, stdout=subprocess.PIPE, text=True)
+        for line in p.stdout.splitlines():
+            if line.startswith("duct_square:"):
+                print("  " + line, flush=True)
+        if p.returncode != 0:
+            sys.exit(f"duct study: the run at {ny} x {nz} failed ({p.returncode})")
+    s = summary(sp)
+    if s.get("status") != "steady":
+        sys.exit(f"duct study: {ny} x {nz} is {s.get('status')}: {s.get('message')}")
+    mid = np.genfromtxt(os.path.join(d, "midplane.csv"), delimiter=",", names=True)
+    fields = sorted(glob.glob(os.path.join(d, "fields_*.h5")))[-1]
+    with h5py.File(fields) as h:
+        u = h["u"][:, :, 0]                      # (z, y) at the u-faces' centres
+    return dict(ny=ny, nz=nz, dir=d, summary=s, mid=mid, u=u)
+
+
+def case_value(d, section, key):
+    """A case key as the run used it (summary.ini repeats every key)."""
+    cur = None
+    with open(os.path.join(d, "summary.ini")) as f:
+        for line in f:
+            line = line.split(";")[0].strip()
+            if line.startswith("["):
+                cur = line.strip("[]")
+            elif cur == section and "=" in line:
+                k, v = line.split("=", 1)
+                if k.strip() == key:
+                    return float(v)
+    sys.exit(f"duct study: {section}.{key} not in {d}/summary.ini")
+
+
+def difference(coarse, fine):
+    """u on the symmetry plane: the fine profile interpolated (linearly) to
+    the coarse heights, minus the coarse one; RMS and max |.|."""
+    zf, uf = fine["mid"]["z"], fine["mid"]["u_symmetry"]
+    zc, uc = coarse["mid"]["z"], coarse["mid"]["u_symmetry"]
+    d = np.interp(zc, zf, uf) - uc
+    return float(np.sqrt(np.mean(d * d))), float(np.max(np.abs(d)))
+
+
+def table(runs, path):
+    rows = ["| mesh (y x z) | steps (rejected) | wall s | flow rate (m^3/s, full duct) | "
+            "mean velocity / plane | u_max (m/s) | u_max mid-plane | mobile layer mid-plane (m) | "
+            "mid-plane diff. to next mesh, RMS / max (m/s) |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    for i, r in enumerate(runs):
+        s = r["summary"]
+        diff = ""
+        if i + 1 < len(runs):
+            rms, mx = difference(r, runs[i + 1])
+            diff = f"{rms:.3e} / {mx:.3e}"
+        rows.append(
+            f"| {r['ny']} x {r['nz']} | {s['steps']} ({s['rejected_steps']}) | "
+            f"{float(s['wall_seconds']):.1f} | {float(s['flow_rate']):.6e} | "
+            f"{float(s['velocity_ratio']):.5f} | {float(s['u_max']):.6f} | "
+            f"{float(s['u_max_midplane']):.6f} | {float(s['mobile_layer_midplane']):.6f} | "
+            f"{diff} |")
+    s = runs[0]["summary"]
+    rows.append("")
+    rows.append(f"plane channel (exact, same pressure gradient): flow rate over the duct's "
+                f"width {float(s['flow_rate_plane']):.6e} m^3/s, mean velocity "
+                f"{float(s['mean_velocity_plane']):.6f} m/s, u_max "
+                f"{float(s['u_max_plane']):.6f} m/s, mobile layer "
+                f"{float(s['mobile_layer_plane']):.6f} m")
+    text = "\n".join(rows) + "\n"
+    with open(path, "w") as f:
+        f.write(text)
+    print(text)
+
+
+def plot_midplane(runs, path, hp):
+    fig, (ax, az) = plt.subplots(1, 2, figsize=(10, 5))
+    for r in runs:
+        m = r["mid"]
+        for a in (ax, az):
+            a.plot(m["u_symmetry"], m["z"], ".-", ms=3, lw=1, label=f"{r['ny']} x {r['nz']}")
+    m = runs[-1]["mid"]
+    # the plane exact profile at the finest mesh's points (u_plane column)
+    for a in (ax, az):
+        a.plot(m["u_plane"], m["z"], "k--", lw=1, label="plane channel (exact)")
+        a.axhline(hp, color="0.6", lw=0.8)
+        a.set_xlabel("u on the symmetry plane (m/s)")
+        a.set_ylabel("z (m)")
+    ax.set_title("mid-plane profiles (y = W/2)")
+    ax.legend(loc="upper left", fontsize=8)
+    top = hp + 0.002
+    lo = hp - 0.016
+    az.set_ylim(lo, top)
+    sel = (m["z"] > lo) & (m["z"] < top)
+    az.set_xlim(-1e-4, 1.2 * max(float(np.max(m["u_symmetry"][sel])), 1e-6))
+    az.set_title("zoom: the mobile layer")
+    az.locator_params(axis="x", nbins=5)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def plot_map(r, path, hp, D):
+    u = r["u"]                                    # (nz, ny), y from the side wall
+    nz, ny = u.shape
+    full = np.concatenate([u, u[:, ::-1]], axis=1)
+    fig, ax = plt.subplots(figsize=(6, 5.2))
+    im = ax.imshow(full, origin="lower", extent=[0, D, 0, D], cmap="viridis", aspect="equal")
+    cs = ax.contour(np.linspace(D / (4 * ny), D - D / (4 * ny), 2 * ny),
+                    np.linspace(D / (2 * nz), D - D / (2 * nz), nz), full,
+                    levels=np.linspace(0.005, 0.045, 9), colors="w", linewidths=0.5)
+    ax.clabel(cs, fontsize=6, fmt="%.3f")
+    # the top of the fixed bed: where u reaches 1e-3 of its largest value
+    ax.contour(np.linspace(D / (4 * ny), D - D / (4 * ny), 2 * ny),
+               np.linspace(D / (2 * nz), D - D / (2 * nz), nz), full,
+               levels=[1e-3 * float(np.max(full))], colors="orange", linewidths=1.0,
+               linestyles="--")
+    ax.axhline(hp, color="r", lw=1.5)
+    ax.axvline(D / 2, color="w", lw=0.5, ls=":")
+    ax.set_xlabel("y (m)")
+    ax.set_ylabel("z (m)")
+    ax.set_title(f"u (m/s), square duct, {ny} x {nz} per half (mirrored)\n"
+                 "red: bed top h_p; dashed: u = 1e-3 u_max (fixed bed below)", fontsize=9)
+    fig.colorbar(im, ax=ax, shrink=0.85)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("muflow")
+    ap.add_argument("outdir")
+    ap.add_argument("--meshes", default="20x40,40x80,80x160")
+    ap.add_argument("--reuse", action="store_true")
+    a = ap.parse_args()
+    os.makedirs(a.outdir, exist_ok=True)
+    meshes = [tuple(int(v) for v in m.split("x")) for m in a.meshes.split(",")]
+    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse) for ny, nz in meshes]
+    hp = case_value(runs[0]["dir"], "duct", "bed_height")
+    D = case_value(runs[0]["dir"], "domain", "lz")
+    table(runs, os.path.join(a.outdir, "duct_table.md"))
+    plot_midplane(runs, os.path.join(a.outdir, "duct_midplane.png"), hp)
+    plot_map(runs[-1], os.path.join(a.outdir, "duct_map.png"), hp, D)
+    print(f"wrote {a.outdir}/duct_table.md, duct_midplane.png, duct_map.png")
+
+
+if __name__ == "__main__":
+    main()

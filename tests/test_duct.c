@@ -1,0 +1,151 @@
+/* The duct scene: bed load in a square duct, half cross-section u(y, z),
+ * mixed-fluid model (cases/duct_square.ini).  No exact solution; the checks
+ * are against the plane channel (the bedload scene and its exact solution)
+ * where the duct must reproduce it, and against the measured mesh study
+ * (README "Bed load in a square duct").  Measured (lambda 1e-6, bercovier,
+ * 1 thread):
+ *   wide duct, half width 5 D (W = 10 D), 10 x 20: the mid-plane profile
+ *     differs from the plane exact one by diff_plane 3.0653e-4 m/s, the
+ *     plane scene's own err_rms at nz = 20 (3.0653e-4), mobile layer
+ *     0.0119286 m and u 0.0571213 m/s on the mid-plane, both the plane
+ *     run's to all printed digits: 5 D from the side wall its influence
+ *     (decaying like exp(-pi y / D) or faster) is below round-off;
+ *   square duct, 10 x 20: velocity_ratio 0.6427 (0.6323 at 20 x 40, 0.6293
+ *     at 40 x 80: converging to ~0.628), 65 steps; the whole duct
+ *     (bedload scene, walls at y = 0 and y = D, 20 x 20) has the same flow
+ *     rate to 8 digits. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include "app/run.h"
+#include "test_main.h"
+
+#define DUCT "../cases/duct_square.ini"
+#define BEDLOAD "../cases/bedload.ini"
+
+static void run(const char *file, int nov, char **ov, struct run_result *r)
+{
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, file, nov, ov, err, sizeof err), 0);
+    assert_int_equal(run_case(&cs, 0, r, err, sizeof err), 0);
+    print_message("%s: %s in %ld steps, error %.6e, u_max %.7g, flow rate %.8g\n", cs.name,
+                  run_status_name(r->status), r->steps, r->errors.err_rms, r->errors.headline,
+                  run_result_value(r, "flow_rate"));
+    assert_int_equal(r->status, STATUS_STEADY);
+}
+
+/* (a) A duct ten times wider than tall: its mid-plane is the plane channel.
+ * The bounds are relative 1e-4 (the measured agreement is to all printed
+ * digits; the steady tolerance 1e-10 allows ~1e-8): a side wall, symmetry
+ * plane or bed viscosity that acted wrongly across y would show. */
+static void test_wide_duct_is_plane(void **state)
+{
+    (void)state;
+    struct run_result d, p;
+    char *od[] = {"domain.ly=0.325", "domain.ny=10", "domain.nz=20", "output.fields=off"};
+    char *op[] = {"domain.nz=20", "output.fields=off"};
+    run(DUCT, 4, od, &d);
+    run(BEDLOAD, 2, op, &p);
+    assert_true(fabs(d.errors.err_rms / p.errors.err_rms - 1.0) <= 1e-4);
+    assert_true(fabs(run_result_value(&d, "u_max_midplane") / p.errors.headline - 1.0) <= 1e-4);
+    assert_true(fabs(run_result_value(&d, "mobile_layer_midplane") /
+                         run_result_value(&p, "mobile_layer") - 1.0) <= 1e-4);
+    assert_true(fabs(d.errors.headline_exact / p.errors.headline_exact - 1.0) <= 1e-12);
+    /* the side wall still costs: 0.9894 measured (the plane's midpoint flow
+     * rate is 1.25% above its exact one at nz = 20) */
+    assert_true(run_result_value(&d, "velocity_ratio") < 1.0);
+}
+
+/* (b) The half duct against the whole duct (the bedload scene with walls at
+ * y = 0 and y = D): the same flow rate (the symmetry plane is a mirror);
+ * v and w vanish (a unidirectional flow: no secondary flow without
+ * advection); the side walls slow the flow (velocity_ratio from the mesh
+ * study, 0.6427 at 10 x 20, within +-0.01), u_max below the plane's, and
+ * the flow rate is twice the half's. */
+static void test_half_is_whole(void **state)
+{
+    (void)state;
+    struct run_result h, w;
+    char *oh[] = {"domain.ny=10", "domain.nz=20", "output.fields=off"};
+    char *ow[] = {"domain.nx=1",       "domain.lx=0.001625", "domain.ny=20",
+                  "domain.ly=0.065",   "domain.nz=20",       "boundary.ylo=wall",
+                  "boundary.yhi=wall", "output.fields=off"};
+    run(DUCT, 3, oh, &h);
+    run(BEDLOAD, 8, ow, &w);
+    double qw = run_result_value(&w, "flow_rate") * 0.065; /* per unit width times W */
+    double qh = run_result_value(&h, "flow_rate");
+    print_message("half duct %.10g, whole duct %.10g m^3/s\n", qh, qw);
+    assert_true(fabs(qh / qw - 1.0) <= 1e-6);
+    assert_true(fabs(qh / run_result_value(&h, "flow_rate_half") - 2.0) <= 1e-12);
+    assert_true(run_result_value(&h, "secondary_velocity") <= 1e-12);
+    assert_true(h.divergence <= 1e-12);
+    double ratio = run_result_value(&h, "velocity_ratio");
+    assert_true(fabs(ratio - 0.6427) <= 0.01);
+    assert_true(h.errors.headline < h.errors.headline_exact);
+    /* the mid-plane's velocity on the symmetry plane is the largest */
+    assert_true(fabs(run_result_value(&h, "u_max_midplane") / h.errors.headline - 1.0) <= 2e-3);
+}
+
+/* (c) Bad input: exit status 2 and one line naming the key. */
+static void test_bad_input(void **state)
+{
+    (void)state;
+    static const char *const bad[][2] = {
+        {"duct.bed_height=0.07", "duct.bed_height"},
+        {"duct.bed_height=0.065", "duct.bed_height"},
+        {"duct.bed_height=-0.01", "duct.bed_height"},
+        {"duct.phi=1", "duct.phi"},
+        {"duct.phi=0", "duct.phi"},
+        {"duct.phi=1.5", "duct.phi"},
+        {"duct.model=three", "duct.model"},
+        {"duct.model=two_fluid", "duct.model = two_fluid"},
+        {"duct.particle_density=1000", "duct.particle_density"},
+        {"duct.mu_s=0.1", "duct.mu_s"},
+        {"boundary.yhi=wall", "boundary.yhi"},
+        {"boundary.ylo=slip", "boundary.ylo"},
+        {"rheology.law=mui", "rheology.law = newtonian"},
+        {"domain.ny=1", "domain.ny"},
+        {"bedload.phi=0.5", "bedload.phi"}, /* the duct's keys are in [duct] */
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        struct muflow_case cs;
+        char err[512];
+        char *ov[] = {(char *)bad[i][0]};
+        assert_int_equal(case_load(&cs, DUCT, 1, ov, err, sizeof err), 2);
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, bad[i][1]));
+        assert_null(strchr(err, '\n'));
+    }
+    /* the command: exit status 2, one line on stderr, nothing on stdout */
+    char dir[] = "/tmp/muflow_duct_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char cmd[512];
+    snprintf(cmd, sizeof cmd, "../build/muflow " DUCT " duct.phi=1.5 output.dir=%s/out 2>&1",
+             dir);
+    FILE *p = popen(cmd, "r");
+    assert_non_null(p);
+    char line[512], rest[256];
+    assert_non_null(fgets(line, sizeof line, p));
+    int extra = fgets(rest, sizeof rest, p) != NULL;
+    int st = pclose(p);
+    print_message("%s", line);
+    assert_false(extra);
+    assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 2);
+    assert_non_null(strstr(line, "duct.phi"));
+    rmdir(dir);
+}
+
+void group_duct(struct test_tally *t)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_wide_duct_is_plane),
+        cmocka_unit_test(test_half_is_whole),
+        cmocka_unit_test(test_bad_input),
+    };
+    RUN_GROUP(t, "duct", tests);
+}
