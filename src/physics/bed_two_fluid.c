@@ -7,6 +7,7 @@
 #include "kernels/kernels.h"
 #include "march/step.h"
 #include "physics/bed_two_fluid.h"
+#include "solvers/suitesparse.h"
 
 /* Round-off allowance of the particle residual, in machine epsilons of its
  * terms (as the core's). */
@@ -24,7 +25,8 @@ struct two_fluid {
     double *eta_c, *eta_e[3];    /* particle viscosities */
     double *tan_c[3], *tan_e[3]; /* and their tangents */
     double *work[3], *probe[3];  /* stress divergence, probe vectors */
-    double *fl[3], *pl[3];       /* probed fluid and particle line operators (three combs) */
+    double *fl[9], *pl[9];       /* probed fluid and particle operators (three combs along
+                                    z lines, nine in a cross-section) */
     double residual_max;         /* max |R_p| of the last evaluation */
     double residual_excess;      /* the same beyond the round-off of its terms */
 };
@@ -51,7 +53,7 @@ static void destroy(void *state)
 {
     struct two_fluid *b = state;
     if (b)
-        for (int s = 0; s < 3; s++) {
+        for (int s = 0; s < 9; s++) {
             free(b->fl[s]);
             free(b->pl[s]);
         }
@@ -98,7 +100,8 @@ int two_fluid_configure(struct march_state *st, const struct two_fluid_params *p
             idx0 = idx;
     }
     const struct field_output o = {"particle_velocity", {"up", "vp", "wp"}, idx0, NULL, NULL};
-    for (int s = 0; s < 3; s++) {
+    int combs = st->bc.face[1][0] == BC_PERIODIC ? 3 : 9;
+    for (int s = 0; s < combs; s++) {
         b->fl[s] = calloc(st->g.size, sizeof(double));
         b->pl[s] = calloc(st->g.size, sizeof(double));
         if (!b->fl[s] || !b->pl[s]) {
@@ -362,6 +365,126 @@ static int block_solve(int n, double (*D)[4], double (*lower)[2], double (*upper
     return 0;
 }
 
+/* The cross-section (walls in y): the operator of the x component probed
+ * with nine combs, uniform along x, (j mod 3, k mod 3): out[3 sj + sk] holds,
+ * at every face, its row's entry in the column of that comb within reach 1
+ * (the x stress of u(y, z) couples the nine faces around). */
+static void probe_section(struct march_state *st, struct two_fluid *b,
+                          const double *const A_cell[3], const double *const A_edge[3],
+                          double *out[9])
+{
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[0];
+    for (int s = 0; s < 9; s++) {
+        for (int c = 0; c < 3; c++)
+            memset(b->probe[c], 0, g->size * sizeof(double));
+        for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+            for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+                for (int k = bx->lo[2]; k < bx->hi[2]; k++)
+                    if (3 * (j % 3) + k % 3 == s)
+                        b->probe[0][grid_idx(g, i, j, k)] = 1.0;
+        bc_fill_velocity_homogeneous(g, &st->bc, b->probe);
+        kernel_stress_divergence(g, st->act, A_cell, A_edge, b->probe, b->work);
+        for (size_t q = 0; q < g->size; q++)
+            out[s][q] = -b->work[0][q];
+    }
+}
+
+/* The pair's Newton system on each plane i of the cross-section,
+ *   [M + F + beta t      -beta t     ] [dm]   [R_m - R_p]
+ *   [-beta t       M + P + beta t    ] [dp] = [R_p      ],
+ * 2 ny nz unknowns (dp = 0 on faces without grains), assembled in
+ * compressed rows from the probes and solved by UMFPACK. */
+static int section_solve(struct march_state *st, struct two_fluid *b, double mass)
+{
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[0];
+    int nj = bx->hi[1] - bx->lo[1], nk = bx->hi[2] - bx->lo[2], N = nj * nk, n = 2 * N;
+    char err[256];
+    if (suitesparse_load(err, sizeof err) != 0) {
+        fprintf(stderr, "two_fluid: %s\n", err);
+        return -1;
+    }
+    int *rowptr = malloc((size_t)(n + 1) * sizeof *rowptr);
+    int *col = malloc((size_t)n * 10 * sizeof *col);
+    double *val = malloc((size_t)n * 10 * sizeof *val);
+    double *rhs = malloc((size_t)n * sizeof *rhs), *x = malloc((size_t)n * sizeof *x);
+    double *share = malloc((size_t)nk * sizeof *share);
+    int rc = rowptr && col && val && rhs && x && share ? 0 : -1;
+    for (int m = 0; rc == 0 && m < nk; m++)
+        share[m] = face_share(&b->p.bed, bx->lo[2] + m, g->h[2]);
+    for (int i = bx->lo[0]; rc == 0 && i < bx->hi[0]; i++) {
+        int e = 0;
+        for (int part = 0; part < 2; part++) /* 0: u^m rows, 1: u^p rows */
+            for (int jj = 0; jj < nj; jj++)
+                for (int kk = 0; kk < nk; kk++) {
+                    int r = part * N + jj * nk + kk;
+                    int j = bx->lo[1] + jj, k = bx->lo[2] + kk;
+                    ptrdiff_t q = grid_idx(g, i, j, k);
+                    double t = share[kk], bt = b->beta * t;
+                    double *const *op = part ? b->pl : b->fl;
+                    rowptr[r] = e;
+                    if (part == 1 && !(t > 0.0)) { /* no grains: dp = 0 */
+                        col[e] = r;
+                        val[e++] = 1.0;
+                        rhs[r] = 0.0;
+                        continue;
+                    }
+                    if (part == 1) { /* the drag's coupling to u^m, left of the P block */
+                        col[e] = jj * nk + kk;
+                        val[e++] = -bt;
+                    }
+                    for (int dj = -1; dj <= 1; dj++)
+                        for (int dk = -1; dk <= 1; dk++) {
+                            int j2 = jj + dj, k2 = kk + dk;
+                            if (j2 < 0 || j2 >= nj || k2 < 0 || k2 >= nk)
+                                continue;
+                            /* a coupling to a face without grains is zero (p_p = 0 there) */
+                            if (part == 1 && !(share[k2] > 0.0))
+                                continue;
+                            int s = 3 * ((bx->lo[1] + j2) % 3) + (bx->lo[2] + k2) % 3;
+                            double a = op[s][q];
+                            if (dj == 0 && dk == 0)
+                                a += mass + bt;
+                            col[e] = part * N + j2 * nk + k2;
+                            val[e++] = a;
+                        }
+                    if (part == 0 && t > 0.0) { /* the drag's coupling to u^p, right of F */
+                        col[e] = N + jj * nk + kk;
+                        val[e++] = -bt;
+                    }
+                    rhs[r] = part ? b->rp[0][q] : st->res[0][q] - b->rp[0][q];
+                }
+        rowptr[n] = e;
+        /* the rows, read as compressed columns, are the transpose: solve with it */
+        void *sym = NULL, *num = NULL;
+        if (suitesparse.umfpack_di_symbolic(n, n, rowptr, col, val, &sym, NULL, NULL) !=
+                UMFPACK_OK ||
+            suitesparse.umfpack_di_numeric(rowptr, col, val, sym, &num, NULL, NULL) != UMFPACK_OK ||
+            suitesparse.umfpack_di_solve(UMFPACK_At, rowptr, col, val, x, rhs, num, NULL, NULL) !=
+                UMFPACK_OK)
+            rc = -1;
+        if (sym)
+            suitesparse.umfpack_di_free_symbolic(&sym);
+        if (num)
+            suitesparse.umfpack_di_free_numeric(&num);
+        for (int jj = 0; rc == 0 && jj < nj; jj++)
+            for (int kk = 0; kk < nk; kk++) {
+                ptrdiff_t q = grid_idx(g, i, bx->lo[1] + jj, bx->lo[2] + kk);
+                st->delta[0][q] = x[jj * nk + kk];
+                b->dup[0][q] = x[N + jj * nk + kk];
+            }
+    }
+    free(rowptr);
+    free(col);
+    free(val);
+    free(rhs);
+    free(x);
+    free(share);
+    st->linear_iterations = 1;
+    return rc;
+}
+
 static int implicit(struct march_state *st, void *state, double dt)
 {
     struct two_fluid *b = state;
@@ -372,19 +495,24 @@ static int implicit(struct march_state *st, void *state, double dt)
     /* the linearised stresses: the fluid's as the core's step takes them,
      * the particles' tangent on Newton steps, else their viscosity */
     struct viscous_problem pb = implicit_problem(st, 0.0);
-    probe_line(st, b, pb.A_cell, pb.A_edge, b->fl);
     int tangent = implicit_uses_tangent(st);
     const double *pc[3], *pe[3];
     for (int a = 0; a < 3; a++) {
         pc[a] = tangent ? b->tan_c[a] : b->eta_c;
         pe[a] = tangent ? b->tan_e[a] : b->eta_e[a];
     }
-    probe_line(st, b, pc, pe, b->pl);
     double mass = dt > 0.0 ? cs->density / dt : 0.0;
     for (int c = 0; c < 3; c++) {
         memset(st->delta[c], 0, g->size * sizeof(double));
         memset(b->dup[c], 0, g->size * sizeof(double));
     }
+    if (st->bc.face[1][0] != BC_PERIODIC) { /* a cross-section u(y, z) */
+        probe_section(st, b, pb.A_cell, pb.A_edge, b->fl);
+        probe_section(st, b, pc, pe, b->pl);
+        return section_solve(st, b, mass);
+    }
+    probe_line(st, b, pb.A_cell, pb.A_edge, b->fl);
+    probe_line(st, b, pc, pe, b->pl);
     const struct box *bx = &st->act[0];
     int n = bx->hi[2] - bx->lo[2];
     double(*D)[4] = malloc((size_t)n * sizeof *D);

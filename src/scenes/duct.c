@@ -1,7 +1,9 @@
 /* Scene "duct": the bed-load flow of the bedload scene in a square duct
  * (seeds/002 sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
  * fluid driven by a pressure gradient along the periodic x over a flat
- * granular bed, the mixed-fluid model (physics/bed.h), solved on half the
+ * granular bed, the mixed-fluid model (physics/bed.h) or the two-fluid
+ * model (physics/bed_two_fluid.h, its Newton step of the pair solved on the
+ * whole cross-section), solved on half the
  * cross-section u(y, z): side wall at y = 0 (no slip), symmetry plane at
  * y = ly = W/2 (slip), walls at z = 0 and z = D = lz, the bed filling
  * z < h_p.  Parameters and their checks, the plane solution the duct is
@@ -21,6 +23,7 @@
 #include "diagnostics/profile.h"
 #include "io/output.h"
 #include "physics/bed.h"
+#include "physics/bed_two_fluid.h"
 #include "scenes/bedload.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
@@ -29,8 +32,13 @@
 static const struct key duct_keys[] = {
     BEDLOAD_KEYS(T, "duct"),
     KEY_CHO(T, "duct", "model", model, bedload_model_choices,
-            "mixed: one mixture velocity (eq. 13); two_fluid is refused (its Newton step is a "
-            "line solve along z, plane flow only)"),
+            "mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle velocities "
+            "coupled by Darcy drag (eq. 12)"),
+    KEY_DBL(T, "duct", "grain_diameter", grain_diameter,
+            "grain diameter d in the bed's permeability K (two_fluid)", KEY_GT0),
+    KEY_DBL(T, "duct", "kozeny", kozeny,
+            "Carman-Kozeny constant k_CK of K = eps^3 d^2 / (k_CK (1 - eps)^2) (two_fluid)",
+            KEY_GT0),
 };
 #undef T
 
@@ -87,10 +95,13 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     const struct bedload_params *b = params(c);
-    if (b->model != BEDLOAD_MIXED) {
-        snprintf(msg, msglen, "duct.model = two_fluid: not available in the duct (the two-fluid "
-                              "Newton step is a line solve along z, for the plane flow of "
-                              "case.scene = bedload only); allowed: mixed");
+    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
+        snprintf(msg, msglen, "duct.model = two_fluid needs solver.mode = steady (the grains' "
+                              "pseudo-time mass is not their inertia)");
+        return 1;
+    }
+    if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
+        snprintf(msg, msglen, "duct.model = two_fluid needs domain.nz >= 3");
         return 1;
     }
     return bedload_check_params(c, b, "duct", msg, msglen);
@@ -100,7 +111,13 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
  * 1 - (1 - y / ly)^2 stalled (residual 2e2 after 201 steps at 20 x 40). */
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
-    const struct bed_params bp = bedload_bed_params(params(st->cs));
+    const struct bedload_params *b = params(st->cs);
+    const struct bed_params bp = bedload_bed_params(b);
+    if (b->model == BEDLOAD_TWO_FLUID) {
+        const struct two_fluid_params tp = {
+            .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
+        return two_fluid_configure(st, &tp, err, errlen);
+    }
     return bed_configure(st, &bp, err, errlen);
 }
 
@@ -210,6 +227,21 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "mobile_layer_midplane", "%.10g", m.mobile);
     run_result_add(res, "mobile_layer_plane", "%.10g", m.mobile_plane);
     run_result_add(res, "secondary_velocity", "%.3e", m.secondary);
+    const struct bedload_params *b = params(st->cs);
+    if (b->model == BEDLOAD_TWO_FLUID) {
+        /* the largest |u^m - u^p| over the bed's faces, the particles'
+         * residual, the drag (the mobile layer above is u^m's) */
+        double *up = malloc((size_t)st->g.n[2] * sizeof *up), slip = NAN;
+        if (up && two_fluid_particle_profile(st, up, &slip) == 0) {
+            run_result_add(res, "slip_max", "%.10g", slip);
+            run_result_add(res, "particle_residual", "%.10g", two_fluid_particle_residual(st));
+            struct two_fluid_params tp = {
+                .bed = bedload_bed_params(b), .grain_diameter = b->grain_diameter,
+                .kozeny = b->kozeny};
+            run_result_add(res, "drag_coefficient", "%.10g", two_fluid_drag(&tp));
+        }
+        free(up);
+    }
     snprintf(res->scene_line, sizeof res->scene_line,
              "flow rate %.6g m^3/s (plane channel of the same width %.6g), mean velocity "
              "ratio %.5f, mid-plane: u_max %.6g m/s, mobile layer %.6g m (plane %.6g)",
@@ -236,7 +268,8 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
 }
 
 static const char *const duct_files[] = {"midplane.csv", NULL};
-static const struct module *const duct_modules[] = {&bed_module, NULL};
+/* both models' modules: setup configures the one of duct.model, the other idles */
+static const struct module *const duct_modules[] = {&bed_module, &two_fluid_module, NULL};
 
 const struct scene scene_duct = {
     .name = "duct",
