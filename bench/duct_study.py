@@ -2,6 +2,7 @@
 """Square duct study (seeds/002 sec. 4.1, figs. 10-11): mesh study, plots.
 
 usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
+                     [--model mixed|two_fluid]
 
 Runs cases/duct_square.ini through the muflow command (the caller's
 OMP_NUM_THREADS) on each mesh of the half cross-section (ny x nz; the
@@ -15,7 +16,10 @@ interpolated to the coarse heights, RMS and max), and the plots
 duct_midplane.png (the mid-plane profiles of every mesh with the plane
 channel's exact profile: the paper's fig. 11) and duct_map.png (u over the
 whole cross-section of the finest mesh, mirrored about the symmetry plane,
-with the bed's top: the paper's fig. 10)."""
+with the bed's top: the paper's fig. 10).  --model two_fluid runs the
+two-fluid model (duct.model) into duct_runs_two_fluid/ and writes
+duct_table_two_fluid.md, duct_midplane_two_fluid.png and
+duct_map_two_fluid.png."""
 import argparse
 import glob
 import os
@@ -34,12 +38,13 @@ from summary_ini import summary  # noqa: E402
 CASE = "cases/duct_square.ini"
 
 
-def run(muflow, outdir, ny, nz, reuse):
-    d = os.path.join(outdir, "duct_runs", f"{ny}x{nz}")
+def run(muflow, outdir, ny, nz, reuse, model):
+    sfx = "" if model == "mixed" else "_" + model
+    d = os.path.join(outdir, "duct_runs" + sfx, f"{ny}x{nz}")
     sp = os.path.join(d, "summary.ini")
     if not (reuse and os.path.exists(sp) and summary(sp).get("status") == "steady"):
         args = [muflow, CASE, f"domain.ny={ny}", f"domain.nz={nz}", f"output.dir={d}",
-                "solver.progress_interval=60"]
+                "solver.progress_interval=60", f"duct.model={model}"]
         print(" ".join(args), flush=True)
         p = subprocess.run(args, stdout=subprocess.PIPE, text=True)
         for line in p.stdout.splitlines():
@@ -171,16 +176,18 @@ def main():
     ap.add_argument("outdir")
     ap.add_argument("--meshes", default="20x40,40x80,80x160")
     ap.add_argument("--reuse", action="store_true")
+    ap.add_argument("--model", default="mixed", choices=["mixed", "two_fluid"])
     a = ap.parse_args()
+    sfx = "" if a.model == "mixed" else "_" + a.model
     os.makedirs(a.outdir, exist_ok=True)
     meshes = [tuple(int(v) for v in m.split("x")) for m in a.meshes.split(",")]
-    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse) for ny, nz in meshes]
+    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse, a.model) for ny, nz in meshes]
     hp = case_value(runs[0]["dir"], "duct", "bed_height")
     D = case_value(runs[0]["dir"], "domain", "lz")
-    table(runs, os.path.join(a.outdir, "duct_table.md"))
-    plot_midplane(runs, os.path.join(a.outdir, "duct_midplane.png"), hp)
-    plot_map(runs[-1], os.path.join(a.outdir, "duct_map.png"), hp, D)
-    print(f"wrote {a.outdir}/duct_table.md, duct_midplane.png, duct_map.png")
+    table(runs, os.path.join(a.outdir, f"duct_table{sfx}.md"))
+    plot_midplane(runs, os.path.join(a.outdir, f"duct_midplane{sfx}.png"), hp)
+    plot_map(runs[-1], os.path.join(a.outdir, f"duct_map{sfx}.png"), hp, D)
+    print(f"wrote {a.outdir}/duct_table{sfx}.md, duct_midplane{sfx}.png, duct_map{sfx}.png")
 
 
 if __name__ == "__main__":

@@ -28,9 +28,10 @@
  * the line, as the line preconditioner is), M = rho / dt the pseudo-time
  * mass and t the bed's share of the face's control volume: a symmetric
  * positive definite block-tridiagonal system, solved directly.  Exact for
- * the plane flow u(z) (the scene refuses anything else); a cross-section
- * u(y, z) needs the same two-field system solved in two dimensions
- * (docs/design.md, "Bed load: the two-fluid model"). */
+ * the plane flow u(z) (periodic y).  With walls in y (a cross-section
+ * u(y, z), the duct scene) the operators are probed with nine combs
+ * (j, k mod 3) and the 2 x ny x nz system of each x plane is solved by
+ * UMFPACK (docs/design.md, "Bed load in a square duct"). */
 #ifndef MUFLOW_PHYSICS_BED_TWO_FLUID_H
 #define MUFLOW_PHYSICS_BED_TWO_FLUID_H
 
