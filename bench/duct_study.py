@@ -19,7 +19,8 @@ whole cross-section of the finest mesh, mirrored about the symmetry plane,
 with the bed's top: the paper's fig. 10).  --model two_fluid runs the
 two-fluid model (duct.model) into duct_runs_two_fluid/ and writes
 duct_table_two_fluid.md, duct_midplane_two_fluid.png and
-duct_map_two_fluid.png."""
+duct_map_two_fluid.png, and duct_phases_two_fluid.png (u^f and u^p on
+the mid-plane column: the paper's fig. 12)."""
 import argparse
 import glob
 import os
@@ -59,7 +60,8 @@ def run(muflow, outdir, ny, nz, reuse, model):
     fields = sorted(glob.glob(os.path.join(d, "fields_*.h5")))[-1]
     with h5py.File(fields) as h:
         u = h["u"][:, :, 0]                      # (z, y) at the u-faces' centres
-    return dict(ny=ny, nz=nz, dir=d, summary=s, mid=mid, u=u)
+        up = h["up"][:, :, 0] if "up" in h else None
+    return dict(ny=ny, nz=nz, dir=d, summary=s, mid=mid, u=u, up=up)
 
 
 def case_value(d, section, key):
@@ -170,6 +172,27 @@ def plot_map(r, path, hp, D):
     plt.close(fig)
 
 
+def plot_phases(r, path, hp, phi):
+    """Two-fluid: the fluid and particle velocities on the last column (the
+    paper's fig. 12, with its offset of 1e-3 on u^p to show it)."""
+    um, up = r["u"][:, -1], r["up"][:, -1]
+    nz = len(um)
+    z = (np.arange(nz) + 0.5) * (r["mid"]["z"][1] - r["mid"]["z"][0])
+    bed = z < hp
+    uf = np.where(bed, (um - phi * up) / (1.0 - phi), um)
+    fig, ax = plt.subplots(figsize=(5, 5))
+    ax.plot(uf, z, "b-", lw=1.2, label="fluid u^f")
+    ax.plot(np.where(bed, up, np.nan) + 1e-3, z, "r-", lw=1.2, label="particles u^p + 1e-3")
+    ax.axhline(hp, color="0.6", lw=0.8)
+    ax.set_xlabel("u (m/s), last column (y = W/2 - dy/2)")
+    ax.set_ylabel("z (m)")
+    ax.set_title(f"two-fluid model, {r['ny']} x {r['nz']}")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("muflow")
@@ -187,6 +210,9 @@ def main():
     table(runs, os.path.join(a.outdir, f"duct_table{sfx}.md"))
     plot_midplane(runs, os.path.join(a.outdir, f"duct_midplane{sfx}.png"), hp)
     plot_map(runs[-1], os.path.join(a.outdir, f"duct_map{sfx}.png"), hp, D)
+    if a.model == "two_fluid":
+        plot_phases(runs[-1], os.path.join(a.outdir, "duct_phases_two_fluid.png"), hp,
+                    case_value(runs[0]["dir"], "duct", "phi"))
     print(f"wrote {a.outdir}/duct_table{sfx}.md, duct_midplane{sfx}.png, duct_map{sfx}.png")
 
 
