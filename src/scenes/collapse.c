@@ -374,7 +374,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 }
 
 /* collapse.csv: the measures at every step; surface.csv: h(x) at the
- * profile times and at the end. */
+ * profile times and at the end.  Also during the run (write_running), each
+ * file replaced whole: the record so far, without the final profile. */
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
@@ -407,8 +408,9 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
         for (int i = 0; i < r->nx; i++)
             fprintf(f.f, "%.10g,0,%.10g,%.10g\n", r->ptime[m], (i + 0.5) * g->h[0],
                     r->ph[(size_t)m * r->nx + i]);
-    for (int i = 0; i < g->n[0]; i++)
-        fprintf(f.f, "%.10g,1,%.10g,%.10g\n", st->time, (i + 0.5) * g->h[0], h[i]);
+    if (st->status != STATUS_RUNNING) /* the final deposit: once the run has ended */
+        for (int i = 0; i < g->n[0]; i++)
+            fprintf(f.f, "%.10g,1,%.10g,%.10g\n", st->time, (i + 0.5) * g->h[0], h[i]);
     free(h);
     return output_commit(&f, err, errlen);
 }
@@ -459,4 +461,5 @@ const struct scene scene_collapse = {
     .results = results,
     .write = write,
     .files = collapse_files,
+    .write_running = 1,
 };
