@@ -9,7 +9,8 @@
  *   0 on the outlet, every cell is solenoidal to round-off, and the
  *   discrete pressure gradient tends to -8 eta U / H^2 at second order;
  * - the same channel through the multigrid projection (a variable-density
- *   path with a uniform density) gives the FFT's flow;
+ *   path with a uniform density) gives the FFT's flow, and so do the line
+ *   blocks and the probed Cholesky against the probed LU;
  * - the column collapse with an open top conserves the grains' volume,
  *   keeps the tracer bounded, lets air through the top (a net flux of zero:
  *   every other face is closed) and spreads like the closed top;
@@ -174,7 +175,7 @@ static double discrete_amplitude(int nz, double H, double U)
 #define CHANNEL_U 1.0
 #define CHANNEL_ETA 1.0
 
-static void channel_case(struct muflow_case *cs, int nz)
+static void channel_case(struct muflow_case *cs, int nz, const char *extra)
 {
     /* H = 1, L = 4 H, square cells, one periodic cell across y.  The pseudo-
      * time step grows from 0.06 to 0.6 rho h^2 / eta and no further: the
@@ -197,9 +198,11 @@ static void channel_case(struct muflow_case *cs, int nz)
                   "boundary.zhi=wall", "boundary.inflow_velocity=1",
                   "boundary.inflow_profile=parabolic", "physics.gravity=0",
                   "physics.advection=on", "rheology.law=newtonian", "rheology.viscosity=1",
-                  "solver.mode=steady", "solver.tolerance=1e-13", "solver.max_steps=5000"};
+                  "solver.mode=steady", "solver.tolerance=1e-13", "solver.max_steps=5000",
+                  (char *)(extra ? extra : "")};
     char err[512];
-    int rc = case_load(cs, "/dev/null", (int)(sizeof ov / sizeof ov[0]), ov, err, sizeof err);
+    int nov = (int)(sizeof ov / sizeof ov[0]) - (extra ? 0 : 1);
+    int rc = case_load(cs, "/dev/null", nov, ov, err, sizeof err);
     if (rc != 0)
         print_error("%s\n", err);
     assert_int_equal(rc, 0);
@@ -276,10 +279,10 @@ static void channel_measure(const struct march_state *st, struct channel_errors 
 static const struct module *const no_modules[] = {NULL};
 
 /* Runs the channel into *st (the caller destroys it); cs must outlive st. */
-static void channel_run(int nz, const struct module *const *extra, struct channel_errors *e,
-                        struct muflow_case *cs, struct march_state *st)
+static void channel_run(int nz, const struct module *const *extra, const char *key,
+                        struct channel_errors *e, struct muflow_case *cs, struct march_state *st)
 {
-    channel_case(cs, nz);
+    channel_case(cs, nz, key);
     char err[512];
     int rc = march_create_with(st, cs, extra, err, sizeof err);
     if (rc)
@@ -287,10 +290,11 @@ static void channel_run(int nz, const struct module *const *extra, struct channe
     assert_int_equal(rc, 0);
     enum run_status s = march_run(st, NULL, NULL);
     channel_measure(st, e);
-    print_message("channel nz %d%s: %s in %ld steps; |u - discrete| %.1e, |w| %.1e, dp/dx %.1e, "
+    print_message("channel nz %d%s%s%s: %s in %ld steps; |u - discrete| %.1e, |w| %.1e, dp/dx %.1e, "
                   "outlet p %.1e, div %.1e, flux %.1e; |u - parabola| %.2e, dp/dx against "
                   "-8 eta U/H^2 %+.3e\n",
-                  nz, extra != no_modules ? " (multigrid projection)" : "", run_status_name(s),
+                  nz, extra != no_modules ? " (multigrid projection)" : "", key ? " " : "",
+                  key ? key : "", run_status_name(s),
                   st->step, e->u_discrete, e->w, e->dpdx, e->outlet_p, e->divergence, e->flux,
                   e->u_parabola, e->gradient);
     assert_int_equal(s, STATUS_STEADY);
@@ -303,7 +307,7 @@ static void test_poiseuille_channel(void **state)
     for (int m = 0; m < 2; m++) {
         struct muflow_case cs;
         struct march_state st;
-        channel_run(8 << m, no_modules, &e[m], &cs, &st);
+        channel_run(8 << m, no_modules, NULL, &e[m], &cs, &st);
         march_destroy(&st);
         assert_true(e[m].u_discrete < CHANNEL_TOL);
         assert_true(e[m].w < CHANNEL_TOL);
@@ -331,25 +335,47 @@ static int variable_create(struct march_state *st, void **state, char *err, size
 static const struct module variable_density = {.name = "variable", .create = variable_create};
 static const struct module *const variable_modules[] = {&variable_density, NULL};
 
-static void test_channel_multigrid(void **state)
+/* max |u - v| over the three components */
+static double velocity_difference(const struct march_state *a, const struct march_state *b)
+{
+    double diff = 0.0;
+    for (int c = 0; c < 3; c++)
+        for (size_t p = 0; p < a->g.size; p++)
+            diff = fmax(diff, fabs(a->vel[c][p] - b->vel[c][p]));
+    return diff;
+}
+
+/* The solvers that read the boundary kinds give one flow: the projection
+ * by the FFT and by the multigrid (Dirichlet faces both), the implicit step
+ * preconditioned by the probed LU (auto here), the line blocks and the
+ * probed Cholesky (they probe the operator, whose open and inflow faces are
+ * filled by the same homogeneous fill). */
+static void test_channel_solvers(void **state)
 {
     (void)state;
+    static const char *const keys[] = {"solver.preconditioner=line", "solver.preconditioner=cholesky"};
     struct channel_errors e, f;
     struct muflow_case ca, cb;
     struct march_state a, b;
-    channel_run(8, no_modules, &e, &ca, &a);
-    channel_run(8, variable_modules, &f, &cb, &b);
+    channel_run(8, no_modules, NULL, &e, &ca, &a);
+    assert_int_equal(a.precond, VISCOUS_LU);
+    channel_run(8, variable_modules, NULL, &f, &cb, &b);
     assert_true(a.density_uniform && !b.density_uniform);
     assert_true(f.u_discrete < CHANNEL_TOL && f.dpdx < CHANNEL_TOL && f.outlet_p < CHANNEL_TOL);
     assert_true(f.divergence < DIV_TOL);
-    double diff = 0.0;
-    for (int c = 0; c < 3; c++)
-        for (size_t p = 0; p < a.g.size; p++)
-            diff = fmax(diff, fabs(a.vel[c][p] - b.vel[c][p]));
+    double diff = velocity_difference(&a, &b);
     print_message("channel by the FFT and by the multigrid projection: max |du| %.2e\n", diff);
     assert_true(diff < CHANNEL_TOL);
-    march_destroy(&a);
     march_destroy(&b);
+    for (int m = 0; m < 2; m++) {
+        channel_run(8, no_modules, keys[m], &f, &cb, &b);
+        assert_true(f.u_discrete < CHANNEL_TOL && f.outlet_p < CHANNEL_TOL);
+        diff = velocity_difference(&a, &b);
+        print_message("channel, %s against lu: max |du| %.2e\n", keys[m], diff);
+        assert_true(diff < CHANNEL_TOL);
+        march_destroy(&b);
+    }
+    march_destroy(&a);
 }
 
 /* ---- the collapse with an open top ------------------------------------- */
@@ -514,7 +540,7 @@ void group_boundary(struct test_tally *t)
         cmocka_unit_test(test_ghost_fills),
         cmocka_unit_test(test_vof_open_top),
         cmocka_unit_test(test_poiseuille_channel),
-        cmocka_unit_test(test_channel_multigrid),
+        cmocka_unit_test(test_channel_solvers),
         cmocka_unit_test(test_collapse_open_top),
         cmocka_unit_test(test_bagnold2_open_top),
         cmocka_unit_test(test_case_checks),
