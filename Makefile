@@ -235,6 +235,8 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
 	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold2_study.py $(BUILD)/muflow $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et

@@ -138,6 +138,20 @@ double vof_slab_fraction(const double m[3], double alpha, double t_uniform, int 
     return vof_plane_volume(ms, alpha - m[d] * lo);
 }
 
+double vof_box_fraction(const double m[3], double alpha, double t_uniform, const double lo[3],
+                        const double width[3])
+{
+    /* xi = lo + width eta maps the box onto the unit cube eta */
+    double ms[3], al = alpha;
+    for (int d = 0; d < 3; d++) {
+        ms[d] = m[d] * width[d];
+        al -= m[d] * lo[d];
+    }
+    if (ms[0] == 0.0 && ms[1] == 0.0 && ms[2] == 0.0)
+        return t_uniform;
+    return vof_plane_volume(ms, al);
+}
+
 /* ---- normals: mixed Youngs-centred (Aulisa et al. 2007) ------------------
  *
  * Both estimates work in cell-index space: the normal of the plane in the

@@ -49,6 +49,11 @@ double vof_plane_alpha(const double m[3], double volume);
 double vof_slab_fraction(const double m[3], double alpha, double t_uniform, int d, double lo,
                          double width);
 
+/* The same for the box lo <= xi <= lo + width (each within [0, 1]): the
+ * fluid's share of a part of the cell, as a fraction of the part's volume. */
+double vof_box_fraction(const double m[3], double alpha, double t_uniform, const double lo[3],
+                        const double width[3]);
+
 /* Interface of every interior cell from T (ghost layer filled): normal[c]
  * receives m_c, alpha the plane constant (see above).  Cells with T <= 0 or
  * T >= 1 get m = 0.  Directions of one cell get m_c = 0. */

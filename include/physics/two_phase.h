@@ -27,10 +27,19 @@
 
 enum mixture_law { MIXTURE_WEIGHTED = 0, MIXTURE_HARMONIC };
 
+/* The viscosity of an edge (a shear-stress location) holding both phases:
+ * EDGES_MEAN the mixture law at the mean T of its four cells; EDGES_SERIES
+ * the two in series, 1/eta = t/eta_g + (1 - t)/eta_f, at the grains' share t
+ * of its control volume cut from the reconstructed interface (the shear
+ * stress is continuous across an interface whose normal lies in the edge's
+ * plane, as in layered shear; docs/design.md "Two phases"). */
+enum edge_mixing { EDGES_MEAN = 0, EDGES_SERIES };
+
 struct two_phase_params {
     double fluid_density;    /* rho_f */
     double fluid_viscosity;  /* eta_f */
     enum mixture_law mixture;
+    enum edge_mixing edges;
     int transported;         /* 1: T moves with the flow (geometric VOF, sub-stepped
                                 within each step); 0: T is held */
     /* the granular viscosity eta_g clipped to [eta_min, eta_max] before it is

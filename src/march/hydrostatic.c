@@ -59,7 +59,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
         pressure_destroy(ps);
         return -1;
     }
-    if (pressure_solve(ps, st->div, st->p_hyd) != 0) {
+    if (pressure_solve(ps, st->div, st->p_hyd, 0.0) != 0) {
         snprintf(err, errlen, "hydrostatic %s", pressure_message(ps));
         pressure_destroy(ps);
         return -1;

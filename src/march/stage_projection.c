@@ -6,6 +6,11 @@
 /* max |div u| h / max |u| above which a state is not solenoidal to round-off
  * (it is projected once more). */
 #define DIVERGENCE_ROUNDOFF 1e-12
+/* The projection's pressure solve stops once the divergence it leaves is
+ * below this share of max |u| / h.  The VOF transport conserves the grains'
+ * volume only as far as u is solenoidal: with 1e-13 the bagnold2 transient
+ * (500 steps) lost 2e-12 of it, with 1e-15 none to the printed digits. */
+#define DIVERGENCE_FLOOR 1e-15
 
 /* vel -= beta grad phi (phi's ghosts filled). */
 static void subtract_gradient(struct march_state *st, const double *phi)
@@ -129,7 +134,11 @@ void stage_projection(struct march_state *st, double dt)
                     st->p_dyn[p] -= st->aug[p] * st->phi[p];
                 }
     kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
-    pressure_solve(st->pressure_solver, st->phi, st->phi);
+    /* a divergence at DIVERGENCE_FLOOR of |u| / h in the 2-norm (which bounds
+     * every cell's): solving further changes nothing */
+    double floor = DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
+                   march_min_spacing(g);
+    pressure_solve(st->pressure_solver, st->phi, st->phi, floor);
     bc_fill_pressure(g, &st->bc, st->phi);
     subtract_gradient(st, st->phi);
     if (open)
@@ -137,7 +146,7 @@ void stage_projection(struct march_state *st, double dt)
     bc_fill_velocity(g, &st->bc, st->vel);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
         kernel_divergence(g, st->vel, st->div);
-        pressure_solve(st->pressure_solver, st->div, st->div);
+        pressure_solve(st->pressure_solver, st->div, st->div, floor);
         bc_fill_pressure(g, &st->bc, st->div);
         subtract_gradient(st, st->div);
         if (open) {

@@ -64,6 +64,14 @@ void stage_residual(struct march_state *st)
                             st->delta);
     st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
                                                  ROUNDOFF_EPS) / scale;
+    /* the modules' own equations (a second velocity): both must vanish */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->residual_max) {
+            double x = 0.0;
+            double r = st->modules[m]->residual_max(st, st->module_state[m], &x) / scale;
+            st->residual = fmax(st->residual, r);
+            st->residual_excess = fmax(st->residual_excess, x / scale);
+        }
     kernel_divergence(g, st->vel, st->div);
     double umax = kernel_max_abs(g, st->act, st->vel);
     double dmax = kernel_max_abs_cells(g, st->div);

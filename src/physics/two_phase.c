@@ -22,6 +22,11 @@ struct two_phase {
     struct vof_transport vt;
     int vt_ready;
     double *before;         /* T at the start of the transport stage */
+    /* the grains' share of each edge's control volume, cut from the
+     * reconstructed interface (edge_fractions) */
+    double *edge_t[3];
+    double *normal[3], *alpha; /* the reconstruction behind them (work) */
+    int edges_stale;        /* T changed since they were computed */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -32,6 +37,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     *state = tp;
+    tp->edges_stale = 1;
     if (fields_add_written(&st->fields, "tracer", FIELD_CHECKPOINT | FIELD_SAVED, &tp->T) != 0) {
         snprintf(err, errlen, "two phases: out of memory for the tracer");
         return -1;
@@ -44,8 +50,14 @@ static void destroy(void *state)
     struct two_phase *tp = state;
     if (tp && tp->vt_ready)
         vof_transport_free(&tp->vt);
-    if (tp)
+    if (tp) {
         field_free(tp->before);
+        for (int c = 0; c < 3; c++) {
+            field_free(tp->edge_t[c]);
+            field_free(tp->normal[c]);
+        }
+        field_free(tp->alpha);
+    }
     free(state);
 }
 
@@ -59,6 +71,20 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
     }
     tp->p = *p;
     tp->configured = 1;
+    int ok = 1;
+    for (int c = 0; c < 3; c++) {
+        if (!tp->edge_t[c])
+            ok &= (tp->edge_t[c] = field_alloc(&st->g)) != NULL;
+        if (!tp->normal[c])
+            ok &= (tp->normal[c] = field_alloc(&st->g)) != NULL;
+    }
+    if (!tp->alpha)
+        ok &= (tp->alpha = field_alloc(&st->g)) != NULL;
+    if (!ok) {
+        snprintf(err, errlen, "two phases: out of memory for the edge fractions");
+        return NULL;
+    }
+    tp->edges_stale = 1;
     tp->transported = p->transported;
     if (tp->transported && !tp->vt_ready) {
         if (vof_transport_init(&tp->vt, &st->g, &st->bc) != 0 ||
@@ -77,6 +103,7 @@ int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen)
     const struct grid *g = &st->g;
     const double rg = st->cs->density, rf = tp->p.fluid_density;
     bc_fill_scalar(g, &st->bc, tp->T);
+    tp->edges_stale = 1;
     const ptrdiff_t *o = g->stride;
     /* the face between cells p - o_c and p: the mean of their densities
      * (ghost cells mirror the boundary cells, so a wall face gets its cell's) */
@@ -97,13 +124,69 @@ double two_phase_volume(const struct march_state *st)
     return kernel_sum(&st->g, tp->T);
 }
 
+/* The grains' share of the quarter lo_a <= xi_a <= lo_a + 1/2,
+ * lo_b <= xi_b <= lo_b + 1/2 of cell idx (which may be a ghost: a periodic
+ * one is its image's, any other counts as uniformly filled with its T). */
+static double quarter_fraction(const struct two_phase *tp, const struct grid *g,
+                               const struct boundary *bc, const int idx[3], int a, double lo_a,
+                               int b, double lo_b)
+{
+    int w[3] = {idx[0], idx[1], idx[2]};
+    for (int d = 0; d < 3; d++)
+        if (w[d] < 0 || w[d] >= g->n[d]) {
+            if (bc->face[d][0] != BC_PERIODIC)
+                return tp->T[grid_idx(g, idx[0], idx[1], idx[2])];
+            w[d] = (w[d] + g->n[d]) % g->n[d];
+        }
+    ptrdiff_t p = grid_idx(g, w[0], w[1], w[2]);
+    double m[3] = {tp->normal[0][p], tp->normal[1][p], tp->normal[2][p]};
+    double lo[3] = {0.0, 0.0, 0.0}, width[3] = {1.0, 1.0, 1.0};
+    lo[a] = lo_a;
+    lo[b] = lo_b;
+    width[a] = width[b] = 0.5;
+    return vof_box_fraction(m, tp->alpha[p], tp->T[p], lo, width);
+}
+
+/* The grains' share of every edge's control volume (the cell-sized box
+ * centred on the edge: a quarter of each of its four cells), cut from the
+ * piecewise-linear interface.  The mean of the four cells' T smears a flat
+ * interface over two edges: an edge whose box holds 6% grains counted 28%
+ * of them, and the air above a layer moved as if it were half a cell
+ * thinner. */
+static void edge_fractions(struct two_phase *tp, const struct grid *g, const struct boundary *bc)
+{
+    vof_reconstruct(g, tp->T, tp->normal, tp->alpha);
+    for (int c = 0; c < 3; c++) {
+        int a = (c + 1) % 3, b = (c + 2) % 3;
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[c] = g->n[c] - 1;
+        for (int i = 0; i <= hi[0]; i++)
+            for (int j = 0; j <= hi[1]; j++)
+                for (int k = 0; k <= hi[2]; k++) {
+                    int e[3] = {i, j, k}, q[3];
+                    double t = 0.0;
+                    for (int sa = 0; sa < 2; sa++)
+                        for (int sb = 0; sb < 2; sb++) {
+                            /* sa = 1: the cell below along a, whose upper half is in the box */
+                            memcpy(q, e, sizeof q);
+                            q[a] -= sa;
+                            q[b] -= sb;
+                            t += 0.25 * quarter_fraction(tp, g, bc, q, a, 0.5 * sa, b, 0.5 * sb);
+                        }
+                    tp->edge_t[c][grid_idx(g, i, j, k)] = t;
+                }
+    }
+    tp->edges_stale = 0;
+}
+
 /* The mixture of the granular viscosity eta_g and the fluid's at fraction
- * t, and its derivative with respect to eta_g (for the tangents). */
+ * t, and its derivative with respect to eta_g (for the tangents).  series:
+ * the two in series whatever the law (an edge cut by the interface). */
 static inline double mix(const struct two_phase *tp, double rg, double t, double eta_g,
-                         double *deta)
+                         int series, double *deta)
 {
     double ef = tp->p.fluid_viscosity, rf = tp->p.fluid_density;
-    if (tp->p.mixture == MIXTURE_HARMONIC) {
+    if (series || tp->p.mixture == MIXTURE_HARMONIC) {
         double eta = 1.0 / (t / eta_g + (1.0 - t) / ef);
         *deta = t > 0.0 ? eta * eta * t / (eta_g * eta_g) : 0.0;
         return eta;
@@ -127,8 +210,8 @@ static inline double clip(const struct two_phase *tp, double eta_g, int *clipped
 
 /* eta (and the tangent A, the full tangent's b) of one stress location:
  * A = eta + eta_g' x (its derivative part), which scales with d eta / d eta_g. */
-static inline void mix_point(const struct two_phase *tp, double rg, double t, double *eta,
-                             double *tan, double *b)
+static inline void mix_point(const struct two_phase *tp, double rg, double t, int series,
+                             double *eta, double *tan, double *b)
 {
     int cut;
     double d, eg = clip(tp, *eta, &cut);
@@ -138,7 +221,7 @@ static inline void mix_point(const struct two_phase *tp, double rg, double t, do
         if (b)
             *b = 0.0;
     }
-    double m = mix(tp, rg, t, eg, &d);
+    double m = mix(tp, rg, t, eg, series, &d);
     if (tan)
         *tan = m + d * (*tan - eg);
     if (b)
@@ -155,6 +238,9 @@ static void properties(struct march_state *st, void *state)
     const struct muflow_case *cs = st->cs;
     const double rg = cs->density;
     bc_fill_scalar(g, &st->bc, tp->T);
+    int series = tp->p.edges == EDGES_SERIES;
+    if (series && tp->edges_stale)
+        edge_fractions(tp, g, &st->bc);
     const ptrdiff_t *o = g->stride;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
@@ -169,7 +255,7 @@ static void properties(struct march_state *st, void *state)
                     if (st->b_c)
                         st->b_c[q] = 0.0;
                 }
-                double m = mix(tp, rg, tp->T[q], eg, &d);
+                double m = mix(tp, rg, tp->T[q], eg, 0, &d);
                 if (cs->newton)
                     for (int a = 0; a < 3; a++)
                         st->tan_c[a][q] = m + d * (st->tan_c[a][q] - eg);
@@ -186,8 +272,15 @@ static void properties(struct march_state *st, void *state)
                 for (int k = 0; k <= hi[2]; k++) {
                     ptrdiff_t e = grid_idx(g, i, j, k);
                     const double *T = tp->T;
-                    double t = 0.25 * (T[e] + T[e - o[a]] + T[e - o[b]] + T[e - o[a] - o[b]]);
-                    mix_point(tp, rg, t, &st->eta_e[c][e], cs->newton ? &st->tan_e[c][e] : NULL,
+                    /* series: an edge cut by the interface carries a shear
+                     * stress that is continuous across it (its normal lies in
+                     * the plane of a and b in a cross-section), so the two
+                     * phases act in series whatever the mixture law */
+                    double t = series ? tp->edge_t[c][e]
+                                      : 0.25 * (T[e] + T[e - o[a]] + T[e - o[b]] +
+                                                T[e - o[a] - o[b]]);
+                    mix_point(tp, rg, t, series && t > 0.0 && t < 1.0,
+                              &st->eta_e[c][e], cs->newton ? &st->tan_e[c][e] : NULL,
                               st->b_e[c] ? &st->b_e[c][e] : NULL);
                 }
     }

@@ -31,10 +31,13 @@ struct bagnold2_params {
     double fluid_density;      /* rho_f */
     double fluid_viscosity;    /* eta_f */
     int mixture;               /* enum mixture_law */
+    int interface_edges;       /* enum edge_mixing */
 };
 
 static const struct choice mixture_choices[] = {
     {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
+static const struct choice edge_choices[] = {
+    {"series", EDGES_SERIES}, {"mean", EDGES_MEAN}, {NULL, 0}};
 
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
@@ -48,6 +51,10 @@ static const struct key bagnold2_keys[] = {
     KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
             "mixture viscosity of a cell holding both: weighted (seeds/001 eq. 14) or harmonic "
             "(eq. 15)"),
+    KEY_CHO(T, "bagnold2", "interface_edges", interface_edges, edge_choices,
+            "viscosity of an edge the interface cuts: series (the two phases in series at the "
+            "grains' share of its box, cut from the reconstructed interface) or mean (the mixture "
+            "law at the mean T of its four cells)"),
 };
 #undef T
 
@@ -59,6 +66,7 @@ static void defaults(void *block)
     b->fluid_density = 1.0;
     b->fluid_viscosity = 1.48e-5;
     b->mixture = MIXTURE_WEIGHTED;
+    b->interface_edges = EDGES_SERIES;
 }
 
 static const struct key_block bagnold2_block = {
@@ -151,6 +159,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     const struct two_phase_params tp = {.fluid_density = b->fluid_density,
                                         .fluid_viscosity = b->fluid_viscosity,
                                         .mixture = (enum mixture_law)b->mixture,
+                                        .edges = (enum edge_mixing)b->interface_edges,
                                         .transported = st->cs->mode == MODE_TRANSIENT};
     double *T = two_phase_configure(st, &tp, err, errlen);
     if (!T)
