@@ -103,10 +103,11 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     const struct boundary *b = &c->bc;
     if (b->face[0][0] != BC_SLIP || b->face[0][1] == BC_PERIODIC || b->face[2][0] != BC_WALL ||
-        b->face[2][1] != BC_SURFACE || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN) ||
+        b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
         snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
-                              "xhi not periodic, zlo = wall, zhi = surface, periodic y and "
-                              "domain.ny = 1");
+                              "xhi not periodic, zlo = wall, zhi = surface or open, periodic y "
+                              "and domain.ny = 1");
         return 1;
     }
     if (!(p->half_width < c->len[0]) || !(p->height < c->len[2])) {
