@@ -54,6 +54,7 @@ struct muflow_case {
                                 falls below this (Picard before): 1 = always */
     double linear_tolerance; /* relative tolerance of the implicit viscous CG */
     int max_linear_iterations;
+    int preconditioner_reuse;
     int line_direction;      /* -1 auto, or 0/1/2: preconditioner lines */
     enum preconditioner preconditioner; /* of the implicit viscous solve */
     double augmentation;     /* kappa: the grad-div (augmented Lagrangian) term has

@@ -392,6 +392,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         march_destroy(st);
         return -1;
     }
+    viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
     st->dt = cs->dt;
     st->best_residual = INFINITY;
     st->dt_scale = 1.0;
