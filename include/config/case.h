@@ -44,6 +44,7 @@ struct muflow_case {
     double tolerance;        /* steady: stop when the relative residual falls below */
     long max_steps;
     double end_time;         /* transient: time to reach */
+    double steady_tolerance;  /* transient: stop at a steady state below this (0: off) */
     double dt;               /* initial (steady) or fixed upper bound (transient) */
     double dt_max;           /* steady: cap of the growing pseudo-time step */
     double cfl;              /* advective CFL number (when advection is on) */

@@ -164,6 +164,9 @@ static const struct key keys[] = {
         "steady: stop when the relative residual falls below this"),
     LNG("solver", "max_steps", max_steps, RANGE(1, 1e9, 1, 1), "largest number of time steps"),
     DBL("solver", "end_time", end_time, GT0, "transient: time to reach"),
+    DBL("solver", "steady_tolerance", steady_tolerance, RANGE(0, 1, 1, 0),
+        "transient: stop at a steady state once the relative residual and divergence fall "
+        "below this, as the steady mode's tolerance (0: run to end_time)"),
     DBL("solver", "dt", dt, GT0,
         "steady: initial pseudo-time step; transient: upper bound of the step"),
     DBL("solver", "dt_max", dt_max, GT0, "steady: cap of the growing pseudo-time step (>= dt)"),

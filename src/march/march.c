@@ -671,6 +671,15 @@ static void check_end(struct march_state *st)
         else
             snprintf(st->message, sizeof st->message, "residual %.3e <= tolerance %.1e",
                      st->residual, cs->tolerance);
+    } else if (cs->mode == MODE_TRANSIENT && cs->steady_tolerance > 0.0 && st->step > 0 &&
+               st->residual_excess <= cs->steady_tolerance &&
+               st->divergence <= cs->steady_tolerance) {
+        /* a transient run to a steady state: the same criterion as the
+         * steady mode's, on the state the time march reached */
+        st->status = STATUS_STEADY;
+        snprintf(st->message, sizeof st->message,
+                 "steady at t = %.6g: residual %.3e <= solver.steady_tolerance %.1e", st->time,
+                 st->residual_excess, cs->steady_tolerance);
     } else if (cs->mode == MODE_TRANSIENT && st->time >= cs->end_time * (1.0 - 1e-12)) {
         st->status = STATUS_FINISHED;
         snprintf(st->message, sizeof st->message, "end time %g reached", cs->end_time);
