@@ -192,6 +192,16 @@ static void test_perturbation(void **state)
     assert_true(au >= 0.5 * umax && au <= 2.0 * umax);
     assert_true(ap == 0.0);
     march_destroy(&st);
+    /* no uniform flow to start from or to scale by: above mu_d, below mu_s */
+    static const char *const flat[] = {"physics.tilt=0.6", "physics.tilt=0.3"};
+    for (int m = 0; m < 2; m++) {
+        char *bad[] = {"bagnold2.start=exact", (char *)flat[m]};
+        assert_int_equal(case_load(&cs, CASE, 2, bad, err, sizeof err), 2);
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, "bagnold2.start"));
+        bad[0] = "bagnold2.perturbation=1e-3";
+        assert_int_equal(case_load(&cs, CASE, 2, bad, err, sizeof err), 2);
+    }
 }
 
 /* The growth rate of a run from the exact steady solution plus the

@@ -101,6 +101,8 @@ static const struct bagnold2_params *params(const struct muflow_case *cs)
     return case_scene_params(cs);
 }
 
+static double bagnold2_u(const struct muflow_case *cs, double z);
+
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct bagnold2_params *b = params(c);
@@ -124,6 +126,15 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         snprintf(msg, msglen, "physics.density = %.17g: the grains' bulk density must be "
                               "rheology.phi * rheology.grain_density = %.17g",
                  c->density, rg);
+        return 1;
+    }
+    double top = bagnold2_u(c, c->len[2]);
+    if ((b->start == START_EXACT || b->perturbation > 0.0) && !(isfinite(top) && top > 0.0)) {
+        snprintf(msg, msglen,
+                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the uniform flow of "
+                 "eqs. (6)-(11), which physics.tilt = %.17g (tan %.6g) does not have with this "
+                 "rheology.curve (jop: tan between rheology.mu_s and mu_s + delta_mu)",
+                 c->tilt, tan(c->tilt));
         return 1;
     }
     return 0;
@@ -188,7 +199,8 @@ static double node_deviate(int i, int j, int k)
  * w = -d psi / dx on z faces are divergence-free cell by cell (to round-off),
  * w vanishes at the base and the top, and the air starts unperturbed; scaled
  * so that its largest velocity is perturbation * u_top.  Every wavelength
- * the grid holds is seeded: an ill-posed flow grows fastest at the shortest. */
+ * the grid holds is seeded, so which one grows fastest is measured, not
+ * chosen.  (A cross-section: each y plane gets its own u and w.) */
 static void perturbation_psi(const struct grid *g, int j, double h0, double *psi)
 {
     const double pi = 3.14159265358979323846;
