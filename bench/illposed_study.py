@@ -51,6 +51,7 @@ RUNS = [
     ("t2j_50", "Table 2, 28.5 deg, jop", TABLE2, 50, 100, 2.5e-5, 0.04),
     ("t2bg_50", "Table 2, 28.5 deg, barker_gray", TABLE2 + BG, 50, 100, 2.5e-5, 0.04),
     ("t1j32_100_dt5e-5", "Table 1, 32 deg, jop", TABLE1_32, 100, 200, 5e-5, 0.025),
+    ("t1j32_100", "Table 1, 32 deg, jop", TABLE1_32, 100, 200, 2.5e-5, 0.015),
 ]
 
 
@@ -88,20 +89,21 @@ def main():
     lines = ["| case | grid | dt (s) | window (s) | growth_rate (1/s) | of the pressure (1/s) | "
              "r^2 | A(0) / u_top | A(end) / u_top | steps | wall (s) |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-    with open(os.path.join(outdir, "illposed_runs.csv"), "w") as f:
-        f.write("name,case,nx,nz,dt,window_start,window_end,growth_rate,growth_rate_pressure,"
-                "r2,u_top,amplitude_start,amplitude_end,steps,wall_seconds\n")
+    with open(os.path.join(outdir, "illposed_runs.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["name", "case", "nx", "nz", "dt", "window_start", "window_end",
+                    "growth_rate", "growth_rate_pressure", "r2", "u_top", "amplitude_start",
+                    "amplitude_end", "steps", "wall_seconds"])
         for r, res, rows in out:
             name, label, ov, nx, nz, dt, end = r
-            w = res["growth_window"].split()
+            win = res["growth_window"].split()
             top = float(res["u_top_exact"])
-            f.write("%s,%s,%d,%d,%g,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n" % (
-                name, label, nx, nz, dt, w[0], w[1], res["growth_rate"],
-                res["growth_rate_pressure"], res["growth_fit_r2"], res["u_top_exact"],
-                res["amplitude_start"], res["amplitude_end"], res["steps"],
-                res["wall_seconds"]))
-            lines.append("| %s | %d x %d | %g | %s-%s | %.1f | %.1f | %.4f | %.2e | %.2e | %s | %.0f |" % (
-                label, nx, nz, dt, w[0], w[1], float(res["growth_rate"]),
+            w.writerow([name, label, nx, nz, "%g" % dt, win[0], win[1], res["growth_rate"],
+                        res["growth_rate_pressure"], res["growth_fit_r2"], res["u_top_exact"],
+                        res["amplitude_start"], res["amplitude_end"], res["steps"],
+                        res["wall_seconds"]])
+            lines.append("| %s | %d x %d | %g | %.4g-%.4g | %.1f | %.1f | %.4f | %.2e | %.2e | %s | %.0f |" % (
+                label, nx, nz, dt, float(win[0]), float(win[1]), float(res["growth_rate"]),
                 float(res["growth_rate_pressure"]), float(res["growth_fit_r2"]),
                 float(res["amplitude_start"]) / top, float(res["amplitude_end"]) / top,
                 res["steps"], float(res["wall_seconds"])))
@@ -109,11 +111,13 @@ def main():
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
     fig, ax = plt.subplots(figsize=(8, 5))
-    for r, res, rows in out:
+    colours = plt.get_cmap("tab20")
+    for m, (r, res, rows) in enumerate(out):
         top = float(res["u_top_exact"])
         ax.semilogy([float(x["t"]) for x in rows],
                     [float(x["amplitude_velocity"]) / top for x in rows],
-                    label="%s, %d x %d, dt %g" % (r[1], r[3], r[4], r[5]))
+                    label="%s, %d x %d, dt %g" % (r[1], r[3], r[4], r[5]),
+                    color=colours(m % 20), linestyle="-" if "jop" in r[1] else "--")
     ax.set_xlabel("t (s)")
     ax.set_ylabel("A(t) / u_top (velocity)")
     ax.legend(fontsize=6)
