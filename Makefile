@@ -160,7 +160,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 check-asan: deps
@@ -235,6 +235,8 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
 	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold2_study.py $(BUILD)/muflow $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et

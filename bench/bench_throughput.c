@@ -258,7 +258,7 @@ static void s_advection(struct bench3d *b)
     kernel_advection(G(b), ST(b)->act, ST(b)->vel, ST(b)->adv);
 }
 
-static void s_poisson(struct bench3d *b) { pressure_solve(ST(b)->pressure_solver, ST(b)->div, ST(b)->phi); }
+static void s_poisson(struct bench3d *b) { pressure_solve(ST(b)->pressure_solver, ST(b)->div, ST(b)->phi, 0.0); }
 
 static void s_divergence(struct bench3d *b) { kernel_divergence(G(b), ST(b)->vel, ST(b)->div); }
 

@@ -126,6 +126,52 @@ static void test_viscosity(void **state)
     }
 }
 
+/* The two-fluid model (bedload.model = two_fluid, physics/bed_two_fluid.h),
+ * set A, lambda 1e-6.  Measured (README "Bed load (two-fluid model)"):
+ *   nz = 20: err_rms 3.568e-4 (u^m), err_rms_particles 5.72e-5 (u^p in the
+ *            bed), mobile layer (of the grains, from u^p) 0.0119213 m
+ *            against 0.0120997 (0.055 cells), 11 steps;
+ *   nz = 40: err_rms 8.575e-5 (order 2.06), err_rms_particles 1.93e-6,
+ *            mobile layer 0.0120847 (0.009 cells), 15 steps.
+ * The slip u^m - u^p in the mobile layer is the Darcy velocity that carries
+ * the grains' friction gradient, mu_s phi (rho_p - rho_f) g K / eta_f =
+ * 3.881e-6 m/s, on every grid; in the fixed bed u^m is the Darcy seepage
+ * f K / eta_f = 1.72e-6 m/s.  Bounds: the measured values plus 15%, the
+ * mobile layer within 0.25 cells as for the mixed model. */
+static void test_two_fluid(void **state)
+{
+    (void)state;
+    struct run_result r20, r40;
+    double dz20, dz40;
+    char *o20[] = {"domain.nz=20", "output.fields=off", "bedload.model=two_fluid"};
+    char *o40[] = {"domain.nz=40", "output.fields=off", "bedload.model=two_fluid"};
+    run(3, o20, &r20, &dz20);
+    run(3, o40, &r40, &dz40);
+    print_message("two_fluid: err_rms_particles %.4e / %.4e, slip %.6e, particle residual %.2e\n",
+                  run_result_value(&r20, "err_rms_particles"),
+                  run_result_value(&r40, "err_rms_particles"), run_result_value(&r40, "slip_max"),
+                  run_result_value(&r40, "particle_residual"));
+    assert_true(r20.errors.err_rms <= 4.1e-4);
+    assert_true(r40.errors.err_rms <= 9.9e-5);
+    assert_true(log(r20.errors.err_rms / r40.errors.err_rms) / log(2.0) >= 1.8);
+    assert_true(run_result_value(&r20, "err_rms_particles") <= 6.6e-5);
+    assert_true(run_result_value(&r40, "err_rms_particles") <= 2.2e-6);
+    for (int g = 0; g < 2; g++) {
+        const struct run_result *r = g ? &r40 : &r20;
+        double dz = g ? dz40 : dz20;
+        double m = run_result_value(r, "mobile_layer"), me = run_result_value(r, "mobile_layer_exact");
+        assert_true(fabs(m - me) <= 0.25 * dz);
+        /* the slip: mu_s phi (rho_p - rho_f) g / beta, beta = eta_f k_CK phi^2 /
+         * ((1 - phi)^3 d^2) with d = 0.065 / 30 */
+        double d = 0.065 / 30.0, beta = 0.27 * 180.0 * 0.36 / (0.064 * d * d);
+        double slip = 0.32 * 0.6 * 120.0 * 9.81 / beta;
+        assert_true(fabs(run_result_value(r, "slip_max") / slip - 1.0) <= 1e-6);
+        assert_true(fabs(run_result_value(r, "drag_coefficient") / beta - 1.0) <= 1e-9);
+        assert_true(run_result_value(r, "particle_residual") <= 1e-10);
+        assert_true(r->steps <= 30);
+    }
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -144,6 +190,14 @@ static void test_bad_input(void **state)
         {"bedload.bed_height=0.005", "mobile layer delta"}, /* delta > h_p */
         {"physics.tilt=-1.5707963267948966", "physics.tilt"},
         {"rheology.law=bingham", "rheology.law = newtonian"},
+        {"bedload.model=three", "bedload.model"},
+        {"bedload.kozeny=0", "bedload.kozeny"},
+        {"bedload.kozeny=-180", "bedload.kozeny"},
+        {"bedload.grain_diameter=0", "bedload.grain_diameter"},
+        {"bedload.phi=1.5", "bedload.phi"},
+        {"bedload.phi=-0.1", "bedload.phi"},
+        {"bedload.bed_height=-0.01", "bedload.bed_height"},
+        {"bedload.bed_height=0.065", "bedload.bed_height"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         struct muflow_case cs;
@@ -154,6 +208,20 @@ static void test_bad_input(void **state)
         assert_non_null(strstr(err, bad[i][1]));
         assert_null(strchr(err, '\n'));
     }
+    /* the two-fluid model solves the plane flow only */
+    struct muflow_case cs;
+    char err[512];
+    char *ov[] = {"bedload.model=two_fluid", "boundary.ylo=wall", "boundary.yhi=wall"};
+    assert_int_equal(case_load(&cs, CASE, 3, ov, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "bedload.model = two_fluid"));
+    assert_null(strchr(err, '\n'));
+    /* and the steady state only */
+    char *ot[] = {"bedload.model=two_fluid", "solver.mode=transient", "solver.end_time=1"};
+    assert_int_equal(case_load(&cs, CASE, 3, ot, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "bedload.model = two_fluid"));
+    assert_null(strchr(err, '\n'));
 }
 
 void group_bedload(struct test_tally *t)
@@ -162,6 +230,7 @@ void group_bedload(struct test_tally *t)
         cmocka_unit_test(test_viscosity),
         cmocka_unit_test(test_set_a),
         cmocka_unit_test(test_set_b),
+        cmocka_unit_test(test_two_fluid),
         cmocka_unit_test(test_bad_input),
     };
     RUN_GROUP(t, "bedload", tests);

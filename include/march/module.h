@@ -8,6 +8,16 @@
  *   properties  after the core properties (strain rates, pressure,
  *               viscosities): density and mixture properties, ...
  *   residual    adds its own terms to the momentum residual st->res
+ *   residual_max the largest |residual| of the module's own equations (a
+ *               field it solves for beside the velocity), in the units of
+ *               st->res, and in *excess the same beyond the round-off of
+ *               its terms: the steady criterion takes the larger of the two
+ *   implicit    solves the step's implicit problem in place of the viscous
+ *               solver (a module whose unknowns are coupled to the velocity
+ *               too stiffly for a split step): st->delta from st->res at
+ *               pseudo-time step dt, its own increment kept for end_step;
+ *               0, -1 when it broke down, 1 when it declines (an idle
+ *               module: the viscous solver takes the step)
  *   transport   after the projection: advects its tracers by the new
  *               velocity over dt
  *   end_step    the last stage of an accepted step
@@ -27,6 +37,8 @@ struct module {
     int (*create)(struct march_state *st, void **state, char *err, size_t errlen);
     void (*properties)(struct march_state *st, void *state);
     void (*residual)(struct march_state *st, void *state);
+    double (*residual_max)(const struct march_state *st, void *state, double *excess);
+    int (*implicit)(struct march_state *st, void *state, double dt);
     void (*transport)(struct march_state *st, void *state, double dt);
     void (*end_step)(struct march_state *st, void *state, double dt);
     double (*max_dt)(const struct march_state *st, void *state);

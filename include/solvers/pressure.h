@@ -26,9 +26,13 @@ int pressure_uniform(const struct pressure_solver *ps);
 
 /* Solves for phi (interior written; may alias rhs on the FFT path only when
  * the coefficient is uniform: the multigrid path needs a separate rhs, and
- * copies it itself).  Returns 0, or -1 when the iteration did not converge
- * (cause in the solver's last message, pressure_message). */
-int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi);
+ * copies it itself).  The iterative path stops at a relative residual of
+ * 1e-12, or once the residual's 2-norm is below floor (0: none), the level
+ * below which the caller's result does not change (the projection: the
+ * round-off of the divergence it leaves).  Returns 0, or -1 when the
+ * iteration did not converge (cause in the solver's last message,
+ * pressure_message). */
+int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor);
 const char *pressure_message(const struct pressure_solver *ps);
 
 #endif

@@ -211,9 +211,11 @@ static int register_fields(struct march_state *st)
     return 0;
 }
 
+/* The projection's condition on a face: the pressure vanishes on an open
+ * face (Dirichlet), its normal gradient on every closed or prescribed one. */
 static enum poisson_bc projection_bc(enum bc_kind k)
 {
-    return k == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+    return k == BC_PERIODIC ? POISSON_PERIODIC : k == BC_OPEN ? POISSON_DIRICHLET : POISSON_NEUMANN;
 }
 
 /* What the process holds before the march allocates (libraries, FFTW):

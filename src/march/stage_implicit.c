@@ -53,6 +53,13 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
 int stage_implicit(struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;
+    /* a module that owns unknowns coupled to the velocity solves the step */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->implicit) {
+            int rc = st->modules[m]->implicit(st, st->module_state[m], dt);
+            if (rc <= 0)
+                return rc < 0 ? -1 : 0;
+        }
     struct viscous_problem pb = implicit_problem(st, dt);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;

@@ -16,7 +16,7 @@ void stage_residual(struct march_state *st)
     kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
                              st->res);
     kernel_axpy(g, st->act, 1.0, st->force, st->res);
-    bc_fill_scalar(g, &st->bc, st->p_dyn);
+    bc_fill_pressure(g, &st->bc, st->p_dyn);
     kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
     if (cs->advection) {
         if (cs->advection_scheme != ADVECTION_CENTRED)
@@ -64,6 +64,14 @@ void stage_residual(struct march_state *st)
                             st->delta);
     st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
                                                  ROUNDOFF_EPS) / scale;
+    /* the modules' own equations (a second velocity): both must vanish */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->residual_max) {
+            double x = 0.0;
+            double r = st->modules[m]->residual_max(st, st->module_state[m], &x) / scale;
+            st->residual = fmax(st->residual, r);
+            st->residual_excess = fmax(st->residual_excess, x / scale);
+        }
     kernel_divergence(g, st->vel, st->div);
     double umax = kernel_max_abs(g, st->act, st->vel);
     double dmax = kernel_max_abs_cells(g, st->div);

@@ -111,9 +111,9 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
-        c->bc.face[2][1] != BC_SURFACE) {
+        (c->bc.face[2][1] != BC_SURFACE && c->bc.face[2][1] != BC_OPEN)) {
         snprintf(msg, msglen, "case.scene = bagnold2 needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = surface");
+                              "boundary.zhi = surface or open");
         return 1;
     }
     if (!(b->interface_height < c->len[2])) {

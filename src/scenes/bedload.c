@@ -17,10 +17,12 @@
  * Headline: the maximum velocity (in the fluid layer, where d(u*)/dy = 0). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "diagnostics/profile.h"
 #include "io/output.h"
 #include "physics/bed.h"
+#include "physics/bed_two_fluid.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
@@ -32,7 +34,14 @@ struct bedload_params {
     double fluid_viscosity;   /* eta_f */
     double mu_s;              /* Coulomb friction */
     double gravity;           /* g in the particle pressure */
+    int model;                /* enum bedload_model */
+    double grain_diameter;    /* d (two_fluid: the permeability) */
+    double kozeny;            /* k_CK (two_fluid) */
 };
+
+enum bedload_model { BEDLOAD_MIXED = 0, BEDLOAD_TWO_FLUID };
+static const struct choice model_choices[] = {
+    {"mixed", BEDLOAD_MIXED}, {"two_fluid", BEDLOAD_TWO_FLUID}, {NULL, 0}};
 
 #define T struct bedload_params
 static const struct key bedload_keys[] = {
@@ -52,6 +61,14 @@ static const struct key bedload_keys[] = {
     KEY_DBL(T, "bedload", "gravity", gravity,
             "gravity g in the grains' buoyant weight p_p = phi (rho_p - rho_f) g (h_p - z)",
             KEY_GT0),
+    KEY_CHO(T, "bedload", "model", model, model_choices,
+            "mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle velocities "
+            "coupled by Darcy drag (eq. 12)"),
+    KEY_DBL(T, "bedload", "grain_diameter", grain_diameter,
+            "grain diameter d in the bed's permeability K (two_fluid)", KEY_GT0),
+    KEY_DBL(T, "bedload", "kozeny", kozeny,
+            "Carman-Kozeny constant k_CK of K = eps^3 d^2 / (k_CK (1 - eps)^2) (two_fluid)",
+            KEY_GT0),
 };
 #undef T
 
@@ -66,6 +83,9 @@ static void defaults(void *block)
     b->fluid_viscosity = 0.27;
     b->mu_s = 0.32;
     b->gravity = 9.81;
+    b->model = BEDLOAD_MIXED;
+    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in the seed's test */
+    b->kozeny = 180.0;
 }
 
 static const struct key_block bedload_block = {
@@ -137,6 +157,20 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                               "boundary.zhi = wall");
         return 1;
     }
+    if (b->model == BEDLOAD_TWO_FLUID && c->bc.face[1][0] != BC_PERIODIC) {
+        snprintf(msg, msglen, "bedload.model = two_fluid solves the plane flow u(z) only: it "
+                              "needs periodic y (boundary.ylo = boundary.yhi = periodic)");
+        return 1;
+    }
+    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
+        snprintf(msg, msglen, "bedload.model = two_fluid needs solver.mode = steady (the grains' "
+                              "pseudo-time mass is not their inertia)");
+        return 1;
+    }
+    if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
+        snprintf(msg, msglen, "bedload.model = two_fluid needs domain.nz >= 3");
+        return 1;
+    }
     if (!(b->bed_height < c->len[2])) {
         snprintf(msg, msglen, "bedload.bed_height = %.17g: must be inside the channel, below "
                               "domain.lz = %.17g",
@@ -182,6 +216,11 @@ static int setup(struct march_state *st, char *err, size_t errlen)
         .mu_s = b->mu_s,
         .weight = b->phi * (b->particle_density - b->fluid_density) * b->gravity,
     };
+    if (b->model == BEDLOAD_TWO_FLUID) {
+        const struct two_fluid_params tp = {
+            .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
+        return two_fluid_configure(st, &tp, err, errlen);
+    }
     return bed_configure(st, &bp, err, errlen);
 }
 
@@ -194,16 +233,16 @@ static int setup(struct march_state *st, char *err, size_t errlen)
  * The fixed bed creeps at ~lambda D (1e-8 m/s at lambda 1e-6), far below. */
 #define MOBILE_FRACTION 1e-3
 
-static double measured_bed_top(const struct profile *pr)
+static double measured_bed_top(const struct profile *pr, const double *u)
 {
     double umax = 0.0;
     for (int l = 0; l < pr->n; l++)
         umax = fmax(umax, pr->velocity[l]);
     for (int l = 0; l < pr->n - 1; l++)
-        if (pr->velocity[l] > MOBILE_FRACTION * umax) {
+        if (u[l] > MOBILE_FRACTION * umax) {
             if (l == 0)
                 return 0.0;
-            double s0 = sqrt(fmax(pr->velocity[l], 0.0)), s1 = sqrt(fmax(pr->velocity[l + 1], 0.0));
+            double s0 = sqrt(fmax(u[l], 0.0)), s1 = sqrt(fmax(u[l + 1], 0.0));
             if (!(s1 > s0))
                 return pr->coord[l];
             return pr->coord[l] - s0 * (pr->coord[l + 1] - pr->coord[l]) / (s1 - s0);
@@ -240,7 +279,25 @@ static void results(const struct march_state *st, const struct scene_drive *d,
         return;
     struct bedload_exact x = exact_of(cs);
     double hp = params(cs)->bed_height;
-    double mobile = hp - measured_bed_top(&pr), mobile_exact = x.delta * x.D;
+    /* two_fluid: the grains' mobile layer, from u^p where the layer's centre
+     * is in the bed.  u^m runs ahead of u^p by the Darcy slip there (3.9e-6
+     * m/s for set A, 7% of the threshold), which moved the zero of sqrt(u^m)
+     * 5e-5 m down: measured on u^m the layer came out 0.3% thicker on the
+     * finest grids (docs/design.md) */
+    double *ub = malloc((size_t)pr.n * sizeof *ub);
+    if (!ub) {
+        profile_free(&pr);
+        return;
+    }
+    for (int l = 0; l < pr.n; l++)
+        ub[l] = pr.velocity[l];
+    if (params(cs)->model == BEDLOAD_TWO_FLUID && pr.n == st->g.n[2] &&
+        two_fluid_particle_profile(st, ub, NULL) == 0)
+        for (int l = 0; l < pr.n; l++)
+            if (!(pr.coord[l] < hp) || !isfinite(ub[l]))
+                ub[l] = pr.velocity[l];
+    double mobile = hp - measured_bed_top(&pr, ub), mobile_exact = x.delta * x.D;
+    free(ub);
     /* per unit width: the midpoint rule over the layers, and the integral of
      * the exact profile (zone II: A/(2 eta) delta^3 / 3; zone I: -G (1-h)^3/12
      * + A/(2 eta) delta^2 (1 - h) / 2) */
@@ -251,6 +308,31 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     double q_exact = x.U0 * x.D *
                      (k * x.delta * x.delta * x.delta / 3.0 - x.G * s * s * s / 12.0 +
                       k * x.delta * x.delta * s / 2.0);
+    if (params(cs)->model == BEDLOAD_TWO_FLUID) {
+        /* u^p in the bed (layers whose centre is below h_p) against the exact
+         * profile, which has u^p = u^f there; the largest |u^m - u^p| */
+        double *up = malloc((size_t)pr.n * sizeof *up), slip = 0.0, s2 = 0.0, emax = 0.0;
+        int n = 0;
+        if (up && pr.n == st->g.n[2] && two_fluid_particle_profile(st, up, &slip) == 0) {
+            for (int l = 0; l < pr.n; l++)
+                if (pr.coord[l] < hp && isfinite(up[l])) {
+                    double e = up[l] - bedload_u(cs, pr.coord[l]);
+                    s2 += e * e;
+                    emax = fmax(emax, fabs(e));
+                    n++;
+                }
+            run_result_add(res, "err_rms_particles", "%.10g", n > 0 ? sqrt(s2 / n) : NAN);
+            run_result_add(res, "err_max_particles", "%.10g", n > 0 ? emax : NAN);
+            run_result_add(res, "slip_max", "%.10g", slip);
+            run_result_add(res, "particle_residual", "%.10g", two_fluid_particle_residual(st));
+            struct two_fluid_params tp = {.bed = {.phi = params(cs)->phi,
+                                                  .fluid_viscosity = params(cs)->fluid_viscosity},
+                                          .grain_diameter = params(cs)->grain_diameter,
+                                          .kozeny = params(cs)->kozeny};
+            run_result_add(res, "drag_coefficient", "%.10g", two_fluid_drag(&tp));
+        }
+        free(up);
+    }
     run_result_add(res, "mobile_layer", "%.10g", mobile);
     run_result_add(res, "mobile_layer_exact", "%.10g", mobile_exact);
     run_result_add(res, "flow_rate", "%.10g", q);
@@ -261,11 +343,51 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     profile_free(&pr);
 }
 
-static const struct module *const bedload_modules[] = {&bed_module, NULL};
+/* two_fluid: particles.csv, per layer z, the mixture velocity u^m (the
+ * profile's), the particles' u^p and the fluid's u^f = (u^m - phi u^p) /
+ * (1 - phi) where the layer's centre is in the bed (empty above), and the
+ * exact profile. */
+static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    const struct muflow_case *cs = st->cs;
+    if (params(cs)->model != BEDLOAD_TWO_FLUID)
+        return 0;
+    struct profile pr;
+    if (profile_extract(&pr, st) != 0)
+        return 0;
+    double *up = malloc((size_t)pr.n * sizeof *up);
+    int rc = 0;
+    if (up && pr.n == st->g.n[2] && two_fluid_particle_profile(st, up, NULL) == 0) {
+        struct output_file f;
+        rc = output_open(&f, dir, "particles.csv", err, errlen);
+        if (rc == 0) {
+            double phi = params(cs)->phi, hp = params(cs)->bed_height;
+            fprintf(f.f, "z,u_mixture,u_particles,u_fluid,u_exact\n");
+            for (int l = 0; l < pr.n; l++) {
+                double z = pr.coord[l], um = pr.velocity[l];
+                fprintf(f.f, "%.10g,%.12g,", z, um);
+                if (z < hp && isfinite(up[l]))
+                    fprintf(f.f, "%.12g,%.12g,", up[l], (um - phi * up[l]) / (1.0 - phi));
+                else
+                    fprintf(f.f, ",%.12g,", um);
+                fprintf(f.f, "%.12g\n", bedload_u(cs, z));
+            }
+            rc = output_commit(&f, err, errlen);
+        }
+    }
+    free(up);
+    profile_free(&pr);
+    return rc;
+}
+
+static const char *const bedload_files[] = {"particles.csv", NULL};
+
+/* both models' modules: setup configures the one of bedload.model, the other idles */
+static const struct module *const bedload_modules[] = {&bed_module, &two_fluid_module, NULL};
 
 const struct scene scene_bedload = {
     .name = "bedload",
-    .title = "Poiseuille flow over a granular bed, mixed-fluid model (Ouriemi et al. 2009)",
+    .title = "Poiseuille flow over a granular bed, mixed- or two-fluid model (Ouriemi et al. 2009)",
     .keys = &bedload_block,
     .modules = bedload_modules,
     .check = check,
@@ -276,4 +398,6 @@ const struct scene scene_bedload = {
     .headline_name = "u_max",
     .errors = errors,
     .results = results,
+    .write = write,
+    .files = bedload_files,
 };

@@ -1,0 +1,495 @@
+/* The granular bed of the two-fluid model (bed_two_fluid.h). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <float.h>
+#include "kernels/kernels.h"
+#include "march/step.h"
+#include "physics/bed_two_fluid.h"
+
+/* Round-off allowance of the particle residual, in machine epsilons of its
+ * terms (as the core's). */
+#define ROUNDOFF (16.0 * DBL_EPSILON)
+
+struct two_fluid {
+    struct two_fluid_params p;
+    double beta;                 /* Darcy drag eta_f / K */
+    int configured;
+    double *up[3];               /* particle velocity (x component used) */
+    double *dup[3];              /* its increment of the step */
+    double *rp[3];               /* particle residual R_p */
+    double *cn2, *e2[3];         /* particle strains */
+    double *shear2, *scratch;    /* cell |D|^2 of u^p, and a cell array the kernel fills */
+    double *eta_c, *eta_e[3];    /* particle viscosities */
+    double *tan_c[3], *tan_e[3]; /* and their tangents */
+    double *work[3], *probe[3];  /* stress divergence, probe vectors */
+    double *fl[3], *pl[3];       /* probed fluid and particle line operators (three combs) */
+    double residual_max;         /* max |R_p| of the last evaluation */
+    double residual_excess;      /* the same beyond the round-off of its terms */
+};
+
+double two_fluid_drag(const struct two_fluid_params *p)
+{
+    double phi = p->bed.phi, eps = 1.0 - phi, d = p->grain_diameter;
+    return p->bed.fluid_viscosity * p->kozeny * phi * phi / (eps * eps * eps * d * d);
+}
+
+static int create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    (void)st;
+    struct two_fluid *b = calloc(1, sizeof *b);
+    if (!b) {
+        snprintf(err, errlen, "two_fluid: out of memory");
+        return -1;
+    }
+    *state = b;
+    return 0;
+}
+
+static void destroy(void *state)
+{
+    struct two_fluid *b = state;
+    if (b)
+        for (int s = 0; s < 3; s++) {
+            free(b->fl[s]);
+            free(b->pl[s]);
+        }
+    free(state);
+}
+
+int two_fluid_configure(struct march_state *st, const struct two_fluid_params *p, char *err,
+                        size_t errlen)
+{
+    struct two_fluid *b = march_module_state(st, &two_fluid_module);
+    if (!b) {
+        snprintf(err, errlen, "two_fluid: the module is not switched on");
+        return -1;
+    }
+    b->p = *p;
+    b->beta = two_fluid_drag(p);
+    struct field_registry *r = &st->fields;
+    const struct field_spec specs[] = {
+        {"particle_velocity", FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED},
+        {"particle_increment", FIELD_FACES, 0},
+        {"particle_residual", FIELD_FACES, 0},
+        {"particle_strain_normal2", FIELD_CELLS, 0},
+        {"particle_strain_shear2", FIELD_EDGES, 0},
+        {"particle_shear2", FIELD_CELLS, 0},
+        {"particle_scratch", FIELD_CELLS, 0},
+        {"particle_viscosity", FIELD_CELLS, 0},
+        {"particle_viscosity_edges", FIELD_EDGES, 0},
+        {"particle_tangent_cells", FIELD_CELLS3, 0},
+        {"particle_tangent_edges", FIELD_EDGES, 0},
+        {"particle_work", FIELD_FACES, 0},
+        {"particle_probe", FIELD_FACES, 0},
+    };
+    double **into[] = {b->up,     b->dup,   b->rp,    &b->cn2,  b->e2,    &b->shear2, &b->scratch,
+                       &b->eta_c, b->eta_e, b->tan_c, b->tan_e, b->work,  b->probe};
+    _Static_assert(sizeof specs / sizeof specs[0] == sizeof into / sizeof into[0], "one each");
+    int idx0 = -1;
+    for (size_t m = 0; m < sizeof specs / sizeof specs[0]; m++) {
+        int idx = fields_add(r, &specs[m], into[m]);
+        if (idx < 0) {
+            snprintf(err, errlen, "two_fluid: out of memory for the particle fields");
+            return -1;
+        }
+        if (m == 0)
+            idx0 = idx;
+    }
+    const struct field_output o = {"particle_velocity", {"up", "vp", "wp"}, idx0, NULL, NULL};
+    for (int s = 0; s < 3; s++) {
+        b->fl[s] = calloc(st->g.size, sizeof(double));
+        b->pl[s] = calloc(st->g.size, sizeof(double));
+        if (!b->fl[s] || !b->pl[s]) {
+            snprintf(err, errlen, "two_fluid: out of memory for the line operators");
+            return -1;
+        }
+    }
+    if (fields_output(r, &o) != 0) {
+        snprintf(err, errlen, "two_fluid: too many field outputs");
+        return -1;
+    }
+    b->configured = 1;
+    return 0;
+}
+
+/* The fluid stress's viscosity at height z (control volume dz): eta_e in
+ * the bed, eta_f above, in series where the bed's top cuts the volume. */
+static double fluid_viscosity(const struct bed_params *p, double z, double dz)
+{
+    double t, pp;
+    bed_point(p, z, dz, &t, &pp);
+    double ef = p->fluid_viscosity, eb = ef * (1.0 + 2.5 * p->phi);
+    if (t <= 0.0)
+        return ef;
+    if (t >= 1.0)
+        return eb;
+    return 1.0 / (t / eb + (1.0 - t) / ef);
+}
+
+/* The bed's share of the control volume of the u-face at layer k. */
+static double face_share(const struct bed_params *p, int k, double dz)
+{
+    double t, pp;
+    bed_point(p, (k + 0.5) * dz, dz, &t, &pp);
+    return t;
+}
+
+/* The particle viscosity mu_s p_p(z) f(|D|) at the point z (p_p = 0 at and
+ * above the bed's top, where the grains carry no stress) and its slope. */
+static double particle_viscosity(const struct bed_params *p, const struct rheology *r, double z,
+                                 double shear, double *deta)
+{
+    double pp = p->weight * (p->height - z);
+    if (!(pp > 0.0)) {
+        *deta = 0.0;
+        return 0.0;
+    }
+    double f, df;
+    rheology_yield_kernel(r->reg, shear, r->lambda, &f, &df);
+    *deta = p->mu_s * pp * df;
+    return p->mu_s * pp * f;
+}
+
+static void properties(struct march_state *st, void *state)
+{
+    struct two_fluid *b = state;
+    if (!b->configured)
+        return;
+    const struct grid *g = &st->g;
+    const struct muflow_case *cs = st->cs;
+    const struct rheology *r = &st->rheo;
+    const struct bed_params *p = &b->p.bed;
+    const ptrdiff_t *o = g->stride;
+    const double dz = g->h[2];
+    /* the mixture: the fluid stress alone (Newtonian, tangent = viscosity) */
+    for (size_t q = 0; q < g->size; q++)
+        if (st->b_c)
+            st->b_c[q] = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                double eta = fluid_viscosity(p, (k + 0.5) * dz, dz);
+                st->eta[q] = eta;
+                if (cs->newton)
+                    for (int a = 0; a < 3; a++)
+                        st->tan_c[a][q] = eta;
+            }
+    for (int c = 0; c < 3; c++) {
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[c] = g->n[c] - 1;
+        for (int i = 0; i <= hi[0]; i++)
+            for (int j = 0; j <= hi[1]; j++)
+                for (int k = 0; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    double z = c == 2 ? (k + 0.5) * dz : k * dz;
+                    double eta = fluid_viscosity(p, z, dz);
+                    st->eta_e[c][e] = eta;
+                    if (cs->newton)
+                        st->tan_e[c][e] = eta;
+                    if (st->b_e[c])
+                        st->b_e[c][e] = 0.0;
+                }
+    }
+    bc_fill_scalar(g, &st->bc, st->eta);
+    if (cs->newton)
+        for (int a = 0; a < 3; a++)
+            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
+
+    /* the particles: strains of u^p, |D| at cells as the core's kernel
+     * computes it (its Newtonian viscosity is overwritten below) */
+    bc_fill_velocity(g, &st->bc, b->up);
+    kernel_strain(g, b->up, b->cn2, b->e2);
+    bc_fill_scalar(g, &st->bc, b->cn2);
+    struct rheology newt = *r;
+    newt.law = LAW_NEWTONIAN;
+    newt.viscosity = 1.0;
+    kernel_viscosity_cells(g, &newt, b->up, b->cn2, b->e2, st->pressure, b->eta_c, NULL, b->shear2,
+                           b->scratch, NULL);
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                double D = sqrt(b->shear2[q]), de;
+                double eta = particle_viscosity(p, r, (k + 0.5) * dz, D, &de);
+                b->eta_c[q] = eta;
+                for (int a = 0; a < 3; a++) {
+                    double gn = 2.0 * (b->up[a][q + o[a]] - b->up[a][q]) / g->h[a];
+                    b->tan_c[a][q] = D > 0.0 ? eta + de * gn * gn / (2.0 * D) : eta;
+                }
+            }
+    for (int c = 0; c < 3; c++) {
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[c] = g->n[c] - 1;
+        for (int i = 0; i <= hi[0]; i++)
+            for (int j = 0; j <= hi[1]; j++)
+                for (int k = 0; k <= hi[2]; k++) {
+                    ptrdiff_t e = grid_idx(g, i, j, k);
+                    double own = b->e2[c][e];
+                    double D = sqrt(kernel_edge_shear2(g, b->cn2, b->e2, c, e)), de;
+                    double z = c == 2 ? (k + 0.5) * dz : k * dz;
+                    double eta = particle_viscosity(p, r, z, D, &de);
+                    b->eta_e[c][e] = eta;
+                    b->tan_e[c][e] = D > 0.0 ? eta + de * own / D : eta;
+                }
+    }
+    bc_fill_scalar(g, &st->bc, b->eta_c);
+    for (int a = 0; a < 3; a++)
+        bc_fill_scalar(g, &st->bc, b->tan_c[a]);
+}
+
+/* R_m += div tau^p(u^p); R_p = div tau^p(u^p) + beta t (u^m - u^p) on the
+ * bed's faces (x component), 0 elsewhere. */
+static void residual(struct march_state *st, void *state)
+{
+    struct two_fluid *b = state;
+    if (!b->configured)
+        return;
+    const struct grid *g = &st->g;
+    const double *ac[3] = {b->eta_c, b->eta_c, b->eta_c};
+    kernel_stress_divergence(g, st->act, ac, (const double *const *)b->eta_e, b->up, b->work);
+    kernel_axpy(g, st->act, 1.0, b->work, st->res);
+    for (int c = 0; c < 3; c++)
+        memset(b->rp[c], 0, g->size * sizeof(double));
+    /* the round-off of R_p: a few epsilons of its terms' magnitudes (the
+     * drag's beta |u| is 3e6 Pa/m for set A: its rounding alone reaches the
+     * tolerance for a ten times finer grain) */
+    kernel_stress_magnitude(g, st->act, ac, (const double *const *)b->eta_e, b->up, b->probe);
+    const struct box *bx = &st->act[0];
+    double m = 0.0, x = 0.0;
+    for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+        for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+            for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
+                double t = face_share(&b->p.bed, k, g->h[2]);
+                if (t <= 0.0)
+                    continue;
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                double rp = b->work[0][q] + b->beta * t * (st->vel[0][q] - b->up[0][q]);
+                b->rp[0][q] = rp;
+                m = fmax(m, fabs(rp));
+                double mag = b->probe[0][q] + b->beta * t * (fabs(st->vel[0][q]) + fabs(b->up[0][q]));
+                x = fmax(x, fabs(rp) - ROUNDOFF * mag);
+            }
+    b->residual_max = m;
+    b->residual_excess = x;
+}
+
+static double residual_max(const struct march_state *st, void *state, double *excess)
+{
+    (void)st;
+    const struct two_fluid *b = state;
+    *excess = b->configured ? b->residual_excess : 0.0;
+    return b->configured ? b->residual_max : 0.0;
+}
+
+/* The line operator L v = -div(A gamma(v)) of the x component along z,
+ * probed with three combs uniform across the lines: out[s] holds, at every
+ * face, the sum of its row's entries in the columns k = s (mod 3). */
+static void probe_line(struct march_state *st, struct two_fluid *b, const double *const A_cell[3],
+                       const double *const A_edge[3], double *out[3])
+{
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[0];
+    for (int s = 0; s < 3; s++) {
+        for (int c = 0; c < 3; c++)
+            memset(b->probe[c], 0, g->size * sizeof(double));
+        for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+            for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+                for (int k = bx->lo[2]; k < bx->hi[2]; k++)
+                    if (k % 3 == s)
+                        b->probe[0][grid_idx(g, i, j, k)] = 1.0;
+        bc_fill_velocity_homogeneous(g, &st->bc, b->probe);
+        kernel_stress_divergence(g, st->act, A_cell, A_edge, b->probe, b->work);
+        for (size_t q = 0; q < g->size; q++)
+            out[s][q] = -b->work[0][q];
+    }
+}
+
+/* 2 x 2 blocks, row-major {a00, a01, a10, a11} */
+static int inv2(const double a[4], double r[4])
+{
+    double det = a[0] * a[3] - a[1] * a[2];
+    if (!(fabs(det) > 0.0) || !isfinite(det))
+        return -1;
+    r[0] = a[3] / det;
+    r[1] = -a[1] / det;
+    r[2] = -a[2] / det;
+    r[3] = a[0] / det;
+    return 0;
+}
+
+static void mul2(const double a[4], const double b[4], double r[4])
+{
+    r[0] = a[0] * b[0] + a[1] * b[2];
+    r[1] = a[0] * b[1] + a[1] * b[3];
+    r[2] = a[2] * b[0] + a[3] * b[2];
+    r[3] = a[2] * b[1] + a[3] * b[3];
+}
+
+/* The block-tridiagonal solve on one line of n faces: D[k] diagonal blocks,
+ * lower[k] = diag(Fl, Pl) (coupling to k - 1), upper[k] = diag(Fu, Pu);
+ * x (2 n) from rhs (2 n), D overwritten.  Block Gaussian elimination:
+ * the matrix is symmetric positive definite, no pivoting needed. */
+static int block_solve(int n, double (*D)[4], double (*lower)[2], double (*upper)[2],
+                       double (*x)[2])
+{
+    double inv[4], w[4], uu[4];
+    for (int k = 1; k < n; k++) {
+        if (inv2(D[k - 1], inv) != 0)
+            return -1;
+        double l[4] = {lower[k][0], 0.0, 0.0, lower[k][1]};
+        mul2(l, inv, w);
+        double u[4] = {upper[k - 1][0], 0.0, 0.0, upper[k - 1][1]};
+        mul2(w, u, uu);
+        for (int m = 0; m < 4; m++)
+            D[k][m] -= uu[m];
+        x[k][0] -= w[0] * x[k - 1][0] + w[1] * x[k - 1][1];
+        x[k][1] -= w[2] * x[k - 1][0] + w[3] * x[k - 1][1];
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        double r0 = x[k][0], r1 = x[k][1];
+        if (k < n - 1) {
+            r0 -= upper[k][0] * x[k + 1][0];
+            r1 -= upper[k][1] * x[k + 1][1];
+        }
+        if (inv2(D[k], inv) != 0)
+            return -1;
+        x[k][0] = inv[0] * r0 + inv[1] * r1;
+        x[k][1] = inv[2] * r0 + inv[3] * r1;
+    }
+    return 0;
+}
+
+static int implicit(struct march_state *st, void *state, double dt)
+{
+    struct two_fluid *b = state;
+    const struct grid *g = &st->g;
+    const struct muflow_case *cs = st->cs;
+    if (!b->configured)
+        return 1;
+    /* the linearised stresses: the fluid's as the core's step takes them,
+     * the particles' tangent on Newton steps, else their viscosity */
+    struct viscous_problem pb = implicit_problem(st, 0.0);
+    probe_line(st, b, pb.A_cell, pb.A_edge, b->fl);
+    int tangent = implicit_uses_tangent(st);
+    const double *pc[3], *pe[3];
+    for (int a = 0; a < 3; a++) {
+        pc[a] = tangent ? b->tan_c[a] : b->eta_c;
+        pe[a] = tangent ? b->tan_e[a] : b->eta_e[a];
+    }
+    probe_line(st, b, pc, pe, b->pl);
+    double mass = dt > 0.0 ? cs->density / dt : 0.0;
+    for (int c = 0; c < 3; c++) {
+        memset(st->delta[c], 0, g->size * sizeof(double));
+        memset(b->dup[c], 0, g->size * sizeof(double));
+    }
+    const struct box *bx = &st->act[0];
+    int n = bx->hi[2] - bx->lo[2];
+    double(*D)[4] = malloc((size_t)n * sizeof *D);
+    double(*lo)[2] = malloc((size_t)n * sizeof *lo);
+    double(*up)[2] = malloc((size_t)n * sizeof *up);
+    double(*x)[2] = malloc((size_t)n * sizeof *x);
+    int rc = (D && lo && up && x) ? 0 : -1;
+    for (int i = bx->lo[0]; rc == 0 && i < bx->hi[0]; i++)
+        for (int j = bx->lo[1]; rc == 0 && j < bx->hi[1]; j++) {
+            for (int m = 0; m < n; m++) {
+                int k = bx->lo[2] + m;
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                int s0 = k % 3, sm = (k + 2) % 3, sp = (k + 1) % 3;
+                double t = face_share(&b->p.bed, k, g->h[2]), bt = b->beta * t;
+                D[m][0] = mass + b->fl[s0][q] + bt;
+                lo[m][0] = m > 0 ? b->fl[sm][q] : 0.0;
+                up[m][0] = m < n - 1 ? b->fl[sp][q] : 0.0;
+                x[m][0] = st->res[0][q] - b->rp[0][q];
+                if (t > 0.0) {
+                    D[m][1] = D[m][2] = -bt;
+                    D[m][3] = mass + b->pl[s0][q] + bt;
+                    lo[m][1] = m > 0 ? b->pl[sm][q] : 0.0;
+                    up[m][1] = m < n - 1 ? b->pl[sp][q] : 0.0;
+                    x[m][1] = b->rp[0][q];
+                } else { /* no grains: dp = 0 */
+                    D[m][1] = D[m][2] = 0.0;
+                    D[m][3] = 1.0;
+                    lo[m][1] = up[m][1] = 0.0;
+                    x[m][1] = 0.0;
+                }
+            }
+            /* a coupling to a face without grains is zero (p_p = 0 there) */
+            for (int m = 0; m < n; m++) {
+                if (m > 0 && face_share(&b->p.bed, bx->lo[2] + m - 1, g->h[2]) <= 0.0)
+                    lo[m][1] = 0.0;
+                if (m < n - 1 && face_share(&b->p.bed, bx->lo[2] + m + 1, g->h[2]) <= 0.0)
+                    up[m][1] = 0.0;
+            }
+            if (block_solve(n, D, lo, up, x) != 0) {
+                rc = -1;
+                break;
+            }
+            for (int m = 0; m < n; m++) {
+                ptrdiff_t q = grid_idx(g, i, j, bx->lo[2] + m);
+                st->delta[0][q] = x[m][0];
+                b->dup[0][q] = x[m][1];
+            }
+        }
+    free(D);
+    free(lo);
+    free(up);
+    free(x);
+    st->linear_iterations = 1;
+    return rc;
+}
+
+static void end_step(struct march_state *st, void *state, double dt)
+{
+    (void)dt;
+    struct two_fluid *b = state;
+    if (!b->configured)
+        return;
+    const struct grid *g = &st->g;
+    for (size_t q = 0; q < g->size; q++)
+        b->up[0][q] += b->dup[0][q];
+}
+
+int two_fluid_particle_profile(const struct march_state *st, double *upro, double *slip_max)
+{
+    const struct two_fluid *b = march_module_state(st, &two_fluid_module);
+    if (!b || !b->configured)
+        return -1;
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[0];
+    double smax = 0.0;
+    for (int k = 0; k < g->n[2]; k++) {
+        double t = face_share(&b->p.bed, k, g->h[2]), s = 0.0;
+        long cnt = 0;
+        for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+            for (int j = bx->lo[1]; j < bx->hi[1]; j++, cnt++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                s += b->up[0][q];
+                if (t > 0.0)
+                    smax = fmax(smax, fabs(st->vel[0][q] - b->up[0][q]));
+            }
+        upro[k] = t > 0.0 && cnt > 0 ? s / (double)cnt : NAN;
+    }
+    if (slip_max)
+        *slip_max = smax;
+    return 0;
+}
+
+double two_fluid_particle_residual(const struct march_state *st)
+{
+    const struct two_fluid *b = march_module_state(st, &two_fluid_module);
+    return b && b->configured ? b->residual_max / march_force_scale(st) : 0.0;
+}
+
+const struct module two_fluid_module = {
+    .name = "two_fluid",
+    .create = create,
+    .properties = properties,
+    .residual = residual,
+    .residual_max = residual_max,
+    .implicit = implicit,
+    .end_step = end_step,
+    .destroy = destroy,
+};
