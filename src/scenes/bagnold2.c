@@ -419,9 +419,12 @@ static int drive(struct scene_drive *d)
 
 static const char *not_restartable(const struct muflow_case *cs)
 {
-    return cs->mode == MODE_TRANSIENT
-               ? "a transient bagnold2 run records the perturbation's growth (growth.csv) from "
-                 "its initial state: it cannot continue from a checkpoint"
+    /* a growth study's record (and its fit) starts from the perturbed
+     * state; any other run's growth.csv covers the steps it ran */
+    return cs->mode == MODE_TRANSIENT && params(cs)->perturbation > 0.0
+               ? "a transient bagnold2 run with bagnold2.perturbation > 0 measures the "
+                 "perturbation's growth (growth.csv, growth_rate) from its initial state: it "
+                 "cannot continue from a checkpoint"
                : NULL;
 }
 
