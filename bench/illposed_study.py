@@ -50,6 +50,8 @@ RUNS = [
     ("t2bg_25", "Table 2, 28.5 deg, barker_gray", TABLE2 + BG, 25, 50, 2.5e-5, 0.04),
     ("t2j_50", "Table 2, 28.5 deg, jop", TABLE2, 50, 100, 2.5e-5, 0.04),
     ("t2bg_50", "Table 2, 28.5 deg, barker_gray", TABLE2 + BG, 50, 100, 2.5e-5, 0.04),
+    ("t2j_100_dt5e-5", "Table 2, 28.5 deg, jop", TABLE2, 100, 200, 5e-5, 0.025),
+    ("t2bg_100_dt5e-5", "Table 2, 28.5 deg, barker_gray", TABLE2 + BG, 100, 200, 5e-5, 0.025),
     ("t1j32_100_dt5e-5", "Table 1, 32 deg, jop", TABLE1_32, 100, 200, 5e-5, 0.025),
     ("t1j32_100", "Table 1, 32 deg, jop", TABLE1_32, 100, 200, 2.5e-5, 0.015),
 ]
