@@ -299,9 +299,9 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
 # time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
 # 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
-# (Table 2, 28.5 degrees, jop and barker_gray, two grids): illposed_table.md,
+# (Table 2, 28.5 degrees, jop and barker_gray, three grids): illposed_table.md,
 # illposed_runs.csv, illposed_growth.png into $(BENCH_OUT)/illposed.  About
-# 30 minutes on 2 shared cores (a run whose summary.ini exists is kept).
+# 40 minutes on 2 shared cores (a run whose summary.ini exists is kept).
 .PHONY: bench-illposed
 bench-illposed: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
