@@ -296,6 +296,17 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N) collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
 
+# The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
+# time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
+# 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
+# (Table 2, 28.5 degrees, jop and barker_gray, three grids): illposed_table.md,
+# illposed_runs.csv, illposed_growth.png into $(BENCH_OUT)/illposed.  About
+# 40 minutes on 2 shared cores (a run whose summary.ini exists is kept).
+.PHONY: bench-illposed
+bench-illposed: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/illposed_study.py $(BUILD)/muflow $(BENCH_OUT)/illposed
+
 # Pictures of the column collapse: cases/collapse.ini with a field file every
 # 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and
 # |u| per field file (PNG) and the animation (GIF through Pillow; also MP4 when
