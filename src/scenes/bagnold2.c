@@ -15,9 +15,9 @@
  *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
  *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
  * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the flat stress-free boundary (`surface`: p = 0, du/dz = 0,
- * w = 0), which for this flat, unidirectional state is the open top of the
- * seed (p = 0, du/dz = 0). */
+ * The top is the seed's open top (`open`: p = 0, du/dz = 0, flow through it
+ * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
+ * which for this flat, unidirectional state is the same. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
