@@ -160,7 +160,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse duct
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 check-asan: deps
@@ -235,6 +235,8 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 $(BUILD)/bench_scenes $(BENCH_OUT) $(BENCH_REPEATS)
 	OMP_NUM_THREADS=2 $(BUILD)/bench_throughput $(BENCH_OUT)
 	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold2_study.py $(BUILD)/muflow $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et
@@ -303,6 +305,17 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	  $(COLLAPSE_DEPOSIT_N)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N) collapse.viscosity_clip=on collapse.eta_max=1e4 --tag clip
+
+# The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
+# time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
+# 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
+# (Table 2, 28.5 degrees, jop and barker_gray, three grids): illposed_table.md,
+# illposed_runs.csv, illposed_growth.png into $(BENCH_OUT)/illposed.  About
+# 40 minutes on 2 shared cores (a run whose summary.ini exists is kept).
+.PHONY: bench-illposed
+bench-illposed: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/illposed_study.py $(BUILD)/muflow $(BENCH_OUT)/illposed
 
 # Pictures of the column collapse: cases/collapse.ini with a field file every
 # 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and

@@ -543,6 +543,20 @@ if hs:
             md.append("Last `make bench-heap` (tilt searches):\n\n" + f.read())
 
 # ---------------------------------------------------------------------------
+for name, title, png in [
+        ("bagnold2_table.md", "Granular layer under air (bagnold2) against seeds/001 eqs. (6)-(11)",
+         "bagnold2_profile.png"),
+        ("bedload_table.md", "Bed load beside the Newton FEM (seeds/002 Table 2)", None)]:
+    path = os.path.join(OUT, name)
+    if os.path.exists(path):
+        md.append(f"## {title}\n")
+        with open(path) as f:
+            md.append(f.read())
+        if png and os.path.exists(os.path.join(OUT, png)):
+            figs.append(png)
+            md.append(f"![{title}]({png})\n")
+
+# ---------------------------------------------------------------------------
 tri = read("triad.csv")
 stg = read("stages.csv")
 steps = read("steps.csv")

@@ -463,7 +463,7 @@ static const struct bad bad_cases[] = {
     {"[solver]\nmax_linear_iterations = 2000000\n", NULL, {"solver.max_linear_iterations"}},
     {"[solver]\nprogress_interval = -1\n", NULL, {"solver.progress_interval"}},
     {"[solver]\nmode = implicit\n", NULL, {"solver.mode = implicit", "steady|transient"}},
-    {NULL, "boundary.xlo=open", {"override boundary.xlo=open", "periodic|wall|slip|surface"}},
+    {NULL, "boundary.xlo=outlet", {"override boundary.xlo=outlet", "periodic|wall|slip|surface|lid|open|inflow"}},
     {NULL, "physics.advection=maybe", {"override physics.advection=maybe", "boolean"}},
     {"[boundary]\nzlo = wall\n", NULL, {"boundary.zlo", "boundary.zhi", "periodic"}},
     {NULL, "boundary.yhi=slip", {"boundary.ylo", "boundary.yhi"}},

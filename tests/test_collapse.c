@@ -3,6 +3,7 @@
  * t = 4: the front x_f(t) against the Basilisk reference of
  * cases/data/lagree2011_collapse.csv at t = 0..4, the grains' volume to
  * round-off and 0 <= T <= 1; then the rest criterion, and bad input. */
+#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -201,6 +202,73 @@ static void test_comes_to_rest(void **state)
                 1e-2 * run_result_value(&r, "kinetic_energy_peak"));
 }
 
+/* The record is on disk while the run goes on: with a refresh every step
+ * (solver.progress_interval = 0), collapse.csv holds a row for every step
+ * but the last two before the one observed (see watch_hook), and
+ * surface.csv no final profile until the run has ended. */
+struct watch {
+    const char *dir;
+    long checked, short_rows, final_rows;
+};
+
+static long count_lines(const char *dir, const char *name, const char *needle)
+{
+    char path[700], line[512];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return -1;
+    long n = 0;
+    while (fgets(line, sizeof line, f))
+        n += needle ? strstr(line, needle) != NULL : 1;
+    fclose(f);
+    return n;
+}
+
+static void watch_hook(void *vctx, const struct march_state *st)
+{
+    struct watch *w = vctx;
+    if (st->step < 2 || st->status != STATUS_RUNNING)
+        return;
+    long rows = count_lines(w->dir, "collapse.csv", NULL) - 1; /* less the header */
+    w->checked++;
+    /* observed before this step's outputs, and the scene records a step
+     * after observing it: the file's rows are those of steps 0 .. step - 2 */
+    w->short_rows += rows < st->step - 1;
+    w->final_rows += count_lines(w->dir, "surface.csv", ",1,") != 0;
+}
+
+static void test_record_while_running(void **state)
+{
+    (void)state;
+    char dir[] = "/tmp/muflow_collapse_XXXXXX";
+    assert_non_null(mkdtemp(dir));
+    char odir[600];
+    snprintf(odir, sizeof odir, "output.dir=%s/run", dir);
+    char *ov[] = {"domain.nx=40", "domain.nz=12", "domain.ly=0.125", "solver.end_time=0.3",
+                  "solver.progress_interval=0", "output.quiet=on", "output.fields=off", odir};
+    struct muflow_case cs;
+    load(&cs, 8, ov);
+    char run_dir[600];
+    snprintf(run_dir, sizeof run_dir, "%s/run", dir);
+    struct watch w = {.dir = run_dir};
+    struct run_options opt = {.write_output = 1, .hook = watch_hook, .hook_ctx = &w};
+    struct run_result r;
+    char err[512];
+    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), 0);
+    print_message("collapse record while running: %ld steps checked, %ld short, %ld with a "
+                  "final profile; %ld rows at the end\n", w.checked, w.short_rows, w.final_rows,
+                  count_lines(run_dir, "collapse.csv", NULL) - 1);
+    assert_true(w.checked >= 20);
+    assert_int_equal(w.short_rows, 0);
+    assert_int_equal(w.final_rows, 0);
+    assert_int_equal(count_lines(run_dir, "collapse.csv", NULL) - 1, r.steps + 1);
+    assert_true(count_lines(run_dir, "surface.csv", ",1,") == 40);
+    char cmd[700];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
+    assert_int_equal(system(cmd), 0);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -229,6 +297,7 @@ void group_collapse(struct test_tally *t)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_comes_to_rest),
+        cmocka_unit_test(test_record_while_running),
         cmocka_unit_test(test_front_mass_bounds),
         cmocka_unit_test(test_front_with_clip),
     };

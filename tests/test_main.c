@@ -57,6 +57,7 @@ static const struct {
     {"honest", group_honest},
     {"bedload", group_bedload},
     {"collapse", group_collapse},
+    {"boundary", group_boundary},
     {"duct", group_duct},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))

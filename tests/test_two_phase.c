@@ -11,8 +11,11 @@
 #include <stdio.h>
 #include <string.h>
 #include "app/run.h"
+#include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
+#include "scenes/bagnold2.h"
 #include "scenes/scene.h"
+#include "solvers/viscous.h"
 #include "test_main.h"
 
 #define CASE "../cases/bagnold2.ini"
@@ -57,6 +60,8 @@ static void test_bad_input(void **state)
         {"bagnold2.mixture=arithmetic", "bagnold2.mixture"},
         {"bagnold2.interface_edges=cells", "bagnold2.interface_edges"},
         {"bagnold2.interface_height=1e-3", "bagnold2.interface_height"},
+        {"bagnold2.perturbation=-1e-3", "bagnold2.perturbation"},
+        {"bagnold2.start=steady", "bagnold2.start"},
         {"physics.density=1000", "physics.density"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -74,15 +79,17 @@ static void test_bad_input(void **state)
  * the layer reaches the steady state (measured: grains err_rms 7.8e-6,
  * 0.017% of the top velocity; air 5.0e-5, 0.11%), the
  * grains' volume is kept to the rounding of its sums (measured 7e-14) and
- * T stays in [0, 1]. */
+ * T stays in [0, 1]; with a factorisation kept up to 20 steps
+ * (solver.preconditioner_reuse), which changes the errors below the printed
+ * digits only. */
 static void test_transient_from_rest(void **state)
 {
     (void)state;
     char *ov[] = {"solver.mode=transient", "solver.end_time=1", "solver.dt=2e-3",
-                  "domain.nx=2", "domain.lx=3.6e-5"};
+                  "domain.nx=2", "domain.lx=3.6e-5", "solver.preconditioner_reuse=20"};
     struct muflow_case cs;
     char err[512];
-    assert_int_equal(case_load(&cs, CASE, 5, ov, err, sizeof err), 0);
+    assert_int_equal(case_load(&cs, CASE, 6, ov, err, sizeof err), 0);
     struct march_state st;
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
@@ -113,15 +120,201 @@ static void test_transient_from_rest(void **state)
     assert_true(air <= 5e-3 * top);
     assert_true(fabs(mass) <= 1e-12);
     assert_true(lo >= -1e-12 && hi <= 1.0 + 1e-12);
+    /* the kept factorisation served the last step: the errors above are
+     * those of a fresh one every step (the same to the printed digits) */
+    struct viscous_precond_info info;
+    viscous_precond_info(st.viscous, &info);
+    assert_int_equal(info.reused, 1);
     march_destroy(&st);
+}
+
+/* A transient run to a steady state (solver.steady_tolerance): from rest on
+ * the thin grid at steps of 1e-3 s it stops at t = 1.061 s (measured), on
+ * the steady mode's errors (grains 7.169e-6, air 4.684e-5 m/s to four
+ * digits): asserted to 1%. */
+static void test_transient_to_steady(void **state)
+{
+    (void)state;
+    char *ov[] = {"solver.mode=transient", "solver.end_time=5", "solver.dt=1e-3",
+                  "solver.steady_tolerance=1e-6", "domain.nx=2", "domain.lx=3.6e-5",
+                  "solver.preconditioner_reuse=20"};
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, CASE, 7, ov, err, sizeof err), 0);
+    struct run_result r;
+    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    double grains = run_result_value(&r, "err_rms_grains"), air = run_result_value(&r, "err_rms_air");
+    print_message("bagnold2 transient to steady: %s at t = %.4g in %ld steps (%s); grains %.4e, "
+                  "air %.4e\n", run_status_name(r.status), r.time, r.steps, r.message, grains, air);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.time < 5.0);
+    assert_true(fabs(grains / 7.169e-6 - 1.0) < 1e-2);
+    assert_true(fabs(air / 4.684e-5 - 1.0) < 1e-2);
+}
+
+/* The fit: an exact exponential gives its rate to round-off, the window
+ * takes only its samples, and fewer than three samples give NaN. */
+static void test_growth_fit(void **state)
+{
+    (void)state;
+    double t[40], a[40];
+    for (int m = 0; m < 40; m++) {
+        t[m] = 1e-3 * m;
+        a[m] = m < 20 ? 1e-3 * exp(-500.0 * t[m]) : 1e-3 * exp(-500.0 * 0.019 + 150.0 * (t[m] - 0.019));
+    }
+    struct growth_fit f = growth_fit_window(t, a, 40, 0.02, 0.039);
+    assert_true(fabs(f.rate - 150.0) < 1e-9 * 150.0);
+    assert_int_equal(f.n, 20);
+    assert_true(f.r2 > 1.0 - 1e-12);
+    f = growth_fit_window(t, a, 40, 0.0, 0.039);
+    assert_true(f.rate < 150.0 && f.r2 < 0.9); /* the decay spoils a window taken whole */
+    f = growth_fit_window(t, a, 40, 0.0105, 0.0125);
+    assert_true(isnan(f.rate));
+    /* the scene's window: the second half of the record before saturation
+     * (au above a_sat, or above its start when that is larger) */
+    double t0, t1;
+    bagnold2_growth_window(t, a, 40, 1.0, &t0, &t1);
+    assert_true(t0 == 0.5 * t[39] && t1 == t[39]);
+    for (int m = 0; m < 40; m++)
+        a[m] = 1e-3 * exp(m < 20 ? -100.0 * t[m] : -1.9 + 150.0 * (t[m] - 0.019));
+    bagnold2_growth_window(t, a, 40, 1e-6, &t0, &t1);
+    assert_true(t1 == t[32] && t0 == 0.5 * t[32]); /* a[0] is first exceeded at t[32] */
+    for (int m = 0; m < 40; m++)
+        a[m] = 1e-5 * exp(100.0 * t[m]);
+    bagnold2_growth_window(t, a, 40, 1e-5 * exp(100.0 * 0.0205), &t0, &t1);
+    assert_true(t1 == t[21] && t0 == 0.5 * t[21]);
+}
+
+/* The perturbation (from rest, so the velocity is the perturbation alone):
+ * divergence-free cell by cell to round-off, largest velocity the given
+ * share of the exact top velocity, nothing in the air, w = 0 at the base
+ * and the top; its amplitude measure sees it, the pressure's sees nothing. */
+static void test_perturbation(void **state)
+{
+    (void)state;
+    char *ov[] = {"bagnold2.perturbation=1e-3", "domain.nx=12", "domain.nz=40"};
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, CASE, 3, ov, err, sizeof err), 0);
+    struct march_state st;
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    const struct grid *g = &st.g;
+    double umax = 0.0, dmax = 0.0, air = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int k = 0; k < g->n[2]; k++) {
+            double u0 = st.vel[0][grid_idx(g, i, 0, k)];
+            double u1 = st.vel[0][grid_idx(g, (i + 1) % g->n[0], 0, k)];
+            double w0 = st.vel[2][grid_idx(g, i, 0, k)], w1 = st.vel[2][grid_idx(g, i, 0, k + 1)];
+            umax = fmax(umax, fmax(fabs(u0), fabs(w0)));
+            dmax = fmax(dmax, fabs((u1 - u0) / g->h[0] + (w1 - w0) / g->h[2]));
+            if ((k + 0.5) * g->h[2] > 5e-4 + g->h[2])
+                air = fmax(air, fmax(fabs(u0), fabs(w1)));
+            if (k == 0)
+                assert_true(w0 == 0.0);
+        }
+    double top = 0.0450736; /* the exact top velocity at 25 degrees */
+    double au, ap;
+    bagnold2_amplitudes(&st, &au, &ap);
+    print_message("perturbation: max |v| %.6e (1e-3 u_top %.6e), max |div| h / max |v| %.2e, air "
+                  "%.1e, amplitudes %.3e %.3e\n", umax, 1e-3 * top, dmax * g->h[2] / umax, air, au,
+                  ap);
+    assert_true(fabs(umax / (1e-3 * top) - 1.0) < 1e-5);
+    assert_true(dmax * g->h[2] / umax < 1e-12);
+    assert_true(air == 0.0);
+    assert_true(au >= 0.5 * umax && au <= 2.0 * umax);
+    assert_true(ap == 0.0);
+    march_destroy(&st);
+    /* no uniform flow to start from or to scale by: above mu_d, below mu_s */
+    static const char *const flat[] = {"physics.tilt=0.6", "physics.tilt=0.3"};
+    for (int m = 0; m < 2; m++) {
+        char *bad[] = {"bagnold2.start=exact", (char *)flat[m]};
+        assert_int_equal(case_load(&cs, CASE, 2, bad, err, sizeof err), 2);
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, "bagnold2.start"));
+        bad[0] = "bagnold2.perturbation=1e-3";
+        assert_int_equal(case_load(&cs, CASE, 2, bad, err, sizeof err), 2);
+    }
+}
+
+/* The growth rate of a run from the exact steady solution plus the
+ * perturbation (1e-3 of u_top) on nx x nz cells, steps of 1e-4 s to
+ * t = 0.04 s; extra: the case's overrides. */
+static struct growth_fit illposed_run(const char *const *extra, int nextra, int nx, int nz)
+{
+    char gx[32], gz[32];
+    snprintf(gx, sizeof gx, "domain.nx=%d", nx);
+    snprintf(gz, sizeof gz, "domain.nz=%d", nz);
+    char *ov[16] = {"solver.mode=transient", "bagnold2.start=exact", "bagnold2.perturbation=1e-3",
+                    "solver.dt=1e-4", "solver.end_time=0.04", "solver.max_steps=100000", gx, gz};
+    int n = 8;
+    for (int m = 0; m < nextra; m++)
+        ov[n++] = (char *)extra[m];
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, CASE, n, ov, err, sizeof err), 0);
+    struct run_result r;
+    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    assert_int_equal(r.status, STATUS_FINISHED);
+    struct growth_fit f;
+    f.rate = run_result_value(&r, "growth_rate");
+    f.r2 = run_result_value(&r, "growth_fit_r2");
+    print_message("  %d x %d: growth_rate %.1f 1/s (pressure %.1f), r2 %.4f, amplitude %.2e -> "
+                  "%.2e\n", nx, nz, f.rate, run_result_value(&r, "growth_rate_pressure"), f.r2,
+                  run_result_value(&r, "amplitude_start"), run_result_value(&r, "amplitude_end"));
+    return f;
+}
+
+/* seeds/001 sec. 3.1: at 32 degrees with Table 1 (the case's jop curve;
+ * tan 32 = 0.625 below mu_d = 0.643, I = 3.72 above the well-posed band's
+ * I_2^N = 0.846) the uniform flow is unstable, and the finer grid grows
+ * faster.  Measured (dt 1e-4): 72 1/s on 12 x 40, 111 on 16 x 64; 10 x 20
+ * decays (-34); the rate rises with resolution and as dt falls (README,
+ * "Ill-posedness").  Bounds: > 20 1/s (r2 > 0.9: an exponential), and the
+ * finer at least 1.2 times the coarser. */
+static void test_illposed_table1(void **state)
+{
+    (void)state;
+    const char *tilt[] = {"physics.tilt=0.55850536063818546"};
+    print_message("Table 1, 32 degrees, jop:\n");
+    struct growth_fit c = illposed_run(tilt, 1, 12, 40), f = illposed_run(tilt, 1, 16, 64);
+    assert_true(c.rate > 20.0 && c.r2 > 0.9);
+    assert_true(f.rate > 1.2 * c.rate && f.r2 > 0.9);
+}
+
+/* seeds/001 sec. 3.2: at 28.5 degrees with Table 2 the jop curve grows
+ * (I = 0.99 above I_2^N = 0.280) and the Barker & Gray curve (alpha 1.9,
+ * mu_inf 0.05; I = 0.405 below its regularised bound 16.99) decays.
+ * Measured on 12 x 40: jop 85 1/s, barker_gray -83 1/s.  Bounds: jop
+ * > 20 1/s, barker_gray < -20 1/s. */
+static void test_illposed_table2(void **state)
+{
+    (void)state;
+    const char *jop[] = {"physics.tilt=0.49741883681838395", "rheology.mu_s=0.342",
+                         "rheology.delta_mu=0.215", "rheology.i0=0.069",
+                         "rheology.grain_diameter=1.43e-4"};
+    const char *bg[] = {"physics.tilt=0.49741883681838395", "rheology.mu_s=0.342",
+                        "rheology.delta_mu=0.215", "rheology.i0=0.069",
+                        "rheology.grain_diameter=1.43e-4", "rheology.curve=barker_gray",
+                        "rheology.alpha=1.9", "rheology.mu_inf=0.05"};
+    print_message("Table 2, 28.5 degrees, jop:\n");
+    struct growth_fit j = illposed_run(jop, 5, 12, 40);
+    print_message("Table 2, 28.5 degrees, barker_gray:\n");
+    struct growth_fit b = illposed_run(bg, 8, 12, 40);
+    assert_true(j.rate > 20.0 && j.r2 > 0.9);
+    assert_true(b.rate < -20.0);
 }
 
 void group_two_phase(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_layer_under_air),
+        cmocka_unit_test(test_transient_to_steady),
         cmocka_unit_test(test_transient_from_rest),
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_growth_fit),
+        cmocka_unit_test(test_perturbation),
+        cmocka_unit_test(test_illposed_table1),
+        cmocka_unit_test(test_illposed_table2),
     };
     RUN_GROUP(t, "two_phase", tests);
 }

@@ -44,6 +44,7 @@ struct muflow_case {
     double tolerance;        /* steady: stop when the relative residual falls below */
     long max_steps;
     double end_time;         /* transient: time to reach */
+    double steady_tolerance;  /* transient: stop at a steady state below this (0: off) */
     double dt;               /* initial (steady) or fixed upper bound (transient) */
     double dt_max;           /* steady: cap of the growing pseudo-time step */
     double cfl;              /* advective CFL number (when advection is on) */
@@ -54,6 +55,7 @@ struct muflow_case {
                                 falls below this (Picard before): 1 = always */
     double linear_tolerance; /* relative tolerance of the implicit viscous CG */
     int max_linear_iterations;
+    int preconditioner_reuse;
     int line_direction;      /* -1 auto, or 0/1/2: preconditioner lines */
     enum preconditioner preconditioner; /* of the implicit viscous solve */
     double augmentation;     /* kappa: the grad-div (augmented Lagrangian) term has

@@ -7,34 +7,63 @@
  *          it (Dirichlet p = 0 for the hydrostatic solve).
  * lid      a no-slip wall moving in its own plane: the component lid_direction
  *          of the velocity equals lid_velocity on the face (driven cavity).
+ * open     an open boundary (outflow, open top): the dynamic pressure
+ *          vanishes on the face (Dirichlet p = 0 for the projection and the
+ *          hydrostatic solve), every velocity component has zero normal
+ *          gradient, and the normal velocity on the face is not prescribed:
+ *          it is state, set by the projection, so mass leaves or enters.
+ * inflow   a prescribed velocity: the normal component is inflow_velocity
+ *          (into the domain) times the profile, the tangential ones are zero
+ *          (no slip); a Neumann face for the pressure, like a wall.
  * periodic both faces of the direction must be periodic. */
 #ifndef MUFLOW_BOUNDARY_H
 #define MUFLOW_BOUNDARY_H
 
 #include "grid/grid.h"
 
-enum bc_kind { BC_PERIODIC = 0, BC_WALL, BC_SLIP, BC_SURFACE, BC_LID };
+enum bc_kind { BC_PERIODIC = 0, BC_WALL, BC_SLIP, BC_SURFACE, BC_LID, BC_OPEN, BC_INFLOW };
+
+/* The inflow's profile across the face: uniform, or the parabola
+ * 4 s (L - s) / L^2 in each non-periodic tangential direction (a product of
+ * them in 3D), 1 at the middle, 0 on the edges. */
+enum inflow_profile { INFLOW_UNIFORM = 0, INFLOW_PARABOLIC };
 
 struct boundary {
     enum bc_kind face[3][2]; /* [direction][0 = low, 1 = high] */
     double lid_velocity;     /* tangential speed of every lid face */
     int lid_direction;       /* the velocity component it drives (0, 1, 2) */
+    double inflow_velocity;  /* normal speed into the domain on inflow faces (peak) */
+    enum inflow_profile inflow_profile;
 };
 
 const char *bc_kind_name(enum bc_kind kind);
 
 /* Fills the ghost layers of the three velocity components (u on x-faces,
  * v on y-faces, w on z-faces) and sets the normal velocity on non-periodic
- * boundary faces to zero. */
+ * boundary faces: zero on closed ones, the profile on inflow faces; an open
+ * face's normal velocity is state and is left as it is. */
 void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
 /* The same for a velocity increment: every prescribed boundary value is zero
- * (a lid does not move the increment). */
+ * (a lid or an inflow does not move the increment), and so is the increment
+ * of an open face's normal velocity: that face is not an unknown of the
+ * implicit step (the projection sets it, stage_projection.c). */
 void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
 /* Fills the ghost layer of a cell-centred field: periodic copy, or a mirror of
  * the interior neighbour (zero normal gradient) on every other face. */
 void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f);
+
+/* Like bc_fill_scalar, but a Dirichlet ghost (-interior, zero on the face)
+ * on open faces: for the projection's pressure and its increments. */
+void bc_fill_pressure(const struct grid *g, const struct boundary *bc, double *f);
+
+/* 1 when some face of bc is open. */
+int bc_has_open(const struct boundary *bc);
+
+/* The inflow's normal velocity (into the domain, sign not applied) on face
+ * (i, j, k) of direction d: inflow_velocity times the profile. */
+double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k);
 
 /* Like bc_fill_scalar, but extrapolates linearly across non-periodic faces
  * (ghost = 2 f[0] - f[1]): the pressure that enters the rheology on boundary

@@ -41,7 +41,8 @@ int vof_transport_init(struct vof_transport *vt, const struct grid *g, const str
 void vof_transport_free(struct vof_transport *vt);
 
 /* One step of length dt with the face velocity vel (ghost faces filled, e.g.
- * by bc_fill_velocity; every non-periodic boundary face is then closed).  T
+ * by bc_fill_velocity; closed boundary faces carry no flux, open and inflow
+ * faces let the light phase, T = 0, in and any phase out).  T
  * is a cell field; its ghost layer is refilled before each sweep.  Returns 0,
  * or -1 without touching T when a sweep CFL number exceeds VOF_CFL_MAX.
  * *max_cfl (if not NULL) receives the largest sweep CFL number either way. */

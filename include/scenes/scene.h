@@ -20,7 +20,8 @@
  *   keys' help  a one-line help text per key (muflow --list prints it)
  *   drive       a driver in place of the plain march (the heap's tilt search)
  *   results     extra summary lines and one line for the terminal
- *   write       extra output files (heap.csv) */
+ *   write       extra output files (heap.csv), also during the run when
+ *               write_running is set (the collapse's record) */
 #ifndef MUFLOW_SCENES_INTERFACE_H
 #define MUFLOW_SCENES_INTERFACE_H
 
@@ -95,6 +96,10 @@ struct scene {
                     struct run_result *res);
     int (*write)(const char *dir, const struct march_state *st, char *err, size_t errlen);
     const char *const *files;      /* the names write() produces (NULL-terminated) */
+    /* 1: write() also runs during the run, with each field file and every
+     * solver.progress_interval of wall time, each file replaced whole (a
+     * long transient's record can be read while it runs) */
+    int write_running;
 };
 
 /* "exact" or the scene's solution_name ("reference"). */

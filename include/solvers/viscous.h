@@ -121,6 +121,12 @@ void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond
  * factorisation (sparse_direct_memory_estimate). */
 double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
 
+/* A sparse factorisation (cholesky, lu) then preconditions up to steps
+ * further viscous_precondition calls while the Krylov iterations stay within
+ * twice those of its first solve plus 2; a failed solve refactorises (0: a
+ * factorisation every call, the default). */
+void viscous_set_reuse(struct viscous_solver *s, int steps);
+
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 

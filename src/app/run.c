@@ -17,6 +17,7 @@ struct observer_ctx {
     struct history hist;
     struct field_series series;
     double last_print;
+    double last_scene_write; /* wall time of the last write_running refresh */
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
     long last_row;         /* the step of the last history row (-1: none) */
     int signal;            /* the signal that stopped the run */
@@ -48,9 +49,18 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     if (st->step != ctx->last_row)
         history_row(&ctx->hist, st, e);
     ctx->last_row = st->step;
-    if (field_series_due(&ctx->series, cs, st) && !field_series_has(&ctx->series, st->step) &&
+    int field_due = field_series_due(&ctx->series, cs, st) &&
+                    !field_series_has(&ctx->series, st->step);
+    if (field_due &&
         field_series_write(&ctx->series, cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
         return ctx->failed = 1;
+    const struct scene *sc = case_scene(cs);
+    if (sc->write_running && sc->write && st->status == STATUS_RUNNING &&
+        (field_due || st->wall_seconds - ctx->last_scene_write >= cs->progress_interval)) {
+        if (sc->write(cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
+            return ctx->failed = 1;
+        ctx->last_scene_write = st->wall_seconds;
+    }
     if (cs->checkpoint_every > 0 && st->step > 0 && st->step % cs->checkpoint_every == 0 &&
         st->status == STATUS_RUNNING) {
         history_flush(&ctx->hist); /* a restart after a crash continues these rows */

@@ -30,7 +30,9 @@
 extern const struct choice scene_choice_table[];
 static const struct choice bc_choices[] = {
     {"periodic", BC_PERIODIC}, {"wall", BC_WALL}, {"slip", BC_SLIP},
-    {"surface", BC_SURFACE}, {"lid", BC_LID}, {NULL, 0}};
+    {"surface", BC_SURFACE}, {"lid", BC_LID}, {"open", BC_OPEN}, {"inflow", BC_INFLOW}, {NULL, 0}};
+static const struct choice profile_choices[] = {
+    {"uniform", INFLOW_UNIFORM}, {"parabolic", INFLOW_PARABOLIC}, {NULL, 0}};
 static const struct choice law_choices[] = {
     {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN}, {NULL, 0}};
 static const struct choice reg_choices[] = {
@@ -52,6 +54,7 @@ static const struct choice precond_choices[] = {
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
+_Static_assert(sizeof(enum inflow_profile) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum rheology_law) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum regularisation) == sizeof(int), "enum size");
 _Static_assert(sizeof(enum rheology_curve) == sizeof(int), "enum size");
@@ -72,7 +75,8 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 #define CHO(s, n, m, ch, h) KEY_CHO(T, s, n, m, ch, h)
 #define STR(s, n, m, h) KEY_STR(T, s, n, m, h)
 #define FACE_HELP(f) f " face: wall (no slip), slip (free slip), surface (flat stress-free free " \
-                     "surface, p = 0), lid (moving no-slip wall), periodic (on both faces)"
+                     "surface, p = 0), lid (moving no-slip wall), open (outflow / open top, "   \
+                     "p = 0), inflow (prescribed velocity), periodic (on both faces)"
 
 /* The core keys, in the order case_write_ini writes them; the scene's own
  * section goes between [solver] and [output].  The help lines follow the
@@ -105,6 +109,11 @@ static const struct key keys[] = {
         "speed of every lid face (velocity)"),
     CHO("boundary", "lid_direction", bc.lid_direction, axis_choices,
         "velocity component a lid drives (in the lid's plane)"),
+    DBL("boundary", "inflow_velocity", bc.inflow_velocity, RANGE(NONE_LO, NONE_HI, 0, 0),
+        "normal speed into the domain on every inflow face (the peak of a parabola) (velocity)"),
+    CHO("boundary", "inflow_profile", bc.inflow_profile, profile_choices,
+        "inflow profile across the face: uniform, or parabolic 4 s (L - s) / L^2 in each "
+        "non-periodic direction of the face"),
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
          "must be in [-pi/2, pi/2] (radians)",
@@ -155,6 +164,9 @@ static const struct key keys[] = {
         "steady: stop when the relative residual falls below this"),
     LNG("solver", "max_steps", max_steps, RANGE(1, 1e9, 1, 1), "largest number of time steps"),
     DBL("solver", "end_time", end_time, GT0, "transient: time to reach"),
+    DBL("solver", "steady_tolerance", steady_tolerance, RANGE(0, 1, 1, 0),
+        "transient: stop at a steady state once the relative residual and divergence fall "
+        "below this, as the steady mode's tolerance (0: run to end_time)"),
     DBL("solver", "dt", dt, GT0,
         "steady: initial pseudo-time step; transient: upper bound of the step"),
     DBL("solver", "dt_max", dt_max, GT0, "steady: cap of the growing pseudo-time step (>= dt)"),
@@ -179,6 +191,9 @@ static const struct key keys[] = {
         "relative tolerance of the implicit viscous solve"),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
+    INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
+        "a cholesky or lu factorisation preconditions up to this many further steps while the "
+        "Krylov iterations stay within twice its first solve's plus 2 (0: one every step)"),
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
     DBL("solver", "progress_interval", progress_interval, GE0,
@@ -217,6 +232,8 @@ void case_defaults(struct muflow_case *c)
     }
     c->bc.lid_velocity = 1.0;
     c->bc.lid_direction = 0;
+    c->bc.inflow_velocity = 1.0;
+    c->bc.inflow_profile = INFLOW_UNIFORM;
     c->tilt = 0.0;
     c->gravity = 1.0;
     c->density = 1.0;
@@ -656,6 +673,42 @@ static void finish(struct ctx *x)
                 return;
             }
 
+    /* an open face's momentum balance is its inner neighbour's (stage_projection.c) */
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (c->bc.face[d][side] == BC_OPEN && c->n[d] < 2) {
+                fail(x, "%s: boundary.%c%s = open with domain.n%c = %d: an open face needs at "
+                        "least 2 cells along %c",
+                     where, axis[d], side ? "hi" : "lo", axis[d], c->n[d], axis[d]);
+                return;
+            }
+
+    /* the grad-div augmentation treats an open face's velocity as fixed in
+     * the implicit step while the projection moves it: the Uzawa update then
+     * fights the open face's pressure condition (measured: a channel that
+     * converges without it stalls at residual 0.4) */
+    if (c->augmentation > 0.0 && bc_has_open(&c->bc)) {
+        fail(x, "%s: solver.augmentation = %.17g with an open face: the grad-div augmentation "
+                "is not supported with open boundaries (set solver.augmentation = 0)",
+             where, c->augmentation);
+        return;
+    }
+
+    /* an inflow's volume must leave somewhere: through an open face */
+    int inflow = -1;
+    for (int d = 0; d < 3 && inflow < 0; d++)
+        for (int side = 0; side < 2; side++)
+            if (c->bc.face[d][side] == BC_INFLOW) {
+                inflow = 2 * d + side;
+                break;
+            }
+    if (inflow >= 0 && !bc_has_open(&c->bc) && c->bc.inflow_velocity != 0.0) {
+        fail(x, "%s: boundary.%c%s = inflow with boundary.inflow_velocity = %.17g and no open "
+                "face: the inflowing volume has no way out (set an outlet face to open)",
+             where, axis[inflow / 2], inflow % 2 ? "hi" : "lo", c->bc.inflow_velocity);
+        return;
+    }
+
     const struct scene *sc = case_scene(c);
     const struct key_block *kb = sc->keys;
     char msg[512];
@@ -722,14 +775,14 @@ static void finish(struct ctx *x)
             fail(x,
                  "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
                  "periodic on every face, which muflow cannot solve; a case needs at least one "
-                 "direction whose faces are wall, slip, surface or lid (boundary.*) and, to be "
+                 "direction whose faces are wall, slip, surface, lid, open or inflow (boundary.*) and, to be "
                  "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
                  "complete examples, muflow --list lists every key",
                  where, c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
         else
             fail(x,
                  "%s: every boundary face is periodic: muflow needs at least one direction "
-                 "whose faces are wall, slip, surface or lid (boundary.xlo/xhi, ylo/yhi or "
+                 "whose faces are wall, slip, surface, lid, open or inflow (boundary.xlo/xhi, ylo/yhi or "
                  "zlo/zhi); the implicit viscous solve works along it",
                  where);
         return;

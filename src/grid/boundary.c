@@ -9,6 +9,8 @@ const char *bc_kind_name(enum bc_kind kind)
     case BC_SLIP: return "slip";
     case BC_SURFACE: return "surface";
     case BC_LID: return "lid";
+    case BC_OPEN: return "open";
+    case BC_INFLOW: return "inflow";
     }
     return "?";
 }
@@ -60,6 +62,41 @@ static void ghost_plane_add(const struct grid *g, int d, int ghost, double *f, d
         for (int ib = 0; ib < nb; ib++) f[corner + ia * sa + ib * sb] += value;
 }
 
+double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k)
+{
+    double v = bc->inflow_velocity;
+    if (bc->inflow_profile != INFLOW_PARABOLIC)
+        return v;
+    const int idx[3] = {i, j, k};
+    for (int a = 0; a < 3; a++) {
+        if (a == d || bc->face[a][0] == BC_PERIODIC)
+            continue;
+        /* the face's centre across a: s = (idx + 1/2) h, in [0, L] */
+        double len = g->len[a], s = (idx[a] + 0.5) * g->h[a];
+        if (s < 0.0)
+            s = 0.0;
+        if (s > len)
+            s = len;
+        v *= 4.0 * s * (len - s) / (len * len);
+    }
+    return v;
+}
+
+/* The inflow's normal velocity on the boundary face of direction d, side
+ * (0 low, 1 high), over the whole plane (ghost rows clipped to the edges'
+ * zero of a parabola); positive into the domain. */
+static void inflow_plane(const struct grid *g, const struct boundary *bc, int d, int side, double *f)
+{
+    int a = (d + 1) % 3, b = (d + 2) % 3;
+    double sign = side == 0 ? 1.0 : -1.0;
+    int idx[3];
+    idx[d] = side == 0 ? 0 : g->n[d];
+    for (idx[a] = -1; idx[a] <= g->n[a]; idx[a]++)
+        for (idx[b] = -1; idx[b] <= g->n[b]; idx[b]++)
+            f[grid_idx(g, idx[0], idx[1], idx[2])] =
+                sign * bc_inflow_value(g, bc, d, idx[0], idx[1], idx[2]);
+}
+
 static void fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3],
                           int homogeneous)
 {
@@ -75,17 +112,26 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
             }
             if (c == d) {
                 /* no penetration: the boundary faces carry zero normal velocity;
-                 * face -1 is never read by a stencil but is kept defined. */
-                ghost_plane(g, d, 0, 0, f, 0.0, 1);
-                ghost_plane(g, d, n, n, f, 0.0, 1);
+                 * face -1 is never read by a stencil but is kept defined.  An
+                 * open face's velocity is state (the projection's): kept, its
+                 * increment zero; an inflow face carries the profile. */
                 ghost_plane(g, d, -1, -1, f, 0.0, 1);
+                for (int side = 0; side < 2; side++) {
+                    enum bc_kind kind = bc->face[d][side];
+                    int face = side == 0 ? 0 : n;
+                    if (kind == BC_OPEN && !homogeneous)
+                        continue;
+                    ghost_plane(g, d, face, face, f, 0.0, 1);
+                    if (kind == BC_INFLOW && !homogeneous)
+                        inflow_plane(g, bc, d, side, f);
+                }
             } else {
                 for (int side = 0; side < 2; side++) {
-                    /* wall: the face value (ghost + interior)/2 is zero;
-                     * slip and surface: zero normal gradient, so zero shear;
+                    /* wall, inflow: the face value (ghost + interior)/2 is zero;
+                     * slip, surface and open: zero normal gradient, so zero shear;
                      * lid: the face value is the lid's velocity. */
                     enum bc_kind kind = bc->face[d][side];
-                    int walled = kind == BC_WALL || kind == BC_LID;
+                    int walled = kind == BC_WALL || kind == BC_LID || kind == BC_INFLOW;
                     double sign = walled ? -1.0 : 1.0;
                     int ghost = side == 0 ? -1 : n, inner = side == 0 ? 0 : n - 1;
                     ghost_plane(g, d, ghost, inner, f, sign, 0);
@@ -119,6 +165,29 @@ void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f)
             ghost_plane(g, d, n, n - 1, f, 1.0, 0);
         }
     }
+}
+
+void bc_fill_pressure(const struct grid *g, const struct boundary *bc, double *f)
+{
+    for (int d = 0; d < 3; d++) {
+        int n = g->n[d];
+        if (bc->face[d][0] == BC_PERIODIC) {
+            ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
+            ghost_plane(g, d, n, 0, f, 1.0, 0);
+        } else {
+            ghost_plane(g, d, -1, 0, f, bc->face[d][0] == BC_OPEN ? -1.0 : 1.0, 0);
+            ghost_plane(g, d, n, n - 1, f, bc->face[d][1] == BC_OPEN ? -1.0 : 1.0, 0);
+        }
+    }
+}
+
+int bc_has_open(const struct boundary *bc)
+{
+    for (int d = 0; d < 3; d++)
+        for (int s = 0; s < 2; s++)
+            if (bc->face[d][s] == BC_OPEN)
+                return 1;
+    return 0;
 }
 
 void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, double *f)

@@ -11,6 +11,9 @@ void body_force_vector(const struct muflow_case *cs, double f[3])
     f[2] = -rg * cos(cs->tilt);
 }
 
+/* 1 for the faces where the hydrostatic pressure vanishes. */
+static int zero_pressure(enum bc_kind k) { return k == BC_SURFACE || k == BC_OPEN; }
+
 /* Hydrostatic pressure of the body force: the pressure whose gradient removes
  * the curl-free part of the force under the walls' no-penetration condition,
  * with p = 0 on free surfaces.  The remaining force drives the flow.  With a
@@ -26,11 +29,12 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++) {
             enum bc_kind k = st->bc.face[d][s];
-            pbc[d][s] = k == BC_PERIODIC  ? POISSON_PERIODIC
-                        : k == BC_SURFACE ? POISSON_DIRICHLET
-                                          : POISSON_NEUMANN;
+            pbc[d][s] = k == BC_PERIODIC                    ? POISSON_PERIODIC
+                        : k == BC_SURFACE || k == BC_OPEN ? POISSON_DIRICHLET
+                                                          : POISSON_NEUMANN;
         }
-    /* fluxes of the force through every face; a closed boundary face passes none */
+    /* fluxes of the force through every face; a closed boundary face passes
+     * none (a surface or an open face, where p_hyd = 0, passes it) */
     double **flux = st->delta;
     double scale = st->density_uniform ? 1.0 : st->rho_ref / st->cs->density;
     for (int a = 0; a < 3; a++)
@@ -41,8 +45,8 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                     int face = idx[a];
                     double v = f[a] * scale;
                     if (st->bc.face[a][0] != BC_PERIODIC &&
-                        ((face <= 0 && st->bc.face[a][0] != BC_SURFACE) ||
-                         (face >= g->n[a] && st->bc.face[a][1] != BC_SURFACE)))
+                        ((face <= 0 && !zero_pressure(st->bc.face[a][0])) ||
+                         (face >= g->n[a] && !zero_pressure(st->bc.face[a][1]))))
                         v = 0.0;
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }

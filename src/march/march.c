@@ -211,9 +211,11 @@ static int register_fields(struct march_state *st)
     return 0;
 }
 
+/* The projection's condition on a face: the pressure vanishes on an open
+ * face (Dirichlet), its normal gradient on every closed or prescribed one. */
 static enum poisson_bc projection_bc(enum bc_kind k)
 {
-    return k == BC_PERIODIC ? POISSON_PERIODIC : POISSON_NEUMANN;
+    return k == BC_PERIODIC ? POISSON_PERIODIC : k == BC_OPEN ? POISSON_DIRICHLET : POISSON_NEUMANN;
 }
 
 /* What the process holds before the march allocates (libraries, FFTW):
@@ -390,6 +392,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         march_destroy(st);
         return -1;
     }
+    viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
     st->dt = cs->dt;
     st->best_residual = INFINITY;
     st->dt_scale = 1.0;
@@ -668,6 +671,15 @@ static void check_end(struct march_state *st)
         else
             snprintf(st->message, sizeof st->message, "residual %.3e <= tolerance %.1e",
                      st->residual, cs->tolerance);
+    } else if (cs->mode == MODE_TRANSIENT && cs->steady_tolerance > 0.0 && st->step > 0 &&
+               st->residual_excess <= cs->steady_tolerance &&
+               st->divergence <= cs->steady_tolerance) {
+        /* a transient run to a steady state: the same criterion as the
+         * steady mode's, on the state the time march reached */
+        st->status = STATUS_STEADY;
+        snprintf(st->message, sizeof st->message,
+                 "steady at t = %.6g: residual %.3e <= solver.steady_tolerance %.1e", st->time,
+                 st->residual_excess, cs->steady_tolerance);
     } else if (cs->mode == MODE_TRANSIENT && st->time >= cs->end_time * (1.0 - 1e-12)) {
         st->status = STATUS_FINISHED;
         snprintf(st->message, sizeof st->message, "end time %g reached", cs->end_time);

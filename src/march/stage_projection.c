@@ -21,6 +21,94 @@ static void subtract_gradient(struct march_state *st, const double *phi)
         kernel_gradient_update_coef(&st->g, st->act, phi, 1.0, st->beta, st->vel);
 }
 
+/* Open faces (boundary.h).  The normal velocity on an open face is not an
+ * unknown of the implicit step (its increment is zero there, so the implicit
+ * operator is the exact linearisation of the residual the step solves and
+ * stays symmetric, and the line blocks and probed preconditioners see the
+ * same operator as with a closed face).  Its increment is set here, before
+ * the projection: the face's momentum balance is the inner face's with zero
+ * normal gradient for every term but the pressure and the body force, which
+ * are taken on the face itself with the Dirichlet ghost (p = 0 on it):
+ *   delta_f = delta_i + dt (a_f - a_i),  a = (F - grad p_dyn) / rho,
+ * F = rho g - grad p_hyd.  Steady, delta = 0 on the face, so the pressure
+ * gradient reaching the face equals the inner face's: the pressure falls to
+ * 0 on the open face as it falls inside (without the a terms the level of
+ * p_dyn would be whatever the march's history left).  The projection then
+ * corrects the face with the same Dirichlet ghost, so that div u = 0 to
+ * round-off in the boundary cells too. */
+
+/* Runs BODY on every face of every open boundary with d its direction, pf
+ * the face, pi the inner face beside it (face 1 or n - 1), pc the boundary
+ * cell between them and s the sign of the outward normal (-1 low, +1 high). */
+#define FOR_OPEN_FACES(st, BODY)                                                      \
+    for (int d = 0; d < 3; d++)                                                       \
+        for (int side = 0; side < 2; side++) {                                        \
+            if ((st)->bc.face[d][side] != BC_OPEN)                                    \
+                continue;                                                             \
+            const int a_ = (d + 1) % 3, b_ = (d + 2) % 3;                             \
+            const ptrdiff_t od = (st)->g.stride[d];                                   \
+            const double s = side ? 1.0 : -1.0;                                       \
+            int idx_[3];                                                              \
+            idx_[d] = side ? (st)->g.n[d] : 0;                                        \
+            for (idx_[a_] = 0; idx_[a_] < (st)->g.n[a_]; idx_[a_]++)                  \
+                for (idx_[b_] = 0; idx_[b_] < (st)->g.n[b_]; idx_[b_]++) {            \
+                    const ptrdiff_t pf = grid_idx(&(st)->g, idx_[0], idx_[1], idx_[2]); \
+                    const ptrdiff_t pi = side ? pf - od : pf + od;                    \
+                    const ptrdiff_t pc = side ? pf - od : pf;                         \
+                    BODY                                                              \
+                }                                                                     \
+        }
+
+/* d p / d x_d on an open face beside cell pc (outward sign s), with the
+ * Dirichlet ghost -p[pc]: (ghost - p) / h high, (p - ghost) / h low. */
+static inline double face_gradient(const double *p, ptrdiff_t pc, double s, double h)
+{
+    return -2.0 * s * p[pc] / h;
+}
+
+/* The pressure and body-force acceleration a = (F - grad p_dyn) / rho on
+ * the inner face pi and on the open face pf of direction d. */
+static double open_acceleration(const struct march_state *st, int d, ptrdiff_t p, int on_face,
+                                ptrdiff_t pc, double s)
+{
+    const struct grid *g = &st->g;
+    double rho = st->density_uniform ? st->cs->density : st->rho_face[d][p];
+    double F, G;
+    if (on_face) {
+        double f[3];
+        body_force_vector(st->cs, f);
+        F = (st->density_uniform ? f[d] : f[d] * rho / st->cs->density) -
+            face_gradient(st->p_hyd, pc, s, g->h[d]);
+        G = face_gradient(st->p_dyn, pc, s, g->h[d]);
+    } else {
+        F = st->force[d][p];
+        G = (st->p_dyn[p] - st->p_dyn[p - g->stride[d]]) / g->h[d];
+    }
+    return rho > 0.0 ? (F - G) / rho : 0.0;
+}
+
+/* The open faces' increments and predicted velocities (see above). */
+static void open_predict(struct march_state *st, double dt)
+{
+    FOR_OPEN_FACES(st, {
+        double af = open_acceleration(st, d, pf, 1, pc, s);
+        double ai = open_acceleration(st, d, pi, 0, pc, s);
+        st->delta[d][pf] = st->delta[d][pi] + dt * (af - ai);
+        st->vel[d][pf] += st->delta[d][pf];
+    })
+}
+
+/* The projection's correction -beta grad phi on the open faces (phi = 0 on
+ * them). */
+static void open_correct(struct march_state *st, const double *phi)
+{
+    FOR_OPEN_FACES(st, {
+        (void)pi;
+        double beta = st->density_uniform ? 1.0 : st->beta[d][pf];
+        st->vel[d][pf] -= beta * face_gradient(phi, pc, s, st->g.h[d]);
+    })
+}
+
 void stage_projection(struct march_state *st, double dt)
 {
     const struct grid *g = &st->g;
@@ -34,6 +122,9 @@ void stage_projection(struct march_state *st, double dt)
      * round-off; a state whose own divergence is above it (not one this
      * march produced) gets a second projection. */
     bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
+    int open = bc_has_open(&st->bc);
+    if (open)
+        open_predict(st, dt);
     kernel_divergence(g, st->delta, st->phi);
     if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
         for (int i = 0; i < g->n[0]; i++)
@@ -48,14 +139,20 @@ void stage_projection(struct march_state *st, double dt)
     double floor = DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
                    march_min_spacing(g);
     pressure_solve(st->pressure_solver, st->phi, st->phi, floor);
-    bc_fill_scalar(g, &st->bc, st->phi);
+    bc_fill_pressure(g, &st->bc, st->phi);
     subtract_gradient(st, st->phi);
+    if (open)
+        open_correct(st, st->phi);
     bc_fill_velocity(g, &st->bc, st->vel);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
         kernel_divergence(g, st->vel, st->div);
         pressure_solve(st->pressure_solver, st->div, st->div, floor);
-        bc_fill_scalar(g, &st->bc, st->div);
+        bc_fill_pressure(g, &st->bc, st->div);
         subtract_gradient(st, st->div);
+        if (open) {
+            open_correct(st, st->div);
+            bc_fill_velocity(g, &st->bc, st->vel);
+        }
     }
     /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
      * dt it is small and the Uzawa update carries the pressure */

@@ -16,7 +16,7 @@ void stage_residual(struct march_state *st)
     kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
                              st->res);
     kernel_axpy(g, st->act, 1.0, st->force, st->res);
-    bc_fill_scalar(g, &st->bc, st->p_dyn);
+    bc_fill_pressure(g, &st->bc, st->p_dyn);
     kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
     if (cs->advection) {
         if (cs->advection_scheme != ADVECTION_CENTRED)

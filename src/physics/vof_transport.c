@@ -36,8 +36,41 @@ void vof_transport_free(struct vof_transport *vt)
  * the operations) of the flux through face n: they are the same double and
  * the domain's total is conserved.  Other faces: the mirror image of the
  * interior cell, like the mirrored T (zero-gradient), i.e. xi_e -> 1 - xi_e:
- * m_e changes sign and alpha loses m_e.  Boundary faces there are closed
- * (zero normal velocity), so this only matters to a caller with inflow. */
+ * m_e changes sign and alpha loses m_e.  Closed boundary faces carry no
+ * flux, so this only matters to the faces that let fluid through (open,
+ * inflow), whose ghost cells hold the light phase: see open_ghosts. */
+static int passes_flow(enum bc_kind k) { return k == BC_OPEN || k == BC_INFLOW; }
+
+/* On an open or inflow face the fluid that enters is the light phase
+ * (T = 0): the ghost cells there are empty, with no interface (zero normal:
+ * the slab fraction is then the ghost's uniform T = 0).  Fluid leaving takes
+ * the interior cell's slab as at any face.  which: 0 sets T's ghosts, 1 the
+ * interface's. */
+static void open_ghosts(struct vof_transport *vt, double *T, int which)
+{
+    const struct grid *g = vt->g;
+    for (int e = 0; e < 3; e++) {
+        int a = (e + 1) % 3, b = (e + 2) % 3;
+        for (int side = 0; side < 2; side++) {
+            if (!passes_flow(vt->bc->face[e][side]))
+                continue;
+            int idx[3];
+            idx[e] = side == 0 ? -1 : g->n[e];
+            for (idx[a] = -1; idx[a] <= g->n[a]; idx[a]++)
+                for (idx[b] = -1; idx[b] <= g->n[b]; idx[b]++) {
+                    ptrdiff_t p = grid_idx(g, idx[0], idx[1], idx[2]);
+                    if (which == 0) {
+                        T[p] = 0.0;
+                    } else {
+                        for (int c = 0; c < 3; c++)
+                            vt->normal[c][p] = 0.0;
+                        vt->alpha[p] = 0.0;
+                    }
+                }
+        }
+    }
+}
+
 static void fill_interface_ghosts(struct vof_transport *vt)
 {
     const struct grid *g = vt->g;
@@ -73,6 +106,9 @@ int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3]
     if (largest > VOF_CFL_MAX)
         return -1;
 
+    int open = 0;
+    for (int e = 0; e < 3; e++)
+        open |= passes_flow(vt->bc->face[e][0]) || passes_flow(vt->bc->face[e][1]);
     static const int forward[3] = {0, 1, 2}, backward[3] = {2, 1, 0};
     const int *seq = vt->steps % 2 == 0 ? forward : backward;
     vt->nsweeps = 0;
@@ -85,8 +121,12 @@ int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3]
     for (int s = 0; s < vt->nsweeps; s++) {
         int d = vt->order[s];
         bc_fill_scalar(g, vt->bc, T);
+        if (open)
+            open_ghosts(vt, T, 0);
         vof_reconstruct(g, T, vt->normal, vt->alpha);
         fill_interface_ghosts(vt);
+        if (open)
+            open_ghosts(vt, T, 1);
         vof_sweep(g, d, vel[d], dt, vt->indicator, vt->normal, vt->alpha, T, vt->flux[d]);
     }
     bc_fill_scalar(g, vt->bc, T);

@@ -15,15 +15,19 @@
  *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
  *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
  * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the flat stress-free boundary (`surface`: p = 0, du/dz = 0,
- * w = 0), which for this flat, unidirectional state is the open top of the
- * seed (p = 0, du/dz = 0). */
+ * The top is the seed's open top (`open`: p = 0, du/dz = 0, flow through it
+ * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
+ * which for this flat, unidirectional state is the same. */
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
+#include "scenes/bagnold2.h"
 #include "scenes/scene.h"
 
 struct bagnold2_params {
@@ -32,12 +36,18 @@ struct bagnold2_params {
     double fluid_viscosity;    /* eta_f */
     int mixture;               /* enum mixture_law */
     int interface_edges;       /* enum edge_mixing */
+    int start;                 /* enum start_state */
+    double perturbation;       /* of the initial velocity, relative to u_top */
 };
+
+enum start_state { START_REST = 0, START_EXACT };
 
 static const struct choice mixture_choices[] = {
     {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
 static const struct choice edge_choices[] = {
     {"series", EDGES_SERIES}, {"mean", EDGES_MEAN}, {NULL, 0}};
+static const struct choice start_choices[] = {
+    {"rest", START_REST}, {"exact", START_EXACT}, {NULL, 0}};
 
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
@@ -55,6 +65,13 @@ static const struct key bagnold2_keys[] = {
             "viscosity of an edge the interface cuts: series (the two phases in series at the "
             "grains' share of its box, cut from the reconstructed interface) or mean (the mixture "
             "law at the mean T of its four cells)"),
+    KEY_CHO(T, "bagnold2", "start", start, start_choices,
+            "initial velocity: rest, or exact (the steady solution of eqs. 6-11 on the faces)"),
+    KEY_DBL(T, "bagnold2", "perturbation", perturbation,
+            "largest velocity of a divergence-free perturbation (a pseudo-random stream "
+            "function in the grains) added to the initial state, relative to the exact top "
+            "velocity; 0: none",
+            KEY_GE0),
 };
 #undef T
 
@@ -67,6 +84,8 @@ static void defaults(void *block)
     b->fluid_viscosity = 1.48e-5;
     b->mixture = MIXTURE_WEIGHTED;
     b->interface_edges = EDGES_SERIES;
+    b->start = START_REST;
+    b->perturbation = 0.0;
 }
 
 static const struct key_block bagnold2_block = {
@@ -82,6 +101,8 @@ static const struct bagnold2_params *params(const struct muflow_case *cs)
     return case_scene_params(cs);
 }
 
+static double bagnold2_u(const struct muflow_case *cs, double z);
+
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct bagnold2_params *b = params(c);
@@ -90,9 +111,9 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
-        c->bc.face[2][1] != BC_SURFACE) {
+        (c->bc.face[2][1] != BC_SURFACE && c->bc.face[2][1] != BC_OPEN)) {
         snprintf(msg, msglen, "case.scene = bagnold2 needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = surface");
+                              "boundary.zhi = surface or open");
         return 1;
     }
     if (!(b->interface_height < c->len[2])) {
@@ -105,6 +126,15 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         snprintf(msg, msglen, "physics.density = %.17g: the grains' bulk density must be "
                               "rheology.phi * rheology.grain_density = %.17g",
                  c->density, rg);
+        return 1;
+    }
+    double top = bagnold2_u(c, c->len[2]);
+    if ((b->start == START_EXACT || b->perturbation > 0.0) && !(isfinite(top) && top > 0.0)) {
+        snprintf(msg, msglen,
+                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the uniform flow of "
+                 "eqs. (6)-(11), which physics.tilt = %.17g (tan %.6g) does not have with this "
+                 "rheology.curve (jop: tan between rheology.mu_s and mu_s + delta_mu)",
+                 c->tilt, tan(c->tilt));
         return 1;
     }
     return 0;
@@ -151,6 +181,71 @@ static double layer_fraction(double h0, int k, double h)
     return fmin(1.0, fmax(0.0, (h0 - k * h) / h));
 }
 
+/* A uniform deviate in [-1, 1] of the node (i, j, k) (splitmix64 of its
+ * number): the same perturbation on any number of threads. */
+static double node_deviate(int i, int j, int k)
+{
+    uint64_t x = ((uint64_t)(uint32_t)i << 42) ^ ((uint64_t)(uint32_t)j << 21) ^ (uint32_t)k;
+    x += 0x9e3779b97f4a7c15ULL;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+    x ^= x >> 31;
+    return (double)(x >> 11) * (2.0 / 9007199254740992.0) - 1.0;
+}
+
+/* Adds the perturbation: a stream function psi on the x-z nodes (the y
+ * edges), a pseudo-random deviate per node times sin^2(pi z / h0) below the
+ * interface and 0 above, so that u = d psi / dz on x faces and
+ * w = -d psi / dx on z faces are divergence-free cell by cell (to round-off),
+ * w vanishes at the base and the top, and the air starts unperturbed; scaled
+ * so that its largest velocity is perturbation * u_top.  Every wavelength
+ * the grid holds is seeded, so which one grows fastest is measured, not
+ * chosen.  (A cross-section: each y plane gets its own u and w.) */
+static void perturbation_psi(const struct grid *g, int j, double h0, double *psi)
+{
+    const double pi = 3.14159265358979323846;
+    int nx = g->n[0], nz = g->n[2];
+    for (int i = 0; i <= nx; i++)
+        for (int k = 0; k <= nz; k++) {
+            double z = k * g->h[2], s = z < h0 ? sin(pi * z / h0) : 0.0;
+            psi[(size_t)i * (nz + 1) + k] = node_deviate(i % nx, j, k) * s * s;
+        }
+}
+
+static int perturb(struct march_state *st, const struct bagnold2_params *b)
+{
+    const struct grid *g = &st->g;
+    int nx = g->n[0], nz = g->n[2];
+    size_t col = (size_t)nz + 1;
+    double hx = g->h[0], hz = g->h[2];
+    double *psi = malloc((size_t)(nx + 1) * col * sizeof *psi);
+    if (!psi)
+        return -1;
+    double umax = 0.0;
+    for (int pass = 0; pass < 2; pass++) {
+        double scale = 0.0;
+        if (pass == 1 && umax > 0.0)
+            scale = b->perturbation * bagnold2_u(st->cs, st->cs->len[2]) / umax;
+        for (int j = 0; j < g->n[1]; j++) {
+            perturbation_psi(g, j, b->interface_height, psi);
+            for (int i = 0; i < nx; i++)
+                for (int k = 0; k < nz; k++) {
+                    size_t n0 = (size_t)i * col + k;
+                    double u = (psi[n0 + 1] - psi[n0]) / hz;
+                    double w = -(psi[n0 + col] - psi[n0]) / hx;
+                    if (pass == 0) {
+                        umax = fmax(umax, fmax(fabs(u), fabs(w)));
+                    } else {
+                        st->vel[0][grid_idx(g, i, j, k)] += scale * u;
+                        st->vel[2][grid_idx(g, i, j, k)] += scale * w;
+                    }
+                }
+        }
+    }
+    free(psi);
+    return 0;
+}
+
 /* The flat interface at h0: each cell's fraction below it. */
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
@@ -170,7 +265,194 @@ static int setup(struct march_state *st, char *err, size_t errlen)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
                 T[grid_idx(g, i, j, k)] = layer_fraction(b->interface_height, k, h);
+    if (b->start == START_EXACT)
+        for (int i = -1; i <= g->n[0]; i++)
+            for (int j = -1; j <= g->n[1]; j++)
+                for (int k = 0; k < g->n[2]; k++)
+                    st->vel[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
+    if (b->perturbation > 0.0 && perturb(st, b) != 0) {
+        snprintf(err, errlen, "bagnold2: out of memory for the perturbation");
+        return -1;
+    }
     return two_phase_tracer_changed(st, err, errlen);
+}
+
+/* ---- the growth record: the perturbation's amplitude at every step ---- */
+
+struct growth_record {
+    double *t, *au, *ap;   /* time, velocity and pressure amplitudes */
+    long n, cap;
+    long last_step;
+};
+
+static int record_create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    (void)st;
+    struct growth_record *r = calloc(1, sizeof *r);
+    if (!r) {
+        snprintf(err, errlen, "bagnold2: out of memory");
+        return -1;
+    }
+    r->last_step = -1;
+    *state = r;
+    return 0;
+}
+
+static void record_destroy(void *state)
+{
+    struct growth_record *r = state;
+    if (r) {
+        free(r->t);
+        free(r->au);
+        free(r->ap);
+    }
+    free(r);
+}
+
+static const struct module growth_module = {
+    .name = "bagnold2_growth",
+    .create = record_create,
+    .destroy = record_destroy,
+};
+
+static struct growth_record *record_of(const struct march_state *st)
+{
+    return march_module_state(st, &growth_module);
+}
+
+/* The amplitudes of the departure from a flow uniform along x, in the
+ * grains (T >= 1/2, a face: the mean of its two cells):
+ *   au  the largest |v - <v>_x| over the grains' x and z faces, <v>_x the
+ *       mean of the velocity component v over its row of faces (a uniform
+ *       flow has au = 0: u depends on z only, w = 0);
+ *   ap  the largest |p - <p>_x| over the grains' cells, p the total pressure
+ *       (hydrostatic while the layer is uniform, so <p>_x is p_hydrostatic). */
+void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap)
+{
+    const struct grid *g = &st->g;
+    int t = fields_find(&st->fields, "tracer");
+    *au = *ap = NAN;
+    if (t < 0)
+        return;
+    const double *T = st->fields.e[t].v[0];
+    double mu = 0.0, mp = 0.0;
+    int nx = g->n[0];
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++) {
+            double su = 0.0, sw = 0.0, sp = 0.0;
+            for (int i = 0; i < nx; i++) {
+                su += st->vel[0][grid_idx(g, i, j, k)];
+                sw += st->vel[2][grid_idx(g, i, j, k)];
+                sp += st->pressure[grid_idx(g, i, j, k)];
+            }
+            su /= nx;
+            sw /= nx;
+            sp /= nx;
+            for (int i = 0; i < nx; i++) {
+                double tc = T[grid_idx(g, i, j, k)];
+                double tx = 0.5 * (tc + T[grid_idx(g, (i + nx - 1) % nx, j, k)]);
+                if (tx >= 0.5)
+                    mu = fmax(mu, fabs(st->vel[0][grid_idx(g, i, j, k)] - su));
+                if (k > 0 && 0.5 * (tc + T[grid_idx(g, i, j, k - 1)]) >= 0.5)
+                    mu = fmax(mu, fabs(st->vel[2][grid_idx(g, i, j, k)] - sw));
+                if (tc >= 0.5)
+                    mp = fmax(mp, fabs(st->pressure[grid_idx(g, i, j, k)] - sp));
+            }
+        }
+    *au = mu;
+    *ap = mp;
+}
+
+static int record_state(struct growth_record *r, const struct march_state *st)
+{
+    if (!r || st->cs->mode != MODE_TRANSIENT || st->step == r->last_step)
+        return 0;
+    if (r->n == r->cap) {
+        long c = r->cap ? 2 * r->cap : 1024;
+        double *t = realloc(r->t, (size_t)c * sizeof *t);
+        if (t)
+            r->t = t;
+        double *au = t ? realloc(r->au, (size_t)c * sizeof *au) : NULL;
+        if (au)
+            r->au = au;
+        double *ap = au ? realloc(r->ap, (size_t)c * sizeof *ap) : NULL;
+        if (!ap)
+            return -1;
+        r->ap = ap;
+        r->cap = c;
+    }
+    r->t[r->n] = st->time;
+    bagnold2_amplitudes(st, &r->au[r->n], &r->ap[r->n]);
+    r->n++;
+    r->last_step = st->step;
+    return 0;
+}
+
+struct drive_ctx {
+    struct scene_drive *d;
+    int failed;
+};
+
+static int observe(void *vctx, const struct march_state *st)
+{
+    struct drive_ctx *c = vctx;
+    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
+    if (record_state(record_of(st), st) != 0) {
+        c->failed = 1;
+        return 1;
+    }
+    return stop;
+}
+
+static int drive(struct scene_drive *d)
+{
+    struct march_state *st = d->st;
+    struct drive_ctx c = {.d = d};
+    march_run(st, observe, &c);
+    if (c.failed) {
+        st->status = STATUS_STOPPED;
+        snprintf(st->message, sizeof st->message,
+                 "out of memory for the growth record at step %ld", st->step);
+    }
+    return 0;
+}
+
+static const char *not_restartable(const struct muflow_case *cs)
+{
+    /* a growth study's record (and its fit) starts from the perturbed
+     * state; any other run's growth.csv covers the steps it ran */
+    return cs->mode == MODE_TRANSIENT && params(cs)->perturbation > 0.0
+               ? "a transient bagnold2 run with bagnold2.perturbation > 0 measures the "
+                 "perturbation's growth (growth.csv, growth_rate) from its initial state: it "
+                 "cannot continue from a checkpoint"
+               : NULL;
+}
+
+void bagnold2_growth_window(const double *t, const double *au, long n, double a_sat,
+                            double *t0, double *t1)
+{
+    *t0 = *t1 = NAN;
+    if (n < 1)
+        return;
+    long m = 0;
+    a_sat = fmax(a_sat, au[0]);
+    while (m < n - 1 && !(au[m] > a_sat))
+        m++;
+    *t1 = t[m];
+    *t0 = 0.5 * (t[0] + t[m]);
+}
+
+struct growth_fit bagnold2_growth(const struct march_state *st, int pressure)
+{
+    const struct growth_record *r = record_of(st);
+    struct growth_fit none = {NAN, NAN, NAN, NAN, NAN, 0};
+    if (!r || r->n < 3)
+        return none;
+    double t0, t1;
+    bagnold2_growth_window(r->t, r->au, r->n,
+                           BAGNOLD2_SATURATION * fabs(bagnold2_u(st->cs, st->cs->len[2])), &t0,
+                           &t1);
+    return growth_fit_window(r->t, pressure ? r->ap : r->au, r->n, t0, t1);
 }
 
 /* RMS and max of u - u_exact over the layers whose centre is in [lo, hi). */
@@ -234,6 +516,16 @@ static void results(const struct march_state *st, const struct scene_drive *d,
         v0 += layer_fraction(h0, k, st->g.h[2]);
     v0 *= (double)st->g.n[0] * st->g.n[1];
     run_result_add(res, "mass_error", "%.6e", two_phase_volume(st) / v0 - 1.0);
+    const struct growth_record *r = record_of(st);
+    if (r && r->n >= 3) {
+        struct growth_fit fu = bagnold2_growth(st, 0), fp = bagnold2_growth(st, 1);
+        run_result_add(res, "growth_rate", "%.6e", fu.rate);
+        run_result_add(res, "growth_rate_pressure", "%.6e", fp.rate);
+        run_result_add(res, "growth_fit_r2", "%.6f", fu.r2);
+        run_result_add(res, "growth_window", "%.6g %.6g", fu.t0, fu.t1);
+        run_result_add(res, "amplitude_start", "%.6e", r->au[0]);
+        run_result_add(res, "amplitude_end", "%.6e", r->au[r->n - 1]);
+    }
     snprintf(res->scene_line, sizeof res->scene_line,
              "grains err_rms %.3e (%.3f%% of u_top), air err_rms %.3e (%.3f%%), u_interface "
              "%.6g (exact %.6g)",
@@ -241,7 +533,24 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     profile_free(&pr);
 }
 
-static const struct module *const bagnold2_modules[] = {&two_phase_module, NULL};
+/* growth.csv: the amplitudes at every step of a transient run. */
+static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    const struct growth_record *r = record_of(st);
+    if (!r || r->n == 0)
+        return 0;
+    struct output_file f;
+    if (output_open(&f, dir, "growth.csv", err, errlen) != 0)
+        return -1;
+    fprintf(f.f, "t,amplitude_velocity,amplitude_pressure\n");
+    for (long m = 0; m < r->n; m++)
+        fprintf(f.f, "%.10g,%.10e,%.10e\n", r->t[m], r->au[m], r->ap[m]);
+    return output_commit(&f, err, errlen);
+}
+
+static const struct module *const bagnold2_modules[] = {&two_phase_module, &growth_module,
+                                                        NULL};
+static const char *const bagnold2_files[] = {"growth.csv", NULL};
 
 const struct scene scene_bagnold2 = {
     .name = "bagnold2",
@@ -255,5 +564,9 @@ const struct scene scene_bagnold2 = {
     .exact_profile = exact_profile,
     .headline_name = "u_top",
     .errors = errors,
+    .drive = drive,
+    .not_restartable = not_restartable,
     .results = results,
+    .write = write,
+    .files = bagnold2_files,
 };

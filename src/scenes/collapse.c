@@ -103,10 +103,11 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     const struct boundary *b = &c->bc;
     if (b->face[0][0] != BC_SLIP || b->face[0][1] == BC_PERIODIC || b->face[2][0] != BC_WALL ||
-        b->face[2][1] != BC_SURFACE || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN) ||
+        b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
         snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
-                              "xhi not periodic, zlo = wall, zhi = surface, periodic y and "
-                              "domain.ny = 1");
+                              "xhi not periodic, zlo = wall, zhi = surface or open, periodic y "
+                              "and domain.ny = 1");
         return 1;
     }
     if (!(p->half_width < c->len[0]) || !(p->height < c->len[2])) {
@@ -374,7 +375,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 }
 
 /* collapse.csv: the measures at every step; surface.csv: h(x) at the
- * profile times and at the end. */
+ * profile times and at the end.  Also during the run (write_running), each
+ * file replaced whole: the record so far, without the final profile. */
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
@@ -407,8 +409,9 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
         for (int i = 0; i < r->nx; i++)
             fprintf(f.f, "%.10g,0,%.10g,%.10g\n", r->ptime[m], (i + 0.5) * g->h[0],
                     r->ph[(size_t)m * r->nx + i]);
-    for (int i = 0; i < g->n[0]; i++)
-        fprintf(f.f, "%.10g,1,%.10g,%.10g\n", st->time, (i + 0.5) * g->h[0], h[i]);
+    if (st->status != STATUS_RUNNING) /* the final deposit: once the run has ended */
+        for (int i = 0; i < g->n[0]; i++)
+            fprintf(f.f, "%.10g,1,%.10g,%.10g\n", st->time, (i + 0.5) * g->h[0], h[i]);
     free(h);
     return output_commit(&f, err, errlen);
 }
@@ -459,4 +462,5 @@ const struct scene scene_collapse = {
     .results = results,
     .write = write,
     .files = collapse_files,
+    .write_running = 1,
 };

@@ -16,6 +16,8 @@ struct probe_matrix {
     int *comp;                 /* component of unknown k */
     ptrdiff_t *slot;           /* field slot of unknown k */
     int *pos;                  /* i, j, k of unknown k (3 per unknown) */
+    /* the unknowns each probe sets, by probe: members[start[q] .. start[q+1]) */
+    long *start, *members;
     /* triplets of the last assembly (reused) */
     int *trow, *tcol;
     double *tval;
@@ -56,6 +58,15 @@ int probe_matrix_probes(const struct probe_matrix *pm)
 }
 
 const int *probe_matrix_components(const struct probe_matrix *pm) { return pm->comp; }
+
+/* The probe that sets unknown u: its component and its position's residues
+ * (the order of probe_matrix_assemble's loops). */
+static int probe_of(const struct probe_matrix *pm, long u)
+{
+    const int *at = pm->pos + 3 * u;
+    return ((pm->comp[u] * pm->period[0] + at[0] % pm->period[0]) * pm->period[1] +
+            at[1] % pm->period[1]) * pm->period[2] + at[2] % pm->period[2];
+}
 
 int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const int periodic[3],
                         const struct box act[3], int reach, char *err, size_t errlen)
@@ -114,6 +125,24 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
                     pm->pos[3 * k + 2] = kk;
                 }
     }
+    /* the probes' members by a counting sort of the unknowns on their probe */
+    int nprobes = probe_matrix_probes(pm);
+    pm->start = calloc((size_t)nprobes + 1, sizeof(long));
+    pm->members = malloc((size_t)(pm->n > 0 ? pm->n : 1) * sizeof(long));
+    if (!pm->start || !pm->members) {
+        probe_matrix_destroy(pm);
+        snprintf(err, errlen, "probed matrix: out of memory");
+        return -1;
+    }
+    for (long u = 0; u < pm->n; u++)
+        pm->start[probe_of(pm, u) + 1]++;
+    for (int q = 0; q < nprobes; q++)
+        pm->start[q + 1] += pm->start[q];
+    for (long u = 0; u < pm->n; u++)
+        pm->members[pm->start[probe_of(pm, u)]++] = u;
+    for (int q = nprobes; q > 0; q--)
+        pm->start[q] = pm->start[q - 1];
+    pm->start[0] = 0;
     *out = pm;
     return 0;
 }
@@ -127,38 +156,14 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm->comp);
     free(pm->slot);
     free(pm->pos);
+    free(pm->start);
+    free(pm->members);
     free(pm->trow);
     free(pm->tcol);
     free(pm->tval);
     free(pm);
 }
 
-/* The unknown of component c probed with colour `colour` that row r's stencil
- * reaches, or -1: per direction the offset within +-reach with the right
- * residue is unique (a short periodic direction holds one cell per colour). */
-static int probed_column(const struct probe_matrix *pm, int c, const int at[3],
-                         const int colour[3])
-{
-    int q[3];
-    for (int d = 0; d < 3; d++) {
-        int n = pm->g->n[d], P = pm->period[d];
-        if (pm->periodic[d] && P == n) {
-            q[d] = colour[d];
-            continue;
-        }
-        int off = ((colour[d] - at[d]) % P + P) % P;
-        if (off > pm->reach)
-            off -= P;
-        if (off < -pm->reach || off > pm->reach)
-            return -1;
-        q[d] = at[d] + off;
-        if (pm->periodic[d])
-            q[d] = ((q[d] % n) + n) % n;
-        else if (q[d] < -1 || q[d] > n)
-            return -1;
-    }
-    return pm->index[c][grid_idx(pm->g, q[0], q[1], q[2])];
-}
 
 static int grow_triplets(struct probe_matrix *pm, size_t cap)
 {
@@ -209,40 +214,65 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
     if (!pm->tcap && grow_triplets(pm, (size_t)pm->n * (lower ? 16 : 40) + 16) != 0)
         return -1;
     size_t nz = 0;
-    for (int c = 0; c < 3; c++)
-        for (int a0 = 0; a0 < pm->period[0]; a0++)
-            for (int a1 = 0; a1 < pm->period[1]; a1++)
-                for (int a2 = 0; a2 < pm->period[2]; a2++) {
-                    int colour[3] = {a0, a1, a2};
-                    for (int m = 0; m < 3; m++)
-                        memset(probe[m], 0, g->size * sizeof(double));
-                    int any = 0;
-                    for (long k = 0; k < pm->n; k++) {
-                        const int *at = pm->pos + 3 * k;
-                        if (pm->comp[k] == c && at[0] % pm->period[0] == a0 &&
-                            at[1] % pm->period[1] == a1 && at[2] % pm->period[2] == a2) {
-                            probe[c][pm->slot[k]] = 1.0;
-                            any = 1;
-                        }
-                    }
-                    if (!any)
-                        continue;
-                    op(ctx, probe, resp);
-                    for (long r = 0; r < pm->n; r++) {
-                        int col = probed_column(pm, c, pm->pos + 3 * r, colour);
-                        if (col < 0 || (lower && col > r))
-                            continue;
-                        double v = resp[pm->comp[r]][pm->slot[r]];
-                        if (v == 0.0)
-                            continue;
-                        if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0)
-                            return -1;
-                        pm->trow[nz] = (int)r;
-                        pm->tcol[nz] = col;
-                        pm->tval[nz] = v;
-                        nz++;
+    const int nprobes = probe_matrix_probes(pm);
+    for (int q = 0; q < nprobes; q++) {
+        if (pm->start[q] == pm->start[q + 1])
+            continue;
+        for (int m = 0; m < 3; m++)
+            memset(probe[m], 0, g->size * sizeof(double));
+        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
+            long u = pm->members[a];
+            probe[pm->comp[u]][pm->slot[u]] = 1.0;
+        }
+        op(ctx, probe, resp);
+        /* the rows each probed column reaches: the unknowns of any component
+         * within reach of its position (every position of a periodic direction
+         * that is its own colour period and no longer than the stencil); no
+         * other column of the probe is within reach of them, so the response
+         * there is this column's entry */
+        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
+            long col = pm->members[a];
+            const int *at = pm->pos + 3 * col;
+            int lo[3], hi[3];
+            for (int d = 0; d < 3; d++) {
+                int n = g->n[d];
+                if (pm->periodic[d] && pm->period[d] == n && n <= 2 * pm->reach + 1) {
+                    lo[d] = 0;
+                    hi[d] = n - 1;
+                } else {
+                    lo[d] = at[d] - pm->reach;
+                    hi[d] = at[d] + pm->reach;
+                    if (!pm->periodic[d]) { /* the ghost layer's unknowns: none, index -1 */
+                        lo[d] = lo[d] < -1 ? -1 : lo[d];
+                        hi[d] = hi[d] > n ? n : hi[d];
                     }
                 }
+            }
+            for (int t0 = lo[0]; t0 <= hi[0]; t0++)
+                for (int t1 = lo[1]; t1 <= hi[1]; t1++)
+                    for (int t2 = lo[2]; t2 <= hi[2]; t2++) {
+                        int t[3] = {t0, t1, t2};
+                        for (int d = 0; d < 3; d++)
+                            if (pm->periodic[d])
+                                t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
+                        ptrdiff_t p = grid_idx(g, t[0], t[1], t[2]);
+                        for (int m = 0; m < 3; m++) {
+                            int r = pm->index[m][p];
+                            if (r < 0 || (lower && col > r))
+                                continue;
+                            double v = resp[m][p];
+                            if (v == 0.0)
+                                continue;
+                            if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0)
+                                return -1;
+                            pm->trow[nz] = r;
+                            pm->tcol[nz] = (int)col;
+                            pm->tval[nz] = v;
+                            nz++;
+                        }
+                    }
+        }
+    }
     /* rows by counting sort (stable), then columns ascending within a row;
      * every (row, column) comes from exactly one probe */
     int n = (int)pm->n;

@@ -36,7 +36,11 @@ struct viscous_solver {
     int failed_blocks;                 /* of the last viscous_precondition */
     double *divbuf;                    /* divergence for the augmentation term */
     struct sparse_direct *direct;      /* NULL: line blocks only */
-    int direct_ok;                     /* the last factorisation succeeded */
+    int direct_ok;                     /* the factorisation serves this solve */
+    int direct_valid;                  /* the last factorisation succeeded */
+    int direct_reuse;                  /* > 0: it serves up to this many further steps */
+    int direct_age;                    /* viscous_precondition calls since it */
+    int direct_fresh_iters, direct_last_iters; /* Krylov iterations just after it, and last */
     /* full tangent work: strain products, their tangent stresses, and the
      * extra BiCGStab vectors (allocated with a direct kind only) */
     double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
@@ -58,6 +62,11 @@ struct viscous_solver {
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
+
+void viscous_set_reuse(struct viscous_solver *s, int steps)
+{
+    s->direct_reuse = steps > 0 ? steps : 0;
+}
 
 /* CPU seconds of the process (all threads): the timings of viscous_precond_info,
  * which a shared machine does not inflate the way it does wall time. */
@@ -420,10 +429,24 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         if (ok)
             return;
     }
+    if (s->direct && s->direct_valid && s->direct_reuse > 0 && s->direct_age < s->direct_reuse &&
+        s->direct_last_iters <= 2 * s->direct_fresh_iters + 2) {
+        /* the factors of an earlier operator precondition the current one:
+         * the Krylov method works on the current operator, so the solution
+         * is the same to the linear tolerance and only the iterations grow */
+        s->direct_age++;
+        s->direct_ok = 1;
+        s->info.probe_seconds = s->info.setup_seconds = 0.0;
+        s->info.reused = 1;
+        return;
+    }
     if (s->direct) {
         struct apply_ctx a = {s, pb};
         double t0 = cpu_now();
-        s->direct_ok = sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+        s->direct_ok = s->direct_valid =
+            sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+        s->direct_age = 0;
+        s->direct_fresh_iters = -1;
         s->info.setup_seconds = cpu_now() - t0; /* probing included */
         s->info.unknowns = sparse_direct_unknowns(s->direct);
         s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
@@ -668,6 +691,19 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
 {
     double t0 = cpu_now();
     int rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    if (rc != 0 && s->direct_ok && s->direct_age > 0) {
+        /* kept factors that no longer serve: refactorised for this operator */
+        int keep = s->direct_reuse;
+        s->direct_reuse = 0;
+        viscous_precondition(s, pb);
+        s->direct_reuse = keep;
+        rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    }
+    if (s->direct_ok) {
+        if (s->direct_fresh_iters < 0)
+            s->direct_fresh_iters = st->iterations;
+        s->direct_last_iters = st->iterations;
+    }
     if (rc != 0 && s->amg_ok && s->amg_age > 0) {
         /* a reused hierarchy that no longer serves: rebuilt for this operator */
         s->amg_cfg.reuse = -s->amg_cfg.reuse; /* forces the setup */
