@@ -64,7 +64,13 @@ void bedload_defaults(struct bedload_params *b);
 /* The bed module's parameters (physics/bed.h) of b. */
 struct bed_params bedload_bed_params(const struct bedload_params *b);
 
-/* The checks of the parameters against the case (bed inside the channel,
+/* Configures the module of b's model (the mixed model's bed, or the
+ * two-fluid model); 0, or -1 with the cause. */
+int bedload_configure(struct march_state *st, const struct bedload_params *b, char *err,
+                      size_t errlen);
+
+/* The checks of the parameters against the case (the two-fluid model in
+ * steady mode on nz >= 3, bed inside the channel,
  * grains heavier than the fluid, a pressure gradient along +x, bed load:
  * A > 0 and 0 < delta <= h), each message naming the key as
  * section.key.  Returns 0, or 1 with the message in msg. */

@@ -84,28 +84,12 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                               "needs periodic y (boundary.ylo = boundary.yhi = periodic)");
         return 1;
     }
-    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
-        snprintf(msg, msglen, "bedload.model = two_fluid needs solver.mode = steady (the grains' "
-                              "pseudo-time mass is not their inertia)");
-        return 1;
-    }
-    if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
-        snprintf(msg, msglen, "bedload.model = two_fluid needs domain.nz >= 3");
-        return 1;
-    }
     return bedload_check_params(c, b, "bedload", msg, msglen);
 }
 
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
-    const struct bedload_params *b = params(st->cs);
-    const struct bed_params bp = bedload_bed_params(b);
-    if (b->model == BEDLOAD_TWO_FLUID) {
-        const struct two_fluid_params tp = {
-            .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
-        return two_fluid_configure(st, &tp, err, errlen);
-    }
-    return bed_configure(st, &bp, err, errlen);
+    return bedload_configure(st, params(st->cs), err, errlen);
 }
 
 /* The measured mobile layer: h_p less the measured top of the fixed bed

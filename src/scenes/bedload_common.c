@@ -2,6 +2,7 @@
  * checks, the exact plane solution, the measured bed top. */
 #include <math.h>
 #include <stdio.h>
+#include "physics/bed_two_fluid.h"
 #include "scenes/bedload.h"
 
 const struct choice bedload_model_choices[] = {
@@ -85,6 +86,16 @@ double bedload_exact_flow_rate(const struct bedload_exact *x)
 int bedload_check_params(const struct muflow_case *c, const struct bedload_params *b,
                          const char *section, char *msg, size_t msglen)
 {
+    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
+        snprintf(msg, msglen, "%s.model = two_fluid needs solver.mode = steady (the grains' "
+                              "pseudo-time mass is not their inertia)",
+                 section);
+        return 1;
+    }
+    if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
+        snprintf(msg, msglen, "%s.model = two_fluid needs domain.nz >= 3", section);
+        return 1;
+    }
     if (!(b->bed_height < c->len[2])) {
         snprintf(msg, msglen, "%s.bed_height = %.17g: must be inside the channel, below "
                               "domain.lz = %.17g",
@@ -118,6 +129,18 @@ int bedload_check_params(const struct muflow_case *c, const struct bedload_param
         return 1;
     }
     return 0;
+}
+
+int bedload_configure(struct march_state *st, const struct bedload_params *b, char *err,
+                      size_t errlen)
+{
+    const struct bed_params bp = bedload_bed_params(b);
+    if (b->model == BEDLOAD_TWO_FLUID) {
+        const struct two_fluid_params tp = {
+            .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
+        return two_fluid_configure(st, &tp, err, errlen);
+    }
+    return bed_configure(st, &bp, err, errlen);
 }
 
 /* The fixed bed creeps at ~lambda D (1e-8 m/s at lambda 1e-6), far below

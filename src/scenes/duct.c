@@ -95,15 +95,6 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     const struct bedload_params *b = params(c);
-    if (b->model == BEDLOAD_TWO_FLUID && c->mode != MODE_STEADY) {
-        snprintf(msg, msglen, "duct.model = two_fluid needs solver.mode = steady (the grains' "
-                              "pseudo-time mass is not their inertia)");
-        return 1;
-    }
-    if (b->model == BEDLOAD_TWO_FLUID && c->n[2] < 3) {
-        snprintf(msg, msglen, "duct.model = two_fluid needs domain.nz >= 3");
-        return 1;
-    }
     return bedload_check_params(c, b, "duct", msg, msglen);
 }
 
@@ -111,14 +102,7 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
  * 1 - (1 - y / ly)^2 stalled (residual 2e2 after 201 steps at 20 x 40). */
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
-    const struct bedload_params *b = params(st->cs);
-    const struct bed_params bp = bedload_bed_params(b);
-    if (b->model == BEDLOAD_TWO_FLUID) {
-        const struct two_fluid_params tp = {
-            .bed = bp, .grain_diameter = b->grain_diameter, .kozeny = b->kozeny};
-        return two_fluid_configure(st, &tp, err, errlen);
-    }
-    return bed_configure(st, &bp, err, errlen);
+    return bedload_configure(st, params(st->cs), err, errlen);
 }
 
 /* The profile: the last column of cells, beside the symmetry plane. */
