@@ -44,4 +44,24 @@ void bed_point(const struct bed_params *p, double z, double dz, double *t, doubl
 double bed_viscosity(const struct bed_params *p, const struct rheology *r, double z, double dz,
                      double shear, double *deta);
 
+/* A law of the stress locations: the viscosity at height z (control volume
+ * of height dz) and shear rate |D| = shear, its slope d eta / d|D| in
+ * *deta. */
+typedef double (*bed_law)(const void *ctx, double z, double dz, double shear, double *deta);
+
+/* Where bed_fill_viscosities writes; a NULL array is not written. */
+struct bed_viscosity_out {
+    double *eta_c, *tan_c[3], *b_c;    /* cells */
+    double *eta_e[3], *tan_e[3], *b_e[3]; /* edges of plane c */
+};
+
+/* The law at every interior cell (|D| = sqrt(shear2), NULL: 0) and every
+ * edge of plane c (along z at a cell centre when c = z, else on a z face;
+ * |D| from cn2 and e2 as kernel_edge_shear2 sums it, cn2 NULL: 0), with the
+ * tangent coefficients of kernel_viscosity_cells and _edges for this law's
+ * eta and slope (cells: the normal strain rates of vel). */
+void bed_fill_viscosities(const struct grid *g, bed_law law, const void *ctx,
+                          const double *shear2, const double *cn2, double *const e2[3],
+                          double *const vel[3], const struct bed_viscosity_out *out);
+
 #endif

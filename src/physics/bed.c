@@ -83,35 +83,27 @@ double bed_viscosity(const struct bed_params *p, const struct rheology *r, doubl
     return eta;
 }
 
-static void properties(struct march_state *st, void *state)
+void bed_fill_viscosities(const struct grid *g, bed_law law, const void *ctx,
+                          const double *shear2, const double *cn2, double *const e2[3],
+                          double *const vel[3], const struct bed_viscosity_out *out)
 {
-    struct bed *bd = state;
-    if (!bd->configured)
-        return;
-    const struct grid *g = &st->g;
-    const struct muflow_case *cs = st->cs;
-    const struct rheology *r = &cs->rheo;
-    const struct bed_params *p = &bd->p;
     const ptrdiff_t *o = g->stride;
     const double dz = g->h[2];
-    /* cells: |D| is the core's shear2; the tangent coefficients are those of
-     * kernel_viscosity_cells with this law's eta and slope */
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
-                double D = sqrt(st->shear2[q]), de;
-                double eta = bed_viscosity(p, r, (k + 0.5) * dz, dz, D, &de);
-                st->eta[q] = eta;
-                if (st->b_c)
-                    st->b_c[q] = D > 0.0 ? de / (2.0 * D) : 0.0;
-                if (cs->newton)
+                double D = shear2 ? sqrt(shear2[q]) : 0.0, de;
+                double eta = law(ctx, (k + 0.5) * dz, dz, D, &de);
+                out->eta_c[q] = eta;
+                if (out->b_c)
+                    out->b_c[q] = D > 0.0 ? de / (2.0 * D) : 0.0;
+                if (out->tan_c[0])
                     for (int a = 0; a < 3; a++) {
-                        double gn = 2.0 * (st->vel[a][q + o[a]] - st->vel[a][q]) / g->h[a];
-                        st->tan_c[a][q] = D > 0.0 ? eta + de * gn * gn / (2.0 * D) : eta;
+                        double gn = 2.0 * (vel[a][q + o[a]] - vel[a][q]) / g->h[a];
+                        out->tan_c[a][q] = D > 0.0 ? eta + de * gn * gn / (2.0 * D) : eta;
                     }
             }
-    /* edges of plane c: along z at a cell centre when c = z, else on a z face */
     for (int c = 0; c < 3; c++) {
         int hi[3] = {g->n[0], g->n[1], g->n[2]};
         hi[c] = g->n[c] - 1;
@@ -119,17 +111,48 @@ static void properties(struct march_state *st, void *state)
             for (int j = 0; j <= hi[1]; j++)
                 for (int k = 0; k <= hi[2]; k++) {
                     ptrdiff_t e = grid_idx(g, i, j, k);
-                    double own = st->e2[c][e];
-                    double D = sqrt(kernel_edge_shear2(g, st->cn2, st->e2, c, e)), de;
+                    double own = cn2 ? e2[c][e] : 0.0;
+                    double D = cn2 ? sqrt(kernel_edge_shear2(g, cn2, e2, c, e)) : 0.0, de;
                     double z = c == 2 ? (k + 0.5) * dz : k * dz;
-                    double eta = bed_viscosity(p, r, z, dz, D, &de);
-                    st->eta_e[c][e] = eta;
-                    if (cs->newton)
-                        st->tan_e[c][e] = D > 0.0 ? eta + de * own / D : eta;
-                    if (st->b_e[c])
-                        st->b_e[c][e] = D > 0.0 ? de / (2.0 * D) : 0.0;
+                    double eta = law(ctx, z, dz, D, &de);
+                    out->eta_e[c][e] = eta;
+                    if (out->tan_e[c])
+                        out->tan_e[c][e] = D > 0.0 ? eta + de * own / D : eta;
+                    if (out->b_e[c])
+                        out->b_e[c][e] = D > 0.0 ? de / (2.0 * D) : 0.0;
                 }
     }
+}
+
+struct bed_law_ctx {
+    const struct bed_params *p;
+    const struct rheology *r;
+};
+
+static double mixture_law(const void *ctx, double z, double dz, double shear, double *deta)
+{
+    const struct bed_law_ctx *l = ctx;
+    return bed_viscosity(l->p, l->r, z, dz, shear, deta);
+}
+
+static void properties(struct march_state *st, void *state)
+{
+    struct bed *bd = state;
+    if (!bd->configured)
+        return;
+    const struct grid *g = &st->g;
+    const struct muflow_case *cs = st->cs;
+    const struct bed_law_ctx l = {&bd->p, &cs->rheo};
+    /* cells: |D| is the core's shear2; the tangent coefficients are those of
+     * kernel_viscosity_cells with this law's eta and slope */
+    struct bed_viscosity_out out = {.eta_c = st->eta, .b_c = st->b_c};
+    for (int a = 0; a < 3; a++) {
+        out.tan_c[a] = cs->newton ? st->tan_c[a] : NULL;
+        out.eta_e[a] = st->eta_e[a];
+        out.tan_e[a] = cs->newton ? st->tan_e[a] : NULL;
+        out.b_e[a] = st->b_e[a];
+    }
+    bed_fill_viscosities(g, mixture_law, &l, st->shear2, st->cn2, st->e2, st->vel, &out);
     bc_fill_scalar(g, &st->bc, st->eta);
     if (cs->newton)
         for (int a = 0; a < 3; a++)

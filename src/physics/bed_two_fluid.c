@@ -117,10 +117,19 @@ int two_fluid_configure(struct march_state *st, const struct two_fluid_params *p
     return 0;
 }
 
+struct law_ctx {
+    const struct bed_params *p;
+    const struct rheology *r;
+};
+
 /* The fluid stress's viscosity at height z (control volume dz): eta_e in
- * the bed, eta_f above, in series where the bed's top cuts the volume. */
-static double fluid_viscosity(const struct bed_params *p, double z, double dz)
+ * the bed, eta_f above, in series where the bed's top cuts the volume;
+ * Newtonian (a bed_law whose slope is 0). */
+static double fluid_viscosity(const void *ctx, double z, double dz, double shear, double *deta)
 {
+    (void)shear;
+    const struct bed_params *p = ((const struct law_ctx *)ctx)->p;
+    *deta = 0.0;
     double t, pp;
     bed_point(p, z, dz, &t, &pp);
     double ef = p->fluid_viscosity, eb = ef * (1.0 + 2.5 * p->phi);
@@ -140,10 +149,14 @@ static double face_share(const struct bed_params *p, int k, double dz)
 }
 
 /* The particle viscosity mu_s p_p(z) f(|D|) at the point z (p_p = 0 at and
- * above the bed's top, where the grains carry no stress) and its slope. */
-static double particle_viscosity(const struct bed_params *p, const struct rheology *r, double z,
-                                 double shear, double *deta)
+ * above the bed's top, where the grains carry no stress) and its slope (a
+ * bed_law: the point's own p_p, not the control volume's mean). */
+static double particle_viscosity(const void *ctx, double z, double dz, double shear,
+                                 double *deta)
 {
+    (void)dz;
+    const struct bed_params *p = ((const struct law_ctx *)ctx)->p;
+    const struct rheology *r = ((const struct law_ctx *)ctx)->r;
     double pp = p->weight * (p->height - z);
     if (!(pp > 0.0)) {
         *deta = 0.0;
@@ -164,38 +177,19 @@ static void properties(struct march_state *st, void *state)
     const struct muflow_case *cs = st->cs;
     const struct rheology *r = &st->rheo;
     const struct bed_params *p = &b->p.bed;
-    const ptrdiff_t *o = g->stride;
-    const double dz = g->h[2];
     /* the mixture: the fluid stress alone (Newtonian, tangent = viscosity) */
     for (size_t q = 0; q < g->size; q++)
         if (st->b_c)
             st->b_c[q] = 0.0;
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t q = grid_idx(g, i, j, k);
-                double eta = fluid_viscosity(p, (k + 0.5) * dz, dz);
-                st->eta[q] = eta;
-                if (cs->newton)
-                    for (int a = 0; a < 3; a++)
-                        st->tan_c[a][q] = eta;
-            }
-    for (int c = 0; c < 3; c++) {
-        int hi[3] = {g->n[0], g->n[1], g->n[2]};
-        hi[c] = g->n[c] - 1;
-        for (int i = 0; i <= hi[0]; i++)
-            for (int j = 0; j <= hi[1]; j++)
-                for (int k = 0; k <= hi[2]; k++) {
-                    ptrdiff_t e = grid_idx(g, i, j, k);
-                    double z = c == 2 ? (k + 0.5) * dz : k * dz;
-                    double eta = fluid_viscosity(p, z, dz);
-                    st->eta_e[c][e] = eta;
-                    if (cs->newton)
-                        st->tan_e[c][e] = eta;
-                    if (st->b_e[c])
-                        st->b_e[c][e] = 0.0;
-                }
+    const struct law_ctx l = {p, r};
+    struct bed_viscosity_out fluid = {.eta_c = st->eta};
+    for (int a = 0; a < 3; a++) {
+        fluid.tan_c[a] = cs->newton ? st->tan_c[a] : NULL;
+        fluid.eta_e[a] = st->eta_e[a];
+        fluid.tan_e[a] = cs->newton ? st->tan_e[a] : NULL;
+        fluid.b_e[a] = st->b_e[a];
     }
+    bed_fill_viscosities(g, fluid_viscosity, &l, NULL, NULL, NULL, st->vel, &fluid);
     bc_fill_scalar(g, &st->bc, st->eta);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
@@ -211,33 +205,13 @@ static void properties(struct march_state *st, void *state)
     newt.viscosity = 1.0;
     kernel_viscosity_cells(g, &newt, b->up, b->cn2, b->e2, st->pressure, b->eta_c, NULL, b->shear2,
                            b->scratch, NULL);
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t q = grid_idx(g, i, j, k);
-                double D = sqrt(b->shear2[q]), de;
-                double eta = particle_viscosity(p, r, (k + 0.5) * dz, D, &de);
-                b->eta_c[q] = eta;
-                for (int a = 0; a < 3; a++) {
-                    double gn = 2.0 * (b->up[a][q + o[a]] - b->up[a][q]) / g->h[a];
-                    b->tan_c[a][q] = D > 0.0 ? eta + de * gn * gn / (2.0 * D) : eta;
-                }
-            }
-    for (int c = 0; c < 3; c++) {
-        int hi[3] = {g->n[0], g->n[1], g->n[2]};
-        hi[c] = g->n[c] - 1;
-        for (int i = 0; i <= hi[0]; i++)
-            for (int j = 0; j <= hi[1]; j++)
-                for (int k = 0; k <= hi[2]; k++) {
-                    ptrdiff_t e = grid_idx(g, i, j, k);
-                    double own = b->e2[c][e];
-                    double D = sqrt(kernel_edge_shear2(g, b->cn2, b->e2, c, e)), de;
-                    double z = c == 2 ? (k + 0.5) * dz : k * dz;
-                    double eta = particle_viscosity(p, r, z, D, &de);
-                    b->eta_e[c][e] = eta;
-                    b->tan_e[c][e] = D > 0.0 ? eta + de * own / D : eta;
-                }
+    struct bed_viscosity_out grains = {.eta_c = b->eta_c};
+    for (int a = 0; a < 3; a++) {
+        grains.tan_c[a] = b->tan_c[a];
+        grains.eta_e[a] = b->eta_e[a];
+        grains.tan_e[a] = b->tan_e[a];
     }
+    bed_fill_viscosities(g, particle_viscosity, &l, b->shear2, b->cn2, b->e2, b->up, &grains);
     bc_fill_scalar(g, &st->bc, b->eta_c);
     for (int a = 0; a < 3; a++)
         bc_fill_scalar(g, &st->bc, b->tan_c[a]);
