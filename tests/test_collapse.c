@@ -282,14 +282,7 @@ static void test_bad_input(void **state)
         {"boundary.xlo=wall", "boundary.xlo"},
         {"physics.advection_scheme=quick", "physics.advection_scheme"},
     };
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        struct muflow_case cs;
-        char err[512];
-        char *ov[] = {(char *)bad[i][0]};
-        assert_int_equal(case_load(&cs, CASE, 1, ov, err, sizeof err), 2);
-        print_message("%s\n", err);
-        assert_non_null(strstr(err, bad[i][1]));
-    }
+    test_bad_overrides(CASE, bad, sizeof bad / sizeof bad[0]);
 }
 
 void group_collapse(struct test_tally *t)

@@ -12,7 +12,21 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "config/case.h"
 #include "test_main.h"
+
+void test_bad_overrides(const char *case_path, const char *const bad[][2], size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        struct muflow_case cs;
+        char err[512];
+        char *ov[] = {(char *)bad[i][0]};
+        assert_int_equal(case_load(&cs, case_path, 1, ov, err, sizeof err), 2);
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, bad[i][1]));
+        assert_null(strchr(err, '\n'));
+    }
+}
 
 char *test_read_file(const char *path, size_t *len)
 {

@@ -30,6 +30,11 @@ struct test_tally {
  * is not NULL; fails the test when it cannot be read (caller frees). */
 char *test_read_file(const char *path, size_t *len);
 
+/* Each bad[i][0], one override of the case file case_path, is refused:
+ * case_load returns 2 with a one-line message containing bad[i][1] (the
+ * key it names). */
+void test_bad_overrides(const char *case_path, const char *const bad[][2], size_t n);
+
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);

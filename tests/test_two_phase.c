@@ -64,14 +64,7 @@ static void test_bad_input(void **state)
         {"bagnold2.start=steady", "bagnold2.start"},
         {"physics.density=1000", "physics.density"},
     };
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        struct muflow_case cs;
-        char err[512];
-        char *ov[] = {(char *)bad[i][0]};
-        assert_int_equal(case_load(&cs, CASE, 1, ov, err, sizeof err), 2);
-        print_message("%s\n", err);
-        assert_non_null(strstr(err, bad[i][1]));
-    }
+    test_bad_overrides(CASE, bad, sizeof bad / sizeof bad[0]);
 }
 
 /* From rest in time (the lagged viscosity, T carried by the VOF transport
