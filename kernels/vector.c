@@ -109,6 +109,15 @@ double kernel_sum(const struct grid *g, const double *f)
     return s;
 }
 
+double kernel_norm2_cells(const struct grid *g, const double *f)
+{
+    struct box bx;
+    interior_box(g, &bx);
+    double s = 0.0;
+    BOX_REDUCE(&bx, s, add, 0.0, f[p] * f[p]);
+    return sqrt(s);
+}
+
 double kernel_max_abs_cells(const struct grid *g, const double *f)
 {
     struct box bx;

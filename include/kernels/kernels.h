@@ -141,8 +141,10 @@ void kernel_multiply_minus(const struct grid *g, const struct box act[3], const 
 /* y = alpha x + beta y */
 void kernel_lincomb(const struct grid *g, const struct box act[3], double alpha, double *const x[3],
                     double beta, double *y[3]);
-/* Sum and max |f| of a cell field over interior cells, deterministic across runs. */
+/* Sum, 2-norm and max |f| of a cell field over interior cells,
+ * deterministic across runs. */
 double kernel_sum(const struct grid *g, const double *f);
+double kernel_norm2_cells(const struct grid *g, const double *f);
 double kernel_max_abs_cells(const struct grid *g, const double *f);
 
 #endif

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "kernels/kernels.h"
 #include "solvers/multigrid.h"
 #include "solvers/pressure.h"
 
@@ -77,19 +78,6 @@ int pressure_uniform(const struct pressure_solver *ps) { return ps->uniform; }
 
 const char *pressure_message(const struct pressure_solver *ps) { return ps->message; }
 
-/* 2-norm of f over the interior cells. */
-static double interior_norm(const struct grid *g, const double *f)
-{
-    double s = 0.0;
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                double v = f[grid_idx(g, i, j, k)];
-                s += v * v;
-            }
-    return sqrt(s);
-}
-
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor)
 {
     if (ps->uniform) {
@@ -107,7 +95,7 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
      * no longer changes. */
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
-        double norm = interior_norm(ps->g, ps->rhs);
+        double norm = kernel_norm2_cells(ps->g, ps->rhs);
         if (norm <= floor)
             return 0; /* phi = 0: nothing above the floor to project */
         rtol = fmax(rtol, floor / norm);
