@@ -24,6 +24,33 @@ struct line_blocks {
     double *probe;            /* nlines * len * PROBES: probed rows, unsymmetrised */
 };
 
+/* A preconditioner kept across steps (a factorisation, an AMG hierarchy):
+ * it serves up to a limit of further viscous_precondition calls while the
+ * Krylov iterations stay within twice those of its first solve plus 2. */
+struct kept {
+    int age;                     /* viscous_precondition calls since it was built */
+    int fresh_iters, last_iters; /* Krylov iterations just after it, and last */
+    int force;                   /* 1: the next call rebuilds it (a failed solve) */
+};
+
+static int kept_serves(const struct kept *k, int limit)
+{
+    return !k->force && limit > 0 && k->age < limit && k->last_iters <= 2 * k->fresh_iters + 2;
+}
+
+static void kept_built(struct kept *k)
+{
+    k->age = 0;
+    k->fresh_iters = -1;
+}
+
+static void kept_solved(struct kept *k, int iterations)
+{
+    if (k->fresh_iters < 0)
+        k->fresh_iters = iterations;
+    k->last_iters = iterations;
+}
+
 struct viscous_solver {
     const struct grid *g;
     const struct boundary *bc;
@@ -39,8 +66,7 @@ struct viscous_solver {
     int direct_ok;                     /* the factorisation serves this solve */
     int direct_valid;                  /* the last factorisation succeeded */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
-    int direct_age;                    /* viscous_precondition calls since it */
-    int direct_fresh_iters, direct_last_iters; /* Krylov iterations just after it, and last */
+    struct kept direct_kept;
     /* full tangent work: strain products, their tangent stresses, and the
      * extra BiCGStab vectors (allocated with a direct kind only) */
     double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
@@ -53,8 +79,7 @@ struct viscous_solver {
     struct csr_matrix amat;            /* the probed matrix */
     double *amg_b, *amg_x;             /* gathered right-hand side and correction */
     int amg_ok;                        /* the last setup succeeded */
-    int amg_age;                       /* viscous_precondition calls since the setup */
-    int amg_fresh_iters, amg_last_iters; /* Krylov iterations just after it, and last */
+    struct kept amg_kept;              /* the hierarchy's reuse (amg_cfg.reuse) */
     double *(*gv)[3];                  /* GMRES basis: restart + 1 field triples */
     int gv_len;
     double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
@@ -391,11 +416,10 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
-    if (s->amg && s->amg_ok && s->amg_cfg.reuse > 0 && s->amg_age < s->amg_cfg.reuse &&
-        s->amg_last_iters <= 2 * s->amg_fresh_iters + 2) {
+    if (s->amg && s->amg_ok && kept_serves(&s->amg_kept, s->amg_cfg.reuse)) {
         /* the hierarchy of an earlier operator still serves: GMRES works on
          * the current one, so only the iteration count can suffer */
-        s->amg_age++;
+        s->amg_kept.age++;
         s->info.probe_seconds = s->info.setup_seconds = 0.0;
         s->info.reused = 1;
         return;
@@ -424,17 +448,15 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->info.complexity = ok ? amg_hypre_complexity(s->amg) : 0.0;
         s->info.kind = ok ? VISCOUS_AMG : VISCOUS_LINE;
         s->amg_ok = ok;
-        s->amg_age = 0;
-        s->amg_fresh_iters = -1;
+        kept_built(&s->amg_kept);
         if (ok)
             return;
     }
-    if (s->direct && s->direct_valid && s->direct_reuse > 0 && s->direct_age < s->direct_reuse &&
-        s->direct_last_iters <= 2 * s->direct_fresh_iters + 2) {
+    if (s->direct && s->direct_valid && kept_serves(&s->direct_kept, s->direct_reuse)) {
         /* the factors of an earlier operator precondition the current one:
          * the Krylov method works on the current operator, so the solution
          * is the same to the linear tolerance and only the iterations grow */
-        s->direct_age++;
+        s->direct_kept.age++;
         s->direct_ok = 1;
         s->info.probe_seconds = s->info.setup_seconds = 0.0;
         s->info.reused = 1;
@@ -445,8 +467,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         double t0 = cpu_now();
         s->direct_ok = s->direct_valid =
             sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
-        s->direct_age = 0;
-        s->direct_fresh_iters = -1;
+        kept_built(&s->direct_kept);
         s->info.setup_seconds = cpu_now() - t0; /* probing included */
         s->info.unknowns = sparse_direct_unknowns(s->direct);
         s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
@@ -691,31 +712,19 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
 {
     double t0 = cpu_now();
     int rc = solve(s, pb, rhs, x, rtol, maxit, st);
-    if (rc != 0 && s->direct_ok && s->direct_age > 0) {
-        /* kept factors that no longer serve: refactorised for this operator */
-        int keep = s->direct_reuse;
-        s->direct_reuse = 0;
+    /* kept factors or a kept hierarchy that no longer serve: rebuilt for
+     * this operator */
+    struct kept *k = s->amg_ok ? &s->amg_kept : s->direct_ok ? &s->direct_kept : NULL;
+    if (rc != 0 && k && k->age > 0) {
+        k->force = 1;
         viscous_precondition(s, pb);
-        s->direct_reuse = keep;
+        k->force = 0;
         rc = solve(s, pb, rhs, x, rtol, maxit, st);
     }
-    if (s->direct_ok) {
-        if (s->direct_fresh_iters < 0)
-            s->direct_fresh_iters = st->iterations;
-        s->direct_last_iters = st->iterations;
-    }
-    if (rc != 0 && s->amg_ok && s->amg_age > 0) {
-        /* a reused hierarchy that no longer serves: rebuilt for this operator */
-        s->amg_cfg.reuse = -s->amg_cfg.reuse; /* forces the setup */
-        viscous_precondition(s, pb);
-        s->amg_cfg.reuse = -s->amg_cfg.reuse;
-        rc = solve(s, pb, rhs, x, rtol, maxit, st);
-    }
-    if (s->amg_ok) {
-        if (s->amg_fresh_iters < 0)
-            s->amg_fresh_iters = st->iterations;
-        s->amg_last_iters = st->iterations;
-    }
+    if (s->amg_ok)
+        kept_solved(&s->amg_kept, st->iterations);
+    else if (s->direct_ok)
+        kept_solved(&s->direct_kept, st->iterations);
     s->info.solve_seconds = cpu_now() - t0;
     return rc;
 }
