@@ -136,8 +136,10 @@ void stage_projection(struct march_state *st, double dt)
     kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
     /* a divergence at DIVERGENCE_FLOOR of |u| / h in the 2-norm (which bounds
      * every cell's): solving further changes nothing */
-    double floor = DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
-                   march_min_spacing(g);
+    double floor = pressure_uniform(st->pressure_solver)
+                       ? 0.0 /* the FFT path is direct: no floor to pass */
+                       : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
+                             march_min_spacing(g);
     pressure_solve(st->pressure_solver, st->phi, st->phi, floor);
     bc_fill_pressure(g, &st->bc, st->phi);
     subtract_gradient(st, st->phi);
