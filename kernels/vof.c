@@ -126,18 +126,6 @@ double vof_plane_alpha(const double m[3], double volume)
     return al * norm - shift;
 }
 
-double vof_slab_fraction(const double m[3], double alpha, double t_uniform, int d, double lo,
-                         double width)
-{
-    /* xi_d = lo + width eta maps the slab onto the unit cube eta: the plane
-     * keeps its other components, m_d scales by width, alpha moves by m_d lo */
-    double ms[3] = {m[0], m[1], m[2]};
-    ms[d] *= width;
-    if (ms[0] == 0.0 && ms[1] == 0.0 && ms[2] == 0.0)
-        return t_uniform;
-    return vof_plane_volume(ms, alpha - m[d] * lo);
-}
-
 double vof_box_fraction(const double m[3], double alpha, double t_uniform, const double lo[3],
                         const double width[3])
 {
@@ -150,6 +138,15 @@ double vof_box_fraction(const double m[3], double alpha, double t_uniform, const
     if (ms[0] == 0.0 && ms[1] == 0.0 && ms[2] == 0.0)
         return t_uniform;
     return vof_plane_volume(ms, al);
+}
+
+double vof_slab_fraction(const double m[3], double alpha, double t_uniform, int d, double lo,
+                         double width)
+{
+    double los[3] = {0.0, 0.0, 0.0}, widths[3] = {1.0, 1.0, 1.0};
+    los[d] = lo;
+    widths[d] = width;
+    return vof_box_fraction(m, alpha, t_uniform, los, widths);
 }
 
 /* ---- normals: mixed Youngs-centred (Aulisa et al. 2007) ------------------

@@ -50,7 +50,8 @@ double vof_slab_fraction(const double m[3], double alpha, double t_uniform, int 
                          double width);
 
 /* The same for the box lo <= xi <= lo + width (each within [0, 1]): the
- * fluid's share of a part of the cell, as a fraction of the part's volume. */
+ * fluid's share of a part of the cell, as a fraction of the part's volume
+ * (the slab above is the box of one direction). */
 double vof_box_fraction(const double m[3], double alpha, double t_uniform, const double lo[3],
                         const double width[3]);
 
