@@ -211,19 +211,19 @@ static inline double clip(const struct two_phase *tp, double eta_g, int *clipped
 /* eta (and the tangent A, the full tangent's b) of one stress location:
  * A = eta + eta_g' x (its derivative part), which scales with d eta / d eta_g. */
 static inline void mix_point(const struct two_phase *tp, double rg, double t, int series,
-                             double *eta, double *tan, double *b)
+                             double *eta, double *const tan[], int ntan, double *b)
 {
     int cut;
     double d, eg = clip(tp, *eta, &cut);
     if (cut) {
-        if (tan)
-            *tan = eg;
+        for (int a = 0; a < ntan; a++)
+            *tan[a] = eg;
         if (b)
             *b = 0.0;
     }
     double m = mix(tp, rg, t, eg, series, &d);
-    if (tan)
-        *tan = m + d * (*tan - eg);
+    for (int a = 0; a < ntan; a++)
+        *tan[a] = m + d * (*tan[a] - eg);
     if (b)
         *b *= d;
     *eta = m;
@@ -246,22 +246,12 @@ static void properties(struct march_state *st, void *state)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
-                int cut;
-                double eg = clip(tp, st->eta[q], &cut), d;
-                if (cut) {
-                    if (cs->newton)
-                        for (int a = 0; a < 3; a++)
-                            st->tan_c[a][q] = eg;
-                    if (st->b_c)
-                        st->b_c[q] = 0.0;
-                }
-                double m = mix(tp, rg, tp->T[q], eg, 0, &d);
+                double *tan[3] = {NULL, NULL, NULL};
                 if (cs->newton)
                     for (int a = 0; a < 3; a++)
-                        st->tan_c[a][q] = m + d * (st->tan_c[a][q] - eg);
-                if (st->b_c)
-                    st->b_c[q] *= d;
-                st->eta[q] = m;
+                        tan[a] = &st->tan_c[a][q];
+                mix_point(tp, rg, tp->T[q], 0, &st->eta[q], tan, cs->newton ? 3 : 0,
+                          st->b_c ? &st->b_c[q] : NULL);
             }
     for (int c = 0; c < 3; c++) {
         int a = (c + 1) % 3, b = (c + 2) % 3;
@@ -279,9 +269,9 @@ static void properties(struct march_state *st, void *state)
                     double t = series ? tp->edge_t[c][e]
                                       : 0.25 * (T[e] + T[e - o[a]] + T[e - o[b]] +
                                                 T[e - o[a] - o[b]]);
-                    mix_point(tp, rg, t, series && t > 0.0 && t < 1.0,
-                              &st->eta_e[c][e], cs->newton ? &st->tan_e[c][e] : NULL,
-                              st->b_e[c] ? &st->b_e[c][e] : NULL);
+                    double *tan[1] = {cs->newton ? &st->tan_e[c][e] : NULL};
+                    mix_point(tp, rg, t, series && t > 0.0 && t < 1.0, &st->eta_e[c][e], tan,
+                              cs->newton ? 1 : 0, st->b_e[c] ? &st->b_e[c][e] : NULL);
                 }
     }
     bc_fill_scalar(g, &st->bc, st->eta);
