@@ -6,11 +6,51 @@
  * I = I_a is fixed, p = rho g cos(alpha) (H - z) and du/dz = I_a sqrt(p /
  * rho_s) / d; steady flow exists for mu_s < tan(alpha) < mu_s + dmu only
  * (jop curve).  With rheology.curve = barker_gray the same holds with I_a
- * from that curve, which has no static yield: every tilt flows. */
+ * from that curve, which has no static yield: every tilt flows.
+ *
+ * bagnold.perturbation starts the run from rest plus a divergence-free 3D
+ * velocity (scenes/perturbation.h): the steady state must still be the
+ * uniform profile, reached through a flow that varies in x, y and z. */
 #include <math.h>
+#include <stdio.h>
 #include "diagnostics/profile.h"
+#include "march/march.h"
+#include "scenes/perturbation.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
+
+struct bagnold_params {
+    double perturbation;       /* of the initial velocity, relative to u(H) */
+};
+
+#define T struct bagnold_params
+static const struct key bagnold_keys[] = {
+    KEY_DBL(T, "bagnold", "perturbation", perturbation,
+            "largest velocity of a divergence-free 3D perturbation of the state at rest (the "
+            "curl of a pseudo-random vector potential times sin^2(pi z / H)), relative to the "
+            "exact surface velocity; 0: none",
+            KEY_RANGE(0.0, 1.0, 1, 1)),
+};
+#undef T
+
+static void defaults(void *block)
+{
+    struct bagnold_params *b = block;
+    b->perturbation = 0.0;
+}
+
+static const struct key_block bagnold_block = {
+    .section = "bagnold",
+    .keys = bagnold_keys,
+    .nkeys = (int)(sizeof bagnold_keys / sizeof bagnold_keys[0]),
+    .size = sizeof(struct bagnold_params),
+    .defaults = defaults,
+};
+
+static const struct bagnold_params *params(const struct muflow_case *cs)
+{
+    return case_scene_params(cs);
+}
 
 static double bagnold_u(const struct muflow_case *cs, double z)
 {
@@ -34,6 +74,42 @@ static double bagnold_u(const struct muflow_case *cs, double z)
 }
 
 POINTWISE_PROFILE(exact_profile, bagnold_u)
+
+/* The perturbation's potential wraps along x and y, and its scale is the
+ * exact surface velocity: periodic x and y and a tilt that flows. */
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    if (!(params(c)->perturbation > 0.0))
+        return 0;
+    if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC) {
+        snprintf(msg, msglen, "bagnold.perturbation > 0 needs boundary.xlo and ylo = periodic "
+                              "(the perturbation wraps along x and y)");
+        return 1;
+    }
+    double top = bagnold_u(c, c->len[2]);
+    if (!(isfinite(top) && top > 0.0)) {
+        snprintf(msg, msglen,
+                 "bagnold.perturbation > 0 is relative to the exact surface velocity, which "
+                 "physics.tilt = %.17g (tan %.6g) does not have with this rheology.curve (jop: "
+                 "tan between rheology.mu_s and mu_s + delta_mu)",
+                 c->tilt, tan(c->tilt));
+        return 1;
+    }
+    return 0;
+}
+
+/* Rest plus the perturbation, which vanishes on the base and the surface
+ * nodes (w = 0 there, as both conditions require). */
+static int setup(struct march_state *st, char *err, size_t errlen)
+{
+    (void)err;
+    (void)errlen;
+    const struct muflow_case *cs = st->cs;
+    double p = params(cs)->perturbation;
+    if (p > 0.0)
+        perturbation_add(st, PERTURB_3D, cs->len[2], p * bagnold_u(cs, cs->len[2]));
+    return 0;
+}
 
 /* Surface velocity from the two top nodes.  Near a free surface p grows
  * linearly with depth and, at fixed friction, the shear rate as
@@ -59,6 +135,9 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
 const struct scene scene_bagnold = {
     .name = "bagnold",
     .title = "granular layer down a rough inclined plane (Bagnold profile)",
+    .keys = &bagnold_block,
+    .check = check,
+    .setup = setup,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

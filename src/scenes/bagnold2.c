@@ -19,7 +19,6 @@
  * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
  * which for this flat, unidirectional state is the same. */
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +27,7 @@
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/bagnold2.h"
+#include "scenes/perturbation.h"
 #include "scenes/scene.h"
 
 struct bagnold2_params {
@@ -181,71 +181,6 @@ static double layer_fraction(double h0, int k, double h)
     return fmin(1.0, fmax(0.0, (h0 - k * h) / h));
 }
 
-/* A uniform deviate in [-1, 1] of the node (i, j, k) (splitmix64 of its
- * number): the same perturbation on any number of threads. */
-static double node_deviate(int i, int j, int k)
-{
-    uint64_t x = ((uint64_t)(uint32_t)i << 42) ^ ((uint64_t)(uint32_t)j << 21) ^ (uint32_t)k;
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    x ^= x >> 31;
-    return (double)(x >> 11) * (2.0 / 9007199254740992.0) - 1.0;
-}
-
-/* Adds the perturbation: a stream function psi on the x-z nodes (the y
- * edges), a pseudo-random deviate per node times sin^2(pi z / h0) below the
- * interface and 0 above, so that u = d psi / dz on x faces and
- * w = -d psi / dx on z faces are divergence-free cell by cell (to round-off),
- * w vanishes at the base and the top, and the air starts unperturbed; scaled
- * so that its largest velocity is perturbation * u_top.  Every wavelength
- * the grid holds is seeded, so which one grows fastest is measured, not
- * chosen.  (A cross-section: each y plane gets its own u and w.) */
-static void perturbation_psi(const struct grid *g, int j, double h0, double *psi)
-{
-    const double pi = 3.14159265358979323846;
-    int nx = g->n[0], nz = g->n[2];
-    for (int i = 0; i <= nx; i++)
-        for (int k = 0; k <= nz; k++) {
-            double z = k * g->h[2], s = z < h0 ? sin(pi * z / h0) : 0.0;
-            psi[(size_t)i * (nz + 1) + k] = node_deviate(i % nx, j, k) * s * s;
-        }
-}
-
-static int perturb(struct march_state *st, const struct bagnold2_params *b)
-{
-    const struct grid *g = &st->g;
-    int nx = g->n[0], nz = g->n[2];
-    size_t col = (size_t)nz + 1;
-    double hx = g->h[0], hz = g->h[2];
-    double *psi = malloc((size_t)(nx + 1) * col * sizeof *psi);
-    if (!psi)
-        return -1;
-    double umax = 0.0;
-    for (int pass = 0; pass < 2; pass++) {
-        double scale = 0.0;
-        if (pass == 1 && umax > 0.0)
-            scale = b->perturbation * bagnold2_u(st->cs, st->cs->len[2]) / umax;
-        for (int j = 0; j < g->n[1]; j++) {
-            perturbation_psi(g, j, b->interface_height, psi);
-            for (int i = 0; i < nx; i++)
-                for (int k = 0; k < nz; k++) {
-                    size_t n0 = (size_t)i * col + k;
-                    double u = (psi[n0 + 1] - psi[n0]) / hz;
-                    double w = -(psi[n0 + col] - psi[n0]) / hx;
-                    if (pass == 0) {
-                        umax = fmax(umax, fmax(fabs(u), fabs(w)));
-                    } else {
-                        st->vel[0][grid_idx(g, i, j, k)] += scale * u;
-                        st->vel[2][grid_idx(g, i, j, k)] += scale * w;
-                    }
-                }
-        }
-    }
-    free(psi);
-    return 0;
-}
-
 /* The flat interface at h0: each cell's fraction below it. */
 static int setup(struct march_state *st, char *err, size_t errlen)
 {
@@ -270,10 +205,13 @@ static int setup(struct march_state *st, char *err, size_t errlen)
             for (int j = -1; j <= g->n[1]; j++)
                 for (int k = 0; k < g->n[2]; k++)
                     st->vel[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
-    if (b->perturbation > 0.0 && perturb(st, b) != 0) {
-        snprintf(err, errlen, "bagnold2: out of memory for the perturbation");
-        return -1;
-    }
+    /* the stream function of each x-z plane, in the grains (sin^2(pi z / h0)
+     * below the interface, 0 above: the air starts unperturbed), every
+     * wavelength of the grid seeded, so which one grows fastest is measured,
+     * not chosen */
+    if (b->perturbation > 0.0)
+        perturbation_add(st, PERTURB_XZ, b->interface_height,
+                         b->perturbation * bagnold2_u(st->cs, st->cs->len[2]));
     return two_phase_tracer_changed(st, err, errlen);
 }
 
