@@ -283,6 +283,19 @@ bench-duct: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/duct_study.py $(BUILD)/muflow $(BENCH_OUT)
 
+# The 3D steady flow: cases/bagnold3d.ini, bagnold on 128 x 128 x 64 =
+# 1,048,576 cells from rest plus a divergence-free 3D perturbation, to its
+# steady state on 2 threads, beside the 1D run of the same nz: wall time,
+# steps, peak memory, err_rms of both and the load average before and after
+# ($(BENCH_OUT)/bagnold3d.md).  About 9 minutes and 0.75 GB on 2 shared
+# cores; BAGNOLD3D_OPTS are case overrides (domain.nx=32 ... for a quick one).
+BAGNOLD3D_OPTS ?=
+.PHONY: bench-3d
+bench-3d: deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold3d_bench.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(BAGNOLD3D_OPTS)
+
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps

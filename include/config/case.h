@@ -10,7 +10,8 @@
 #include "kernels/rheology.h"
 
 struct scene;
-enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG };
+enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
+                     PRECOND_FOURIER };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
 

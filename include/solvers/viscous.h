@@ -49,14 +49,16 @@ struct viscous_stats {
 
 struct viscous_solver;
 
-enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG };
+enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG, VISCOUS_FOURIER };
 
 /* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
  * kind: line blocks; the probed sparse Cholesky factorisation of the
  * symmetric operator; the probed sparse LU of the full tangent
  * (sparse_direct.h); or algebraic multigrid (BoomerAMG, amg_hypre.h) on the
  * probed matrix inside restarted GMRES, for the symmetric operator and the
- * full tangent alike; each with line blocks as fallback.  Returns 0, or -1
+ * full tangent alike; each with line blocks as fallback; or the line blocks
+ * of every plane Fourier mode (fourier_lines.h: both directions across the
+ * lines periodic), for the symmetric operator.  Returns 0, or -1
  * with a message in err. */
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
                    const struct box act[3], int line_dir, enum viscous_precond kind, char *err,

@@ -50,7 +50,7 @@ static const struct choice advection_choices[] = {
     {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
-    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {NULL, 0}};
+    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
@@ -181,8 +181,9 @@ static const struct key keys[] = {
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto, for grids "
-        "varying in two or more directions: amg on a 2D cross-section with newton, no "
+        "of the implicit solve: line blocks, sparse Cholesky or LU, AMG, or fourier (the line "
+        "blocks of every plane Fourier mode, for periodic directions across the lines) (auto, "
+        "for grids varying in two or more directions: amg on a 2D cross-section with newton, no "
         "augmentation and over 1e4 unknowns, else lu or cholesky up to 4e5 unknowns; line "
         "otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
@@ -192,7 +193,7 @@ static const struct key keys[] = {
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
-        "a cholesky or lu factorisation preconditions up to this many further steps while the "
+        "a cholesky, lu or fourier preconditioner serves up to this many further steps while the "
         "Krylov iterations stay within twice its first solve's plus 2 (0: one every step)"),
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),

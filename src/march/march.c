@@ -124,6 +124,7 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_CHOLESKY: return VISCOUS_CHOLESKY;
     case PRECOND_LU: return VISCOUS_LU;
     case PRECOND_AMG: return VISCOUS_AMG;
+    case PRECOND_FOURIER: return VISCOUS_FOURIER;
     case PRECOND_AUTO: break;
     }
     int bounded = 0, periodic[3];
@@ -244,7 +245,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
                    viscous_memory_estimate(g, kind);
     if (kind == VISCOUS_AMG) {
         bytes += amg_hypre_memory_estimate(3L * (long)grid_cells(g));
-    } else if (kind != VISCOUS_LINE) {
+    } else if (kind != VISCOUS_LINE && kind != VISCOUS_FOURIER) {
         int dims = 0;
         for (int d = 0; d < 3; d++)
             dims += g->n[d] > 1;
@@ -345,7 +346,8 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         snprintf(err, errlen,
                  "domain.nx x domain.ny x domain.nz = %d x %d x %d: the run needs about %s "
                  "(fields, solver work%s), more than the %s of memory available on this machine",
-                 g->n[0], g->n[1], g->n[2], need, kind == VISCOUS_LINE ? "" : ", sparse factorisation",
+                 g->n[0], g->n[1], g->n[2], need,
+                 kind == VISCOUS_LINE || kind == VISCOUS_FOURIER ? "" : ", sparse factorisation",
                  have);
         march_destroy(st);
         return -1;

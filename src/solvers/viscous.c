@@ -10,6 +10,7 @@
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include "solvers/amg_hypre.h"
+#include "solvers/fourier_lines.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous.h"
@@ -84,6 +85,9 @@ struct viscous_solver {
     int gv_len;
     double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
     struct viscous_precond_info info;
+    struct fourier_lines *fourier;     /* VISCOUS_FOURIER */
+    int fourier_ok;                    /* its blocks serve this solve */
+    int fourier_valid;                 /* they have been built */
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -183,7 +187,12 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         return -1;
     }
     s->kind = s->info.kind = kind;
-    if (kind != VISCOUS_LINE) {
+    if (kind == VISCOUS_FOURIER) {
+        if (fourier_lines_create(&s->fourier, g, bc, act, L, err, errlen) != 0) {
+            viscous_destroy(s);
+            return -1;
+        }
+    } else if (kind != VISCOUS_LINE) {
         int periodic[3];
         for (int d = 0; d < 3; d++)
             periodic[d] = bc->face[d][0] == BC_PERIODIC;
@@ -339,6 +348,7 @@ void viscous_destroy(struct viscous_solver *s)
     }
     free(s->linebuf);
     field_free(s->divbuf);
+    fourier_lines_destroy(s->fourier);
     sparse_direct_destroy(s->direct);
     amg_hypre_destroy(s->amg);
     probe_matrix_destroy(s->probe);
@@ -416,6 +426,26 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
+    s->fourier_ok = 0;
+    if (s->fourier) {
+        /* kept like a factorisation (solver.preconditioner_reuse): its probes
+         * are most of a step once CG needs a few iterations */
+        s->fourier_ok = 1;
+        if (s->fourier_valid && kept_serves(&s->direct_kept, s->direct_reuse)) {
+            s->direct_kept.age++;
+            s->info.setup_seconds = 0.0;
+            s->info.reused = 1;
+            return;
+        }
+        struct apply_ctx a = {s, pb};
+        double t0 = cpu_now();
+        s->failed_blocks = fourier_lines_setup(s->fourier, apply_cb, &a, s->p, s->q);
+        s->info.setup_seconds = cpu_now() - t0; /* probing included */
+        s->info.reused = 0;
+        s->fourier_valid = 1;
+        kept_built(&s->direct_kept);
+        return;
+    }
     if (s->amg && s->amg_ok && kept_serves(&s->amg_kept, s->amg_cfg.reuse)) {
         /* the hierarchy of an earlier operator still serves: GMRES works on
          * the current one, so only the iteration count can suffer */
@@ -542,6 +572,10 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
 {
     if (s->direct_ok) {
         sparse_direct_solve(s->direct, r, z);
+        return;
+    }
+    if (s->fourier_ok) {
+        fourier_lines_apply(s->fourier, r, z);
         return;
     }
     if (s->amg_ok) {
@@ -714,7 +748,8 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     int rc = solve(s, pb, rhs, x, rtol, maxit, st);
     /* kept factors or a kept hierarchy that no longer serve: rebuilt for
      * this operator */
-    struct kept *k = s->amg_ok ? &s->amg_kept : s->direct_ok ? &s->direct_kept : NULL;
+    struct kept *k = s->amg_ok ? &s->amg_kept
+                     : s->direct_ok || s->fourier_ok ? &s->direct_kept : NULL;
     if (rc != 0 && k && k->age > 0) {
         k->force = 1;
         viscous_precondition(s, pb);
@@ -723,7 +758,7 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     }
     if (s->amg_ok)
         kept_solved(&s->amg_kept, st->iterations);
-    else if (s->direct_ok)
+    else if (s->direct_ok || s->fourier_ok)
         kept_solved(&s->direct_kept, st->iterations);
     s->info.solve_seconds = cpu_now() - t0;
     return rc;
@@ -794,5 +829,6 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
      * amg_hypre_memory_estimate) */
     if (kind == VISCOUS_AMG)
         doubles += 3.0 * 21.0 * points + 2.0 * 3.0 * cells;
-    return doubles * sizeof(double);
+    return doubles * sizeof(double) +
+           (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0);
 }

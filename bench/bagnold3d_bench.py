@@ -1,0 +1,89 @@
+#!/usr/bin/python3
+"""The 3D steady bagnold run (cases/bagnold3d.ini, 128 x 128 x 64 cells from
+rest plus a divergence-free 3D perturbation) on the threads the environment
+gives (make bench-3d: 2), beside the 1D run of the same nz: wall time of the
+whole process, steps, peak resident memory (the child's rusage), err_rms of
+both, and the 1-minute load average before and after (the machine may be
+shared: other processes inflate the wall time).  Writes OUT/bagnold3d.md
+(a markdown table) and prints it.
+
+usage: bagnold3d_bench.py MUFLOW OUTDIR [section.key=value ...]
+"""
+import configparser
+import os
+import resource
+import subprocess
+import sys
+import time
+
+
+def loadavg():
+    with open("/proc/loadavg") as f:
+        return float(f.read().split()[0])
+
+
+def run(muflow, case, outdir, overrides):
+    """Runs one case; returns its [result] section, wall seconds, peak RSS
+    (MB) and CPU seconds (user + system, all threads)."""
+    ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    before = ru0.ru_maxrss
+    t0 = time.monotonic()
+    cmd = [muflow, case, "output.dir=" + outdir, "output.quiet=on"] + overrides
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+    wall = time.monotonic() - t0
+    # ru_maxrss of the children is the largest child's so far: the 3D run
+    # goes first, so its figure is its own
+    ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    rss = ru1.ru_maxrss
+    cpu = (ru1.ru_utime + ru1.ru_stime) - (ru0.ru_utime + ru0.ru_stime)
+    ini = configparser.ConfigParser(inline_comment_prefixes=(";",))
+    ini.read(os.path.join(outdir, "summary.ini"))
+    return ini["result"], wall, (rss if rss > before else before) / 1024.0, cpu
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    muflow, out = sys.argv[1], sys.argv[2]
+    overrides = sys.argv[3:]
+    here = os.path.dirname(os.path.abspath(__file__))
+    cases = os.path.join(here, "..", "cases")
+    os.makedirs(out, exist_ok=True)
+    threads = os.environ.get("OMP_NUM_THREADS", "all")
+    load0 = loadavg()
+    r3, wall3, rss3, cpu3 = run(muflow, os.path.join(cases, "bagnold3d.ini"),
+                          os.path.join(out, "bagnold3d"), overrides)
+    load1 = loadavg()
+    nz = [o.split("=", 1)[1] for o in overrides if o.startswith("domain.nz=")]
+    r1, wall1, _, cpu1 = run(muflow, os.path.join(cases, "bagnold.ini"), os.path.join(out, "bagnold1d"),
+                       ["domain.nz=" + (nz[0] if nz else "64")])
+    dims = [int(configparser_value(os.path.join(out, "bagnold3d", "summary.ini"), "domain", k))
+            for k in ("nx", "ny", "nz")]
+    n3 = "%d x %d x %d = %d" % (dims[0], dims[1], dims[2], dims[0] * dims[1] * dims[2])
+    rows = [
+        "| run | cells | threads | status | steps | wall s | CPU s | peak RSS MB | err_rms "
+        "| load before / after |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+        "| bagnold3d (3D, from rest + perturbation) | %s | %s | %s | %s | %.1f | %.1f | %.0f | %s "
+        "| %.2f / %.2f |"
+        % (n3, threads, r3["status"], r3["steps"], wall3, cpu3, rss3, r3["err_rms"], load0,
+           load1),
+        "| bagnold 1D, same nz | 2 x 1 x %s | %s | %s | %s | %.2f | %.2f | | %s | |"
+        % (nz[0] if nz else "64", threads, r1["status"], r1["steps"], wall1, cpu1,
+           r1["err_rms"]),
+    ]
+    diff = abs(float(r3["err_rms"]) - float(r1["err_rms"]))
+    text = "\n".join(rows) + "\n\n|err_rms(3D) - err_rms(1D)| = %.3e\n" % diff
+    with open(os.path.join(out, "bagnold3d.md"), "w") as f:
+        f.write(text)
+    print(text)
+
+
+def configparser_value(path, section, key):
+    ini = configparser.ConfigParser(inline_comment_prefixes=(";",))
+    ini.read(path)
+    return ini[section][key]
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,450 @@
+/* Plane Fourier modes times line blocks (fourier_lines.h). */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <fftw3.h>
+#include "kernels/kernels.h"
+#include "solvers/fourier_lines.h"
+/* last: its macro I would clash with the rheology's parameter names, and
+ * FFTW's complex stays double[2] */
+#include <complex.h>
+
+/* Nodes reached along a line by the symmetric operator (the per-component
+ * tangent and the grad-div term: u of cell m meets w of the faces below and
+ * above it).  The line blocks take 2 for the full tangent, which CG never
+ * sees; one node less shortens the probes from 5 combs to 3 and the band
+ * from 8 to 5. */
+#define BAND 1
+#define PROBES (2 * BAND + 1)
+#define PATTERNS 4               /* plane wavenumbers (0,0), (pi,0), (0,pi), (pi,pi) */
+/* unknowns interleaved by line node, (u, v, w) at node m are 3m, 3m+1, 3m+2:
+ * a coupling of nodes m and m + BAND lies within this band */
+#define KB (3 * BAND + 2)
+
+typedef double complex cplx;
+
+struct fourier_lines {
+    const struct grid *g;
+    int L, o[2];                 /* line direction, the two periodic ones across */
+    int n[2], half0;             /* cells across; n[0] / 2 + 1 */
+    int len[3], lo[3][3];        /* nodes per line (0: none) and box corner per component */
+    int maxlen, nu;              /* longest line, unknowns per mode (3 maxlen) */
+    long modes;                  /* n[1] * half0: the real transform's wavenumbers */
+    /* sym[((P * 3 + row) * 3 + col) * maxlen * PROBES + m * PROBES + off + BAND]:
+     * the plane average of row m's coupling to column node m + off, at the
+     * plane wavenumber of pattern P */
+    double *sym;
+    double *part;                /* n[1] x maxlen partial sums of the averages */
+    long *cnt;                   /* n[1] line counts */
+    cplx *band;                  /* modes x nu x (KB + 1): factors L, column-wise lower band */
+    double *plane;               /* 3 maxlen real planes n[1] x n[0] */
+    fftw_complex *spec;          /* 3 maxlen spectra n[1] x half0 */
+    cplx *work;                  /* per thread: nu */
+    int nthreads;
+    fftw_plan fwd, bwd;          /* one plane; executed on every plane */
+};
+
+static inline int probe_offset(int r, int m)
+{
+    int off = ((r - m) % PROBES + PROBES) % PROBES;
+    return off > BAND ? off - PROBES : off;
+}
+
+/* Grid index of node m of line (a, b) of component c (a along o[0]). */
+static inline ptrdiff_t node(const struct fourier_lines *f, int c, int a, int b, int m)
+{
+    int idx[3];
+    idx[f->o[0]] = f->lo[c][f->o[0]] + a;
+    idx[f->o[1]] = f->lo[c][f->o[1]] + b;
+    idx[f->L] = f->lo[c][f->L] + m;
+    return grid_idx(f->g, idx[0], idx[1], idx[2]);
+}
+
+static size_t plane_size(const struct fourier_lines *f) { return (size_t)f->n[0] * f->n[1]; }
+static size_t spec_size(const struct fourier_lines *f) { return (size_t)f->n[1] * f->half0; }
+
+double fourier_lines_memory_estimate(const struct grid *g)
+{
+    /* the z-lines' case, the largest: n1 (n0/2 + 1) modes of 3 nz unknowns
+     * times KB + 1 complex entries; the planes and spectra of 3 components */
+    double modes = (double)g->n[1] * (g->n[0] / 2 + 1), nu = 3.0 * g->n[2];
+    double cells = (double)grid_cells(g);
+    return modes * nu * (KB + 1) * sizeof(cplx) + 3.0 * cells * sizeof(double) +
+           3.0 * modes * g->n[2] * sizeof(fftw_complex);
+}
+
+void fourier_lines_destroy(struct fourier_lines *f)
+{
+    if (!f)
+        return;
+    free(f->sym);
+    free(f->part);
+    free(f->cnt);
+    free(f->band);
+    free(f->work);
+    if (f->fwd)
+        fftw_destroy_plan(f->fwd);
+    if (f->bwd)
+        fftw_destroy_plan(f->bwd);
+    fftw_free(f->plane);
+    fftw_free(f->spec);
+    free(f);
+}
+
+int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
+                         const struct boundary *bc, const struct box act[3], int line_dir,
+                         char *err, size_t errlen)
+{
+    int o0 = (line_dir + 1) % 3, o1 = (line_dir + 2) % 3;
+    if (bc->face[o0][0] != BC_PERIODIC || bc->face[o1][0] != BC_PERIODIC) {
+        snprintf(err, errlen, "viscous solver: solver.preconditioner = fourier needs the two "
+                              "directions across the lines periodic");
+        return -1;
+    }
+    struct fourier_lines *f = calloc(1, sizeof *f);
+    if (!f) {
+        snprintf(err, errlen, "viscous solver: out of memory");
+        return -1;
+    }
+    f->g = g;
+    f->L = line_dir;
+    f->o[0] = o0;
+    f->o[1] = o1;
+    f->n[0] = g->n[o0];
+    f->n[1] = g->n[o1];
+    f->half0 = f->n[0] / 2 + 1;
+    f->modes = (long)f->n[1] * f->half0;
+    for (int c = 0; c < 3; c++) {
+        for (int d = 0; d < 3; d++)
+            f->lo[c][d] = act[c].lo[d];
+        f->len[c] = act[c].hi[line_dir] - act[c].lo[line_dir];
+        /* a periodic direction's box spans it whole */
+        if (f->len[c] < 0 || act[c].hi[o0] - act[c].lo[o0] != f->n[0] ||
+            act[c].hi[o1] - act[c].lo[o1] != f->n[1])
+            f->len[c] = 0;
+        if (f->len[c] > f->maxlen)
+            f->maxlen = f->len[c];
+    }
+    int ml = f->maxlen > 0 ? f->maxlen : 1;
+    f->nu = 3 * ml;
+    f->nthreads = omp_get_max_threads();
+    f->sym = malloc((size_t)PATTERNS * 9 * ml * PROBES * sizeof(double));
+    f->band = malloc((size_t)f->modes * f->nu * (KB + 1) * sizeof(cplx));
+    f->part = malloc((size_t)f->n[1] * ml * sizeof(double));
+    f->cnt = malloc((size_t)f->n[1] * sizeof(long));
+    f->work = malloc((size_t)f->nthreads * f->nu * sizeof(cplx));
+    f->plane = fftw_malloc(3 * (size_t)ml * plane_size(f) * sizeof(double));
+    f->spec = fftw_malloc(3 * (size_t)ml * spec_size(f) * sizeof(fftw_complex));
+    int ok = f->sym && f->band && f->part && f->cnt && f->work && f->plane && f->spec;
+    if (ok) {
+        /* one plane's transforms, executed plane by plane from OpenMP threads
+         * (the new-array execute is thread-safe), single-threaded each;
+         * FFTW_UNALIGNED since a plane of odd size starts off alignment */
+        unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+        ok = fftw_init_threads() != 0;
+        fftw_plan_with_nthreads(1);
+        f->fwd = fftw_plan_dft_r2c_2d(f->n[1], f->n[0], f->plane, f->spec, flags);
+        f->bwd = fftw_plan_dft_c2r_2d(f->n[1], f->n[0], f->spec, f->plane, flags);
+        ok = ok && f->fwd && f->bwd;
+    }
+    if (!ok) {
+        fourier_lines_destroy(f);
+        snprintf(err, errlen, "viscous solver: out of memory for the Fourier line blocks");
+        return -1;
+    }
+    *out = f;
+    return 0;
+}
+
+/* The sign of line (a, b) in plane pattern P: the wavenumber pi along o[0]
+ * for P = 1, 3 and along o[1] for P = 2, 3. */
+static inline double pattern(int P, int a, int b)
+{
+    int x = ((P & 1) ? a : 0) + ((P & 2) ? b : 0);
+    return (x & 1) ? -1.0 : 1.0;
+}
+
+/* A line whose neighbours across do not alternate in pattern P (the seam of
+ * an odd periodic count) is left out of the averages. */
+static inline int seam(const struct fourier_lines *f, int P, int a, int b)
+{
+    return ((P & 1) && (f->n[0] & 1) && (a == 0 || a == f->n[0] - 1)) ||
+           ((P & 2) && (f->n[1] & 1) && (b == 0 || b == f->n[1] - 1));
+}
+
+static double *sym_at(const struct fourier_lines *f, int P, int row, int col)
+{
+    return f->sym + (size_t)((P * 3 + row) * 3 + col) * f->maxlen * PROBES;
+}
+
+/* sym of pattern P, row component row, column component col from the
+ * response q of comb r: each row node's coupling averaged over the lines.
+ * The lines are summed a plane row b at a time (contiguous along the lines
+ * when they run along z), each row into its own partial sum, then the
+ * partial sums in order: the same bits on any number of threads. */
+static void average_rows(struct fourier_lines *f, int P, int row, int col, int r, const double *q)
+{
+    int n0 = f->n[0], n1 = f->n[1], lr = f->len[row], ml = f->maxlen;
+    double *part = f->part;
+    long *cnt = f->cnt;
+#pragma omp parallel for schedule(static) if (kernel_parallel(f->g))
+    for (int b = 0; b < n1; b++) {
+        double *pb = part + (size_t)b * ml;
+        long nb = 0;
+        for (int m = 0; m < lr; m++)
+            pb[m] = 0.0;
+        for (int a = 0; a < n0; a++) {
+            if (seam(f, P, a, b))
+                continue;
+            double sg = pattern(P, a, b);
+            for (int m = 0; m < lr; m++)
+                pb[m] += q[node(f, row, a, b, m)] * sg;
+            nb++;
+        }
+        cnt[b] = nb;
+    }
+    long total = 0;
+    for (int b = 0; b < n1; b++)
+        total += cnt[b];
+    double *S = sym_at(f, P, row, col);
+    for (int m = 0; m < lr; m++) {
+        int off = probe_offset(r, m);
+        if (m + off < 0 || m + off >= f->len[col])
+            continue;
+        double s = 0.0;
+        for (int b = 0; b < n1; b++)
+            s += part[(size_t)b * ml + m];
+        S[(size_t)m * PROBES + off + BAND] = total ? s / total : 0.0;
+    }
+}
+
+/* Probes column component c with every pattern and comb: sym of each row
+ * component. */
+static void probe_column(struct fourier_lines *f, int c, operator_fn op, void *ctx, double *p[3],
+                         double *q[3])
+{
+    const struct grid *g = f->g;
+    int n0 = f->n[0], n1 = f->n[1];
+    for (int P = 0; P < PATTERNS; P++) {
+        /* one cell across: the wavenumber pi does not exist there; the
+         * pattern without it serves (the symbol is then read at 0 only) */
+        int Q = P;
+        if (n0 == 1)
+            Q &= ~1;
+        if (n1 == 1)
+            Q &= ~2;
+        if (Q != P) {
+            for (int row = 0; row < 3; row++)
+                memcpy(sym_at(f, P, row, c), sym_at(f, Q, row, c),
+                       (size_t)f->maxlen * PROBES * sizeof(double));
+            continue;
+        }
+        for (int row = 0; row < 3; row++)
+            memset(sym_at(f, P, row, c), 0, (size_t)f->maxlen * PROBES * sizeof(double));
+        for (int r = 0; r < PROBES; r++) {
+            for (int d = 0; d < 3; d++)
+                memset(p[d], 0, g->size * sizeof(double));
+            for (int b = 0; b < n1; b++)
+                for (int a = 0; a < n0; a++)
+                    for (int m = r; m < f->len[c]; m += PROBES)
+                        p[c][node(f, c, a, b, m)] = pattern(P, a, b);
+            op(ctx, p, q);
+            for (int row = 0; row < 3; row++)
+                average_rows(f, P, row, c, r, q[row]);
+        }
+    }
+}
+
+/* The phase of a unit offset across, along the grid direction D, between a
+ * row of component row and a column of component col: the same component
+ * couples both neighbours alike (cos t); a component normal to D sits on
+ * the faces, the others at the centres, so a face row meets the centres at
+ * offsets 0 and -1 (e^-it), a centre row the faces at 0 and +1 (e^it), and
+ * two centred ones only at offset 0. */
+static cplx phase(int D, int row, int col, double t)
+{
+    if (row == col)
+        return cos(t);
+    if (D == row)
+        return cexp(-I * t);
+    if (D == col)
+        return cexp(I * t);
+    return 1.0;
+}
+
+/* The weights of the four measured plane wavenumbers in the symbol at
+ * (t0, t1) of each component pair: w[(row * 3 + col) * PATTERNS + P] (exact
+ * for couplings to nearest neighbours across, which is what a
+ * symmetric-gradient stencil has: per direction the two measurements give
+ * the two offsets' coefficients). */
+static void mode_weights(const struct fourier_lines *f, double t0, double t1, cplx *w)
+{
+    for (int row = 0; row < 3; row++)
+        for (int col = 0; col < 3; col++) {
+            cplx p0 = phase(f->o[0], row, col, t0), p1 = phase(f->o[1], row, col, t1);
+            cplx a[2] = {0.5 * (1.0 + p0), 0.5 * (1.0 - p0)}, b[2] = {0.5 * (1.0 + p1), 0.5 * (1.0 - p1)};
+            for (int P = 0; P < PATTERNS; P++)
+                w[(row * 3 + col) * PATTERNS + P] = a[P & 1] * b[P >> 1];
+        }
+}
+
+/* Entry (i, j) of the mode's block (weights w), i = 3 m_i + c_i; 0 outside
+ * the stencil, 1 on the diagonal of a padding node (a component with a
+ * shorter line). */
+static cplx entry(const struct fourier_lines *f, const cplx *w, int i, int j)
+{
+    int mi = i / 3, ci = i % 3, mj = j / 3, cj = j % 3, off = mj - mi;
+    if (mi >= f->len[ci] || mj >= f->len[cj])
+        return i == j ? 1.0 : 0.0;
+    if (off < -BAND || off > BAND)
+        return 0.0;
+    const cplx *wp = w + (ci * 3 + cj) * PATTERNS;
+    size_t at = (size_t)mi * PROBES + off + BAND;
+    cplx s = 0.0;
+    for (int P = 0; P < PATTERNS; P++)
+        s += sym_at(f, P, ci, cj)[at] * wp[P];
+    return s;
+}
+
+/* Hermitian banded Cholesky in place: band[j * (KB + 1) + o] = A(j + o, j)
+ * becomes L(j + o, j), but for the diagonal, which holds 1 / L(j, j).  Returns 0, or -1 when A is not positive definite. */
+static int cholesky(cplx *band, int n)
+{
+    for (int j = 0; j < n; j++) {
+        cplx *cj = band + (size_t)j * (KB + 1);
+        double d = creal(cj[0]);
+        for (int k = j - KB > 0 ? j - KB : 0; k < j; k++) {
+            cplx l = band[(size_t)k * (KB + 1) + (j - k)];
+            d -= creal(l * conj(l));
+        }
+        if (!(d > 0.0))
+            return -1;
+        double inv = 1.0 / sqrt(d);
+        cj[0] = inv; /* the reciprocal: the solves multiply by a real */
+        for (int i = j + 1; i < n && i <= j + KB; i++) {
+            cplx s = cj[i - j];
+            for (int k = i - KB > 0 ? i - KB : 0; k < j; k++)
+                s -= band[(size_t)k * (KB + 1) + (i - k)] * conj(band[(size_t)k * (KB + 1) + (j - k)]);
+            cj[i - j] = s * inv;
+        }
+    }
+    return 0;
+}
+
+/* x = (L L^H)^-1 x. */
+static void cholesky_solve(const cplx *band, int n, cplx *x)
+{
+    for (int j = 0; j < n; j++) { /* L y = x, column by column */
+        const cplx *cj = band + (size_t)j * (KB + 1);
+        x[j] *= creal(cj[0]);
+        for (int i = j + 1; i < n && i <= j + KB; i++)
+            x[i] -= cj[i - j] * x[j];
+    }
+    for (int j = n - 1; j >= 0; j--) { /* L^H x = y */
+        const cplx *cj = band + (size_t)j * (KB + 1);
+        cplx s = x[j];
+        for (int i = j + 1; i < n && i <= j + KB; i++)
+            s -= conj(cj[i - j]) * x[i];
+        x[j] = s * creal(cj[0]);
+    }
+}
+
+int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, double *p[3],
+                        double *q[3])
+{
+    if (f->maxlen == 0)
+        return 0;
+    for (int c = 0; c < 3; c++)
+        if (f->len[c] > 0)
+            probe_column(f, c, op, ctx, p, q);
+        else
+            for (int P = 0; P < PATTERNS; P++)
+                for (int row = 0; row < 3; row++)
+                    memset(sym_at(f, P, row, c), 0, (size_t)f->maxlen * PROBES * sizeof(double));
+    const double pi = 3.14159265358979323846;
+    int failed = 0, nu = f->nu;
+#pragma omp parallel for schedule(static) reduction(+ : failed) if (kernel_parallel(f->g))
+    for (long s = 0; s < f->modes; s++) {
+        int k0 = (int)(s % f->half0), k1 = (int)(s / f->half0);
+        double t0 = 2.0 * pi * k0 / f->n[0], t1 = 2.0 * pi * k1 / f->n[1];
+        cplx *band = f->band + (size_t)s * nu * (KB + 1);
+        cplx w[9 * PATTERNS];
+        mode_weights(f, t0, t1, w);
+        /* the lower band of the block, made Hermitian as the line blocks
+         * are made symmetric */
+        for (int j = 0; j < nu; j++)
+            for (int o = 0; o <= KB; o++) {
+                int i = j + o;
+                band[(size_t)j * (KB + 1) + o] =
+                    i < nu ? 0.5 * (entry(f, w, i, j) + conj(entry(f, w, j, i))) : 0.0;
+            }
+        if (cholesky(band, nu) != 0) {
+            /* not positive definite: the block's diagonal */
+            failed++;
+            for (int j = 0; j < nu; j++) {
+                double d = creal(entry(f, w, j, j));
+                band[(size_t)j * (KB + 1)] = 1.0 / sqrt(d > 0.0 ? d : 1.0);
+                for (int o = 1; o <= KB; o++)
+                    band[(size_t)j * (KB + 1) + o] = 0.0;
+            }
+        }
+    }
+    return failed;
+}
+
+void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[3])
+{
+    const struct grid *g = f->g;
+    int n0 = f->n[0], n1 = f->n[1], ml = f->maxlen, nu = f->nu;
+    size_t plane = plane_size(f), spec = spec_size(f);
+    double norm = 1.0 / (double)plane;
+    if (ml == 0)
+        return;
+    /* the planes, read along the lines (contiguous for z lines) */
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int b = 0; b < n1; b++)
+        for (int a = 0; a < n0; a++)
+            for (int c = 0; c < 3; c++)
+                for (int m = 0; m < f->len[c]; m++)
+                    f->plane[(size_t)(c * ml + m) * plane + (size_t)b * n0 + a] =
+                        r[c][node(f, c, a, b, m)];
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int cm = 0; cm < 3 * ml; cm++) {
+        if (cm % ml >= f->len[cm / ml])
+            continue;
+        fftw_execute_dft_r2c(f->fwd, f->plane + (size_t)cm * plane, f->spec + (size_t)cm * spec);
+    }
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (long s = 0; s < f->modes; s++) {
+        cplx *x = f->work + (size_t)omp_get_thread_num() * nu;
+        for (int i = 0; i < nu; i++) {
+            int m = i / 3, c = i % 3;
+            const double *v = f->spec[(size_t)(c * ml + m) * spec + s];
+            x[i] = m < f->len[c] ? v[0] + I * v[1] : 0.0;
+        }
+        cholesky_solve(f->band + (size_t)s * nu * (KB + 1), nu, x);
+        for (int i = 0; i < nu; i++) {
+            int m = i / 3, c = i % 3;
+            if (m >= f->len[c])
+                continue;
+            double *v = f->spec[(size_t)(c * ml + m) * spec + s];
+            v[0] = creal(x[i]);
+            v[1] = cimag(x[i]);
+        }
+    }
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int cm = 0; cm < 3 * ml; cm++) {
+        if (cm % ml >= f->len[cm / ml])
+            continue;
+        fftw_execute_dft_c2r(f->bwd, f->spec + (size_t)cm * spec, f->plane + (size_t)cm * plane);
+    }
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int b = 0; b < n1; b++)
+        for (int a = 0; a < n0; a++)
+            for (int c = 0; c < 3; c++)
+                for (int m = 0; m < f->len[c]; m++)
+                    z[c][node(f, c, a, b, m)] =
+                        norm * f->plane[(size_t)(c * ml + m) * plane + (size_t)b * n0 + a];
+}
