@@ -287,7 +287,7 @@ bench-duct: deps bench-deps $(BUILD)/muflow
 # 1,048,576 cells from rest plus a divergence-free 3D perturbation, to its
 # steady state on 2 threads, beside the 1D run of the same nz: wall time,
 # steps, peak memory, err_rms of both and the load average before and after
-# ($(BENCH_OUT)/bagnold3d.md).  About 6 minutes and 0.7 GB on 2 shared
+# ($(BENCH_OUT)/bagnold3d.md).  About 5 minutes and 0.7 GB on 2 shared
 # cores; BAGNOLD3D_OPTS are case overrides (domain.nx=32 ... for a quick one).
 BAGNOLD3D_OPTS ?=
 .PHONY: bench-3d

@@ -39,11 +39,10 @@ struct fourier_lines {
     double *part;                /* n[1] x maxlen partial sums of the averages */
     long *cnt;                   /* n[1] line counts */
     cplx *band;                  /* modes x nu x (KB + 1): factors L, column-wise lower band */
-    double *plane;               /* 3 maxlen real planes n[1] x n[0] */
-    fftw_complex *spec;          /* 3 maxlen spectra n[1] x half0 */
-    cplx *work;                  /* per thread: nu */
-    int nthreads;
-    fftw_plan fwd, bwd;          /* one plane; executed on every plane */
+    /* the spectra, mode-major: mode s's unknowns at spec[s * nu + 3 m + c],
+     * as its block numbers them (the transforms write and read them there) */
+    fftw_complex *spec;
+    fftw_plan fwd[3], bwd[3];    /* per component: every plane of its box at once */
 };
 
 static inline int probe_offset(int r, int m)
@@ -62,17 +61,15 @@ static inline ptrdiff_t node(const struct fourier_lines *f, int c, int a, int b,
     return grid_idx(f->g, idx[0], idx[1], idx[2]);
 }
 
-static size_t plane_size(const struct fourier_lines *f) { return (size_t)f->n[0] * f->n[1]; }
-static size_t spec_size(const struct fourier_lines *f) { return (size_t)f->n[1] * f->half0; }
 
 double fourier_lines_memory_estimate(const struct grid *g)
 {
     /* the z-lines' case, the largest: n1 (n0/2 + 1) modes of 3 nz unknowns
-     * times KB + 1 complex entries; the planes and spectra of 3 components */
+     * times KB + 1 complex entries, and the spectra */
     double modes = (double)g->n[1] * (g->n[0] / 2 + 1), nu = 3.0 * g->n[2];
     double cells = (double)grid_cells(g);
-    return modes * nu * (KB + 1) * sizeof(cplx) + 3.0 * cells * sizeof(double) +
-           3.0 * modes * g->n[2] * sizeof(fftw_complex);
+    (void)cells;
+    return modes * nu * (KB + 1) * sizeof(cplx) + modes * nu * sizeof(fftw_complex);
 }
 
 void fourier_lines_destroy(struct fourier_lines *f)
@@ -83,12 +80,12 @@ void fourier_lines_destroy(struct fourier_lines *f)
     free(f->part);
     free(f->cnt);
     free(f->band);
-    free(f->work);
-    if (f->fwd)
-        fftw_destroy_plan(f->fwd);
-    if (f->bwd)
-        fftw_destroy_plan(f->bwd);
-    fftw_free(f->plane);
+    for (int c = 0; c < 3; c++) {
+        if (f->fwd[c])
+            fftw_destroy_plan(f->fwd[c]);
+        if (f->bwd[c])
+            fftw_destroy_plan(f->bwd[c]);
+    }
     fftw_free(f->spec);
     free(f);
 }
@@ -129,26 +126,43 @@ int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
     }
     int ml = f->maxlen > 0 ? f->maxlen : 1;
     f->nu = 3 * ml;
-    f->nthreads = omp_get_max_threads();
     f->sym = malloc((size_t)PATTERNS * 9 * ml * PROBES * sizeof(double));
     f->band = malloc((size_t)f->modes * f->nu * (KB + 1) * sizeof(cplx));
     f->part = malloc((size_t)f->n[1] * ml * sizeof(double));
     f->cnt = malloc((size_t)f->n[1] * sizeof(long));
-    f->work = malloc((size_t)f->nthreads * f->nu * sizeof(cplx));
-    f->plane = fftw_malloc(3 * (size_t)ml * plane_size(f) * sizeof(double));
-    f->spec = fftw_malloc(3 * (size_t)ml * spec_size(f) * sizeof(fftw_complex));
-    int ok = f->sym && f->band && f->part && f->cnt && f->work && f->plane && f->spec;
+    f->spec = fftw_malloc((size_t)f->modes * f->nu * sizeof(fftw_complex));
+    double *tmp = field_alloc(g); /* a field to plan on */
+    int ok = f->sym && f->band && f->part && f->cnt && f->spec && tmp;
     if (ok) {
-        /* one plane's transforms, executed plane by plane from OpenMP threads
-         * (the new-array execute is thread-safe), single-threaded each;
-         * FFTW_UNALIGNED since a plane of odd size starts off alignment */
-        unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+        /* a padding node (a shorter line) is never transformed: 0 for good */
+        memset(f->spec, 0, (size_t)f->modes * f->nu * sizeof(fftw_complex));
+        /* Every plane of a component's box in one plan, read from the field
+         * and written into the modes' vectors where the blocks want them
+         * (FFTW's guru strides): no gathering of planes.  Dimensions: o[1],
+         * then o[0], whose half spectrum is kept (mode s = k1 half0 + k0);
+         * the planes along the lines.  FFTW's own threads (as the pressure's
+         * FFT solver takes them); FFTW_UNALIGNED: the fields passed at
+         * execution are CG's vectors, not the one planned on. */
         ok = fftw_init_threads() != 0;
-        fftw_plan_with_nthreads(1);
-        f->fwd = fftw_plan_dft_r2c_2d(f->n[1], f->n[0], f->plane, f->spec, flags);
-        f->bwd = fftw_plan_dft_c2r_2d(f->n[1], f->n[0], f->spec, f->plane, flags);
-        ok = ok && f->fwd && f->bwd;
+        fftw_plan_with_nthreads(grid_cells(g) >= 65536 ? omp_get_max_threads() : 1);
+        unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+        for (int c = 0; c < 3 && ok; c++) {
+            if (f->len[c] == 0)
+                continue;
+            fftw_iodim dims[2] = {{f->n[1], (int)g->stride[o1], f->half0 * f->nu},
+                                  {f->n[0], (int)g->stride[o0], f->nu}};
+            fftw_iodim many = {f->len[c], (int)g->stride[line_dir], 3};
+            double *in = tmp + node(f, c, 0, 0, 0);
+            f->fwd[c] = fftw_plan_guru_dft_r2c(2, dims, 1, &many, in, f->spec + c, flags);
+            fftw_iodim bdims[2] = {{f->n[1], f->half0 * f->nu, (int)g->stride[o1]},
+                                   {f->n[0], f->nu, (int)g->stride[o0]}};
+            fftw_iodim bmany = {f->len[c], 3, (int)g->stride[line_dir]};
+            f->bwd[c] = fftw_plan_guru_dft_c2r(2, bdims, 1, &bmany, f->spec + c, in,
+                                               flags | FFTW_DESTROY_INPUT);
+            ok = f->fwd[c] && f->bwd[c];
+        }
     }
+    field_free(tmp);
     if (!ok) {
         fourier_lines_destroy(f);
         snprintf(err, errlen, "viscous solver: out of memory for the Fourier line blocks");
@@ -397,54 +411,24 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
 void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[3])
 {
     const struct grid *g = f->g;
-    int n0 = f->n[0], n1 = f->n[1], ml = f->maxlen, nu = f->nu;
-    size_t plane = plane_size(f), spec = spec_size(f);
-    double norm = 1.0 / (double)plane;
-    if (ml == 0)
+    int nu = f->nu;
+    if (f->maxlen == 0)
         return;
-    /* the planes, read along the lines (contiguous for z lines) */
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
-    for (int b = 0; b < n1; b++)
-        for (int a = 0; a < n0; a++)
-            for (int c = 0; c < 3; c++)
-                for (int m = 0; m < f->len[c]; m++)
-                    f->plane[(size_t)(c * ml + m) * plane + (size_t)b * n0 + a] =
-                        r[c][node(f, c, a, b, m)];
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
-    for (int cm = 0; cm < 3 * ml; cm++) {
-        if (cm % ml >= f->len[cm / ml])
-            continue;
-        fftw_execute_dft_r2c(f->fwd, f->plane + (size_t)cm * plane, f->spec + (size_t)cm * spec);
-    }
+    for (int c = 0; c < 3; c++)
+        if (f->len[c] > 0)
+            fftw_execute_dft_r2c(f->fwd[c], r[c] + node(f, c, 0, 0, 0), f->spec + c);
+    /* each mode's vector is contiguous; the inverse transform's 1 / (n0 n1)
+     * is taken here */
+    double norm = 1.0 / ((double)f->n[0] * f->n[1]);
+    cplx *spec = (cplx *)f->spec; /* fftw_complex is double[2], laid out as C's complex */
 #pragma omp parallel for schedule(static) if (kernel_parallel(g))
     for (long s = 0; s < f->modes; s++) {
-        cplx *x = f->work + (size_t)omp_get_thread_num() * nu;
-        for (int i = 0; i < nu; i++) {
-            int m = i / 3, c = i % 3;
-            const double *v = f->spec[(size_t)(c * ml + m) * spec + s];
-            x[i] = m < f->len[c] ? v[0] + I * v[1] : 0.0;
-        }
+        cplx *x = spec + (size_t)s * nu;
         cholesky_solve(f->band + (size_t)s * nu * (KB + 1), nu, x);
-        for (int i = 0; i < nu; i++) {
-            int m = i / 3, c = i % 3;
-            if (m >= f->len[c])
-                continue;
-            double *v = f->spec[(size_t)(c * ml + m) * spec + s];
-            v[0] = creal(x[i]);
-            v[1] = cimag(x[i]);
-        }
+        for (int i = 0; i < nu; i++)
+            x[i] *= norm;
     }
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
-    for (int cm = 0; cm < 3 * ml; cm++) {
-        if (cm % ml >= f->len[cm / ml])
-            continue;
-        fftw_execute_dft_c2r(f->bwd, f->spec + (size_t)cm * spec, f->plane + (size_t)cm * plane);
-    }
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
-    for (int b = 0; b < n1; b++)
-        for (int a = 0; a < n0; a++)
-            for (int c = 0; c < 3; c++)
-                for (int m = 0; m < f->len[c]; m++)
-                    z[c][node(f, c, a, b, m)] =
-                        norm * f->plane[(size_t)(c * ml + m) * plane + (size_t)b * n0 + a];
+    for (int c = 0; c < 3; c++)
+        if (f->len[c] > 0)
+            fftw_execute_dft_c2r(f->bwd[c], f->spec + c, z[c] + node(f, c, 0, 0, 0));
 }
