@@ -61,14 +61,11 @@ static inline ptrdiff_t node(const struct fourier_lines *f, int c, int a, int b,
     return grid_idx(f->g, idx[0], idx[1], idx[2]);
 }
 
-
 double fourier_lines_memory_estimate(const struct grid *g)
 {
     /* the z-lines' case, the largest: n1 (n0/2 + 1) modes of 3 nz unknowns
      * times KB + 1 complex entries, and the spectra */
     double modes = (double)g->n[1] * (g->n[0] / 2 + 1), nu = 3.0 * g->n[2];
-    double cells = (double)grid_cells(g);
-    (void)cells;
     return modes * nu * (KB + 1) * sizeof(cplx) + modes * nu * sizeof(fftw_complex);
 }
 
