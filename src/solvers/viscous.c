@@ -435,6 +435,10 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         if (s->amg_cfg.drop_augmentation)
             q.augmentation = NULL;
         struct apply_ctx a = {s, &q};
+        /* the old hierarchy is no use now: freed before the probing's
+         * triplets and rows are allocated, not after (the peak memory held
+         * both) */
+        amg_hypre_release(s->amg);
         double t0 = cpu_now();
         int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
         double t1 = cpu_now();
