@@ -183,7 +183,7 @@ static const struct key keys[] = {
     CHO("solver", "preconditioner", preconditioner, precond_choices,
         "of the implicit solve: line blocks, sparse Cholesky or LU, or AMG (auto, for grids "
         "varying in two or more directions: amg on a steady 2D cross-section with newton, no "
-        "augmentation and over 5e3 unknowns, else lu or cholesky up to 4e5 unknowns; line "
+        "augmentation and over 1e4 unknowns, else lu or cholesky up to 4e5 unknowns; line "
         "otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
