@@ -273,6 +273,20 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
 
+# The algebraic multigrid against the probed LU on whole steady solves
+# (bench/heap_amg.py): the heap at the tilt 0.4061 on 140 x 200 with lu and
+# amg alternating (AMG_REPEATS each: wall and CPU time, peak memory, steps,
+# the load average beside each run), 280 x 400 with amg to its steady state,
+# and the Krylov iterations per Newton step of the heap (35 x 50 to
+# 280 x 400) and the Bingham cavity (32 x 32 to 256 x 256);
+# bench/out/amg_table.md.  About 25 minutes on 2 idle cores, most of it the
+# LU runs.
+AMG_REPEATS ?= 2
+.PHONY: bench-amg
+bench-amg: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_amg.py $(BUILD)/muflow $(BENCH_OUT) --repeats $(AMG_REPEATS)
+
 # The square duct study (seeds/002 sec. 4.1): cases/duct_square.ini on the
 # half cross-section meshes 20 x 40, 40 x 80 (the paper's) and 80 x 160, the
 # table of flow rates and mid-plane differences (bench/out/duct_table.md) and

@@ -138,6 +138,7 @@ int main(int argc, char **argv)
         /* the same march with another preconditioner: the full tangent stays */
         viscous_destroy(st.viscous);
         st.viscous = NULL;
+        st.precond = kind; /* what the march's choices (the forcing term) see */
         if (viscous_create(&st.viscous, &st.g, &st.bc, st.act, cs.line_direction, kind, err,
                            sizeof err) != 0) {
             fprintf(stderr, "%s\n", err);

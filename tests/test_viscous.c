@@ -408,9 +408,10 @@ void group_viscous(struct test_tally *t)
 }
 
 /* solver.preconditioner = auto (march.c, choose_preconditioner): the AMG
- * for a grid bounded in two directions with Newton's full tangent, no
- * augmentation and more than 1e4 unknowns; the LU below that or with the
- * grad-div augmentation; Cholesky without Newton.  Only the choice is
+ * for a steady flow on a grid bounded in two directions with Newton's full
+ * tangent, no augmentation and more than 1e4 unknowns; the LU below that,
+ * in a transient run or with the grad-div augmentation; Cholesky without
+ * Newton.  Only the choice is
  * checked (march_create), no step is taken. */
 static enum viscous_precond auto_choice(const char *file, int n, char *ov[])
 {
@@ -434,11 +435,15 @@ static void test_auto_choice(void **state)
 {
     (void)state;
     /* the heap: 14 x 20 (840 unknowns) as the heap tests run it and 35 x 50
-     * (5,250), the LU; 70 x 100 (21,000), the paper's mesh, the AMG */
+     * (5,250), the LU; 70 x 100 (21,000), the paper's mesh, the AMG, but not
+     * in a transient run */
     char *coarse[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, coarse), VISCOUS_LU);
     char *mid[] = {"domain.ny=35", "domain.nz=50", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, mid), VISCOUS_LU);
+    char *transient[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
+                         "solver.mode=transient"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 4, transient), VISCOUS_LU);
     char *fine[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, fine), VISCOUS_AMG);
     char *picard[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0", "solver.newton=off"};

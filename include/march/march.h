@@ -94,6 +94,10 @@ struct march_state {
     /* the Picard steps (solver.newton_below) have stalled: the tangent from
      * now on (in this continuation stage) */
     int picard_stalled;
+    /* the inexact Newton forcing term (forcing.c): the last linear tolerance,
+     * the RMS residual it was chosen at and the step (0: none yet) */
+    double forcing, forcing_rms;
+    long forcing_step;
     /* the step, time and dt of the saved (last accepted) fields: a run that
      * ends on a bad state goes back to them as a whole */
     long good_step;

@@ -39,6 +39,10 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
 /* Whether the next step linearises with the tangent (Newton) rather than the
  * lagged viscosity (Picard). */
 int implicit_uses_tangent(const struct march_state *st);
+/* The linear tolerance of this step's implicit solve: solver.linear_tolerance,
+ * or on a Newton step solved with the algebraic multigrid an inexact Newton
+ * forcing term tied to the residual's last decrease (forcing.c). */
+double implicit_tolerance(struct march_state *st, int tangent);
 
 /* The hydrostatic split of the body force (hydrostatic.c), and the force
  * rho g (sin tilt, 0, -cos tilt) per unit volume at the case's density. */

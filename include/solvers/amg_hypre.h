@@ -62,6 +62,11 @@ void amg_hypre_destroy(struct amg_hypre *a);
  * Returns 0, or -1 when hypre reports an error. */
 int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
 
+/* Frees the last hierarchy and hypre's copy of its matrix (amg_hypre_setup
+ * builds new ones): before the next matrix is probed, so that the two are
+ * never held at once. */
+void amg_hypre_release(struct amg_hypre *a);
+
 /* x = one V-cycle applied to b (from x = 0). */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
 

@@ -183,13 +183,16 @@ static const struct key keys[] = {
     CHO("solver", "preconditioner", preconditioner, precond_choices,
         "of the implicit solve: line blocks, sparse Cholesky or LU, AMG, or fourier (the line "
         "blocks of every plane Fourier mode, for periodic directions across the lines) (auto, "
-        "for grids varying in two or more directions: amg on a 2D cross-section with newton, no "
+        "for grids varying in two or more directions: amg on a steady 2D cross-section with newton, no "
         "augmentation and over 1e4 unknowns, else lu or cholesky up to 4e5 unknowns; line "
         "otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
         "relative tolerance of the implicit viscous solve"),
+    BOOL("solver", "inexact_newton", inexact_newton,
+         "steady Newton steps solved with amg: the linear tolerance follows the residual's "
+         "last decrease (Eisenstat-Walker), down to linear_tolerance"),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
@@ -269,6 +272,7 @@ void case_defaults(struct muflow_case *c)
     c->newton_below = 1.0;
     c->continuation = 1.0;
     c->linear_tolerance = 1e-8;
+    c->inexact_newton = 1;
     c->max_linear_iterations = 500;
     c->line_direction = -1;
     c->preconditioner = PRECOND_AUTO;

@@ -38,6 +38,9 @@ static const struct {
     {"rejected", offsetof(struct march_state, rejected), S_LONG, 0},
     {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE, 0},
     {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT, 0},
+    {"forcing", offsetof(struct march_state, forcing), S_DOUBLE, 1},
+    {"forcing_rms", offsetof(struct march_state, forcing_rms), S_DOUBLE, 1},
+    {"forcing_step", offsetof(struct march_state, forcing_step), S_LONG, 1},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 

@@ -104,16 +104,20 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
 #define CHOLESKY_MAX_UNKNOWNS 400000L
 
 /* Above this many unknowns auto takes BoomerAMG (GMRES(20), one V-cycle an
- * iteration) instead of the LU for a flow with Newton's full tangent and no
- * grad-div augmentation.  Measured on the heap at the tilt 0.4061 (one
- * steady solve, the same steps and state with either), one process after
- * the other, 1 thread, CPU s per step of the whole run (two rounds):
- * 35 x 50 (5,250 unknowns) LU 0.082-0.093, AMG 0.075-0.076 (within the
- * noise); 50 x 70 (10,500) LU 0.235-0.243, AMG 0.170-0.172 (1.4x);
- * 70 x 100 (21,000) LU 0.55-0.67, AMG 0.37 (1.5-1.8x; docs/design.md per
- * linear solve: 2x, 2.7x at 140 x 200, 5x and 2.6x less memory at
- * 280 x 400).  Below the threshold the exact LU, as fast, is kept.  With the
- * augmentation (the cavity) BoomerAMG's GMRES stalls: the LU stays. */
+ * iteration, the inexact Newton forcing term) instead of the LU for a
+ * steady flow with Newton's full tangent and no grad-div augmentation.
+ * Measured on the heap at the tilt 0.4061 (whole steady solves, the same
+ * steps and state with either), one process after the other, 1 thread, CPU
+ * s of the whole run, two rounds on a machine loaded 5-6: 25 x 36 (2,700
+ * unknowns) LU 1.23-1.27, AMG 1.05-1.15 (a tie; the LU's memory is 33 MB
+ * against 40, hypre's library); 35 x 50 (5,250) LU 2.28-3.19, AMG
+ * 1.48-1.57 (1.5-2x); 50 x 70 (10,500) LU 8.1-8.2, AMG 3.9-4.0 (2.1x).
+ * The heap's crossover is thus near 3e3, but the square duct at 40 x 80
+ * (9,600 unknowns, many rejected steps) reaches the same state in 298
+ * steps with the AMG against 214 with the LU, 1.55x slower: the threshold
+ * stays at 1e4, where it was before the forcing term (whose tie on the heap
+ * was at 35 x 50 then).  With the augmentation (the cavity) BoomerAMG's
+ * GMRES stalls: the LU stays. */
 #define AMG_MIN_UNKNOWNS 10000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
@@ -152,7 +156,9 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     for (int d = 0; d < 3; d++)
         wide += st->g.n[d] > 2;
     char why[256];
-    if (kind == VISCOUS_LU && wide == 2 && !(cs->augmentation > 0.0) &&
+    /* a transient step lags the viscosity (the tangent is for steady
+     * solves), where the AMG was not measured: the LU as before */
+    if (kind == VISCOUS_LU && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
         unknowns > AMG_MIN_UNKNOWNS && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
     if (unknowns > CHOLESKY_MAX_UNKNOWNS)
@@ -461,6 +467,7 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     st->mark_time = 0.0;
     st->marks = 0;
     st->dt_scale = 1.0;
+    st->forcing = st->forcing_rms = 0.0; /* the step count starts again */
     st->wall_seconds = 0.0;
     st->status = STATUS_RUNNING;
     st->message[0] = '\0';

@@ -61,9 +61,10 @@ int stage_implicit(struct march_state *st, double dt)
                 return rc < 0 ? -1 : 0;
         }
     struct viscous_problem pb = implicit_problem(st, dt);
+    double tol = implicit_tolerance(st, pb.b_cell != NULL);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;
-    int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, cs->linear_tolerance,
+    int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, tol,
                            cs->max_linear_iterations, &vs);
     st->linear_iterations = vs.iterations;
     return rc < 0 ? -1 : 0;

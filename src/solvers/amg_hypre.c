@@ -6,6 +6,9 @@
 #include <string.h>
 #include <strings.h>
 #include <dlfcn.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #include <mpi.h>
 #include <HYPRE.h>
 #include <HYPRE_parcsr_ls.h>
@@ -25,6 +28,7 @@ struct amg_hypre {
     int n;
     int *dof_func;
     int *rows, *ncols;          /* 0 .. n-1 and the entries of each row */
+    int *zeros;                 /* n zeros: no row has entries off this rank */
     struct amg_options o;
     HYPRE_IJMatrix ij;
     HYPRE_ParCSRMatrix A;
@@ -51,7 +55,7 @@ struct amg_hypre {
 
 #define HYPRE_FUNCTIONS(X)                                                                        \
     X(HYPRE_Init) X(HYPRE_Finalize) X(HYPRE_ClearAllErrors)                                       \
-    X(HYPRE_IJMatrixCreate) X(HYPRE_IJMatrixSetObjectType) X(HYPRE_IJMatrixSetRowSizes)           \
+    X(HYPRE_IJMatrixCreate) X(HYPRE_IJMatrixSetObjectType) X(HYPRE_IJMatrixSetDiagOffdSizes)      \
     X(HYPRE_IJMatrixInitialize) X(HYPRE_IJMatrixSetValues) X(HYPRE_IJMatrixAssemble)              \
     X(HYPRE_IJMatrixGetObject) X(HYPRE_IJMatrixDestroy)                                           \
     X(HYPRE_IJVectorCreate) X(HYPRE_IJVectorSetObjectType) X(HYPRE_IJVectorInitialize)            \
@@ -148,6 +152,9 @@ static int start_hypre(char *err, size_t errlen)
         return -1;
     }
     hy.HYPRE_Init();
+#ifdef __GLIBC__
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
     if (own)
         atexit(finish_at_exit);
     hypre_started = 1;
@@ -268,7 +275,8 @@ int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
     a->dof_func = malloc((size_t)n * sizeof(int));
     a->rows = malloc((size_t)n * sizeof(int));
     a->ncols = malloc((size_t)n * sizeof(int));
-    if (!a->dof_func || !a->rows || !a->ncols) {
+    a->zeros = calloc((size_t)n, sizeof(int));
+    if (!a->dof_func || !a->rows || !a->ncols || !a->zeros) {
         amg_hypre_destroy(a);
         snprintf(err, errlen, "amg: out of memory");
         return -1;
@@ -302,6 +310,12 @@ static void release_hierarchy(struct amg_hypre *a)
     a->A = NULL;
 }
 
+void amg_hypre_release(struct amg_hypre *a)
+{
+    if (a)
+        release_hierarchy(a);
+}
+
 void amg_hypre_destroy(struct amg_hypre *a)
 {
     if (!a)
@@ -314,6 +328,7 @@ void amg_hypre_destroy(struct amg_hypre *a)
     free(a->dof_func);
     free(a->rows);
     free(a->ncols);
+    free(a->zeros);
     free(a);
 }
 
@@ -338,12 +353,16 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
         a->ncols[r] = M->rowptr[r + 1] - M->rowptr[r];
     hy.HYPRE_IJMatrixCreate(hy.comm_self, 0, n - 1, 0, n - 1, &a->ij);
     hy.HYPRE_IJMatrixSetObjectType(a->ij, HYPRE_PARCSR);
-    hy.HYPRE_IJMatrixSetRowSizes(a->ij, a->ncols);
+    /* exact row sizes of the local block (one rank: every column local) let
+     * hypre write the values into its matrix directly, without the
+     * auxiliary row arrays it otherwise fills and converts on assembly (a
+     * third copy of the matrix at the peak) */
+    hy.HYPRE_IJMatrixSetDiagOffdSizes(a->ij, a->ncols, a->zeros);
     hy.HYPRE_IJMatrixInitialize(a->ij);
     hy.HYPRE_IJMatrixSetValues(a->ij, n, a->ncols, a->rows, M->col, M->val);
+    csr_free(M); /* hypre holds the copy it needs */
     if (hy.HYPRE_IJMatrixAssemble(a->ij) != 0)
         return -1;
-    csr_free(M); /* hypre holds the copy it needs */
     void *obj;
     hy.HYPRE_IJMatrixGetObject(a->ij, &obj);
     a->A = obj;

@@ -81,7 +81,9 @@ struct viscous_solver {
     double *amg_b, *amg_x;             /* gathered right-hand side and correction */
     int amg_ok;                        /* the last setup succeeded */
     struct kept amg_kept;              /* the hierarchy's reuse (amg_cfg.reuse) */
-    double *(*gv)[3];                  /* GMRES basis: restart + 1 field triples */
+    double **gv;                       /* GMRES basis: restart + 1 vectors of the
+                                          probed unknowns (not field triples, three
+                                          times larger with their ghosts) */
     int gv_len;
     double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
     struct viscous_precond_info info;
@@ -230,8 +232,7 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
 static void free_gmres(struct viscous_solver *s)
 {
     for (int m = 0; m < s->gv_len; m++)
-        for (int c = 0; c < 3; c++)
-            field_free(s->gv[m][c]);
+        free(s->gv[m]);
     free(s->gv);
     free(s->gwork);
     s->gv = NULL;
@@ -318,8 +319,7 @@ int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char 
     if (s->gv) {
         s->gv_len = m + 1;
         for (int k = 0; k <= m; k++)
-            for (int cc = 0; cc < 3; cc++)
-                ok &= (s->gv[k][cc] = field_alloc(s->g)) != NULL;
+            ok &= (s->gv[k] = malloc((size_t)(n > 0 ? n : 1) * sizeof(double))) != NULL;
     }
     if (!ok) {
         snprintf(err, errlen, "viscous solver: out of memory for GMRES(%d)", m);
@@ -465,6 +465,10 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         if (s->amg_cfg.drop_augmentation)
             q.augmentation = NULL;
         struct apply_ctx a = {s, &q};
+        /* the old hierarchy is no use now: freed before the probing's
+         * triplets and rows are allocated, not after (the peak memory held
+         * both) */
+        amg_hypre_release(s->amg);
         double t0 = cpu_now();
         int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
         double t1 = cpu_now();
@@ -659,14 +663,33 @@ static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, 
     return 1;
 }
 
-/* Restarted GMRES (Saad and Schultz), right-preconditioned: the residual
- * it monitors is the true one, and every restart recomputes it from x. */
+/* Dot product and y += a x over the probed unknowns (serial: the order of
+ * the sums does not depend on the threads). */
+static double vec_dot(long n, const double *a, const double *b)
+{
+    double d = 0.0;
+    for (long k = 0; k < n; k++)
+        d += a[k] * b[k];
+    return d;
+}
+
+static void vec_axpy(long n, double a, const double *x, double *y)
+{
+    for (long k = 0; k < n; k++)
+        y[k] += a * x[k];
+}
+
+/* Restarted GMRES (Saad and Schultz), right-preconditioned by the AMG: the
+ * residual it monitors is the true one, and every restart recomputes it
+ * from x.  The basis lives in the probed unknowns' numbering, where the
+ * V-cycle takes and gives its vectors; the operator acts on fields. */
 static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                  double bnorm, double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
     const struct grid *g = s->g;
     const struct box *act = s->act;
     const int m = s->gv_len - 1;
+    const long n = probe_matrix_unknowns(s->probe);
     double *H = s->gwork;                       /* H[i * m + j], (m+1) x m */
     double *cs = H + (size_t)(m + 1) * m, *sn = cs + m, *e = sn + m, *y = e + m + 1;
     double **r = s->r, **z = s->z;
@@ -681,23 +704,28 @@ static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, dou
             return 0;
         if (it >= maxit)
             return 1;
-        kernel_lincomb(g, act, 1.0 / beta, r, 0.0, s->gv[0]);
+        probe_matrix_gather(s->probe, r, s->gv[0]);
+        for (long q = 0; q < n; q++)
+            s->gv[0][q] /= beta;
         e[0] = beta;
         int k = 0;
         while (k < m && it < maxit) {
-            double **w = s->gv[k + 1];
-            precondition_apply(s, s->gv[k], z);
-            viscous_apply(s, pb, z, w);
+            double *w = s->gv[k + 1];
+            amg_hypre_apply(s->amg, s->gv[k], s->amg_x); /* w = A M^-1 v_k */
+            probe_matrix_scatter(s->probe, s->amg_x, z);
+            viscous_apply(s, pb, z, s->q);
+            probe_matrix_gather(s->probe, s->q, w);
             it++;
             for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
-                double h = kernel_dot(g, act, w, s->gv[i]);
+                double h = vec_dot(n, w, s->gv[i]);
                 H[i * m + k] = h;
-                kernel_axpy(g, act, -h, s->gv[i], w);
+                vec_axpy(n, -h, s->gv[i], w);
             }
-            double hn = sqrt(kernel_dot(g, act, w, w));
+            double hn = sqrt(vec_dot(n, w, w));
             H[(k + 1) * m + k] = hn;
             if (hn > 0.0)
-                kernel_lincomb(g, act, 1.0 / hn, w, 0.0, w);
+                for (long q = 0; q < n; q++)
+                    w[q] /= hn;
             for (int i = 0; i < k; i++) { /* earlier rotations */
                 double a = H[i * m + k], b = H[(i + 1) * m + k];
                 H[i * m + k] = cs[i] * a + sn[i] * b;
@@ -725,11 +753,12 @@ static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, dou
             y[i] = t / H[i * m + i];
         }
         /* x += M^-1 (V y); then the true residual */
-        double **u = s->gv[0];
-        kernel_lincomb(g, act, y[0], s->gv[0], 0.0, u);
-        for (int i = 1; i < k; i++)
-            kernel_axpy(g, act, y[i], s->gv[i], u);
-        precondition_apply(s, u, z);
+        double *u = s->amg_b;
+        memset(u, 0, (size_t)n * sizeof(double));
+        for (int i = 0; i < k; i++)
+            vec_axpy(n, y[i], s->gv[i], u);
+        amg_hypre_apply(s->amg, u, s->amg_x);
+        probe_matrix_scatter(s->probe, s->amg_x, z);
         kernel_axpy(g, act, 1.0, z, x);
         viscous_apply(s, pb, x, s->q);
         for (int c = 0; c < 3; c++)
@@ -824,11 +853,11 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
     double doubles = 3.0 * cells * (BAND + 1 + PROBES) + (3.0 * 4.0 + 1.0) * points;
     if (kind != VISCOUS_LINE)
         doubles += (2.0 + 3.0 * 7.0) * points;
-    /* the AMG's GMRES(20) basis (21 vectors of three components) and its
-     * gathered right-hand side and correction (hypre's share:
+    /* the AMG's GMRES(20) basis (21 vectors of the unknowns, about three a
+     * cell) and its gathered right-hand side and correction (hypre's share:
      * amg_hypre_memory_estimate) */
     if (kind == VISCOUS_AMG)
-        doubles += 3.0 * 21.0 * points + 2.0 * 3.0 * cells;
+        doubles += (21.0 + 2.0) * 3.0 * cells;
     return doubles * sizeof(double) +
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0);
 }

@@ -1,0 +1,195 @@
+#!/usr/bin/python3
+"""The algebraic multigrid against the probed LU on whole steady solves.
+
+usage: heap_amg.py MUFLOW OUTDIR [--repeats N] [--quick] [--skip-side]
+
+Runs `muflow` processes (OMP_NUM_THREADS as the caller sets it, 2 in `make
+bench-amg`), each timed from start to exit (wall), with its CPU time and
+peak resident memory from wait4's rusage and the 1-minute load average
+before and after:
+
+1. side by side: the heap at the fixed tilt 0.4061 (heap.flow_rate = 0) on
+   140 x 200 with solver.preconditioner = lu and = amg, alternating run by
+   run, N repeats each (default 2); medians and the LU / AMG ratios;
+2. the heap on 280 x 400 with the AMG to its steady state (the LU would take
+   about 3 GB: not run);
+3. Krylov iterations per Newton step: the heap from 35 x 50 to 280 x 400,
+   whole solves with the inexact Newton forcing term (the default) and the
+   first 10 steps at the fixed linear tolerance 1e-8
+   (solver.inexact_newton = off); the Bingham cavity (cases/bingham_cavity.ini)
+   from 32 x 32 to 256 x 256, its first 8 steps with the AMG, with its
+   grad-div augmentation (the case's) and without.
+
+Writes OUTDIR/amg_runs.csv (one row a run) and OUTDIR/amg_table.md, and
+prints the tables.  --quick: one repeat, no 280 x 400, grids to 140 x 200
+and 128 x 128 (a smoke test of the script); --skip-side: parts 2 and 3 only
+(the iteration table's 140 x 200 whole solve is then run once with amg)."""
+import csv
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+from summary_ini import summary
+
+TILT = 0.4061
+HEAP_GRIDS = [(35, 50), (70, 100), (140, 200), (280, 400)]
+CAVITY_GRIDS = [32, 64, 128, 256]
+
+
+def loadavg():
+    with open("/proc/loadavg") as f:
+        return float(f.read().split()[0])
+
+
+def run(muflow, outdir, tag, case, overrides):
+    """One muflow process: wall, CPU, peak memory, load, summary, history."""
+    d = os.path.join(outdir, "amg_runs", tag)
+    args = [muflow, case, f"output.dir={d}", "output.quiet=on", "output.fields=off"] + overrides
+    print(" ".join(args), flush=True)
+    load0 = loadavg()
+    t0 = time.monotonic()
+    p = subprocess.Popen(args, stdout=subprocess.DEVNULL)
+    _, status, ru = os.wait4(p.pid, 0)
+    wall = time.monotonic() - t0
+    p.returncode = os.waitstatus_to_exitcode(status)
+    load1 = loadavg()
+    s = summary(os.path.join(d, "summary.ini"))
+    iters = []
+    with open(os.path.join(d, "history.csv")) as f:
+        for row in csv.DictReader(f):
+            if int(row["step"]) > 0:
+                iters.append(int(row["linear_iterations"]))
+    r = dict(tag=tag, wall=wall, cpu=ru.ru_utime + ru.ru_stime, mb=ru.ru_maxrss / 1024.0,
+             load0=load0, load1=load1, status=s.get("status", f"exit {p.returncode}"),
+             steps=int(s.get("steps", 0)), rejected=int(s.get("rejected_steps", 0)),
+             flow_rate=s.get("flow_rate", ""), u_surface=s.get("u_surface_mid", ""),
+             iters_mean=statistics.mean(iters) if iters else float("nan"),
+             iters_max=max(iters) if iters else 0)
+    print(f"  {r['status']}, {r['steps']} steps, {wall:.1f} s wall, {r['cpu']:.1f} s CPU, "
+          f"{r['mb']:.0f} MB, load {load0:.2f} -> {load1:.2f}", flush=True)
+    return r
+
+
+def heap(muflow, outdir, tag, ny, nz, *extra):
+    return run(muflow, outdir, tag, "cases/heap.ini",
+               [f"domain.ny={ny}", f"domain.nz={nz}", "heap.flow_rate=0",
+                f"physics.tilt={TILT}"] + list(extra))
+
+
+def main():
+    muflow, outdir = sys.argv[1], sys.argv[2]
+    quick = "--quick" in sys.argv
+    repeats = 1 if quick else 2
+    if "--repeats" in sys.argv:
+        repeats = int(sys.argv[sys.argv.index("--repeats") + 1])
+    os.makedirs(outdir, exist_ok=True)
+    runs, lines = [], []
+
+    # 1. side by side at 140 x 200, alternating
+    side = {"lu": [], "amg": []}
+    skip_side = "--skip-side" in sys.argv
+    if skip_side:
+        side["amg"].append(heap(muflow, outdir, "heap140_amg", 140, 200,
+                                "solver.preconditioner=amg"))
+        runs.append(side["amg"][0])
+    for k in range(0 if skip_side else repeats):
+        for pc in ("lu", "amg"):
+            r = heap(muflow, outdir, f"heap140_{pc}_{k}", 140, 200, f"solver.preconditioner={pc}")
+            side[pc].append(r)
+            runs.append(r)
+    med = {pc: {key: statistics.median(r[key] for r in rs) for key in ("wall", "cpu", "mb")}
+           for pc, rs in side.items() if rs}
+    lines += ["Heap at the tilt 0.4061, 140 x 200, whole steady solve from rest "
+              f"(OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', '?')}; "
+              f"{repeats} run(s) each, alternating; medians):", "",
+              "| preconditioner | wall s | CPU s | peak MB | steps (rejected) | Q* | u_surface mid "
+              "| iterations per step mean (max) | load before-after |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    for pc, rs in side.items():
+        if not rs:
+            continue
+        r0 = rs[0]
+        walls = ", ".join(f"{r['wall']:.1f}" for r in rs)
+        loads = "; ".join(f"{r['load0']:.2f}-{r['load1']:.2f}" for r in rs)
+        lines.append(f"| {pc} | {med[pc]['wall']:.1f} ({walls}) | {med[pc]['cpu']:.1f} "
+                     f"| {med[pc]['mb']:.0f} | {r0['steps']} ({r0['rejected']}) | {r0['flow_rate']} "
+                     f"| {r0['u_surface']} | {r0['iters_mean']:.1f} ({r0['iters_max']}) | {loads} |")
+    if "lu" in med:
+        lines += ["", f"LU / AMG: wall {med['lu']['wall'] / med['amg']['wall']:.2f}x, "
+                  f"CPU {med['lu']['cpu'] / med['amg']['cpu']:.2f}x, "
+                  f"peak memory AMG / LU {med['amg']['mb'] / med['lu']['mb']:.2f}"]
+    lines.append("")
+
+    # 2. and 3. the heap's grids with the AMG: whole solves (forcing term)
+    # and the first 10 steps at the fixed tolerance
+    grids = HEAP_GRIDS[:3] if quick else HEAP_GRIDS
+    whole, fixed = {}, {}
+    for ny, nz in grids:
+        if (ny, nz) == (140, 200):
+            whole[(ny, nz)] = side["amg"][0]
+        else:
+            whole[(ny, nz)] = heap(muflow, outdir, f"heap{ny}_amg", ny, nz,
+                                   "solver.preconditioner=amg")
+            runs.append(whole[(ny, nz)])
+        fixed[(ny, nz)] = heap(muflow, outdir, f"heap{ny}_amg_fixed10", ny, nz,
+                               "solver.preconditioner=amg", "solver.inexact_newton=off",
+                               "solver.max_steps=10")
+        runs.append(fixed[(ny, nz)])
+    if (280, 400) in whole:
+        r = whole[(280, 400)]
+        lines += ["Heap 280 x 400 with the AMG, whole steady solve from rest:", "",
+                  f"{r['status']}, {r['steps']} steps ({r['rejected']} rejected), "
+                  f"{r['wall']:.1f} s wall, {r['cpu']:.1f} s CPU, peak {r['mb']:.0f} MB, "
+                  f"Q* {r['flow_rate']}, u_surface mid {r['u_surface']}, "
+                  f"load {r['load0']:.2f}-{r['load1']:.2f}", ""]
+    lines += ["Krylov (GMRES) iterations per Newton step, heap with the AMG:", "",
+              "| grid | whole solve, forcing term: steps, mean (max) | growth | first 10 steps, "
+              "tolerance 1e-8: mean (max) | growth |", "|---|---|---|---|---|"]
+    prev = None
+    for g in grids:
+        w, f = whole[g], fixed[g]
+        gw = f"{w['iters_mean'] / prev[0]:.2f}x" if prev else ""
+        gf = f"{f['iters_mean'] / prev[1]:.2f}x" if prev else ""
+        lines.append(f"| {g[0]} x {g[1]} | {w['steps']}, {w['iters_mean']:.1f} ({w['iters_max']}) "
+                     f"| {gw} | {f['iters_mean']:.1f} ({f['iters_max']}) | {gf} |")
+        prev = (w["iters_mean"], f["iters_mean"])
+
+    # 3. the cavity: its first 8 steps (Picard: the case switches to the
+    # tangent after a 100-fold fall of the residual) with and without the
+    # augmentation
+    lines += ["", "Bingham cavity (Vola Bn = 10), first 8 steps with the AMG: GMRES iterations "
+              "per step, mean (max; 500 is the cap):", "",
+              "| grid | augmentation (the case's) | growth | without augmentation | growth |",
+              "|---|---|---|---|---|"]
+    prev = None
+    for n in CAVITY_GRIDS[:3] if quick else CAVITY_GRIDS:
+        common = [f"domain.nx={n}", f"domain.nz={n}", "solver.preconditioner=amg",
+                  "solver.max_steps=8"]
+        if n <= 128:
+            a = run(muflow, outdir, f"cavity{n}_amg_aug", "cases/bingham_cavity.ini", common)
+            runs.append(a)
+        else:
+            a = None
+        b = run(muflow, outdir, f"cavity{n}_amg_noaug", "cases/bingham_cavity.ini",
+                common + ["solver.augmentation=0"])
+        runs.append(b)
+        ga = f"{a['iters_mean'] / prev[0]:.2f}x" if a and prev and prev[0] else ""
+        gb = f"{b['iters_mean'] / prev[1]:.2f}x" if prev else ""
+        astr = f"{a['iters_mean']:.1f} ({a['iters_max']})" if a else "not run"
+        lines.append(f"| {n} x {n} | {astr} | {ga} | {b['iters_mean']:.1f} ({b['iters_max']}) "
+                     f"| {gb} |")
+        prev = (a["iters_mean"] if a else None, b["iters_mean"])
+
+    with open(os.path.join(outdir, "amg_runs.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(runs[0].keys()))
+        w.writeheader()
+        w.writerows(runs)
+    with open(os.path.join(outdir, "amg_table.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
