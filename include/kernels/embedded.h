@@ -15,10 +15,14 @@
  * blocks and probed factorisations capture it without a wider reach):
  *   div tau_P += -c (1 - theta) / theta v_P.
  * c is the Laplacian's part of the link: A / h^2 for the links of the shear
- * stresses and of the normal stress alike.  For a solenoidal field the
- * normal stress's other half, d_a(d_a v_a) beside the shear stresses'
- * d_b(d_a v_b), is d_a(div v), which the projection keeps at 0 in every cell
- * with the held nodes at 0; no correction is due there. */
+ * stresses and of the normal stress alike.  The stress kernel's normal
+ * stress carries 2 A: for a constant viscosity its second half,
+ * d_a(d_a v_a) beside the shear stresses' d_b(d_a v_b), is d_a(div v), the
+ * plain divergence, which the cut cells' flux form does not make 0 next
+ * to the body; the caller takes it out (the operator adds grad(A div v),
+ * the residual subtracts it: physics/obstacle.c, solvers/viscous.c), so
+ * what the links correct is the Laplacian.
+ */
 #ifndef MUFLOW_KERNELS_EMBEDDED_H
 #define MUFLOW_KERNELS_EMBEDDED_H
 
