@@ -1,5 +1,6 @@
 /* Solid obstacles (physics/obstacle.h, kernels/embedded.h):
- * - the shapes' keys: bad input names the key, exit status 2;
+ * - the shapes' keys: bad input names the key, exit status 2; a scene
+ *   whose modules change the density is refused;
  * - the signed distance of a circle, a rectangle and their union;
  * - Poiseuille flow in a circular pipe (the fluid inside a circle:
  *   obstacle.invert), cross-section in y-z, one periodic cell along the
@@ -32,6 +33,21 @@ static void test_keys(void **state)
         {"obstacle.boundary=cut", "obstacle.boundary"},
     };
     test_bad_overrides("../cases/cylinder_benchmark.ini", bad, sizeof bad / sizeof bad[0]);
+}
+
+/* A scene whose modules change the density would rebuild the projection's
+ * coefficient without the body: refused at set-up, naming the key. */
+static void test_modules_refused(void **state)
+{
+    (void)state;
+    char *ov[] = {"obstacle.shapes=circle 1 0.5 0.2", "output.quiet=on"};
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, "../cases/collapse.ini", 2, ov, err, sizeof err), 0);
+    struct march_state st;
+    assert_int_equal(march_create(&st, &cs, err, sizeof err), -1);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "obstacle.shapes"));
 }
 
 static void test_distance(void **state)
@@ -190,6 +206,7 @@ void group_obstacle(struct test_tally *t)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_keys),
         cmocka_unit_test(test_distance),
+        cmocka_unit_test(test_modules_refused),
         cmocka_unit_test(test_pipe),
         cmocka_unit_test(test_cylinder_coarse),
     };
