@@ -310,6 +310,18 @@ bench-3d: deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold3d_bench.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(BAGNOLD3D_OPTS)
 
+# The Schaefer & Turek 2D-1 cylinder (Re 20): cases/cylinder_benchmark.ini
+# on D/h = CYLINDER_GRIDS, C_D (surface integral and control volume), C_L and
+# the pressure difference against the reference, observed orders
+# ($(BENCH_OUT)/cylinder_table.md, cylinder_surface.png).  About 40 minutes
+# on 2 cores, most of it D/40.
+CYLINDER_GRIDS ?= 10,20,40
+.PHONY: bench-cylinder
+bench-cylinder: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_study.py $(BUILD)/muflow $(BENCH_OUT) \
+	  --grids $(CYLINDER_GRIDS) --plot
+
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps

@@ -73,6 +73,7 @@ static const struct {
     {"collapse", group_collapse},
     {"boundary", group_boundary},
     {"duct", group_duct},
+    {"obstacle", group_obstacle},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

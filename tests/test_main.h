@@ -58,5 +58,6 @@ void group_bedload(struct test_tally *t);
 void group_collapse(struct test_tally *t);
 void group_boundary(struct test_tally *t);
 void group_duct(struct test_tally *t);
+void group_obstacle(struct test_tally *t);
 
 #endif

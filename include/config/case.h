@@ -9,6 +9,12 @@
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 
+/* obstacle.plane: the shapes' coordinates (A, B) are along these directions */
+enum obstacle_plane { OBSTACLE_XZ = 0, OBSTACLE_XY, OBSTACLE_YZ };
+/* obstacle.boundary: sharp (cut links, second order) or staircase (nodes in
+ * the body held at 0, first order: for comparison) */
+enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE };
+
 struct scene;
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
                      PRECOND_FOURIER };
@@ -28,6 +34,14 @@ struct muflow_case {
 
     /* [boundary] xlo xhi ylo yhi zlo zhi */
     struct boundary bc;
+
+    /* [obstacle]: solid bodies inside the box (grid/shapes.h); no shapes: none */
+    struct {
+        char shapes[512];    /* "circle A B R; rectangle A0 B0 A1 B1" (a union) */
+        int plane;           /* enum obstacle_plane: the two grid directions of A, B */
+        int invert;          /* 1: the fluid is inside the shapes */
+        int boundary;        /* enum obstacle_boundary: how no slip on the body is taken */
+    } obstacle;
 
     /* [physics] */
     double tilt;             /* rad: gravity = g (sin tilt, 0, -cos tilt) */

@@ -60,6 +60,7 @@ struct march_state {
     double *delta[3];           /* velocity increment of the viscous solve */
     double *adv[3];             /* advection term */
     double *div, *phi;          /* projection */
+    const struct embedded *embedded; /* a solid body in the grid (physics/obstacle.h), or NULL */
     struct pressure_solver *pressure_solver;
     struct viscous_solver *viscous;
 

@@ -32,6 +32,9 @@ void stage_properties(struct march_state *st);
 void stage_residual(struct march_state *st);
 int stage_implicit(struct march_state *st, double dt);
 void stage_projection(struct march_state *st, double dt);
+/* div v per cell as the projection makes it vanish: the plain MAC sum, or
+ * with an embedded body the cut cells' flux form (kernels/embedded.h). */
+void stage_divergence(const struct march_state *st, double *const v[3], double *out);
 
 /* The implicit operator at the current state for a step dt (dt = 0: the
  * linearised stress alone, no mass term), as the viscous solver takes it. */

@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include "grid/boundary.h"
 #include "grid/grid.h"
+#include "kernels/embedded.h"
 #include "kernels/kernels.h"
 #include "solvers/amg_hypre.h"
 
@@ -38,6 +39,9 @@ struct viscous_problem {
     const double *b_cell;
     const double *b_edge[3];
     double *const *base;          /* the velocity the tangent is taken at */
+    /* an embedded solid body (kernels/embedded.h), or NULL: its nodes are
+     * held at 0 with mass-only rows, and the links the surface cuts end on it */
+    const struct embedded *embedded;
 };
 
 struct viscous_stats {

@@ -7,6 +7,8 @@
 #include "app/interrupt.h"
 #include "app/run.h"
 #include "diagnostics/profile.h"
+#include "physics/obstacle.h"
+#include "physics/obstacle_forces.h"
 #include "io/checkpoint.h"
 #include "io/field_series.h"
 #include "scenes/scene.h"
@@ -244,6 +246,8 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     const struct scene *sc = case_scene(cs);
     if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
+    if (obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
     if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     return rc;
@@ -291,6 +295,8 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         profile_errors(&pr, &st, &res->errors);
     if (sc->results)
         sc->results(&st, &drive, res);
+    if (obstacle_active(&work))
+        obstacle_results(&st, res);
     if (opt->write_output) {
         rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
         interrupt_restore(); /* only now: a signal during the final writes is ignored */

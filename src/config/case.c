@@ -20,6 +20,7 @@
 #include <string.h>
 #include "config/ini.h"
 #include "config/keys.h"
+#include "grid/shapes.h"
 #include "scenes/scene.h"
 
 #define HALF_PI 1.57079632679489661923
@@ -33,6 +34,10 @@ static const struct choice bc_choices[] = {
     {"surface", BC_SURFACE}, {"lid", BC_LID}, {"open", BC_OPEN}, {"inflow", BC_INFLOW}, {NULL, 0}};
 static const struct choice profile_choices[] = {
     {"uniform", INFLOW_UNIFORM}, {"parabolic", INFLOW_PARABOLIC}, {NULL, 0}};
+static const struct choice plane_choices[] = {
+    {"xz", OBSTACLE_XZ}, {"xy", OBSTACLE_XY}, {"yz", OBSTACLE_YZ}, {NULL, 0}};
+static const struct choice obstacle_boundary_choices[] = {
+    {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {NULL, 0}};
 static const struct choice law_choices[] = {
     {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN}, {NULL, 0}};
 static const struct choice reg_choices[] = {
@@ -114,6 +119,17 @@ static const struct key keys[] = {
     CHO("boundary", "inflow_profile", bc.inflow_profile, profile_choices,
         "inflow profile across the face: uniform, or parabolic 4 s (L - s) / L^2 in each "
         "non-periodic direction of the face"),
+
+    STR("obstacle", "shapes", obstacle.shapes,
+        "solid bodies as a union of shapes in the plane's coordinates (A, B), extruded along the "
+        "third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by ';' (empty: none)"),
+    CHO("obstacle", "plane", obstacle.plane, plane_choices,
+        "the grid directions of the shapes' coordinates A and B"),
+    BOOL("obstacle", "invert", obstacle.invert,
+         "the fluid is inside the shapes and the solid outside (a duct)"),
+    CHO("obstacle", "boundary", obstacle.boundary, obstacle_boundary_choices,
+        "no slip on the body: sharp (each grid link the surface cuts ends on the surface, "
+        "second order) or staircase (velocity nodes inside the body held at 0, first order)"),
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
          "must be in [-pi/2, pi/2] (radians)",
@@ -216,7 +232,7 @@ static const struct key keys[] = {
 };
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
 
-static const char *const sections[] = {"case", "domain", "boundary", "physics",
+static const char *const sections[] = {"case", "domain", "boundary", "obstacle", "physics",
                                        "rheology", "solver", "output"};
 #define NSECTIONS ((int)(sizeof(sections) / sizeof(sections[0])))
 #define SCENE_KEYS_MAX 64 /* a scene's keys beyond this are not checked for duplicates */
@@ -712,6 +728,16 @@ static void finish(struct ctx *x)
                 "face: the inflowing volume has no way out (set an outlet face to open)",
              where, axis[inflow / 2], inflow % 2 ? "hi" : "lo", c->bc.inflow_velocity);
         return;
+    }
+
+    /* the shapes are read here so that a bad one stops the case at load */
+    {
+        struct shape_set set;
+        char why[300];
+        if (shapes_parse(&set, c->obstacle.shapes, why, sizeof why) != 0) {
+            fail(x, "%s: obstacle.shapes = '%.200s': %s", where, c->obstacle.shapes, why);
+            return;
+        }
     }
 
     const struct scene *sc = case_scene(c);

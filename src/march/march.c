@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include "march/march.h"
 #include "march/step.h"
+#include "physics/obstacle.h"
 #include "solvers/sparse_direct.h"
 #include "scenes/scene.h"
 
@@ -300,8 +301,11 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
 static int add_modules(struct march_state *st, const struct module *const *extra, char *err,
                        size_t errlen)
 {
-    const struct module *const *lists[2] = {case_scene(st->cs)->modules, extra};
-    for (int l = 0; l < 2; l++)
+    /* the case's obstacles are a module of every scene */
+    static const struct module *const obstacle[] = {&obstacle_module, NULL};
+    const struct module *const *lists[3] = {case_scene(st->cs)->modules, extra,
+                                            obstacle_active(st->cs) ? obstacle : NULL};
+    for (int l = 0; l < 3; l++)
         for (const struct module *const *m = lists[l]; m && *m; m++) {
             if (st->nmodules == MODULES_MAX) {
                 snprintf(err, errlen, "more than %d physics modules", MODULES_MAX);

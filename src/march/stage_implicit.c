@@ -15,7 +15,8 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
     const struct muflow_case *cs = st->cs;
     /* dt = 0: the linearised stress alone (no mass term) */
     struct viscous_problem pb = {.mass = dt > 0.0 ? cs->density / dt : 0.0,
-                                 .augmentation = st->aug};
+                                 .augmentation = st->aug,
+                                 .embedded = st->embedded};
     if (dt > 0.0 && !st->density_uniform) {
         /* the face density of the mass term; the scalar stays as the scale
          * of the preconditioner's fallback */

@@ -12,6 +12,14 @@
  * (500 steps) lost 2e-12 of it, with 1e-15 none to the printed digits. */
 #define DIVERGENCE_FLOOR 1e-15
 
+void stage_divergence(const struct march_state *st, double *const v[3], double *out)
+{
+    if (st->embedded)
+        embedded_divergence(&st->g, st->embedded, v, out);
+    else
+        kernel_divergence(&st->g, v, out);
+}
+
 /* vel -= beta grad phi (phi's ghosts filled). */
 static void subtract_gradient(struct march_state *st, const double *phi)
 {
@@ -125,7 +133,7 @@ void stage_projection(struct march_state *st, double dt)
     int open = bc_has_open(&st->bc);
     if (open)
         open_predict(st, dt);
-    kernel_divergence(g, st->delta, st->phi);
+    stage_divergence(st, st->delta, st->phi);
     if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
@@ -147,7 +155,7 @@ void stage_projection(struct march_state *st, double dt)
         open_correct(st, st->phi);
     bc_fill_velocity(g, &st->bc, st->vel);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
-        kernel_divergence(g, st->vel, st->div);
+        stage_divergence(st, st->vel, st->div);
         pressure_solve(st->pressure_solver, st->div, st->div, floor);
         bc_fill_pressure(g, &st->bc, st->div);
         subtract_gradient(st, st->div);

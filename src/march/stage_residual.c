@@ -72,7 +72,7 @@ void stage_residual(struct march_state *st)
             st->residual = fmax(st->residual, r);
             st->residual_excess = fmax(st->residual_excess, x / scale);
         }
-    kernel_divergence(g, st->vel, st->div);
+    stage_divergence(st, st->vel, st->div);
     double umax = kernel_max_abs(g, st->act, st->vel);
     double dmax = kernel_max_abs_cells(g, st->div);
     st->divergence = umax > 0.0 ? dmax * march_min_spacing(g) / umax : dmax;

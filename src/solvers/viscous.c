@@ -371,11 +371,25 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
 {
     const struct grid *g = s->g;
     bc_fill_velocity_homogeneous(g, s->bc, v);
+    if (pb->embedded)
+        embedded_hold(pb->embedded, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
     if (pb->mass_face[0]) /* mass v - div tau */
         kernel_multiply_minus(g, s->act, pb->mass_face, v, out);
     else
         kernel_lincomb(g, s->act, pb->mass, v, -1.0, out);
+    if (pb->embedded) {
+        /* the links cut by the surface end on it; and the Laplacian form
+         * -div tau + grad(eta div v) (embedded.h: the cut cells' plain
+         * divergence is not 0) */
+        const struct embedded *e = pb->embedded;
+        embedded_links(e, pb->A_cell, pb->A_edge, 1.0, v, out);
+        kernel_divergence(g, v, e->work);
+        for (size_t p = 0; p < g->size; p++)
+            e->work[p] *= pb->A_cell[0][p];
+        bc_fill_scalar(g, s->bc, e->work);
+        kernel_gradient_update(g, s->act, e->work, -1.0, out);
+    }
     if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
         kernel_strain_products(g, pb->base, v, s->pn, s->pe);
         bc_fill_scalar(g, s->bc, s->pn);
@@ -394,6 +408,8 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
         bc_fill_scalar(g, s->bc, s->divbuf);
         kernel_gradient_update(g, s->act, s->divbuf, 1.0, out);
     }
+    if (pb->embedded)
+        embedded_release(pb->embedded, pb->mass, pb->mass_face, v, out);
 }
 
 struct apply_ctx {

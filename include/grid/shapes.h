@@ -1,0 +1,46 @@
+/* Solid shapes given in a case file, as a signed distance.
+ *
+ * A shape lives in the plane of two grid directions (plane_a, plane_b: x and
+ * z for the 2D scenes, y and z for a duct's cross-section) and is extruded
+ * along the third.  Shapes: "circle A B R" (centre, radius) and
+ * "rectangle A0 B0 A1 B1" (two opposite corners), in the plane's
+ * coordinates, several joined by ';' as a union.  shape_distance is the
+ * signed distance to the union's surface, positive in the fluid: outside
+ * every shape, or inside one when inverted (a duct's wall is the outside of
+ * a circle). */
+#ifndef MUFLOW_GRID_SHAPES_H
+#define MUFLOW_GRID_SHAPES_H
+
+#include <stddef.h>
+
+#define SHAPES_MAX 16
+
+enum shape_kind { SHAPE_CIRCLE = 0, SHAPE_RECTANGLE };
+
+struct shape {
+    enum shape_kind kind;
+    double v[4]; /* circle: a, b, r; rectangle: a0, b0, a1, b1 (a0 < a1, b0 < b1) */
+};
+
+struct shape_set {
+    int n;
+    struct shape s[SHAPES_MAX];
+    int plane_a, plane_b; /* the grid directions of the shapes' two coordinates */
+    int invert;           /* 1: the fluid is inside the union */
+};
+
+/* Parses text ("circle 0.2 0.2 0.05; rectangle 0 0 1 0.1") into set->s and
+ * set->n (plane and invert untouched).  Empty text (or only blanks) is no
+ * shape.  Returns 0, or -1 with one line in msg saying what is wrong with
+ * which shape. */
+int shapes_parse(struct shape_set *set, const char *text, char *msg, size_t msglen);
+
+/* Signed distance from point x (grid coordinates x, y, z) to the surface of
+ * the union, positive in the fluid. */
+double shape_distance(const struct shape_set *set, const double x[3]);
+
+/* The outward unit normal of the solid at a point near the surface (the
+ * gradient of the distance, pointing into the fluid), in grid coordinates. */
+void shape_normal(const struct shape_set *set, const double x[3], double n[3]);
+
+#endif

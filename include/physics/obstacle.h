@@ -1,0 +1,36 @@
+/* Solid obstacles inside the box (case section [obstacle], grid/shapes.h): a
+ * physics module that every case with shapes gets (march.c adds it; a case
+ * without shapes runs without it, bit for bit as before).
+ *
+ * - Velocity nodes inside the body (distance <= 0) are held at 0: not
+ *   unknowns of the implicit step (kernels/embedded.h), their residual 0,
+ *   and closed faces for the projection.
+ * - sharp: every grid link from a fluid node to a held one ends on the
+ *   surface, where the velocity is 0 (the diagonal correction of
+ *   kernels/embedded.h), so no slip holds at the true surface;
+ *   staircase: none (the held nodes' 0 is the condition, first order).
+ * - The projection takes the face coefficient beta = 0 on the held faces
+ *   (the multigrid path: an obstacle leaves the FFT solver), so div u = 0 in
+ *   every cell with the held faces closed.
+ * The forces on the body and the surface record are obstacle_forces.h. */
+#ifndef MUFLOW_PHYSICS_OBSTACLE_H
+#define MUFLOW_PHYSICS_OBSTACLE_H
+
+#include <stddef.h>
+#include "grid/shapes.h"
+#include "march/march.h"
+
+extern const struct module obstacle_module;
+
+/* 1 when the case has obstacle shapes. */
+int obstacle_active(const struct muflow_case *cs);
+
+/* The case's shapes with their plane and inversion (the case was checked:
+ * the shapes parse). */
+void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set);
+
+/* Position of node (i, j, k) of velocity component c (c = -1: the cell
+ * centre), the box's low corner at the origin. */
+void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3]);
+
+#endif

@@ -1,0 +1,44 @@
+/* Forces on the case's obstacles (physics/obstacle.h), per unit length of
+ * the extrusion, from the steady state of a march:
+ *
+ * - surface: the traction sigma n = -p n + eta du/dn integrated around the
+ *   body's outline (sampled finely; the midpoint rule on a smooth periodic
+ *   integrand).  At a no-slip surface the velocity's gradient is du/dn n^T
+ *   alone and du_n/dn = 0 (continuity), so the viscous traction is
+ *   eta du/dn; du/dn from the quadratic through u = 0 on the surface and
+ *   the velocity interpolated at 1.5 h and 3 h along the normal, p
+ *   extrapolated linearly from the same two points (both second order).
+ * - control volume: the momentum balance of the fluid in a box around the
+ *   body, F = surface integral over the box of (sigma n - rho u (u . n)),
+ *   midpoint rule on the grid's faces (second order): a check of the
+ *   surface integral that does not touch the body.
+ * Coefficients 2 F / (rho U^2 D) with U the inflow's mean velocity (2/3 of
+ * the peak of a parabola across one direction) and D the bodies' extent
+ * across the flow (direction b of the plane). */
+#ifndef MUFLOW_PHYSICS_OBSTACLE_FORCES_H
+#define MUFLOW_PHYSICS_OBSTACLE_FORCES_H
+
+#include <stddef.h>
+#include "io/output.h"
+#include "march/march.h"
+
+struct obstacle_forces {
+    double surface[2];        /* along the plane's a (drag) and b (lift) */
+    double pressure_part[2];  /* the pressure's share of surface */
+    double control_volume[2];
+    double front_back;        /* p at the front point less p at the back point */
+    double u_ref, d_ref;      /* the coefficients' velocity and length (0: none) */
+};
+
+/* Returns 0, or -1 when some sample's interpolation reached into the body
+ * (a body thinner than a few cells). */
+int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
+
+/* The summary lines (drag_coefficient, lift_coefficient, pressure_drop, ...). */
+void obstacle_results(const struct march_state *st, struct run_result *res);
+
+/* obstacle_surface.csv in dir: per sample, its angle, position, p, the
+ * normal and tangential stresses.  Returns 0, or -1 with the cause. */
+int obstacle_write(const char *dir, const struct march_state *st, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,145 @@
+/* Solid shapes as a signed distance (shapes.h). */
+#include "grid/shapes.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SHAPES_ALLOWED "allowed: 'circle A B R' or 'rectangle A0 B0 A1 B1', joined by ';'"
+
+/* Reads up to want numbers from s; returns how many, or -1 on a word that is
+ * not a finite number. */
+static int read_numbers(const char *s, double *v, int want)
+{
+    int got = 0;
+    for (;;) {
+        while (isspace((unsigned char)*s))
+            s++;
+        if (!*s)
+            return got;
+        char *end;
+        double x = strtod(s, &end);
+        if (end == s || !isfinite(x) || (*end && !isspace((unsigned char)*end)))
+            return -1;
+        if (got == want)
+            return want + 1; /* too many */
+        v[got++] = x;
+        s = end;
+    }
+}
+
+static int parse_one(struct shape *sh, char *item, char *msg, size_t msglen)
+{
+    char *s = item;
+    while (isspace((unsigned char)*s))
+        s++;
+    size_t wl = 0;
+    while (s[wl] && !isspace((unsigned char)s[wl]))
+        wl++;
+    int want;
+    if (wl == 6 && strncmp(s, "circle", 6) == 0) {
+        sh->kind = SHAPE_CIRCLE;
+        want = 3;
+    } else if (wl == 9 && strncmp(s, "rectangle", 9) == 0) {
+        sh->kind = SHAPE_RECTANGLE;
+        want = 4;
+    } else {
+        snprintf(msg, msglen, "unknown shape '%.*s' (%s)", (int)(wl < 40 ? wl : 40), s,
+                 SHAPES_ALLOWED);
+        return -1;
+    }
+    int got = read_numbers(s + wl, sh->v, want);
+    if (got != want) {
+        snprintf(msg, msglen, "'%.60s' needs %d numbers (%s)", s, want, SHAPES_ALLOWED);
+        return -1;
+    }
+    if (sh->kind == SHAPE_CIRCLE && !(sh->v[2] > 0.0)) {
+        snprintf(msg, msglen, "'%.60s': the radius must be > 0 (%s)", s, SHAPES_ALLOWED);
+        return -1;
+    }
+    if (sh->kind == SHAPE_RECTANGLE) {
+        if (!(sh->v[0] != sh->v[2] && sh->v[1] != sh->v[3])) {
+            snprintf(msg, msglen, "'%.60s': the corners must differ in both coordinates (%s)", s,
+                     SHAPES_ALLOWED);
+            return -1;
+        }
+        double a0 = fmin(sh->v[0], sh->v[2]), a1 = fmax(sh->v[0], sh->v[2]);
+        double b0 = fmin(sh->v[1], sh->v[3]), b1 = fmax(sh->v[1], sh->v[3]);
+        sh->v[0] = a0, sh->v[1] = b0, sh->v[2] = a1, sh->v[3] = b1;
+    }
+    return 0;
+}
+
+int shapes_parse(struct shape_set *set, const char *text, char *msg, size_t msglen)
+{
+    char buf[1024];
+    if (strlen(text) >= sizeof buf) {
+        snprintf(msg, msglen, "longer than %zu characters", sizeof buf - 1);
+        return -1;
+    }
+    snprintf(buf, sizeof buf, "%s", text);
+    set->n = 0;
+    char *save = NULL;
+    for (char *item = strtok_r(buf, ";", &save); item; item = strtok_r(NULL, ";", &save)) {
+        const char *t = item;
+        while (isspace((unsigned char)*t))
+            t++;
+        if (!*t)
+            continue; /* "circle ...;" or blanks */
+        if (set->n == SHAPES_MAX) {
+            snprintf(msg, msglen, "more than %d shapes (%s)", SHAPES_MAX, SHAPES_ALLOWED);
+            return -1;
+        }
+        if (parse_one(&set->s[set->n], item, msg, msglen) != 0)
+            return -1;
+        set->n++;
+    }
+    return 0;
+}
+
+/* Signed distance to one shape's surface, negative inside it. */
+static double one_distance(const struct shape *sh, double a, double b)
+{
+    if (sh->kind == SHAPE_CIRCLE)
+        return hypot(a - sh->v[0], b - sh->v[1]) - sh->v[2];
+    /* the box's exact distance: outside, to the nearest point; inside, minus
+     * the distance to the nearest side */
+    double ca = 0.5 * (sh->v[0] + sh->v[2]), cb = 0.5 * (sh->v[1] + sh->v[3]);
+    double qa = fabs(a - ca) - 0.5 * (sh->v[2] - sh->v[0]);
+    double qb = fabs(b - cb) - 0.5 * (sh->v[3] - sh->v[1]);
+    return hypot(fmax(qa, 0.0), fmax(qb, 0.0)) + fmin(fmax(qa, qb), 0.0);
+}
+
+double shape_distance(const struct shape_set *set, const double x[3])
+{
+    /* the union's distance is the smallest (exact outside the union, and
+     * inside it up to the overlap of shapes, where only its sign is used) */
+    double d = INFINITY;
+    for (int i = 0; i < set->n; i++)
+        d = fmin(d, one_distance(&set->s[i], x[set->plane_a], x[set->plane_b]));
+    return set->invert ? -d : d;
+}
+
+void shape_normal(const struct shape_set *set, const double x[3], double n[3])
+{
+    /* central differences of the distance at a step far below any grid's */
+    double e = 1e-7;
+    for (int i = 0; i < set->n; i++)
+        e = fmin(e, 1e-6 * (set->s[i].kind == SHAPE_CIRCLE ? set->s[i].v[2]
+                                                              : set->s[i].v[2] - set->s[i].v[0]));
+    double g[3] = {0.0, 0.0, 0.0}, y[3];
+    int dirs[2] = {set->plane_a, set->plane_b};
+    for (int k = 0; k < 2; k++) {
+        int d = dirs[k];
+        memcpy(y, x, sizeof y);
+        y[d] = x[d] + e;
+        double dp = shape_distance(set, y);
+        y[d] = x[d] - e;
+        g[d] = (dp - shape_distance(set, y)) / (2.0 * e);
+    }
+    double m = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    for (int d = 0; d < 3; d++)
+        n[d] = m > 0.0 ? g[d] / m : 0.0;
+}

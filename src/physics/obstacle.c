@@ -1,0 +1,335 @@
+/* Solid obstacles: held nodes, cut links, closed faces (obstacle.h). */
+#include "physics/obstacle.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "kernels/embedded.h"
+#include "march/step.h"
+
+/* A link cut closer than this share of h to its fluid node is taken as cut
+ * there: the correction (1 - theta) / theta grows without bound as the
+ * surface reaches the node, and beyond 1e3 times the link's own coefficient
+ * it only worsens the operator's conditioning (the node is 0 to 1e-3 of its
+ * neighbours' velocity either way). */
+#define THETA_MIN 1e-3
+
+struct obstacle {
+    struct shape_set set;
+    struct embedded e;
+    long links_max;
+    double *share[3]; /* the faces' open shares (e.share) */
+};
+
+/* Sub-segments of a face searched for the surface's crossings (each holds
+ * at most one for a body many cells across). */
+#define FACE_PARTS 16
+
+/* The open share of the segment from x0 to x1 (the part with distance > 0). */
+static double open_share(const struct shape_set *set, const double x0[3], const double x1[3])
+{
+    double open = 0.0, y0[3], y1[3];
+    for (int q = 0; q < FACE_PARTS; q++) {
+        double t0 = (double)q / FACE_PARTS, t1 = (double)(q + 1) / FACE_PARTS;
+        for (int d = 0; d < 3; d++) {
+            y0[d] = x0[d] + t0 * (x1[d] - x0[d]);
+            y1[d] = x0[d] + t1 * (x1[d] - x0[d]);
+        }
+        int f0 = shape_distance(set, y0) > 0.0, f1 = shape_distance(set, y1) > 0.0;
+        if (f0 == f1) {
+            open += f0 ? t1 - t0 : 0.0;
+            continue;
+        }
+        /* one crossing: bisection for it */
+        double lo = t0, hi = t1, y[3];
+        for (int it = 0; it < 40; it++) {
+            double t = 0.5 * (lo + hi);
+            for (int d = 0; d < 3; d++)
+                y[d] = x0[d] + t * (x1[d] - x0[d]);
+            if ((shape_distance(set, y) > 0.0) == f0)
+                lo = t;
+            else
+                hi = t;
+        }
+        double tc = 0.5 * (lo + hi);
+        open += f0 ? tc - t0 : t1 - tc;
+    }
+    return open;
+}
+
+/* The open share of face (i, j, k) of component c: the length share of the
+ * face's extent along the plane's other direction (the shapes are extruded,
+ * so nothing varies along the third); a face normal to the extrusion takes
+ * the mean of FACE_PARTS such lines.  A held face (its node in the body) is
+ * closed. */
+static double face_share(const struct shape_set *set, const struct grid *g, int c, int i, int j,
+                         int k)
+{
+    double x[3];
+    obstacle_node_position(g, c, i, j, k, x);
+    if (shape_distance(set, x) <= 0.0)
+        return 0.0;
+    int a = set->plane_a, b = set->plane_b;
+    if (c == a || c == b) {
+        int t = c == a ? b : a;
+        double x0[3] = {x[0], x[1], x[2]}, x1[3] = {x[0], x[1], x[2]};
+        x0[t] -= 0.5 * g->h[t];
+        x1[t] += 0.5 * g->h[t];
+        return open_share(set, x0, x1);
+    }
+    double s = 0.0;
+    for (int q = 0; q < FACE_PARTS; q++) {
+        double x0[3] = {x[0], x[1], x[2]}, x1[3];
+        x0[b] += ((q + 0.5) / FACE_PARTS - 0.5) * g->h[b];
+        x0[a] -= 0.5 * g->h[a];
+        for (int d = 0; d < 3; d++)
+            x1[d] = x0[d];
+        x1[a] += g->h[a];
+        s += open_share(set, x0, x1);
+    }
+    return s / FACE_PARTS;
+}
+
+int obstacle_active(const struct muflow_case *cs)
+{
+    for (const char *s = cs->obstacle.shapes; *s; s++)
+        if (*s != ' ' && *s != '\t' && *s != ';')
+            return 1;
+    return 0;
+}
+
+void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set)
+{
+    char msg[300];
+    memset(set, 0, sizeof *set);
+    if (shapes_parse(set, cs->obstacle.shapes, msg, sizeof msg) != 0)
+        set->n = 0; /* not reached: the case's check parsed them */
+    static const int planes[3][2] = {{0, 2}, {0, 1}, {1, 2}};
+    set->plane_a = planes[cs->obstacle.plane][0];
+    set->plane_b = planes[cs->obstacle.plane][1];
+    set->invert = cs->obstacle.invert;
+}
+
+void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3])
+{
+    int idx[3] = {i, j, k};
+    for (int d = 0; d < 3; d++)
+        x[d] = (idx[d] + (d == c ? 0.0 : 0.5)) * g->h[d];
+}
+
+/* The share theta of the segment from x0 (fluid) to x1 (solid) at which
+ * the surface cuts it: bisection on the distance (exact to 1e-12 of h). */
+static double cut_share(const struct shape_set *set, const double x0[3], const double x1[3])
+{
+    double lo = 0.0, hi = 1.0, y[3];
+    for (int it = 0; it < 45; it++) {
+        double t = 0.5 * (lo + hi);
+        for (int d = 0; d < 3; d++)
+            y[d] = x0[d] + t * (x1[d] - x0[d]);
+        if (shape_distance(set, y) > 0.0)
+            lo = t;
+        else
+            hi = t;
+    }
+    return 0.5 * (lo + hi);
+}
+
+static int add_link(struct obstacle *ob, const struct embedded_link *l)
+{
+    if (ob->e.nlinks == ob->links_max) {
+        long m = ob->links_max ? 2 * ob->links_max : 1024;
+        struct embedded_link *nl = realloc(ob->e.links, (size_t)m * sizeof *nl);
+        if (!nl)
+            return -1;
+        ob->e.links = nl;
+        ob->links_max = m;
+    }
+    ob->e.links[ob->e.nlinks++] = *l;
+    return 0;
+}
+
+/* Held nodes of component c (in the unknowns' box) and, for a sharp
+ * boundary, the cut links of its fluid nodes. */
+static int build_component(struct obstacle *ob, const struct march_state *st, int c, int sharp)
+{
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[c];
+    long nbox = (long)(bx->hi[0] - bx->lo[0]) * (bx->hi[1] - bx->lo[1]) * (bx->hi[2] - bx->lo[2]);
+    ob->e.held[c] = malloc((size_t)(nbox > 0 ? nbox : 1) * sizeof(ptrdiff_t));
+    if (!ob->e.held[c])
+        return -1;
+    long nh = 0;
+    for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+        for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+            for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
+                double x[3];
+                obstacle_node_position(g, c, i, j, k, x);
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                if (shape_distance(&ob->set, x) <= 0.0) {
+                    ob->e.held[c][nh++] = p;
+                    continue;
+                }
+                if (!sharp)
+                    continue;
+                int idx[3] = {i, j, k};
+                for (int d = 0; d < 3; d++) {
+                    if (g->n[d] < 2 && d != c)
+                        continue; /* one cell across: no link along d */
+                    for (int side = -1; side <= 1; side += 2) {
+                        double y[3] = {x[0], x[1], x[2]};
+                        y[d] += side * g->h[d];
+                        /* a neighbour beyond the box is the boundary's */
+                        int nidx = idx[d] + side;
+                        if (nidx < 0 || nidx > g->n[d] - (d == c ? 0 : 1))
+                            continue;
+                        if (shape_distance(&ob->set, y) > 0.0)
+                            continue;
+                        double theta = fmax(cut_share(&ob->set, x, y), THETA_MIN);
+                        struct embedded_link l = {.p = p, .c = c};
+                        l.w = (1.0 - theta) / theta / (g->h[d] * g->h[d]);
+                        if (d == c) { /* the normal stress of the cell above or below */
+                            l.coef = c;
+                            l.at = side > 0 ? p : p - g->stride[d];
+                        } else {      /* the shear stress of the edge above or below */
+                            l.coef = 3 + (3 - c - d);
+                            l.at = side > 0 ? p + g->stride[d] : p;
+                        }
+                        if (add_link(ob, &l) != 0)
+                            return -1;
+                    }
+                }
+            }
+    ob->e.nheld[c] = nh;
+    ob->e.saved[c] = malloc((size_t)(nh > 0 ? nh : 1) * sizeof(double));
+    return ob->e.saved[c] ? 0 : -1;
+}
+
+static void destroy(void *state)
+{
+    struct obstacle *ob = state;
+    if (!ob)
+        return;
+    for (int c = 0; c < 3; c++) {
+        free(ob->e.held[c]);
+        free(ob->e.saved[c]);
+    }
+    free(ob->e.links);
+    for (int c = 0; c < 3; c++)
+        field_free(ob->share[c]);
+    field_free(ob->e.work);
+    free(ob);
+}
+
+/* The projection: the velocity correction -beta grad phi on the open
+ * faces only (beta = 0 on the held ones), and the pressure operator of the
+ * cut cells' flux form, div_a(beta grad phi) with the faces' open shares:
+ * coefficient a_f beta (the multigrid path: the FFT solver takes a uniform
+ * coefficient only). */
+static int close_faces(struct obstacle *ob, struct march_state *st, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    if (march_density_changed(st, 0, err, errlen) != 0)
+        return -1;
+    for (int c = 0; c < 3; c++)
+        for (long i = 0; i < ob->e.nheld[c]; i++)
+            st->beta[c][ob->e.held[c][i]] = 0.0;
+    double *coef[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
+    int rc = -1;
+    if (coef[0] && coef[1] && coef[2]) {
+        for (int c = 0; c < 3; c++)
+            for (size_t p = 0; p < g->size; p++)
+                coef[c][p] = st->beta[c][p] * ob->share[c][p];
+        rc = pressure_set_coefficient(st->pressure_solver, coef, err, errlen);
+    } else {
+        snprintf(err, errlen, "obstacle: out of memory");
+    }
+    for (int c = 0; c < 3; c++)
+        field_free(coef[c]);
+    return rc;
+}
+
+/* The open shares of every face slot (ghosts too: a periodic direction's
+ * image face takes its own position's share, the same by periodicity of the
+ * grid only when the body does not cross the box's face). */
+static int build_shares(struct obstacle *ob, const struct grid *g)
+{
+    for (int c = 0; c < 3; c++) {
+        ob->share[c] = field_alloc(g);
+        if (!ob->share[c])
+            return -1;
+        for (int i = -1; i <= g->n[0]; i++)
+            for (int j = -1; j <= g->n[1]; j++)
+                for (int k = -1; k <= g->n[2]; k++)
+                    ob->share[c][grid_idx(g, i, j, k)] = face_share(&ob->set, g, c, i, j, k);
+        ob->e.share[c] = ob->share[c];
+    }
+    ob->e.work = field_alloc(g);
+    return ob->e.work ? 0 : -1;
+}
+
+static int create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    struct obstacle *ob = calloc(1, sizeof *ob);
+    if (!ob) {
+        snprintf(err, errlen, "obstacle: out of memory");
+        return -1;
+    }
+    *state = ob;
+    /* a module that changes the density rebuilds the projection's
+     * coefficient (march_density_changed) without the body's closed faces:
+     * not combined yet, so refused rather than run wrong */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m] != &obstacle_module) {
+            snprintf(err, errlen, "obstacle.shapes: obstacles do not combine with the physics "
+                                  "module '%s' yet", st->modules[m]->name);
+            return -1;
+        }
+    obstacle_shapes(st->cs, &ob->set);
+    int sharp = st->cs->obstacle.boundary == OBSTACLE_SHARP;
+    for (int c = 0; c < 3; c++)
+        if (build_component(ob, st, c, sharp) != 0) {
+            snprintf(err, errlen, "obstacle: out of memory");
+            return -1;
+        }
+    if (build_shares(ob, &st->g) != 0) {
+        snprintf(err, errlen, "obstacle: out of memory");
+        return -1;
+    }
+    embedded_zero(&ob->e, st->vel);
+    st->embedded = &ob->e;
+    return close_faces(ob, st, err, errlen);
+}
+
+/* The residual with the links ending on the surface; none at held nodes. */
+static void residual(struct march_state *st, void *state)
+{
+    struct obstacle *ob = state;
+    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    embedded_links(&ob->e, eta_cell, (const double *const *)st->eta_e, -1.0, st->vel, st->res);
+    /* the Laplacian form: R -= grad(eta div u), the plain divergence (not 0
+     * in the cut cells; kernels/embedded.h) */
+    const struct grid *g = &st->g;
+    kernel_divergence(g, st->vel, ob->e.work);
+    for (size_t p = 0; p < g->size; p++)
+        ob->e.work[p] *= st->eta[p];
+    bc_fill_scalar(g, &st->bc, ob->e.work);
+    kernel_gradient_update(g, st->act, ob->e.work, 1.0, st->res);
+    embedded_zero(&ob->e, st->res);
+}
+
+/* The held nodes stay 0 (their increment is 0 to the solver's round-off). */
+static void end_step(struct march_state *st, void *state, double dt)
+{
+    (void)dt;
+    struct obstacle *ob = state;
+    embedded_zero(&ob->e, st->vel);
+}
+
+const struct module obstacle_module = {
+    .name = "obstacle",
+    .create = create,
+    .residual = residual,
+    .end_step = end_step,
+    .destroy = destroy,
+};

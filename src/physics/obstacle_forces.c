@@ -1,0 +1,320 @@
+/* Forces on the obstacles: surface integral and control volume
+ * (obstacle_forces.h). */
+#include "physics/obstacle_forces.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include "physics/obstacle.h"
+
+static const double PI = 3.14159265358979323846;
+
+/* The plane (a, b), the extrusion m and its middle cell, the shapes. */
+struct plane {
+    const struct march_state *st;
+    struct shape_set set;
+    int a, b, m, jm;
+};
+
+static void plane_init(struct plane *pl, const struct march_state *st)
+{
+    pl->st = st;
+    obstacle_shapes(st->cs, &pl->set);
+    pl->a = pl->set.plane_a;
+    pl->b = pl->set.plane_b;
+    pl->m = 3 - pl->a - pl->b;
+    pl->jm = st->g.n[pl->m] / 2;
+}
+
+static ptrdiff_t at(const struct plane *pl, int ia, int ib)
+{
+    int idx[3];
+    idx[pl->a] = ia, idx[pl->b] = ib, idx[pl->m] = pl->jm;
+    return grid_idx(&pl->st->g, idx[0], idx[1], idx[2]);
+}
+
+/* Bilinear interpolation in the plane of field f located as component c
+ * (-1: cells) at x; -1 when a node of the stencil is in the body. */
+static int interp(const struct plane *pl, const double *f, int c, const double x[3], double *out)
+{
+    const struct grid *g = &pl->st->g;
+    int d2[2] = {pl->a, pl->b}, i0[2];
+    double w[2];
+    for (int k = 0; k < 2; k++) {
+        int d = d2[k];
+        double t = x[d] / g->h[d] - (d == c ? 0.0 : 0.5);
+        i0[k] = (int)floor(t);
+        w[k] = t - i0[k];
+        int top = d == c ? g->n[d] : g->n[d] - 1;
+        if (i0[k] < -1 || i0[k] + 1 > top + 1)
+            return -1;
+    }
+    double s = 0.0;
+    for (int da = 0; da < 2; da++)
+        for (int db = 0; db < 2; db++) {
+            int idx[3];
+            idx[pl->a] = i0[0] + da, idx[pl->b] = i0[1] + db, idx[pl->m] = pl->jm;
+            double y[3];
+            obstacle_node_position(g, c, idx[0], idx[1], idx[2], y);
+            double wt = (da ? w[0] : 1.0 - w[0]) * (db ? w[1] : 1.0 - w[1]);
+            if (wt > 0.0 && shape_distance(&pl->set, y) <= 0.0)
+                return -1;
+            s += wt * f[grid_idx(g, idx[0], idx[1], idx[2])];
+        }
+    *out = s;
+    return 0;
+}
+
+/* The traction at surface point x (normal n into the fluid): pressure and
+ * viscous parts along a and b.  -1 when the interpolation reached the body. */
+struct sample {
+    double x[3], n[2], p, tau_t, ta[2];
+};
+
+static int surface_sample(const struct plane *pl, struct sample *s)
+{
+    const struct march_state *st = pl->st;
+    const struct grid *g = &st->g;
+    double h = fmax(g->h[pl->a], g->h[pl->b]);
+    const double s1 = 1.5 * h, s2 = 3.0 * h;
+    double u[2][2], p[2], eta;
+    for (int q = 0; q < 2; q++) {
+        double dist = q ? s2 : s1, y[3] = {s->x[0], s->x[1], s->x[2]};
+        y[pl->a] += dist * s->n[0];
+        y[pl->b] += dist * s->n[1];
+        double pd, ph;
+        if (interp(pl, st->vel[pl->a], pl->a, y, &u[q][0]) || interp(pl, st->vel[pl->b], pl->b, y, &u[q][1]) ||
+            interp(pl, st->p_dyn, -1, y, &pd) || interp(pl, st->p_hyd, -1, y, &ph) ||
+            (q == 0 && interp(pl, st->eta, -1, y, &eta)))
+            return -1;
+        p[q] = pd + ph;
+    }
+    s->p = (s2 * p[0] - s1 * p[1]) / (s2 - s1);
+    double gr[2];
+    for (int k = 0; k < 2; k++) /* du/dn at 0 of the quadratic through (0, 0) */
+        gr[k] = (u[0][k] * s2 * s2 - u[1][k] * s1 * s1) / (s1 * s2 * (s2 - s1));
+    double t[2] = {-s->n[1], s->n[0]};
+    s->tau_t = eta * (gr[0] * t[0] + gr[1] * t[1]);
+    s->ta[0] = -s->p * s->n[0] + eta * gr[0];
+    s->ta[1] = -s->p * s->n[1] + eta * gr[1];
+    return 0;
+}
+
+/* Calls fn on every sample of the union's outline with its length ds.
+ * Returns -1 when a sample failed. */
+typedef void (*sample_fn)(void *ctx, const struct sample *s, double ds, double angle);
+
+static int outline(const struct plane *pl, sample_fn fn, void *ctx)
+{
+    const struct grid *g = &pl->st->g;
+    double h = fmin(g->h[pl->a], g->h[pl->b]);
+    int bad = 0;
+    for (int i = 0; i < pl->set.n; i++) {
+        const struct shape *sh = &pl->set.s[i];
+        double per = sh->kind == SHAPE_CIRCLE ? 2.0 * PI * sh->v[2]
+                                              : 2.0 * (sh->v[2] - sh->v[0] + sh->v[3] - sh->v[1]);
+        int N = (int)ceil(8.0 * per / h);
+        if (N < 720)
+            N = 720;
+        for (int k = 0; k < N; k++) {
+            double s = (k + 0.5) / N, pa, pb, angle;
+            if (sh->kind == SHAPE_CIRCLE) {
+                angle = 2.0 * PI * s;
+                pa = sh->v[0] + sh->v[2] * cos(angle);
+                pb = sh->v[1] + sh->v[2] * sin(angle);
+            } else { /* counter-clockwise from the low corner */
+                double wa = sh->v[2] - sh->v[0], wb = sh->v[3] - sh->v[1], l = s * per;
+                if (l < wa)
+                    pa = sh->v[0] + l, pb = sh->v[1];
+                else if (l < wa + wb)
+                    pa = sh->v[2], pb = sh->v[1] + (l - wa);
+                else if (l < 2 * wa + wb)
+                    pa = sh->v[2] - (l - wa - wb), pb = sh->v[3];
+                else
+                    pa = sh->v[0], pb = sh->v[3] - (l - 2 * wa - wb);
+                angle = atan2(pb - 0.5 * (sh->v[1] + sh->v[3]), pa - 0.5 * (sh->v[0] + sh->v[2]));
+            }
+            struct sample smp = {{0.0, 0.0, 0.0}, {0.0, 0.0}, 0.0, 0.0, {0.0, 0.0}};
+            smp.x[pl->a] = pa, smp.x[pl->b] = pb;
+            smp.x[pl->m] = (pl->jm + 0.5) * g->h[pl->m];
+            /* inside another shape of the union: not on its surface */
+            if (fabs(shape_distance(&pl->set, smp.x)) > 1e-9 * per)
+                continue;
+            double n3[3];
+            shape_normal(&pl->set, smp.x, n3);
+            smp.n[0] = n3[pl->a], smp.n[1] = n3[pl->b];
+            if (surface_sample(pl, &smp) != 0) {
+                bad = 1;
+                continue;
+            }
+            fn(ctx, &smp, per / N, angle);
+        }
+    }
+    return bad ? -1 : 0;
+}
+
+struct sums {
+    double f[2], fp[2];
+};
+
+static void add_sample(void *ctx, const struct sample *s, double ds, double angle)
+{
+    (void)angle;
+    struct sums *S = ctx;
+    for (int k = 0; k < 2; k++) {
+        S->f[k] += s->ta[k] * ds;
+        S->fp[k] += -s->p * s->n[k] * ds;
+    }
+}
+
+/* The momentum balance over one side of the box: the line of faces I along
+ * direction N, cells K0..K1-1 along T, outward normal sign along N. */
+static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1, double sign,
+                    double F[3])
+{
+    const struct march_state *st = pl->st;
+    const struct grid *g = &st->g;
+    const double rho = st->cs->density;
+    const double *uN = st->vel[N], *uT = st->vel[T], *etae = st->eta_e[3 - N - T];
+    const double hN = g->h[N], hT = g->h[T];
+    /* at(): indices in (a, b) order */
+    for (int k = K0; k < K1; k++) {
+#define IX(iN, iT) (N == pl->a ? at(pl, (iN), (iT)) : at(pl, (iT), (iN)))
+        double un = uN[IX(I, k)];
+        double ut = 0.25 * (uT[IX(I - 1, k)] + uT[IX(I, k)] + uT[IX(I - 1, k + 1)] + uT[IX(I, k + 1)]);
+        double p = 0.5 * (st->p_dyn[IX(I - 1, k)] + st->p_dyn[IX(I, k)] + st->p_hyd[IX(I - 1, k)] +
+                          st->p_hyd[IX(I, k)]);
+        double tnn = st->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hN +
+                     st->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hN; /* mean of 2 eta dudn */
+        double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / hT +
+                                      (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hN);
+        double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / hT +
+                                          (uT[IX(I, k + 1)] - uT[IX(I - 1, k + 1)]) / hN);
+#undef IX
+        double tnt = 0.5 * (t0 + t1);
+        F[N] += sign * (-p + tnn - rho * un * un) * hT;
+        F[T] += sign * (tnt - rho * un * ut) * hT;
+    }
+}
+
+int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
+{
+    memset(f, 0, sizeof *f);
+    struct plane pl;
+    plane_init(&pl, st);
+    struct sums S = {{0.0, 0.0}, {0.0, 0.0}};
+    int rc = outline(&pl, add_sample, &S);
+    for (int k = 0; k < 2; k++) {
+        f->surface[k] = S.f[k];
+        f->pressure_part[k] = S.fp[k];
+    }
+    /* the bounding box of the union, and the front and back points of the
+     * first shape along a */
+    const struct grid *g = &st->g;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < pl.set.n; i++) {
+        const struct shape *sh = &pl.set.s[i];
+        double l0 = sh->kind == SHAPE_CIRCLE ? sh->v[0] - sh->v[2] : sh->v[0];
+        double l1 = sh->kind == SHAPE_CIRCLE ? sh->v[1] - sh->v[2] : sh->v[1];
+        double h0 = sh->kind == SHAPE_CIRCLE ? sh->v[0] + sh->v[2] : sh->v[2];
+        double h1 = sh->kind == SHAPE_CIRCLE ? sh->v[1] + sh->v[2] : sh->v[3];
+        lo[0] = fmin(lo[0], l0), lo[1] = fmin(lo[1], l1);
+        hi[0] = fmax(hi[0], h0), hi[1] = fmax(hi[1], h1);
+    }
+    if (pl.set.n > 0 && !pl.set.invert) {
+        const struct shape *sh = &pl.set.s[0];
+        double cb = sh->kind == SHAPE_CIRCLE ? sh->v[1] : 0.5 * (sh->v[1] + sh->v[3]);
+        double fa = sh->kind == SHAPE_CIRCLE ? sh->v[0] - sh->v[2] : sh->v[0];
+        double ba = sh->kind == SHAPE_CIRCLE ? sh->v[0] + sh->v[2] : sh->v[2];
+        struct sample front = {{0}, {-1.0, 0.0}, 0, 0, {0, 0}}, back = {{0}, {1.0, 0.0}, 0, 0, {0, 0}};
+        front.x[pl.a] = fa, front.x[pl.b] = cb, back.x[pl.a] = ba, back.x[pl.b] = cb;
+        if (surface_sample(&pl, &front) == 0 && surface_sample(&pl, &back) == 0)
+            f->front_back = front.p - back.p;
+        else
+            rc = -1;
+        /* the control volume: the box around the bodies, half their size
+         * and two cells beyond them, on the grid's faces, inside the domain */
+        double margin[2] = {0.5 * (hi[0] - lo[0]) + 2.0 * g->h[pl.a],
+                            0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl.b]};
+        int dd[2] = {pl.a, pl.b}, I0[2], I1[2];
+        for (int k = 0; k < 2; k++) {
+            int d = dd[k];
+            I0[k] = (int)floor((lo[k] - margin[k]) / g->h[d]);
+            I1[k] = (int)ceil((hi[k] + margin[k]) / g->h[d]);
+            if (I0[k] < 2)
+                I0[k] = 2;
+            if (I1[k] > g->n[d] - 2)
+                I1[k] = g->n[d] - 2;
+        }
+        double F[3] = {0.0, 0.0, 0.0};
+        cv_side(&pl, pl.a, pl.b, I0[0], I0[1], I1[1], -1.0, F);
+        cv_side(&pl, pl.a, pl.b, I1[0], I0[1], I1[1], 1.0, F);
+        cv_side(&pl, pl.b, pl.a, I0[1], I0[0], I1[0], -1.0, F);
+        cv_side(&pl, pl.b, pl.a, I1[1], I0[0], I1[0], 1.0, F);
+        f->control_volume[0] = F[pl.a];
+        f->control_volume[1] = F[pl.b];
+    }
+    /* the coefficients' scales: the inflow's mean velocity, the extent across */
+    const struct boundary *bc = &st->bc;
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (bc->face[d][side] == BC_INFLOW) {
+                int across = 0;
+                for (int e = 0; e < 3; e++)
+                    if (e != d && bc->face[e][0] != BC_PERIODIC)
+                        across++;
+                double mean = bc->inflow_profile == INFLOW_PARABOLIC ? pow(2.0 / 3.0, across) : 1.0;
+                f->u_ref = fabs(bc->inflow_velocity) * mean;
+            }
+    f->d_ref = pl.set.n > 0 && !pl.set.invert ? hi[1] - lo[1] : 0.0;
+    return rc;
+}
+
+void obstacle_results(const struct march_state *st, struct run_result *res)
+{
+    struct obstacle_forces f;
+    int rc = obstacle_forces(st, &f);
+    double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
+    run_result_add(res, "drag_force", "%.10g", f.surface[0]);
+    run_result_add(res, "lift_force", "%.10g", f.surface[1]);
+    run_result_add(res, "drag_force_pressure", "%.10g", f.pressure_part[0]);
+    run_result_add(res, "drag_force_control_volume", "%.10g", f.control_volume[0]);
+    run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[1]);
+    if (q > 0.0) {
+        run_result_add(res, "drag_coefficient", "%.10g", f.surface[0] / q);
+        run_result_add(res, "lift_coefficient", "%.10g", f.surface[1] / q);
+        run_result_add(res, "drag_coefficient_control_volume", "%.10g", f.control_volume[0] / q);
+        run_result_add(res, "lift_coefficient_control_volume", "%.10g", f.control_volume[1] / q);
+    }
+    run_result_add(res, "pressure_drop", "%.10g", f.front_back);
+    if (rc != 0)
+        run_result_add(res, "obstacle_warning", "%s",
+                       "a surface sample's interpolation reached into the body (too few cells "
+                       "across it): the forces miss those samples");
+}
+
+struct csv_ctx {
+    FILE *f;
+    double eta;
+};
+
+static void write_sample(void *ctx, const struct sample *s, double ds, double angle)
+{
+    (void)ds;
+    struct csv_ctx *c = ctx;
+    fprintf(c->f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", angle * 180.0 / PI,
+            s->x[0], s->x[1], s->x[2], s->p, -s->p, s->tau_t);
+}
+
+int obstacle_write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    struct output_file o;
+    if (output_open(&o, dir, "obstacle_surface.csv", err, errlen) != 0)
+        return -1;
+    fprintf(o.f, "angle_deg,x,y,z,pressure,normal_stress,tangential_stress\n");
+    struct plane pl;
+    plane_init(&pl, st);
+    struct csv_ctx c = {o.f, 0.0};
+    (void)outline(&pl, write_sample, &c);
+    return output_commit(&o, err, errlen);
+}
