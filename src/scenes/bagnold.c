@@ -39,18 +39,7 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-static const struct key_block bagnold_block = {
-    .section = "bagnold",
-    .keys = bagnold_keys,
-    .nkeys = (int)(sizeof bagnold_keys / sizeof bagnold_keys[0]),
-    .size = sizeof(struct bagnold_params),
-    .defaults = defaults,
-};
-
-static const struct bagnold_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(bagnold_block, "bagnold", struct bagnold_params, bagnold_keys, defaults)
 
 static double bagnold_u(const struct muflow_case *cs, double z)
 {

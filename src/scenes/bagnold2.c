@@ -29,6 +29,7 @@
 #include "scenes/bagnold2.h"
 #include "scenes/perturbation.h"
 #include "scenes/scene.h"
+#include "scene_common.h"
 
 struct bagnold2_params {
     double interface_height;   /* h0 */
@@ -88,18 +89,7 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-static const struct key_block bagnold2_block = {
-    .section = "bagnold2",
-    .keys = bagnold2_keys,
-    .nkeys = (int)(sizeof bagnold2_keys / sizeof bagnold2_keys[0]),
-    .size = sizeof(struct bagnold2_params),
-    .defaults = defaults,
-};
-
-static const struct bagnold2_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(bagnold2_block, "bagnold2", struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
 

@@ -38,18 +38,7 @@ static const struct key bedload_keys[] = {
 /* Set A of the refdata (the sedFoam tutorial's parameters) */
 static void defaults(void *block) { bedload_defaults(block); }
 
-static const struct key_block bedload_block = {
-    .section = "bedload",
-    .keys = bedload_keys,
-    .nkeys = (int)(sizeof bedload_keys / sizeof bedload_keys[0]),
-    .size = sizeof(struct bedload_params),
-    .defaults = defaults,
-};
-
-static const struct bedload_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(bedload_block, "bedload", struct bedload_params, bedload_keys, defaults)
 
 static struct bedload_exact exact_of(const struct muflow_case *cs)
 {

@@ -23,6 +23,7 @@
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
 #include "scenes/scene.h"
+#include "scene_common.h"
 
 struct collapse_params {
     double half_width;       /* R0 */
@@ -77,18 +78,7 @@ static void defaults(void *block)
     c->vof_cfl = 0.4;
 }
 
-static const struct key_block collapse_block = {
-    .section = "collapse",
-    .keys = collapse_keys,
-    .nkeys = (int)(sizeof collapse_keys / sizeof collapse_keys[0]),
-    .size = sizeof(struct collapse_params),
-    .defaults = defaults,
-};
-
-static const struct collapse_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(collapse_block, "collapse", struct collapse_params, collapse_keys, defaults)
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {

@@ -44,20 +44,7 @@ static const struct key duct_keys[] = {
 
 static void defaults(void *block) { bedload_defaults(block); }
 
-static const struct key_block duct_block = {
-    .section = "duct",
-    .keys = duct_keys,
-    .nkeys = (int)(sizeof duct_keys / sizeof duct_keys[0]),
-    .size = sizeof(struct bedload_params),
-    .defaults = defaults,
-};
-_Static_assert(sizeof(struct bedload_params) <= sizeof(((struct muflow_case *)0)->scene_params),
-               "duct parameters fit the case's scene block");
-
-static const struct bedload_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(duct_block, "duct", struct bedload_params, duct_keys, defaults)
 
 static double plane_u(const struct muflow_case *cs, double z)
 {

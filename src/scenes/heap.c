@@ -11,6 +11,7 @@
 #include "io/output.h"
 #include "scenes/heap.h"
 #include "scenes/scene.h"
+#include "scene_common.h"
 #include "scenes/tilt_search.h"
 
 
@@ -129,20 +130,7 @@ static void heap_defaults(void *block)
     h->depth_fraction = 0.01;
 }
 
-static const struct key_block heap_block = {
-    .section = "heap",
-    .keys = heap_keys,
-    .nkeys = (int)(sizeof heap_keys / sizeof heap_keys[0]),
-    .size = sizeof(struct heap_params),
-    .defaults = heap_defaults,
-};
-_Static_assert(sizeof(struct heap_params) <= sizeof(((struct muflow_case *)0)->scene_params),
-               "heap parameters fit the case's scene block");
-
-static const struct heap_params *params(const struct muflow_case *cs)
-{
-    return case_scene_params(cs);
-}
+SCENE_PARAMS(heap_block, "heap", struct heap_params, heap_keys, heap_defaults)
 
 /* The cross-section: periodic along the flow, side wall at y = 0 and
  * symmetry plane at y = ly, static base and free surface in z. */

@@ -20,4 +20,19 @@ static inline double shear_per_sqrt_p(const struct rheology *r)
             u[i] = f(cs, x[i]);                                                          \
     }
 
+/* A scene's [SECTION] keys over its parameter struct TYPE: the key block
+ * NAME (parse, check, write back; case.c), the compile-time check that TYPE
+ * fits the case's scene block, and params(cs), the block of a loaded case. */
+#define SCENE_PARAMS(NAME, SECTION, TYPE, KEYS, DEFAULTS)                                \
+    static const struct key_block NAME = {                                              \
+        .section = SECTION,                                                              \
+        .keys = KEYS,                                                                    \
+        .nkeys = (int)(sizeof KEYS / sizeof KEYS[0]),                                    \
+        .size = sizeof(TYPE),                                                            \
+        .defaults = DEFAULTS,                                                            \
+    };                                                                                   \
+    _Static_assert(sizeof(TYPE) <= sizeof(((struct muflow_case *)0)->scene_params),      \
+                   SECTION " parameters fit the case's scene block");                   \
+    static const TYPE *params(const struct muflow_case *cs) { return case_scene_params(cs); }
+
 #endif
