@@ -153,7 +153,10 @@ void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *b
     fill_velocity(g, bc, vel, 1);
 }
 
-void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f)
+/* Cell ghosts: periodic images, else the interior value mirrored with the
+ * sign open_sign on open faces (p = 0 on the face) and +1 elsewhere. */
+static void fill_cells(const struct grid *g, const struct boundary *bc, double *f,
+                       double open_sign)
 {
     for (int d = 0; d < 3; d++) {
         int n = g->n[d];
@@ -161,24 +164,20 @@ void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f)
             ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
             ghost_plane(g, d, n, 0, f, 1.0, 0);
         } else {
-            ghost_plane(g, d, -1, 0, f, 1.0, 0);
-            ghost_plane(g, d, n, n - 1, f, 1.0, 0);
+            ghost_plane(g, d, -1, 0, f, bc->face[d][0] == BC_OPEN ? open_sign : 1.0, 0);
+            ghost_plane(g, d, n, n - 1, f, bc->face[d][1] == BC_OPEN ? open_sign : 1.0, 0);
         }
     }
 }
 
+void bc_fill_scalar(const struct grid *g, const struct boundary *bc, double *f)
+{
+    fill_cells(g, bc, f, 1.0);
+}
+
 void bc_fill_pressure(const struct grid *g, const struct boundary *bc, double *f)
 {
-    for (int d = 0; d < 3; d++) {
-        int n = g->n[d];
-        if (bc->face[d][0] == BC_PERIODIC) {
-            ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
-            ghost_plane(g, d, n, 0, f, 1.0, 0);
-        } else {
-            ghost_plane(g, d, -1, 0, f, bc->face[d][0] == BC_OPEN ? -1.0 : 1.0, 0);
-            ghost_plane(g, d, n, n - 1, f, bc->face[d][1] == BC_OPEN ? -1.0 : 1.0, 0);
-        }
-    }
+    fill_cells(g, bc, f, -1.0);
 }
 
 int bc_has_open(const struct boundary *bc)
