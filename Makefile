@@ -302,7 +302,8 @@ bench-duct: deps bench-deps $(BUILD)/muflow
 # steady state on 2 threads, beside the 1D run of the same nz: wall time,
 # steps, peak memory, err_rms of both and the load average before and after
 # ($(BENCH_OUT)/bagnold3d.md).  About 5 minutes and 0.7 GB on 2 shared
-# cores; BAGNOLD3D_OPTS are case overrides (domain.nx=32 ... for a quick one).
+# cores; BAGNOLD3D_OPTS are case overrides (a quick one: domain.nx=8 domain.ny=8
+# domain.nz=16 domain.lx=7 domain.ly=7, the test's grid).
 BAGNOLD3D_OPTS ?=
 .PHONY: bench-3d
 bench-3d: deps $(BUILD)/muflow

@@ -9,36 +9,22 @@ shared: other processes inflate the wall time).  Writes OUT/bagnold3d.md
 
 usage: bagnold3d_bench.py MUFLOW OUTDIR [section.key=value ...]
 """
-import configparser
 import os
-import resource
 import subprocess
 import sys
-import time
 
-
-def loadavg():
-    with open("/proc/loadavg") as f:
-        return float(f.read().split()[0])
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from summary_ini import loadavg, summary, timed_run  # noqa: E402
 
 
 def run(muflow, case, outdir, overrides):
     """Runs one case; returns its [result] section, wall seconds, peak RSS
     (MB) and CPU seconds (user + system, all threads)."""
-    ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    before = ru0.ru_maxrss
-    t0 = time.monotonic()
     cmd = [muflow, case, "output.dir=" + outdir, "output.quiet=on"] + overrides
-    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
-    wall = time.monotonic() - t0
-    # ru_maxrss of the children is the largest child's so far: the 3D run
-    # goes first, so its figure is its own
-    ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    rss = ru1.ru_maxrss
-    cpu = (ru1.ru_utime + ru1.ru_stime) - (ru0.ru_utime + ru0.ru_stime)
-    ini = configparser.ConfigParser(inline_comment_prefixes=(";",))
-    ini.read(os.path.join(outdir, "summary.ini"))
-    return ini["result"], wall, (rss if rss > before else before) / 1024.0, cpu
+    code, wall, cpu, rss = timed_run(cmd, stdout=subprocess.DEVNULL)
+    if code != 0:
+        sys.exit("%s failed (exit %d)" % (" ".join(cmd), code))
+    return summary(os.path.join(outdir, "summary.ini")), wall, rss, cpu
 
 
 def main():
@@ -57,8 +43,8 @@ def main():
     nz = [o.split("=", 1)[1] for o in overrides if o.startswith("domain.nz=")]
     r1, wall1, _, cpu1 = run(muflow, os.path.join(cases, "bagnold.ini"), os.path.join(out, "bagnold1d"),
                        ["domain.nz=" + (nz[0] if nz else "64")])
-    dims = [int(configparser_value(os.path.join(out, "bagnold3d", "summary.ini"), "domain", k))
-            for k in ("nx", "ny", "nz")]
+    domain = summary(os.path.join(out, "bagnold3d", "summary.ini"), "domain")
+    dims = [int(domain[k]) for k in ("nx", "ny", "nz")]
     n3 = "%d x %d x %d = %d" % (dims[0], dims[1], dims[2], dims[0] * dims[1] * dims[2])
     rows = [
         "| run | cells | threads | status | steps | wall s | CPU s | peak RSS MB | err_rms "
@@ -77,12 +63,6 @@ def main():
     with open(os.path.join(out, "bagnold3d.md"), "w") as f:
         f.write(text)
     print(text)
-
-
-def configparser_value(path, section, key):
-    ini = configparser.ConfigParser(inline_comment_prefixes=(";",))
-    ini.read(path)
-    return ini[section][key]
 
 
 if __name__ == "__main__":

@@ -29,18 +29,12 @@ import os
 import statistics
 import subprocess
 import sys
-import time
 
-from summary_ini import summary
+from summary_ini import loadavg, summary, timed_run
 
 TILT = 0.4061
 HEAP_GRIDS = [(35, 50), (70, 100), (140, 200), (280, 400)]
 CAVITY_GRIDS = [32, 64, 128, 256]
-
-
-def loadavg():
-    with open("/proc/loadavg") as f:
-        return float(f.read().split()[0])
 
 
 def run(muflow, outdir, tag, case, overrides):
@@ -49,11 +43,7 @@ def run(muflow, outdir, tag, case, overrides):
     args = [muflow, case, f"output.dir={d}", "output.quiet=on", "output.fields=off"] + overrides
     print(" ".join(args), flush=True)
     load0 = loadavg()
-    t0 = time.monotonic()
-    p = subprocess.Popen(args, stdout=subprocess.DEVNULL)
-    _, status, ru = os.wait4(p.pid, 0)
-    wall = time.monotonic() - t0
-    p.returncode = os.waitstatus_to_exitcode(status)
+    code, wall, cpu, mb = timed_run(args, stdout=subprocess.DEVNULL)
     load1 = loadavg()
     s = summary(os.path.join(d, "summary.ini"))
     iters = []
@@ -61,8 +51,8 @@ def run(muflow, outdir, tag, case, overrides):
         for row in csv.DictReader(f):
             if int(row["step"]) > 0:
                 iters.append(int(row["linear_iterations"]))
-    r = dict(tag=tag, wall=wall, cpu=ru.ru_utime + ru.ru_stime, mb=ru.ru_maxrss / 1024.0,
-             load0=load0, load1=load1, status=s.get("status", f"exit {p.returncode}"),
+    r = dict(tag=tag, wall=wall, cpu=cpu, mb=mb,
+             load0=load0, load1=load1, status=s.get("status", f"exit {code}"),
              steps=int(s.get("steps", 0)), rejected=int(s.get("rejected_steps", 0)),
              flow_rate=s.get("flow_rate", ""), u_surface=s.get("u_surface_mid", ""),
              iters_mean=statistics.mean(iters) if iters else float("nan"),
