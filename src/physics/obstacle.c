@@ -26,33 +26,47 @@ struct obstacle {
  * at most one for a body many cells across). */
 #define FACE_PARTS 16
 
+/* The point at share t of the segment from x0 to x1. */
+static void segment_point(const double x0[3], const double x1[3], double t, double y[3])
+{
+    for (int d = 0; d < 3; d++)
+        y[d] = x0[d] + t * (x1[d] - x0[d]);
+}
+
+/* Where the surface crosses the segment from x0 to x1 between the shares lo
+ * and hi (one crossing there): bisection on which side of the surface a
+ * point lies, the side of lo kept; the midpoint of the last bracket. */
+static double crossing(const struct shape_set *set, const double x0[3], const double x1[3],
+                       double lo, double hi, int iterations)
+{
+    double y[3];
+    segment_point(x0, x1, lo, y);
+    int open_lo = shape_distance(set, y) > 0.0;
+    for (int it = 0; it < iterations; it++) {
+        double t = 0.5 * (lo + hi);
+        segment_point(x0, x1, t, y);
+        if ((shape_distance(set, y) > 0.0) == open_lo)
+            lo = t;
+        else
+            hi = t;
+    }
+    return 0.5 * (lo + hi);
+}
+
 /* The open share of the segment from x0 to x1 (the part with distance > 0). */
 static double open_share(const struct shape_set *set, const double x0[3], const double x1[3])
 {
     double open = 0.0, y0[3], y1[3];
     for (int q = 0; q < FACE_PARTS; q++) {
         double t0 = (double)q / FACE_PARTS, t1 = (double)(q + 1) / FACE_PARTS;
-        for (int d = 0; d < 3; d++) {
-            y0[d] = x0[d] + t0 * (x1[d] - x0[d]);
-            y1[d] = x0[d] + t1 * (x1[d] - x0[d]);
-        }
+        segment_point(x0, x1, t0, y0);
+        segment_point(x0, x1, t1, y1);
         int f0 = shape_distance(set, y0) > 0.0, f1 = shape_distance(set, y1) > 0.0;
         if (f0 == f1) {
             open += f0 ? t1 - t0 : 0.0;
             continue;
         }
-        /* one crossing: bisection for it */
-        double lo = t0, hi = t1, y[3];
-        for (int it = 0; it < 40; it++) {
-            double t = 0.5 * (lo + hi);
-            for (int d = 0; d < 3; d++)
-                y[d] = x0[d] + t * (x1[d] - x0[d]);
-            if ((shape_distance(set, y) > 0.0) == f0)
-                lo = t;
-            else
-                hi = t;
-        }
-        double tc = 0.5 * (lo + hi);
+        double tc = crossing(set, x0, x1, t0, t1, 40);
         open += f0 ? tc - t0 : t1 - tc;
     }
     return open;
@@ -119,20 +133,10 @@ void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, do
 }
 
 /* The share theta of the segment from x0 (fluid) to x1 (solid) at which
- * the surface cuts it: bisection on the distance (exact to 1e-12 of h). */
+ * the surface cuts it (exact to 1e-12 of h). */
 static double cut_share(const struct shape_set *set, const double x0[3], const double x1[3])
 {
-    double lo = 0.0, hi = 1.0, y[3];
-    for (int it = 0; it < 45; it++) {
-        double t = 0.5 * (lo + hi);
-        for (int d = 0; d < 3; d++)
-            y[d] = x0[d] + t * (x1[d] - x0[d]);
-        if (shape_distance(set, y) > 0.0)
-            lo = t;
-        else
-            hi = t;
-    }
-    return 0.5 * (lo + hi);
+    return crossing(set, x0, x1, 0.0, 1.0, 45);
 }
 
 static int add_link(struct obstacle *ob, const struct embedded_link *l)
