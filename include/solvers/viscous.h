@@ -136,4 +136,14 @@ void viscous_set_reuse(struct viscous_solver *s, int steps);
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 
+/* An embedded body's share of -div tau (kernels/embedded.h): the links the
+ * surface cuts end on it, and the Laplacian form, -div tau + grad(A div v)
+ * with A = A_cell[0] (the cut cells' plain divergence is not 0).  scale 1:
+ * the implicit operator's (mass - div tau) v; -1: the residual's + div tau.
+ * One place for both, so the operator stays the residual's linearisation. */
+void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
+                            const struct box act[3], const struct embedded *e,
+                            const double *const A_cell[3], const double *const A_edge[3],
+                            double scale, double *const v[3], double *out[3]);
+
 #endif

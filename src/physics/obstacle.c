@@ -310,15 +310,8 @@ static void residual(struct march_state *st, void *state)
 {
     struct obstacle *ob = state;
     const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    embedded_links(&ob->e, eta_cell, (const double *const *)st->eta_e, -1.0, st->vel, st->res);
-    /* the Laplacian form: R -= grad(eta div u), the plain divergence (not 0
-     * in the cut cells; kernels/embedded.h) */
-    const struct grid *g = &st->g;
-    kernel_divergence(g, st->vel, ob->e.work);
-    for (size_t p = 0; p < g->size; p++)
-        ob->e.work[p] *= st->eta[p];
-    bc_fill_scalar(g, &st->bc, ob->e.work);
-    kernel_gradient_update(g, st->act, ob->e.work, 1.0, st->res);
+    viscous_embedded_terms(&st->g, &st->bc, st->act, &ob->e, eta_cell,
+                           (const double *const *)st->eta_e, -1.0, st->vel, st->res);
     embedded_zero(&ob->e, st->res);
 }
 

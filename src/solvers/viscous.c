@@ -366,6 +366,19 @@ void viscous_destroy(struct viscous_solver *s)
     free(s);
 }
 
+void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
+                            const struct box act[3], const struct embedded *e,
+                            const double *const A_cell[3], const double *const A_edge[3],
+                            double scale, double *const v[3], double *out[3])
+{
+    embedded_links(e, A_cell, A_edge, scale, v, out);
+    kernel_divergence(g, v, e->work);
+    for (size_t p = 0; p < g->size; p++)
+        e->work[p] *= A_cell[0][p];
+    bc_fill_scalar(g, bc, e->work);
+    kernel_gradient_update(g, act, e->work, -scale, out);
+}
+
 void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
                    double *out[3])
 {
@@ -378,18 +391,9 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
         kernel_multiply_minus(g, s->act, pb->mass_face, v, out);
     else
         kernel_lincomb(g, s->act, pb->mass, v, -1.0, out);
-    if (pb->embedded) {
-        /* the links cut by the surface end on it; and the Laplacian form
-         * -div tau + grad(eta div v) (embedded.h: the cut cells' plain
-         * divergence is not 0) */
-        const struct embedded *e = pb->embedded;
-        embedded_links(e, pb->A_cell, pb->A_edge, 1.0, v, out);
-        kernel_divergence(g, v, e->work);
-        for (size_t p = 0; p < g->size; p++)
-            e->work[p] *= pb->A_cell[0][p];
-        bc_fill_scalar(g, s->bc, e->work);
-        kernel_gradient_update(g, s->act, e->work, -1.0, out);
-    }
+    if (pb->embedded)
+        viscous_embedded_terms(g, s->bc, s->act, pb->embedded, pb->A_cell, pb->A_edge, 1.0, v,
+                               out);
     if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
         kernel_strain_products(g, pb->base, v, s->pn, s->pe);
         bc_fill_scalar(g, s->bc, s->pn);
