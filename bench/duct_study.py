@@ -1,8 +1,14 @@
 #!/usr/bin/python3
-"""Square duct study (seeds/002 sec. 4.1, figs. 10-11): mesh study, plots.
+"""Duct study (seeds/002 sec. 4, figs. 10-15): mesh study, plots.
 
 usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
-                     [--model mixed|two_fluid]
+                     [--model mixed|two_fluid] [--case cases/duct_circular.ini]
+                     [--set SECTION.KEY=VALUE ...]
+
+--case cases/duct_circular.ini runs the circular duct (sec. 4.2, figs.
+13-15) instead of the square one; its files are named duct_circular_*
+(duct_circular_runs/, duct_circular_table.md, ...) where the square duct's
+are duct_*.  --set passes an override to every run (repeatable).
 
 Runs cases/duct_square.ini through the muflow command (the caller's
 OMP_NUM_THREADS) on each mesh of the half cross-section (ny x nz; the
@@ -36,20 +42,24 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from summary_ini import summary  # noqa: E402
 
-CASE = "cases/duct_square.ini"
+def tag_of(case):
+    """The files' prefix: duct for the square duct, else the case's name."""
+    name = os.path.splitext(os.path.basename(case))[0]
+    return "duct" if name == "duct_square" else name
 
 
-def run(muflow, outdir, ny, nz, reuse, model):
+def run(muflow, outdir, ny, nz, reuse, model, case, extra):
     sfx = "" if model == "mixed" else "_" + model
-    d = os.path.join(outdir, "duct_runs" + sfx, f"{ny}x{nz}")
+    d = os.path.join(outdir, tag_of(case) + "_runs" + sfx, f"{ny}x{nz}")
     sp = os.path.join(d, "summary.ini")
     if not (reuse and os.path.exists(sp) and summary(sp).get("status") == "steady"):
-        args = [muflow, CASE, f"domain.ny={ny}", f"domain.nz={nz}", f"output.dir={d}",
-                "solver.progress_interval=60", f"duct.model={model}"]
+        args = [muflow, case, f"domain.ny={ny}", f"domain.nz={nz}", f"output.dir={d}",
+                "solver.progress_interval=60", f"duct.model={model}"] + extra
         print(" ".join(args), flush=True)
         p = subprocess.run(args, stdout=subprocess.PIPE, text=True)
+        name = os.path.splitext(os.path.basename(case))[0]
         for line in p.stdout.splitlines():
-            if line.startswith("duct_square:"):
+            if line.startswith(name + ":"):
                 print("  " + line, flush=True)
         if p.returncode != 0:
             sys.exit(f"duct study: the run at {ny} x {nz} failed ({p.returncode})")
@@ -145,10 +155,12 @@ def plot_midplane(runs, path, hp):
     plt.close(fig)
 
 
-def plot_map(r, path, hp, D):
+def plot_map(r, path, hp, D, title):
     u = r["u"]                                    # (nz, ny), y from the side wall
     nz, ny = u.shape
     full = np.concatenate([u, u[:, ::-1]], axis=1)
+    # a body's held nodes (the circular duct's wall) are exactly 0: not drawn
+    full = np.where(full == 0.0, np.nan, full)
     fig, ax = plt.subplots(figsize=(6, 5.2))
     im = ax.imshow(full, origin="lower", extent=[0, D, 0, D], cmap="viridis", aspect="equal")
     cs = ax.contour(np.linspace(D / (4 * ny), D - D / (4 * ny), 2 * ny),
@@ -164,7 +176,7 @@ def plot_map(r, path, hp, D):
     ax.axvline(D / 2, color="w", lw=0.5, ls=":")
     ax.set_xlabel("y (m)")
     ax.set_ylabel("z (m)")
-    ax.set_title(f"u (m/s), square duct, {ny} x {nz} per half (mirrored)\n"
+    ax.set_title(f"u (m/s), {title}, {ny} x {nz} per half (mirrored)\n"
                  "red: bed top h_p; dashed: u = 1e-3 u_max (fixed bed below)", fontsize=9)
     fig.colorbar(im, ax=ax, shrink=0.85)
     fig.tight_layout()
@@ -200,20 +212,25 @@ def main():
     ap.add_argument("--meshes", default="20x40,40x80,80x160")
     ap.add_argument("--reuse", action="store_true")
     ap.add_argument("--model", default="mixed", choices=["mixed", "two_fluid"])
+    ap.add_argument("--case", default="cases/duct_square.ini")
+    ap.add_argument("--set", action="append", default=[], dest="extra")
     a = ap.parse_args()
     sfx = "" if a.model == "mixed" else "_" + a.model
+    tag = tag_of(a.case)
     os.makedirs(a.outdir, exist_ok=True)
     meshes = [tuple(int(v) for v in m.split("x")) for m in a.meshes.split(",")]
-    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse, a.model) for ny, nz in meshes]
+    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse, a.model, a.case, a.extra)
+            for ny, nz in meshes]
     hp = case_value(runs[0]["dir"], "duct", "bed_height")
     D = case_value(runs[0]["dir"], "domain", "lz")
-    table(runs, os.path.join(a.outdir, f"duct_table{sfx}.md"))
-    plot_midplane(runs, os.path.join(a.outdir, f"duct_midplane{sfx}.png"), hp)
-    plot_map(runs[-1], os.path.join(a.outdir, f"duct_map{sfx}.png"), hp, D)
+    title = "square duct" if tag == "duct" else "circular duct" if "circular" in tag else tag
+    table(runs, os.path.join(a.outdir, f"{tag}_table{sfx}.md"))
+    plot_midplane(runs, os.path.join(a.outdir, f"{tag}_midplane{sfx}.png"), hp)
+    plot_map(runs[-1], os.path.join(a.outdir, f"{tag}_map{sfx}.png"), hp, D, title)
     if a.model == "two_fluid":
-        plot_phases(runs[-1], os.path.join(a.outdir, "duct_phases_two_fluid.png"), hp,
+        plot_phases(runs[-1], os.path.join(a.outdir, f"{tag}_phases_two_fluid.png"), hp,
                     case_value(runs[0]["dir"], "duct", "phi"))
-    print(f"wrote {a.outdir}/duct_table{sfx}.md, duct_midplane{sfx}.png, duct_map{sfx}.png")
+    print(f"wrote {a.outdir}/{tag}_table{sfx}.md, {tag}_midplane{sfx}.png, {tag}_map{sfx}.png")
 
 
 if __name__ == "__main__":

@@ -19,9 +19,15 @@
  * stress carries 2 A: for a constant viscosity its second half,
  * d_a(d_a v_a) beside the shear stresses' d_b(d_a v_b), is d_a(div v), the
  * plain divergence, which the cut cells' flux form does not make 0 next
- * to the body; the caller takes it out (the operator adds grad(A div v),
- * the residual subtracts it: physics/obstacle.c, solvers/viscous.c), so
- * what the links correct is the Laplacian.
+ * to the body; the caller takes it out there (the operator adds
+ * grad(A div v), the residual subtracts it: physics/obstacle.c,
+ * solvers/viscous.c), so what the links correct is the Laplacian.  Only in
+ * the cut cells (a face's open share below 1): elsewhere the plain
+ * divergence is the projected one, and taking grad(A div v) out of the
+ * operator there drops the stiffness that holds a split step's velocity
+ * near solenoidal; with a viscosity contrast of 1e7 (a granular bed) the
+ * steady Newton march then stalled at a residual of 2e2 (the square duct
+ * with a body covering nothing: 117 steps without it).
  */
 #ifndef MUFLOW_KERNELS_EMBEDDED_H
 #define MUFLOW_KERNELS_EMBEDDED_H
@@ -42,6 +48,7 @@ struct embedded {
     /* the open share a_f of each face (1 away from the body, 0 on held
      * faces): the cut cells' mass balance sum_f a_f u_f = 0 */
     const double *share[3];
+    const double *cut;  /* per cell: 1 where a face's open share is below 1, else 0 */
     double *work;       /* a cell field of work space (the operator's grad-div) */
     long nheld[3];
     ptrdiff_t *held[3]; /* nodes inside the body, per component */

@@ -4,10 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 #include <float.h>
+#include "kernels/embedded.h"
 #include "kernels/kernels.h"
 #include "march/step.h"
 #include "physics/bed_two_fluid.h"
 #include "solvers/suitesparse.h"
+#include "solvers/viscous.h"
 
 /* Round-off allowance of the particle residual, in machine epsilons of its
  * terms (as the core's). */
@@ -24,6 +26,10 @@ struct two_fluid {
     double *shear2, *scratch;    /* cell |D|^2 of u^p, and a cell array the kernel fills */
     double *eta_c, *eta_e[3];    /* particle viscosities */
     double *tan_c[3], *tan_e[3]; /* and their tangents */
+    double *b_c, *b_e[3];        /* d eta / d|D| / (2 |D|): the full tangent's coefficient */
+    double *pn, *pe[3];          /* d|D|^2[v] of a probe at cells and edges */
+    double *Bc, *Be[3];          /* b d|D|^2[v] */
+    double *btmp[3];             /* the full tangent's term of a probe */
     double *work[3], *probe[3];  /* stress divergence, probe vectors */
     double *fl[9], *pl[9];       /* probed fluid and particle operators (three combs along
                                     z lines, nine in a cross-section) */
@@ -68,6 +74,11 @@ int two_fluid_configure(struct march_state *st, const struct two_fluid_params *p
         snprintf(err, errlen, "two_fluid: the module is not switched on");
         return -1;
     }
+    if (st->embedded && st->bc.face[1][0] == BC_PERIODIC) {
+        snprintf(err, errlen, "two_fluid: with an obstacle the pair's step is solved on a "
+                              "cross-section only (boundary.ylo and yhi not periodic)");
+        return -1;
+    }
     b->p = *p;
     b->beta = two_fluid_drag(p);
     struct field_registry *r = &st->fields;
@@ -85,9 +96,17 @@ int two_fluid_configure(struct march_state *st, const struct two_fluid_params *p
         {"particle_tangent_edges", FIELD_EDGES, 0},
         {"particle_work", FIELD_FACES, 0},
         {"particle_probe", FIELD_FACES, 0},
+        {"particle_tangent_b_cells", FIELD_CELLS, 0},
+        {"particle_tangent_b_edges", FIELD_EDGES, 0},
+        {"particle_products_cells", FIELD_CELLS, 0},
+        {"particle_products_edges", FIELD_EDGES, 0},
+        {"particle_tangent_B_cells", FIELD_CELLS, 0},
+        {"particle_tangent_B_edges", FIELD_EDGES, 0},
+        {"particle_tangent_work", FIELD_FACES, 0},
     };
     double **into[] = {b->up,     b->dup,   b->rp,    &b->cn2,  b->e2,    &b->shear2, &b->scratch,
-                       &b->eta_c, b->eta_e, b->tan_c, b->tan_e, b->work,  b->probe};
+                       &b->eta_c, b->eta_e, b->tan_c, b->tan_e, b->work,  b->probe,   &b->b_c,
+                       b->b_e,    &b->pn,   b->pe,    &b->Bc,   b->Be,    b->btmp};
     _Static_assert(sizeof specs / sizeof specs[0] == sizeof into / sizeof into[0], "one each");
     int idx0 = -1;
     for (size_t m = 0; m < sizeof specs / sizeof specs[0]; m++) {
@@ -205,11 +224,12 @@ static void properties(struct march_state *st, void *state)
     newt.viscosity = 1.0;
     kernel_viscosity_cells(g, &newt, b->up, b->cn2, b->e2, st->pressure, b->eta_c, NULL, b->shear2,
                            b->scratch, NULL);
-    struct bed_viscosity_out grains = {.eta_c = b->eta_c};
+    struct bed_viscosity_out grains = {.eta_c = b->eta_c, .b_c = b->b_c};
     for (int a = 0; a < 3; a++) {
         grains.tan_c[a] = b->tan_c[a];
         grains.eta_e[a] = b->eta_e[a];
         grains.tan_e[a] = b->tan_e[a];
+        grains.b_e[a] = b->b_e[a];
     }
     bed_fill_viscosities(g, particle_viscosity, &l, b->shear2, b->cn2, b->e2, b->up, &grains);
     bc_fill_scalar(g, &st->bc, b->eta_c);
@@ -227,6 +247,11 @@ static void residual(struct march_state *st, void *state)
     const struct grid *g = &st->g;
     const double *ac[3] = {b->eta_c, b->eta_c, b->eta_c};
     kernel_stress_divergence(g, st->act, ac, (const double *const *)b->eta_e, b->up, b->work);
+    if (st->embedded) { /* the grains' no slip on the body too; no rows at its held nodes */
+        viscous_embedded_terms(g, &st->bc, st->act, st->embedded, ac,
+                               (const double *const *)b->eta_e, -1.0, b->up, b->work);
+        embedded_zero(st->embedded, b->work);
+    }
     kernel_axpy(g, st->act, 1.0, b->work, st->res);
     for (int c = 0; c < 3; c++)
         memset(b->rp[c], 0, g->size * sizeof(double));
@@ -339,12 +364,33 @@ static int block_solve(int n, double (*D)[4], double (*lower)[2], double (*upper
     return 0;
 }
 
+/* The full tangent's term of the grains' stress, -div(b d|D|^2[v] gamma(u^p))
+ * (as the core's operator, solvers/viscous.c), added to work = div tau[v]
+ * with the opposite sign: work -= (-div(...)).  For u(y, z) the shear rate
+ * of an edge reads the other shear rate at the four edges around it, so the
+ * term couples the nine faces around a face, within the section's combs;
+ * the diagonal tangent (tan_e) drops the cross terms u_y u_z, and on the
+ * circular duct's curved yield surface its steps diverged (measured). */
+static void add_full_tangent(struct march_state *st, struct two_fluid *b, double *v[3])
+{
+    const struct grid *g = &st->g;
+    kernel_strain_products(g, b->up, v, b->pn, b->pe);
+    bc_fill_scalar(g, &st->bc, b->pn);
+    kernel_tangent_cells(g, b->pn, b->pe, b->b_c, b->Bc);
+    bc_fill_scalar(g, &st->bc, b->Bc);
+    kernel_tangent_edges(g, b->pn, b->pe, b->b_e, b->Be);
+    const double *Bcell[3] = {b->Bc, b->Bc, b->Bc};
+    kernel_stress_divergence(g, st->act, Bcell, (const double *const *)b->Be, b->up, b->btmp);
+    kernel_axpy(g, st->act, 1.0, b->btmp, b->work);
+}
+
 /* The cross-section (walls in y): the operator of the x component probed
  * with nine combs, uniform along x, (j mod 3, k mod 3): out[3 sj + sk] holds,
  * at every face, its row's entry in the column of that comb within reach 1
- * (the x stress of u(y, z) couples the nine faces around). */
+ * (the x stress of u(y, z) couples the nine faces around).  full: the
+ * grains' full tangent term too (A_cell, A_edge their viscosity then). */
 static void probe_section(struct march_state *st, struct two_fluid *b,
-                          const double *const A_cell[3], const double *const A_edge[3],
+                          const double *const A_cell[3], const double *const A_edge[3], int full,
                           double *out[9])
 {
     const struct grid *g = &st->g;
@@ -358,7 +404,16 @@ static void probe_section(struct march_state *st, struct two_fluid *b,
                     if (3 * (j % 3) + k % 3 == s)
                         b->probe[0][grid_idx(g, i, j, k)] = 1.0;
         bc_fill_velocity_homogeneous(g, &st->bc, b->probe);
+        /* a body: its held nodes are no columns, its cut links shorten the
+         * fluid nodes' stencils (a diagonal term: the comb's own entry;
+         * the grad-div part of the links vanishes for u(y, z)) */
+        if (st->embedded)
+            embedded_hold(st->embedded, b->probe);
         kernel_stress_divergence(g, st->act, A_cell, A_edge, b->probe, b->work);
+        if (full)
+            add_full_tangent(st, b, b->probe);
+        if (st->embedded)
+            embedded_links(st->embedded, A_cell, A_edge, -1.0, b->probe, b->work);
         for (size_t q = 0; q < g->size; q++)
             out[s][q] = -b->work[0][q];
     }
@@ -367,7 +422,8 @@ static void probe_section(struct march_state *st, struct two_fluid *b,
 /* The pair's Newton system on each plane i of the cross-section,
  *   [M + F + beta t      -beta t     ] [dm]   [R_m - R_p]
  *   [-beta t       M + P + beta t    ] [dp] = [R_p      ],
- * 2 ny nz unknowns (dp = 0 on faces without grains), assembled in
+ * 2 ny nz unknowns (dp = 0 on faces without grains, both 0 at the nodes
+ * held in an embedded body), assembled in
  * compressed rows from the probes and solved by UMFPACK. */
 static int section_solve(struct march_state *st, struct two_fluid *b, double mass)
 {
@@ -398,7 +454,9 @@ static int section_solve(struct march_state *st, struct two_fluid *b, double mas
                     double t = share[kk], bt = b->beta * t;
                     double *const *op = part ? b->pl : b->fl;
                     rowptr[r] = e;
-                    if (part == 1 && !(t > 0.0)) { /* no grains: dp = 0 */
+                    /* no grains, or a node held in a body: d = 0 */
+                    int held = st->embedded && !(st->embedded->share[0][q] > 0.0);
+                    if (held || (part == 1 && !(t > 0.0))) {
                         col[e] = r;
                         val[e++] = 1.0;
                         rhs[r] = 0.0;
@@ -481,8 +539,14 @@ static int implicit(struct march_state *st, void *state, double dt)
         memset(b->dup[c], 0, g->size * sizeof(double));
     }
     if (st->bc.face[1][0] != BC_PERIODIC) { /* a cross-section u(y, z) */
-        probe_section(st, b, pb.A_cell, pb.A_edge, b->fl);
-        probe_section(st, b, pc, pe, b->pl);
+        /* the grains' Newton step with the full tangent: their viscosity
+         * and the term of its slope */
+        const double *vc[3] = {b->eta_c, b->eta_c, b->eta_c};
+        probe_section(st, b, pb.A_cell, pb.A_edge, 0, b->fl);
+        if (tangent)
+            probe_section(st, b, vc, (const double *const *)b->eta_e, 1, b->pl);
+        else
+            probe_section(st, b, pc, pe, 0, b->pl);
         return section_solve(st, b, mass);
     }
     probe_line(st, b, pb.A_cell, pb.A_edge, b->fl);

@@ -20,6 +20,7 @@ struct obstacle {
     struct embedded e;
     long links_max;
     double *share[3]; /* the faces' open shares (e.share) */
+    double *cut;      /* the cut cells (e.cut) */
 };
 
 /* Sub-segments of a face searched for the surface's crossings (each holds
@@ -221,36 +222,9 @@ static void destroy(void *state)
     free(ob->e.links);
     for (int c = 0; c < 3; c++)
         field_free(ob->share[c]);
+    field_free(ob->cut);
     field_free(ob->e.work);
     free(ob);
-}
-
-/* The projection: the velocity correction -beta grad phi on the open
- * faces only (beta = 0 on the held ones), and the pressure operator of the
- * cut cells' flux form, div_a(beta grad phi) with the faces' open shares:
- * coefficient a_f beta (the multigrid path: the FFT solver takes a uniform
- * coefficient only). */
-static int close_faces(struct obstacle *ob, struct march_state *st, char *err, size_t errlen)
-{
-    const struct grid *g = &st->g;
-    if (march_density_changed(st, 0, err, errlen) != 0)
-        return -1;
-    for (int c = 0; c < 3; c++)
-        for (long i = 0; i < ob->e.nheld[c]; i++)
-            st->beta[c][ob->e.held[c][i]] = 0.0;
-    double *coef[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
-    int rc = -1;
-    if (coef[0] && coef[1] && coef[2]) {
-        for (int c = 0; c < 3; c++)
-            for (size_t p = 0; p < g->size; p++)
-                coef[c][p] = st->beta[c][p] * ob->share[c][p];
-        rc = pressure_set_coefficient(st->pressure_solver, coef, err, errlen);
-    } else {
-        snprintf(err, errlen, "obstacle: out of memory");
-    }
-    for (int c = 0; c < 3; c++)
-        field_free(coef[c]);
-    return rc;
 }
 
 /* The open shares of every face slot (ghosts too: a periodic direction's
@@ -268,8 +242,22 @@ static int build_shares(struct obstacle *ob, const struct grid *g)
                     ob->share[c][grid_idx(g, i, j, k)] = face_share(&ob->set, g, c, i, j, k);
         ob->e.share[c] = ob->share[c];
     }
+    ob->cut = field_alloc(g);
     ob->e.work = field_alloc(g);
-    return ob->e.work ? 0 : -1;
+    if (!ob->cut || !ob->e.work)
+        return -1;
+    /* every cell slot (ghosts too): a face of it open below 1 */
+    for (int i = -1; i < g->n[0]; i++)
+        for (int j = -1; j < g->n[1]; j++)
+            for (int k = -1; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                int cut = 0;
+                for (int c = 0; c < 3; c++)
+                    cut |= ob->share[c][p] < 1.0 || ob->share[c][p + g->stride[c]] < 1.0;
+                ob->cut[p] = cut;
+            }
+    ob->e.cut = ob->cut;
+    return 0;
 }
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -280,13 +268,15 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     *state = ob;
-    /* a module that changes the density rebuilds the projection's
-     * coefficient (march_density_changed) without the body's closed faces:
-     * not combined yet, so refused rather than run wrong */
+    /* march_density_changed applies the body's closed faces and open
+     * shares to every density a module sets; a module that moves a tracer
+     * would move it through the body (its fluxes do not see the cut cells
+     * yet), so it is refused rather than run wrong */
     for (int m = 0; m < st->nmodules; m++)
-        if (st->modules[m] != &obstacle_module) {
+        if (st->modules[m]->transport) {
             snprintf(err, errlen, "obstacle.shapes: obstacles do not combine with the physics "
-                                  "module '%s' yet", st->modules[m]->name);
+                                  "module '%s' (it transports a tracer, which does not see the "
+                                  "body's cut cells yet)", st->modules[m]->name);
             return -1;
         }
     obstacle_shapes(st->cs, &ob->set);
@@ -302,7 +292,8 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     }
     embedded_zero(&ob->e, st->vel);
     st->embedded = &ob->e;
-    return close_faces(ob, st, err, errlen);
+    /* the projection: the cut cells' flux form (march_density_changed) */
+    return march_density_changed(st, 0, err, errlen);
 }
 
 /* The residual with the links ending on the surface; none at held nodes. */

@@ -24,6 +24,7 @@
 #include "io/output.h"
 #include "physics/bed.h"
 #include "physics/bed_two_fluid.h"
+#include "physics/obstacle.h"
 #include "scenes/bedload.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
@@ -81,6 +82,11 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                  c->n[1], c->n[2]);
         return 1;
     }
+    if (obstacle_active(c) && c->obstacle.plane != OBSTACLE_YZ) {
+        snprintf(msg, msglen, "case.scene = duct needs obstacle.plane = yz (the shapes draw "
+                              "the duct's wall in its cross-section)");
+        return 1;
+    }
     const struct bedload_params *b = params(c);
     return bedload_check_params(c, b, "duct", msg, msglen);
 }
@@ -132,8 +138,43 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     e->headline = largest_u(st);
 }
 
+/* Sub-points per direction of a cell the wall cuts, in the open area. */
+#define AREA_SAMPLES 64
+
+/* The open area of the half cross-section inside the body's wall (the
+ * circular duct): the cells' fluid shares, exact away from the wall and
+ * sampled on AREA_SAMPLES^2 points in the cells it cuts (the faces' open
+ * shares of the flux form close a face whose centre is in the wall, so
+ * their sum misses O(h) of the area: -1.9% at 10 x 20). */
+static double open_area(const struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    struct shape_set set;
+    obstacle_shapes(st->cs, &set);
+    double reach = hypot(g->h[1], g->h[2]), open = 0.0;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++) {
+            double x[3];
+            obstacle_node_position(g, 0, 0, j, k, x);
+            double d = shape_distance(&set, x);
+            if (fabs(d) > reach) {
+                open += d > 0.0;
+                continue;
+            }
+            long in = 0;
+            for (int a = 0; a < AREA_SAMPLES; a++)
+                for (int b = 0; b < AREA_SAMPLES; b++) {
+                    double y[3] = {x[0], (j + (a + 0.5) / AREA_SAMPLES) * g->h[1],
+                                   (k + (b + 0.5) / AREA_SAMPLES) * g->h[2]};
+                    in += shape_distance(&set, y) > 0.0;
+                }
+            open += (double)in / (AREA_SAMPLES * AREA_SAMPLES);
+        }
+    return open * g->h[1] * g->h[2];
+}
+
 struct duct_measures {
-    double q_half, q, q_plane, mean, mean_plane;
+    double q_half, q, q_plane, area, mean, mean_plane;
     double mobile, mobile_plane, u_sym_max, secondary;
 };
 
@@ -143,14 +184,20 @@ static void measure(const struct march_state *st, struct duct_measures *m)
     const struct grid *g = &st->g;
     struct bedload_exact x = bedload_exact_of(cs, params(cs));
     double W = 2.0 * g->len[1], D = g->len[2];
+    /* the flow rate and the area: with a body (the circular duct) each
+     * x-face weighted by its open share, the rest of its cell being wall */
+    const double *share = st->embedded ? st->embedded->share[0] : NULL;
     m->q_half = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++)
-            m->q_half += column_u(st, j, k);
+            m->q_half += (share ? share[grid_idx(g, 0, j, k)] : 1.0) * column_u(st, j, k);
     m->q_half *= g->h[1] * g->h[2];
     m->q = 2.0 * m->q_half;
+    m->area = share ? 2.0 * open_area(st) : W * D;
+    /* the plane channel of the duct's height D: its flow rate over the
+     * duct's width W, and its mean velocity */
     m->q_plane = bedload_exact_flow_rate(&x) * W;
-    m->mean = m->q / (W * D);
+    m->mean = m->q / m->area;
     m->mean_plane = m->q_plane / (W * D);
     int n = g->n[2];
     double *z = malloc((size_t)n * sizeof *z), *u = malloc((size_t)n * sizeof *u);
@@ -191,6 +238,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "flow_rate", "%.10g", m.q);
     run_result_add(res, "flow_rate_half", "%.10g", m.q_half);
     run_result_add(res, "flow_rate_plane", "%.10g", m.q_plane);
+    run_result_add(res, "area", "%.10g", m.area);
     run_result_add(res, "mean_velocity", "%.10g", m.mean);
     run_result_add(res, "mean_velocity_plane", "%.10g", m.mean_plane);
     run_result_add(res, "velocity_ratio", "%.10g", m.mean / m.mean_plane);

@@ -374,7 +374,7 @@ void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
     embedded_links(e, A_cell, A_edge, scale, v, out);
     kernel_divergence(g, v, e->work);
     for (size_t p = 0; p < g->size; p++)
-        e->work[p] *= A_cell[0][p];
+        e->work[p] *= A_cell[0][p] * e->cut[p];
     bc_fill_scalar(g, bc, e->work);
     kernel_gradient_update(g, act, e->work, -scale, out);
 }
