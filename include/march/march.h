@@ -119,7 +119,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
 
 /* Declares that the face density (rho_face) changed: a module's properties
  * stage calls it after writing rho_face; uniform says whether it is still
- * cs->density everywhere.  Returns 0, or -1 when the pressure solver cannot
+ * cs->density everywhere.  With an embedded body (st->embedded) the
+ * projection's coefficient gets the body's closed faces and open shares
+ * here, whichever module changed the density.  Returns 0, or -1 when the pressure solver cannot
  * take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
 
