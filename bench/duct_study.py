@@ -5,7 +5,8 @@ usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
                      [--model mixed|two_fluid] [--case cases/duct_circular.ini]
                      [--set SECTION.KEY=VALUE ...]
 
---case cases/duct_circular.ini runs the circular duct (sec. 4.2, figs.
+A mesh may carry its own overrides after a colon ("80x160:solver.newton_below=1",
+several joined by ':').  --case cases/duct_circular.ini runs the circular duct (sec. 4.2, figs.
 13-15) instead of the square one; its files are named duct_circular_*
 (duct_circular_runs/, duct_circular_table.md, ...) where the square duct's
 are duct_*.  --set passes an override to every run (repeatable).
@@ -218,9 +219,11 @@ def main():
     sfx = "" if a.model == "mixed" else "_" + a.model
     tag = tag_of(a.case)
     os.makedirs(a.outdir, exist_ok=True)
-    meshes = [tuple(int(v) for v in m.split("x")) for m in a.meshes.split(",")]
-    runs = [run(a.muflow, a.outdir, ny, nz, a.reuse, a.model, a.case, a.extra)
-            for ny, nz in meshes]
+    runs = []
+    for m in a.meshes.split(","):
+        size, *own = m.split(":")
+        ny, nz = (int(v) for v in size.split("x"))
+        runs.append(run(a.muflow, a.outdir, ny, nz, a.reuse, a.model, a.case, a.extra + own))
     hp = case_value(runs[0]["dir"], "duct", "bed_height")
     D = case_value(runs[0]["dir"], "domain", "lz")
     title = "square duct" if tag == "duct" else "circular duct" if "circular" in tag else tag

@@ -278,15 +278,21 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     run_result_add(res, "drag_force", "%.10g", f.surface[0]);
     run_result_add(res, "lift_force", "%.10g", f.surface[1]);
     run_result_add(res, "drag_force_pressure", "%.10g", f.pressure_part[0]);
-    run_result_add(res, "drag_force_control_volume", "%.10g", f.control_volume[0]);
-    run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[1]);
+    /* a wall around the fluid (obstacle.invert: a duct) has no front, back
+     * or box around it: those keys would be zeros, not measurements */
+    int body = !st->cs->obstacle.invert;
+    if (body) {
+        run_result_add(res, "drag_force_control_volume", "%.10g", f.control_volume[0]);
+        run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[1]);
+    }
     if (q > 0.0) {
         run_result_add(res, "drag_coefficient", "%.10g", f.surface[0] / q);
         run_result_add(res, "lift_coefficient", "%.10g", f.surface[1] / q);
         run_result_add(res, "drag_coefficient_control_volume", "%.10g", f.control_volume[0] / q);
         run_result_add(res, "lift_coefficient_control_volume", "%.10g", f.control_volume[1] / q);
     }
-    run_result_add(res, "pressure_drop", "%.10g", f.front_back);
+    if (body)
+        run_result_add(res, "pressure_drop", "%.10g", f.front_back);
     if (rc != 0)
         run_result_add(res, "obstacle_warning", "%s",
                        "a surface sample's interpolation reached into the body (too few cells "
