@@ -364,9 +364,10 @@ static int block_solve(int n, double (*D)[4], double (*lower)[2], double (*upper
     return 0;
 }
 
-/* The full tangent's term of the grains' stress, -div(b d|D|^2[v] gamma(u^p))
- * (as the core's operator, solvers/viscous.c), added to work = div tau[v]
- * with the opposite sign: work -= (-div(...)).  For u(y, z) the shear rate
+/* The full tangent's term of the grains' stress, the operator's
+ * -div(b d|D|^2[v] gamma(u^p)) (as the core's, solvers/viscous.c), added to
+ * the probe's work = div tau[v] as +div(...) (the probe negates work into
+ * the operator's rows).  For u(y, z) the shear rate
  * of an edge reads the other shear rate at the four edges around it, so the
  * term couples the nine faces around a face, within the section's combs;
  * the diagonal tangent (tan_e) drops the cross terms u_y u_z, and on the

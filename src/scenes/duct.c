@@ -16,7 +16,12 @@
  * headline is the largest velocity of the cross-section against the plane
  * channel's.  The summary adds the flow rate of the full duct (twice the
  * half's), the mean velocity against the plane channel's (the friction of
- * the side walls), and the mid-plane's bed top. */
+ * the side walls), and the mid-plane's bed top.
+ *
+ * The circular duct (seeds/002 sec. 4.2, cases/duct_circular.ini) is the
+ * same box with the wall an embedded circle of the obstacle module
+ * ([obstacle], plane yz, invert): the faces weigh in the flow rate by
+ * their open share, and the area is the circle's, sampled. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -184,8 +189,8 @@ static void measure(const struct march_state *st, struct duct_measures *m)
     const struct grid *g = &st->g;
     struct bedload_exact x = bedload_exact_of(cs, params(cs));
     double W = 2.0 * g->len[1], D = g->len[2];
-    /* the flow rate and the area: with a body (the circular duct) each
-     * x-face weighted by its open share, the rest of its cell being wall */
+    /* the flow rate: with a body (the circular duct) each x-face weighted
+     * by its open share, the rest of its cell being wall; the area sampled */
     const double *share = st->embedded ? st->embedded->share[0] : NULL;
     m->q_half = 0.0;
     for (int j = 0; j < g->n[1]; j++)
@@ -292,7 +297,7 @@ static const struct module *const duct_modules[] = {&bed_module, &two_fluid_modu
 
 const struct scene scene_duct = {
     .name = "duct",
-    .title = "flow over a granular bed in a square duct, half cross-section, mixed-fluid model",
+    .title = "flow over a granular bed in a square or circular duct, half cross-section",
     .keys = &duct_block,
     .modules = duct_modules,
     .check = check,
