@@ -6,7 +6,8 @@ usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
                      [--set SECTION.KEY=VALUE ...]
 
 A mesh may carry its own overrides after a colon ("80x160:solver.newton_below=1",
-several joined by ':').  --case cases/duct_circular.ini runs the circular duct (sec. 4.2, figs.
+several joined by ':'); "solver.initial_state=previous" starts it from the
+previous mesh's solution (grid sequencing).  --case cases/duct_circular.ini runs the circular duct (sec. 4.2, figs.
 13-15) instead of the square one; its files are named duct_circular_*
 (duct_circular_runs/, duct_circular_table.md, ...) where the square duct's
 are duct_*.  --set passes an override to every run (repeatable).
@@ -223,6 +224,8 @@ def main():
     for m in a.meshes.split(","):
         size, *own = m.split(":")
         ny, nz = (int(v) for v in size.split("x"))
+        own = [f"solver.initial_state={runs[-1]['dir']}"
+               if o == "solver.initial_state=previous" else o for o in own]
         runs.append(run(a.muflow, a.outdir, ny, nz, a.reuse, a.model, a.case, a.extra + own))
     hp = case_value(runs[0]["dir"], "duct", "bed_height")
     D = case_value(runs[0]["dir"], "domain", "lz")

@@ -196,6 +196,11 @@ static const struct key keys[] = {
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
+    STR("solver", "initial_state", initial_state,
+        "a checkpoint (a run folder or its checkpoint.h5) of the same box on any grid: its "
+        "velocity, pressure and modules' fields, interpolated to this grid, start the run "
+        "instead of the scene's state (a steady solve from a coarser mesh's solution); empty: "
+        "the scene's"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
         "of the implicit solve: line blocks, sparse Cholesky or LU, AMG, or fourier (the line "
         "blocks of every plane Fourier mode, for periodic directions across the lines) (auto, "

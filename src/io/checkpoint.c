@@ -345,3 +345,44 @@ int checkpoint_read_state(const char *path, struct march_state *st, struct field
         snprintf(err, errlen, "checkpoint %s: %s", path, cause);
     return rc;
 }
+
+int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, size_t errlen)
+{
+    hid_t file = open_checkpoint(path, err, errlen);
+    if (file < 0)
+        return -1;
+    static const char *const keys[3] = {"domain.lx", "domain.ly", "domain.lz"};
+    char cause[600], text[64];
+    int rc = h5io_attr_read(file, "n", H5T_NATIVE_INT, 3, n, cause, sizeof cause);
+    for (int d = 0; rc == 0 && d < 3; d++) {
+        rc = h5io_attr_read_text(file, keys[d], text, sizeof text, cause, sizeof cause);
+        char *end = text;
+        if (rc == 0)
+            len[d] = strtod(text, &end);
+        if (rc == 0 && (end == text || !(len[d] > 0.0))) {
+            snprintf(cause, sizeof cause, "%s = '%s' is not a length", keys[d], text);
+            rc = -1;
+        }
+    }
+    H5Fclose(file);
+    if (rc != 0)
+        snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+    return rc;
+}
+
+int checkpoint_read_dataset(const char *path, const char *name, const int n[3], double *buf,
+                            char *err, size_t errlen)
+{
+    hid_t file = open_checkpoint(path, err, errlen);
+    if (file < 0)
+        return -1;
+    hsize_t dims[3];
+    for (int d = 0; d < 3; d++)
+        dims[d] = (hsize_t)n[d] + 2;
+    char cause[600];
+    int rc = h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, buf, cause, sizeof cause);
+    H5Fclose(file);
+    if (rc != 0)
+        snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+    return rc;
+}
