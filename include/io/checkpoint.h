@@ -43,11 +43,15 @@ int checkpoint_import_wisdom(const char *path, char *err, size_t errlen);
 int checkpoint_read_state(const char *path, struct march_state *st, struct field_series *fs,
                           int *threads, char *err, size_t errlen);
 
+/* The dataset name of array c of a checkpointed field: its name for a
+ * cell field, name_x, _y, _z for the three arrays of the others. */
+void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, size_t len);
+
 /* The grid (cells per direction) and the box lengths of the checkpoint at
  * path.  Returns 0, or -1 with the cause in err. */
 int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, size_t errlen);
 /* Its dataset `name` (a checkpointed field's array, each_dataset's names:
- * name or name_x, _y, _z) on its grid n: (n[0]+2)(n[1]+2)(n[2]+2) doubles in
+ * checkpoint_dataset_name) on its grid n: (n[0]+2)(n[1]+2)(n[2]+2) doubles in
  * the layout of grid.h into buf.  Returns 0, or -1 with the cause in err. */
 int checkpoint_read_dataset(const char *path, const char *name, const int n[3], double *buf,
                             char *err, size_t errlen);

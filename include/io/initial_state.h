@@ -6,7 +6,8 @@
  * a module's field: march/fields.h) is read from the checkpoint and
  * interpolated, trilinearly between its nodes (faces or cells), to this
  * grid's nodes; a node beyond the checkpoint's last one takes its ghost
- * layer's value.  Nothing else of the checkpoint is taken: the march starts
+ * layer's value; the nodes held in an embedded body are set to rest again.
+ * Nothing else of the checkpoint is taken: the march starts
  * at step 0 with its own loop state. */
 #ifndef MUFLOW_INITIAL_STATE_H
 #define MUFLOW_INITIAL_STATE_H

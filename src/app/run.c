@@ -11,7 +11,6 @@
 #include "physics/obstacle_forces.h"
 #include "io/checkpoint.h"
 #include "io/initial_state.h"
-#include "kernels/embedded.h"
 #include "io/field_series.h"
 #include "scenes/scene.h"
 
@@ -180,8 +179,6 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     } else if (cs->initial_state[0]) {
         if (initial_state_load(cs->initial_state, st, err, errlen) != 0)
             goto fail;
-        if (st->embedded) /* a body's nodes stay at rest */
-            embedded_zero(st->embedded, st->vel);
     }
     if (!opt->write_output)
         return RUN_OK;

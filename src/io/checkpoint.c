@@ -52,10 +52,18 @@ static hid_t native(enum stype t)
 /* The checkpointed fields of the registry (march/fields.h), dataset by
  * dataset: a cell field under its name, three arrays as name_x, _y, _z.
  * read: 0 to write them, 1 to read them back. */
+void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, size_t len)
+{
+    static const char axis[3] = {'x', 'y', 'z'};
+    if (field_arrays(spec->where) == 1)
+        snprintf(name, len, "%s", spec->name);
+    else
+        snprintf(name, len, "%s_%c", spec->name, axis[c]);
+}
+
 static int each_dataset(hid_t file, const struct march_state *st, int read, char *err,
                         size_t errlen)
 {
-    static const char axis[3] = {'x', 'y', 'z'};
     hsize_t dims[3];
     for (int d = 0; d < 3; d++)
         dims[d] = (hsize_t)st->g.ext[d];
@@ -67,10 +75,7 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
         int n = field_arrays(e->spec.where);
         for (int c = 0; c < n; c++) {
             char name[96];
-            if (n == 1)
-                snprintf(name, sizeof name, "%s", e->spec.name);
-            else
-                snprintf(name, sizeof name, "%s_%c", e->spec.name, axis[c]);
+            checkpoint_dataset_name(&e->spec, c, name, sizeof name);
             int rc = read ? h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err, errlen)
                           : h5io_write(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err,
                                        errlen);

@@ -7,6 +7,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include "io/checkpoint.h"
+#include "kernels/embedded.h"
 
 /* Relative difference of box lengths taken as the same box (a length
  * written to the case file with 17 digits comes back to the last bit). */
@@ -90,7 +91,6 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         snprintf(err, errlen, "solver.initial_state: out of memory for %s", file);
         return -1;
     }
-    static const char axis[3] = {'x', 'y', 'z'};
     const struct field_registry *r = &st->fields;
     int rc = 0;
     for (int e = 0; rc == 0 && e < r->count; e++) {
@@ -106,10 +106,7 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         int n = field_arrays(fe->spec.where);
         for (int c = 0; rc == 0 && c < n; c++) {
             char name[96];
-            if (n == 1)
-                snprintf(name, sizeof name, "%s", fe->spec.name);
-            else
-                snprintf(name, sizeof name, "%s_%c", fe->spec.name, axis[c]);
+            checkpoint_dataset_name(&fe->spec, c, name, sizeof name);
             if (checkpoint_read_dataset(file, name, ns, src, cause, sizeof cause) != 0) {
                 snprintf(err, errlen, "solver.initial_state: %s", cause);
                 rc = -1;
@@ -124,5 +121,8 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         }
     }
     free(src);
+    /* a body's nodes stay at rest (the coarse grid's wall is elsewhere) */
+    if (rc == 0 && st->embedded)
+        embedded_zero(st->embedded, st->vel);
     return rc;
 }
