@@ -127,10 +127,11 @@ void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond
  * factorisation (sparse_direct_memory_estimate). */
 double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
 
-/* A sparse factorisation (cholesky, lu) then preconditions up to steps
- * further viscous_precondition calls while the Krylov iterations stay within
- * twice those of its first solve plus 2; a failed solve refactorises (0: a
- * factorisation every call, the default). */
+/* A sparse factorisation (cholesky, lu), the fourier blocks or an AMG
+ * hierarchy then precondition up to steps further viscous_precondition calls
+ * while the Krylov iterations stay within twice those of its first solve
+ * plus 2; a failed solve rebuilds it (0: one every call, the default).  For
+ * the AMG it sets viscous_amg's reuse (a later viscous_set_amg replaces it). */
 void viscous_set_reuse(struct viscous_solver *s, int steps);
 
 /* The line direction in use. */

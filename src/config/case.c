@@ -217,8 +217,8 @@ static const struct key keys[] = {
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
-        "a cholesky, lu or fourier preconditioner serves up to this many further steps while the "
-        "Krylov iterations stay within twice its first solve's plus 2 (0: one every step)"),
+        "a cholesky, lu, fourier or amg preconditioner serves up to this many further steps while "
+        "the Krylov iterations stay within twice its first solve's plus 2 (0: one every step)"),
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
     DBL("solver", "progress_interval", progress_interval, GE0,

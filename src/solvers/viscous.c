@@ -97,6 +97,7 @@ int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir;
 void viscous_set_reuse(struct viscous_solver *s, int steps)
 {
     s->direct_reuse = steps > 0 ? steps : 0;
+    s->amg_cfg.reuse = s->direct_reuse;
 }
 
 /* CPU seconds of the process (all threads): the timings of viscous_precond_info,
