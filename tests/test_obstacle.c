@@ -1,6 +1,7 @@
 /* Solid obstacles (physics/obstacle.h, kernels/embedded.h):
- * - the shapes' keys: bad input names the key, exit status 2; a scene
- *   whose modules change the density is refused;
+ * - the shapes' keys: bad input names the key, exit status 2 (a shape
+ *   outside the box, a body that closes the channel or leaves no fluid
+ *   too); a scene whose modules change the density is refused;
  * - the signed distance of a circle, a rectangle and their union;
  * - Poiseuille flow in a circular pipe (the fluid inside a circle:
  *   obstacle.invert), cross-section in y-z, one periodic cell along the
@@ -31,6 +32,14 @@ static void test_keys(void **state)
         {"obstacle.shapes=circle 0.2 0.2 0.05; rectangle 1 2 x 4", "obstacle.shapes"},
         {"obstacle.plane=xq", "obstacle.plane"},
         {"obstacle.boundary=cut", "obstacle.boundary"},
+        /* a body wholly outside the box, one that closes the channel
+         * between the inflow and the outlet (a disc taller than the
+         * channel, a wall-to-wall plate), one that leaves no fluid */
+        {"obstacle.shapes=circle 5 5 0.05", "obstacle.shapes"},
+        {"obstacle.shapes=circle 0.2 0.2 0.05; circle 2.3 0.2 0.05", "obstacle.shapes"},
+        {"obstacle.shapes=circle 0.2 0.2 0.3", "obstacle.shapes"},
+        {"obstacle.shapes=rectangle 1 -1 1.2 0.5", "obstacle.shapes"},
+        {"obstacle.shapes=rectangle -1 -1 3 1", "obstacle.shapes"},
     };
     test_bad_overrides("../cases/cylinder_benchmark.ini", bad, sizeof bad / sizeof bad[0]);
 }

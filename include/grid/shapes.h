@@ -35,6 +35,23 @@ struct shape_set {
  * which shape. */
 int shapes_parse(struct shape_set *set, const char *text, char *msg, size_t msglen);
 
+/* The plane of the shapes (0: xz, 1: xy, 2: yz, the order of the case's
+ * obstacle.plane choices) and whether the fluid is inside them. */
+void shapes_set_plane(struct shape_set *set, int plane, int invert);
+
+/* Index of the first shape with no point inside the box [0, len] of its
+ * plane (touching its edge counts as outside), or -1 when every shape
+ * reaches into the box. */
+int shapes_outside_box(const struct shape_set *set, const double len[3]);
+
+/* Whether the fluid of a grid of n cells over the box len joins the box's
+ * low and high faces along direction axis: 4-connected cells of the plane
+ * whose centres lie in the fluid (distance > 0); along the extrusion, any
+ * fluid cell joins them.  Returns 1 (joined), 0 (the shapes close the
+ * passage on this grid), -1 (out of memory).  Works on the whole box the
+ * case describes, before any grid or decomposition exists. */
+int shapes_connect(const struct shape_set *set, const int n[3], const double len[3], int axis);
+
 /* Signed distance from point x (grid coordinates x, y, z) to the surface of
  * the union, positive in the fluid. */
 double shape_distance(const struct shape_set *set, const double x[3]);

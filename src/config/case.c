@@ -122,7 +122,8 @@ static const struct key keys[] = {
 
     STR("obstacle", "shapes", obstacle.shapes,
         "solid bodies as a union of shapes in the plane's coordinates (A, B), extruded along the "
-        "third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by ';' (empty: none)"),
+        "third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by ';' (empty: none); "
+        "each must reach into the box, and a channel's inflow and outlet stay joined by fluid"),
     CHO("obstacle", "plane", obstacle.plane, plane_choices,
         "the grid directions of the shapes' coordinates A and B"),
     BOOL("obstacle", "invert", obstacle.invert,
@@ -668,6 +669,52 @@ static const char *scene_names(char *names, size_t len)
     return names;
 }
 
+/* The shapes against the box: each reaches into it, some fluid is left,
+ * and a flow through the box (an inflow face, or open faces at both ends of
+ * a direction) finds a path of fluid cells from one end to the other.
+ * Returns 0, or 1 after fail(). */
+static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *where)
+{
+    struct muflow_case *c = x->c;
+    static const char axis[3] = {'x', 'y', 'z'};
+    shapes_set_plane(set, c->obstacle.plane, c->obstacle.invert);
+    const char *plane = plane_choices[c->obstacle.plane].name;
+    int a = set->plane_a, b = set->plane_b;
+    int out = shapes_outside_box(set, c->len);
+    if (out >= 0) {
+        fail(x, "%s: obstacle.shapes = '%.200s': shape %d lies wholly outside the box, whose "
+                "plane %s spans [0, %.10g] x [0, %.10g] (a body must reach into the box)",
+             where, c->obstacle.shapes, out + 1, plane, c->len[a], c->len[b]);
+        return 1;
+    }
+    int flow = -1;
+    for (int d = 0; d < 3 && flow < 0; d++)
+        if (c->bc.face[d][0] == BC_INFLOW || c->bc.face[d][1] == BC_INFLOW ||
+            (c->bc.face[d][0] == BC_OPEN && c->bc.face[d][1] == BC_OPEN))
+            flow = d;
+    int extrusion = 3 - a - b;
+    int fluid = shapes_connect(set, c->n, c->len, extrusion);
+    int joined = flow >= 0 ? shapes_connect(set, c->n, c->len, flow) : 1;
+    if (fluid < 0 || joined < 0) {
+        fail(x, "%s: obstacle.shapes: out of memory checking the shapes against the box", where);
+        return 1;
+    }
+    if (!fluid) {
+        fail(x, "%s: obstacle.shapes = '%.200s'%s: no cell centre of the grid lies in the fluid",
+             where, c->obstacle.shapes, c->obstacle.invert ? " with obstacle.invert = on" : "");
+        return 1;
+    }
+    if (!joined) {
+        fail(x, "%s: obstacle.shapes = '%.200s': the body closes the channel between "
+                "boundary.%clo = %s and boundary.%chi = %s (no path of fluid cells joins them on "
+                "this grid)",
+             where, c->obstacle.shapes, axis[flow], bc_choices[c->bc.face[flow][0]].name,
+             axis[flow], bc_choices[c->bc.face[flow][1]].name);
+        return 1;
+    }
+    return 0;
+}
+
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
@@ -743,6 +790,8 @@ static void finish(struct ctx *x)
             fail(x, "%s: obstacle.shapes = '%.200s': %s", where, c->obstacle.shapes, why);
             return;
         }
+        if (set.n > 0 && check_shapes_fit(x, &set, where) != 0)
+            return;
     }
 
     const struct scene *sc = case_scene(c);

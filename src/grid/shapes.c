@@ -143,3 +143,87 @@ void shape_normal(const struct shape_set *set, const double x[3], double n[3])
     for (int d = 0; d < 3; d++)
         n[d] = m > 0.0 ? g[d] / m : 0.0;
 }
+
+void shapes_set_plane(struct shape_set *set, int plane, int invert)
+{
+    static const int planes[3][2] = {{0, 2}, {0, 1}, {1, 2}};
+    set->plane_a = planes[plane][0];
+    set->plane_b = planes[plane][1];
+    set->invert = invert;
+}
+
+/* 1 when shape sh has a point strictly inside [0, la] x [0, lb]. */
+static int reaches_box(const struct shape *sh, double la, double lb)
+{
+    if (sh->kind == SHAPE_RECTANGLE)
+        return sh->v[0] < la && sh->v[2] > 0.0 && sh->v[1] < lb && sh->v[3] > 0.0;
+    /* the circle's distance to the nearest point of the box */
+    double da = fmax(fmax(-sh->v[0], sh->v[0] - la), 0.0);
+    double db = fmax(fmax(-sh->v[1], sh->v[1] - lb), 0.0);
+    return hypot(da, db) < sh->v[2];
+}
+
+int shapes_outside_box(const struct shape_set *set, const double len[3])
+{
+    for (int i = 0; i < set->n; i++)
+        if (!reaches_box(&set->s[i], len[set->plane_a], len[set->plane_b]))
+            return i;
+    return -1;
+}
+
+int shapes_connect(const struct shape_set *set, const int n[3], const double len[3], int axis)
+{
+    int a = set->plane_a, b = set->plane_b, na = n[a], nb = n[b];
+    size_t cells = (size_t)na * (size_t)nb;
+    unsigned char *fluid = malloc(cells);
+    int *queue = malloc(cells * sizeof *queue);
+    if (!fluid || !queue) {
+        free(fluid);
+        free(queue);
+        return -1;
+    }
+    int any = 0;
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++) {
+            double x[3] = {0.0, 0.0, 0.0};
+            x[a] = (i + 0.5) * len[a] / na;
+            x[b] = (j + 0.5) * len[b] / nb;
+            fluid[(size_t)i * nb + j] = shape_distance(set, x) > 0.0;
+            any |= fluid[(size_t)i * nb + j];
+        }
+    int joined = 0;
+    if (axis != a && axis != b) {
+        joined = any; /* extruded along axis: every fluid cell runs through */
+    } else {
+        /* breadth-first from the fluid cells at the low face (marked 2) */
+        size_t head = 0, tail = 0;
+        int along_a = axis == a, nl = along_a ? na : nb;
+        for (int i = 0; i < na; i++)
+            for (int j = 0; j < nb; j++) {
+                size_t p = (size_t)i * nb + j;
+                if (fluid[p] && (along_a ? i : j) == 0) {
+                    fluid[p] = 2;
+                    queue[tail++] = (int)p;
+                }
+            }
+        static const int step[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+        while (head < tail && !joined) {
+            int p = queue[head++], i = p / nb, j = p % nb;
+            if ((along_a ? i : j) == nl - 1)
+                joined = 1;
+            for (int s = 0; s < 4; s++) {
+                int i2 = i + step[s][0], j2 = j + step[s][1];
+                if (i2 < 0 || i2 >= na || j2 < 0 || j2 >= nb)
+                    continue;
+                size_t q = (size_t)i2 * nb + j2;
+                if (fluid[q] == 1) {
+                    fluid[q] = 2;
+                    queue[tail++] = (int)q;
+                }
+            }
+        }
+    }
+    free(fluid);
+    free(queue);
+    return joined;
+}

@@ -120,10 +120,7 @@ void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set)
     memset(set, 0, sizeof *set);
     if (shapes_parse(set, cs->obstacle.shapes, msg, sizeof msg) != 0)
         set->n = 0; /* not reached: the case's check parsed them */
-    static const int planes[3][2] = {{0, 2}, {0, 1}, {1, 2}};
-    set->plane_a = planes[cs->obstacle.plane][0];
-    set->plane_b = planes[cs->obstacle.plane][1];
-    set->invert = cs->obstacle.invert;
+    shapes_set_plane(set, cs->obstacle.plane, cs->obstacle.invert);
 }
 
 void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3])
