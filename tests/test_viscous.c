@@ -451,6 +451,13 @@ static void test_auto_choice(void **state)
     char *lu[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
                   "solver.preconditioner=lu"};
     assert_int_equal(auto_choice("../cases/heap.ini", 4, lu), VISCOUS_LU);
+    /* a body in a flow periodic along z: the flow varies along z too, so
+     * the choice is the one of the bounded channel, not the line blocks */
+    char *channel[] = {"solver.preconditioner=auto"};
+    char *row[] = {"solver.preconditioner=auto", "boundary.xlo=periodic", "boundary.xhi=periodic"};
+    enum viscous_precond bounded = auto_choice("../cases/cylinder_benchmark.ini", 1, channel);
+    assert_int_not_equal(bounded, VISCOUS_LINE);
+    assert_int_equal(auto_choice("../cases/cylinder_benchmark.ini", 3, row), bounded);
     /* the cavity with its augmentation at 24,300 unknowns keeps the LU */
     char *cavity[] = {"domain.nx=90", "domain.nz=90"};
     assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 2, cavity), VISCOUS_LU);
