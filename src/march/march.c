@@ -96,8 +96,9 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
 /* Line blocks are exact for flows uniform across lines and cheap; a flow that
  * varies in two or more directions gets a sparse factorisation while it is
  * affordable.  A flow varies only across its bounded (non-periodic)
- * directions: the body force is uniform, so with one bounded direction the
- * lines along it are exact whatever the periodic extent (measured: bagnold
+ * directions and, with a body, the periodic ones of the body's plane: the
+ * body force is uniform, so with one such direction the lines along it are
+ * exact whatever the periodic extent (measured: bagnold
  * 15 x 5 x 40 took 15.3 s with the LU of 375 probes a step, 0.11 s with the
  * line blocks, same profile; 16 x 8 x 40 needed 960 probes and failed).  The
  * probes are one operator application each per step: beyond the
@@ -136,7 +137,7 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * in a body's plane (a periodic row of bodies: measured, the line
      * blocks took 53-500 CG iterations a step around a cylinder in a flow
      * periodic along z, the LU 1) */
-    int bounded = 0, periodic[3], in_plane[3] = {0, 0, 0};
+    int varying = 0, periodic[3], in_plane[3] = {0, 0, 0};
     if (obstacle_active(cs)) {
         struct shape_set set;
         obstacle_shapes(cs, &set);
@@ -144,10 +145,10 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     }
     for (int d = 0; d < 3; d++) {
         periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
-        bounded += st->g.n[d] > 2 && (!periodic[d] || in_plane[d]);
+        varying += st->g.n[d] > 2 && (!periodic[d] || in_plane[d]);
     }
     long unknowns = 3L * (long)grid_cells(&st->g);
-    if (bounded < 2)
+    if (varying < 2)
         return VISCOUS_LINE;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
