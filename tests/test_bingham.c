@@ -185,6 +185,52 @@ static void test_cavity_bn1000_64_enters_newton(void **state)
     assert_true(r.steps <= 120);
 }
 
+/* solver.coupled: the cavity's velocity and pressure from one saddle-point
+ * system per step, without the grad-div augmentation the projection march
+ * needs.  The steady state is the same discrete solution: psi_max and the
+ * mid-line error of the case's augmented run to 1e-8 relative (measured
+ * 64 x 64: all ten printed digits of psi_max, 31 steps each), and its steady
+ * state reached in no more steps than the augmented run takes plus 10.
+ * Bad input: with the augmentation, in a transient run, with an open face. */
+static void test_cavity_coupled(void **state)
+{
+    (void)state;
+    char *aug[] = {"domain.nx=32", "domain.nz=32"};
+    char *coupled[] = {"domain.nx=32", "domain.nz=32", "solver.coupled=on",
+                       "solver.augmentation=0"};
+    struct muflow_case ca, cc;
+    struct run_result ra, rc;
+    run_with(CASES_DIR "bingham_cavity.ini", 2, aug, &ca, &ra);
+    run_with(CASES_DIR "bingham_cavity.ini", 4, coupled, &cc, &rc);
+    print_message("cavity 32x32: augmented %s in %ld steps, psi_max %.10f; coupled, no "
+                  "augmentation, %s in %ld steps, psi_max %.10f\n",
+                  run_status_name(ra.status), ra.steps, ra.errors.headline,
+                  run_status_name(rc.status), rc.steps, rc.errors.headline);
+    assert_int_equal(ra.status, STATUS_STEADY);
+    assert_int_equal(rc.status, STATUS_STEADY);
+    assert_true(fabs(rc.errors.headline / ra.errors.headline - 1.0) <= 1e-8);
+    assert_true(fabs(rc.errors.err_rms / ra.errors.err_rms - 1.0) <= 1e-8);
+    assert_true(rc.steps <= ra.steps + 10);
+    struct {
+        const char *file;
+        int n;
+        char *ov[3];
+    } bad[] = {
+        {CASES_DIR "bingham_cavity.ini", 1, {"solver.coupled=on"}},
+        {CASES_DIR "bingham_cavity.ini", 3,
+         {"solver.coupled=on", "solver.augmentation=0", "solver.mode=transient"}},
+        {CASES_DIR "bagnold2.ini", 1, {"solver.coupled=on"}},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        struct muflow_case cs;
+        char err[512];
+        assert_int_equal(case_load(&cs, bad[i].file, bad[i].n, bad[i].ov, err, sizeof err), 2);
+        print_message("%s\n", err);
+        assert_non_null(strstr(err, "solver.coupled"));
+        assert_null(strchr(err, '\n'));
+    }
+}
+
 /* A cavity run's summary.ini names its results psi_max and err_midline (the
  * reference is Vola's mid-line curve), not err_rms. */
 static void test_cavity_summary_keys(void **state)
@@ -231,6 +277,7 @@ void group_bingham(struct test_tally *t)
         cmocka_unit_test(test_cavity_bn1000_converges),
         cmocka_unit_test(test_cavity_bn1000_64_enters_newton),
         cmocka_unit_test(test_cavity_summary_keys),
+        cmocka_unit_test(test_cavity_coupled),
     };
     RUN_GROUP(t, "bingham", tests);
 }

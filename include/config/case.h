@@ -68,6 +68,8 @@ struct muflow_case {
                                 rheology.lambda, lowered 10-fold per stage (1: off) */
     double newton_below;     /* the tangent is used once residual / first residual
                                 falls below this (Picard before): 1 = always */
+    int coupled;             /* steady: velocity and pressure solved together each step
+                                (solver.coupled, stage_coupled.c) */
     char initial_state[512]; /* solver.initial_state: a checkpoint whose fields start this
                                 run, interpolated to its grid (empty: the scene's start) */
     int inexact_newton;      /* 1: Eisenstat-Walker forcing on amg Newton steps */

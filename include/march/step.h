@@ -31,6 +31,12 @@ int step_advance(struct march_state *st, double dt);
 void stage_properties(struct march_state *st);
 void stage_residual(struct march_state *st);
 int stage_implicit(struct march_state *st, double dt);
+/* solver.coupled: the steady step's velocity and pressure increments from
+ * one saddle-point system (stage_coupled.c), in place of the implicit
+ * solve; the projection after it finds u solenoidal.  Returns 0, or -1
+ * when memory runs out or the factorisation fails. */
+struct viscous_problem;
+int stage_coupled(struct march_state *st, const struct viscous_problem *pb);
 void stage_projection(struct march_state *st, double dt);
 /* div v per cell as the projection makes it vanish: the plain MAC sum, or
  * with an embedded body the cut cells' flux form (kernels/embedded.h). */

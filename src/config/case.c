@@ -197,6 +197,11 @@ static const struct key keys[] = {
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
         "the tangent is used once residual / first residual falls below this (Picard before; "
         "1: from the start)"),
+    BOOL("solver", "coupled", coupled,
+         "steady: each step solves velocity and pressure together (the saddle-point system "
+         "of the step by the sparse LU) instead of the implicit step and the projection; for "
+         "flows whose pressure the projection's pseudo-time march does not converge (around "
+         "a body, the cavity without augmentation)"),
     STR("solver", "initial_state", initial_state,
         "a checkpoint (a run folder or its checkpoint.h5) of the same box on any grid: its "
         "velocity, pressure and modules' fields, interpolated to this grid, start the run "
@@ -669,6 +674,16 @@ static const char *scene_names(char *names, size_t len)
     return names;
 }
 
+/* The first inflow face as 2 d + side, or -1. */
+static int inflow_face(const struct boundary *bc)
+{
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (bc->face[d][side] == BC_INFLOW)
+                return 2 * d + side;
+    return -1;
+}
+
 /* The shapes against the box: each reaches into it, some fluid is left,
  * and a flow through the box (an inflow face, or open faces at both ends of
  * a direction) finds a path of fluid cells from one end to the other.
@@ -767,14 +782,23 @@ static void finish(struct ctx *x)
         return;
     }
 
+    /* the coupled step (stage_coupled.c): a steady Newton step of its own,
+     * whose pressure needs no augmentation and no open face's condition */
+    if (c->coupled) {
+        const char *why = c->mode != MODE_STEADY ? "needs solver.mode = steady"
+                          : c->augmentation > 0.0 ? "needs solver.augmentation = 0 (its pressure "
+                                                    "is solved with the velocity)"
+                          : bc_has_open(&c->bc) || inflow_face(&c->bc) >= 0
+                              ? "does not support open or inflow faces yet"
+                              : NULL;
+        if (why) {
+            fail(x, "%s: solver.coupled = on %s", where, why);
+            return;
+        }
+    }
+
     /* an inflow's volume must leave somewhere: through an open face */
-    int inflow = -1;
-    for (int d = 0; d < 3 && inflow < 0; d++)
-        for (int side = 0; side < 2; side++)
-            if (c->bc.face[d][side] == BC_INFLOW) {
-                inflow = 2 * d + side;
-                break;
-            }
+    int inflow = inflow_face(&c->bc);
     if (inflow >= 0 && !bc_has_open(&c->bc) && c->bc.inflow_velocity != 0.0) {
         fail(x, "%s: boundary.%c%s = inflow with boundary.inflow_velocity = %.17g and no open "
                 "face: the inflowing volume has no way out (set an outlet face to open)",

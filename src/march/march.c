@@ -321,6 +321,14 @@ static int add_modules(struct march_state *st, const struct module *const *extra
                 snprintf(err, errlen, "more than %d physics modules", MODULES_MAX);
                 return -1;
             }
+            /* the coupled step solves the velocity and pressure of one
+             * density and one velocity field: a body only */
+            if (st->cs->coupled && *m != &obstacle_module) {
+                snprintf(err, errlen, "solver.coupled = on: the physics module '%s' of this "
+                                      "scene is not supported by the coupled step yet",
+                         (*m)->name);
+                return -1;
+            }
             int i = st->nmodules++;
             st->modules[i] = *m;
             if ((*m)->create && (*m)->create(st, &st->module_state[i], err, errlen) != 0)

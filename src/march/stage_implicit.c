@@ -62,6 +62,8 @@ int stage_implicit(struct march_state *st, double dt)
                 return rc < 0 ? -1 : 0;
         }
     struct viscous_problem pb = implicit_problem(st, dt);
+    if (cs->coupled)
+        return stage_coupled(st, &pb);
     double tol = implicit_tolerance(st, pb.b_cell != NULL);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;
