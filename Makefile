@@ -163,7 +163,9 @@ ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
 ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle scenes bingham
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
-check-asan: deps
+# the tests run the plain build/muflow for their command-line checks (a
+# fresh clone has none until it is built)
+check-asan: deps $(BUILD)/muflow
 	@$(MAKE) --no-print-directory BUILD=$(ASAN_BUILD) CFLAGS="$(ASAN_FLAGS)" \
 	  $(ASAN_BUILD)/muflow $(ASAN_BUILD)/muflow_tests
 	cd tests && $(ASAN_ENV) ../$(ASAN_BUILD)/muflow_tests $(ASAN_GROUPS)
