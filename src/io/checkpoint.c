@@ -49,9 +49,6 @@ static hid_t native(enum stype t)
     return t == S_DOUBLE ? H5T_NATIVE_DOUBLE : t == S_LONG ? H5T_NATIVE_LONG : H5T_NATIVE_INT;
 }
 
-/* The checkpointed fields of the registry (march/fields.h), dataset by
- * dataset: a cell field under its name, three arrays as name_x, _y, _z.
- * read: 0 to write them, 1 to read them back. */
 void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, size_t len)
 {
     static const char axis[3] = {'x', 'y', 'z'};
@@ -61,6 +58,9 @@ void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, s
         snprintf(name, len, "%s_%c", spec->name, axis[c]);
 }
 
+/* The checkpointed fields of the registry (march/fields.h), dataset by
+ * dataset, named by checkpoint_dataset_name.
+ * read: 0 to write them, 1 to read them back. */
 static int each_dataset(hid_t file, const struct march_state *st, int read, char *err,
                         size_t errlen)
 {

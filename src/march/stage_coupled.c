@@ -144,14 +144,13 @@ static long fill_entries(const struct march_state *st, struct work *w, int nu, i
             pinned = q;
     long m = 0;
     for (long i = 0; i < n; i++)
-        if (w->e[i].row != nu + pinned)
+        if (pinned < 0 || w->e[i].row != nu + pinned)
             w->e[m++] = w->e[i];
+    if (pinned >= 0)
+        w->has_face[pinned] = 0; /* pinned like a closed cell: dp = 0, right-hand side 0 */
     for (int q = 0; q < nc; q++)
-        if (!w->has_face[q] || q == pinned)
+        if (!w->has_face[q])
             w->e[m++] = (struct entry){nu + q, nu + q, 1.0};
-    for (int q = 0; q < nc; q++)
-        if (q == pinned)
-            w->has_face[q] = 0; /* its right-hand side is 0 */
     return m;
 }
 
