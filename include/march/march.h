@@ -63,6 +63,7 @@ struct march_state {
     const struct embedded *embedded; /* a solid body in the grid (physics/obstacle.h), or NULL */
     struct pressure_solver *pressure_solver;
     struct viscous_solver *viscous;
+    struct coupled_state *coupled; /* solver.coupled's numbering and solver (stage_coupled.c) */
 
     long step;
     double time, dt;

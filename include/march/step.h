@@ -37,6 +37,9 @@ int stage_implicit(struct march_state *st, double dt);
  * when memory runs out or the factorisation fails. */
 struct viscous_problem;
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb);
+/* Frees what the coupled steps keep (numbering, colouring, the LU's
+ * analysis); NULL is a no-op. */
+void stage_coupled_destroy(struct coupled_state *c);
 void stage_projection(struct march_state *st, double dt);
 /* div v per cell as the projection makes it vanish: the plain MAC sum, or
  * with an embedded body the cut cells' flux form (kernels/embedded.h). */

@@ -498,6 +498,7 @@ void march_destroy(struct march_state *st)
     fields_free(&st->fields);
     pressure_destroy(st->pressure_solver);
     viscous_destroy(st->viscous);
+    stage_coupled_destroy(st->coupled);
     memset(st, 0, sizeof *st);
 }
 

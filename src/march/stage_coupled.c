@@ -10,7 +10,8 @@
  * unknown's face; D the divergence as stage_divergence takes it (the faces'
  * open shares with a body).  Faces held in a body and cells with no open
  * face are left out (their dp is 0), and one pressure is pinned (the
- * constant mode of a closed or periodic box).  UMFPACK factorises it.
+ * constant mode of a closed or periodic box).  UMFPACK factorises it
+ * (saddle_point.h).
  *
  * Why: the projection's pseudo-time march updates the pressure by
  * (rho / dt) phi, which stops moving a pressure error once nu dt / h^2 is
@@ -22,41 +23,78 @@
  * Bingham cavity steady without augmentation in the augmented run's 31
  * steps and psi_max.
  *
- * The workspace is allocated per step: the matrix and its factors are the
- * step's cost, and the step is meant for the grids the sparse LU serves. */
+ * The numbering, the probing's colouring and the solver live from the first
+ * coupled step to march_destroy; the matrices are the step's. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "march/step.h"
 #include "solvers/probe_matrix.h"
-#include "solvers/suitesparse.h"
+#include "solvers/saddle_point.h"
 #include "solvers/viscous.h"
-
-struct apply_ctx {
-    struct march_state *st;
-    const struct viscous_problem *pb;
-};
-
-static void apply(void *ctx, double *v[3], double *out[3])
-{
-    struct apply_ctx *a = ctx;
-    viscous_apply(a->st->viscous, a->pb, v, out);
-}
 
 struct entry {
     int row, col;
     double val;
 };
 
-static int by_column(const void *a, const void *b)
+/* The velocity unknowns that carry a pressure gradient: unknown k on a face
+ * of open share s and spacing h between cells lo and hi (either -1 beyond a
+ * bounded face).  Faces held in the body and a face between a cell and its
+ * own periodic image carry none. */
+struct gradient_face {
+    int k, lo, hi;
+    double s, h;
+};
+
+struct coupled_state {
+    struct probe_matrix *pm;
+    double *probe[3], *resp[3];
+    int nu, nc;
+    ptrdiff_t *slot;            /* each velocity unknown's field slot */
+    int *cell;                  /* each cell slot's number (periodic images
+                                   included), -1 for a bounded face's ghosts */
+    unsigned char *held;        /* cells whose dp is held at 0 */
+    struct gradient_face *faces;
+    int nfaces;
+    struct csr_matrix A, K;
+    struct entry *e;            /* assembly work */
+    long cap;
+    double *b, *x;
+    struct saddle_point *solver;
+};
+
+static int by_row(const void *a, const void *b)
 {
     const struct entry *x = a, *y = b;
-    if (x->col != y->col)
-        return x->col < y->col ? -1 : 1;
-    return (x->row > y->row) - (x->row < y->row);
+    if (x->row != y->row)
+        return x->row < y->row ? -1 : 1;
+    return (x->col > y->col) - (x->col < y->col);
 }
 
-/* Cell number (x fastest) of every cell slot, periodic images included;
- * -1 for the ghosts of a bounded face. */
+void stage_coupled_destroy(struct coupled_state *c)
+{
+    if (!c)
+        return;
+    for (int k = 0; k < 3; k++) {
+        field_free(c->probe[k]);
+        field_free(c->resp[k]);
+    }
+    if (c->pm)
+        probe_matrix_destroy(c->pm);
+    csr_free(&c->A);
+    csr_free(&c->K);
+    saddle_point_destroy(c->solver);
+    free(c->slot);
+    free(c->cell);
+    free(c->held);
+    free(c->faces);
+    free(c->e);
+    free(c->b);
+    free(c->x);
+    free(c);
+}
+
 static void number_cells(const struct grid *g, const int periodic[3], int *cell)
 {
     for (size_t p = 0; p < g->size; p++)
@@ -77,169 +115,207 @@ static void number_cells(const struct grid *g, const int periodic[3], int *cell)
             }
 }
 
-struct work {
-    struct probe_matrix *pm;
-    double *probe[3], *resp[3];
-    struct csr_matrix A;
-    double *slot;
-    int *cell, *has_face, *Ap, *Ai;
-    struct entry *e;
-    double *Ax, *b, *x;
-};
-
-static void work_free(struct work *w)
+static int list_gradient_faces(const struct march_state *st, struct coupled_state *c)
 {
-    for (int c = 0; c < 3; c++) {
-        field_free(w->probe[c]);
-        field_free(w->resp[c]);
+    const int *comp_of = probe_matrix_components(c->pm);
+    c->faces = malloc((size_t)c->nu * sizeof *c->faces);
+    if (!c->faces)
+        return -1;
+    c->nfaces = 0;
+    for (int k = 0; k < c->nu; k++) {
+        int comp = comp_of[k];
+        ptrdiff_t p = c->slot[k];
+        double s = st->embedded ? st->embedded->share[comp][p] : 1.0;
+        int hi = c->cell[p], lo = c->cell[p - st->g.stride[comp]];
+        if (s == 0.0 || (hi >= 0 && hi == lo))
+            continue;
+        c->faces[c->nfaces++] = (struct gradient_face){k, lo, hi, s, st->g.h[comp]};
     }
-    csr_free(&w->A);
-    if (w->pm)
-        probe_matrix_destroy(w->pm);
-    free(w->slot);
-    free(w->cell);
-    free(w->has_face);
-    free(w->Ap);
-    free(w->Ai);
-    free(w->e);
-    free(w->Ax);
-    free(w->b);
-    free(w->x);
+    return 0;
 }
 
-/* The saddle-point matrix's entries: A's, then G's and D's per velocity
- * unknown, then the pins.  Returns the count. */
-static long fill_entries(const struct march_state *st, struct work *w, int nu, int nc)
+static struct coupled_state *create(struct march_state *st, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
-    const int *comp = probe_matrix_components(w->pm);
+    struct coupled_state *c = calloc(1, sizeof *c);
+    if (!c)
+        return NULL;
+    int periodic[3];
+    for (int d = 0; d < 3; d++)
+        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    if (probe_matrix_create(&c->pm, g, periodic, st->act, 2, err, errlen) != 0)
+        goto fail;
+    for (int k = 0; k < 3; k++)
+        if (!(c->probe[k] = field_alloc(g)) || !(c->resp[k] = field_alloc(g)))
+            goto oom;
+    c->nu = (int)probe_matrix_unknowns(c->pm);
+    c->nc = g->n[0] * g->n[1] * g->n[2];
+    double *slot = malloc((size_t)c->nu * sizeof *slot);
+    c->slot = malloc((size_t)c->nu * sizeof *c->slot);
+    c->cell = malloc(g->size * sizeof *c->cell);
+    c->held = malloc((size_t)c->nc);
+    c->b = malloc(((size_t)c->nu + c->nc) * sizeof *c->b);
+    c->x = malloc(((size_t)c->nu + c->nc) * sizeof *c->x);
+    if (!slot || !c->slot || !c->cell || !c->held || !c->b || !c->x) {
+        free(slot);
+        goto oom;
+    }
+    /* each unknown's slot: the slot numbers gathered like a residual */
+    for (int k = 0; k < 3; k++)
+        for (size_t p = 0; p < g->size; p++)
+            c->probe[k][p] = (double)p;
+    probe_matrix_gather(c->pm, c->probe, slot);
+    for (int k = 0; k < c->nu; k++)
+        c->slot[k] = (ptrdiff_t)slot[k];
+    free(slot);
+    number_cells(g, periodic, c->cell);
+    /* a cell's dp is free when a gradient face touches it; the first free
+     * cell is pinned (the rows of D sum to zero over a closed or periodic
+     * box: one of them is redundant) */
+    if (list_gradient_faces(st, c) != 0)
+        goto oom;
+    memset(c->held, 1, (size_t)c->nc);
+    for (int f = 0; f < c->nfaces; f++) {
+        if (c->faces[f].hi >= 0)
+            c->held[c->faces[f].hi] = 0;
+        if (c->faces[f].lo >= 0)
+            c->held[c->faces[f].lo] = 0;
+    }
+    for (int q = 0; q < c->nc; q++)
+        if (!c->held[q]) {
+            c->held[q] = 1;
+            break;
+        }
+    if (saddle_point_create(&c->solver, err, errlen) != 0)
+        goto fail;
+    return c;
+oom:
+    snprintf(err, errlen, "coupled step: out of memory");
+fail:
+    stage_coupled_destroy(c);
+    return NULL;
+}
+
+static int grow_entries(struct coupled_state *c, long need)
+{
+    if (need <= c->cap)
+        return 0;
+    struct entry *e = realloc(c->e, (size_t)need * sizeof *e);
+    if (!e)
+        return -1;
+    c->e = e;
+    c->cap = need;
+    return 0;
+}
+
+/* Compressed rows of n x n from the entries (sorted here, duplicates
+ * summed). */
+static int to_csr(struct entry *e, long m, int n, struct csr_matrix *M)
+{
+    qsort(e, (size_t)m, sizeof *e, by_row);
+    if ((size_t)m > M->cap || M->n != n) {
+        csr_free(M);
+        M->rowptr = calloc((size_t)n + 1, sizeof *M->rowptr);
+        M->col = malloc((size_t)(m > 0 ? m : 1) * sizeof *M->col);
+        M->val = malloc((size_t)(m > 0 ? m : 1) * sizeof *M->val);
+        if (!M->rowptr || !M->col || !M->val) {
+            csr_free(M);
+            return -1;
+        }
+        M->cap = (size_t)m;
+        M->n = n;
+    }
+    memset(M->rowptr, 0, ((size_t)n + 1) * sizeof *M->rowptr);
+    long nz = 0;
+    for (long i = 0; i < m; i++) {
+        if (nz > 0 && i > 0 && e[i].row == e[i - 1].row && e[i].col == M->col[nz - 1]) {
+            M->val[nz - 1] += e[i].val;
+            continue;
+        }
+        M->col[nz] = e[i].col;
+        M->val[nz] = e[i].val;
+        M->rowptr[e[i].row + 1]++;
+        nz++;
+    }
+    for (int r = 0; r < n; r++)
+        M->rowptr[r + 1] += M->rowptr[r];
+    return 0;
+}
+
+/* K from A, G and D. */
+static int assemble(struct coupled_state *c)
+{
+    const int nu = c->nu, nc = c->nc;
+    if (grow_entries(c, csr_nnz(&c->A) + 4L * nu + nc) != 0)
+        return -1;
     long n = 0;
     for (int r = 0; r < nu; r++)
-        for (int q = w->A.rowptr[r]; q < w->A.rowptr[r + 1]; q++)
-            w->e[n++] = (struct entry){r, w->A.col[q], w->A.val[q]};
-    for (int k = 0; k < nu; k++) {
-        int c = comp[k];
-        ptrdiff_t p = (ptrdiff_t)w->slot[k];
-        double share = st->embedded ? st->embedded->share[c][p] : 1.0;
-        int hi = w->cell[p], lo = w->cell[p - g->stride[c]];
-        if (share == 0.0 || (hi >= 0 && hi == lo))
-            continue; /* held in the body, or its own periodic image */
-        double ih = 1.0 / g->h[c];
-        if (hi >= 0) {
-            w->e[n++] = (struct entry){k, nu + hi, ih};
-            w->e[n++] = (struct entry){nu + hi, k, -share * ih};
-            w->has_face[hi] = 1;
+        for (int q = c->A.rowptr[r]; q < c->A.rowptr[r + 1]; q++)
+            c->e[n++] = (struct entry){r, c->A.col[q], c->A.val[q]};
+    for (int f = 0; f < c->nfaces; f++) {
+        const struct gradient_face *a = &c->faces[f];
+        double ih = 1.0 / a->h;
+        if (a->hi >= 0) {
+            c->e[n++] = (struct entry){a->k, nu + a->hi, ih};
+            if (!c->held[a->hi])
+                c->e[n++] = (struct entry){nu + a->hi, a->k, -a->s * ih};
         }
-        if (lo >= 0) {
-            w->e[n++] = (struct entry){k, nu + lo, -ih};
-            w->e[n++] = (struct entry){nu + lo, k, share * ih};
-            w->has_face[lo] = 1;
+        if (a->lo >= 0) {
+            c->e[n++] = (struct entry){a->k, nu + a->lo, -ih};
+            if (!c->held[a->lo])
+                c->e[n++] = (struct entry){nu + a->lo, a->k, a->s * ih};
         }
     }
-    /* the pinned pressure: the first cell with an open face loses its
-     * divergence row (the rows sum to zero over a closed or periodic box) */
-    int pinned = -1;
-    for (int q = 0; q < nc && pinned < 0; q++)
-        if (w->has_face[q])
-            pinned = q;
-    long m = 0;
-    for (long i = 0; i < n; i++)
-        if (pinned < 0 || w->e[i].row != nu + pinned)
-            w->e[m++] = w->e[i];
-    if (pinned >= 0)
-        w->has_face[pinned] = 0; /* pinned like a closed cell: dp = 0, right-hand side 0 */
     for (int q = 0; q < nc; q++)
-        if (!w->has_face[q])
-            w->e[m++] = (struct entry){nu + q, nu + q, 1.0};
-    return m;
+        if (c->held[q])
+            c->e[n++] = (struct entry){nu + q, nu + q, 1.0};
+    return to_csr(c->e, n, nu + nc, &c->K);
+}
+
+struct apply_ctx {
+    struct march_state *st;
+    const struct viscous_problem *pb;
+};
+
+static void apply(void *ctx, double *v[3], double *out[3])
+{
+    struct apply_ctx *a = ctx;
+    viscous_apply(a->st->viscous, a->pb, v, out);
 }
 
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 {
     const struct grid *g = &st->g;
-    struct work w;
-    memset(&w, 0, sizeof w);
-    int periodic[3], rc = -1;
-    for (int d = 0; d < 3; d++)
-        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
     char err[256];
-    if (suitesparse_load(err, sizeof err) != 0 ||
-        probe_matrix_create(&w.pm, g, periodic, st->act, 2, err, sizeof err) != 0)
-        goto done;
-    for (int c = 0; c < 3; c++)
-        if (!(w.probe[c] = field_alloc(g)) || !(w.resp[c] = field_alloc(g)))
-            goto done;
-    struct apply_ctx ctx = {st, pb};
-    if (probe_matrix_assemble(w.pm, apply, &ctx, w.probe, w.resp, 0, &w.A) != 0)
-        goto done;
-    int nu = w.A.n, nc = g->n[0] * g->n[1] * g->n[2], n = nu + nc;
-    long cap = csr_nnz(&w.A) + 4L * nu + 2L * nc;
-    w.slot = malloc((size_t)nu * sizeof *w.slot);
-    w.cell = malloc(g->size * sizeof *w.cell);
-    w.has_face = calloc((size_t)nc, sizeof *w.has_face);
-    w.e = malloc((size_t)cap * sizeof *w.e);
-    w.Ap = calloc((size_t)n + 1, sizeof *w.Ap);
-    w.Ai = malloc((size_t)cap * sizeof *w.Ai);
-    w.Ax = malloc((size_t)cap * sizeof *w.Ax);
-    w.b = calloc((size_t)n, sizeof *w.b);
-    w.x = calloc((size_t)n, sizeof *w.x);
-    if (!w.slot || !w.cell || !w.has_face || !w.e || !w.Ap || !w.Ai || !w.Ax || !w.b || !w.x)
-        goto done;
-    /* each unknown's slot: the slot numbers gathered like a residual */
-    for (int c = 0; c < 3; c++)
-        for (size_t p = 0; p < g->size; p++)
-            w.probe[c][p] = (double)p;
-    probe_matrix_gather(w.pm, w.probe, w.slot);
-    number_cells(g, periodic, w.cell);
-    long m = fill_entries(st, &w, nu, nc);
-    /* compressed columns, duplicates summed */
-    qsort(w.e, (size_t)m, sizeof *w.e, by_column);
-    long nz = 0;
-    for (long i = 0; i < m; i++) {
-        if (nz > 0 && w.e[i].col == w.e[i - 1].col && w.e[i].row == w.Ai[nz - 1]) {
-            w.Ax[nz - 1] += w.e[i].val;
-            continue;
-        }
-        w.Ai[nz] = w.e[i].row;
-        w.Ax[nz] = w.e[i].val;
-        w.Ap[w.e[i].col + 1]++;
-        nz++;
+    if (!st->coupled && !(st->coupled = create(st, err, sizeof err))) {
+        fprintf(stderr, "muflow: %s\n", err);
+        return -1;
     }
-    for (int c = 0; c < n; c++)
-        w.Ap[c + 1] += w.Ap[c];
-    probe_matrix_gather(w.pm, st->res, w.b);
+    struct coupled_state *c = st->coupled;
+    const int nu = c->nu;
+    struct apply_ctx ctx = {st, pb};
+    if (probe_matrix_assemble(c->pm, apply, &ctx, c->probe, c->resp, 0, &c->A) != 0 ||
+        assemble(c) != 0)
+        return -1;
+    probe_matrix_gather(c->pm, st->res, c->b);
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                int q = w.cell[p];
-                w.b[nu + q] = w.has_face[q] ? -st->div[p] : 0.0;
+                int q = c->cell[p];
+                c->b[nu + q] = c->held[q] ? 0.0 : -st->div[p];
             }
-    void *symbolic = NULL, *numeric = NULL;
-    int status = suitesparse.umfpack_di_symbolic(n, n, w.Ap, w.Ai, w.Ax, &symbolic, NULL, NULL);
-    if (status == UMFPACK_OK)
-        status = suitesparse.umfpack_di_numeric(w.Ap, w.Ai, w.Ax, symbolic, &numeric, NULL, NULL);
-    if (status == UMFPACK_OK)
-        status = suitesparse.umfpack_di_solve(UMFPACK_A, w.Ap, w.Ai, w.Ax, w.x, w.b, numeric, NULL,
-                                              NULL);
-    if (symbolic)
-        suitesparse.umfpack_di_free_symbolic(&symbolic);
-    if (numeric)
-        suitesparse.umfpack_di_free_numeric(&numeric);
-    if (status != UMFPACK_OK)
-        goto done;
-    for (int c = 0; c < 3; c++)
-        memset(st->delta[c], 0, g->size * sizeof(double));
-    probe_matrix_scatter(w.pm, w.x, st->delta);
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += w.x[nu + w.cell[p]];
-            }
+    if (saddle_point_solve(c->solver, &c->K, c->b, c->x) != 0)
+        return -1;
     st->linear_iterations = 1;
-    rc = 0;
-done:
-    work_free(&w);
-    return rc;
+    for (int k = 0; k < 3; k++)
+        memset(st->delta[k], 0, g->size * sizeof(double));
+    probe_matrix_scatter(c->pm, c->x, st->delta);
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                st->p_dyn[p] += c->x[nu + c->cell[p]];
+            }
+    return 0;
 }

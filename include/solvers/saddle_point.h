@@ -1,0 +1,27 @@
+/* The saddle-point system of a coupled velocity-pressure step,
+ *
+ *     K = [ A  G ]    nu velocity unknowns, then nc pressures (cells);
+ *         [ D  C ]    C is the identity on the cells whose pressure is held
+ *                     (no open face, or pinned) and 0 elsewhere,
+ *
+ * solved by UMFPACK's sparse LU.  The symbolic analysis (the fill-reducing
+ * ordering) depends on K's pattern only, which a steady march keeps from
+ * step to step: it is kept and redone only when the pattern changes. */
+#ifndef MUFLOW_SADDLE_POINT_H
+#define MUFLOW_SADDLE_POINT_H
+
+#include <stddef.h>
+#include "solvers/probe_matrix.h"
+
+struct saddle_point;
+
+/* Returns 0, or -1 with a message (SuiteSparse's library missing). */
+int saddle_point_create(struct saddle_point **out, char *err, size_t errlen);
+void saddle_point_destroy(struct saddle_point *s);
+
+/* K x = rhs, K by compressed rows: factorised, solved, the factors freed.
+ * Returns 0, or -1 when K is singular or memory runs out. */
+int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
+                       double *x);
+
+#endif

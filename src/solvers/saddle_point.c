@@ -1,0 +1,98 @@
+/* The coupled step's saddle-point solver (saddle_point.h).  UMFPACK takes
+ * compressed columns; K's compressed rows are the columns of K^T, so K^T is
+ * factorised and solved transposed (UMFPACK_At), which is K x = b. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "solvers/saddle_point.h"
+#include "solvers/suitesparse.h"
+
+struct saddle_point {
+    void *symbolic, *numeric;
+    int n, *pattern_ptr, *pattern_col; /* the pattern the symbolic analysis is of */
+};
+
+int saddle_point_create(struct saddle_point **out, char *err, size_t errlen)
+{
+    if (suitesparse_load(err, errlen) != 0)
+        return -1;
+    if (!(*out = calloc(1, sizeof **out))) {
+        snprintf(err, errlen, "coupled step: out of memory");
+        return -1;
+    }
+    return 0;
+}
+
+static void free_numeric(struct saddle_point *s)
+{
+    if (s->numeric)
+        suitesparse.umfpack_di_free_numeric(&s->numeric);
+    s->numeric = NULL;
+}
+
+static void free_symbolic(struct saddle_point *s)
+{
+    if (s->symbolic)
+        suitesparse.umfpack_di_free_symbolic(&s->symbolic);
+    s->symbolic = NULL;
+    free(s->pattern_ptr);
+    free(s->pattern_col);
+    s->pattern_ptr = s->pattern_col = NULL;
+}
+
+void saddle_point_destroy(struct saddle_point *s)
+{
+    if (!s)
+        return;
+    free_numeric(s);
+    free_symbolic(s);
+    free(s);
+}
+
+static int same_pattern(const struct saddle_point *s, const struct csr_matrix *K)
+{
+    return s->pattern_ptr && s->n == K->n &&
+           memcmp(s->pattern_ptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int)) == 0 &&
+           memcmp(s->pattern_col, K->col, (size_t)csr_nnz(K) * sizeof(int)) == 0;
+}
+
+static int analyse(struct saddle_point *s, const struct csr_matrix *K)
+{
+    free_symbolic(s);
+    size_t nnz = (size_t)csr_nnz(K);
+    s->pattern_ptr = malloc(((size_t)K->n + 1) * sizeof(int));
+    s->pattern_col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
+    if (!s->pattern_ptr || !s->pattern_col) {
+        free_symbolic(s);
+        return -1;
+    }
+    memcpy(s->pattern_ptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
+    memcpy(s->pattern_col, K->col, nnz * sizeof(int));
+    s->n = K->n;
+    if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, NULL,
+                                        NULL) != UMFPACK_OK) {
+        free_symbolic(s);
+        return -1;
+    }
+    return 0;
+}
+
+int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
+                       double *x)
+{
+    if (!same_pattern(s, K) && analyse(s, K) != 0)
+        return -1;
+    int status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic,
+                                                &s->numeric, NULL, NULL);
+    if (status == UMFPACK_OK)
+        status = suitesparse.umfpack_di_solve(UMFPACK_At, K->rowptr, K->col, K->val, x, rhs,
+                                              s->numeric, NULL, NULL);
+    /* the factors serve this solve only: freed before the next step's
+     * matrix is probed, so that the two are never held at once */
+    free_numeric(s);
+    if (status != UMFPACK_OK) {
+        free_symbolic(s); /* analysed afresh next time */
+        return -1;
+    }
+    return 0;
+}
