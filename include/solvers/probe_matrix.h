@@ -53,6 +53,9 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
 void probe_matrix_gather(const struct probe_matrix *pm, double *const r[3], double *b);
 void probe_matrix_scatter(const struct probe_matrix *pm, const double *x, double *z[3]);
 
+/* Room for n rows and nz entries in A (its arrays reused and grown as
+ * needed; zero-initialise A before the first call).  Returns 0 or -1. */
+int csr_reserve(struct csr_matrix *A, int n, size_t nz);
 /* T = A^T (T's arrays reused and grown as needed).  Returns 0 or -1. */
 int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
 /* Entries of A. */

@@ -95,6 +95,8 @@ void stage_coupled_destroy(struct coupled_state *c)
     free(c);
 }
 
+/* Cell number (x fastest) of every cell slot, periodic images included;
+ * -1 for the ghosts of a bounded face. */
 static void number_cells(const struct grid *g, const int periodic[3], int *cell)
 {
     for (size_t p = 0; p < g->size; p++)
@@ -213,18 +215,8 @@ static int grow_entries(struct coupled_state *c, long need)
 static int to_csr(struct entry *e, long m, int n, struct csr_matrix *M)
 {
     qsort(e, (size_t)m, sizeof *e, by_row);
-    if ((size_t)m > M->cap || M->n != n) {
-        csr_free(M);
-        M->rowptr = calloc((size_t)n + 1, sizeof *M->rowptr);
-        M->col = malloc((size_t)(m > 0 ? m : 1) * sizeof *M->col);
-        M->val = malloc((size_t)(m > 0 ? m : 1) * sizeof *M->val);
-        if (!M->rowptr || !M->col || !M->val) {
-            csr_free(M);
-            return -1;
-        }
-        M->cap = (size_t)m;
-        M->n = n;
-    }
+    if (csr_reserve(M, n, (size_t)m) != 0)
+        return -1;
     memset(M->rowptr, 0, ((size_t)n + 1) * sizeof *M->rowptr);
     long nz = 0;
     for (long i = 0; i < m; i++) {

@@ -182,8 +182,7 @@ static int grow_triplets(struct probe_matrix *pm, size_t cap)
     return 0;
 }
 
-/* Room for n rows and nz entries in A. */
-static int csr_reserve(struct csr_matrix *A, int n, size_t nz)
+int csr_reserve(struct csr_matrix *A, int n, size_t nz)
 {
     if (A->n != n || !A->rowptr) {
         int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));

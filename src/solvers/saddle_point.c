@@ -9,7 +9,8 @@
 
 struct saddle_point {
     void *symbolic, *numeric;
-    int n, *pattern_ptr, *pattern_col; /* the pattern the symbolic analysis is of */
+    struct csr_matrix pattern; /* the rows and columns the symbolic analysis is of
+                                  (no values) */
 };
 
 int saddle_point_create(struct saddle_point **out, char *err, size_t errlen)
@@ -35,9 +36,7 @@ static void free_symbolic(struct saddle_point *s)
     if (s->symbolic)
         suitesparse.umfpack_di_free_symbolic(&s->symbolic);
     s->symbolic = NULL;
-    free(s->pattern_ptr);
-    free(s->pattern_col);
-    s->pattern_ptr = s->pattern_col = NULL;
+    csr_free(&s->pattern);
 }
 
 void saddle_point_destroy(struct saddle_point *s)
@@ -49,26 +48,20 @@ void saddle_point_destroy(struct saddle_point *s)
     free(s);
 }
 
-static int same_pattern(const struct saddle_point *s, const struct csr_matrix *K)
-{
-    return s->pattern_ptr && s->n == K->n &&
-           memcmp(s->pattern_ptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int)) == 0 &&
-           memcmp(s->pattern_col, K->col, (size_t)csr_nnz(K) * sizeof(int)) == 0;
-}
-
 static int analyse(struct saddle_point *s, const struct csr_matrix *K)
 {
     free_symbolic(s);
     size_t nnz = (size_t)csr_nnz(K);
-    s->pattern_ptr = malloc(((size_t)K->n + 1) * sizeof(int));
-    s->pattern_col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
-    if (!s->pattern_ptr || !s->pattern_col) {
+    struct csr_matrix *P = &s->pattern;
+    P->rowptr = malloc(((size_t)K->n + 1) * sizeof(int));
+    P->col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
+    if (!P->rowptr || !P->col) {
         free_symbolic(s);
         return -1;
     }
-    memcpy(s->pattern_ptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
-    memcpy(s->pattern_col, K->col, nnz * sizeof(int));
-    s->n = K->n;
+    memcpy(P->rowptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
+    memcpy(P->col, K->col, nnz * sizeof(int));
+    P->n = K->n;
     if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, NULL,
                                         NULL) != UMFPACK_OK) {
         free_symbolic(s);
@@ -80,7 +73,7 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
                        double *x)
 {
-    if (!same_pattern(s, K) && analyse(s, K) != 0)
+    if (!csr_same_pattern(K, &s->pattern) && analyse(s, K) != 0)
         return -1;
     int status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic,
                                                 &s->numeric, NULL, NULL);
