@@ -12,7 +12,9 @@
  *                     density rho_f in the mass term (stage_implicit.c)
  *     4. projection   div(beta grad phi) = div du, beta = rho_ref / rho_f;
  *                     u += du - beta grad phi, p += (rho_ref / dt) phi and
- *                     the augmented-Lagrangian update (stage_projection.c)
+ *                     the augmented-Lagrangian update (stage_projection.c);
+ *                     after a coupled step (3 solved for du and dp at
+ *                     once, stage_coupled.c) u += du alone
  *     5. transport    the modules' tracers advected by the new velocity
  *     6. end of step  the modules' last word on the step
  * The body force is split once (and again when it changes) into its
@@ -33,10 +35,16 @@ void stage_residual(struct march_state *st);
 int stage_implicit(struct march_state *st, double dt);
 /* solver.coupled: the steady step's velocity and pressure increments from
  * one saddle-point system (stage_coupled.c), in place of the implicit
- * solve; the projection after it finds u solenoidal.  Returns 0, or -1
- * when memory runs out or the factorisation fails. */
+ * solve; p takes its increment there.  Returns 0, or -1 when memory runs
+ * out or the factorisation fails. */
 struct viscous_problem;
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb);
+/* u += du after a coupled step, in place of the projection: the coupled
+ * solve makes u + du solenoidal already, and a projection of its round-off
+ * moved a plug's velocity by more than its regularised strain rate
+ * (lambda 1e-6: the granular cylinder stalled at a residual of 5e-7 with
+ * it, and was steady in one step from that state without it). */
+void stage_coupled_update(struct march_state *st);
 /* Frees what the coupled steps keep (numbering, colouring, the LU's
  * analysis); NULL is a no-op. */
 void stage_coupled_destroy(struct coupled_state *c);

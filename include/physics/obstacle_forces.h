@@ -12,6 +12,12 @@
  *   body, F = surface integral over the box of (sigma n - rho u (u . n)),
  *   midpoint rule on the grid's faces (second order): a check of the
  *   surface integral that does not touch the body.
+ *   With a body force, its share on the fluid in the box is added.
+ * A body whose centre lies on a slip face of the box (a symmetry plane: the
+ * run holds half of a symmetric flow) has its outline sampled in the box,
+ * the box's side on that face (no momentum along the face crosses it), and
+ * the whole body's forces reported: twice the half's along the plane, 0
+ * across it; the front and back points along a are then not both there.
  * Coefficients 2 F / (rho U^2 D) with U the inflow's mean velocity (2/3 of
  * the peak of a parabola across one direction) and D the bodies' extent
  * across the flow (direction b of the plane). */
@@ -28,6 +34,9 @@ struct obstacle_forces {
     double control_volume[2];
     double front_back;        /* p at the front point less p at the back point */
     double u_ref, d_ref;      /* the coefficients' velocity and length (0: none) */
+    int mirror[2];            /* a symmetry plane normal to a / b (-1: the low
+                                 face, 1: the high one, 0: none): the run holds
+                                 half the body, the forces are the whole's */
 };
 
 /* Returns 0, or -1 when some sample's interpolation reached into the body

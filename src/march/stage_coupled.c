@@ -7,8 +7,9 @@
  * A the implicit operator of the step (pseudo-time mass, viscosity and its
  * tangent, the body's cut links), probed into a sparse matrix; G the
  * residual's pressure gradient, (dp_hi - dp_lo) / h on each velocity
- * unknown's face; D the divergence as stage_divergence takes it (the faces'
- * open shares with a body).  Faces held in a body and cells with no open
+ * unknown's face, and on a Newton step of a pressure-dependent law the
+ * viscosity's own dependence on p (coupled_pressure.h); D the divergence
+ * as stage_divergence takes it (the faces' open shares with a body).  Faces held in a body and cells with no open
  * face are left out (their dp is 0), and one pressure is pinned (the
  * constant mode of a closed or periodic box).  UMFPACK factorises it
  * (saddle_point.h).
@@ -28,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "march/coupled_pressure.h"
 #include "march/step.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_point.h"
@@ -62,6 +64,8 @@ struct coupled_state {
     long cap;
     double *b, *x;
     struct saddle_point *solver;
+    struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
+    int pcols_on;                   /* this step's matrix has them (the tangent's) */
 };
 
 static int by_row(const void *a, const void *b)
@@ -85,6 +89,7 @@ void stage_coupled_destroy(struct coupled_state *c)
     csr_free(&c->A);
     csr_free(&c->K);
     saddle_point_destroy(c->solver);
+    pressure_columns_destroy(c->pcols);
     free(c->slot);
     free(c->cell);
     free(c->held);
@@ -188,6 +193,9 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
             c->held[q] = 1;
             break;
         }
+    if (st->rheo.law == LAW_MUI && st->cs->newton &&
+        !(c->pcols = pressure_columns_create(st, c->pm, c->slot, c->nu, c->cell, c->held)))
+        goto oom;
     if (saddle_point_create(&c->solver, err, errlen) != 0)
         goto fail;
     return c;
@@ -238,12 +246,23 @@ static int to_csr(struct entry *e, long m, int n, struct csr_matrix *M)
 static int assemble(struct coupled_state *c)
 {
     const int nu = c->nu, nc = c->nc;
-    if (grow_entries(c, csr_nnz(&c->A) + 4L * nu + nc) != 0)
+    long extra = c->pcols ? pressure_columns_count(c->pcols) : 0;
+    if (grow_entries(c, csr_nnz(&c->A) + 4L * nu + nc + extra) != 0)
         return -1;
     long n = 0;
     for (int r = 0; r < nu; r++)
         for (int q = c->A.rowptr[r]; q < c->A.rowptr[r + 1]; q++)
             c->e[n++] = (struct entry){r, c->A.col[q], c->A.val[q]};
+    /* the pattern keeps these entries in every step (0 in a Picard step),
+     * so the symbolic factorisation stays */
+    for (int r = 0; c->pcols && r < nu; r++) {
+        int m;
+        const int *cells;
+        const double *val;
+        pressure_columns_row(c->pcols, r, &m, &cells, &val);
+        for (int q = 0; q < m; q++)
+            c->e[n++] = (struct entry){r, nu + cells[q], c->pcols_on ? val[q] : 0.0};
+    }
     for (int f = 0; f < c->nfaces; f++) {
         const struct gradient_face *a = &c->faces[f];
         double ih = 1.0 / a->h;
@@ -286,8 +305,12 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     struct coupled_state *c = st->coupled;
     const int nu = c->nu;
     struct apply_ctx ctx = {st, pb};
-    if (probe_matrix_assemble(c->pm, apply, &ctx, c->probe, c->resp, 0, &c->A) != 0 ||
-        assemble(c) != 0)
+    if (probe_matrix_assemble(c->pm, apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
+        return -1;
+    c->pcols_on = c->pcols && implicit_uses_tangent(st);
+    if (c->pcols_on && pressure_columns_probe(c->pcols, st) != 0)
+        return -1;
+    if (assemble(c) != 0)
         return -1;
     probe_matrix_gather(c->pm, st->res, c->b);
     for (int i = 0; i < g->n[0]; i++)
@@ -310,4 +333,10 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
                 st->p_dyn[p] += c->x[nu + c->cell[p]];
             }
     return 0;
+}
+
+void stage_coupled_update(struct march_state *st)
+{
+    kernel_axpy(&st->g, st->act, 1.0, st->delta, st->vel);
+    bc_fill_velocity(&st->g, &st->bc, st->vel);
 }

@@ -15,7 +15,10 @@ int step_advance(struct march_state *st, double dt)
 {
     if (stage_implicit(st, dt) != 0)
         return -1;
-    stage_projection(st, dt);
+    if (st->cs->coupled)
+        stage_coupled_update(st);
+    else
+        stage_projection(st, dt);
     for (int m = 0; m < st->nmodules; m++)
         if (st->modules[m]->transport)
             st->modules[m]->transport(st, st->module_state[m], dt);

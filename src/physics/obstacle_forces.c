@@ -5,16 +5,28 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "march/step.h"
 #include "physics/obstacle.h"
 
 static const double PI = 3.14159265358979323846;
 
-/* The plane (a, b), the extrusion m and its middle cell, the shapes. */
+/* The plane (a, b), the extrusion m and its middle cell, the shapes, and
+ * a symmetry plane through them: mirror[k] = -1 or +1 when the box's low
+ * or high face along the plane's k-th direction is a slip face through
+ * the centre of every shape (the run holds one half of a symmetric body),
+ * else 0. */
 struct plane {
     const struct march_state *st;
     struct shape_set set;
     int a, b, m, jm;
+    int mirror[2];
 };
+
+/* The centre of shape sh along the plane's k-th coordinate. */
+static double shape_centre(const struct shape *sh, int k)
+{
+    return sh->kind == SHAPE_CIRCLE ? sh->v[k] : 0.5 * (sh->v[k] + sh->v[k + 2]);
+}
 
 static void plane_init(struct plane *pl, const struct march_state *st)
 {
@@ -24,6 +36,35 @@ static void plane_init(struct plane *pl, const struct march_state *st)
     pl->b = pl->set.plane_b;
     pl->m = 3 - pl->a - pl->b;
     pl->jm = st->g.n[pl->m] / 2;
+    const int dd[2] = {pl->a, pl->b};
+    for (int k = 0; k < 2; k++) {
+        int d = dd[k];
+        double len = st->g.n[d] * st->g.h[d];
+        pl->mirror[k] = 0;
+        for (int side = 0; side < 2 && pl->set.n > 0 && !pl->set.invert; side++) {
+            if (st->bc.face[d][side] != BC_SLIP)
+                continue;
+            int through = 1;
+            for (int i = 0; i < pl->set.n; i++)
+                through &= fabs(shape_centre(&pl->set.s[i], k) - side * len) <= 1e-9 * len;
+            if (through)
+                pl->mirror[k] = side ? 1 : -1;
+        }
+    }
+}
+
+/* Whether x (on the outline) lies in the box along the plane's directions:
+ * the half of a mirrored body beyond its symmetry plane does not. */
+static int in_box(const struct plane *pl, const double x[3])
+{
+    const struct grid *g = &pl->st->g;
+    const int dd[2] = {pl->a, pl->b};
+    for (int k = 0; k < 2; k++) {
+        double len = g->n[dd[k]] * g->h[dd[k]];
+        if (pl->mirror[k] && (x[dd[k]] < 0.0 || x[dd[k]] > len))
+            return 0;
+    }
+    return 1;
 }
 
 static ptrdiff_t at(const struct plane *pl, int ia, int ib)
@@ -138,7 +179,7 @@ static int outline(const struct plane *pl, sample_fn fn, void *ctx)
             smp.x[pl->a] = pa, smp.x[pl->b] = pb;
             smp.x[pl->m] = (pl->jm + 0.5) * g->h[pl->m];
             /* inside another shape of the union: not on its surface */
-            if (fabs(shape_distance(&pl->set, smp.x)) > 1e-9 * per)
+            if (fabs(shape_distance(&pl->set, smp.x)) > 1e-9 * per || !in_box(pl, smp.x))
                 continue;
             double n3[3];
             shape_normal(&pl->set, smp.x, n3);
@@ -197,6 +238,42 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
     }
 }
 
+/* The whole body's force from its half: along a symmetry plane's normal
+ * the two halves cancel, along the plane they add. */
+static void symmetric_whole(const int mirror[2], double F[2])
+{
+    for (int k = 0; k < 2; k++)
+        if (mirror[k]) {
+            F[k] = 0.0;
+            F[1 - k] *= 2.0;
+        }
+}
+
+/* Sub-samples per cell side of the fluid area. */
+#define AREA_SAMPLES 8
+
+/* The fluid's area in the box of cells [I0, I1) of the plane (the bodies'
+ * area taken out by sub-sampling; its error, a share of a cell's area per
+ * cell along the outline, cancels to a small fraction of h^2). */
+static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2])
+{
+    const struct grid *g = &pl->st->g;
+    const double ha = g->h[pl->a], hb = g->h[pl->b];
+    long solid = 0;
+    for (int i = I0[0]; i < I1[0]; i++)
+        for (int j = I0[1]; j < I1[1]; j++)
+            for (int si = 0; si < AREA_SAMPLES; si++)
+                for (int sj = 0; sj < AREA_SAMPLES; sj++) {
+                    double x[3] = {0.0, 0.0, 0.0};
+                    x[pl->a] = (i + (si + 0.5) / AREA_SAMPLES) * ha;
+                    x[pl->b] = (j + (sj + 0.5) / AREA_SAMPLES) * hb;
+                    x[pl->m] = (pl->jm + 0.5) * g->h[pl->m];
+                    solid += shape_distance(&pl->set, x) <= 0.0;
+                }
+    return ((double)(I1[0] - I0[0]) * (I1[1] - I0[1]) -
+            (double)solid / (AREA_SAMPLES * AREA_SAMPLES)) * ha * hb;
+}
+
 int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
 {
     memset(f, 0, sizeof *f);
@@ -207,7 +284,10 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
     for (int k = 0; k < 2; k++) {
         f->surface[k] = S.f[k];
         f->pressure_part[k] = S.fp[k];
+        f->mirror[k] = pl.mirror[k];
     }
+    symmetric_whole(pl.mirror, f->surface);
+    symmetric_whole(pl.mirror, f->pressure_part);
     /* the bounding box of the union, and the front and back points of the
      * first shape along a */
     const struct grid *g = &st->g;
@@ -228,7 +308,9 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
         double ba = sh->kind == SHAPE_CIRCLE ? sh->v[0] + sh->v[2] : sh->v[2];
         struct sample front = {{0}, {-1.0, 0.0}, 0, 0, {0, 0}}, back = {{0}, {1.0, 0.0}, 0, 0, {0, 0}};
         front.x[pl.a] = fa, front.x[pl.b] = cb, back.x[pl.a] = ba, back.x[pl.b] = cb;
-        if (surface_sample(&pl, &front) == 0 && surface_sample(&pl, &back) == 0)
+        if (pl.mirror[0]) /* one of the two points is beyond the symmetry plane */
+            f->front_back = NAN;
+        else if (surface_sample(&pl, &front) == 0 && surface_sample(&pl, &back) == 0)
             f->front_back = front.p - back.p;
         else
             rc = -1;
@@ -245,14 +327,31 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
                 I0[k] = 2;
             if (I1[k] > g->n[d] - 2)
                 I1[k] = g->n[d] - 2;
+            /* a symmetry plane is a side of the box: across a slip face no
+             * momentum along it passes (no shear stress, no flow) */
+            if (pl.mirror[k] < 0)
+                I0[k] = 0;
+            if (pl.mirror[k] > 0)
+                I1[k] = g->n[d];
         }
         double F[3] = {0.0, 0.0, 0.0};
-        cv_side(&pl, pl.a, pl.b, I0[0], I0[1], I1[1], -1.0, F);
-        cv_side(&pl, pl.a, pl.b, I1[0], I0[1], I1[1], 1.0, F);
-        cv_side(&pl, pl.b, pl.a, I0[1], I0[0], I1[0], -1.0, F);
-        cv_side(&pl, pl.b, pl.a, I1[1], I0[0], I1[0], 1.0, F);
+        if (pl.mirror[0] >= 0)
+            cv_side(&pl, pl.a, pl.b, I0[0], I0[1], I1[1], -1.0, F);
+        if (pl.mirror[0] <= 0)
+            cv_side(&pl, pl.a, pl.b, I1[0], I0[1], I1[1], 1.0, F);
+        if (pl.mirror[1] >= 0)
+            cv_side(&pl, pl.b, pl.a, I0[1], I0[0], I1[0], -1.0, F);
+        if (pl.mirror[1] <= 0)
+            cv_side(&pl, pl.b, pl.a, I1[1], I0[0], I1[0], 1.0, F);
+        /* the body force on the fluid in the box (a flow driven by it) */
+        double fb[3];
+        body_force_vector(st->cs, fb);
+        double fluid = fluid_area(&pl, I0, I1);
+        F[pl.a] += fb[pl.a] * fluid;
+        F[pl.b] += fb[pl.b] * fluid;
         f->control_volume[0] = F[pl.a];
         f->control_volume[1] = F[pl.b];
+        symmetric_whole(pl.mirror, f->control_volume);
     }
     /* the coefficients' scales: the inflow's mean velocity, the extent across */
     const struct boundary *bc = &st->bc;
@@ -291,7 +390,7 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
         run_result_add(res, "drag_coefficient_control_volume", "%.10g", f.control_volume[0] / q);
         run_result_add(res, "lift_coefficient_control_volume", "%.10g", f.control_volume[1] / q);
     }
-    if (body)
+    if (body && !f.mirror[0])
         run_result_add(res, "pressure_drop", "%.10g", f.front_back);
     if (rc != 0)
         run_result_add(res, "obstacle_warning", "%s",

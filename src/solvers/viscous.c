@@ -405,6 +405,11 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
         kernel_stress_divergence(g, s->act, Bcell, (const double *const *)s->Be, pb->base,
                                  s->tmp);
         kernel_axpy(g, s->act, -1.0, s->tmp, out);
+        /* the body's cut links and cut-cell grad-div move with the
+         * viscosity as well: their terms of the base velocity with d eta */
+        if (pb->embedded)
+            viscous_embedded_terms(g, s->bc, s->act, pb->embedded, Bcell,
+                                   (const double *const *)s->Be, 1.0, pb->base, out);
     }
     if (pb->augmentation) {                            /* - grad(r div v) */
         kernel_divergence(g, v, s->divbuf);

@@ -1,0 +1,228 @@
+/* The viscosity's pressure columns of the coupled step (coupled_pressure.h). */
+#include "march/coupled_pressure.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "march/step.h"
+#include "solvers/probe_matrix.h"
+#include "solvers/viscous.h"
+
+/* Residues per direction: 3, and two more for the remainder of a periodic
+ * direction (so the colour index fits 5 x 5 x 5). */
+#define RESIDUES 5
+#define MAX_CANDIDATES 18 /* 2 x 3 x 3 cells */
+
+/* The relative size of a pressure perturbation: the viscous residual's
+ * response is about linear over it (eta ~ p) and its round-off, about
+ * 1e-16 of the stresses' terms, stays 1e-9 of the derivative. */
+#define PERTURBATION 1e-7
+
+struct pressure_columns {
+    int nu, nc;
+    int n[3], periodic[3];
+    int *start;          /* row k's entries: start[k] .. start[k + 1] */
+    int *cells;
+    double *values;
+    unsigned char *colour; /* per cell number */
+    const unsigned char *held;
+    const struct probe_matrix *pm;
+    double *base[3], *moved[3], *saved_p;
+    double *r0, *r1, *eps;
+};
+
+static int residue(const struct pressure_columns *pc, int d, int i)
+{
+    int n = pc->n[d];
+    if (!pc->periodic[d])
+        return i % 3;
+    if (n < 3)
+        return i;
+    int whole = 3 * (n / 3);
+    return i < whole ? i % 3 : 3 + (i - whole);
+}
+
+static int cell_colour(const struct pressure_columns *pc, const int idx[3])
+{
+    return residue(pc, 0, idx[0]) + RESIDUES * (residue(pc, 1, idx[1]) + RESIDUES * residue(pc, 2, idx[2]));
+}
+
+/* The index along d of cell i (-1 when beyond a bounded face). */
+static int wrap(const struct pressure_columns *pc, int d, int i)
+{
+    if (i >= 0 && i < pc->n[d])
+        return i;
+    if (!pc->periodic[d])
+        return -1;
+    return (i + pc->n[d]) % pc->n[d];
+}
+
+/* The candidate cells of the face of component a at indices f. */
+static int candidates(const struct pressure_columns *pc, int a, const int f[3],
+                      int out[MAX_CANDIDATES])
+{
+    int lo[3], hi[3], m = 0;
+    for (int d = 0; d < 3; d++) {
+        lo[d] = f[d] - 1;
+        hi[d] = d == a ? f[d] : f[d] + 1;
+    }
+    for (int i = lo[0]; i <= hi[0]; i++)
+        for (int j = lo[1]; j <= hi[1]; j++)
+            for (int k = lo[2]; k <= hi[2]; k++) {
+                int w[3] = {wrap(pc, 0, i), wrap(pc, 1, j), wrap(pc, 2, k)};
+                if (w[0] < 0 || w[1] < 0 || w[2] < 0)
+                    continue;
+                int q = w[0] + pc->n[0] * (w[1] + pc->n[1] * w[2]);
+                if (pc->held[q])
+                    continue;
+                int seen = 0;
+                for (int s = 0; s < m; s++)
+                    seen |= out[s] == q;
+                if (!seen)
+                    out[m++] = q;
+            }
+    return m;
+}
+
+void pressure_columns_destroy(struct pressure_columns *pc)
+{
+    if (!pc)
+        return;
+    free(pc->start);
+    free(pc->cells);
+    free(pc->values);
+    free(pc->colour);
+    for (int c = 0; c < 3; c++) {
+        field_free(pc->base[c]);
+        field_free(pc->moved[c]);
+    }
+    field_free(pc->saved_p);
+    free(pc->r0);
+    free(pc->r1);
+    free(pc->eps);
+    free(pc);
+}
+
+struct pressure_columns *pressure_columns_create(const struct march_state *st,
+                                                 const struct probe_matrix *pm,
+                                                 const ptrdiff_t *slot, int nu, const int *cell,
+                                                 const unsigned char *held)
+{
+    (void)cell;
+    const struct grid *g = &st->g;
+    struct pressure_columns *pc = calloc(1, sizeof *pc);
+    if (!pc)
+        return NULL;
+    pc->nu = nu;
+    pc->nc = g->n[0] * g->n[1] * g->n[2];
+    pc->held = held;
+    pc->pm = pm;
+    for (int d = 0; d < 3; d++) {
+        pc->n[d] = g->n[d];
+        pc->periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    }
+    pc->start = malloc(((size_t)nu + 1) * sizeof *pc->start);
+    pc->cells = malloc((size_t)nu * MAX_CANDIDATES * sizeof *pc->cells);
+    pc->colour = malloc((size_t)pc->nc);
+    pc->r0 = malloc((size_t)nu * sizeof *pc->r0);
+    pc->r1 = malloc((size_t)nu * sizeof *pc->r1);
+    pc->eps = malloc((size_t)pc->nc * sizeof *pc->eps);
+    pc->saved_p = field_alloc(g);
+    if (!pc->start || !pc->cells || !pc->colour || !pc->r0 || !pc->r1 || !pc->eps || !pc->saved_p)
+        goto fail;
+    for (int c = 0; c < 3; c++)
+        if (!(pc->base[c] = field_alloc(g)) || !(pc->moved[c] = field_alloc(g)))
+            goto fail;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++)
+                pc->colour[i + g->n[0] * (j + g->n[1] * k)] = (unsigned char)cell_colour(pc, (int[3]){i, j, k});
+    const int *comp = probe_matrix_components(pm);
+    const ptrdiff_t s0 = g->stride[0], s1 = g->stride[1];
+    long n = 0;
+    for (int k = 0; k < nu; k++) {
+        ptrdiff_t p = slot[k];
+        int f[3] = {(int)(p / s0) - 1, (int)((p % s0) / s1) - 1, (int)(p % s1) - 1};
+        pc->start[k] = (int)n;
+        /* a face held in a body keeps its row, the mass term alone */
+        if (!st->embedded || st->embedded->share[comp[k]][p] > 0.0)
+            n += candidates(pc, comp[k], f, pc->cells + n);
+    }
+    pc->start[nu] = (int)n;
+    pc->values = calloc((size_t)(n > 0 ? n : 1), sizeof *pc->values);
+    if (!pc->values)
+        goto fail;
+    return pc;
+fail:
+    pressure_columns_destroy(pc);
+    return NULL;
+}
+
+void pressure_columns_row(const struct pressure_columns *pc, int k, int *n, const int **cells,
+                          const double **values)
+{
+    *n = pc->start[k + 1] - pc->start[k];
+    *cells = pc->cells + pc->start[k];
+    *values = pc->values + pc->start[k];
+}
+
+long pressure_columns_count(const struct pressure_columns *pc)
+{
+    return pc->start[pc->nu];
+}
+
+/* The viscous part of the residual, + div tau with the body's cut links,
+ * as stage_residual and the obstacle's module add it, gathered. */
+static void viscous_part(const struct pressure_columns *pc, struct march_state *st,
+                         double *out[3], double *r)
+{
+    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    kernel_stress_divergence(&st->g, st->act, eta_cell, (const double *const *)st->eta_e,
+                             st->vel, out);
+    if (st->embedded)
+        viscous_embedded_terms(&st->g, &st->bc, st->act, st->embedded, eta_cell,
+                               (const double *const *)st->eta_e, -1.0, st->vel, out);
+    probe_matrix_gather(pc->pm, out, r);
+}
+
+int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    viscous_part(pc, st, pc->base, pc->r0);
+    memcpy(pc->saved_p, st->p_dyn, g->size * sizeof(double));
+    double pmax = 0.0;
+    for (int k = 0; k < g->n[2]; k++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int i = 0; i < g->n[0]; i++)
+                pmax = fmax(pmax, fabs(st->pressure[grid_idx(g, i, j, k)]));
+    for (int colour = 0; colour < RESIDUES * RESIDUES * RESIDUES; colour++) {
+        int any = 0;
+        for (int k = 0; k < g->n[2]; k++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int i = 0; i < g->n[0]; i++) {
+                    int q = i + g->n[0] * (j + g->n[1] * k);
+                    if (pc->colour[q] != colour || pc->held[q])
+                        continue;
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    double e = PERTURBATION * (fabs(st->pressure[p]) + 1e-3 * pmax + 1e-300);
+                    /* the perturbation as the sum will hold it */
+                    volatile double moved = st->p_dyn[p] + e;
+                    pc->eps[q] = moved - st->p_dyn[p];
+                    st->p_dyn[p] = moved;
+                    any = 1;
+                }
+        if (!any)
+            continue;
+        stage_properties(st);
+        viscous_part(pc, st, pc->moved, pc->r1);
+        for (int k = 0; k < pc->nu; k++)
+            for (int m = pc->start[k]; m < pc->start[k + 1]; m++) {
+                int q = pc->cells[m];
+                if (pc->colour[q] == colour)
+                    pc->values[m] = -(pc->r1[k] - pc->r0[k]) / pc->eps[q];
+            }
+        memcpy(st->p_dyn, pc->saved_p, g->size * sizeof(double));
+    }
+    stage_properties(st);
+    return 0;
+}
