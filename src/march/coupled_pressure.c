@@ -105,10 +105,9 @@ void pressure_columns_destroy(struct pressure_columns *pc)
 
 struct pressure_columns *pressure_columns_create(const struct march_state *st,
                                                  const struct probe_matrix *pm,
-                                                 const ptrdiff_t *slot, int nu, const int *cell,
+                                                 const ptrdiff_t *slot, int nu,
                                                  const unsigned char *held)
 {
-    (void)cell;
     const struct grid *g = &st->g;
     struct pressure_columns *pc = calloc(1, sizeof *pc);
     if (!pc)
@@ -206,7 +205,7 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
                     ptrdiff_t p = grid_idx(g, i, j, k);
                     double e = PERTURBATION * (fabs(st->pressure[p]) + 1e-3 * pmax + 1e-300);
                     /* the perturbation as the sum will hold it */
-                    volatile double moved = st->p_dyn[p] + e;
+                    double moved = st->p_dyn[p] + e;
                     pc->eps[q] = moved - st->p_dyn[p];
                     st->p_dyn[p] = moved;
                     any = 1;
