@@ -133,6 +133,11 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_FOURIER: return VISCOUS_FOURIER;
     case PRECOND_AUTO: break;
     }
+    /* the coupled step probes and factorises its own matrix: the viscous
+     * solver is never asked to solve, and the LU's kind is the cheapest
+     * that keeps the full tangent (the AMG would open hypre for nothing) */
+    if (cs->coupled)
+        return cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
     /* the directions the flow varies in: bounded ones, and periodic ones
      * in a body's plane (a periodic row of bodies: measured, the line
      * blocks took 53-500 CG iterations a step around a cylinder in a flow
@@ -395,8 +400,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)
             pbc[d][s] = projection_bc(st->bc.face[d][s]);
-    /* the probed LU and the AMG both take the full (non-symmetric) tangent */
-    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton;
+    /* the probed LU and the AMG both take the full (non-symmetric) tangent,
+     * and so does the coupled step whatever the preconditioner named */
+    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || cs->coupled) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {
         const struct field_spec s = {"augmentation", FIELD_CELLS, 0};
