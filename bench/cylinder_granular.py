@@ -51,7 +51,7 @@ def solve(muflow, out, p, F, nx, nz, start):
                  "solver.continuation=1"]
     print(" ".join(args), flush=True)
     r = subprocess.run(args)
-    if r.returncode not in (0, 1):
+    if r.returncode not in (0, 1, 3):  # steady; diverged or unsteady: a result too
         sys.exit(f"muflow failed (exit {r.returncode})")
     s = summary(os.path.join(out, "summary.ini"))
     return s, g
