@@ -27,12 +27,14 @@ struct probe_matrix;
 struct pressure_columns;
 
 /* The pattern: for each of the nu velocity unknowns (field slot slot[k]),
- * the cells (numbered x fastest) whose pressure can move its row, leaving
- * out the cells whose dp is held (held[q]) and the rows of faces held in a
- * body.  NULL when out of memory. */
+ * the cells (numbered by cell[] per cell slot, periodic images included,
+ * -1 beyond a bounded face: the coupled step's numbering, x fastest) whose
+ * pressure can move its row, leaving out the cells whose dp is held
+ * (held[q]) and the rows of faces held in a body.  cell and held are kept,
+ * not copied.  NULL when out of memory. */
 struct pressure_columns *pressure_columns_create(const struct march_state *st,
                                                  const struct probe_matrix *pm,
-                                                 const ptrdiff_t *slot, int nu,
+                                                 const ptrdiff_t *slot, int nu, const int *cell,
                                                  const unsigned char *held);
 
 /* The entries of row k: n cells and their values -d R_k / d p_cell. */

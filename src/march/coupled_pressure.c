@@ -25,9 +25,10 @@ struct pressure_columns {
     int *cells;
     double *values;
     unsigned char *colour; /* per cell number */
+    const int *cell;     /* each cell slot's number, periodic images included */
     const unsigned char *held;
     const struct probe_matrix *pm;
-    double *base[3], *moved[3], *saved_p;
+    double *work[3], *saved_p; /* the viscous residual before it is gathered */
     double *r0, *r1, *eps;
 };
 
@@ -47,19 +48,11 @@ static int cell_colour(const struct pressure_columns *pc, const int idx[3])
     return residue(pc, 0, idx[0]) + RESIDUES * (residue(pc, 1, idx[1]) + RESIDUES * residue(pc, 2, idx[2]));
 }
 
-/* The index along d of cell i (-1 when beyond a bounded face). */
-static int wrap(const struct pressure_columns *pc, int d, int i)
-{
-    if (i >= 0 && i < pc->n[d])
-        return i;
-    if (!pc->periodic[d])
-        return -1;
-    return (i + pc->n[d]) % pc->n[d];
-}
-
-/* The candidate cells of the face of component a at indices f. */
-static int candidates(const struct pressure_columns *pc, int a, const int f[3],
-                      int out[MAX_CANDIDATES])
+/* The candidate cells of the face of component a at indices f (cells -1
+ * to n along each direction: the numbering's ghosts, periodic images or
+ * -1 beyond a bounded face). */
+static int candidates(const struct pressure_columns *pc, const struct grid *g, int a,
+                      const int f[3], int out[MAX_CANDIDATES])
 {
     int lo[3], hi[3], m = 0;
     for (int d = 0; d < 3; d++) {
@@ -69,11 +62,8 @@ static int candidates(const struct pressure_columns *pc, int a, const int f[3],
     for (int i = lo[0]; i <= hi[0]; i++)
         for (int j = lo[1]; j <= hi[1]; j++)
             for (int k = lo[2]; k <= hi[2]; k++) {
-                int w[3] = {wrap(pc, 0, i), wrap(pc, 1, j), wrap(pc, 2, k)};
-                if (w[0] < 0 || w[1] < 0 || w[2] < 0)
-                    continue;
-                int q = w[0] + pc->n[0] * (w[1] + pc->n[1] * w[2]);
-                if (pc->held[q])
+                int q = pc->cell[grid_idx(g, i, j, k)];
+                if (q < 0 || pc->held[q])
                     continue;
                 int seen = 0;
                 for (int s = 0; s < m; s++)
@@ -92,10 +82,8 @@ void pressure_columns_destroy(struct pressure_columns *pc)
     free(pc->cells);
     free(pc->values);
     free(pc->colour);
-    for (int c = 0; c < 3; c++) {
-        field_free(pc->base[c]);
-        field_free(pc->moved[c]);
-    }
+    for (int c = 0; c < 3; c++)
+        field_free(pc->work[c]);
     field_free(pc->saved_p);
     free(pc->r0);
     free(pc->r1);
@@ -105,7 +93,7 @@ void pressure_columns_destroy(struct pressure_columns *pc)
 
 struct pressure_columns *pressure_columns_create(const struct march_state *st,
                                                  const struct probe_matrix *pm,
-                                                 const ptrdiff_t *slot, int nu,
+                                                 const ptrdiff_t *slot, int nu, const int *cell,
                                                  const unsigned char *held)
 {
     const struct grid *g = &st->g;
@@ -114,6 +102,7 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
         return NULL;
     pc->nu = nu;
     pc->nc = g->n[0] * g->n[1] * g->n[2];
+    pc->cell = cell;
     pc->held = held;
     pc->pm = pm;
     for (int d = 0; d < 3; d++) {
@@ -130,7 +119,7 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
     if (!pc->start || !pc->cells || !pc->colour || !pc->r0 || !pc->r1 || !pc->eps || !pc->saved_p)
         goto fail;
     for (int c = 0; c < 3; c++)
-        if (!(pc->base[c] = field_alloc(g)) || !(pc->moved[c] = field_alloc(g)))
+        if (!(pc->work[c] = field_alloc(g)))
             goto fail;
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
@@ -145,7 +134,7 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
         pc->start[k] = (int)n;
         /* a face held in a body keeps its row, the mass term alone */
         if (!st->embedded || st->embedded->share[comp[k]][p] > 0.0)
-            n += candidates(pc, comp[k], f, pc->cells + n);
+            n += candidates(pc, g, comp[k], f, pc->cells + n);
     }
     pc->start[nu] = (int)n;
     pc->values = calloc((size_t)(n > 0 ? n : 1), sizeof *pc->values);
@@ -171,10 +160,10 @@ long pressure_columns_count(const struct pressure_columns *pc)
 }
 
 /* The viscous part of the residual, + div tau with the body's cut links,
- * as stage_residual and the obstacle's module add it, gathered. */
-static void viscous_part(const struct pressure_columns *pc, struct march_state *st,
-                         double *out[3], double *r)
+ * as stage_residual and the obstacle's module add it, gathered into r. */
+static void viscous_part(struct pressure_columns *pc, struct march_state *st, double *r)
 {
+    double **out = pc->work;
     const double *eta_cell[3] = {st->eta, st->eta, st->eta};
     kernel_stress_divergence(&st->g, st->act, eta_cell, (const double *const *)st->eta_e,
                              st->vel, out);
@@ -187,7 +176,7 @@ static void viscous_part(const struct pressure_columns *pc, struct march_state *
 int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
 {
     const struct grid *g = &st->g;
-    viscous_part(pc, st, pc->base, pc->r0);
+    viscous_part(pc, st, pc->r0);
     memcpy(pc->saved_p, st->p_dyn, g->size * sizeof(double));
     double pmax = 0.0;
     for (int k = 0; k < g->n[2]; k++)
@@ -213,7 +202,7 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
         if (!any)
             continue;
         stage_properties(st);
-        viscous_part(pc, st, pc->moved, pc->r1);
+        viscous_part(pc, st, pc->r1);
         for (int k = 0; k < pc->nu; k++)
             for (int m = pc->start[k]; m < pc->start[k + 1]; m++) {
                 int q = pc->cells[m];

@@ -194,7 +194,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
             break;
         }
     if (st->rheo.law == LAW_MUI && st->cs->newton &&
-        !(c->pcols = pressure_columns_create(st, c->pm, c->slot, c->nu, c->held)))
+        !(c->pcols = pressure_columns_create(st, c->pm, c->slot, c->nu, c->cell, c->held)))
         goto oom;
     if (saddle_point_create(&c->solver, err, errlen) != 0)
         goto fail;
