@@ -62,7 +62,9 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
     memcpy(P->rowptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
     memcpy(P->col, K->col, nnz * sizeof(int));
     P->n = K->n;
-    if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, NULL,
+    double control[UMFPACK_CONTROL];
+    suitesparse_umfpack_control(control);
+    if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, control,
                                         NULL) != UMFPACK_OK) {
         free_symbolic(s);
         return -1;
@@ -75,8 +77,10 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
 {
     if (!csr_same_pattern(K, &s->pattern) && analyse(s, K) != 0)
         return -1;
+    double control[UMFPACK_CONTROL];
+    suitesparse_umfpack_control(control);
     int status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic,
-                                                &s->numeric, NULL, NULL);
+                                                &s->numeric, control, NULL);
     if (status == UMFPACK_OK)
         status = suitesparse.umfpack_di_solve(UMFPACK_At, K->rowptr, K->col, K->val, x, rhs,
                                               s->numeric, NULL, NULL);

@@ -134,16 +134,18 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
         suitesparse_serial_end(serial);
         return okf && s->cm.status == CHOLMOD_OK ? 0 : -1;
     }
+    double control[UMFPACK_CONTROL];
+    suitesparse_umfpack_control(control);
     if (fresh || !s->symbolic) {
         if (s->symbolic)
             suitesparse.umfpack_di_free_symbolic(&s->symbolic);
-        if (suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val, &s->symbolic, NULL,
+        if (suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val, &s->symbolic, control,
                                 NULL) != UMFPACK_OK)
             return -1;
     }
     if (s->numeric)
         suitesparse.umfpack_di_free_numeric(&s->numeric);
-    return suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic, &s->numeric, NULL, NULL) ==
+    return suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic, &s->numeric, control, NULL) ==
                    UMFPACK_OK
                ? 0
                : -1;
