@@ -5,19 +5,23 @@ pressures.
 
 usage: cylinder_granular.py MUFLOW OUTDIR [--pressures 5,10,20]
                             [--forcing 1.0,1.05,1.1,1.2,1.3,1.4]
-                            [--grid 40x120] [--start RUNDIR] [--plot]
+                            [--grid 40x120] [--start RUNDIR] [--min-step 0.0125]
+                            [--plot]
 
 F = rho phi g L_x / p_ext (L_x = 20 D, the seed's whole box; the case holds
 half of it) sets the gravity: physics.gravity = F p_ext / (rho phi L_x).
 The first pressure's first F starts from rest with the case's continuation
-in lambda (1e-2 down to 1e-6); every later solve starts from the state
-before it (solver.initial_state, the same grid: an exact copy) at lambda
-1e-6: the next F from the previous one, a new pressure's first F from the
-previous pressure's first (a start from rest with the continuation if that
-fails).  --start RUNDIR: the first solve starts from that run's state
-instead of rest (a steady state of the case at another F or pressure).
-A pressure's series stops at the first F without a steady state:
-the limit of the continuation.
+in lambda (1e-2 down to 1e-6), or from --start RUNDIR (a steady state of
+the case at another F or pressure); every later F of that pressure starts
+from the one before (solver.initial_state, the same grid: an exact copy)
+at lambda 1e-6.  A solve without a steady state is retried at the midpoint
+of the last step in F, down to steps of --min-step: the series ends at
+the first F that fails within --min-step of a steady one (the limit of
+the continuation, bracketed).  Every other pressure starts each F from
+the first pressure's state at that F scaled to it (velocity times
+sqrt(p / p_first), pressure times p / p_first: mu(I) has no stress or rate
+scale of its own, so at a fixed F the steady state scales so but for the
+regularisation's lambda), and from its own previous F if that fails.
 
 Per solve (OUTDIR/cylinder_granular.csv): p_ext, F, g, status, steps, wall
 seconds, U (the mean velocity over the box, Q / (L_x L_y)), Fr = U /
@@ -26,7 +30,6 @@ along the flow by the control volume and by the surface integral, F_D /
 p_ext, C_D = F_D / (rho phi U^2 / 2), and C_D / p_ext.  --plot draws the
 two panels of fig. 12 (cylinder_granular.png)."""
 import argparse
-import glob
 import math
 import os
 import subprocess
@@ -42,12 +45,15 @@ D, d = 1.0, 0.1
 
 
 def solve(muflow, out, p, F, nx, nz, start):
+    """One steady solve; start: a run directory (its checkpoint) or an
+    .h5 state, None for rest with the case's continuation in lambda."""
     g = F * p / (RHO_PHI * LX_WHOLE)
     args = [muflow, CASE, f"domain.nx={nx}", f"domain.nz={nz}",
             f"physics.confining_pressure={p}", f"physics.gravity={g!r}",
             f"output.dir={out}", "solver.progress_interval=50"]
     if start:
-        args += [f"solver.initial_state={os.path.join(start, 'checkpoint.h5')}",
+        state = start if start.endswith(".h5") else os.path.join(start, "checkpoint.h5")
+        args += [f"solver.initial_state={state}",
                  "solver.continuation=1"]
     print(" ".join(args), flush=True)
     r = subprocess.run(args)
@@ -57,12 +63,18 @@ def solve(muflow, out, p, F, nx, nz, start):
     return s, g
 
 
-def mean_velocity(out):
+def scaled_state(src, k, path):
+    """src's checkpoint with the velocity times sqrt(k) and the pressure
+    times k, written to path: the steady state at pressure k p_ext for the
+    same F if the regularisation did not set a rate of its own."""
     import h5py
-    import numpy as np
-    last = sorted(glob.glob(os.path.join(out, "fields_*.h5")))[-1]
-    with h5py.File(last, "r") as f:
-        return abs(float(np.mean(f["w"][:])))
+    import shutil
+    shutil.copyfile(os.path.join(src, "checkpoint.h5"), path)
+    with h5py.File(path, "r+") as f:
+        for name in ("velocity_x", "velocity_y", "velocity_z"):
+            f[name][...] = f[name][...] * math.sqrt(k)
+        f["p_dyn"][...] = f["p_dyn"][...] * k
+    return path
 
 
 def main():
@@ -74,23 +86,35 @@ def main():
     ap.add_argument("--grid", default="40x120")
     ap.add_argument("--plot", action="store_true")
     ap.add_argument("--start", default=None)
+    ap.add_argument("--min-step", type=float, default=0.0125, dest="min_step")
     a = ap.parse_args()
     nx, nz = (int(x) for x in a.grid.split("x"))
     pressures = [float(x) for x in a.pressures.split(",")]
     forcing = [float(x) for x in a.forcing.split(",")]
     rows = []
-    first_state = a.start
+    base = pressures[0]
+    steady_base = {}  # F -> run directory of the first pressure's steady state
     for p in pressures:
-        prev = first_state
-        for i, F in enumerate(forcing):
+        prev, prev_F = a.start, None
+        queue = list(forcing)
+        while queue:
+            F = queue.pop(0)
             out = os.path.join(a.outdir, "cylinder_granular_runs", f"p{p:g}_F{F:g}")
-            s, g = solve(a.muflow, out, p, F, nx, nz, prev)
-            if s.get("status") != "steady" and i == 0 and prev:
-                s, g = solve(a.muflow, out, p, F, nx, nz, None)
+            start = prev
+            if p != base and F in steady_base:
+                # the first pressure's state at this F, scaled to p (exact
+                # without the regularisation: u ~ sqrt(p), stresses ~ p)
+                os.makedirs(out, exist_ok=True)
+                start = scaled_state(steady_base[F], p / base, os.path.join(out, "start.h5"))
+            s, g = solve(a.muflow, out, p, F, nx, nz, start)
+            if s.get("status") != "steady" and start is not None and start != prev:
+                s, g = solve(a.muflow, out, p, F, nx, nz, prev)  # from this pressure's last
+            if s.get("status") != "steady" and prev is None and start is not None:
+                s, g = solve(a.muflow, out, p, F, nx, nz, None)  # from rest
             row = {"p_ext": p, "F": F, "g": g, "status": s.get("status"),
                    "steps": int(s.get("steps", 0)), "wall_s": float(s.get("wall_seconds", 0))}
             if s.get("status") == "steady":
-                U = mean_velocity(out)
+                U = float(s["mean_velocity"])
                 FD = -float(s["lift_force_control_volume"])
                 FDs = -float(s["lift_force"])
                 row.update(U=U, Fr=U / math.sqrt(g * D), Fr_eff=U / math.sqrt(g * (D + d)),
@@ -99,11 +123,17 @@ def main():
                 row["C_D_over_p"] = row["C_D"] / p
             rows.append(row)
             print(row, flush=True)
-            if s.get("status") != "steady":
-                break  # the limit: no steady state at this F
-            prev = out
-            if i == 0:
-                first_state = out
+            if s.get("status") == "steady":
+                prev, prev_F = out, F
+                if p == base:
+                    steady_base[F] = out
+            elif prev_F is not None and F - prev_F > a.min_step * (1 + 1e-9):
+                # too long a step or the limit: halve the step before calling it
+                queue = [round(0.5 * (prev_F + F), 6), F] + queue
+            else:
+                # the limit of the continuation: no steady state at this F
+                # within min_step of the last steady one
+                break
     keys = ["p_ext", "F", "g", "status", "steps", "wall_s", "U", "Fr", "Fr_eff", "F_D",
             "F_D_surface", "F_D_over_p", "C_D", "C_D_over_p"]
     with open(os.path.join(a.outdir, "cylinder_granular.csv"), "w") as f:

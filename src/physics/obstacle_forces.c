@@ -369,6 +369,30 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
     return rc;
 }
 
+/* The mean over the box of the velocity component the body force drives
+ * (the body's own faces hold 0): a flow rate per unit area across the
+ * flow, Q / (L_x L_y) for a flow along z.  NaN without a body force. */
+static double driven_mean_velocity(const struct march_state *st)
+{
+    double f[3];
+    body_force_vector(st->cs, f);
+    int a = 0;
+    for (int d = 1; d < 3; d++)
+        if (fabs(f[d]) > fabs(f[a]))
+            a = d;
+    if (f[a] == 0.0)
+        return NAN;
+    const struct grid *g = &st->g;
+    const struct box *b = &st->act[a];
+    double s = 0.0;
+    long n = 0;
+    for (int i = b->lo[0]; i < b->hi[0]; i++)
+        for (int j = b->lo[1]; j < b->hi[1]; j++)
+            for (int k = b->lo[2]; k < b->hi[2]; k++, n++)
+                s += st->vel[a][grid_idx(g, i, j, k)];
+    return n > 0 ? copysign(1.0, f[a]) * s / n : NAN;
+}
+
 void obstacle_results(const struct march_state *st, struct run_result *res)
 {
     struct obstacle_forces f;
@@ -392,6 +416,9 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     }
     if (body && !f.mirror[0])
         run_result_add(res, "pressure_drop", "%.10g", f.front_back);
+    double u_mean = driven_mean_velocity(st);
+    if (isfinite(u_mean))
+        run_result_add(res, "mean_velocity", "%.10g", u_mean);
     if (rc != 0)
         run_result_add(res, "obstacle_warning", "%s",
                        "a surface sample's interpolation reached into the body (too few cells "
