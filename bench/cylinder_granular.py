@@ -44,6 +44,37 @@ RHO_PHI = 1.0    # physics.density of the case
 D, d = 1.0, 0.1
 
 
+def reuse(out, p, F, nx, nz):
+    """The summary of an earlier steady solve of this p, F and grid in out,
+    or (None, None)."""
+    path = os.path.join(out, "summary.ini")
+    if not os.path.exists(path):
+        return None, None
+    s = summary(path)
+    case = summary(path, "physics")
+    dom = summary(path, "domain")
+    g = F * p / (RHO_PHI * LX_WHOLE)
+    if (s.get("status") == "steady" and "mean_velocity" in s
+            and float(case["confining_pressure"]) == p
+            and abs(float(case["gravity"]) / g - 1.0) < 1e-12
+            and int(dom["nx"]) == nx and int(dom["nz"]) == nz):
+        print(f"{out}: reused", flush=True)
+        return s, g
+    return None, None
+
+
+def secant_state(a, b, w, path):
+    """b's checkpoint moved w of the way from a to b further on: the secant
+    predictor of the next F's state."""
+    import h5py
+    import shutil
+    shutil.copyfile(os.path.join(b, "checkpoint.h5"), path)
+    with h5py.File(os.path.join(a, "checkpoint.h5"), "r") as fa, h5py.File(path, "r+") as f:
+        for name in ("velocity_x", "velocity_y", "velocity_z", "p_dyn"):
+            f[name][...] = (1.0 + w) * f[name][...] - w * fa[name][...]
+    return path
+
+
 def solve(muflow, out, p, F, nx, nz, start):
     """One steady solve; start: a run directory (its checkpoint) or an
     .h5 state, None for rest with the case's continuation in lambda."""
@@ -87,6 +118,8 @@ def main():
     ap.add_argument("--plot", action="store_true")
     ap.add_argument("--start", default=None)
     ap.add_argument("--min-step", type=float, default=0.0125, dest="min_step")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep the steady solves already in OUTDIR (same p, F, grid)")
     a = ap.parse_args()
     nx, nz = (int(x) for x in a.grid.split("x"))
     pressures = [float(x) for x in a.pressures.split(",")]
@@ -96,21 +129,29 @@ def main():
     steady_base = {}  # F -> run directory of the first pressure's steady state
     for p in pressures:
         prev, prev_F = a.start, None
+        older = None  # (run directory, F) of the steady solve before prev
         queue = list(forcing)
         while queue:
             F = queue.pop(0)
             out = os.path.join(a.outdir, "cylinder_granular_runs", f"p{p:g}_F{F:g}")
-            start = prev
-            if p != base and F in steady_base:
-                # the first pressure's state at this F, scaled to p (exact
-                # without the regularisation: u ~ sqrt(p), stresses ~ p)
-                os.makedirs(out, exist_ok=True)
-                start = scaled_state(steady_base[F], p / base, os.path.join(out, "start.h5"))
-            s, g = solve(a.muflow, out, p, F, nx, nz, start)
-            if s.get("status") != "steady" and start is not None and start != prev:
-                s, g = solve(a.muflow, out, p, F, nx, nz, prev)  # from this pressure's last
-            if s.get("status") != "steady" and prev is None and start is not None:
-                s, g = solve(a.muflow, out, p, F, nx, nz, None)  # from rest
+            os.makedirs(out, exist_ok=True)
+            s, g = reuse(out, p, F, nx, nz) if a.reuse else (None, None)
+            if s is None:
+                start = prev
+                if p != base and F in steady_base:
+                    # the first pressure's state at this F, scaled to p (exact
+                    # without the regularisation: u ~ sqrt(p), stresses ~ p)
+                    start = scaled_state(steady_base[F], p / base, os.path.join(out, "start.h5"))
+                elif older and prev_F is not None:
+                    # the secant through the last two steady states, at most
+                    # one of their steps ahead
+                    w = min(1.0, (F - prev_F) / (prev_F - older[1]))
+                    start = secant_state(older[0], prev, w, os.path.join(out, "start.h5"))
+                s, g = solve(a.muflow, out, p, F, nx, nz, start)
+                if s.get("status") != "steady" and start is not None and start != prev:
+                    s, g = solve(a.muflow, out, p, F, nx, nz, prev)  # from this pressure's last
+                if s.get("status") != "steady" and prev is None and start is not None:
+                    s, g = solve(a.muflow, out, p, F, nx, nz, None)  # from rest
             row = {"p_ext": p, "F": F, "g": g, "status": s.get("status"),
                    "steps": int(s.get("steps", 0)), "wall_s": float(s.get("wall_seconds", 0))}
             if s.get("status") == "steady":
@@ -124,6 +165,7 @@ def main():
             rows.append(row)
             print(row, flush=True)
             if s.get("status") == "steady":
+                older = (prev, prev_F) if prev_F is not None else None
                 prev, prev_F = out, F
                 if p == base:
                     steady_base[F] = out
