@@ -341,15 +341,18 @@ bench-cylinder: deps bench-deps $(BUILD)/muflow
 # The granular cylinder (cases/cylinder.ini, half box at D/4): one steady
 # solve from rest with the continuation in lambda (its wall time), then the
 # continuation in the forcing F for the confining pressures
-# GRANULAR_PRESSURES, each F from the state before it, to the limit
-# ($(BENCH_OUT)/cylinder_granular.csv, cylinder_granular.png: fig. 12).
-GRANULAR_PRESSURES ?= 10,5,20
-GRANULAR_FORCING ?= 1.0,1.05,1.1,1.2,1.3,1.4,1.5
+# GRANULAR_PRESSURES (the first along GRANULAR_FORCING, each F from the
+# secant of the two before, the step halved on failure down to 0.0125: the
+# limit; the others from its states scaled to their pressure), with
+# $(BENCH_OUT)/cylinder_granular.csv, cylinder_granular.png (fig. 12) and
+# cylinder_granular_maps.png (figs. 13, 14, 16).  Hours: see the README.
+GRANULAR_PRESSURES ?= 10,5,20,2.5,40
+GRANULAR_FORCING ?= 1.0,1.05,1.1,1.15,1.2,1.25,1.3,1.35,1.4,1.45,1.5,1.55
 .PHONY: bench-cylinder-granular
 bench-cylinder-granular: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_granular.py $(BUILD)/muflow $(BENCH_OUT) \
-	  --pressures $(GRANULAR_PRESSURES) --forcing $(GRANULAR_FORCING) --plot
+	  --pressures $(GRANULAR_PRESSURES) --forcing $(GRANULAR_FORCING) --reuse --plot
 
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk

@@ -24,11 +24,14 @@ scale of its own, so at a fixed F the steady state scales so but for the
 regularisation's lambda), and from its own previous F if that fails.
 
 Per solve (OUTDIR/cylinder_granular.csv): p_ext, F, g, status, steps, wall
-seconds, U (the mean velocity over the box, Q / (L_x L_y)), Fr = U /
+seconds, Q (the flow rate per unit span of the whole box), U (the mean
+velocity over the box, Q / L_x: the summary's mean_velocity), Fr = U /
 sqrt(g D), Fr_eff = U / sqrt(g (D + d)), the whole cylinder's drag F_D
 along the flow by the control volume and by the surface integral, F_D /
 p_ext, C_D = F_D / (rho phi U^2 / 2), and C_D / p_ext.  --plot draws the
-two panels of fig. 12 (cylinder_granular.png)."""
+two panels of fig. 12 (cylinder_granular.png) and, by cylinder_maps.py, the
+velocity, regularised pressure and viscosity around the body at the first
+pressure's largest steady F (cylinder_granular_maps.png: figs. 13, 14, 16)."""
 import argparse
 import math
 import os
@@ -158,7 +161,7 @@ def main():
                 U = float(s["mean_velocity"])
                 FD = -float(s["lift_force_control_volume"])
                 FDs = -float(s["lift_force"])
-                row.update(U=U, Fr=U / math.sqrt(g * D), Fr_eff=U / math.sqrt(g * (D + d)),
+                row.update(Q=U * LX_WHOLE, U=U, Fr=U / math.sqrt(g * D), Fr_eff=U / math.sqrt(g * (D + d)),
                            F_D=FD, F_D_surface=FDs, F_D_over_p=FD / p,
                            C_D=FD / (0.5 * RHO_PHI * U * U) if U > 0 else float("nan"))
                 row["C_D_over_p"] = row["C_D"] / p
@@ -176,7 +179,7 @@ def main():
                 # the limit of the continuation: no steady state at this F
                 # within min_step of the last steady one
                 break
-    keys = ["p_ext", "F", "g", "status", "steps", "wall_s", "U", "Fr", "Fr_eff", "F_D",
+    keys = ["p_ext", "F", "g", "status", "steps", "wall_s", "Q", "U", "Fr", "Fr_eff", "F_D",
             "F_D_surface", "F_D_over_p", "C_D", "C_D_over_p"]
     with open(os.path.join(a.outdir, "cylinder_granular.csv"), "w") as f:
         f.write(",".join(keys) + "\n")
@@ -204,6 +207,11 @@ def main():
         fig.suptitle(f"granular cylinder, half box {nx} x {nz} (D/{nx // 10}), lambda 1e-6")
         fig.tight_layout()
         fig.savefig(os.path.join(a.outdir, "cylinder_granular.png"), dpi=110)
+        if steady_base:  # figs. 13, 14, 16: the first pressure's fastest steady flow
+            last = steady_base[max(steady_base)]
+            subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__),
+                                                         "cylinder_maps.py"), last, "--out",
+                            os.path.join(a.outdir, "cylinder_granular_maps.png")], check=True)
 
 
 if __name__ == "__main__":

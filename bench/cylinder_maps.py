@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""Field maps of a granular cylinder run (seeds/000 sec. 4.2, figs. 13, 14
+and 16): the velocity magnitude, the regularised pressure and the
+viscosity (log colours) around the body, from the run's last field file.
+
+usage: cylinder_maps.py RUNDIR [--out FILE.png] [--window 4]
+
+A half box (a slip face through the body's centre, cases/cylinder.ini) is
+mirrored about that face into the whole box.  The cells whose centre lies
+inside the body are left blank (their values are the solid's, not the
+flow's).  --window W shows W body diameters either side of the centre
+(0: the whole box)."""
+import argparse
+import glob
+import os
+
+import h5py
+import matplotlib
+import numpy as np
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+from matplotlib.colors import LogNorm  # noqa: E402
+
+
+def text(attrs, key):
+    v = attrs[key]
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("rundir")
+    ap.add_argument("--out", default=None)
+    ap.add_argument("--window", type=float, default=4.0)
+    a = ap.parse_args()
+    files = sorted(glob.glob(os.path.join(a.rundir, "fields_*.h5")))
+    if not files:
+        raise SystemExit(f"{a.rundir}: no field file (fields_*.h5)")
+    with h5py.File(files[-1], "r") as f:
+        at = f.attrs
+        n, h = at["n"], at["h"]
+        shape = text(at, "obstacle.shapes").split()
+        if not shape or shape[0] != "circle":
+            raise SystemExit(f"{a.rundir}: obstacle.shapes is not one circle")
+        xc, zc, r = (float(x) for x in shape[1:4])
+        mirrored = text(at, "boundary.xlo") == "slip" and xc == 0.0
+        speed = np.linalg.norm(f["velocity"][:, 0, :, :], axis=-1)
+        fields = [("|u|", speed, None),
+                  ("regularised pressure", f["pressure_regularised"][:, 0, :], None),
+                  ("viscosity", f["viscosity"][:, 0, :], "log")]
+        title = (f"p_ext {text(at, 'physics.confining_pressure')}, g "
+                 f"{text(at, 'physics.gravity')}, {n[0]} x {n[2]} cells, lambda "
+                 f"{text(at, 'rheology.lambda')}")
+    x = (np.arange(n[0]) + 0.5) * h[0]
+    z = (np.arange(n[2]) + 0.5) * h[2]
+    if mirrored:
+        x = np.concatenate([-x[::-1], x])
+    X, Z = np.meshgrid(x, z)
+    inside = (X - xc) ** 2 + (Z - zc) ** 2 < r * r
+    fig, axes = plt.subplots(1, 3, figsize=(13, 6.2))
+    for ax, (name, v, scale) in zip(axes, fields):
+        if mirrored:
+            v = np.concatenate([v[:, ::-1], v], axis=1)
+        v = np.ma.masked_where(inside, v)
+        norm = None
+        if scale == "log":
+            pos = v[v > 0]
+            norm = LogNorm(vmin=max(pos.min(), pos.max() * 1e-12), vmax=pos.max())
+        im = ax.pcolormesh(X, Z, v, shading="nearest", norm=norm, cmap="viridis")
+        ax.add_patch(plt.Circle((xc, zc), r, color="0.6"))
+        if a.window > 0:
+            ax.set_xlim(max(x[0] - 0.5 * h[0], xc - a.window), min(x[-1] + 0.5 * h[0], xc + a.window))
+            ax.set_ylim(zc - 1.5 * a.window, zc + 1.5 * a.window)
+        ax.set_aspect("equal")
+        ax.set_title(name)
+        ax.set_xlabel("x / D")
+        fig.colorbar(im, ax=ax, shrink=0.8)
+    axes[0].set_ylabel("z / D (flow downwards)")
+    fig.suptitle(title)
+    fig.tight_layout()
+    out = a.out or os.path.join(a.rundir, "cylinder_maps.png")
+    fig.savefig(out, dpi=100)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
