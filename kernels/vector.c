@@ -109,6 +109,14 @@ double kernel_sum(const struct grid *g, const double *f)
     return s;
 }
 
+double kernel_box_mean(const struct grid *g, const struct box *b, const double *f)
+{
+    double s = 0.0;
+    BOX_REDUCE(b, s, add, 0.0, f[p]);
+    long n = (long)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2]);
+    return n > 0 ? s / (double)n : 0.0;
+}
+
 double kernel_norm2_cells(const struct grid *g, const double *f)
 {
     struct box bx;

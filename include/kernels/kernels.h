@@ -146,5 +146,8 @@ void kernel_lincomb(const struct grid *g, const struct box act[3], double alpha,
 double kernel_sum(const struct grid *g, const double *f);
 double kernel_norm2_cells(const struct grid *g, const double *f);
 double kernel_max_abs_cells(const struct grid *g, const double *f);
+/* Mean of a field over the indices of box b (a component's active faces),
+ * deterministic across runs; 0 for an empty box. */
+double kernel_box_mean(const struct grid *g, const struct box *b, const double *f);
 
 #endif

@@ -556,15 +556,7 @@ double march_mean_acceleration(const struct march_state *st)
     int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
     if (st->bc.face[a][0] != BC_PERIODIC)
         a = a == 0 ? 2 : 0;
-    const struct grid *g = &st->g;
-    const struct box *b = &st->act[a];
-    double s = 0.0;
-    long n = 0;
-    for (int i = b->lo[0]; i < b->hi[0]; i++)
-        for (int j = b->lo[1]; j < b->hi[1]; j++)
-            for (int k = b->lo[2]; k < b->hi[2]; k++, n++)
-                s += st->res[a][grid_idx(g, i, j, k)];
-    return n > 0 ? s / n / st->cs->density : 0.0;
+    return kernel_box_mean(&st->g, &st->act[a], st->res[a]) / st->cs->density;
 }
 
 void march_evaluate(struct march_state *st) { step_evaluate(st); }

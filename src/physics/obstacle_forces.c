@@ -382,15 +382,7 @@ static double driven_mean_velocity(const struct march_state *st)
             a = d;
     if (f[a] == 0.0)
         return NAN;
-    const struct grid *g = &st->g;
-    const struct box *b = &st->act[a];
-    double s = 0.0;
-    long n = 0;
-    for (int i = b->lo[0]; i < b->hi[0]; i++)
-        for (int j = b->lo[1]; j < b->hi[1]; j++)
-            for (int k = b->lo[2]; k < b->hi[2]; k++, n++)
-                s += st->vel[a][grid_idx(g, i, j, k)];
-    return n > 0 ? copysign(1.0, f[a]) * s / n : NAN;
+    return copysign(1.0, f[a]) * kernel_box_mean(&st->g, &st->act[a], st->vel[a]);
 }
 
 void obstacle_results(const struct march_state *st, struct run_result *res)
