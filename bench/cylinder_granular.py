@@ -29,7 +29,7 @@ velocity over the box, Q / L_x: the summary's mean_velocity), Fr = U /
 sqrt(g D), Fr_eff = U / sqrt(g (D + d)), the whole cylinder's drag F_D
 along the flow by the control volume and by the surface integral, F_D /
 p_ext, C_D = F_D / (rho phi U^2 / 2), and C_D / p_ext.  --plot draws the
-two panels of fig. 12 (cylinder_granular.png) and, by cylinder_maps.py, the
+two panels of fig. 12 (F_D / p_ext against Fr, C_D against Fr_eff) (cylinder_granular.png) and, by cylinder_maps.py, the
 velocity, regularised pressure and viscosity around the body at the first
 pressure's largest steady F (cylinder_granular_maps.png: figs. 13, 14, 16)."""
 import argparse
@@ -127,6 +127,8 @@ def main():
     ap.add_argument("--min-step", type=float, default=0.0125, dest="min_step")
     ap.add_argument("--reuse", action="store_true",
                     help="keep the steady solves already in OUTDIR (same p, F, grid)")
+    ap.add_argument("--no-solve", action="store_true", dest="no_solve",
+                    help="solve nothing: the CSV and plots of the steady solves in OUTDIR")
     a = ap.parse_args()
     nx, nz = (int(x) for x in a.grid.split("x"))
     pressures = [float(x) for x in a.pressures.split(",")]
@@ -142,7 +144,9 @@ def main():
             F = queue.pop(0)
             out = os.path.join(a.outdir, "cylinder_granular_runs", f"p{p:g}_F{F:g}")
             os.makedirs(out, exist_ok=True)
-            s, g = reuse(out, p, F, nx, nz) if a.reuse else (None, None)
+            s, g = reuse(out, p, F, nx, nz) if a.reuse or a.no_solve else (None, None)
+            if s is None and a.no_solve:
+                continue  # tables and plots of what is stored only
             if s is None:
                 start = prev
                 if p != base and F in steady_base:
@@ -199,12 +203,14 @@ def main():
             r = [x for x in rows if x["p_ext"] == p and x["status"] == "steady"]
             ax[0].plot([x["Fr"] for x in r], [x["F_D_over_p"] for x in r], "o-",
                        label=f"p_ext = {p:g}")
-            ax[1].loglog([x["Fr_eff"] for x in r], [x["C_D_over_p"] for x in r], "o-",
+            # C_D itself: at a fixed F, F_D ~ p_ext and U^2 ~ p_ext, so C_D (not
+            # C_D / p_ext) is what collapses here
+            ax[1].loglog([x["Fr_eff"] for x in r], [x["C_D"] for x in r], "o-",
                          label=f"p_ext = {p:g}")
         ax[0].set_xlabel("Fr = U / sqrt(g D)")
         ax[0].set_ylabel("F_D / p_ext")
         ax[1].set_xlabel("U / sqrt(g (D + d))")
-        ax[1].set_ylabel("C_D / p_ext")
+        ax[1].set_ylabel("C_D = F_D / (rho phi U^2 / 2)")
         for x in ax:
             x.legend()
             x.grid(True, which="both", alpha=0.3)
