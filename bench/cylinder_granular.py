@@ -48,6 +48,11 @@ RHO_PHI = 1.0    # physics.density of the case
 D, d = 1.0, 0.1
 
 
+def gravity(p, F):
+    """physics.gravity for the forcing F = rho phi g L_x / p_ext."""
+    return F * p / (RHO_PHI * LX_WHOLE)
+
+
 def reuse(out, p, F, nx, nz):
     """The summary of an earlier steady solve of this p, F and grid in out,
     or (None, None)."""
@@ -57,7 +62,7 @@ def reuse(out, p, F, nx, nz):
     s = summary(path)
     case = summary(path, "physics")
     dom = summary(path, "domain")
-    g = F * p / (RHO_PHI * LX_WHOLE)
+    g = gravity(p, F)
     if (s.get("status") == "steady" and "mean_velocity" in s
             and float(case["confining_pressure"]) == p
             and abs(float(case["gravity"]) / g - 1.0) < 1e-12
@@ -85,7 +90,7 @@ MAX_STEPS = 3000  # per solve: F = 1.2 at D/4 was still at 1e-3 after 1000
 def solve(muflow, out, p, F, nx, nz, start):
     """One steady solve; start: a run directory (its checkpoint) or an
     .h5 state, None for rest with the case's continuation in lambda."""
-    g = F * p / (RHO_PHI * LX_WHOLE)
+    g = gravity(p, F)
     args = [muflow, CASE, f"domain.nx={nx}", f"domain.nz={nz}",
             f"physics.confining_pressure={p}", f"physics.gravity={g!r}",
             f"output.dir={out}", "solver.progress_interval=50",
@@ -144,11 +149,11 @@ def main():
         while queue:
             F = queue.pop(0)
             out = os.path.join(a.outdir, "cylinder_granular_runs", f"p{p:g}_F{F:g}")
-            os.makedirs(out, exist_ok=True)
             s, g = reuse(out, p, F, nx, nz) if a.reuse or a.no_solve else (None, None)
             if s is None and a.no_solve:
                 continue  # tables and plots of what is stored only
             if s is None:
+                os.makedirs(out, exist_ok=True)
                 start = prev
                 if p != base and F in steady_base:
                     # the first pressure's state at this F, scaled to p (exact

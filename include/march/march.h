@@ -164,9 +164,13 @@ void march_evaluate(struct march_state *st);
  * finite differences of the residual). */
 void march_apply_tangent(struct march_state *st, double *v[3], double *out[3]);
 
-/* The direction of the body force's periodic part (the mean flow direction)
- * and the mean of the momentum residual along it per unit mass: the mean
- * acceleration of the layer. */
+/* The component the body force drives: of x and z, the one with the larger
+ * force, or the other where that one is not periodic (a bounded direction's
+ * force is held by the pressure): the mean flow direction. */
+int march_driven_component(const struct march_state *st);
+
+/* The mean of the momentum residual along the driven component per unit
+ * mass: the mean acceleration of the layer. */
 double march_mean_acceleration(const struct march_state *st);
 
 #endif

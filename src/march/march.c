@@ -548,14 +548,20 @@ double march_min_spacing(const struct grid *g)
     return h;
 }
 
-double march_mean_acceleration(const struct march_state *st)
+int march_driven_component(const struct march_state *st)
 {
-    /* mean residual per unit mass of the component the body force drives */
     double f[3];
     body_force_vector(st->cs, f);
     int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
     if (st->bc.face[a][0] != BC_PERIODIC)
         a = a == 0 ? 2 : 0;
+    return a;
+}
+
+double march_mean_acceleration(const struct march_state *st)
+{
+    /* mean residual per unit mass of the component the body force drives */
+    int a = march_driven_component(st);
     return kernel_box_mean(&st->g, &st->act[a], st->res[a]) / st->cs->density;
 }
 

@@ -370,16 +370,14 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
 }
 
 /* The mean over the box of the velocity component the body force drives
- * (the body's own faces hold 0): a flow rate per unit area across the
- * flow, Q / (L_x L_y) for a flow along z.  NaN without a body force. */
+ * (march_driven_component; the body's own faces hold 0), signed along the
+ * force: a flow rate per unit area across the flow, Q / (L_x L_y) for a
+ * flow along z.  NaN without a force along that component. */
 static double driven_mean_velocity(const struct march_state *st)
 {
     double f[3];
     body_force_vector(st->cs, f);
-    int a = 0;
-    for (int d = 1; d < 3; d++)
-        if (fabs(f[d]) > fabs(f[a]))
-            a = d;
+    int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
     return copysign(1.0, f[a]) * kernel_box_mean(&st->g, &st->act[a], st->vel[a]);
