@@ -20,6 +20,8 @@ struct run_result {
     enum run_status status;
     long steps;
     long rejected_steps; /* steady mode: steps retried with a smaller pseudo-time step */
+    long pressure_iterations;  /* the projection's multigrid-CG iterations (FFT: 0) */
+    long pressure_unconverged; /* its solves that ended above their tolerance */
     double time, wall_seconds, residual, divergence;
     struct scene_errors errors;
     char message[256];

@@ -78,6 +78,8 @@ struct march_state {
     double wall_seconds;
     int linear_iterations;      /* of the last step */
     long rejected;              /* pseudo-time steps retried with a smaller dt */
+    long pressure_iterations;   /* the projection's multigrid-CG iterations, every step */
+    long pressure_unconverged;  /* its solves that ended above their tolerance */
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */
     long best_step;             /* the step it was reached at */

@@ -107,7 +107,9 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
                     int max_cycles, struct multigrid_stats *stats);
 
 /* The same problem by conjugate gradients preconditioned with one cycle per
- * iteration (the robust choice at large coefficient jumps, see design.md). */
+ * iteration (the robust choice at large coefficient jumps, see design.md).
+ * It also returns 1 early, unconverged, when its residual has grown 100-fold
+ * above the best it reached (round-off: a restart from phi recovers). */
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats);
 

@@ -34,5 +34,8 @@ int pressure_uniform(const struct pressure_solver *ps);
  * pressure_message). */
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor);
 const char *pressure_message(const struct pressure_solver *ps);
+/* Multigrid-CG iterations of every solve so far (restarts included; the FFT
+ * path adds none). */
+long pressure_iterations(const struct pressure_solver *ps);
 
 #endif

@@ -13,6 +13,7 @@
 #include "io/initial_state.h"
 #include "io/field_series.h"
 #include "scenes/scene.h"
+#include "solvers/pressure.h"
 
 struct observer_ctx {
     const struct muflow_case *cs;
@@ -23,6 +24,7 @@ struct observer_ctx {
     double last_scene_write; /* wall time of the last write_running refresh */
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
     long last_row;         /* the step of the last history row (-1: none) */
+    long unconverged;      /* pressure solves that failed, as last reported */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
@@ -73,6 +75,21 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     return 0;
 }
 
+/* A pressure solve that did not converge is taken as it is (the step goes
+ * on), but never silently: one line when the count first rises, the count
+ * in summary.ini. */
+static void warn_pressure(struct observer_ctx *ctx, const struct march_state *st)
+{
+    if (st->pressure_unconverged <= ctx->unconverged)
+        return;
+    if (ctx->unconverged == 0)
+        fprintf(stderr,
+                "muflow: warning: step %ld: %s; the projection took that iterate "
+                "(summary.ini: pressure_unconverged)\n",
+                st->step, pressure_message(st->pressure_solver));
+    ctx->unconverged = st->pressure_unconverged;
+}
+
 static int observe(void *vctx, const struct march_state *st)
 {
     struct observer_ctx *ctx = vctx;
@@ -80,6 +97,7 @@ static int observe(void *vctx, const struct march_state *st)
         ctx->opt->hook(ctx->opt->hook_ctx, st);
     if (!ctx->opt->write_output)
         return 0;
+    warn_pressure(ctx, st);
     struct scene_errors e;
     memset(&e, 0, sizeof e);
     e.err_rms = NAN;
@@ -112,6 +130,8 @@ void run_result_from(const struct march_state *st, struct run_result *res)
     res->status = st->status;
     res->steps = st->step;
     res->rejected_steps = st->rejected;
+    res->pressure_iterations = st->pressure_iterations;
+    res->pressure_unconverged = st->pressure_unconverged;
     res->time = st->time;
     res->wall_seconds = st->wall_seconds;
     res->residual = st->residual;
@@ -278,6 +298,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         field_series_free(&ctx.series);
         return rc;
     }
+    ctx.unconverged = st.pressure_unconverged; /* a restart's were reported before */
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
                                 .verbose = opt->write_output && !work.quiet};
     if (sc->drive)

@@ -41,6 +41,8 @@ static const struct {
     {"forcing", offsetof(struct march_state, forcing), S_DOUBLE, 1},
     {"forcing_rms", offsetof(struct march_state, forcing_rms), S_DOUBLE, 1},
     {"forcing_step", offsetof(struct march_state, forcing_step), S_LONG, 1},
+    {"pressure_iterations", offsetof(struct march_state, pressure_iterations), S_LONG, 1},
+    {"pressure_unconverged", offsetof(struct march_state, pressure_unconverged), S_LONG, 1},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 

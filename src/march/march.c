@@ -119,7 +119,10 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * steps with the AMG against 214 with the LU, 1.55x slower: the threshold
  * stays at 1e4, where it was before the forcing term (whose tie on the heap
  * was at 35 x 50 then).  With the augmentation (the cavity) BoomerAMG's
- * GMRES stalls: the LU stays. */
+ * GMRES stalls: the LU stays.  Measured again once the factorisations took
+ * METIS and the SkylakeX kernels (about 2x faster, suitesparse.c), 1
+ * thread, two rounds: LU / AMG in CPU time 1.3-1.4 at 35 x 50, 1.2-1.3 at
+ * 50 x 70, 1.4-1.6 at 70 x 100, 1.4 at 100 x 140: the threshold stands. */
 #define AMG_MIN_UNKNOWNS 10000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)

@@ -117,6 +117,16 @@ static void open_correct(struct march_state *st, const double *phi)
     })
 }
 
+/* The Poisson solve in place; its iterations and a failure to converge are
+ * counted (the run reports them: the projection still takes the iterate). */
+static void project_solve(struct march_state *st, double *rhs_phi, double floor)
+{
+    long before = pressure_iterations(st->pressure_solver);
+    if (pressure_solve(st->pressure_solver, rhs_phi, rhs_phi, floor) != 0)
+        st->pressure_unconverged++;
+    st->pressure_iterations += pressure_iterations(st->pressure_solver) - before;
+}
+
 void stage_projection(struct march_state *st, double dt)
 {
     const struct grid *g = &st->g;
@@ -148,7 +158,7 @@ void stage_projection(struct march_state *st, double dt)
                        ? 0.0 /* the FFT path is direct: no floor to pass */
                        : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
                              march_min_spacing(g);
-    pressure_solve(st->pressure_solver, st->phi, st->phi, floor);
+    project_solve(st, st->phi, floor);
     bc_fill_pressure(g, &st->bc, st->phi);
     subtract_gradient(st, st->phi);
     if (open)
@@ -156,7 +166,7 @@ void stage_projection(struct march_state *st, double dt)
     bc_fill_velocity(g, &st->bc, st->vel);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
         stage_divergence(st, st->vel, st->div);
-        pressure_solve(st->pressure_solver, st->div, st->div, floor);
+        project_solve(st, st->div, floor);
         bc_fill_pressure(g, &st->bc, st->div);
         subtract_gradient(st, st->div);
         if (open) {

@@ -22,6 +22,7 @@ struct pressure_solver {
     struct multigrid *mg;   /* created with the first variable coefficient */
     int uniform;
     double *rhs;            /* the multigrid path's copy of rhs (may alias phi) */
+    long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
 };
 
@@ -78,6 +79,8 @@ int pressure_uniform(const struct pressure_solver *ps) { return ps->uniform; }
 
 const char *pressure_message(const struct pressure_solver *ps) { return ps->message; }
 
+long pressure_iterations(const struct pressure_solver *ps) { return ps->iterations; }
+
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor)
 {
     if (ps->uniform) {
@@ -107,9 +110,16 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
      * Measured on the column collapse (a = 1.42, 72 x 24): 5 of 629 solves
      * stalled at 5e-10 to 5e-5 after 500 iterations, which the projection
      * took as they were (the grains' volume off by 1e-10); restarted, they
-     * converge and the volume holds to round-off. */
-    for (int restart = 0; rc != 0 && restart < PRESSURE_RESTARTS; restart++)
+     * converge and the volume holds to round-off.  multigrid_pcg now stops
+     * a stalled iteration once its residual has grown 100-fold above its
+     * best, so a restart comes after a few iterations instead of 500 (the
+     * collapse at 32 cells per H0: 4,094 iterations in 401 solves, all
+     * converged, against 7,715). */
+    ps->iterations += stats.cycles;
+    for (int restart = 0; rc != 0 && restart < PRESSURE_RESTARTS; restart++) {
         rc = multigrid_pcg(ps->mg, ps->rhs, phi, rtol, PRESSURE_MAX_ITER, &stats);
+        ps->iterations += stats.cycles;
+    }
     if (rc != 0) {
         snprintf(ps->message, sizeof ps->message,
                  "pressure solve: relative residual %.2e after %d multigrid-CG iterations",
