@@ -86,7 +86,10 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 
 struct multigrid_stats {
     int cycles;            /* cycles (multigrid_solve) or PCG iterations (multigrid_pcg) */
-    int converged;         /* relative residual <= rtol */
+    int converged;         /* relative residual <= rtol, or roundoff */
+    int roundoff;          /* multigrid_pcg: started above rtol but within the
+                              rounding of its own residual, 10 eps (|rhs| +
+                              |L| |phi|) in the 2-norm: nothing to gain */
     double res0;           /* ||rhs - mean|| over the live cells (2-norm) */
     double rel;            /* final ||rhs - mean - L phi|| / res0 */
     double rate;           /* mean reduction per cycle, rel^(1/cycles) */
@@ -108,8 +111,10 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
 
 /* The same problem by conjugate gradients preconditioned with one cycle per
  * iteration (the robust choice at large coefficient jumps, see design.md).
- * It also returns 1 early, unconverged, when its residual has grown 100-fold
- * above the best it reached (round-off: a restart from phi recovers). */
+ * It also returns 1 early, unconverged, with the iterate of its least
+ * residual, when the residual has grown 100-fold above that (round-off: a
+ * restart from phi recovers); and 0 at once when phi's true residual is
+ * within 1e3 rtol and below its own rounding (stats->roundoff). */
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats);
 

@@ -28,6 +28,7 @@
 #include "solvers/multigrid.h"
 #include "solvers/suitesparse.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -44,6 +45,7 @@
 #define PAR_CELLS 16384        /* smaller levels run on one thread: fork/join costs more */
 #define ANISO_CELLS 4096       /* above this, coarsen anisotropically rather than stop */
 #define PCG_GROWTH 100.0       /* CG stops where its residual exceeds its best this much */
+#define ROUNDOFF_TERMS 10.0    /* the residual's rounding, a 7-term sum: in eps (|b| + |L||x|) */
 
 enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
 
@@ -86,6 +88,7 @@ struct multigrid {
     struct level lev[MAX_LEVELS];
     struct coarse_direct cs;
     double *wr, *wz, *wp, *wq;     /* fine-level work arrays of the solvers */
+    double *wbest;                 /* multigrid_pcg: the iterate of the least residual */
     long live;                     /* live cells of level 0 */
     int ready;                     /* coefficients set */
     double partial[MAX_THREADS * PAD];
@@ -359,6 +362,35 @@ static void residual(const struct level *lv, const double *x, const double *b, d
                                   wyh * x[p + sy] + wzl * x[p - 1] + wzh * x[p + 1] - D * x[p];
                 const double bb = b ? b[p] - shift : 0.0;
                 r[p] = D > 0.0 ? bb + sign * Lx : 0.0;
+            }
+        }
+}
+
+/* m = |b - shift| + |L| |x| cell by cell (|L|: the operator with every
+ * weight taken positive), 0 on dead cells: the size of the terms whose
+ * rounding the residual b - L x carries.  x's ghosts in HALO_OPERATOR mode. */
+static void magnitude(const struct level *lv, const double *x, const double *b, double shift,
+                      double *m)
+{
+    const struct grid *g = &lv->g;
+    const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
+    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
+    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
+    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
+#pragma omp for collapse(2) schedule(static)
+    for (int i = 0; i < nx; i++)
+        for (int j = 0; j < ny; j++) {
+            const ptrdiff_t row = grid_idx(g, i, j, 0);
+            for (int k = 0; k < nz; k++) {
+                const ptrdiff_t p = row + k;
+                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
+                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
+                const double wzl = cz * az[p], wzh = cz * az[p + 1];
+                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
+                const double A = wxl * fabs(x[p - sx]) + wxh * fabs(x[p + sx]) +
+                                 wyl * fabs(x[p - sy]) + wyh * fabs(x[p + sy]) +
+                                 wzl * fabs(x[p - 1]) + wzh * fabs(x[p + 1]) + D * fabs(x[p]);
+                m[p] = D > 0.0 ? fabs(b[p] - shift) + A : 0.0;
             }
         }
 }
@@ -898,6 +930,7 @@ void multigrid_destroy(struct multigrid *mg)
     field_free(mg->wz);
     field_free(mg->wp);
     field_free(mg->wq);
+    field_free(mg->wbest);
     free(mg);
 }
 
@@ -1020,7 +1053,7 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         }
     }
     ok = ok && (mg->wr = field_alloc(g)) && (mg->wz = field_alloc(g)) && (mg->wp = field_alloc(g)) &&
-         (mg->wq = field_alloc(g));
+         (mg->wq = field_alloc(g)) && (mg->wbest = field_alloc(g));
     struct coarse_direct *cs = &mg->cs;
     const size_t csize = mg->lev[mg->nlev - 1].g.size;
     if (ok) {
@@ -1238,7 +1271,7 @@ static void stats_step(struct multigrid_stats *st, double rel)
 
 static int stats_end(struct multigrid_stats *st, double rtol, struct multigrid_stats *out)
 {
-    st->converged = st->rel <= rtol;
+    st->converged = st->rel <= rtol || st->roundoff;
     st->rate = st->cycles > 0 && st->rel > 0.0 ? pow(st->rel, 1.0 / st->cycles) : 0.0;
     if (!isfinite(st->rel))
         st->rate = INFINITY; /* diverged */
@@ -1365,12 +1398,25 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     double *r = mg->wr, *z = mg->wz, *p = mg->wp, *q = mg->wq;
     fine_residual(mg, phi, rhs, shift, r);
     st.rel = sqrt(dot(mg, l0, r, r)) / res0;
+    if (st.rel > rtol && st.rel < 1e3 * rtol) {
+        /* close to the tolerance from a previous iterate (a restart): within
+         * what the residual's own rounding allows, CG can do no better */
+#pragma omp parallel if (l0->par)
+        magnitude(l0, phi, rhs, shift, q);
+        const double floor = ROUNDOFF_TERMS * DBL_EPSILON * sqrt(dot(mg, l0, q, q));
+        if (st.rel * res0 <= floor) {
+            finish_phi(mg, phi);
+            st.roundoff = 1;
+            return stats_end(&st, rtol, stats);
+        }
+    }
     if (st.rel > rtol) {
         multigrid_cycle(mg, r, z);
 #pragma omp parallel if (l0->par)
         cg_direction(l0, 0.0, p, z);
         double rz = dot(mg, l0, r, z);
         double best = st.rel;
+        memcpy(mg->wbest, phi, l0->g.size * sizeof(double));
         /* L and the cycle are both negative definite on the live cells: CG's
          * iterates are those of the positive problem (-L, -V) */
         while (st.cycles < max_iter && rz != 0.0) {
@@ -1389,12 +1435,16 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
              * by orders of magnitude: measured there, 1.5e-12 after 10
              * iterations, 1e-5 twenty later, and the cap of 500 with
              * nothing gained, four restarts in a row.  Stopped where it has
-             * grown well above its best, the caller restarts from this
-             * iterate with a fresh residual. */
-            if (st.rel < best)
+             * grown well above its best, it returns the iterate of its best
+             * residual, from which the caller restarts with a fresh one. */
+            if (st.rel < best) {
                 best = st.rel;
-            else if (st.rel > PCG_GROWTH * best)
+                memcpy(mg->wbest, phi, l0->g.size * sizeof(double));
+            } else if (st.rel > PCG_GROWTH * best) {
+                memcpy(phi, mg->wbest, l0->g.size * sizeof(double));
+                st.rel = best;
                 break;
+            }
             multigrid_cycle(mg, r, z);
             const double rz_new = dot(mg, l0, r, z);
 #pragma omp parallel if (l0->par)
