@@ -9,7 +9,10 @@ usage: cylinder_granular.py MUFLOW OUTDIR [--pressures 5,10,20]
                             [--plot]
 
 F = rho phi g L_x / p_ext (L_x = 20 D, the seed's whole box; the case holds
-half of it) sets the gravity: physics.gravity = F p_ext / (rho phi L_x).
+half of it) sets the gravity: physics.gravity = F p_ext / (rho phi L_x),
+which scene cylinder computes from cylinder.forcing (its own continuation,
+cylinder.forcing_end, does one pressure in one run; this driver adds the
+scaled starts across pressures and keeps each solve's folder).
 The first pressure's first F starts from rest with the case's continuation
 in lambda (1e-2 down to 1e-6), or from --start RUNDIR (a steady state of
 the case at another F or pressure); every later F of that pressure starts
@@ -92,7 +95,7 @@ def solve(muflow, out, p, F, nx, nz, start):
     .h5 state, None for rest with the case's continuation in lambda."""
     g = gravity(p, F)
     args = [muflow, CASE, f"domain.nx={nx}", f"domain.nz={nz}",
-            f"physics.confining_pressure={p}", f"physics.gravity={g!r}",
+            f"physics.confining_pressure={p}", f"cylinder.forcing={F!r}",
             f"output.dir={out}", "solver.progress_interval=50",
             f"solver.max_steps={MAX_STEPS}"]
     if start:

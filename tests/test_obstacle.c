@@ -19,7 +19,9 @@
  *   tolerance in its last step (quadratic: without the viscosity's
  *   dependence on p the march ended linearly, the residual halved every
  *   4-5 steps), and the two estimates of the drag agree as measured. */
+#define _DEFAULT_SOURCE /* mkstemp, fdopen */
 #include <math.h>
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include "app/run.h"
@@ -247,15 +249,28 @@ static void run_checked(const char *file, int n, char **ov, struct run_result *r
 static void test_symmetric_half(void **state)
 {
     (void)state;
-    char *whole[] = {"rheology.law=newtonian", "rheology.viscosity=1", "solver.continuation=1",
-                     "domain.lx=8", "domain.nx=32", "domain.lz=6", "domain.nz=24",
-                     "boundary.xlo=wall", "obstacle.shapes=circle 4 3 0.5", "output.quiet=on"};
-    char *half[] = {"rheology.law=newtonian", "rheology.viscosity=1", "solver.continuation=1",
-                    "domain.lx=4", "domain.nx=16", "domain.lz=6", "domain.nz=24",
-                    "boundary.xlo=slip", "obstacle.shapes=circle 0 3 0.5", "output.quiet=on"};
+    /* cases/cylinder.ini's solver and box, Newtonian, as a case of scene none */
+    static const char text[] =
+        "[case]\nscene = none\n[domain]\nlx = 8\nnx = 32\nlz = 6\nnz = 24\nly = 0.25\n"
+        "ny = 1\n[boundary]\nxlo = wall\nxhi = wall\nylo = periodic\nyhi = periodic\n"
+        "zlo = periodic\nzhi = periodic\n[obstacle]\nshapes = circle 4 3 0.5\nplane = xz\n"
+        "[physics]\ngravity = 0.5\ndensity = 1\nadvection = off\n[rheology]\n"
+        "law = newtonian\nviscosity = 1\n[solver]\nmode = steady\ncoupled = on\n"
+        "tolerance = 1e-8\nmax_steps = 1000\ndt = 1\ndt_max = 1e12\nnewton = on\n";
+    char path[] = "/tmp/muflow_half_XXXXXX";
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+    char *whole[] = {"output.quiet=on"};
+    char *half[] = {"domain.lx=4", "domain.nx=16", "boundary.xlo=slip",
+                    "obstacle.shapes=circle 0 3 0.5", "output.quiet=on"};
     struct run_result rw, rh;
-    run_checked(CASES_DIR "cylinder.ini", 10, whole, &rw);
-    run_checked(CASES_DIR "cylinder.ini", 10, half, &rh);
+    run_checked(path, 1, whole, &rw);
+    run_checked(path, 5, half, &rh);
+    remove(path);
     assert_int_equal(rw.status, STATUS_STEADY);
     assert_int_equal(rh.status, STATUS_STEADY);
     double fw = run_result_value(&rw, "lift_force"), fh = run_result_value(&rh, "lift_force");
@@ -297,21 +312,23 @@ static void test_granular_cylinder_newton(void **state)
 }
 
 /* One steady solve of cases/cylinder.ini at D/2, lambda 1e-2, from rest, at
- * pressure p and forcing F (gravity F p / (rho phi L_x), L_x = 20):
- * returns the drag along the flow (control volume, positive) and sets the
- * mean velocity. */
+ * pressure p and forcing F (the scene sets the gravity F p / (rho phi L_x),
+ * L_x = 20): returns the drag along the flow (control volume, positive)
+ * and sets the mean velocity. */
 static double granular_drag(double p, double F, double *u_mean)
 {
-    char pressure[64], gravity[64];
+    char pressure[64], forcing[64];
     snprintf(pressure, sizeof pressure, "physics.confining_pressure=%.17g", p);
-    snprintf(gravity, sizeof gravity, "physics.gravity=%.17g", F * p / 20.0);
+    snprintf(forcing, sizeof forcing, "cylinder.forcing=%.17g", F);
     char *ov[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
-                  "domain.nz=60", pressure, gravity, "output.quiet=on"};
+                  "domain.nz=60", pressure, forcing, "output.quiet=on"};
     struct run_result r;
     run_checked(CASES_DIR "cylinder.ini", 7, ov, &r);
     assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(fabs(run_result_value(&r, "forcing") / F - 1.0) < 1e-12);
     *u_mean = run_result_value(&r, "mean_velocity");
     double fd = -run_result_value(&r, "lift_force_control_volume");
+    assert_true(run_result_value(&r, "drag") == fd);
     print_message("granular cylinder D/2, lambda 1e-2, p_ext %g, F %g: %ld steps, U %.6g, "
                   "F_D %.6g, F_D / p_ext %.6g\n", p, F, r.steps, *u_mean, fd, fd / p);
     return fd;
@@ -345,6 +362,70 @@ static void test_granular_cylinder_collapse_plateau(void **state)
     assert_true(slope > 0.0 && slope < 0.15);
 }
 
+/* The scene's continuation in F (cylinder.forcing_end), D/2, lambda 1e-2:
+ * - from F = 1 to 1.3 in steps of 0.15 (three solves, each from the secant
+ *   of the states before it): it ends steady at F = 1.3 on the state a
+ *   solve from rest at 1.3 reaches, the drag equal to the steady
+ *   tolerance's share (measured: 84.45860221 both ways, 1e-9 apart);
+ * - a step that fails is halved and the continuation ends on the last
+ *   steady state: with solver.max_steps = 20 the solve at F = 1 from rest
+ *   (19 steps) is steady, those at 1.3 and at 1.15 (continued: 39 steps)
+ *   are not, and 0.075 is below cylinder.min_step = 0.1, so the run ends
+ *   steady at F = 1 with that solve's drag, forcing_failed = 1.15. */
+static void test_granular_cylinder_continuation(void **state)
+{
+    (void)state;
+    char *cont[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
+                    "domain.nz=60", "cylinder.forcing_end=1.3", "cylinder.forcing_step=0.15",
+                    "output.quiet=on"};
+    struct run_result r;
+    run_checked(CASES_DIR "cylinder.ini", 7, cont, &r);
+    double u;
+    double fresh = granular_drag(10.0, 1.3, &u);
+    double fd = run_result_value(&r, "drag");
+    print_message("granular cylinder D/2, continuation F = 1 to 1.3: %s, %g solves, %g steps, "
+                  "F_D %.10g (from rest at 1.3: %.10g); %s\n",
+                  run_status_name(r.status), run_result_value(&r, "solves"),
+                  run_result_value(&r, "steps_total"), fd, fresh, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(run_result_value(&r, "solves") == 3.0);
+    assert_true(fabs(run_result_value(&r, "forcing") - 1.3) < 1e-12);
+    assert_true(fabs(fd / fresh - 1.0) < 1e-6);
+    assert_true(fabs(run_result_value(&r, "mean_velocity") / u - 1.0) < 1e-6);
+
+    char *fail[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
+                    "domain.nz=60", "cylinder.forcing_end=1.3", "cylinder.forcing_step=0.3",
+                    "cylinder.min_step=0.1", "solver.max_steps=20", "output.quiet=on"};
+    run_checked(CASES_DIR "cylinder.ini", 9, fail, &r);
+    double first = granular_drag(10.0, 1.0, &u);
+    print_message("granular cylinder D/2, a failing continuation: %s at F = %g, F_D %.10g (the "
+                  "solve at F = 1: %.10g); %s\n",
+                  run_status_name(r.status), run_result_value(&r, "forcing"),
+                  run_result_value(&r, "drag"), first, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(run_result_value(&r, "forcing") == 1.0);
+    assert_true(fabs(run_result_value(&r, "forcing_failed") - 1.15) < 1e-12);
+    assert_true(run_result_value(&r, "solves") == 3.0);
+    assert_true(fabs(run_result_value(&r, "drag") / first - 1.0) < 1e-12);
+    assert_non_null(strstr(r.message, "no steady state at F = 1.15"));
+}
+
+/* Bad input of the scene names its key. */
+static void test_cylinder_scene_keys(void **state)
+{
+    (void)state;
+    const char *const bad[][2] = {
+        {"cylinder.forcing=0", "cylinder.forcing"},
+        {"cylinder.forcing_step=-1", "cylinder.forcing_step"},
+        {"cylinder.min_step=0", "cylinder.min_step"},
+        {"physics.confining_pressure=0", "physics.confining_pressure"},
+        {"obstacle.shapes=rectangle -1 14 1 16", "obstacle.shapes"},
+        {"rheology.law=newtonian", "rheology.law"},
+        {"physics.tilt=0.1", "physics.tilt"},
+    };
+    test_bad_overrides(CASES_DIR "cylinder.ini", bad, sizeof bad / sizeof bad[0]);
+}
+
 void group_obstacle(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -356,6 +437,8 @@ void group_obstacle(struct test_tally *t)
         cmocka_unit_test(test_symmetric_half),
         cmocka_unit_test(test_granular_cylinder_newton),
         cmocka_unit_test(test_granular_cylinder_collapse_plateau),
+        cmocka_unit_test(test_granular_cylinder_continuation),
+        cmocka_unit_test(test_cylinder_scene_keys),
     };
     RUN_GROUP(t, "obstacle", tests);
 }

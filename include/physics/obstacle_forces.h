@@ -43,6 +43,11 @@ struct obstacle_forces {
  * (a body thinner than a few cells). */
 int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
 
+/* The mean over the box of the velocity component the body force drives
+ * (the body's own faces hold 0), signed along the force: a flow rate per
+ * unit area across the flow.  NaN without a force along that component. */
+double obstacle_mean_velocity(const struct march_state *st);
+
 /* The summary lines (drag_coefficient, lift_coefficient, pressure_drop, ...). */
 void obstacle_results(const struct march_state *st, struct run_result *res);
 

@@ -46,6 +46,8 @@ struct scene_drive {
     march_observer_fn observe;
     void *observe_ctx;
     int verbose;                   /* progress lines wanted */
+    const char *dir;               /* the output folder, NULL when the run writes
+                                      no files (a driver's own record goes there) */
     union {                        /* the driver's own results, for results() */
         max_align_t align;
         unsigned char bytes[512];

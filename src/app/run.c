@@ -300,7 +300,8 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     }
     ctx.unconverged = st.pressure_unconverged; /* a restart's were reported before */
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
-                                .verbose = opt->write_output && !work.quiet};
+                                .verbose = opt->write_output && !work.quiet,
+                                .dir = opt->write_output ? work.output_dir : NULL};
     if (sc->drive)
         sc->drive(&drive);
     else

@@ -16,7 +16,8 @@
     X(bagnold2)            \
     X(bedload)             \
     X(collapse)            \
-    X(duct)
+    X(duct)                \
+    X(cylinder)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

@@ -1,0 +1,450 @@
+/* Scene "cylinder": granular flow past a cylinder (seeds/000 sec. 4.2,
+ * CASES.md scene 5; cases/cylinder.ini), driven by the dimensionless body
+ * force F = rho phi g L_x / p_ext and continued in F over steady solves.
+ *
+ * The case holds the obstacle (one circle in the x-z plane), the confining
+ * pressure p_ext (physics.confining_pressure) and the bulk density rho phi
+ * (physics.density); the scene sets the gravity from F before each solve
+ * (the summary writes back the last one), with L_x the whole box across:
+ * twice domain.lx when x = 0 is a slip face through the circle's centre (the
+ * half box by symmetry), else lx.  Each F after the first starts from the
+ * secant through the two steady states before it (the first continued one:
+ * from the last), keeps the final lambda, and a failed F is retried at half
+ * the step down to cylinder.min_step; below it the continuation ends on the
+ * last steady state.  cylinder.csv has a row per solve. */
+#include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "config/case.h"
+#include "io/output.h"
+#include "march/step.h"
+#include "physics/obstacle.h"
+#include "physics/obstacle_forces.h"
+#include "scenes/scene.h"
+#include "scene_common.h"
+
+struct cylinder_params {
+    double forcing;      /* F of the first solve */
+    double forcing_end;  /* the last F (<= forcing: one solve) */
+    double forcing_step; /* the continuation's step in F */
+    double min_step;     /* a failed step is halved down to this */
+};
+
+#define T struct cylinder_params
+static const struct key cylinder_keys[] = {
+    KEY_DBL(T, "cylinder", "forcing", forcing,
+            "F = rho phi g L_x / p_ext of the first steady solve (L_x the whole box across); "
+            "sets physics.gravity",
+            KEY_GT0),
+    KEY_DBL(T, "cylinder", "forcing_end", forcing_end,
+            "continue in F up to this over steady solves (0, or not above cylinder.forcing: "
+            "one solve)",
+            KEY_GE0),
+    KEY_DBL(T, "cylinder", "forcing_step", forcing_step, "the continuation's step in F",
+            KEY_GT0),
+    KEY_DBL(T, "cylinder", "min_step", min_step,
+            "a failed F is retried at half the step down to this; below it the continuation "
+            "ends on the last steady state",
+            KEY_GT0),
+};
+#undef T
+
+static void cylinder_defaults(void *block)
+{
+    struct cylinder_params *c = block;
+    c->forcing = 1.0;
+    c->forcing_end = 0.0;
+    c->forcing_step = 0.05;
+    c->min_step = 0.0125;
+}
+
+SCENE_PARAMS(cylinder_block, "cylinder", struct cylinder_params, cylinder_keys, cylinder_defaults)
+
+/* ---- geometry and forcing ------------------------------------------------- */
+
+/* The circle's diameter D and the whole box across L_x (twice lx for the
+ * half box: a slip face at x = 0 through the centre); both NaN when the
+ * case has not one circle in the x-z plane. */
+struct box_geometry {
+    double diameter, width;
+};
+
+static struct box_geometry geometry(const struct muflow_case *cs)
+{
+    struct box_geometry b = {NAN, NAN};
+    struct shape_set set;
+    obstacle_shapes(cs, &set);
+    if (set.n != 1 || set.s[0].kind != SHAPE_CIRCLE || set.invert || set.plane_a != 0 ||
+        set.plane_b != 2)
+        return b;
+    double lx = cs->len[0];
+    int half = cs->bc.face[0][0] == BC_SLIP && fabs(set.s[0].v[0]) <= 1e-9 * lx;
+    b.diameter = 2.0 * set.s[0].v[2];
+    b.width = half ? 2.0 * lx : lx;
+    return b;
+}
+
+static double gravity_of(const struct muflow_case *cs, double forcing)
+{
+    return forcing * cs->confining_pressure / (cs->density * geometry(cs).width);
+}
+
+static double forcing_of(const struct muflow_case *cs)
+{
+    return cs->density * cs->gravity * geometry(cs).width / cs->confining_pressure;
+}
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    if (!isfinite(geometry(c).width)) {
+        snprintf(msg, msglen, "case.scene = cylinder needs obstacle.shapes = one circle in the "
+                              "x-z plane (obstacle.plane = xz, obstacle.invert = off)");
+        return 1;
+    }
+    if (c->rheo.law != LAW_MUI) {
+        snprintf(msg, msglen, "case.scene = cylinder needs rheology.law = mui");
+        return 1;
+    }
+    if (c->mode != MODE_STEADY) {
+        snprintf(msg, msglen, "case.scene = cylinder needs solver.mode = steady");
+        return 1;
+    }
+    if (!(c->confining_pressure > 0.0)) {
+        snprintf(msg, msglen, "physics.confining_pressure = %g: case.scene = cylinder needs a "
+                              "confining pressure p_ext > 0 (F = rho phi g L_x / p_ext)",
+                 c->confining_pressure);
+        return 1;
+    }
+    if (c->tilt != 0.0) {
+        snprintf(msg, msglen, "physics.tilt = %g: case.scene = cylinder drives the flow along -z "
+                              "(tilt 0)",
+                 c->tilt);
+        return 1;
+    }
+    if (c->bc.face[2][0] != BC_PERIODIC) {
+        snprintf(msg, msglen, "case.scene = cylinder needs boundary.zlo = zhi = periodic (the "
+                              "flow along z)");
+        return 1;
+    }
+    const struct cylinder_params *p = params(c);
+    if (p->forcing_end > p->forcing && c->checkpoint_every > 0) {
+        snprintf(msg, msglen, "cylinder.forcing_end > cylinder.forcing (a continuation over "
+                              "steady solves) needs output.checkpoint_every = 0");
+        return 1;
+    }
+    return 0;
+}
+
+static const char *not_restartable(const struct muflow_case *cs)
+{
+    const struct cylinder_params *p = params(cs);
+    return p->forcing_end > p->forcing
+               ? "a continuation in F (cylinder.forcing_end > cylinder.forcing) cannot continue "
+                 "from a checkpoint: start a new one from the last steady state "
+                 "(solver.initial_state)"
+               : NULL;
+}
+
+/* ---- one steady state's numbers ------------------------------------------- */
+
+struct cylinder_values {
+    double U, Fr, Fr_eff, drag, drag_surface, cd;
+};
+
+static void values_of(const struct march_state *st, struct cylinder_values *v)
+{
+    const struct muflow_case *cs = st->cs;
+    double d = geometry(cs).diameter;
+    struct obstacle_forces f;
+    obstacle_forces(st, &f);
+    v->U = obstacle_mean_velocity(st);
+    v->Fr = v->U / sqrt(cs->gravity * d);
+    v->Fr_eff = v->U / sqrt(cs->gravity * (d + cs->rheo.grain_diameter));
+    v->drag = -f.control_volume[1]; /* along the flow, -z */
+    v->drag_surface = -f.surface[1];
+    v->cd = v->U != 0.0 ? v->drag / (0.5 * cs->density * v->U * v->U) : NAN;
+}
+
+/* ---- the continuation ----------------------------------------------------- */
+
+/* A copy of the checkpointed fields (what a continued solve starts from). */
+struct snapshot {
+    int n;
+    double *a[3 * FIELDS_MAX];
+};
+
+static int snapshot_take(struct snapshot *s, const struct march_state *st)
+{
+    const struct field_registry *r = &st->fields;
+    size_t bytes = st->g.size * sizeof(double);
+    int k = 0;
+    for (int i = 0; i < r->count; i++) {
+        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
+            continue;
+        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
+            if (!s->a[k] && !(s->a[k] = malloc(bytes)))
+                return -1;
+            memcpy(s->a[k], r->e[i].v[c], bytes);
+        }
+    }
+    s->n = k;
+    return 0;
+}
+
+/* st's checkpointed fields = s + w (s - older) (w = 0 or older NULL: s). */
+static void snapshot_put(const struct snapshot *s, const struct snapshot *older, double w,
+                         struct march_state *st)
+{
+    const struct field_registry *r = &st->fields;
+    int k = 0;
+    for (int i = 0; i < r->count; i++) {
+        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
+            continue;
+        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
+            double *v = r->e[i].v[c];
+            if (older && w != 0.0)
+                for (size_t p = 0; p < st->g.size; p++)
+                    v[p] = s->a[k][p] + w * (s->a[k][p] - older->a[k][p]);
+            else
+                memcpy(v, s->a[k], st->g.size * sizeof(double));
+        }
+    }
+}
+
+static void snapshot_free(struct snapshot *s)
+{
+    for (int k = 0; k < 3 * FIELDS_MAX; k++)
+        free(s->a[k]);
+    memset(s, 0, sizeof *s);
+}
+
+#define MAX_ROWS 200
+
+struct row {
+    double F, g, wall;
+    enum run_status status;
+    long steps;
+    struct cylinder_values v;
+};
+
+/* What results() needs of the drive (in scene_drive.data). */
+struct cylinder_run {
+    int continued;        /* forcing_end > forcing */
+    int solves;
+    long steps;
+    double failed_F;      /* the F the continuation ended at, or NaN */
+};
+
+static int write_rows(const char *dir, const struct muflow_case *cs, const struct row *rows,
+                      int n)
+{
+    struct output_file f;
+    char err[256];
+    if (output_open(&f, dir, "cylinder.csv", err, sizeof err) != 0)
+        return -1;
+    double p = cs->confining_pressure;
+    fprintf(f.f, "p_ext,F,g,status,steps,wall_s,Q,U,Fr,Fr_eff,F_D,F_D_surface,F_D_over_p,C_D,"
+                 "C_D_over_p\n");
+    double width = geometry(cs).width;
+    for (int i = 0; i < n; i++) {
+        const struct row *r = &rows[i];
+        fprintf(f.f, "%.10g,%.10g,%.10g,%s,%ld,%.4g", p, r->F, r->g,
+                run_status_name(r->status), r->steps, r->wall);
+        if (r->status == STATUS_STEADY)
+            fprintf(f.f, ",%.10g,%.10g,%.8g,%.8g,%.10g,%.10g,%.10g,%.8g,%.8g\n",
+                    r->v.U * width, r->v.U, r->v.Fr, r->v.Fr_eff, r->v.drag, r->v.drag_surface,
+                    r->v.drag / p, r->v.cd, r->v.cd / p);
+        else
+            fprintf(f.f, ",,,,,,,,,\n");
+    }
+    return output_commit(&f, err, sizeof err);
+}
+
+/* One steady solve at F from the state st holds (fresh: the case's start,
+ * with its continuation in lambda; else a continued solve, measured afresh
+ * like a run from solver.initial_state). */
+static enum run_status solve(struct scene_drive *d, double F, int fresh, struct row *row)
+{
+    struct march_state *st = d->st;
+    d->cs->gravity = gravity_of(d->cs, F);
+    char err[256];
+    if (march_reforce(st, err, sizeof err) != 0) {
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message, "F = %g: %.200s", F, err);
+        return st->status;
+    }
+    if (!fresh) {
+        st->residual0 = 0.0; /* the pseudo-time scale of a new start */
+        st->stage_residual0 = 0.0;
+        st->picard_stalled = 0;
+    }
+    enum run_status s = march_run(st, d->observe, d->observe_ctx);
+    memset(row, 0, sizeof *row);
+    row->F = F;
+    row->g = d->cs->gravity;
+    row->status = s;
+    row->steps = st->step;
+    row->wall = st->wall_seconds;
+    if (s == STATUS_STEADY)
+        values_of(st, &row->v);
+    if (d->verbose) {
+        printf("cylinder: F %-9.6g %s after %ld steps", F, run_status_name(s), st->step);
+        if (s == STATUS_STEADY)
+            printf("  U %.5g  Fr %.4g  F_D %.5g  F_D / p_ext %.5g", row->v.U, row->v.Fr,
+                   row->v.drag, row->v.drag / d->cs->confining_pressure);
+        printf("  [%.1f s]\n", st->wall_seconds);
+        fflush(stdout);
+    }
+    return s;
+}
+
+static int drive(struct scene_drive *d)
+{
+    struct march_state *st = d->st;
+    struct muflow_case *cs = d->cs;
+    const struct cylinder_params *p = params(cs);
+    struct cylinder_run *run = (struct cylinder_run *)d->data.bytes;
+    _Static_assert(sizeof(struct cylinder_run) <= sizeof d->data.bytes, "drive data");
+    memset(run, 0, sizeof *run);
+    run->failed_F = NAN;
+    run->continued = p->forcing_end > p->forcing;
+    struct row *rows = malloc(MAX_ROWS * sizeof *rows);
+    if (!rows) {
+        st->status = STATUS_STOPPED;
+        snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
+        return 0;
+    }
+    int n = 0;
+    double t0 = omp_get_wtime();
+    enum run_status s = solve(d, p->forcing, 1, &rows[n++]);
+    run->solves = 1;
+    run->steps = st->step;
+    if (d->dir)
+        write_rows(d->dir, cs, rows, n);
+    struct snapshot last = {0}, older = {0};
+    if (!run->continued || s != STATUS_STEADY) {
+        st->wall_seconds = omp_get_wtime() - t0;
+        free(rows);
+        return 0;
+    }
+    if (snapshot_take(&last, st) != 0) {
+        st->status = STATUS_STOPPED;
+        snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
+        free(rows);
+        return 0;
+    }
+    long last_steps = st->step;
+    double F_last = p->forcing, F_older = NAN, step = p->forcing_step;
+    const double eps = 1e-9 * p->forcing_end;
+    while (F_last < p->forcing_end - eps && n < MAX_ROWS) {
+        double F = fmin(F_last + step, p->forcing_end);
+        /* the secant through the last two steady states, at most one of
+         * their steps ahead */
+        double w = isfinite(F_older) ? fmin(1.0, (F - F_last) / (F_last - F_older)) : 0.0;
+        snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, st);
+        s = solve(d, F, 0, &rows[n++]);
+        run->solves++;
+        run->steps += st->step;
+        if (d->dir)
+            write_rows(d->dir, cs, rows, n);
+        if (s == STATUS_STOPPED) /* a signal or a failed output: the run says which */
+            break;
+        if (s == STATUS_STEADY) {
+            struct snapshot t = older;
+            older = last;
+            last = t;
+            if (snapshot_take(&last, st) != 0) {
+                st->status = STATUS_STOPPED;
+                snprintf(st->message, sizeof st->message,
+                         "cylinder: out of memory for the continuation");
+                break;
+            }
+            F_older = F_last;
+            F_last = F;
+            last_steps = st->step;
+            continue;
+        }
+        /* no steady state at F: back to the last one, a shorter step */
+        if (step * 0.5 >= p->min_step * (1.0 - 1e-9)) {
+            step *= 0.5;
+            continue;
+        }
+        run->failed_F = F;
+        break;
+    }
+    if (s != STATUS_STOPPED && s != STATUS_STEADY) {
+        /* the continuation ends on its last steady state */
+        snapshot_put(&last, NULL, 0.0, st);
+        cs->gravity = gravity_of(cs, F_last);
+        char err[256];
+        march_reforce(st, err, sizeof err);
+        step_evaluate(st);
+        st->step = last_steps; /* the summary's steps: the solve of this state */
+        st->status = STATUS_STEADY;
+    }
+    if (st->status == STATUS_STEADY) {
+        if (isfinite(run->failed_F))
+            snprintf(st->message, sizeof st->message,
+                     "steady at F = %.6g, the continuation's end: no steady state at F = %.6g "
+                     "within cylinder.min_step = %g of it (the limit of steady flow, or of the "
+                     "march)",
+                     F_last, run->failed_F, p->min_step);
+        else
+            snprintf(st->message, sizeof st->message,
+                     "steady at F = %.6g after %d steady solves from F = %.6g", F_last,
+                     run->solves, p->forcing);
+    }
+    st->wall_seconds = omp_get_wtime() - t0; /* the whole continuation */
+    snapshot_free(&last);
+    snapshot_free(&older);
+    free(rows);
+    return 0;
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct cylinder_run *run = (const struct cylinder_run *)d->data.bytes;
+    double F = forcing_of(cs), width = geometry(cs).width;
+    run_result_add(res, "forcing", "%.10g", F);
+    if (run->continued) {
+        run_result_add(res, "solves", "%d", run->solves);
+        run_result_add(res, "steps_total", "%ld", run->steps);
+        if (isfinite(run->failed_F))
+            run_result_add(res, "forcing_failed", "%.10g", run->failed_F);
+    }
+    if (st->status != STATUS_STEADY)
+        return;
+    struct cylinder_values v;
+    values_of(st, &v);
+    double p = cs->confining_pressure;
+    run_result_add(res, "flow_rate", "%.10g", v.U * width);
+    run_result_add(res, "froude", "%.10g", v.Fr);
+    run_result_add(res, "froude_effective", "%.10g", v.Fr_eff);
+    run_result_add(res, "drag", "%.10g", v.drag);
+    run_result_add(res, "drag_surface", "%.10g", v.drag_surface);
+    run_result_add(res, "drag_over_pressure", "%.10g", v.drag / p);
+    run_result_add(res, "drag_coefficient_mean_velocity", "%.10g", v.cd);
+    snprintf(res->scene_line, sizeof res->scene_line,
+             "F %.6g: U %.5g, Fr %.4g, F_D %.5g (control volume; surface %.5g), F_D / p_ext "
+             "%.5g, C_D %.4g",
+             F, v.U, v.Fr, v.drag, v.drag_surface, v.drag / p, v.cd);
+}
+
+static const char *const cylinder_files[] = {"cylinder.csv", NULL};
+
+const struct scene scene_cylinder = {
+    .name = "cylinder",
+    .title = "granular flow past a cylinder driven by F = rho phi g L_x / p_ext, continued in F",
+    .keys = &cylinder_block,
+    .check = check,
+    .profile_axis = -1,
+    .profile_component = -1,
+    .drive = drive,
+    .not_restartable = not_restartable,
+    .results = results,
+    .files = cylinder_files,
+};
