@@ -339,11 +339,11 @@ static double granular_drag(double p, double F, double *u_mean)
  * 18-40 steps each):
  * - the drag is linear in the confining pressure: F_D / p_ext at p_ext 10
  *   and 20 for one F.  mu(I) has no stress scale of its own, so only the
- *   regularisation parts them: measured 0.60 % apart at F = 1 and 0.17 % at
+ *   regularisation parts them: measured 0.60 % apart at F = 1 and 0.06 % at
  *   F = 1.3 (2e-5 at D/4); asserted within 2 %;
  * - the drag is nearly independent of the velocity (C_D ~ U^-2, a plateau
  *   of F_D as Fr grows): from F = 1 to 1.3 at p_ext 10 the mean velocity
- *   grows 46-fold and F_D by 31.5 %, d ln F_D / d ln U = 0.072 (0.068 at
+ *   grows 46-fold and F_D by 32.3 %, d ln F_D / d ln U = 0.073 (0.068 at
  *   D/4, 0.05 at D/4 and lambda 1e-6 from F = 1 to 1.15; a Newtonian drag
  *   would give 1); asserted: U grows more than 10-fold and the slope is
  *   below 0.15. */
