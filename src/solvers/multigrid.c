@@ -308,6 +308,21 @@ static double live_norm2(struct multigrid *mg, const struct level *lv, const dou
 
 /* ---- stencil kernels ----------------------------------------------------------- */
 
+/* The six face weights w_f = a_f / h_d^2 of cell p (x low, x high, y low,
+ * y high, z low, z high) and their sum D, the diagonal of -L. */
+static inline __attribute__((always_inline)) double
+cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
+{
+    const ptrdiff_t sx = lv->g.stride[0], sy = lv->g.stride[1];
+    w[0] = lv->ih2[0] * lv->a[0][p];
+    w[1] = lv->ih2[0] * lv->a[0][p + sx];
+    w[2] = lv->ih2[1] * lv->a[1][p];
+    w[3] = lv->ih2[1] * lv->a[1][p + sy];
+    w[4] = lv->ih2[2] * lv->a[2][p];
+    w[5] = lv->ih2[2] * lv->a[2][p + 1];
+    return w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
+}
+
 /* One red-black half sweep of Gauss-Seidel: the cells with (i+j+k) % 2 == colour
  * solve their own row with the neighbours' current values (ghosts filled in
  * HALO_OPERATOR mode before the call).  Dead cells are set to 0. */
@@ -316,8 +331,6 @@ static void smooth_colour(const struct level *lv, int colour)
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
-    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
-    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double *restrict b = lv->b;
     double *restrict x = lv->x;
 #pragma omp for collapse(2) schedule(static)
@@ -326,12 +339,10 @@ static void smooth_colour(const struct level *lv, int colour)
             const ptrdiff_t row = grid_idx(g, i, j, 0);
             for (int k = (i + j + colour) & 1; k < nz; k += 2) {
                 const ptrdiff_t p = row + k;
-                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
-                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
-                const double wzl = cz * az[p], wzh = cz * az[p + 1];
-                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
-                const double S = wxl * x[p - sx] + wxh * x[p + sx] + wyl * x[p - sy] +
-                                 wyh * x[p + sy] + wzl * x[p - 1] + wzh * x[p + 1];
+                double w[6];
+                const double D = cell_weights(lv, p, w);
+                const double S = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
+                                 w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1];
                 x[p] = D > 0.0 ? (S - b[p]) / D : 0.0;
             }
         }
@@ -345,8 +356,6 @@ static void residual(const struct level *lv, const double *x, const double *b, d
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
-    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
-    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
     const double sign = b ? -1.0 : 1.0;
 #pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
@@ -354,12 +363,10 @@ static void residual(const struct level *lv, const double *x, const double *b, d
             const ptrdiff_t row = grid_idx(g, i, j, 0);
             for (int k = 0; k < nz; k++) {
                 const ptrdiff_t p = row + k;
-                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
-                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
-                const double wzl = cz * az[p], wzh = cz * az[p + 1];
-                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
-                const double Lx = wxl * x[p - sx] + wxh * x[p + sx] + wyl * x[p - sy] +
-                                  wyh * x[p + sy] + wzl * x[p - 1] + wzh * x[p + 1] - D * x[p];
+                double w[6];
+                const double D = cell_weights(lv, p, w);
+                const double Lx = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
+                                  w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1] - D * x[p];
                 const double bb = b ? b[p] - shift : 0.0;
                 r[p] = D > 0.0 ? bb + sign * Lx : 0.0;
             }
@@ -375,21 +382,17 @@ static void magnitude(const struct level *lv, const double *x, const double *b, 
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
-    const double cx = lv->ih2[0], cy = lv->ih2[1], cz = lv->ih2[2];
-    const double *restrict ax = lv->a[0], *restrict ay = lv->a[1], *restrict az = lv->a[2];
 #pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
         for (int j = 0; j < ny; j++) {
             const ptrdiff_t row = grid_idx(g, i, j, 0);
             for (int k = 0; k < nz; k++) {
                 const ptrdiff_t p = row + k;
-                const double wxl = cx * ax[p], wxh = cx * ax[p + sx];
-                const double wyl = cy * ay[p], wyh = cy * ay[p + sy];
-                const double wzl = cz * az[p], wzh = cz * az[p + 1];
-                const double D = wxl + wxh + wyl + wyh + wzl + wzh;
-                const double A = wxl * fabs(x[p - sx]) + wxh * fabs(x[p + sx]) +
-                                 wyl * fabs(x[p - sy]) + wyh * fabs(x[p + sy]) +
-                                 wzl * fabs(x[p - 1]) + wzh * fabs(x[p + 1]) + D * fabs(x[p]);
+                double w[6];
+                const double D = cell_weights(lv, p, w);
+                const double A = w[0] * fabs(x[p - sx]) + w[1] * fabs(x[p + sx]) +
+                                 w[2] * fabs(x[p - sy]) + w[3] * fabs(x[p + sy]) +
+                                 w[4] * fabs(x[p - 1]) + w[5] * fabs(x[p + 1]) + D * fabs(x[p]);
                 m[p] = D > 0.0 ? fabs(b[p] - shift) + A : 0.0;
             }
         }
