@@ -220,7 +220,7 @@ static void snapshot_free(struct snapshot *s)
     memset(s, 0, sizeof *s);
 }
 
-#define MAX_ROWS 200
+#define MAX_ROWS 200 /* solves of one continuation, failed ones included */
 
 struct row {
     double F, g, wall;
@@ -237,13 +237,18 @@ struct cylinder_run {
     double failed_F;      /* the F the continuation ended at, or NaN */
 };
 
-static int write_rows(const char *dir, const struct muflow_case *cs, const struct row *rows,
-                      int n)
+/* cylinder.csv, replaced whole after every solve; a failure to write it is
+ * reported on stderr and the continuation goes on (its states are in
+ * memory, its record only in that file). */
+static void write_rows(const char *dir, const struct muflow_case *cs, const struct row *rows,
+                       int n)
 {
     struct output_file f;
     char err[256];
-    if (output_open(&f, dir, "cylinder.csv", err, sizeof err) != 0)
-        return -1;
+    if (output_open(&f, dir, "cylinder.csv", err, sizeof err) != 0) {
+        fprintf(stderr, "muflow: warning: %s\n", err);
+        return;
+    }
     double p = cs->confining_pressure;
     fprintf(f.f, "p_ext,F,g,status,steps,wall_s,Q,U,Fr,Fr_eff,F_D,F_D_surface,F_D_over_p,C_D,"
                  "C_D_over_p\n");
@@ -259,7 +264,8 @@ static int write_rows(const char *dir, const struct muflow_case *cs, const struc
         else
             fprintf(f.f, ",,,,,,,,,\n");
     }
-    return output_commit(&f, err, sizeof err);
+    if (output_commit(&f, err, sizeof err) != 0)
+        fprintf(stderr, "muflow: warning: %s\n", err);
 }
 
 /* One steady solve at F from the state st holds (fresh: the case's start,
@@ -391,9 +397,14 @@ static int drive(struct scene_drive *d)
                      "within cylinder.min_step = %g of it (the limit of steady flow, or of the "
                      "march)",
                      F_last, run->failed_F, p->min_step);
+        else if (F_last < p->forcing_end - eps)
+            snprintf(st->message, sizeof st->message,
+                     "steady at F = %.6g: the continuation stopped at its limit of %d solves "
+                     "short of cylinder.forcing_end = %g",
+                     F_last, MAX_ROWS, p->forcing_end);
         else
             snprintf(st->message, sizeof st->message,
-                     "steady at F = %.6g after %d steady solves from F = %.6g", F_last,
+                     "steady at F = %.6g after %d solves from F = %.6g", F_last,
                      run->solves, p->forcing);
     }
     st->wall_seconds = omp_get_wtime() - t0; /* the whole continuation */
