@@ -6,7 +6,7 @@ pressures.
 usage: cylinder_granular.py MUFLOW OUTDIR [--pressures 5,10,20]
                             [--forcing 1.0,1.05,1.1,1.2,1.3,1.4]
                             [--grid 40x120] [--start RUNDIR] [--min-step 0.0125]
-                            [--plot]
+                            [--plot] [--csv RUN/cylinder.csv,...]
 
 F = rho phi g L_x / p_ext (L_x = 20 D, the seed's whole box; the case holds
 half of it) sets the gravity: physics.gravity = F p_ext / (rho phi L_x),
@@ -138,7 +138,13 @@ def main():
                     help="keep the steady solves already in OUTDIR (same p, F, grid)")
     ap.add_argument("--no-solve", action="store_true", dest="no_solve",
                     help="solve nothing: the CSV and plots of the steady solves in OUTDIR")
+    ap.add_argument("--csv", default=None,
+                    help="solve nothing: plot the rows of scene cylinder's cylinder.csv files "
+                         "(comma-separated paths, one per pressure) into OUTDIR")
     a = ap.parse_args()
+    if a.csv:
+        plot_csv(a)
+        return
     nx, nz = (int(x) for x in a.grid.split("x"))
     pressures = [float(x) for x in a.pressures.split(",")]
     forcing = [float(x) for x in a.forcing.split(",")]
@@ -204,33 +210,54 @@ def main():
             f.write(",".join(f"{r[k]:.6g}" if isinstance(r.get(k), float) else str(r.get(k, ""))
                              for k in keys) + "\n")
     if a.plot:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
-        for p in pressures:
-            r = [x for x in rows if x["p_ext"] == p and x["status"] == "steady"]
-            ax[0].plot([x["Fr"] for x in r], [x["F_D_over_p"] for x in r], "o-",
-                       label=f"p_ext = {p:g}")
-            # C_D itself: at a fixed F, F_D ~ p_ext and U^2 ~ p_ext, so C_D (not
-            # C_D / p_ext) is what collapses here
-            ax[1].loglog([x["Fr_eff"] for x in r], [x["C_D"] for x in r], "o-",
-                         label=f"p_ext = {p:g}")
-        ax[0].set_xlabel("Fr = U / sqrt(g D)")
-        ax[0].set_ylabel("F_D / p_ext")
-        ax[1].set_xlabel("U / sqrt(g (D + d))")
-        ax[1].set_ylabel("C_D = F_D / (rho phi U^2 / 2)")
-        for x in ax:
-            x.legend()
-            x.grid(True, which="both", alpha=0.3)
-        fig.suptitle(f"granular cylinder, half box {nx} x {nz} (D/{nx // 10}), lambda 1e-6")
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.outdir, "cylinder_granular.png"), dpi=110)
+        plot(a, rows, pressures, nx, nz)
         if steady_base:  # figs. 13, 14, 16: the first pressure's fastest steady flow
             last = steady_base[max(steady_base)]
             subprocess.run([sys.executable, os.path.join(os.path.dirname(__file__),
                                                          "cylinder_maps.py"), last, "--out",
                             os.path.join(a.outdir, "cylinder_granular_maps.png")], check=True)
+
+
+def plot_csv(a):
+    """The two panels of fig. 12 from scene cylinder's cylinder.csv files."""
+    import csv
+    nx, nz = (int(x) for x in a.grid.split("x"))
+    rows = []
+    for path in a.csv.split(","):
+        with open(path) as f:
+            for r in csv.DictReader(f):
+                row = {k: (v if k == "status" else float(v) if v else float("nan"))
+                       for k, v in r.items()}
+                rows.append(row)
+    pressures = sorted({r["p_ext"] for r in rows})
+    os.makedirs(a.outdir, exist_ok=True)
+    plot(a, rows, pressures, nx, nz, note="")
+
+
+def plot(a, rows, pressures, nx, nz, note=", lambda 1e-6"):
+    """cylinder_granular.png: F_D / p_ext against Fr, C_D against Fr_eff."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    for p in pressures:
+        r = [x for x in rows if x["p_ext"] == p and x["status"] == "steady"]
+        ax[0].plot([x["Fr"] for x in r], [x["F_D_over_p"] for x in r], "o-",
+                   label=f"p_ext = {p:g}")
+        # C_D itself: at a fixed F, F_D ~ p_ext and U^2 ~ p_ext, so C_D (not
+        # C_D / p_ext) is what collapses here
+        ax[1].loglog([x["Fr_eff"] for x in r], [x["C_D"] for x in r], "o-",
+                     label=f"p_ext = {p:g}")
+    ax[0].set_xlabel("Fr = U / sqrt(g D)")
+    ax[0].set_ylabel("F_D / p_ext")
+    ax[1].set_xlabel("U / sqrt(g (D + d))")
+    ax[1].set_ylabel("C_D = F_D / (rho phi U^2 / 2)")
+    for x in ax:
+        x.legend()
+        x.grid(True, which="both", alpha=0.3)
+    fig.suptitle(f"granular cylinder, half box {nx} x {nz} (D/{nx // 10}){note}")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.outdir, "cylinder_granular.png"), dpi=110)
 
 
 if __name__ == "__main__":
