@@ -27,6 +27,7 @@ struct run_result {
     char message[256];
     int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
     int checkpointed;      /* a checkpoint of the final state was written */
+    int restartable;       /* --restart continues from it (else solver.initial_state only) */
     /* what the scene adds: summary lines in order, one terminal line, and
      * the note printed when the run was interrupted and cannot continue */
     int nvalues;

@@ -166,9 +166,12 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
                interrupt_name(r->signal), r->steps,
                r->checkpointed ? ", checkpoint written" : ", NO checkpoint written",
                cs->output_dir);
-    else if (r->checkpointed)
+    else if (r->checkpointed && r->restartable)
         printf("checkpoint: %s/%s (muflow --restart %s)\n", cs->output_dir, CHECKPOINT_NAME,
                cs->output_dir);
+    else if (r->checkpointed)
+        printf("final state: %s/%s (a new run starts from it with solver.initial_state)\n",
+               cs->output_dir, CHECKPOINT_NAME);
     fflush(stdout);
 }
 

@@ -256,13 +256,17 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
      * sane state of a divergence) continues from it with other keys, and one
      * that reached it can go on with a tighter tolerance or a later end time;
      * `muflow --restart out/bagnold` after `make run` is then a command that
-     * works (a steady run stopped at max_steps used to leave nothing) */
-    if (!ctx->checkpoint_failed && !ctx->no_checkpoint) {
+     * works (a steady run stopped at max_steps used to leave nothing).  A
+     * scene's run that cannot continue from it (a search, a continuation)
+     * still leaves its final state there: a new run starts from it with
+     * solver.initial_state */
+    if (!ctx->checkpoint_failed) {
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
             res->checkpointed = 1;
     }
+    res->restartable = !ctx->no_checkpoint;
     if (history_close(&ctx->hist, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)

@@ -424,7 +424,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     if (run->continued) {
         snprintf(res->stop_note, sizeof res->stop_note,
                  "during the continuation in F (not restartable): cylinder.csv has the solves "
-                 "so far; a new run can start at the last steady F (cylinder.forcing)");
+                 "so far, checkpoint.h5 the last state (solver.initial_state starts a new run "
+                 "from it)");
         run_result_add(res, "solves", "%d", run->solves);
         run_result_add(res, "steps_total", "%ld", run->steps);
         if (isfinite(run->failed_F))
