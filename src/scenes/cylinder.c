@@ -301,6 +301,8 @@ static enum run_status solve(struct scene_drive *d, double F, int fresh, struct 
             printf("  U %.5g  Fr %.4g  F_D %.5g  F_D / p_ext %.5g", row->v.U, row->v.Fr,
                    row->v.drag, row->v.drag / d->cs->confining_pressure);
         printf("  [%.1f s]\n", st->wall_seconds);
+        if (s != STATUS_STEADY)
+            printf("cylinder:   (%s)\n", st->message);
         fflush(stdout);
     }
     return s;
