@@ -354,6 +354,20 @@ bench-cylinder-granular: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_granular.py $(BUILD)/muflow $(BENCH_OUT) \
 	  --pressures $(GRANULAR_PRESSURES) --forcing $(GRANULAR_FORCING) --reuse --plot
 
+# The granular cylinder's continuation in F in one run (scene cylinder,
+# cases/cylinder.ini: D/4, p_ext = 10, lambda 1e-6; from rest at F = 1 to
+# CYLINDER_FORCING_END in steps of 0.05, 2 threads): the time of each steady
+# solve and of the whole continuation, $(BENCH_OUT)/cylinder_continuation/
+# cylinder.csv.  About 50 minutes to 1.2 (README).
+CYLINDER_FORCING_END ?= 1.2
+.PHONY: bench-cylinder-continuation
+bench-cylinder-continuation: deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 $(BUILD)/muflow cases/cylinder.ini \
+	  cylinder.forcing_end=$(CYLINDER_FORCING_END) cylinder.forcing_step=0.05 \
+	  output.fields=off output.dir=$(BENCH_OUT)/cylinder_continuation
+	@cat $(BENCH_OUT)/cylinder_continuation/cylinder.csv
+
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps
