@@ -72,6 +72,20 @@ void fields_restore(struct field_registry *r);
 /* Moves every FIELD_SAVED field to saved + alpha (current - saved): a
  * shorter step along the last one (the steady march's line search). */
 void fields_blend(struct field_registry *r, double alpha);
+/* A copy of the FIELD_CHECKPOINT fields, the state a run starts from (a
+ * continuation's steady states, march/fields.c). */
+struct field_snapshot {
+    int n;
+    double *a[3 * FIELDS_MAX];
+};
+/* Copies the fields into s (allocating its arrays the first time); 0, or
+ * -1 out of memory. */
+int fields_snapshot_take(struct field_snapshot *s, const struct field_registry *r);
+/* The fields = s + w (s - older): the secant step beyond s (older NULL or
+ * w = 0: s itself). */
+void fields_snapshot_put(const struct field_snapshot *s, const struct field_snapshot *older,
+                         double w, struct field_registry *r);
+void fields_snapshot_free(struct field_snapshot *s);
 void fields_free(struct field_registry *r);
 
 #endif

@@ -28,7 +28,7 @@ struct observer_ctx {
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
-    int no_checkpoint;     /* the scene's run cannot continue from a checkpoint */
+    int not_restartable;   /* the scene's run cannot continue from its checkpoint */
     char err[1024];
 };
 
@@ -266,7 +266,7 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
         else
             res->checkpointed = 1;
     }
-    res->restartable = !ctx->no_checkpoint;
+    res->restartable = !ctx->not_restartable;
     if (history_close(&ctx->hist, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)
@@ -295,7 +295,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         return RUN_ERR_SETUP;
     }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .no_checkpoint = !!why};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .not_restartable = !!why};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {

@@ -1,4 +1,5 @@
 /* The field registry (fields.h). */
+#include <stdlib.h>
 #include <string.h>
 #include "march/fields.h"
 
@@ -79,6 +80,48 @@ void fields_blend(struct field_registry *r, double alpha)
                 for (size_t p = 0; p < r->g->size; p++)
                     v[p] = s[p] + alpha * (v[p] - s[p]);
             }
+}
+
+int fields_snapshot_take(struct field_snapshot *s, const struct field_registry *r)
+{
+    size_t bytes = r->g->size * sizeof(double);
+    int k = 0;
+    for (int i = 0; i < r->count; i++) {
+        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
+            continue;
+        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
+            if (!s->a[k] && !(s->a[k] = malloc(bytes)))
+                return -1;
+            memcpy(s->a[k], r->e[i].v[c], bytes);
+        }
+    }
+    s->n = k;
+    return 0;
+}
+
+void fields_snapshot_put(const struct field_snapshot *s, const struct field_snapshot *older,
+                         double w, struct field_registry *r)
+{
+    int k = 0;
+    for (int i = 0; i < r->count; i++) {
+        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
+            continue;
+        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
+            double *v = r->e[i].v[c];
+            if (older && w != 0.0)
+                for (size_t p = 0; p < r->g->size; p++)
+                    v[p] = s->a[k][p] + w * (s->a[k][p] - older->a[k][p]);
+            else
+                memcpy(v, s->a[k], r->g->size * sizeof(double));
+        }
+    }
+}
+
+void fields_snapshot_free(struct field_snapshot *s)
+{
+    for (int k = 0; k < 3 * FIELDS_MAX; k++)
+        free(s->a[k]);
+    memset(s, 0, sizeof *s);
 }
 
 void fields_free(struct field_registry *r)

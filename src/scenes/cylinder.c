@@ -169,57 +169,6 @@ static void values_of(const struct march_state *st, struct cylinder_values *v)
 
 /* ---- the continuation ----------------------------------------------------- */
 
-/* A copy of the checkpointed fields (what a continued solve starts from). */
-struct snapshot {
-    int n;
-    double *a[3 * FIELDS_MAX];
-};
-
-static int snapshot_take(struct snapshot *s, const struct march_state *st)
-{
-    const struct field_registry *r = &st->fields;
-    size_t bytes = st->g.size * sizeof(double);
-    int k = 0;
-    for (int i = 0; i < r->count; i++) {
-        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
-            continue;
-        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
-            if (!s->a[k] && !(s->a[k] = malloc(bytes)))
-                return -1;
-            memcpy(s->a[k], r->e[i].v[c], bytes);
-        }
-    }
-    s->n = k;
-    return 0;
-}
-
-/* st's checkpointed fields = s + w (s - older) (w = 0 or older NULL: s). */
-static void snapshot_put(const struct snapshot *s, const struct snapshot *older, double w,
-                         struct march_state *st)
-{
-    const struct field_registry *r = &st->fields;
-    int k = 0;
-    for (int i = 0; i < r->count; i++) {
-        if (!(r->e[i].spec.flags & FIELD_CHECKPOINT))
-            continue;
-        for (int c = 0; c < field_arrays(r->e[i].spec.where); c++, k++) {
-            double *v = r->e[i].v[c];
-            if (older && w != 0.0)
-                for (size_t p = 0; p < st->g.size; p++)
-                    v[p] = s->a[k][p] + w * (s->a[k][p] - older->a[k][p]);
-            else
-                memcpy(v, s->a[k], st->g.size * sizeof(double));
-        }
-    }
-}
-
-static void snapshot_free(struct snapshot *s)
-{
-    for (int k = 0; k < 3 * FIELDS_MAX; k++)
-        free(s->a[k]);
-    memset(s, 0, sizeof *s);
-}
-
 #define MAX_ROWS 200 /* solves of one continuation, failed ones included */
 
 struct row {
@@ -331,13 +280,13 @@ static int drive(struct scene_drive *d)
     run->steps = st->step;
     if (d->dir)
         write_rows(d->dir, cs, rows, n);
-    struct snapshot last = {0}, older = {0};
+    struct field_snapshot last = {0}, older = {0};
     if (!run->continued || s != STATUS_STEADY) {
         st->wall_seconds = omp_get_wtime() - t0;
         free(rows);
         return 0;
     }
-    if (snapshot_take(&last, st) != 0) {
+    if (fields_snapshot_take(&last, &st->fields) != 0) {
         st->status = STATUS_STOPPED;
         snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
         free(rows);
@@ -351,7 +300,7 @@ static int drive(struct scene_drive *d)
         /* the secant through the last two steady states, at most one of
          * their steps ahead */
         double w = isfinite(F_older) ? fmin(1.0, (F - F_last) / (F_last - F_older)) : 0.0;
-        snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, st);
+        fields_snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, &st->fields);
         s = solve(d, F, 0, &rows[n++]);
         run->solves++;
         run->steps += st->step;
@@ -360,10 +309,10 @@ static int drive(struct scene_drive *d)
         if (s == STATUS_STOPPED) /* a signal or a failed output: the run says which */
             break;
         if (s == STATUS_STEADY) {
-            struct snapshot t = older;
+            struct field_snapshot t = older;
             older = last;
             last = t;
-            if (snapshot_take(&last, st) != 0) {
+            if (fields_snapshot_take(&last, &st->fields) != 0) {
                 st->status = STATUS_STOPPED;
                 snprintf(st->message, sizeof st->message,
                          "cylinder: out of memory for the continuation");
@@ -384,7 +333,7 @@ static int drive(struct scene_drive *d)
     }
     if (s != STATUS_STOPPED && s != STATUS_STEADY) {
         /* the continuation ends on its last steady state */
-        snapshot_put(&last, NULL, 0.0, st);
+        fields_snapshot_put(&last, NULL, 0.0, &st->fields);
         cs->gravity = gravity_of(cs, F_last);
         char err[256];
         march_reforce(st, err, sizeof err);
@@ -410,8 +359,8 @@ static int drive(struct scene_drive *d)
                      run->solves, p->forcing);
     }
     st->wall_seconds = omp_get_wtime() - t0; /* the whole continuation */
-    snapshot_free(&last);
-    snapshot_free(&older);
+    fields_snapshot_free(&last);
+    fields_snapshot_free(&older);
     free(rows);
     return 0;
 }
