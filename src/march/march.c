@@ -209,6 +209,14 @@ static const struct field_spec march_specs[] = {
 };
 #define NSPECS (sizeof march_specs / sizeof march_specs[0])
 
+/* Whether the run needs the array: the advection term's only without
+ * advection (its pointers stay NULL; only stage_residual reads it, when
+ * physics.advection is on). */
+static int spec_wanted(const struct muflow_case *cs, const struct field_spec *spec)
+{
+    return cs->advection || strcmp(spec->name, "advection") != 0;
+}
+
 static int register_fields(struct march_state *st)
 {
     struct field_registry *r = &st->fields;
@@ -218,9 +226,11 @@ static int register_fields(struct march_state *st)
                        st->tan_e, st->res, st->delta, st->adv, &st->div, &st->phi};
     _Static_assert(NSPECS == sizeof into / sizeof into[0], "one each");
     int idx[NSPECS];
-    for (size_t m = 0; m < NSPECS; m++)
-        if ((idx[m] = fields_add(r, &specs[m], into[m])) < 0)
+    for (size_t m = 0; m < NSPECS; m++) {
+        idx[m] = -1; /* not wanted: its pointers stay NULL */
+        if (spec_wanted(st->cs, &specs[m]) && (idx[m] = fields_add(r, &specs[m], into[m])) < 0)
             return -1;
+    }
     /* what the field files hold, in this order: the velocity (face values
      * u, v, w and the cell-centred vector), then the cell scalars */
     const struct field_output outs[] = {
@@ -261,7 +271,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
     const struct muflow_case *cs = st->cs;
     double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
     for (size_t m = 0; m < NSPECS; m++)
-        arrays += field_arrays(march_specs[m].where) * ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
+        arrays += !spec_wanted(cs, &march_specs[m]) ? 0 : field_arrays(march_specs[m].where) * ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
     if (cs->augmentation > 0.0)
         arrays += 1.0;
     if ((kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton)

@@ -18,10 +18,16 @@ struct probe_matrix {
     int *pos;                  /* i, j, k of unknown k (3 per unknown) */
     /* the unknowns each probe sets, by probe: members[start[q] .. start[q+1]) */
     long *start, *members;
-    /* triplets of the last assembly (reused) */
-    int *trow, *tcol;
+    /* an assembly's entries, column by column as the probes find them:
+     * the rows and values (trow, tval; tcap allocated), and the columns
+     * in their order of appearance, column gcol[m] holding the entries
+     * gstart[m] .. gstart[m + 1] (a column's entries all come from its
+     * probe, together) */
+    int *trow;
     double *tval;
     size_t tcap;
+    int *gcol;
+    size_t *gstart;
 };
 
 /* Colours need 2 reach + 1 distinct residues in a row's reach; a periodic
@@ -159,8 +165,9 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm->start);
     free(pm->members);
     free(pm->trow);
-    free(pm->tcol);
     free(pm->tval);
+    free(pm->gcol);
+    free(pm->gstart);
     free(pm);
 }
 
@@ -170,16 +177,25 @@ static int grow_triplets(struct probe_matrix *pm, size_t cap)
     int *r = realloc(pm->trow, cap * sizeof(int));
     if (r)
         pm->trow = r;
-    int *c = realloc(pm->tcol, cap * sizeof(int));
-    if (c)
-        pm->tcol = c;
     double *v = realloc(pm->tval, cap * sizeof(double));
     if (v)
         pm->tval = v;
-    if (!r || !c || !v)
+    if (!r || !v)
         return -1;
     pm->tcap = cap;
     return 0;
+}
+
+static void free_entries(struct probe_matrix *pm)
+{
+    free(pm->trow);
+    free(pm->tval);
+    free(pm->gcol);
+    free(pm->gstart);
+    pm->trow = pm->gcol = NULL;
+    pm->tval = NULL;
+    pm->gstart = NULL;
+    pm->tcap = 0;
 }
 
 int csr_reserve(struct csr_matrix *A, int n, size_t nz)
@@ -212,7 +228,15 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
     const struct grid *g = pm->g;
     if (!pm->tcap && grow_triplets(pm, (size_t)pm->n * (lower ? 16 : 40) + 16) != 0)
         return -1;
-    size_t nz = 0;
+    if (!pm->gcol) {
+        pm->gcol = malloc(((size_t)pm->n + 1) * sizeof(int));
+        pm->gstart = malloc(((size_t)pm->n + 1) * sizeof(size_t));
+        if (!pm->gcol || !pm->gstart) {
+            free_entries(pm);
+            return -1;
+        }
+    }
+    size_t nz = 0, ng = 0;
     const int nprobes = probe_matrix_probes(pm);
     for (int q = 0; q < nprobes; q++) {
         if (pm->start[q] == pm->start[q + 1])
@@ -232,6 +256,8 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
         for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
             long col = pm->members[a];
             const int *at = pm->pos + 3 * col;
+            pm->gcol[ng] = (int)col;
+            pm->gstart[ng++] = nz;
             int lo[3], hi[3];
             for (int d = 0; d < 3; d++) {
                 int n = g->n[d];
@@ -262,41 +288,68 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
                             double v = resp[m][p];
                             if (v == 0.0)
                                 continue;
-                            if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0)
+                            if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0) {
+                                free_entries(pm);
                                 return -1;
+                            }
                             pm->trow[nz] = r;
-                            pm->tcol[nz] = (int)col;
                             pm->tval[nz] = v;
                             nz++;
                         }
                     }
         }
     }
+    pm->gstart[ng] = nz;
     /* rows by counting sort (stable), then columns ascending within a row;
-     * every (row, column) comes from exactly one probe */
+     * every (row, column) comes from exactly one probe.  Each entry's row
+     * becomes its place in the rows; the values move there, then the
+     * columns, each array allocated when the one before is freed: at most
+     * 20 bytes an entry at once (the triplets and a separate matrix held
+     * 28, and the peak memory of an AMG step was there) */
     int n = (int)pm->n;
-    if (csr_reserve(A, n, nz) != 0)
+    int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
+    if (!rp) {
+        free_entries(pm);
         return -1;
-    memset(A->rowptr, 0, ((size_t)n + 1) * sizeof(int));
-    for (size_t q = 0; q < nz; q++)
-        A->rowptr[pm->trow[q] + 1]++;
-    for (int r = 0; r < n; r++)
-        A->rowptr[r + 1] += A->rowptr[r];
-    for (size_t q = 0; q < nz; q++) {
-        int at = A->rowptr[pm->trow[q]]++;
-        A->col[at] = pm->tcol[q];
-        A->val[at] = pm->tval[q];
     }
+    A->rowptr = rp;
+    A->n = n;
+    free(A->col);
+    free(A->val);
+    A->col = NULL;
+    A->val = NULL;
+    A->cap = 0;
+    memset(rp, 0, ((size_t)n + 1) * sizeof(int));
+    for (size_t q = 0; q < nz; q++)
+        rp[pm->trow[q] + 1]++;
+    for (int r = 0; r < n; r++)
+        rp[r + 1] += rp[r];
+    for (size_t q = 0; q < nz; q++)
+        pm->trow[q] = rp[pm->trow[q]]++; /* the entry's place */
     for (int r = n; r > 0; r--)
-        A->rowptr[r] = A->rowptr[r - 1];
-    A->rowptr[0] = 0;
-    /* the triplets are as large as the matrix: not kept between assemblies */
-    free(pm->trow);
-    free(pm->tcol);
+        rp[r] = rp[r - 1];
+    rp[0] = 0;
+    size_t cap = nz > 0 ? nz : 1;
+    A->val = malloc(cap * sizeof(double));
+    if (!A->val) {
+        free_entries(pm);
+        return -1;
+    }
+    for (size_t q = 0; q < nz; q++)
+        A->val[pm->trow[q]] = pm->tval[q];
     free(pm->tval);
-    pm->trow = pm->tcol = NULL;
     pm->tval = NULL;
-    pm->tcap = 0;
+    A->col = malloc(cap * sizeof(int));
+    if (!A->col) {
+        free_entries(pm);
+        return -1;
+    }
+    for (size_t m = 0; m < ng; m++)
+        for (size_t q = pm->gstart[m]; q < pm->gstart[m + 1]; q++)
+            A->col[pm->trow[q]] = pm->gcol[m];
+    A->cap = cap;
+    /* the entries are as large as the matrix: not kept between assemblies */
+    free_entries(pm);
     for (int r = 0; r < n; r++)
         for (int a = A->rowptr[r] + 1; a < A->rowptr[r + 1]; a++) {
             int cc = A->col[a];

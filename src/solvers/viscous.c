@@ -68,8 +68,9 @@ struct viscous_solver {
     int direct_valid;                  /* the last factorisation succeeded */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
     struct kept direct_kept;
-    /* full tangent work: strain products, their tangent stresses, and the
-     * extra BiCGStab vectors (allocated with a direct kind only) */
+    /* full tangent work: strain products, their tangent stresses (allocated
+     * with any kind but the line blocks), and the extra BiCGStab vectors
+     * (allocated on BiCGStab's first use) */
     double *pn, *pe[3], *Bc, *Be[3], *tmp[3];
     double *r0[3], *v[3], *t[3], *sh[3];
     enum viscous_precond kind;         /* as created */
@@ -133,6 +134,39 @@ static inline ptrdiff_t line_node(const struct viscous_solver *s, int c, int l, 
     return grid_idx(s->g, idx[0], idx[1], idx[2]);
 }
 
+/* The line blocks' band factors and probes (BAND + 1 + PROBES doubles a
+ * node); -1 when out of memory. */
+static int line_blocks_alloc(struct viscous_solver *s)
+{
+    for (int c = 0; c < 3; c++) {
+        struct line_blocks *b = &s->blk[c];
+        if (b->nlines == 0 || b->band)
+            continue;
+        size_t nodes = (size_t)b->nlines * (size_t)b->len;
+        b->band = malloc(nodes * (BAND + 1) * sizeof(double));
+        b->probe = malloc(nodes * PROBES * sizeof(double));
+        if (!b->band || !b->probe) {
+            free(b->band);
+            free(b->probe);
+            b->band = b->probe = NULL;
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* BiCGStab's vectors beyond CG's; -1 when out of memory. */
+static int bicgstab_alloc(struct viscous_solver *s)
+{
+    for (int c = 0; c < 3; c++) {
+        double **fs[] = {&s->r0[c], &s->v[c], &s->t[c], &s->sh[c]};
+        for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
+            if (!*fs[m] && !(*fs[m] = field_alloc(s->g)))
+                return -1;
+    }
+    return 0;
+}
+
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
                    const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
                    size_t errlen)
@@ -167,11 +201,11 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         }
         if (b->len > s->maxlen)
             s->maxlen = b->len;
-        size_t nodes = (size_t)b->nlines * (size_t)b->len;
-        b->band = malloc(nodes * (BAND + 1) * sizeof(double));
-        b->probe = malloc(nodes * PROBES * sizeof(double));
-        ok &= b->band && b->probe;
     }
+    /* the line blocks are the preconditioner of VISCOUS_LINE; of the other
+     * kinds only the fallback of a failed set-up, allocated then */
+    if (kind == VISCOUS_LINE)
+        ok &= line_blocks_alloc(s) == 0;
     for (int c = 0; c < 3; c++) {
         s->r[c] = field_alloc(g);
         s->z[c] = field_alloc(g);
@@ -214,9 +248,10 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
             return -1;
         }
         ok &= (s->pn = field_alloc(g)) != NULL && (s->Bc = field_alloc(g)) != NULL;
+        /* BiCGStab's own vectors (r0, v, t, sh) on first use: the AMG's
+         * GMRES and the symmetric operator's CG do without them */
         for (int c = 0; c < 3; c++) {
-            double **fs[] = {&s->pe[c], &s->Be[c], &s->tmp[c], &s->r0[c], &s->v[c], &s->t[c],
-                             &s->sh[c]};
+            double **fs[] = {&s->pe[c], &s->Be[c], &s->tmp[c]};
             for (size_t m = 0; m < sizeof fs / sizeof fs[0]; m++)
                 ok &= (*fs[m] = field_alloc(g)) != NULL;
         }
@@ -542,6 +577,12 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
     const struct grid *g = s->g;
     int L = s->line_dir;
     s->failed_blocks = 0;
+    if (line_blocks_alloc(s) != 0) {
+        /* no memory for the blocks: every line unpreconditioned (z = r) */
+        for (int c = 0; c < 3; c++)
+            s->failed_blocks += s->blk[c].nlines;
+        return;
+    }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
         if (b->nlines == 0)
@@ -618,6 +659,10 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
         struct line_blocks *b = &s->blk[c];
         if (b->nlines == 0)
             continue;
+        if (!b->band) { /* line_blocks could not allocate them */
+            memcpy(z[c], r[c], s->g->size * sizeof(double));
+            continue;
+        }
 #pragma omp parallel for schedule(static) if (kernel_parallel(s->g))
         for (int l = 0; l < b->nlines; l++) {
             double *buf = s->linebuf + (size_t)omp_get_thread_num() * s->maxlen;
@@ -640,6 +685,8 @@ static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, 
 {
     const struct grid *g = s->g;
     const struct box *act = s->act;
+    if (bicgstab_alloc(s) != 0)
+        return -1;
     double **r = s->r, **r0 = s->r0, **p = s->p, **v = s->v, **t = s->t, **ph = s->z,
            **sh = s->sh;
     for (int c = 0; c < 3; c++) {
@@ -840,7 +887,7 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     if (s->amg_ok)
         return s->amg_cfg.bicgstab ? bicgstab(s, pb, bnorm, x, rtol, maxit, st)
                                    : gmres(s, pb, rhs, bnorm, x, rtol, maxit, st);
-    if (pb->b_cell && s->r0[0])
+    if (pb->b_cell && s->pn) /* the full tangent (viscous_apply uses it) */
         return bicgstab(s, pb, bnorm, x, rtol, maxit, st);
     precondition_apply(s, s->r, s->z);
     zero_fields(g, s->p);
@@ -871,14 +918,21 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
 
 double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
 {
-    /* as viscous_create allocates: per component the line blocks' band and
-     * probes (BAND + 1 + PROBES doubles a node) and r, z, p, q; the
-     * divergence buffer; with a direct kind pn, Bc and seven per component
-     * (and the factorisation, sparse_direct_memory_estimate) */
+    /* as viscous_create allocates: per component r, z, p, q and the
+     * divergence buffer; the line blocks' band and probes (BAND + 1 +
+     * PROBES doubles a node) with VISCOUS_LINE; with any other kind pn, Bc
+     * and three per component (and the factorisation,
+     * sparse_direct_memory_estimate), and BiCGStab's four more per
+     * component where the LU's full tangent takes them (a fallback to the
+     * line blocks, or BiCGStab around the AMG, is not counted) */
     double cells = (double)grid_cells(g), points = (double)g->size;
-    double doubles = 3.0 * cells * (BAND + 1 + PROBES) + (3.0 * 4.0 + 1.0) * points;
-    if (kind != VISCOUS_LINE)
-        doubles += (2.0 + 3.0 * 7.0) * points;
+    double doubles = (3.0 * 4.0 + 1.0) * points;
+    if (kind == VISCOUS_LINE)
+        doubles += 3.0 * cells * (BAND + 1 + PROBES);
+    else
+        doubles += (2.0 + 3.0 * 3.0) * points;
+    if (kind == VISCOUS_LU)
+        doubles += 3.0 * 4.0 * points;
     /* the AMG's GMRES(20) basis (21 vectors of the unknowns, about three a
      * cell) and its gathered right-hand side and correction (hypre's share:
      * amg_hypre_memory_estimate) */
