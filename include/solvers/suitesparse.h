@@ -38,6 +38,17 @@ extern struct suitesparse_api suitesparse;
  * (docs/design.md, "The sparse factorisations' ordering and BLAS"). */
 void suitesparse_umfpack_control(double control[UMFPACK_CONTROL]);
 
+/* cholmod_start with muflow's settings: its defaults, with larger
+ * supernodes (relaxed amalgamation: nrelax 32, 96, 256 columns and zrelax
+ * 0.9, 0.2, 0.1 instead of 4, 16, 48 and 0.8, 0.1, 0.05).  Each supernode
+ * costs Debian's CHOLMOD five OpenMP parallel regions, whose joins are a
+ * system call each even on one thread; fewer, larger supernodes spend a
+ * few more flops in BLAS and far fewer regions: the column collapse at 32
+ * cells per H0 to t = 1 takes 5.2 s instead of 7.4 s on one thread, the
+ * same front to all digits (docs/design.md, "The sparse factorisations'
+ * ordering and BLAS"). */
+void suitesparse_cholmod_start(cholmod_common *cm);
+
 /* CHOLMOD's own OpenMP loops run on the calling thread between these two:
  * Debian's CHOLMOD opens a parallel region per supernode (some 5,000 per
  * factorisation of a 160 x 48 cross-section), and their forks and joins

@@ -1067,7 +1067,7 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         ok = cs->slot && cs->row && cs->pinned && cs->queue;
     }
     if (ok) {
-        suitesparse.cholmod_start(&cs->cm);
+        suitesparse_cholmod_start(&cs->cm);
         cs->started = 1;
         cs->cm.error_handler = quiet_handler;
         cs->cm.print = 0;

@@ -63,7 +63,7 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
     s->rhs = malloc((size_t)s->n * sizeof(double));
     s->sol = malloc((size_t)s->n * sizeof(double));
     int ok = s->rhs && s->sol;
-    suitesparse.cholmod_start(&s->cm);
+    suitesparse_cholmod_start(&s->cm);
     s->cm.error_handler = quiet_handler;
     s->cm.print = 0;
     if (ok && symmetric)

@@ -49,6 +49,17 @@ void suitesparse_umfpack_control(double control[UMFPACK_CONTROL])
     control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
 }
 
+void suitesparse_cholmod_start(cholmod_common *cm)
+{
+    suitesparse.cholmod_start(cm);
+    const size_t nrelax[3] = {32, 96, 256};
+    const double zrelax[3] = {0.9, 0.2, 0.1};
+    for (int k = 0; k < 3; k++) {
+        cm->nrelax[k] = nrelax[k];
+        cm->zrelax[k] = zrelax[k];
+    }
+}
+
 /* OpenBLAS (the BLAS under SuiteSparse on Debian) picks its kernels from the
  * CPU's model number and falls back to its oldest x86-64 kernels (Prescott,
  * SSE3) for a model it does not know, as version 0.3.21 does for virtual
