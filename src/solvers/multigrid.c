@@ -47,6 +47,22 @@
 #define PCG_GROWTH 100.0       /* CG stops where its residual exceeds its best this much */
 #define ROUNDOFF_TERMS 10.0    /* the residual's rounding, a 7-term sum: in eps (|b| + |L||x|) */
 
+/* The statements in a parallel region when par, else on the calling thread
+ * outside any region.  The level loops are orphaned `omp for`s: outside a
+ * region they are plain loops and their barriers return at once, while in a
+ * region of one thread (`if (0)`) every barrier and the join are a futex
+ * system call with libgomp, several microseconds each in a virtual machine:
+ * 27,000 per five steps of the column collapse at 32 cells per H0, whose
+ * levels all run on one thread (docs/design.md, "Parallel regions"). */
+#define REGION(par, ...)                                                                        \
+    do {                                                                                        \
+        if (par) {                                                                              \
+            _Pragma("omp parallel") { __VA_ARGS__; }                                            \
+        } else {                                                                                \
+            __VA_ARGS__;                                                                        \
+        }                                                                                       \
+    } while (0)
+
 enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
 
 struct level {
@@ -264,10 +280,9 @@ level_reduce(struct multigrid *mg, const struct level *lv, enum level_sum kind, 
     double *part = mg->partial;
     for (int t = 0; t < nt; t++)
         part[t * PAD] = 0.0;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-    {
+    REGION(nt > 1, {
         double s = 0.0;
-#pragma omp for collapse(2) schedule(static)
+        _Pragma("omp for collapse(2) schedule(static)")
         for (int i = 0; i < nx; i++)
             for (int j = 0; j < ny; j++) {
                 const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -283,7 +298,7 @@ level_reduce(struct multigrid *mg, const struct level *lv, enum level_sum kind, 
                 }
             }
         part[thread_id() * PAD] = s;
-    }
+    });
     return sum_partials(part, nt);
 }
 
@@ -1166,8 +1181,7 @@ static void cycle_from(struct multigrid *mg, int l, int warm)
     struct level *lc = &mg->lev[l + 1];
     /* two parallel regions per level and cycle: fork/join costs more than the
      * loops of a small level, and much more on a loaded machine */
-#pragma omp parallel if (lv->par)
-    {
+    REGION(lv->par, {
         if (!warm)
             zero_interior(lv, lv->x);
         smooth(mg, lv, 0, mg->opt.pre);
@@ -1175,16 +1189,15 @@ static void cycle_from(struct multigrid *mg, int l, int warm)
         residual(lv, lv->x, lv->b, 0.0, lv->r);
         halo_fill(mg, lv, lv->r, HALO_MIRROR);
         restrict_residual(mg, lv, lc);
-    }
+    });
     const int visits = l + 1 == mg->nlev - 1 ? 1 : mg->opt.gamma; /* exact there */
     for (int v = 0; v < visits; v++)
         cycle_from(mg, l + 1, v > 0);
-#pragma omp parallel if (lv->par)
-    {
+    REGION(lv->par, {
         halo_fill(mg, lc, lc->x, HALO_MIRROR);
         prolong_add(lv, lc);
         smooth(mg, lv, 1, mg->opt.post);
-    }
+    });
 }
 
 void multigrid_cycle(struct multigrid *mg, const double *r, double *z)
@@ -1198,22 +1211,20 @@ void multigrid_cycle(struct multigrid *mg, const double *r, double *z)
 
 void multigrid_apply(struct multigrid *mg, double *x, double *y)
 {
-#pragma omp parallel if (mg->lev[0].par)
-    {
+    REGION(mg->lev[0].par, {
         halo_fill(mg, &mg->lev[0], x, HALO_OPERATOR);
         residual(&mg->lev[0], x, NULL, 0.0, y);
-    }
+    });
 }
 
 /* r = rhs - shift - L phi (phi's ghosts filled here) */
 static void fine_residual(struct multigrid *mg, double *phi, const double *rhs, double shift,
                           double *r)
 {
-#pragma omp parallel if (mg->lev[0].par)
-    {
+    REGION(mg->lev[0].par, {
         halo_fill(mg, &mg->lev[0], phi, HALO_OPERATOR);
         residual(&mg->lev[0], phi, rhs, shift, r);
-    }
+    });
 }
 
 static int singular(const struct multigrid *mg)
@@ -1241,9 +1252,8 @@ static void finish_phi(struct multigrid *mg, double *phi)
     const struct grid *g = &l0->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
     const unsigned char *live = l0->live;
-#pragma omp parallel if (l0->par)
-    {
-#pragma omp for collapse(2) schedule(static)
+    REGION(l0->par, {
+        _Pragma("omp for collapse(2) schedule(static)")
         for (int i = 0; i < nx; i++)
             for (int j = 0; j < ny; j++) {
                 const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1251,7 +1261,7 @@ static void finish_phi(struct multigrid *mg, double *phi)
                     phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
             }
         halo_fill(mg, l0, phi, HALO_MIRROR);
-    }
+    });
 }
 
 static void stats_init(struct multigrid_stats *st, double res0)
@@ -1315,8 +1325,7 @@ static int solve_begin(struct multigrid *mg, const double *rhs, double *phi, dou
     *res0 = sqrt(live_norm2(mg, l0, rhs, *shift));
     stats_init(st, *res0);
     if (!(*res0 > 0.0)) {
-#pragma omp parallel if (l0->par)
-        zero_interior(l0, phi);
+        REGION(l0->par, zero_interior(l0, phi));
         st->rel = 0.0;
         finish_phi(mg, phi);
         *rc = stats_end(st, rtol, stats);
@@ -1338,8 +1347,7 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
     st.rel = sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0;
     while (st.rel > rtol && st.cycles < max_cycles) {
         multigrid_cycle(mg, mg->wr, mg->wz);
-#pragma omp parallel if (l0->par)
-        add_to(l0, phi, mg->wz);
+        REGION(l0->par, add_to(l0, phi, mg->wz));
         fine_residual(mg, phi, rhs, shift, mg->wr);
         stats_step(&st, sqrt(dot(mg, l0, mg->wr, mg->wr)) / res0);
     }
@@ -1356,10 +1364,9 @@ static double cg_update(struct multigrid *mg, const struct level *lv, double alp
     double *part = mg->partial;
     for (int t = 0; t < nt; t++)
         part[t * PAD] = 0.0;
-#pragma omp parallel num_threads(nt) if (nt > 1)
-    {
+    REGION(nt > 1, {
         double s = 0.0;
-#pragma omp for collapse(2) schedule(static)
+        _Pragma("omp for collapse(2) schedule(static)")
         for (int i = 0; i < nx; i++)
             for (int j = 0; j < ny; j++) {
                 const ptrdiff_t row = grid_idx(g, i, j, 0);
@@ -1371,7 +1378,7 @@ static double cg_update(struct multigrid *mg, const struct level *lv, double alp
                 }
             }
         part[thread_id() * PAD] = s;
-    }
+    });
     return sum_partials(part, nt);
 }
 
@@ -1404,8 +1411,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     if (st.rel > rtol && st.rel < 1e3 * rtol) {
         /* close to the tolerance from a previous iterate (a restart): within
          * what the residual's own rounding allows, CG can do no better */
-#pragma omp parallel if (l0->par)
-        magnitude(l0, phi, rhs, shift, q);
+        REGION(l0->par, magnitude(l0, phi, rhs, shift, q));
         const double floor = ROUNDOFF_TERMS * DBL_EPSILON * sqrt(dot(mg, l0, q, q));
         if (st.rel * res0 <= floor) {
             finish_phi(mg, phi);
@@ -1415,8 +1421,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     }
     if (st.rel > rtol) {
         multigrid_cycle(mg, r, z);
-#pragma omp parallel if (l0->par)
-        cg_direction(l0, 0.0, p, z);
+        REGION(l0->par, cg_direction(l0, 0.0, p, z));
         double rz = dot(mg, l0, r, z);
         double best = st.rel;
         memcpy(mg->wbest, phi, l0->g.size * sizeof(double));
@@ -1450,8 +1455,7 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
             }
             multigrid_cycle(mg, r, z);
             const double rz_new = dot(mg, l0, r, z);
-#pragma omp parallel if (l0->par)
-            cg_direction(l0, rz_new / rz, p, z);
+            REGION(l0->par, cg_direction(l0, rz_new / rz, p, z));
             rz = rz_new;
         }
     }
