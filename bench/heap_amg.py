@@ -101,6 +101,7 @@ def main():
            for pc, rs in side.items() if rs}
     lines += ["Heap at the tilt 0.4061, 140 x 200, whole steady solve from rest "
               f"(OMP_NUM_THREADS={os.environ.get('OMP_NUM_THREADS', '?')}; "
+              f"OPENBLAS_CORETYPE={os.environ.get('OPENBLAS_CORETYPE', 'unset: muflow names it from the CPU')}; "
               f"{repeats} run(s) each, alternating; medians):", "",
               "| preconditioner | wall s | CPU s | peak MB | steps (rejected) | Q* | u_surface mid "
               "| iterations per step mean (max) | load before-after |",

@@ -53,7 +53,8 @@
  * region of one thread (`if (0)`) every barrier and the join are a futex
  * system call with libgomp, several microseconds each in a virtual machine:
  * 27,000 per five steps of the column collapse at 32 cells per H0, whose
- * levels all run on one thread (docs/design.md, "Parallel regions"). */
+ * levels all run on one thread (bench/analysis.md, "Regions of one thread
+ * and CHOLMOD's supernodes"). */
 #define REGION(par, ...)                                                                        \
     do {                                                                                        \
         if (par) {                                                                              \
