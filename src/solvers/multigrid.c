@@ -64,6 +64,17 @@
         }                                                                                       \
     } while (0)
 
+/* REGION for the reductions into per-thread partial sums: a team of exactly
+ * nt threads (a local variable of that name), as many as the partials. */
+#define REGION_NT(...)                                                                          \
+    do {                                                                                        \
+        if (nt > 1) {                                                                           \
+            _Pragma("omp parallel num_threads(nt)") { __VA_ARGS__; }                            \
+        } else {                                                                                \
+            __VA_ARGS__;                                                                        \
+        }                                                                                       \
+    } while (0)
+
 enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
 
 struct level {
@@ -281,7 +292,7 @@ level_reduce(struct multigrid *mg, const struct level *lv, enum level_sum kind, 
     double *part = mg->partial;
     for (int t = 0; t < nt; t++)
         part[t * PAD] = 0.0;
-    REGION(nt > 1, {
+    REGION_NT({
         double s = 0.0;
         _Pragma("omp for collapse(2) schedule(static)")
         for (int i = 0; i < nx; i++)
@@ -1365,7 +1376,7 @@ static double cg_update(struct multigrid *mg, const struct level *lv, double alp
     double *part = mg->partial;
     for (int t = 0; t < nt; t++)
         part[t * PAD] = 0.0;
-    REGION(nt > 1, {
+    REGION_NT({
         double s = 0.0;
         _Pragma("omp for collapse(2) schedule(static)")
         for (int i = 0; i < nx; i++)
