@@ -135,9 +135,10 @@ static inline ptrdiff_t line_node(const struct viscous_solver *s, int c, int l, 
 }
 
 /* The line blocks' band factors and probes (BAND + 1 + PROBES doubles a
- * node); -1 when out of memory. */
+ * node); -1 and none of them when out of memory. */
 static int line_blocks_alloc(struct viscous_solver *s)
 {
+    int ok = 1;
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
         if (b->nlines == 0 || b->band)
@@ -145,14 +146,16 @@ static int line_blocks_alloc(struct viscous_solver *s)
         size_t nodes = (size_t)b->nlines * (size_t)b->len;
         b->band = malloc(nodes * (BAND + 1) * sizeof(double));
         b->probe = malloc(nodes * PROBES * sizeof(double));
-        if (!b->band || !b->probe) {
-            free(b->band);
-            free(b->probe);
-            b->band = b->probe = NULL;
-            return -1;
-        }
+        ok &= b->band && b->probe;
     }
-    return 0;
+    if (ok)
+        return 0;
+    for (int c = 0; c < 3; c++) {
+        free(s->blk[c].band);
+        free(s->blk[c].probe);
+        s->blk[c].band = s->blk[c].probe = NULL;
+    }
+    return -1;
 }
 
 /* BiCGStab's vectors beyond CG's; -1 when out of memory. */
