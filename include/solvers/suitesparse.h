@@ -38,6 +38,18 @@ extern struct suitesparse_api suitesparse;
  * (docs/design.md, "The sparse factorisations' ordering and BLAS"). */
 void suitesparse_umfpack_control(double control[UMFPACK_CONTROL]);
 
+/* glibc's heap keeps the factorisations' memory for the next one.
+ * UMFPACK and CHOLMOD allocate and free their factors at every
+ * factorisation; glibc maps any block above its mmap threshold (at most
+ * 32 MB) afresh, and the kernel faults in and zero-fills its pages each
+ * time.  A top pad of 256 MB kept the smaller blocks (a third of a Newton
+ * step on a 70 x 100 cross-section); with no mmap and no trim the larger
+ * ones stay too: the LU's whole solve of the heap at 140 x 200 took 107 s,
+ * 27 of them in the kernel, and now 60 s, its peak 557 -> 533 MB (1 thread;
+ * docs/design.md, "The factors' memory").  Called by the LU, Cholesky and
+ * coupled solvers; the AMG keeps its own setting (amg_hypre.c). */
+void suitesparse_keep_factor_memory(void);
+
 /* cholmod_start with muflow's settings: its defaults, with larger
  * supernodes (relaxed amalgamation: nrelax 32, 96, 256 columns and zrelax
  * 0.9, 0.2, 0.1 instead of 4, 16, 48 and 0.8, 0.1, 0.05).  Each supernode

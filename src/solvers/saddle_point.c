@@ -15,6 +15,7 @@ struct saddle_point {
 
 int saddle_point_create(struct saddle_point **out, char *err, size_t errlen)
 {
+    suitesparse_keep_factor_memory();
     if (suitesparse_load(err, errlen) != 0)
         return -1;
     if (!(*out = calloc(1, sizeof **out))) {

@@ -1,6 +1,4 @@
 /* Probed sparse direct factorisations (sparse_direct.h). */
-#include <limits.h>
-#include <malloc.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,21 +40,7 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
                          const struct box act[3], int reach, int symmetric, char *err,
                          size_t errlen)
 {
-    /* UMFPACK and CHOLMOD allocate and free their factor workspace at every
-     * factorisation.  With glibc's defaults, blocks that large come from fresh
-     * mmap pages that the kernel zero-fills each time: a third of a Newton
-     * step on a 70 x 100 cross-section.  A top pad keeps that much freed
-     * memory in the heap, so the next factorisation reuses the same pages.
-     * Blocks above glibc's largest mmap threshold (32 MB) were still mapped
-     * afresh: the LU's whole solve of the heap at 140 x 200 (factors of a
-     * few hundred MB) spent 27 of its 107 s in the kernel and most of the
-     * rest's difference faulting the pages in.  With no mmap and no trim the
-     * factors' memory stays in the heap: 56 s, peak 534 MB against 557
-     * (1 thread; docs/design.md, "The sparse factorisations' ordering and
-     * BLAS"). */
-    mallopt(M_TOP_PAD, 256 << 20);
-    mallopt(M_MMAP_MAX, 0);
-    mallopt(M_TRIM_THRESHOLD, INT_MAX);
+    suitesparse_keep_factor_memory();
     if (suitesparse_load(err, errlen) != 0)
         return -1;
     struct sparse_direct *s = calloc(1, sizeof *s);

@@ -4,6 +4,8 @@
 #include "solvers/dynlib.h"
 
 #include <omp.h>
+#include <limits.h>
+#include <malloc.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,6 +49,15 @@ void suitesparse_umfpack_control(double control[UMFPACK_CONTROL])
 {
     suitesparse.umfpack_di_defaults(control);
     control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
+}
+
+void suitesparse_keep_factor_memory(void)
+{
+#ifdef __GLIBC__
+    mallopt(M_TOP_PAD, 256 << 20);
+    mallopt(M_MMAP_MAX, 0);
+    mallopt(M_TRIM_THRESHOLD, INT_MAX);
+#endif
 }
 
 void suitesparse_cholmod_start(cholmod_common *cm)
