@@ -945,7 +945,7 @@ static void resolve_reference(struct ctx *x, const char *path)
              sizeof(c->reference) - 1);
         return;
     }
-    snprintf(c->reference, sizeof(c->reference), "%s", real);
+    memcpy(c->reference, real, strlen(real) + 1); /* fits: checked above */
 }
 
 /* The scene the events choose: the last case.scene whose value names one. */
