@@ -329,8 +329,8 @@ static void test_plot(void **state)
     snprintf(none, sizeof none, "%s/none", tmp);
 
     /* bagnold: summary with err_rms and u_surface, profile, history, fields */
-    snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.quiet=on "
-                              "output.dir='%s'", bin, bag);
+    assert_true(snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.quiet=on "
+                                          "output.dir='%s'", bin, bag) < (int)sizeof cmd);
     free(sh_ok(cmd));
     snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'", bag);
     char *out = sh_ok(cmd);
@@ -362,8 +362,9 @@ static void test_plot(void **state)
 
     /* no scene (no profile.csv, no error, no headline) and no field files,
      * plots into --out: only the history, and no failure */
-    snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini case.scene=none domain.nz=10 "
-                              "output.fields=off output.quiet=on output.dir='%s'", bin, none);
+    assert_true(snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini case.scene=none domain.nz=10 "
+                                          "output.fields=off output.quiet=on output.dir='%s'",
+                         bin, none) < (int)sizeof cmd);
     free(sh_ok(cmd));
     snprintf(png, sizeof png, "%s/png", none);
     snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --out '%s' --field viscosity",
