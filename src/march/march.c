@@ -271,7 +271,9 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
     const struct muflow_case *cs = st->cs;
     double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
     for (size_t m = 0; m < NSPECS; m++)
-        arrays += !spec_wanted(cs, &march_specs[m]) ? 0 : field_arrays(march_specs[m].where) * ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
+        if (spec_wanted(cs, &march_specs[m]))
+            arrays += field_arrays(march_specs[m].where) *
+                      ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
     if (cs->augmentation > 0.0)
         arrays += 1.0;
     if ((kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton)

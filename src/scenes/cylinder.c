@@ -257,6 +257,13 @@ static enum run_status solve(struct scene_drive *d, double F, int fresh, struct 
     return s;
 }
 
+/* The run stops: no memory to keep the continuation's states in. */
+static void out_of_memory(struct march_state *st)
+{
+    st->status = STATUS_STOPPED;
+    snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
+}
+
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
@@ -269,8 +276,7 @@ static int drive(struct scene_drive *d)
     run->continued = p->forcing_end > p->forcing;
     struct row *rows = malloc(MAX_ROWS * sizeof *rows);
     if (!rows) {
-        st->status = STATUS_STOPPED;
-        snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
+        out_of_memory(st);
         return 0;
     }
     int n = 0;
@@ -287,8 +293,7 @@ static int drive(struct scene_drive *d)
         return 0;
     }
     if (fields_snapshot_take(&last, &st->fields) != 0) {
-        st->status = STATUS_STOPPED;
-        snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
+        out_of_memory(st);
         free(rows);
         return 0;
     }
@@ -313,9 +318,7 @@ static int drive(struct scene_drive *d)
             older = last;
             last = t;
             if (fields_snapshot_take(&last, &st->fields) != 0) {
-                st->status = STATUS_STOPPED;
-                snprintf(st->message, sizeof st->message,
-                         "cylinder: out of memory for the continuation");
+                out_of_memory(st);
                 break;
             }
             F_older = F_last;
