@@ -5,6 +5,7 @@
 #include <string.h>
 #include "test_main.h"
 #include "solvers/viscous.h"
+#include "solvers/amg_hypre.h"
 #include "config/case.h"
 #include "march/march.h"
 
@@ -524,11 +525,34 @@ static void test_amg_kept_hierarchy(void **state)
     march_destroy(&amg);
 }
 
+/* The V-cycle's smoothing: none before the restriction by default (V(0,1),
+ * docs/design.md), and the option that changes it is read and checked. */
+static void test_amg_options(void **state)
+{
+    (void)state;
+    struct amg_options o;
+    char err[160], d[120];
+    amg_options_default(&o);
+    assert_int_equal(o.pre_sweeps, 0);
+    assert_int_equal(o.sweeps, 1);
+    amg_options_describe(&o, d, sizeof d);
+    assert_non_null(strstr(d, "V(0,1)"));
+    assert_int_equal(amg_options_parse(&o, "pre=1,sweeps=2", err, sizeof err), 0);
+    assert_int_equal(o.pre_sweeps, 1);
+    assert_int_equal(o.sweeps, 2);
+    amg_options_describe(&o, d, sizeof d);
+    assert_non_null(strstr(d, "V(1,2)"));
+    assert_int_equal(amg_options_parse(&o, "pre=-1", err, sizeof err), -1);
+    assert_non_null(strstr(err, "pre"));
+    assert_int_equal(amg_options_parse(&o, "pre=one", err, sizeof err), -1);
+}
+
 /* Its own group: hypre initialises MPI (OpenMPI), under which LeakSanitizer's
  * exit-time scan crashes; `make check-asan` runs it without leak detection. */
 void group_amg(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_amg_options),
         cmocka_unit_test(test_amg_matches_lu_2d),
         cmocka_unit_test(test_auto_choice),
         cmocka_unit_test(test_amg_kept_hierarchy),

@@ -21,7 +21,12 @@ struct amg_options {
     double theta;       /* strong threshold */
     int relax;          /* 8 l1 symmetric Gauss-Seidel, 6 hybrid symmetric GS,
                            3 hybrid GS (forward down, backward up), 18 l1 Jacobi */
-    int sweeps;         /* smoothing sweeps per level and direction */
+    int sweeps;         /* smoothing sweeps per level after the coarse
+                           correction (and on the coarsest level) */
+    int pre_sweeps;     /* before the restriction: 0, a V(0,1) cycle, by
+                           default (docs/design.md: 20-25 % less time on the
+                           heap's steady solves than V(1,1), the iterations
+                           1.2x more) */
     int systems;        /* 1: the three velocity components coarsened and
                            interpolated apart (unknown-based systems AMG) */
     int agg_levels;     /* levels of aggressive coarsening */
@@ -31,16 +36,16 @@ struct amg_options {
 };
 
 /* HMIS, ext+i (4 entries per row), theta 0.5, l1 symmetric Gauss-Seidel,
- * one sweep, systems on. */
+ * one sweep after the coarse correction and none before, systems on. */
 void amg_options_default(struct amg_options *o);
 
 /* Overrides from a comma-separated list of key=value: coarsen=hmis|pmis|
  * falgout|N, interp=ext+i|classical|ff1|ext|N, theta=X, relax=l1gs|hgs|hsgs|
- * l1jacobi|N, sweeps=N, systems=0|1, agg=N, pmax=N, rowsum=X, print=0|1.
+ * l1jacobi|N, sweeps=N, pre=N, systems=0|1, agg=N, pmax=N, rowsum=X, print=0|1.
  * Returns 0, or -1 with a message for an unknown key or value. */
 int amg_options_parse(struct amg_options *o, const char *spec, char *err, size_t errlen);
 
-/* "HMIS ext+i(4) theta 0.5 l1-GS x1 systems" */
+/* "HMIS ext+i(4) theta 0.5 l1gs V(0,1) systems" */
 void amg_options_describe(const struct amg_options *o, char *buf, size_t len);
 
 struct amg_hypre;

@@ -66,7 +66,7 @@ struct amg_hypre {
     X(HYPRE_BoomerAMGSetPMaxElmts) X(HYPRE_BoomerAMGSetStrongThreshold)                          \
     X(HYPRE_BoomerAMGSetMaxRowSum) X(HYPRE_BoomerAMGSetRelaxType) X(HYPRE_BoomerAMGSetNumSweeps)  \
     X(HYPRE_BoomerAMGSetAggNumLevels) X(HYPRE_BoomerAMGSetNumFunctions)                          \
-    X(HYPRE_BoomerAMGSetDofFunc)                                                                  \
+    X(HYPRE_BoomerAMGSetDofFunc) X(HYPRE_BoomerAMGSetCycleNumSweeps)                             \
     X(MPI_Init) X(MPI_Initialized) X(MPI_Finalize) X(MPI_Finalized)
 
 static struct {
@@ -166,6 +166,7 @@ static int start_hypre(char *err, size_t errlen)
 void amg_options_default(struct amg_options *o)
 {
     *o = (struct amg_options){.coarsen = 10, .interp = 6, .theta = 0.5, .relax = 8, .sweeps = 1,
+                              .pre_sweeps = 0,
                               .systems = 1, .agg_levels = 0, .pmax = 4, .max_row_sum = 0.9,
                               .print = 0};
 }
@@ -233,6 +234,15 @@ int amg_options_parse(struct amg_options *o, const char *spec, char *err, size_t
             o->max_row_sum = atof(v);
         else if (strcmp(k, "sweeps") == 0)
             o->sweeps = atoi(v);
+        else if (strcmp(k, "pre") == 0) {
+            char *end;
+            long x = strtol(v, &end, 10);
+            if (!*v || *end || x < 0 || x > 10) {
+                snprintf(err, errlen, "amg option pre=%s: an integer in [0, 10]", v);
+                return -1;
+            }
+            o->pre_sweeps = (int)x;
+        }
         else if (strcmp(k, "systems") == 0)
             o->systems = atoi(v);
         else if (strcmp(k, "agg") == 0)
@@ -253,9 +263,9 @@ int amg_options_parse(struct amg_options *o, const char *spec, char *err, size_t
 
 void amg_options_describe(const struct amg_options *o, char *buf, size_t len)
 {
-    snprintf(buf, len, "%s %s(%d) theta %g %s x%d%s%s", name_of(coarsen_names, o->coarsen),
+    snprintf(buf, len, "%s %s(%d) theta %g %s V(%d,%d)%s%s", name_of(coarsen_names, o->coarsen),
              name_of(interp_names, o->interp), o->pmax, o->theta, name_of(relax_names, o->relax),
-             o->sweeps, o->systems ? " systems" : "", o->agg_levels ? " agg" : "");
+             o->pre_sweeps, o->sweeps, o->systems ? " systems" : "", o->agg_levels ? " agg" : "");
 }
 
 /* ---- the preconditioner ---------------------------------------------------- */
@@ -379,6 +389,7 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
     hy.HYPRE_BoomerAMGSetMaxRowSum(a->amg, o->max_row_sum);
     hy.HYPRE_BoomerAMGSetRelaxType(a->amg, o->relax);
     hy.HYPRE_BoomerAMGSetNumSweeps(a->amg, o->sweeps);
+    hy.HYPRE_BoomerAMGSetCycleNumSweeps(a->amg, o->pre_sweeps, 1); /* 1: the down cycle */
     hy.HYPRE_BoomerAMGSetAggNumLevels(a->amg, o->agg_levels);
     if (o->systems) {
         int *f = malloc((size_t)n * sizeof(int)); /* hypre takes and frees it */
