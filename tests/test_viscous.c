@@ -6,6 +6,7 @@
 #include "test_main.h"
 #include "solvers/viscous.h"
 #include "solvers/amg_hypre.h"
+#include "solvers/probe_matrix.h"
 #include "config/case.h"
 #include "march/march.h"
 
@@ -247,6 +248,7 @@ static void test_amg_matches_lu_2d(void **state)
                   dmax / umax);
     assert_int_equal(rc, 0);
     assert_int_equal(info.kind, VISCOUS_AMG);
+    assert_int_equal(info.blocks, 1); /* u and w coupled; v apart but between them */
     assert_true(sa.iterations <= 100);
     assert_true(rmax <= 1e-10 * bmax);
     assert_true(dmax <= 1e-6 * umax);
@@ -472,7 +474,7 @@ static void test_auto_choice(void **state)
  * measured on 140 x 200: Q* 8e-10 off the LU's), and kept hierarchies
  * counted by the steps that did not rebuild one. */
 struct reuse_count {
-    int reused, steps;
+    int reused, steps, blocks;
 };
 
 static int count_reused(void *ctx, const struct march_state *st)
@@ -482,6 +484,7 @@ static int count_reused(void *ctx, const struct march_state *st)
     viscous_precond_info(st->viscous, &info);
     c->reused += info.reused;
     c->steps++;
+    c->blocks = info.blocks > c->blocks ? info.blocks : c->blocks;
     return 0;
 }
 
@@ -505,7 +508,7 @@ static void test_amg_kept_hierarchy(void **state)
     (void)state;
     struct muflow_case cs_lu, cs_amg;
     struct march_state lu, amg;
-    struct reuse_count n_lu = {0, 0}, n_amg = {0, 0};
+    struct reuse_count n_lu = {0, 0, 0}, n_amg = {0, 0, 0};
     heap_state("solver.preconditioner=lu", "solver.preconditioner_reuse=0", &lu, &cs_lu, &n_lu);
     heap_state("solver.preconditioner=amg", "solver.preconditioner_reuse=2", &amg, &cs_amg,
                &n_amg);
@@ -516,13 +519,101 @@ static void test_amg_kept_hierarchy(void **state)
             top = fmax(top, fabs(lu.vel[c][p]));
         }
     print_message("heap 35 x 50: LU %ld steps, AMG keeping its hierarchy %ld steps (%d of "
-                  "%d observed steps kept one), max |u_amg - u_lu| / max |u| %.2e\n",
-                  lu.step, amg.step, n_amg.reused, n_amg.steps, diff / top);
+                  "%d observed steps kept one; %d diagonal blocks), max |u_amg - u_lu| / "
+                  "max |u| %.2e\n",
+                  lu.step, amg.step, n_amg.reused, n_amg.steps, n_amg.blocks, diff / top);
     assert_int_equal(n_lu.reused, 0);
+    /* the flow along x: its component and the two across share no entry */
+    assert_int_equal(n_amg.blocks, 2);
     assert_true(n_amg.reused > 0);
     assert_true(diff <= 1e-7 * top);
     march_destroy(&lu);
     march_destroy(&amg);
+}
+
+/* A 6 x 6 matrix, two unknowns a velocity component: a diagonal, couplings
+ * within each component, and the couplings listed (row, column). */
+static void small_matrix(double A[6][6], const int (*pairs)[2], int npairs)
+{
+    memset(A, 0, 36 * sizeof(double));
+    for (int r = 0; r < 6; r++)
+        A[r][r] = 2.0 + r;
+    A[0][1] = A[1][0] = 0.5;
+    A[2][3] = A[3][2] = -0.5;
+    A[4][5] = A[5][4] = 0.25;
+    for (int k = 0; k < npairs; k++)
+        A[pairs[k][0]][pairs[k][1]] = A[pairs[k][1]][pairs[k][0]] = 0.75;
+}
+
+/* Rows and columns lo .. hi - 1 of A, numbered from 0, into M. */
+static void sub_matrix(double A[6][6], int lo, int hi, struct csr_matrix *M)
+{
+    assert_int_equal(csr_reserve(M, hi - lo, (size_t)36), 0);
+    int nz = 0;
+    for (int r = lo; r < hi; r++) {
+        M->rowptr[r - lo] = nz;
+        for (int c = lo; c < hi; c++)
+            if (A[r][c] != 0.0) {
+                M->col[nz] = c - lo;
+                M->val[nz++] = A[r][c];
+            }
+    }
+    M->rowptr[hi - lo] = nz;
+    M->n = hi - lo;
+}
+
+/* The AMG splits its matrix into the runs of velocity components that no
+ * entry couples, each its own hierarchy (set up and applied on threads of
+ * their own, one a block): the count of blocks, and the V-cycle of the
+ * whole against the V-cycles of the blocks' matrices set up one by one. */
+static void test_amg_blocks(void **state)
+{
+    (void)state;
+    const int dof[6] = {0, 0, 1, 1, 2, 2};
+    const int none[1][2] = {{0, 0}}, c12[1][2] = {{3, 4}}, c01[1][2] = {{1, 2}},
+              c02[1][2] = {{0, 5}};
+    const struct {
+        const int (*pairs)[2];
+        int npairs, blocks;
+        int first[4]; /* the blocks' first unknowns, and 6 */
+    } cases[] = {{none, 0, 3, {0, 2, 4, 6}},
+                 {c12, 1, 2, {0, 2, 6, 6}},
+                 {c01, 1, 2, {0, 4, 6, 6}},
+                 {c02, 1, 1, {0, 6, 6, 6}}};
+    struct amg_options o;
+    amg_options_default(&o);
+    char err[256];
+    const double b[6] = {1.0, -2.0, 3.0, 0.5, -1.5, 2.5};
+    for (size_t t = 0; t < sizeof cases / sizeof cases[0]; t++) {
+        double A[6][6];
+        small_matrix(A, cases[t].pairs, cases[t].npairs);
+        struct amg_hypre *a;
+        assert_int_equal(amg_hypre_create(&a, 6, dof, &o, err, sizeof err), 0);
+        struct csr_matrix M = {0};
+        sub_matrix(A, 0, 6, &M);
+        assert_int_equal(amg_hypre_setup(a, &M), 0); /* releases M */
+        assert_int_equal(amg_hypre_blocks(a), cases[t].blocks);
+        double x[6], xb[6], dmax = 0.0, xmax = 0.0;
+        amg_hypre_apply(a, b, x);
+        amg_hypre_destroy(a);
+        for (int k = 0; k < cases[t].blocks; k++) {
+            int lo = cases[t].first[k], hi = cases[t].first[k + 1];
+            struct amg_hypre *ab;
+            assert_int_equal(amg_hypre_create(&ab, hi - lo, dof + lo, &o, err, sizeof err), 0);
+            struct csr_matrix S = {0};
+            sub_matrix(A, lo, hi, &S);
+            assert_int_equal(amg_hypre_setup(ab, &S), 0);
+            assert_int_equal(amg_hypre_blocks(ab), 1);
+            amg_hypre_apply(ab, b + lo, xb + lo);
+            amg_hypre_destroy(ab);
+        }
+        for (int r = 0; r < 6; r++) {
+            dmax = fmax(dmax, fabs(x[r] - xb[r]));
+            xmax = fmax(xmax, fabs(xb[r]));
+        }
+        assert_true(xmax > 0.0);
+        assert_true(dmax <= 1e-14 * xmax);
+    }
 }
 
 /* The V-cycle's smoothing: none before the restriction by default (V(0,1),
@@ -553,6 +644,7 @@ void group_amg(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_amg_options),
+        cmocka_unit_test(test_amg_blocks),
         cmocka_unit_test(test_amg_matches_lu_2d),
         cmocka_unit_test(test_auto_choice),
         cmocka_unit_test(test_amg_kept_hierarchy),

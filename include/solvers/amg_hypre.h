@@ -75,6 +75,13 @@ void amg_hypre_release(struct amg_hypre *a);
 /* x = one V-cycle applied to b (from x = 0). */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
 
+/* Diagonal blocks of the last set-up's matrix, each its own hierarchy: runs
+ * of velocity components that no entry above round-off (1e-12 of the
+ * diagonals) couples to the others, 1 to 3.  Their set-ups and V-cycles run
+ * side by side on the OpenMP threads, one a block (hypre has no threads of
+ * its own); the Krylov method keeps the whole operator. */
+int amg_hypre_blocks(const struct amg_hypre *a);
+
 /* Bytes hypre takes for a hierarchy of this many unknowns (with the default
  * options, the full tangent on a 2D grid), its library and MPI included: a
  * measured model for the run's memory estimate. */

@@ -119,6 +119,7 @@ struct viscous_precond_info {
     double solve_seconds;   /* the last viscous_solve */
     int levels;
     double complexity;      /* operator complexity */
+    int blocks;             /* AMG: diagonal blocks set up apart (amg_hypre_blocks) */
     int reused;             /* 1: the last viscous_precondition kept the hierarchy */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);

@@ -1,11 +1,13 @@
 /* BoomerAMG on the probed matrix (amg_hypre.h).  The only file that talks to
  * hypre and MPI, which it loads with dlopen when the first AMG is created. */
 #define _DEFAULT_SOURCE /* ffs() in hypre's internal headers */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 #include <dlfcn.h>
+#include <omp.h>
 #ifdef __GLIBC__
 #include <malloc.h>
 #endif
@@ -24,17 +26,32 @@
 _Static_assert(sizeof(HYPRE_Int) == sizeof(int), "hypre built with 32-bit indices expected");
 _Static_assert(sizeof(HYPRE_Real) == sizeof(double), "hypre built in double precision expected");
 
+/* One diagonal block of the matrix: the unknowns first .. first + n - 1 (whole
+ * velocity components), with its own matrix, vectors and hierarchy. */
+struct amg_block {
+    int first, n;
+    int ncomp;                  /* velocity components in the block */
+    /* a communicator of its own (a copy of MPI_COMM_SELF): hypre's set-up
+     * and its coarsest level's direct solve call collectives, and MPI allows
+     * those from several threads at once only on different communicators */
+    MPI_Comm comm;
+    int has_comm;
+    HYPRE_IJMatrix ij;
+    HYPRE_ParCSRMatrix A;
+    HYPRE_IJVector ijb, ijx;
+    HYPRE_ParVector b, x;
+    HYPRE_Solver amg;
+    int rc;                     /* of its last set-up */
+};
+
 struct amg_hypre {
     int n;
     int *dof_func;
     int *rows, *ncols;          /* 0 .. n-1 and the entries of each row */
     int *zeros;                 /* n zeros: no row has entries off this rank */
     struct amg_options o;
-    HYPRE_IJMatrix ij;
-    HYPRE_ParCSRMatrix A;
-    HYPRE_IJVector ijb, ijx;
-    HYPRE_ParVector b, x;
-    HYPRE_Solver amg;
+    int nblocks;                /* 0 before the first set-up */
+    struct amg_block blk[3];
     int levels;
     double complexity;
 };
@@ -67,7 +84,8 @@ struct amg_hypre {
     X(HYPRE_BoomerAMGSetMaxRowSum) X(HYPRE_BoomerAMGSetRelaxType) X(HYPRE_BoomerAMGSetNumSweeps)  \
     X(HYPRE_BoomerAMGSetAggNumLevels) X(HYPRE_BoomerAMGSetNumFunctions)                          \
     X(HYPRE_BoomerAMGSetDofFunc) X(HYPRE_BoomerAMGSetCycleNumSweeps)                             \
-    X(MPI_Init) X(MPI_Initialized) X(MPI_Finalize) X(MPI_Finalized)
+    X(MPI_Init_thread) X(MPI_Query_thread) X(MPI_Initialized) X(MPI_Finalize) X(MPI_Finalized)   \
+    X(MPI_Comm_dup) X(MPI_Comm_free)
 
 static struct {
     void *lib;
@@ -127,6 +145,7 @@ int amg_hypre_available(char *err, size_t errlen)
 }
 
 static int hypre_started;
+static int hypre_threads; /* MPI allows calls from several threads at once */
 
 static void finish_at_exit(void)
 {
@@ -144,13 +163,18 @@ static int start_hypre(char *err, size_t errlen)
         return 0;
     if (load_hypre(err, errlen) != 0)
         return -1;
-    int init = 0;
+    int init = 0, provided = MPI_THREAD_SINGLE;
     hy.MPI_Initialized(&init);
     int own = !init;
-    if (own && hy.MPI_Init(NULL, NULL) != MPI_SUCCESS) {
-        snprintf(err, errlen, "amg: MPI_Init failed");
+    /* the blocks' hierarchies are set up and applied on threads of their own
+     * (amg_hypre_setup), and hypre talks to MPI (on MPI_COMM_SELF) in both */
+    if (own && hy.MPI_Init_thread(NULL, NULL, MPI_THREAD_MULTIPLE, &provided) != MPI_SUCCESS) {
+        snprintf(err, errlen, "amg: MPI_Init_thread failed");
         return -1;
     }
+    if (!own)
+        hy.MPI_Query_thread(&provided);
+    hypre_threads = provided >= MPI_THREAD_MULTIPLE;
     hy.HYPRE_Init();
 #ifdef __GLIBC__
     mallopt(M_MMAP_THRESHOLD, 128 * 1024);
@@ -270,6 +294,10 @@ void amg_options_describe(const struct amg_options *o, char *buf, size_t len)
 
 /* ---- the preconditioner ---------------------------------------------------- */
 
+/* Couplings between velocity components below this share of their
+ * diagonals' geometric mean are round-off (component_blocks). */
+#define COUPLING_ROUNDOFF 1e-12
+
 int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
                      const struct amg_options *o, char *err, size_t errlen)
 {
@@ -294,30 +322,22 @@ int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
     memcpy(a->dof_func, dof_func, (size_t)n * sizeof(int));
     for (int r = 0; r < n; r++)
         a->rows[r] = r;
-    HYPRE_IJVector *v[2] = {&a->ijb, &a->ijx};
-    HYPRE_ParVector *pv[2] = {&a->b, &a->x};
-    for (int m = 0; m < 2; m++) {
-        hy.HYPRE_IJVectorCreate(hy.comm_self, 0, n - 1, v[m]);
-        hy.HYPRE_IJVectorSetObjectType(*v[m], HYPRE_PARCSR);
-        hy.HYPRE_IJVectorInitialize(*v[m]);
-        hy.HYPRE_IJVectorAssemble(*v[m]);
-        void *obj;
-        hy.HYPRE_IJVectorGetObject(*v[m], &obj);
-        *pv[m] = obj;
-    }
     *out = a;
     return 0;
 }
 
 static void release_hierarchy(struct amg_hypre *a)
 {
-    if (a->amg)
-        hy.HYPRE_BoomerAMGDestroy(a->amg);
-    if (a->ij)
-        hy.HYPRE_IJMatrixDestroy(a->ij);
-    a->amg = NULL;
-    a->ij = NULL;
-    a->A = NULL;
+    for (int k = 0; k < a->nblocks; k++) {
+        struct amg_block *b = &a->blk[k];
+        if (b->amg)
+            hy.HYPRE_BoomerAMGDestroy(b->amg);
+        if (b->ij)
+            hy.HYPRE_IJMatrixDestroy(b->ij);
+        b->amg = NULL;
+        b->ij = NULL;
+        b->A = NULL;
+    }
 }
 
 void amg_hypre_release(struct amg_hypre *a)
@@ -326,15 +346,26 @@ void amg_hypre_release(struct amg_hypre *a)
         release_hierarchy(a);
 }
 
+static void destroy_blocks(struct amg_hypre *a)
+{
+    release_hierarchy(a);
+    for (int k = 0; k < a->nblocks; k++) {
+        if (a->blk[k].ijb)
+            hy.HYPRE_IJVectorDestroy(a->blk[k].ijb);
+        if (a->blk[k].ijx)
+            hy.HYPRE_IJVectorDestroy(a->blk[k].ijx);
+        if (a->blk[k].has_comm)
+            hy.MPI_Comm_free(&a->blk[k].comm);
+    }
+    memset(a->blk, 0, sizeof a->blk);
+    a->nblocks = 0;
+}
+
 void amg_hypre_destroy(struct amg_hypre *a)
 {
     if (!a)
         return;
-    release_hierarchy(a);
-    if (a->ijb)
-        hy.HYPRE_IJVectorDestroy(a->ijb);
-    if (a->ijx)
-        hy.HYPRE_IJVectorDestroy(a->ijx);
+    destroy_blocks(a);
     free(a->dof_func);
     free(a->rows);
     free(a->ncols);
@@ -353,75 +384,235 @@ static long parcsr_entries(hypre_ParCSRMatrix *A)
     return (long)hypre_CSRMatrixNumNonzeros(d) + (o ? hypre_CSRMatrixNumNonzeros(o) : 0);
 }
 
+/* The velocity components that M couples, split into diagonal blocks of
+ * whole components: first[k] .. first[k+1] - 1 are block k's unknowns.  The
+ * unknowns come component by component (probe_matrix.h), so a block is a
+ * range of consecutive components, and components c and c + 1 start
+ * separate blocks when no entry couples any component up to c with any
+ * after it.  A flow along one direction only (the heap, the profiles and
+ * ducts at rest across) has no entry between its velocity component and the
+ * two across, in the tangent as in the Picard operator: two blocks. */
+static int component_blocks(const struct amg_hypre *a, const struct csr_matrix *M, int first[4])
+{
+    int start[4], coupled[3][3] = {{0}};
+    for (int c = 0, r = 0; c <= 3; c++) {
+        while (r < a->n && a->dof_func[r] < c)
+            r++;
+        start[c] = r;
+    }
+    for (int r = 1; r < a->n; r++)
+        if (a->dof_func[r] < a->dof_func[r - 1]) { /* not by component: one block */
+            first[0] = 0, first[1] = a->n;
+            return 1;
+        }
+    /* a coupling counts above round-off of its row's and column's diagonal
+     * (the tangent of a flow along one direction holds the state's
+     * round-off across it); the V-cycles drop those below, GMRES keeps them
+     * in the operator */
+    double *diag = malloc((size_t)a->n * sizeof(double));
+    if (!diag) {
+        first[0] = 0, first[1] = a->n;
+        return 1;
+    }
+    for (int r = 0; r < a->n; r++) {
+        diag[r] = 0.0;
+        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++)
+            if (M->col[e] == r)
+                diag[r] = fabs(M->val[e]);
+    }
+    for (int r = 0; r < a->n; r++)
+        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++) {
+            int c = M->col[e];
+            if (a->dof_func[c] != a->dof_func[r] &&
+                fabs(M->val[e]) > COUPLING_ROUNDOFF * sqrt(diag[r] * diag[c]))
+                coupled[a->dof_func[r]][a->dof_func[c]] = 1;
+        }
+    free(diag);
+    int nb = 0;
+    first[0] = 0;
+    for (int c = 0; c < 2; c++) {
+        int apart = 1;
+        for (int i = 0; i <= c; i++)
+            for (int j = c + 1; j < 3; j++)
+                apart &= !coupled[i][j] && !coupled[j][i];
+        /* a component without unknowns starts no block */
+        if (apart && start[c + 1] > first[nb] && start[c + 1] < a->n)
+            first[++nb] = start[c + 1];
+    }
+    first[++nb] = a->n;
+    return nb;
+}
+
+/* M's rows, each keeping the entries of its own block with columns
+ * numbered from the block's first unknown (hypre numbers each block from 0:
+ * its direct solve of the coarsest level gathers rows by their numbers), in
+ * place; ncols the entries kept a row. */
+static void split_rows(struct amg_hypre *a, struct csr_matrix *M, int nb, const int first[4])
+{
+    int w = 0;
+    for (int k = 0; k < nb; k++)
+        for (int r = first[k]; r < first[k + 1]; r++) {
+            int e0 = M->rowptr[r], e1 = M->rowptr[r + 1];
+            M->rowptr[r] = w;
+            for (int e = e0; e < e1; e++)
+                if (M->col[e] >= first[k] && M->col[e] < first[k + 1]) {
+                    M->col[w] = M->col[e] - first[k];
+                    M->val[w++] = M->val[e];
+                }
+            a->ncols[r] = w - M->rowptr[r];
+        }
+    M->rowptr[a->n] = w;
+}
+
+/* The blocks' vectors for the layout first[0 .. nb]: kept while it holds. */
+static int layout_blocks(struct amg_hypre *a, int nb, const int first[4])
+{
+    int same = nb == a->nblocks;
+    for (int k = 0; same && k < nb; k++)
+        same = a->blk[k].first == first[k] && a->blk[k].n == first[k + 1] - first[k];
+    if (same)
+        return 0;
+    destroy_blocks(a);
+    a->nblocks = nb;
+    for (int k = 0; k < nb; k++) {
+        struct amg_block *b = &a->blk[k];
+        b->first = first[k];
+        b->n = first[k + 1] - first[k];
+        b->ncomp = a->dof_func[first[k + 1] - 1] - a->dof_func[first[k]] + 1;
+        if (hy.MPI_Comm_dup(hy.comm_self, &b->comm) != MPI_SUCCESS)
+            return -1;
+        b->has_comm = 1;
+        HYPRE_IJVector *v[2] = {&b->ijb, &b->ijx};
+        HYPRE_ParVector *pv[2] = {&b->b, &b->x};
+        for (int m = 0; m < 2; m++) {
+            if (hy.HYPRE_IJVectorCreate(b->comm, 0, b->n - 1, v[m]) != 0)
+                return -1;
+            hy.HYPRE_IJVectorSetObjectType(*v[m], HYPRE_PARCSR);
+            hy.HYPRE_IJVectorInitialize(*v[m]);
+            hy.HYPRE_IJVectorAssemble(*v[m]);
+            void *obj;
+            hy.HYPRE_IJVectorGetObject(*v[m], &obj);
+            *pv[m] = obj;
+        }
+    }
+    return 0;
+}
+
+/* Block b's rows of M (split_rows) into hypre's matrix (hypre copies them). */
+static int load_block(struct amg_hypre *a, struct amg_block *b, const struct csr_matrix *M)
+{
+    int f = b->first, last = b->n - 1;
+    hy.HYPRE_IJMatrixCreate(b->comm, 0, last, 0, last, &b->ij);
+    hy.HYPRE_IJMatrixSetObjectType(b->ij, HYPRE_PARCSR);
+    /* exact row sizes of the local block (one rank: every column local) let
+     * hypre write the values into its matrix directly, without the
+     * auxiliary row arrays it otherwise fills and converts on assembly (a
+     * third copy of the matrix at the peak) */
+    hy.HYPRE_IJMatrixSetDiagOffdSizes(b->ij, a->ncols + f, a->zeros + f);
+    hy.HYPRE_IJMatrixInitialize(b->ij);
+    hy.HYPRE_IJMatrixSetValues(b->ij, b->n, a->ncols + f, a->rows, M->col + M->rowptr[f],
+                               M->val + M->rowptr[f]);
+    if (hy.HYPRE_IJMatrixAssemble(b->ij) != 0)
+        return -1;
+    void *obj;
+    hy.HYPRE_IJMatrixGetObject(b->ij, &obj);
+    b->A = obj;
+    return 0;
+}
+
+/* Block b's hierarchy. */
+static int build_block(const struct amg_hypre *a, struct amg_block *b)
+{
+    const struct amg_options *o = &a->o;
+    hy.HYPRE_BoomerAMGCreate(&b->amg);
+    hy.HYPRE_BoomerAMGSetPrintLevel(b->amg, o->print ? 1 : 0);
+    hy.HYPRE_BoomerAMGSetMaxIter(b->amg, 1);
+    hy.HYPRE_BoomerAMGSetTol(b->amg, 0.0);
+    hy.HYPRE_BoomerAMGSetCoarsenType(b->amg, o->coarsen);
+    hy.HYPRE_BoomerAMGSetInterpType(b->amg, o->interp);
+    hy.HYPRE_BoomerAMGSetPMaxElmts(b->amg, o->pmax);
+    hy.HYPRE_BoomerAMGSetStrongThreshold(b->amg, o->theta);
+    hy.HYPRE_BoomerAMGSetMaxRowSum(b->amg, o->max_row_sum);
+    hy.HYPRE_BoomerAMGSetRelaxType(b->amg, o->relax);
+    hy.HYPRE_BoomerAMGSetNumSweeps(b->amg, o->sweeps);
+    hy.HYPRE_BoomerAMGSetCycleNumSweeps(b->amg, o->pre_sweeps, 1); /* 1: the down cycle */
+    hy.HYPRE_BoomerAMGSetAggNumLevels(b->amg, o->agg_levels);
+    if (o->systems && b->ncomp > 1) {
+        int *f = malloc((size_t)b->n * sizeof(int)); /* hypre takes and frees it */
+        if (!f)
+            return -1;
+        int c0 = a->dof_func[b->first]; /* hypre's functions count from 0 */
+        for (int r = 0; r < b->n; r++)
+            f[r] = a->dof_func[b->first + r] - c0;
+        hy.HYPRE_BoomerAMGSetNumFunctions(b->amg, b->ncomp);
+        hy.HYPRE_BoomerAMGSetDofFunc(b->amg, f);
+    }
+    memset(vector_data(b->x), 0, (size_t)b->n * sizeof(double));
+    return hy.HYPRE_BoomerAMGSetup(b->amg, b->A, b->b, b->x) != 0 ? -1 : 0;
+}
+
+/* Threads for the blocks: one each, when MPI allows calls from several. */
+static int block_threads(const struct amg_hypre *a)
+{
+    int t = omp_get_max_threads();
+    return hypre_threads && a->nblocks > 1 ? (t < a->nblocks ? t : a->nblocks) : 1;
+}
+
 int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
 {
     release_hierarchy(a);
     int n = a->n;
     if (M->n != n)
         return -1;
-    for (int r = 0; r < n; r++)
-        a->ncols[r] = M->rowptr[r + 1] - M->rowptr[r];
-    hy.HYPRE_IJMatrixCreate(hy.comm_self, 0, n - 1, 0, n - 1, &a->ij);
-    hy.HYPRE_IJMatrixSetObjectType(a->ij, HYPRE_PARCSR);
-    /* exact row sizes of the local block (one rank: every column local) let
-     * hypre write the values into its matrix directly, without the
-     * auxiliary row arrays it otherwise fills and converts on assembly (a
-     * third copy of the matrix at the peak) */
-    hy.HYPRE_IJMatrixSetDiagOffdSizes(a->ij, a->ncols, a->zeros);
-    hy.HYPRE_IJMatrixInitialize(a->ij);
-    hy.HYPRE_IJMatrixSetValues(a->ij, n, a->ncols, a->rows, M->col, M->val);
-    csr_free(M); /* hypre holds the copy it needs */
-    if (hy.HYPRE_IJMatrixAssemble(a->ij) != 0)
+    int first[4];
+    int nb = component_blocks(a, M, first);
+    split_rows(a, M, nb, first);
+    if (layout_blocks(a, nb, first) != 0)
         return -1;
-    void *obj;
-    hy.HYPRE_IJMatrixGetObject(a->ij, &obj);
-    a->A = obj;
-
-    const struct amg_options *o = &a->o;
-    hy.HYPRE_BoomerAMGCreate(&a->amg);
-    hy.HYPRE_BoomerAMGSetPrintLevel(a->amg, o->print ? 1 : 0);
-    hy.HYPRE_BoomerAMGSetMaxIter(a->amg, 1);
-    hy.HYPRE_BoomerAMGSetTol(a->amg, 0.0);
-    hy.HYPRE_BoomerAMGSetCoarsenType(a->amg, o->coarsen);
-    hy.HYPRE_BoomerAMGSetInterpType(a->amg, o->interp);
-    hy.HYPRE_BoomerAMGSetPMaxElmts(a->amg, o->pmax);
-    hy.HYPRE_BoomerAMGSetStrongThreshold(a->amg, o->theta);
-    hy.HYPRE_BoomerAMGSetMaxRowSum(a->amg, o->max_row_sum);
-    hy.HYPRE_BoomerAMGSetRelaxType(a->amg, o->relax);
-    hy.HYPRE_BoomerAMGSetNumSweeps(a->amg, o->sweeps);
-    hy.HYPRE_BoomerAMGSetCycleNumSweeps(a->amg, o->pre_sweeps, 1); /* 1: the down cycle */
-    hy.HYPRE_BoomerAMGSetAggNumLevels(a->amg, o->agg_levels);
-    if (o->systems) {
-        int *f = malloc((size_t)n * sizeof(int)); /* hypre takes and frees it */
-        if (!f)
+    int ok = 1;
+    for (int k = 0; k < nb; k++)
+        ok &= load_block(a, &a->blk[k], M) == 0;
+    csr_free(M); /* hypre holds the copies it needs */
+    if (!ok)
+        return -1;
+    /* hypre (Debian's build) has no threads of its own: the blocks' set-ups
+     * run side by side, each on its own communicator (hypre's error flag is
+     * shared: either may set it, and it is cleared after) */
+#pragma omp parallel for num_threads(block_threads(a)) schedule(dynamic, 1)
+    for (int k = 0; k < nb; k++)
+        a->blk[k].rc = build_block(a, &a->blk[k]);
+    hy.HYPRE_ClearAllErrors();
+    long fine = 0, all = 0;
+    a->levels = 0;
+    for (int k = 0; k < nb; k++) {
+        if (a->blk[k].rc != 0)
             return -1;
-        memcpy(f, a->dof_func, (size_t)n * sizeof(int));
-        hy.HYPRE_BoomerAMGSetNumFunctions(a->amg, 3);
-        hy.HYPRE_BoomerAMGSetDofFunc(a->amg, f);
+        hypre_ParAMGData *d = (hypre_ParAMGData *)a->blk[k].amg;
+        int levels = hypre_ParAMGDataNumLevels(d);
+        hypre_ParCSRMatrix **As = hypre_ParAMGDataAArray(d);
+        fine += parcsr_entries(As[0]);
+        for (int l = 0; l < levels; l++)
+            all += parcsr_entries(As[l]);
+        a->levels = levels > a->levels ? levels : a->levels;
     }
-    memset(vector_data(a->x), 0, (size_t)n * sizeof(double));
-    if (hy.HYPRE_BoomerAMGSetup(a->amg, a->A, a->b, a->x) != 0) {
-        hy.HYPRE_ClearAllErrors();
-        return -1;
-    }
-    hypre_ParAMGData *d = (hypre_ParAMGData *)a->amg;
-    a->levels = hypre_ParAMGDataNumLevels(d);
-    hypre_ParCSRMatrix **As = hypre_ParAMGDataAArray(d);
-    long fine = parcsr_entries(As[0]), all = 0;
-    for (int l = 0; l < a->levels; l++)
-        all += parcsr_entries(As[l]);
     a->complexity = fine > 0 ? (double)all / (double)fine : 0.0;
     return 0;
 }
 
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
 {
-    memcpy(vector_data(a->b), b, (size_t)a->n * sizeof(double));
-    memset(vector_data(a->x), 0, (size_t)a->n * sizeof(double));
-    hy.HYPRE_BoomerAMGSolve(a->amg, a->A, a->b, a->x);
+#pragma omp parallel for num_threads(block_threads(a)) schedule(dynamic, 1)
+    for (int k = 0; k < a->nblocks; k++) {
+        struct amg_block *bk = &a->blk[k];
+        memcpy(vector_data(bk->b), b + bk->first, (size_t)bk->n * sizeof(double));
+        memset(vector_data(bk->x), 0, (size_t)bk->n * sizeof(double));
+        hy.HYPRE_BoomerAMGSolve(bk->amg, bk->A, bk->b, bk->x);
+        memcpy(x + bk->first, vector_data(bk->x), (size_t)bk->n * sizeof(double));
+    }
     hy.HYPRE_ClearAllErrors(); /* "not converged" after its one cycle is expected */
-    memcpy(x, vector_data(a->x), (size_t)a->n * sizeof(double));
 }
+
+int amg_hypre_blocks(const struct amg_hypre *a) { return a->nblocks; }
 
 /* The library with OpenMPI initialised: the peak RSS of the heap at 14 x 20
  * grew by 12 MB with amg against lu.  The hierarchy: peak RSS less the

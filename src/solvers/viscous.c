@@ -544,6 +544,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->info.setup_seconds = cpu_now() - t1;
         s->info.levels = ok ? amg_hypre_levels(s->amg) : 0;
         s->info.complexity = ok ? amg_hypre_complexity(s->amg) : 0.0;
+        s->info.blocks = ok ? amg_hypre_blocks(s->amg) : 0;
         s->info.kind = ok ? VISCOUS_AMG : VISCOUS_LINE;
         s->amg_ok = ok;
         kept_built(&s->amg_kept);
