@@ -399,9 +399,50 @@ static void test_fourier_lines_exact_for_layers(void **state)
     assert_true(ef <= 1e-6);
 }
 
+/* The sparse factorisations drop the round-off between velocity
+ * components (csr_drop_component_roundoff): only entries between different
+ * components at most 1e-12 of their diagonals' geometric mean go. */
+static void test_drop_component_roundoff(void **state)
+{
+    (void)state;
+    const int comp[4] = {0, 0, 1, 1};
+    /* row, column, value */
+    const struct {
+        int r, c;
+        double v;
+    } e[] = {{0, 0, 4.0}, {0, 1, 1e-15}, {0, 2, 1e-14}, {1, 1, 1.0}, {1, 3, 1e-3},
+             {2, 0, 3e-12}, {2, 2, 9.0}, {3, 1, 1e-13}, {3, 3, 100.0}};
+    const int ne = (int)(sizeof e / sizeof e[0]);
+    struct csr_matrix M = {0};
+    assert_int_equal(csr_reserve(&M, 4, (size_t)ne), 0);
+    int k = 0;
+    for (int r = 0; r < 4; r++) {
+        M.rowptr[r] = k;
+        for (int q = 0; q < ne; q++)
+            if (e[q].r == r) {
+                M.col[k] = e[q].c;
+                M.val[k++] = e[q].v;
+            }
+    }
+    M.rowptr[4] = k;
+    M.n = 4;
+    /* (0,1) is within a component: kept however small; (0,2) 1e-14 <= 1e-12 *
+     * sqrt(4 * 9) = 6e-12: dropped; (1,3) 1e-3 against 1e-11: kept; (2,0)
+     * 3e-12 <= 6e-12: dropped; (3,1) 1e-13 <= 1e-12 * sqrt(100): dropped */
+    assert_int_equal(csr_drop_component_roundoff(&M, comp, 1e-12), 3);
+    const int rowptr[5] = {0, 2, 4, 5, 6}, col[6] = {0, 1, 1, 3, 2, 3};
+    for (int r = 0; r <= 4; r++)
+        assert_int_equal(M.rowptr[r], rowptr[r]);
+    for (int q = 0; q < 6; q++)
+        assert_int_equal(M.col[q], col[q]);
+    assert_true(M.val[1] == 1e-15 && M.val[3] == 1e-3);
+    csr_free(&M);
+}
+
 void group_viscous(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_drop_component_roundoff),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),
         cmocka_unit_test(test_line_blocks_exact_for_uniform_flow),

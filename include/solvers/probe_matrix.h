@@ -58,6 +58,14 @@ void probe_matrix_scatter(const struct probe_matrix *pm, const double *x, double
 int csr_reserve(struct csr_matrix *A, int n, size_t nz);
 /* T = A^T (T's arrays reused and grown as needed).  Returns 0 or -1. */
 int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
+
+/* Drops, in place, the entries between different velocity components (comp
+ * of each unknown) at most rel times the geometric mean of their row's and
+ * column's diagonals: the round-off that a flow along one direction leaves
+ * between its component and the two across it (the tangent's base strain
+ * across is the march's round-off), which would couple blocks that are
+ * apart.  Returns the entries dropped. */
+long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel);
 /* Entries of A. */
 static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr[A->n] : 0; }
 /* Same rows and columns (pattern) as B. */

@@ -1,5 +1,6 @@
 /* Probing a matrix-free operator into a sparse matrix (probe_matrix.h). */
 #include <stdio.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include "solvers/probe_matrix.h"
@@ -407,6 +408,38 @@ int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B)
     if (memcmp(A->rowptr, B->rowptr, ((size_t)A->n + 1) * sizeof(int)) != 0)
         return 0;
     return memcmp(A->col, B->col, (size_t)csr_nnz(A) * sizeof(int)) == 0;
+}
+
+long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel)
+{
+    /* the diagonals first: rows are rewritten in place below */
+    double *diag = malloc(((size_t)M->n + 1) * sizeof(double));
+    if (!diag)
+        return 0; /* nothing dropped: the matrix stays as it is */
+    for (int r = 0; r < M->n; r++) {
+        diag[r] = 0.0;
+        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++)
+            if (M->col[e] == r)
+                diag[r] = fabs(M->val[e]);
+    }
+    int w = 0;
+    long dropped = 0;
+    for (int r = 0; r < M->n; r++) {
+        int e0 = M->rowptr[r], e1 = M->rowptr[r + 1];
+        M->rowptr[r] = w;
+        for (int e = e0; e < e1; e++) {
+            int c = M->col[e];
+            if (comp[c] != comp[r] && fabs(M->val[e]) <= rel * sqrt(diag[r] * diag[c])) {
+                dropped++;
+                continue;
+            }
+            M->col[w] = c;
+            M->val[w++] = M->val[e];
+        }
+    }
+    M->rowptr[M->n] = w;
+    free(diag);
+    return dropped;
 }
 
 void csr_free(struct csr_matrix *A)
