@@ -113,14 +113,21 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
             if (c == d) {
                 /* no penetration: the boundary faces carry zero normal velocity;
                  * face -1 is never read by a stencil but is kept defined.  An
-                 * open face's velocity is state (the projection's): kept, its
-                 * increment zero; an inflow face carries the profile. */
+                 * open face's velocity is state (the projection's): kept; its
+                 * increment is the inner face's (zero normal gradient), so
+                 * that the implicit step moves the face with the flow it
+                 * solves for (stage_projection.c); an inflow face carries the
+                 * profile. */
                 ghost_plane(g, d, -1, -1, f, 0.0, 1);
                 for (int side = 0; side < 2; side++) {
                     enum bc_kind kind = bc->face[d][side];
                     int face = side == 0 ? 0 : n;
                     if (kind == BC_OPEN && !homogeneous)
                         continue;
+                    if (kind == BC_OPEN && n > 1) {
+                        ghost_plane(g, d, face, side == 0 ? 1 : n - 1, f, 1.0, 0);
+                        continue;
+                    }
                     ghost_plane(g, d, face, face, f, 0.0, 1);
                     if (kind == BC_INFLOW && !homogeneous)
                         inflow_plane(g, bc, d, side, f);

@@ -30,13 +30,17 @@ static void subtract_gradient(struct march_state *st, const double *phi)
 }
 
 /* Open faces (boundary.h).  The normal velocity on an open face is not an
- * unknown of the implicit step (its increment is zero there, so the implicit
- * operator is the exact linearisation of the residual the step solves and
- * stays symmetric, and the line blocks and probed preconditioners see the
- * same operator as with a closed face).  Its increment is set here, before
- * the projection: the face's momentum balance is the inner face's with zero
- * normal gradient for every term but the pressure and the body force, which
- * are taken on the face itself with the Dirichlet ghost (p = 0 on it):
+ * unknown of the implicit step: the step's operator moves it with the inner
+ * face (the homogeneous fill copies the inner face's increment), so that
+ * the step solves for the flow the face will carry.  With the face held
+ * instead, a flow falling through open ends under gravity never became
+ * steady: each step the inner faces moved and the open ones lagged, and the
+ * projection turned the lag into a pressure that held the column up
+ * (docs/design.md, "Open and inflow boundaries").  Its increment is set
+ * here, before the projection: the face's momentum balance is the inner
+ * face's with zero normal gradient for every term but the pressure and the
+ * body force, which are taken on the face itself with the Dirichlet ghost
+ * (p = 0 on it):
  *   delta_f = delta_i + dt (a_f - a_i),  a = (F - grad p_dyn) / rho,
  * F = rho g - grad p_hyd.  Steady, delta = 0 on the face, so the pressure
  * gradient reaching the face equals the inner face's: the pressure falls to
