@@ -45,10 +45,16 @@ const char *bc_kind_name(enum bc_kind kind);
 void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
 /* The same for a velocity increment: every prescribed boundary value is zero
- * (a lid or an inflow does not move the increment), and so is the increment
- * of an open face's normal velocity: that face is not an unknown of the
- * implicit step (the projection sets it, stage_projection.c). */
+ * (a lid or an inflow does not move the increment); an open face's normal
+ * velocity is not an unknown of the implicit step, and its increment is the
+ * inner face's (zero normal gradient: the step moves the face with the flow
+ * it solves for; the projection then corrects it, stage_projection.c). */
 void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3]);
+
+/* The increment's fill with the open faces' normal increments given (kept
+ * as they are): the operator's response to an open face's own increment
+ * (the coupled step's columns of it, stage_coupled.c). */
+void bc_fill_velocity_open_given(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
 /* Fills the ghost layer of a cell-centred field: periodic copy, or a mirror of
  * the interior neighbour (zero normal gradient) on every other face. */

@@ -167,8 +167,9 @@ void march_evaluate(struct march_state *st);
 void march_apply_tangent(struct march_state *st, double *v[3], double *out[3]);
 
 /* The component the body force drives: of x and z, the one with the larger
- * force, or the other where that one is not periodic (a bounded direction's
- * force is held by the pressure): the mean flow direction. */
+ * force, or the other where that one is neither periodic nor open at both
+ * ends (a bounded direction's force is held by the pressure): the mean flow
+ * direction. */
 int march_driven_component(const struct march_state *st);
 
 /* The mean of the momentum residual along the driven component per unit

@@ -42,6 +42,9 @@ struct viscous_problem {
     /* an embedded solid body (kernels/embedded.h), or NULL: its nodes are
      * held at 0 with mass-only rows, and the links the surface cuts end on it */
     const struct embedded *embedded;
+    /* 1: the open faces' normal increments are given, not the inner faces'
+     * (boundary.h, bc_fill_velocity_open_given) */
+    int open_given;
 };
 
 struct viscous_stats {

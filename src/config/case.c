@@ -201,7 +201,7 @@ static const struct key keys[] = {
          "steady: each step solves velocity and pressure together (the saddle-point system "
          "of the step by the sparse LU) instead of the implicit step and the projection; for "
          "flows whose pressure the projection's pseudo-time march does not converge (around "
-         "a body, the cavity without augmentation)"),
+         "a body, the cavity without augmentation, through open faces)"),
     STR("solver", "initial_state", initial_state,
         "a checkpoint (a run folder or its checkpoint.h5) of the same box on any grid: its "
         "velocity, pressure and modules' fields, interpolated to this grid, start the run "
@@ -783,14 +783,13 @@ static void finish(struct ctx *x)
     }
 
     /* the coupled step (stage_coupled.c): a steady Newton step of its own,
-     * whose pressure needs no augmentation and no open face's condition */
+     * whose pressure needs no augmentation (its open faces' balance is in
+     * its matrix, coupled_open.h) */
     if (c->coupled) {
         const char *why = c->mode != MODE_STEADY ? "needs solver.mode = steady"
                           : c->augmentation > 0.0 ? "needs solver.augmentation = 0 (its pressure "
                                                     "is solved with the velocity)"
-                          : bc_has_open(&c->bc) || inflow_face(&c->bc) >= 0
-                              ? "does not support open or inflow faces yet"
-                              : NULL;
+                                                  : NULL;
         if (why) {
             fail(x, "%s: solver.coupled = on %s", where, why);
             return;

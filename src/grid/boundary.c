@@ -97,8 +97,12 @@ static void inflow_plane(const struct grid *g, const struct boundary *bc, int d,
                 sign * bc_inflow_value(g, bc, d, idx[0], idx[1], idx[2]);
 }
 
+/* What a velocity fill is of: the state, an increment, or an increment
+ * whose open faces' normal components are given (kept as they are). */
+enum fill_mode { FILL_STATE, FILL_INCREMENT, FILL_INCREMENT_OPEN_GIVEN };
+
 static void fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3],
-                          int homogeneous)
+                          enum fill_mode mode)
 {
     for (int d = 0; d < 3; d++) {
         int n = g->n[d];
@@ -122,14 +126,14 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
                 for (int side = 0; side < 2; side++) {
                     enum bc_kind kind = bc->face[d][side];
                     int face = side == 0 ? 0 : n;
-                    if (kind == BC_OPEN && !homogeneous)
+                    if (kind == BC_OPEN && mode != FILL_INCREMENT)
                         continue;
                     if (kind == BC_OPEN && n > 1) {
                         ghost_plane(g, d, face, side == 0 ? 1 : n - 1, f, 1.0, 0);
                         continue;
                     }
                     ghost_plane(g, d, face, face, f, 0.0, 1);
-                    if (kind == BC_INFLOW && !homogeneous)
+                    if (kind == BC_INFLOW && mode == FILL_STATE)
                         inflow_plane(g, bc, d, side, f);
                 }
             } else {
@@ -142,7 +146,7 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
                     double sign = walled ? -1.0 : 1.0;
                     int ghost = side == 0 ? -1 : n, inner = side == 0 ? 0 : n - 1;
                     ghost_plane(g, d, ghost, inner, f, sign, 0);
-                    if (kind == BC_LID && c == bc->lid_direction && !homogeneous)
+                    if (kind == BC_LID && c == bc->lid_direction && mode == FILL_STATE)
                         ghost_plane_add(g, d, ghost, f, 2.0 * bc->lid_velocity);
                 }
             }
@@ -152,12 +156,17 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
 
 void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3])
 {
-    fill_velocity(g, bc, vel, 0);
+    fill_velocity(g, bc, vel, FILL_STATE);
 }
 
 void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3])
 {
-    fill_velocity(g, bc, vel, 1);
+    fill_velocity(g, bc, vel, FILL_INCREMENT);
+}
+
+void bc_fill_velocity_open_given(const struct grid *g, const struct boundary *bc, double *vel[3])
+{
+    fill_velocity(g, bc, vel, FILL_INCREMENT_OPEN_GIVEN);
 }
 
 /* Cell ghosts: periodic images, else the interior value mirrored with the

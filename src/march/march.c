@@ -568,7 +568,8 @@ int march_driven_component(const struct march_state *st)
     double f[3];
     body_force_vector(st->cs, f);
     int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
-    if (st->bc.face[a][0] != BC_PERIODIC)
+    const enum bc_kind *k = st->bc.face[a];
+    if (!(k[0] == BC_PERIODIC || (k[0] == BC_OPEN && k[1] == BC_OPEN)))
         a = a == 0 ? 2 : 0;
     return a;
 }

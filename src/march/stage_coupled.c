@@ -11,8 +11,12 @@
  * viscosity's own dependence on p (coupled_pressure.h); D the divergence
  * as stage_divergence takes it (the faces' open shares with a body).  Faces held in a body and cells with no open
  * face are left out (their dp is 0), and one pressure is pinned (the
- * constant mode of a closed or periodic box).  UMFPACK factorises it
- * (saddle_point.h).
+ * constant mode of a closed or periodic box) unless the box has an open
+ * face.  UMFPACK factorises it (saddle_point.h).
+ *
+ * An open face is not a velocity unknown; each has one more unknown, its
+ * own increment beyond its inner face's, with the face's balance for its
+ * row (coupled_open.h).
  *
  * Why: the projection's pseudo-time march updates the pressure by
  * (rho / dt) phi, which stops moving a pressure error once nu dt / h^2 is
@@ -30,6 +34,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "march/coupled_pressure.h"
+#include "march/coupled_open.h"
 #include "march/step.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_point.h"
@@ -59,6 +64,8 @@ struct coupled_state {
     unsigned char *held;        /* cells whose dp is held at 0 */
     struct gradient_face *faces;
     int nfaces;
+    struct coupled_open *open;  /* the open faces, unknowns nu + nc + m */
+    int nopen;
     struct csr_matrix A, K;
     struct entry *e;            /* assembly work */
     long cap;
@@ -94,6 +101,7 @@ void stage_coupled_destroy(struct coupled_state *c)
     free(c->cell);
     free(c->held);
     free(c->faces);
+    coupled_open_destroy(c->open);
     free(c->e);
     free(c->b);
     free(c->x);
@@ -161,9 +169,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     c->slot = malloc((size_t)c->nu * sizeof *c->slot);
     c->cell = malloc(g->size * sizeof *c->cell);
     c->held = malloc((size_t)c->nc);
-    c->b = malloc(((size_t)c->nu + c->nc) * sizeof *c->b);
-    c->x = malloc(((size_t)c->nu + c->nc) * sizeof *c->x);
-    if (!slot || !c->slot || !c->cell || !c->held || !c->b || !c->x) {
+    if (!slot || !c->slot || !c->cell || !c->held) {
         free(slot);
         goto oom;
     }
@@ -181,6 +187,19 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
      * box: one of them is redundant) */
     if (list_gradient_faces(st, c) != 0)
         goto oom;
+    int rc = coupled_open_create(&c->open, st, c->pm, c->slot, c->nu, c->cell);
+    c->nopen = coupled_open_count(c->open);
+    if (rc == -2) {
+        snprintf(err, errlen, "coupled step: an open face's inner face is held in a body");
+        goto fail;
+    }
+    if (rc != 0)
+        goto oom;
+    size_t nall = (size_t)c->nu + (size_t)c->nc + (size_t)c->nopen;
+    c->b = malloc(nall * sizeof *c->b);
+    c->x = malloc(nall * sizeof *c->x);
+    if (!c->b || !c->x)
+        goto oom;
     memset(c->held, 1, (size_t)c->nc);
     for (int f = 0; f < c->nfaces; f++) {
         if (c->faces[f].hi >= 0)
@@ -188,7 +207,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
         if (c->faces[f].lo >= 0)
             c->held[c->faces[f].lo] = 0;
     }
-    for (int q = 0; q < c->nc; q++)
+    for (int q = 0; q < c->nc && c->nopen == 0; q++)
         if (!c->held[q]) {
             c->held[q] = 1;
             break;
@@ -247,6 +266,7 @@ static int assemble(struct coupled_state *c)
 {
     const int nu = c->nu, nc = c->nc;
     long extra = c->pcols ? pressure_columns_count(c->pcols) : 0;
+    extra += coupled_open_entries(c->open) + 5L * c->nopen;
     if (grow_entries(c, csr_nnz(&c->A) + 4L * nu + nc + extra) != 0)
         return -1;
     long n = 0;
@@ -280,7 +300,25 @@ static int assemble(struct coupled_state *c)
     for (int q = 0; q < nc; q++)
         if (c->held[q])
             c->e[n++] = (struct entry){nu + q, nu + q, 1.0};
-    return to_csr(c->e, n, nu + nc, &c->K);
+    for (int m = 0; m < c->nopen; m++) {
+        const struct open_link *o = coupled_open_link(c->open, m);
+        int row = nu + nc + m, nr;
+        const int *rows;
+        const double *val;
+        /* the momentum rows the face's own increment reaches */
+        coupled_open_column(c->open, m, &nr, &rows, &val);
+        for (int q = 0; q < nr; q++)
+            c->e[n++] = (struct entry){rows[q], row, val[q]};
+        /* the boundary cell's divergence: the face moves by du_i + e */
+        double dv = o->s * o->share / o->h;
+        c->e[n++] = (struct entry){nu + o->qc, o->ki, dv};
+        c->e[n++] = (struct entry){nu + o->qc, row, dv};
+        /* dG_f - dG_i, G_f = -2 s p_c / h, G_i = (p_hi - p_lo) / h */
+        c->e[n++] = (struct entry){row, nu + o->qc, -2.0 * o->s / o->h};
+        c->e[n++] = (struct entry){row, nu + o->qhi, -1.0 / o->h};
+        c->e[n++] = (struct entry){row, nu + o->qlo, 1.0 / o->h};
+    }
+    return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
 struct apply_ctx {
@@ -310,6 +348,8 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     c->pcols_on = c->pcols && implicit_uses_tangent(st);
     if (c->pcols_on && pressure_columns_probe(c->pcols, st) != 0)
         return -1;
+    if (c->open && coupled_open_probe(c->open, st, pb) != 0)
+        return -1;
     if (assemble(c) != 0)
         return -1;
     probe_matrix_gather(c->pm, st->res, c->b);
@@ -320,12 +360,18 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
                 int q = c->cell[p];
                 c->b[nu + q] = c->held[q] ? 0.0 : -st->div[p];
             }
+    for (int m = 0; m < c->nopen; m++)
+        c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
     if (saddle_point_solve(c->solver, &c->K, c->b, c->x) != 0)
         return -1;
     st->linear_iterations = 1;
     for (int k = 0; k < 3; k++)
         memset(st->delta[k], 0, g->size * sizeof(double));
     probe_matrix_scatter(c->pm, c->x, st->delta);
+    for (int m = 0; m < c->nopen; m++) {
+        const struct open_link *o = coupled_open_link(c->open, m);
+        st->delta[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
+    }
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -338,5 +384,10 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 void stage_coupled_update(struct march_state *st)
 {
     kernel_axpy(&st->g, st->act, 1.0, st->delta, st->vel);
+    const struct coupled_state *c = st->coupled;
+    for (int m = 0; m < c->nopen; m++) { /* the open faces are state, not unknowns */
+        const struct open_link *o = coupled_open_link(c->open, m);
+        st->vel[o->d][o->pf] += st->delta[o->d][o->pf];
+    }
     bc_fill_velocity(&st->g, &st->bc, st->vel);
 }

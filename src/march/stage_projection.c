@@ -1,6 +1,7 @@
 /* Stage 4, projection: u = u + du - beta grad phi with div(beta grad phi) =
  * div du, beta = rho_ref / rho_f on faces (1 for one density), the pressure
  * increments of the projection and of the augmented Lagrangian (step.h). */
+#include "march/open_faces.h"
 #include "march/step.h"
 
 /* max |div u| h / max |u| above which a state is not solenoidal to round-off
@@ -48,56 +49,6 @@ static void subtract_gradient(struct march_state *st, const double *phi)
  * p_dyn would be whatever the march's history left).  The projection then
  * corrects the face with the same Dirichlet ghost, so that div u = 0 to
  * round-off in the boundary cells too. */
-
-/* Runs BODY on every face of every open boundary with d its direction, pf
- * the face, pi the inner face beside it (face 1 or n - 1), pc the boundary
- * cell between them and s the sign of the outward normal (-1 low, +1 high). */
-#define FOR_OPEN_FACES(st, BODY)                                                      \
-    for (int d = 0; d < 3; d++)                                                       \
-        for (int side = 0; side < 2; side++) {                                        \
-            if ((st)->bc.face[d][side] != BC_OPEN)                                    \
-                continue;                                                             \
-            const int a_ = (d + 1) % 3, b_ = (d + 2) % 3;                             \
-            const ptrdiff_t od = (st)->g.stride[d];                                   \
-            const double s = side ? 1.0 : -1.0;                                       \
-            int idx_[3];                                                              \
-            idx_[d] = side ? (st)->g.n[d] : 0;                                        \
-            for (idx_[a_] = 0; idx_[a_] < (st)->g.n[a_]; idx_[a_]++)                  \
-                for (idx_[b_] = 0; idx_[b_] < (st)->g.n[b_]; idx_[b_]++) {            \
-                    const ptrdiff_t pf = grid_idx(&(st)->g, idx_[0], idx_[1], idx_[2]); \
-                    const ptrdiff_t pi = side ? pf - od : pf + od;                    \
-                    const ptrdiff_t pc = side ? pf - od : pf;                         \
-                    BODY                                                              \
-                }                                                                     \
-        }
-
-/* d p / d x_d on an open face beside cell pc (outward sign s), with the
- * Dirichlet ghost -p[pc]: (ghost - p) / h high, (p - ghost) / h low. */
-static inline double face_gradient(const double *p, ptrdiff_t pc, double s, double h)
-{
-    return -2.0 * s * p[pc] / h;
-}
-
-/* The pressure and body-force acceleration a = (F - grad p_dyn) / rho on
- * the inner face pi and on the open face pf of direction d. */
-static double open_acceleration(const struct march_state *st, int d, ptrdiff_t p, int on_face,
-                                ptrdiff_t pc, double s)
-{
-    const struct grid *g = &st->g;
-    double rho = st->density_uniform ? st->cs->density : st->rho_face[d][p];
-    double F, G;
-    if (on_face) {
-        double f[3];
-        body_force_vector(st->cs, f);
-        F = (st->density_uniform ? f[d] : f[d] * rho / st->cs->density) -
-            face_gradient(st->p_hyd, pc, s, g->h[d]);
-        G = face_gradient(st->p_dyn, pc, s, g->h[d]);
-    } else {
-        F = st->force[d][p];
-        G = (st->p_dyn[p] - st->p_dyn[p - g->stride[d]]) / g->h[d];
-    }
-    return rho > 0.0 ? (F - G) / rho : 0.0;
-}
 
 /* The open faces' increments and predicted velocities (see above). */
 static void open_predict(struct march_state *st, double dt)

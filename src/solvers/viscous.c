@@ -422,7 +422,10 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
                    double *out[3])
 {
     const struct grid *g = s->g;
-    bc_fill_velocity_homogeneous(g, s->bc, v);
+    if (pb->open_given)
+        bc_fill_velocity_open_given(g, s->bc, v);
+    else
+        bc_fill_velocity_homogeneous(g, s->bc, v);
     if (pb->embedded)
         embedded_hold(pb->embedded, v);
     kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
