@@ -82,7 +82,8 @@ static int count_faces(const struct march_state *st)
     return n;
 }
 
-/* The links, their colours and the unknowns their columns may reach. */
+/* The links, their colours and the unknowns their columns may reach
+ * (every unknown within REACH of the face). */
 static int list_links(struct coupled_open *co, const struct march_state *st, const int *unknown,
                       const int *cell)
 {
@@ -91,8 +92,9 @@ static int list_links(struct coupled_open *co, const struct march_state *st, con
     for (int d = 0; d < 3; d++)
         periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
     int m = 0;
+    long cap = 0;
     FOR_OPEN_FACES(st, {
-        struct open_link *o = &co->link[m++];
+        struct open_link *o = &co->link[m];
         *o = (struct open_link){.pf = pf, .pi = pi, .pc = pc, .d = d, .s = s, .h = g->h[d]};
         o->share = st->embedded ? st->embedded->share[d][pf] : 1.0;
         o->ki = unknown[(size_t)d * g->size + (size_t)pi];
@@ -104,17 +106,9 @@ static int list_links(struct coupled_open *co, const struct march_state *st, con
         o->colour = residue(g->n[a_], periodic[a_], idx_[a_]) +
                     RESIDUES * (residue(g->n[b_], periodic[b_], idx_[b_]) +
                                 RESIDUES * (2 * d + side));
-    })
-    /* the columns' rows: every unknown in the reach of each face */
-    long cap = 0;
-    for (m = 0; m < co->n; m++) {
-        int near[3][2 * REACH + 1], cnt[3], idx[3];
-        ptrdiff_t p = co->link[m].pf;
-        idx[0] = (int)(p / g->stride[0]) - 1;
-        idx[1] = (int)((p % g->stride[0]) / g->stride[1]) - 1;
-        idx[2] = (int)(p % g->stride[1]) - 1;
-        for (int d = 0; d < 3; d++)
-            cnt[d] = within_reach(g->n[d], periodic[d], idx[d], near[d]);
+        int near[3][2 * REACH + 1], cnt[3];
+        for (int e = 0; e < 3; e++)
+            cnt[e] = within_reach(g->n[e], periodic[e], idx_[e], near[e]);
         long need = (long)co->start[m] + 3L * cnt[0] * cnt[1] * cnt[2];
         if (need > cap) {
             cap = 2 * need;
@@ -133,8 +127,8 @@ static int list_links(struct coupled_open *co, const struct march_state *st, con
                         if (k >= 0)
                             co->rows[e++] = k;
                     }
-        co->start[m + 1] = e;
-    }
+        co->start[++m] = e;
+    })
     co->values = calloc((size_t)co->start[co->n] + 1, sizeof *co->values);
     return co->values ? 0 : -1;
 }
