@@ -358,7 +358,7 @@ bench-cylinder-granular: deps bench-deps $(BUILD)/muflow
 # cases/cylinder.ini: D/4, p_ext = 10, lambda 1e-6; from rest at F = 1 to
 # CYLINDER_FORCING_END in steps of 0.05, 2 threads): the time of each steady
 # solve and of the whole continuation, $(BENCH_OUT)/cylinder_continuation/
-# cylinder.csv.  About 27 minutes to 1.2 on an idle machine (README).
+# cylinder.csv.  27-37 minutes to 1.2 (the path in F varies; README).
 CYLINDER_FORCING_END ?= 1.2
 .PHONY: bench-cylinder-continuation
 bench-cylinder-continuation: deps $(BUILD)/muflow
