@@ -67,6 +67,10 @@ void bc_fill_pressure(const struct grid *g, const struct boundary *bc, double *f
 /* 1 when some face of bc is open. */
 int bc_has_open(const struct boundary *bc);
 
+/* 1 when direction d lets a mean flow through: periodic, or open at both
+ * ends (a direction bounded otherwise holds a body force by its pressure). */
+int bc_through_flow(const struct boundary *bc, int d);
+
 /* The inflow's normal velocity (into the domain, sign not applied) on face
  * (i, j, k) of direction d: inflow_velocity times the profile. */
 double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k);

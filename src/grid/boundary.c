@@ -205,6 +205,12 @@ int bc_has_open(const struct boundary *bc)
     return 0;
 }
 
+int bc_through_flow(const struct boundary *bc, int d)
+{
+    const enum bc_kind *k = bc->face[d];
+    return k[0] == BC_PERIODIC || (k[0] == BC_OPEN && k[1] == BC_OPEN);
+}
+
 void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, double *f)
 {
     for (int d = 0; d < 3; d++) {

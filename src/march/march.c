@@ -568,8 +568,7 @@ int march_driven_component(const struct march_state *st)
     double f[3];
     body_force_vector(st->cs, f);
     int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
-    const enum bc_kind *k = st->bc.face[a];
-    if (!(k[0] == BC_PERIODIC || (k[0] == BC_OPEN && k[1] == BC_OPEN)))
+    if (!bc_through_flow(&st->bc, a))
         a = a == 0 ? 2 : 0;
     return a;
 }

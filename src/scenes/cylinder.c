@@ -126,7 +126,7 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     /* the flow along z: periodic, or in at the top and out at the bottom
      * through open faces, where the pressure is p_ext */
     enum bc_kind zlo = c->bc.face[2][0], zhi = c->bc.face[2][1];
-    if (!(zlo == BC_PERIODIC || (zlo == BC_OPEN && zhi == BC_OPEN))) {
+    if (!bc_through_flow(&c->bc, 2)) {
         snprintf(msg, msglen, "boundary.zlo = %s, zhi = %s: case.scene = cylinder needs "
                               "boundary.zlo = zhi = periodic or open (the flow along z)",
                  bc_kind_name(zlo), bc_kind_name(zhi));
