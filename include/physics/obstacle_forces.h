@@ -1,17 +1,32 @@
 /* Forces on the case's obstacles (physics/obstacle.h), per unit length of
  * the extrusion, from the steady state of a march:
  *
- * - surface: the traction sigma n = -p n + eta du/dn integrated around the
- *   body's outline (sampled finely; the midpoint rule on a smooth periodic
+ * - surface: the traction integrated over the body's surface as the
+ *   discretisation applies it.  Every term of the momentum residual (the
+ *   stress, the pressure gradient, the conservative advection, the cut
+ *   cells' grad-div) is a flux between two neighbouring nodes, so the
+ *   fluxes between fluid nodes and the body's held nodes are the body's
+ *   discrete surface: the force is their sum, the cut links' Gibou
+ *   corrections with it.  It is the force the discrete momentum balance
+ *   puts on the body, so it converges as the flow does (second order:
+ *   README, "Flow past a cylinder"); pressure_part is the pressure
+ *   gradient's share.  That split is the staircase's (the pressure of the
+ *   cut cells, the rest in the viscous fluxes), not the smooth surface's.
+ * - reconstructed: the traction sigma n = -p n + eta du/dn sampled around
+ *   the body's outline (finely; the midpoint rule on a smooth periodic
  *   integrand).  At a no-slip surface the velocity's gradient is du/dn n^T
  *   alone and du_n/dn = 0 (continuity), so the viscous traction is
  *   eta du/dn; du/dn from the quadratic through u = 0 on the surface and
  *   the velocity interpolated at 1.5 h and 3 h along the normal, p
- *   extrapolated linearly from the same two points (both second order).
+ *   extrapolated linearly from the same two points.  The pointwise
+ *   pressure and shear around the body (obstacle_surface.csv); its
+ *   integral converges slowly, the fields within a few cells of the
+ *   body being the least accurate (docs/design.md, "Obstacles").
  * - control volume: the momentum balance of the fluid in a box around the
  *   body, F = surface integral over the box of (sigma n - rho u (u . n)),
  *   midpoint rule on the grid's faces (second order): a check of the
- *   surface integral that does not touch the body.
+ *   surface integral on a surface away from the body (it agrees with it
+ *   as far as the scheme conserves momentum and the state is steady).
  *   With a body force, its share on the fluid in the box is added.
  * A body whose centre lies on a slip face of the box (a symmetry plane: the
  * run holds half of a symmetric flow) has its outline sampled in the box,
@@ -30,7 +45,9 @@
 
 struct obstacle_forces {
     double surface[2];        /* along the plane's a (drag) and b (lift) */
-    double pressure_part[2];  /* the pressure's share of surface */
+    double pressure_part[2];  /* the pressure gradient's share of surface */
+    double reconstructed[2];  /* the sampled traction's integral */
+    double reconstructed_pressure[2];
     double control_volume[2];
     double front_back;        /* p at the front point less p at the back point */
     double u_ref, d_ref;      /* the coefficients' velocity and length (0: none) */
@@ -39,8 +56,9 @@ struct obstacle_forces {
                                  half the body, the forces are the whole's */
 };
 
-/* Returns 0, or -1 when some sample's interpolation reached into the body
- * (a body thinner than a few cells). */
+/* Returns 0, -1 when some sample's interpolation reached into the body
+ * (a body thinner than a few cells: the reconstructed traction misses
+ * them), -2 when out of memory for the surface's sum (then 0). */
 int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
 
 /* The mean over the box of the velocity component the body force drives

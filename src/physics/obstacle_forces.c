@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "kernels/embedded.h"
 #include "march/step.h"
 #include "physics/obstacle.h"
 
@@ -278,6 +279,72 @@ static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2
             (double)solid / (AREA_SAMPLES * AREA_SAMPLES)) * ha * hb;
 }
 
+/* The force on the bodies as the discrete momentum equations apply it.
+ * The residual's terms are fluxes between neighbouring nodes (the stress,
+ * the pressure gradient, the conservative advection, the cut cells'
+ * grad-div): each flux between a fluid node and a held one leaves the fluid
+ * as it enters the body, and the fluxes among held nodes cancel in pairs.
+ * So the body's force is the sum over the held nodes of those terms (body
+ * forces left out), plus what the cut links add to the fluid nodes alone
+ * (the Gibou correction, not a flux between two nodes).  Per unit length
+ * of the extrusion; pressure: the pressure gradient's share.  The terms
+ * are the march's own (stage_residual.c and the obstacle module's); a
+ * module that adds its own residual terms (the two-fluid bed's second
+ * phase) is not in the sum.  Returns -1 when out of memory. */
+static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
+{
+    const struct march_state *st = pl->st;
+    const struct grid *g = &st->g;
+    const struct embedded *e = st->embedded;
+    F[0] = F[1] = Fp[0] = Fp[1] = 0.0;
+    if (!e)
+        return 0;
+    double *r[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
+    double *rp[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
+    double *w = field_alloc(g);
+    int rc = -1;
+    if (!r[0] || !r[1] || !r[2] || !rp[0] || !rp[1] || !rp[2] || !w)
+        goto done;
+    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel, r);
+    kernel_divergence(g, st->vel, w);
+    for (size_t p = 0; p < g->size; p++)
+        w[p] *= st->eta[p] * e->cut[p];
+    bc_fill_scalar(g, &st->bc, w);
+    kernel_gradient_update(g, st->act, w, 1.0, r);
+    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, rp);
+    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, rp);
+    if (st->cs->advection) { /* st->adv: the last evaluation's, held nodes included */
+        if (st->density_uniform)
+            kernel_axpy(g, st->act, st->cs->density, (double *const *)st->adv, r);
+        else
+            kernel_multiply_add(g, st->act, (double *const *)st->rho_face, (double *const *)st->adv, r);
+    }
+    const double vol = g->h[0] * g->h[1] * g->h[2] / (g->n[pl->m] * g->h[pl->m]);
+    double Fd[3] = {0.0, 0.0, 0.0}, Fpd[3] = {0.0, 0.0, 0.0};
+    for (int c = 0; c < 3; c++)
+        for (long i = 0; i < e->nheld[c]; i++) {
+            ptrdiff_t S = e->held[c][i];
+            Fd[c] += (r[c][S] + rp[c][S]) * vol;
+            Fpd[c] += rp[c][S] * vol;
+        }
+    for (long i = 0; i < e->nlinks; i++) { /* the residual's -A w v_P, taken from the fluid */
+        const struct embedded_link *l = &e->links[i];
+        double A = l->coef < 3 ? st->eta[l->at] : st->eta_e[l->coef - 3][l->at];
+        Fd[l->c] += A * l->w * st->vel[l->c][l->p] * vol;
+    }
+    F[0] = Fd[pl->a], F[1] = Fd[pl->b];
+    Fp[0] = Fpd[pl->a], Fp[1] = Fpd[pl->b];
+    rc = 0;
+done:
+    for (int c = 0; c < 3; c++) {
+        field_free(r[c]);
+        field_free(rp[c]);
+    }
+    field_free(w);
+    return rc;
+}
+
 int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
 {
     memset(f, 0, sizeof *f);
@@ -286,12 +353,16 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
     struct sums S = {{0.0, 0.0}, {0.0, 0.0}};
     int rc = outline(&pl, add_sample, &S);
     for (int k = 0; k < 2; k++) {
-        f->surface[k] = S.f[k];
-        f->pressure_part[k] = S.fp[k];
+        f->reconstructed[k] = S.f[k];
+        f->reconstructed_pressure[k] = S.fp[k];
         f->mirror[k] = pl.mirror[k];
     }
+    if (discrete_force(&pl, f->surface, f->pressure_part) != 0)
+        rc = -2;
     symmetric_whole(pl.mirror, f->surface);
     symmetric_whole(pl.mirror, f->pressure_part);
+    symmetric_whole(pl.mirror, f->reconstructed);
+    symmetric_whole(pl.mirror, f->reconstructed_pressure);
     /* the bounding box of the union, and the front and back points of the
      * first shape along a */
     const struct grid *g = &st->g;
@@ -395,6 +466,9 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     run_result_add(res, "drag_force", "%.10g", f.surface[0]);
     run_result_add(res, "lift_force", "%.10g", f.surface[1]);
     run_result_add(res, "drag_force_pressure", "%.10g", f.pressure_part[0]);
+    run_result_add(res, "drag_force_reconstructed", "%.10g", f.reconstructed[0]);
+    run_result_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[1]);
+    run_result_add(res, "drag_force_pressure_reconstructed", "%.10g", f.reconstructed_pressure[0]);
     /* a wall around the fluid (obstacle.invert: a duct) has no front, back
      * or box around it: those keys would be zeros, not measurements */
     int body = !st->cs->obstacle.invert;
@@ -407,16 +481,21 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
         run_result_add(res, "lift_coefficient", "%.10g", f.surface[1] / q);
         run_result_add(res, "drag_coefficient_control_volume", "%.10g", f.control_volume[0] / q);
         run_result_add(res, "lift_coefficient_control_volume", "%.10g", f.control_volume[1] / q);
+        run_result_add(res, "drag_coefficient_reconstructed", "%.10g", f.reconstructed[0] / q);
+        run_result_add(res, "lift_coefficient_reconstructed", "%.10g", f.reconstructed[1] / q);
     }
     if (body && !f.mirror[0])
         run_result_add(res, "pressure_drop", "%.10g", f.front_back);
     double u_mean = obstacle_mean_velocity(st);
     if (isfinite(u_mean))
         run_result_add(res, "mean_velocity", "%.10g", u_mean);
-    if (rc != 0)
+    if (rc == -2)
+        run_result_add(res, "obstacle_warning", "%s",
+                       "out of memory for the body's discrete force: drag and lift are 0");
+    else if (rc != 0)
         run_result_add(res, "obstacle_warning", "%s",
                        "a surface sample's interpolation reached into the body (too few cells "
-                       "across it): the forces miss those samples");
+                       "across it): the reconstructed forces miss those samples");
 }
 
 struct csv_ctx {
