@@ -7,6 +7,7 @@
 #include "solvers/viscous.h"
 #include "solvers/amg_hypre.h"
 #include "solvers/probe_matrix.h"
+#include "solvers/saddle_point.h"
 #include "config/case.h"
 #include "march/march.h"
 
@@ -439,10 +440,63 @@ static void test_drop_component_roundoff(void **state)
     csr_free(&M);
 }
 
+/* The coupled step's LU (saddle_point_solve): a small saddle-point system
+ * [A B^T; B 0] is solved to round-off; a singular one (B = 0) fails with
+ * its cause in words, which the march puts into its "broke down" message. */
+static void fill_csr(struct csr_matrix *M, int n, const double *dense)
+{
+    assert_int_equal(csr_reserve(M, n, (size_t)(n * n)), 0);
+    int k = 0;
+    for (int r = 0; r < n; r++) {
+        M->rowptr[r] = k;
+        for (int c = 0; c < n; c++)
+            if (dense[r * n + c] != 0.0 || r == c) {
+                M->col[k] = c;
+                M->val[k++] = dense[r * n + c];
+            }
+    }
+    M->rowptr[n] = k;
+    M->n = n;
+}
+
+static void test_saddle_point_cause(void **state)
+{
+    (void)state;
+    char err[256] = "";
+    struct saddle_point *sp;
+    if (saddle_point_create(&sp, err, sizeof err) != 0) {
+        print_error("%s\n", err);
+        fail();
+    }
+    /* A = diag(2, 3), B = (1 1), b = K x_exact */
+    const double K[9] = {2, 0, 1, 0, 3, 1, 1, 1, 0};
+    const double x_exact[3] = {1.0, 2.0, -0.5};
+    double b[3], x[3];
+    for (int r = 0; r < 3; r++)
+        b[r] = K[3 * r] * x_exact[0] + K[3 * r + 1] * x_exact[1] + K[3 * r + 2] * x_exact[2];
+    struct csr_matrix M = {0};
+    fill_csr(&M, 3, K);
+    assert_int_equal(saddle_point_solve(sp, &M, b, x, err, sizeof err), 0);
+    for (int r = 0; r < 3; r++)
+        assert_true(fabs(x[r] - x_exact[r]) < 1e-14);
+    csr_free(&M);
+    const double S[9] = {2, 0, 0, 0, 3, 0, 0, 0, 0}; /* B = 0: the pressure is free */
+    struct csr_matrix Z = {0};
+    fill_csr(&Z, 3, S);
+    err[0] = '\0';
+    assert_int_equal(saddle_point_solve(sp, &Z, b, x, err, sizeof err), -1);
+    print_message("singular saddle point: %s\n", err);
+    assert_non_null(strstr(err, "singular"));
+    assert_non_null(strstr(err, "3 unknowns"));
+    csr_free(&Z);
+    saddle_point_destroy(sp);
+}
+
 void group_viscous(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_drop_component_roundoff),
+        cmocka_unit_test(test_saddle_point_cause),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),
         cmocka_unit_test(test_line_blocks_exact_for_uniform_flow),

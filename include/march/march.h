@@ -108,6 +108,7 @@ struct march_state {
     double good_time, good_dt;
     enum run_status status;
     char message[256];          /* why the run ended */
+    char step_error[160];       /* why the last step's solve failed, when a stage says */
 };
 
 /* Called after every residual evaluation (also the final one); return non-zero

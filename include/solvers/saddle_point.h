@@ -20,8 +20,9 @@ int saddle_point_create(struct saddle_point **out, char *err, size_t errlen);
 void saddle_point_destroy(struct saddle_point *s);
 
 /* K x = rhs, K by compressed rows: factorised, solved, the factors freed.
- * Returns 0, or -1 when K is singular or memory runs out. */
+ * Returns 0, or -1 when K is singular or memory runs out, with the cause in
+ * err (UMFPACK's status, the unknowns, its estimate of the peak memory). */
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
-                       double *x);
+                       double *x, char *err, size_t errlen);
 
 #endif

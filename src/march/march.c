@@ -879,6 +879,7 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         for (;;) {
             dt = choose_dt(st) * st->dt_scale;
             int newton_step = implicit_uses_tangent(st); /* steady mode only */
+            st->step_error[0] = '\0';
             int broke = step_advance(st, dt) != 0;
             if (!broke)
                 step_evaluate(st);
@@ -897,8 +898,9 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
                     restore_good(st);
                     st->status = STATUS_DIVERGED;
                     snprintf(st->message, sizeof st->message,
-                             "the implicit viscous solve broke down at step %ld; the last "
-                             "finite state is kept", st->step);
+                             "the implicit viscous solve broke down at step %ld%s%.150s%s; the last "
+                             "finite state is kept", st->step, st->step_error[0] ? " (" : "",
+                             st->step_error, st->step_error[0] ? ")" : "");
                 }
                 break;
             }

@@ -362,7 +362,7 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
             }
     for (int m = 0; m < c->nopen; m++)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
-    if (saddle_point_solve(c->solver, &c->K, c->b, c->x) != 0)
+    if (saddle_point_solve(c->solver, &c->K, c->b, c->x, st->step_error, sizeof st->step_error) != 0)
         return -1;
     st->linear_iterations = 1;
     for (int k = 0; k < 3; k++)

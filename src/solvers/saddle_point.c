@@ -9,6 +9,7 @@
 
 struct saddle_point {
     void *symbolic, *numeric;
+    double peak_bytes; /* the symbolic analysis's estimate of the numeric peak */
     struct csr_matrix pattern; /* the rows and columns the symbolic analysis is of
                                   (no values) */
 };
@@ -65,19 +66,39 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
     P->n = K->n;
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
+    double info[UMFPACK_INFO];
     if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, control,
-                                        NULL) != UMFPACK_OK) {
+                                        info) != UMFPACK_OK) {
         free_symbolic(s);
         return -1;
     }
+    s->peak_bytes = info[UMFPACK_PEAK_MEMORY_ESTIMATE] * info[UMFPACK_SIZE_OF_UNIT];
     return 0;
 }
 
-int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
-                       double *x)
+/* UMFPACK's status as words. */
+static const char *umfpack_status_text(int status)
 {
-    if (!csr_same_pattern(K, &s->pattern) && analyse(s, K) != 0)
+    switch (status) {
+    case UMFPACK_WARNING_singular_matrix:
+        return "the matrix is singular";
+    case UMFPACK_ERROR_out_of_memory:
+        return "out of memory (or beyond its 32-bit indices)";
+    case UMFPACK_ERROR_invalid_matrix:
+        return "invalid matrix";
+    default:
+        return "failed";
+    }
+}
+
+int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
+                       double *x, char *err, size_t errlen)
+{
+    if (!csr_same_pattern(K, &s->pattern) && analyse(s, K) != 0) {
+        snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: out of memory in its "
+                              "analysis", K->n);
         return -1;
+    }
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
     int status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic,
@@ -89,6 +110,9 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
      * matrix is probed, so that the two are never held at once */
     free_numeric(s);
     if (status != UMFPACK_OK) {
+        snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s, peak memory "
+                              "estimate %.1f GB",
+                 K->n, umfpack_status_text(status), s->peak_bytes / 1e9);
         free_symbolic(s); /* analysed afresh next time */
         return -1;
     }
