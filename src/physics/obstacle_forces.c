@@ -8,6 +8,7 @@
 #include "kernels/embedded.h"
 #include "march/step.h"
 #include "physics/obstacle.h"
+#include "solvers/viscous.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -301,17 +302,16 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
         return 0;
     double *r[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
     double *rp[3] = {field_alloc(g), field_alloc(g), field_alloc(g)};
-    double *w = field_alloc(g);
     int rc = -1;
-    if (!r[0] || !r[1] || !r[2] || !rp[0] || !rp[1] || !rp[2] || !w)
+    if (!r[0] || !r[1] || !r[2] || !rp[0] || !rp[1] || !rp[2])
         goto done;
     const double *eta_cell[3] = {st->eta, st->eta, st->eta};
     kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel, r);
-    kernel_divergence(g, st->vel, w);
-    for (size_t p = 0; p < g->size; p++)
-        w[p] *= st->eta[p] * e->cut[p];
-    bc_fill_scalar(g, &st->bc, w);
-    kernel_gradient_update(g, st->act, w, 1.0, r);
+    /* the obstacle module's own residual terms: the cut cells' grad-div
+     * (which reaches the held nodes) and the cut links (on fluid nodes, not
+     * summed below: their share is taken from the links themselves) */
+    viscous_embedded_terms(g, &st->bc, st->act, e, eta_cell, (const double *const *)st->eta_e,
+                           -1.0, st->vel, r);
     kernel_gradient_update(g, st->act, st->p_dyn, 1.0, rp);
     kernel_gradient_update(g, st->act, st->p_hyd, 1.0, rp);
     if (st->cs->advection) { /* st->adv: the last evaluation's, held nodes included */
@@ -341,7 +341,6 @@ done:
         field_free(r[c]);
         field_free(rp[c]);
     }
-    field_free(w);
     return rc;
 }
 

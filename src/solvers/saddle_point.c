@@ -50,32 +50,6 @@ void saddle_point_destroy(struct saddle_point *s)
     free(s);
 }
 
-static int analyse(struct saddle_point *s, const struct csr_matrix *K)
-{
-    free_symbolic(s);
-    size_t nnz = (size_t)csr_nnz(K);
-    struct csr_matrix *P = &s->pattern;
-    P->rowptr = malloc(((size_t)K->n + 1) * sizeof(int));
-    P->col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
-    if (!P->rowptr || !P->col) {
-        free_symbolic(s);
-        return -1;
-    }
-    memcpy(P->rowptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
-    memcpy(P->col, K->col, nnz * sizeof(int));
-    P->n = K->n;
-    double control[UMFPACK_CONTROL];
-    suitesparse_umfpack_control(control);
-    double info[UMFPACK_INFO];
-    if (suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val, &s->symbolic, control,
-                                        info) != UMFPACK_OK) {
-        free_symbolic(s);
-        return -1;
-    }
-    s->peak_bytes = info[UMFPACK_PEAK_MEMORY_ESTIMATE] * info[UMFPACK_SIZE_OF_UNIT];
-    return 0;
-}
-
 /* UMFPACK's status as words. */
 static const char *umfpack_status_text(int status)
 {
@@ -91,18 +65,48 @@ static const char *umfpack_status_text(int status)
     }
 }
 
+/* The symbolic analysis of K's pattern: UMFPACK's status (out of memory
+ * when the pattern's copy cannot be made). */
+static int analyse(struct saddle_point *s, const struct csr_matrix *K)
+{
+    free_symbolic(s);
+    size_t nnz = (size_t)csr_nnz(K);
+    struct csr_matrix *P = &s->pattern;
+    P->rowptr = malloc(((size_t)K->n + 1) * sizeof(int));
+    P->col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
+    if (!P->rowptr || !P->col) {
+        free_symbolic(s);
+        return UMFPACK_ERROR_out_of_memory;
+    }
+    memcpy(P->rowptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
+    memcpy(P->col, K->col, nnz * sizeof(int));
+    P->n = K->n;
+    double control[UMFPACK_CONTROL];
+    suitesparse_umfpack_control(control);
+    double info[UMFPACK_INFO];
+    int status = suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val,
+                                                 &s->symbolic, control, info);
+    if (status != UMFPACK_OK) {
+        free_symbolic(s);
+        return status;
+    }
+    s->peak_bytes = info[UMFPACK_PEAK_MEMORY_ESTIMATE] * info[UMFPACK_SIZE_OF_UNIT];
+    return UMFPACK_OK;
+}
+
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
                        double *x, char *err, size_t errlen)
 {
-    if (!csr_same_pattern(K, &s->pattern) && analyse(s, K) != 0) {
-        snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: out of memory in its "
-                              "analysis", K->n);
+    int status = csr_same_pattern(K, &s->pattern) ? UMFPACK_OK : analyse(s, K);
+    if (status != UMFPACK_OK) {
+        snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s in its analysis",
+                 K->n, umfpack_status_text(status));
         return -1;
     }
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
-    int status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic,
-                                                &s->numeric, control, NULL);
+    status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic, &s->numeric,
+                                            control, NULL);
     if (status == UMFPACK_OK)
         status = suitesparse.umfpack_di_solve(UMFPACK_At, K->rowptr, K->col, K->val, x, rhs,
                                               s->numeric, NULL, NULL);
