@@ -19,7 +19,9 @@
     X(cholmod_free_factor) X(cholmod_zeros) X(cholmod_free_dense) X(cholmod_solve2)
 #define SUITESPARSE_UMFPACK_FUNCTIONS(X)                                                          \
     X(umfpack_di_symbolic) X(umfpack_di_numeric) X(umfpack_di_solve)                              \
-    X(umfpack_di_free_symbolic) X(umfpack_di_free_numeric) X(umfpack_di_defaults)
+    X(umfpack_di_free_symbolic) X(umfpack_di_free_numeric) X(umfpack_di_defaults)                \
+    X(umfpack_dl_symbolic) X(umfpack_dl_numeric) X(umfpack_dl_solve)                              \
+    X(umfpack_dl_free_symbolic) X(umfpack_dl_free_numeric)
 
 struct suitesparse_api {
 #define SUITESPARSE_POINTER(f) __typeof__(f) *f;

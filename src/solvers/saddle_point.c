@@ -1,6 +1,13 @@
 /* The coupled step's saddle-point solver (saddle_point.h).  UMFPACK takes
  * compressed columns; K's compressed rows are the columns of K^T, so K^T is
- * factorised and solved transposed (UMFPACK_At), which is K x = b. */
+ * factorised and solved transposed (UMFPACK_At), which is K x = b.
+ *
+ * It calls UMFPACK's 64-bit-index interface (umfpack_dl_*): with 32-bit
+ * indices the numeric factorisation of the granular cylinder at D/32
+ * (1,227,840 unknowns, peak estimate 8.7 GB) stopped as out of memory,
+ * since its workspace is counted in 32-bit units.  The pattern's copy the
+ * solver keeps anyway (to see when K's pattern changes) is made in the
+ * 64-bit indices that interface reads. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,8 +17,10 @@
 struct saddle_point {
     void *symbolic, *numeric;
     double peak_bytes; /* the symbolic analysis's estimate of the numeric peak */
-    struct csr_matrix pattern; /* the rows and columns the symbolic analysis is of
-                                  (no values) */
+    /* the rows and columns the symbolic analysis is of, in UMFPACK's
+       64-bit indices (no values) */
+    long n;
+    SuiteSparse_long *rowptr, *col;
 };
 
 int saddle_point_create(struct saddle_point **out, char *err, size_t errlen)
@@ -29,16 +38,19 @@ int saddle_point_create(struct saddle_point **out, char *err, size_t errlen)
 static void free_numeric(struct saddle_point *s)
 {
     if (s->numeric)
-        suitesparse.umfpack_di_free_numeric(&s->numeric);
+        suitesparse.umfpack_dl_free_numeric(&s->numeric);
     s->numeric = NULL;
 }
 
 static void free_symbolic(struct saddle_point *s)
 {
     if (s->symbolic)
-        suitesparse.umfpack_di_free_symbolic(&s->symbolic);
+        suitesparse.umfpack_dl_free_symbolic(&s->symbolic);
     s->symbolic = NULL;
-    csr_free(&s->pattern);
+    free(s->rowptr);
+    free(s->col);
+    s->rowptr = s->col = NULL;
+    s->n = 0;
 }
 
 void saddle_point_destroy(struct saddle_point *s)
@@ -57,12 +69,26 @@ static const char *umfpack_status_text(int status)
     case UMFPACK_WARNING_singular_matrix:
         return "the matrix is singular";
     case UMFPACK_ERROR_out_of_memory:
-        return "out of memory (or beyond its 32-bit indices)";
+        return "out of memory";
     case UMFPACK_ERROR_invalid_matrix:
         return "invalid matrix";
     default:
         return "failed";
     }
+}
+
+/* Whether K has the pattern the symbolic analysis was made of. */
+static int same_pattern(const struct saddle_point *s, const struct csr_matrix *K)
+{
+    if (!s->symbolic || s->n != K->n)
+        return 0;
+    for (int r = 0; r <= K->n; r++)
+        if (s->rowptr[r] != K->rowptr[r])
+            return 0;
+    for (long k = 0; k < csr_nnz(K); k++)
+        if (s->col[k] != K->col[k])
+            return 0;
+    return 1;
 }
 
 /* The symbolic analysis of K's pattern: UMFPACK's status (out of memory
@@ -71,20 +97,21 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
 {
     free_symbolic(s);
     size_t nnz = (size_t)csr_nnz(K);
-    struct csr_matrix *P = &s->pattern;
-    P->rowptr = malloc(((size_t)K->n + 1) * sizeof(int));
-    P->col = malloc((nnz > 0 ? nnz : 1) * sizeof(int));
-    if (!P->rowptr || !P->col) {
+    s->rowptr = malloc(((size_t)K->n + 1) * sizeof *s->rowptr);
+    s->col = malloc((nnz > 0 ? nnz : 1) * sizeof *s->col);
+    if (!s->rowptr || !s->col) {
         free_symbolic(s);
         return UMFPACK_ERROR_out_of_memory;
     }
-    memcpy(P->rowptr, K->rowptr, ((size_t)K->n + 1) * sizeof(int));
-    memcpy(P->col, K->col, nnz * sizeof(int));
-    P->n = K->n;
+    for (int r = 0; r <= K->n; r++)
+        s->rowptr[r] = K->rowptr[r];
+    for (size_t k = 0; k < nnz; k++)
+        s->col[k] = K->col[k];
+    s->n = K->n;
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
     double info[UMFPACK_INFO];
-    int status = suitesparse.umfpack_di_symbolic(K->n, K->n, K->rowptr, K->col, K->val,
+    int status = suitesparse.umfpack_dl_symbolic(s->n, s->n, s->rowptr, s->col, K->val,
                                                  &s->symbolic, control, info);
     if (status != UMFPACK_OK) {
         free_symbolic(s);
@@ -97,7 +124,7 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
                        double *x, char *err, size_t errlen)
 {
-    int status = csr_same_pattern(K, &s->pattern) ? UMFPACK_OK : analyse(s, K);
+    int status = same_pattern(s, K) ? UMFPACK_OK : analyse(s, K);
     if (status != UMFPACK_OK) {
         snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s in its analysis",
                  K->n, umfpack_status_text(status));
@@ -105,10 +132,10 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
     }
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
-    status = suitesparse.umfpack_di_numeric(K->rowptr, K->col, K->val, s->symbolic, &s->numeric,
+    status = suitesparse.umfpack_dl_numeric(s->rowptr, s->col, K->val, s->symbolic, &s->numeric,
                                             control, NULL);
     if (status == UMFPACK_OK)
-        status = suitesparse.umfpack_di_solve(UMFPACK_At, K->rowptr, K->col, K->val, x, rhs,
+        status = suitesparse.umfpack_dl_solve(UMFPACK_At, s->rowptr, s->col, K->val, x, rhs,
                                               s->numeric, NULL, NULL);
     /* the factors serve this solve only: freed before the next step's
      * matrix is probed, so that the two are never held at once */
