@@ -354,6 +354,18 @@ bench-cylinder-granular: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_granular.py $(BUILD)/muflow $(BENCH_OUT) \
 	  --pressures $(GRANULAR_PRESSURES) --forcing $(GRANULAR_FORCING) --reuse --plot
 
+# Grid convergence of the granular cylinder's drag at F = 1 (cases/cylinder.ini,
+# lambda 1e-2 on every grid): D/h = GRANULAR_GRIDS, the first from rest,
+# each finer one from the state before it, with the sheared layer at the
+# body ($(BENCH_OUT)/cylinder_grids.md, cylinder_grids_layer.png).  About
+# 5 minutes on 2 cores to D/16; D/32 takes 40 more and 14 GB (README).
+GRANULAR_GRIDS ?= 4,8,16
+.PHONY: bench-cylinder-grids
+bench-cylinder-grids: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_grids.py $(BUILD)/muflow $(BENCH_OUT) \
+	  --grids $(GRANULAR_GRIDS)
+
 # The granular cylinder's continuation in F in one run (scene cylinder,
 # cases/cylinder.ini: D/4, p_ext = 10, lambda 1e-6; from rest at F = 1 to
 # CYLINDER_FORCING_END in steps of 0.05, 2 threads): the time of each steady

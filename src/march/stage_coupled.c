@@ -61,7 +61,9 @@ struct coupled_state {
     ptrdiff_t *slot;            /* each velocity unknown's field slot */
     int *cell;                  /* each cell slot's number (periodic images
                                    included), -1 for a bounded face's ghosts */
-    unsigned char *held;        /* cells whose dp is held at 0 */
+    unsigned char *held;        /* cells whose dp is held (at 0, or the pin's) */
+    int pinned;                 /* the cell whose p_dyn fixes the pressure's
+                                   level (-1: an open face fixes it) */
     struct gradient_face *faces;
     int nfaces;
     struct coupled_open *open;  /* the open faces, unknowns nu + nc + m */
@@ -207,9 +209,11 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
         if (c->faces[f].lo >= 0)
             c->held[c->faces[f].lo] = 0;
     }
+    c->pinned = -1;
     for (int q = 0; q < c->nc && c->nopen == 0; q++)
         if (!c->held[q]) {
             c->held[q] = 1;
+            c->pinned = q;
             break;
         }
     if (st->rheo.law == LAW_MUI && st->cs->newton &&
@@ -358,7 +362,14 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 int q = c->cell[p];
-                c->b[nu + q] = c->held[q] ? 0.0 : -st->div[p];
+                /* the pin's row takes p_dyn there to 0, whatever the state
+                 * started from: an interpolated start (solver.initial_state)
+                 * brings its own value, and a pressure-dependent law sees
+                 * the level (D/8 from a D/4 state: F_D 57.374 against
+                 * 57.658 from rest, both steady to round-off) */
+                c->b[nu + q] = q == c->pinned ? -st->p_dyn[p]
+                               : c->held[q]   ? 0.0
+                                              : -st->div[p];
             }
     for (int m = 0; m < c->nopen; m++)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);

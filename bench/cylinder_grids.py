@@ -1,0 +1,102 @@
+#!/usr/bin/python3
+"""Grid convergence of the granular cylinder's drag at one forcing
+(cases/cylinder.ini, F = 1, p_ext = 10; README "Granular flow past a
+cylinder").
+
+usage: cylinder_grids.py MUFLOW OUTDIR [--grids 4,8,16] [--lambda 1e-2]
+                         [section.key=value ...]
+
+The first grid (D/h cells across a diameter) starts from rest, each finer
+one from the state before it interpolated (solver.initial_state) with
+Picard steps until the residual has fallen a hundredfold
+(solver.newton_below = 1e-2): from rest the finer grids are not steady in
+any sane time.  lambda (default 1e-2, the case's continuation off) is the
+same on every grid.  Extra overrides go to every run (for instance
+rheology.curve=barker_gray).  Writes OUTDIR/cylinder_grids.md: per grid
+its steps, wall and CPU seconds, peak memory, the machine's load, U, F_D by
+the control volume and by the surface integral, the successive
+differences of F_D and the observed order where three grids give one, and
+the sheared layer at the body (max |D| and h max |D|, bench/cylinder_layer.py),
+with OUTDIR/cylinder_grids_layer.png."""
+import math
+import os
+import subprocess
+import sys
+
+from cylinder_layer import layer
+from summary_ini import loadavg, summary, timed_run
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CASE = os.path.join(HERE, "..", "cases", "cylinder.ini")
+
+
+def option(args, name, default):
+    if name in args:
+        i = args.index(name)
+        value = args[i + 1]
+        del args[i:i + 2]
+        return value
+    return default
+
+
+def main():
+    args = sys.argv[1:]
+    if len(args) < 2:
+        raise SystemExit(__doc__)
+    grids = [int(g) for g in option(args, "--grids", "4,8,16").split(",")]
+    lam = option(args, "--lambda", "1e-2")
+    muflow, outdir, extra = args[0], args[1], args[2:]
+    os.makedirs(outdir, exist_ok=True)
+    rows, previous = [], None
+    for n in grids:
+        d = os.path.join(outdir, f"cylinder_grid_d{n}")
+        run = [muflow, CASE, f"domain.nx={10 * n}", f"domain.nz={30 * n}",
+               f"rheology.lambda={lam}", "solver.continuation=1", f"output.dir={d}"] + extra
+        if previous:
+            run += ["solver.newton_below=1e-2",
+                    f"solver.initial_state={os.path.join(previous, 'checkpoint.h5')}"]
+        print(" ".join(run), flush=True)
+        load = loadavg()
+        code, wall, cpu, mb = timed_run(run, stdout=subprocess.DEVNULL)
+        res = summary(os.path.join(d, "summary.ini"))
+        if code != 0 or res.get("status") != "steady":
+            print(f"D/{n}: {res.get('status')}: {res.get('message')}", flush=True)
+            break
+        vals = res
+        lay = layer(d)
+        rows.append({"n": n, "steps": int(res["steps"]), "wall": wall, "cpu": cpu, "mb": mb,
+                     "load": load, "U": float(vals["mean_velocity"]), "cv": float(vals["drag"]),
+                     "surface": float(vals["drag_surface"]), "max": lay["max"],
+                     "h": lay["h"], "dir": d})
+        previous = d
+    lines = [f"Granular cylinder, F = 1, p_ext = 10, lambda {lam}"
+             + (f", {' '.join(extra)}" if extra else "")
+             + f"; OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS', '(unset)')}", "",
+             "| grid | cells | steps | wall s | CPU s | peak MB | load | U | F_D control volume "
+             "| F_D surface | step of F_D | max |D| at the body | h max |D| |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for i, r in enumerate(rows):
+        step = f"{r['cv'] - rows[i - 1]['cv']:+.3f}" if i else ""
+        lines.append(f"| D/{r['n']} | {10 * r['n']} x {30 * r['n']} | {r['steps']} | "
+                     f"{r['wall']:.1f} | {r['cpu']:.1f} | {r['mb']:.0f} | {r['load']:.2f} | "
+                     f"{r['U']:.4f} | {r['cv']:.3f} | {r['surface']:.3f} | {step} | "
+                     f"{r['max']:.3f} | {r['h'] * r['max']:.3f} |")
+    lines.append("")
+    for i in range(2, len(rows)):
+        a, b, c = (rows[j]["cv"] for j in (i - 2, i - 1, i))
+        q = (b - a) / (c - b) if c != b else float("inf")
+        order = f"{math.log2(q):.2f}" if q > 0 else "none (the steps change sign)"
+        lines.append(f"Observed order from D/{rows[i - 2]['n']}, D/{rows[i - 1]['n']}, "
+                     f"D/{rows[i]['n']}: {order} (ratio of the steps {q:.3f}).")
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(outdir, "cylinder_grids.md"), "w") as f:
+        f.write(text)
+    print(text)
+    if rows:
+        png = os.path.join(outdir, "cylinder_grids_layer.png")
+        subprocess.run([sys.executable, os.path.join(HERE, "cylinder_layer.py"), png]
+                       + [r["dir"] for r in rows], check=True)
+
+
+if __name__ == "__main__":
+    main()
