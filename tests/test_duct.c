@@ -236,27 +236,26 @@ static void test_circular(void **state)
 static void test_initial_state(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/muflow_duct_XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    char odir[64], init[80];
-    snprintf(odir, sizeof odir, "output.dir=%s", dir);
-    snprintf(init, sizeof init, "solver.initial_state=%s", dir);
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "duct");
     struct muflow_case cs;
     char err[512];
     struct run_result coarse, rest, seq;
-    char *oc[] = {"domain.ny=10", "domain.nz=20", "output.fields=off", "output.quiet=on", odir};
+    char *oc[] = {"domain.ny=10", "domain.nz=20", "output.fields=off", "output.quiet=on",
+                  dir.output};
     assert_int_equal(case_load(&cs, DUCT_CIRCULAR, 5, oc, err, sizeof err), 0);
     assert_int_equal(run_case(&cs, 1, &coarse, err, sizeof err), 0);
     assert_int_equal(coarse.status, STATUS_STEADY);
     char *orest[] = {"domain.ny=20", "domain.nz=40", "output.fields=off"};
-    char *oseq[] = {"domain.ny=20", "domain.nz=40", "output.fields=off", init};
+    char *oseq[] = {"domain.ny=20", "domain.nz=40", "output.fields=off", dir.initial_state};
     run(DUCT_CIRCULAR, 3, orest, &rest);
     run(DUCT_CIRCULAR, 4, oseq, &seq);
     assert_true(fabs(run_result_value(&seq, "flow_rate") / run_result_value(&rest, "flow_rate") -
                      1.0) <= 1e-8);
     assert_true(seq.steps < rest.steps);
     /* another box: the square duct of twice the width */
-    char *obox[] = {"domain.ly=0.065", "domain.ny=20", "domain.nz=40", "output.fields=off", init};
+    char *obox[] = {"domain.ly=0.065", "domain.ny=20", "domain.nz=40", "output.fields=off",
+                    dir.initial_state};
     assert_int_equal(case_load(&cs, DUCT_CIRCULAR, 5, obox, err, sizeof err), 0);
     assert_int_not_equal(run_case(&cs, 0, &seq, err, sizeof err), 0);
     print_message("%s\n", err);
@@ -267,9 +266,7 @@ static void test_initial_state(void **state)
     assert_int_not_equal(run_case(&cs, 0, &seq, err, sizeof err), 0);
     print_message("%s\n", err);
     assert_non_null(strstr(err, "solver.initial_state"));
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    assert_int_equal(system(cmd), 0);
+    test_run_dir_remove(&dir);
 }
 
 void group_duct(struct test_tally *t)

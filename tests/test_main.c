@@ -4,7 +4,7 @@
  * The tests read their files relative to tests/ (../cases, fuzz/corpus), so
  * the runner first moves there: it stays when started in tests/, else it
  * looks for the repository from its own executable's folder upwards. */
-#define _DEFAULT_SOURCE /* readlink */
+#define _DEFAULT_SOURCE /* readlink, mkdtemp */
 #include <errno.h>
 #include <limits.h>
 #include <stdio.h>
@@ -26,6 +26,21 @@ void test_bad_overrides(const char *case_path, const char *const bad[][2], size_
         assert_non_null(strstr(err, bad[i][1]));
         assert_null(strchr(err, '\n'));
     }
+}
+
+void test_run_dir_make(struct test_run_dir *d, const char *name)
+{
+    snprintf(d->dir, sizeof d->dir, "/tmp/muflow_%.20s_XXXXXX", name);
+    assert_non_null(mkdtemp(d->dir));
+    snprintf(d->output, sizeof d->output, "output.dir=%s", d->dir);
+    snprintf(d->initial_state, sizeof d->initial_state, "solver.initial_state=%s", d->dir);
+}
+
+void test_run_dir_remove(const struct test_run_dir *d)
+{
+    char cmd[96];
+    snprintf(cmd, sizeof cmd, "rm -rf %s", d->dir);
+    assert_int_equal(system(cmd), 0);
 }
 
 char *test_read_file(const char *path, size_t *len)

@@ -35,6 +35,17 @@ char *test_read_file(const char *path, size_t *len);
  * key it names). */
 void test_bad_overrides(const char *case_path, const char *const bad[][2], size_t n);
 
+/* A fresh folder under /tmp for a test's runs (mkdtemp, named after name),
+ * with the overrides that write a run there and start another from it;
+ * test_run_dir_remove deletes it and what the runs wrote. */
+struct test_run_dir {
+    char dir[64];
+    char output[96];        /* output.dir=DIR */
+    char initial_state[112]; /* solver.initial_state=DIR */
+};
+void test_run_dir_make(struct test_run_dir *d, const char *name);
+void test_run_dir_remove(const struct test_run_dir *d);
+
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);

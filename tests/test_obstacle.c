@@ -23,7 +23,7 @@
  *   steady (the plain rejection in the stages ended unsteady);
  * - the granular cylinder between open ends under the confining pressure
  *   against the periodic box, 60 D long. */
-#define _DEFAULT_SOURCE /* mkstemp, mkdtemp, fdopen */
+#define _DEFAULT_SOURCE /* mkstemp, fdopen */
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -334,30 +334,25 @@ static void test_granular_cylinder_newton(void **state)
      * with the level inherited it ended on 58.25714 (3e-5 off) and U 0.1212
      * against 0.1242.  Asserted to 1e-6: the steady tolerance's 1e-8 on a
      * residual scaled by the first one, the drag's sensitivity to it. */
-    char dir[] = "/tmp/muflow_cylinder_XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    char odir[64], init[80];
-    snprintf(odir, sizeof odir, "output.dir=%s", dir);
-    snprintf(init, sizeof init, "solver.initial_state=%s", dir);
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "cylinder");
     struct muflow_case cs;
     char err[512];
     struct run_result coarse, seq;
     char *oc[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
-                  "domain.nz=60", "output.fields=off", "output.quiet=on", odir};
+                  "domain.nz=60", "output.fields=off", "output.quiet=on", dir.output};
     assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, oc, err, sizeof err), 0);
     assert_int_equal(run_case(&cs, 1, &coarse, err, sizeof err), 0);
     assert_int_equal(coarse.status, STATUS_STEADY);
     char *oseq[] = {"rheology.lambda=1e-2", "solver.continuation=1", "solver.newton_below=1e-2",
-                    "output.quiet=on", init};
+                    "output.quiet=on", dir.initial_state};
     run_checked(CASES_DIR "cylinder.ini", 5, oseq, &seq);
     double fr = run_result_value(&r, "drag"), fq = run_result_value(&seq, "drag");
     print_message("granular cylinder D/4 from the D/2 state: %s in %ld steps, drag %.10g "
                   "(from rest %.10g)\n", run_status_name(seq.status), seq.steps, fq, fr);
     assert_int_equal(seq.status, STATUS_STEADY);
     assert_true(fabs(fq / fr - 1.0) < 1e-6);
-    char cmd[160];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    assert_int_equal(system(cmd), 0);
+    test_run_dir_remove(&dir);
 }
 
 /* cases/cylinder.ini as it is (lambda 1e-6 reached by tenfold stages from
