@@ -18,34 +18,28 @@ the control volume and by the surface integral, the successive
 differences of F_D and the observed order where three grids give one, and
 the sheared layer at the body (max |D| and h max |D|, bench/cylinder_layer.py),
 with OUTDIR/cylinder_grids_layer.png."""
+import argparse
 import math
 import os
 import subprocess
-import sys
 
-from cylinder_layer import layer
+from cylinder_layer import layer, plot
 from summary_ini import loadavg, summary, timed_run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "cylinder.ini")
 
 
-def option(args, name, default):
-    if name in args:
-        i = args.index(name)
-        value = args[i + 1]
-        del args[i:i + 2]
-        return value
-    return default
-
-
 def main():
-    args = sys.argv[1:]
-    if len(args) < 2:
-        raise SystemExit(__doc__)
-    grids = [int(g) for g in option(args, "--grids", "4,8,16").split(",")]
-    lam = option(args, "--lambda", "1e-2")
-    muflow, outdir, extra = args[0], args[1], args[2:]
+    ap = argparse.ArgumentParser(usage=__doc__)
+    ap.add_argument("muflow")
+    ap.add_argument("outdir")
+    ap.add_argument("overrides", nargs="*")
+    ap.add_argument("--grids", default="4,8,16")
+    ap.add_argument("--lambda", dest="lam", default="1e-2")
+    a = ap.parse_args()
+    grids = [int(g) for g in a.grids.split(",")]
+    muflow, outdir, extra, lam = a.muflow, a.outdir, a.overrides, a.lam
     os.makedirs(outdir, exist_ok=True)
     rows, previous = [], None
     for n in grids:
@@ -62,12 +56,9 @@ def main():
         if code != 0 or res.get("status") != "steady":
             print(f"D/{n}: {res.get('status')}: {res.get('message')}", flush=True)
             break
-        vals = res
-        lay = layer(d)
         rows.append({"n": n, "steps": int(res["steps"]), "wall": wall, "cpu": cpu, "mb": mb,
-                     "load": load, "U": float(vals["mean_velocity"]), "cv": float(vals["drag"]),
-                     "surface": float(vals["drag_surface"]), "max": lay["max"],
-                     "h": lay["h"], "dir": d})
+                     "load": load, "U": float(res["mean_velocity"]), "cv": float(res["drag"]),
+                     "surface": float(res["drag_surface"]), "layer": layer(d)})
         previous = d
     lines = [f"Granular cylinder, F = 1, p_ext = 10, lambda {lam}"
              + (f", {' '.join(extra)}" if extra else "")
@@ -80,7 +71,7 @@ def main():
         lines.append(f"| D/{r['n']} | {10 * r['n']} x {30 * r['n']} | {r['steps']} | "
                      f"{r['wall']:.1f} | {r['cpu']:.1f} | {r['mb']:.0f} | {r['load']:.2f} | "
                      f"{r['U']:.4f} | {r['cv']:.3f} | {r['surface']:.3f} | {step} | "
-                     f"{r['max']:.3f} | {r['h'] * r['max']:.3f} |")
+                     f"{r['layer']['max']:.3f} | {r['layer']['h'] * r['layer']['max']:.3f} |")
     lines.append("")
     for i in range(2, len(rows)):
         a, b, c = (rows[j]["cv"] for j in (i - 2, i - 1, i))
@@ -93,9 +84,7 @@ def main():
         f.write(text)
     print(text)
     if rows:
-        png = os.path.join(outdir, "cylinder_grids_layer.png")
-        subprocess.run([sys.executable, os.path.join(HERE, "cylinder_layer.py"), png]
-                       + [r["dir"] for r in rows], check=True)
+        plot(os.path.join(outdir, "cylinder_grids_layer.png"), [r["layer"] for r in rows])
 
 
 if __name__ == "__main__":

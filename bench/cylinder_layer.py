@@ -11,34 +11,25 @@ A layer one cell thick on every grid shows as a peak of |D| ~ U / h in the
 first cell, doubling with each refinement, and the printed table gives the
 largest |D|, where it is and h times it (about the velocity jump across
 the cell)."""
-import glob
 import math
-import os
 import sys
 
 import h5py
 import matplotlib
 import numpy as np
 
+from cylinder_maps import last_fields
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def text(attrs, key):
-    v = attrs[key]
-    return v.decode() if isinstance(v, bytes) else str(v)
-
-
 def layer(rundir):
-    files = sorted(glob.glob(os.path.join(rundir, "fields_*.h5")))
-    if not files:
-        raise SystemExit(f"{rundir}: no field file (fields_*.h5)")
-    with h5py.File(files[-1], "r") as f:
+    """The layer of one run: h, the cells, the largest |D| outside the body
+    and its angle, and |D| against the distance s along the ray through it."""
+    path, (xc, zc, r) = last_fields(rundir)
+    with h5py.File(path, "r") as f:
         n, h = f.attrs["n"], f.attrs["h"]
-        shape = text(f.attrs, "obstacle.shapes").split()
-        if not shape or shape[0] != "circle":
-            raise SystemExit(f"{rundir}: obstacle.shapes is not one circle")
-        xc, zc, r = (float(x) for x in shape[1:4])
         rate = np.array(f["shear_rate"][:, 0, :])
     x = (np.arange(n[0]) + 0.5) * h[0]
     z = (np.arange(n[2]) + 0.5) * h[2]
@@ -55,22 +46,19 @@ def layer(rundir):
     kk = np.clip((pz / h[2]).astype(int), 0, n[2] - 1)
     prof = rate[kk, ii]
     keep = flow[kk, ii]
-    return {"h": h[0], "n": (n[0], n[2]), "max": rate[kz, ix], "angle": math.degrees(angle),
-            "s": s[keep], "rate": prof[keep]}
+    return {"dir": rundir, "h": h[0], "n": (n[0], n[2]), "max": rate[kz, ix],
+            "angle": math.degrees(angle), "s": s[keep], "rate": prof[keep]}
 
 
-def main():
-    if len(sys.argv) < 3:
-        raise SystemExit(__doc__)
-    out, runs = sys.argv[1], sys.argv[2:]
+def plot(out, layers):
+    """Prints the layers' table and draws their curves into out."""
     fig, ax = plt.subplots(figsize=(7, 4.5))
     print("| run | cells | h / D | max |D| | angle from the cross-flow axis | h max |D| |")
     print("|---|---|---|---|---|---|")
-    for rundir in runs:
-        lay = layer(rundir)
+    for lay in layers:
         label = f"D/{round(1.0 / lay['h'])}"
-        print(f"| {rundir} | {lay['n'][0]} x {lay['n'][1]} | {lay['h']:.4g} | {lay['max']:.3f} | "
-              f"{lay['angle']:.0f} deg | {lay['h'] * lay['max']:.3f} |")
+        print(f"| {lay['dir']} | {lay['n'][0]} x {lay['n'][1]} | {lay['h']:.4g} | "
+              f"{lay['max']:.3f} | {lay['angle']:.0f} deg | {lay['h'] * lay['max']:.3f} |")
         ax.step(lay["s"], lay["rate"], where="mid", label=f"{label}: max |D| {lay['max']:.2f}")
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -81,6 +69,12 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"wrote {out}")
+
+
+def main():
+    if len(sys.argv) < 3:
+        raise SystemExit(__doc__)
+    plot(sys.argv[1], [layer(rundir) for rundir in sys.argv[2:]])
 
 
 if __name__ == "__main__":

@@ -28,22 +28,30 @@ def text(attrs, key):
     return v.decode() if isinstance(v, bytes) else str(v)
 
 
+def last_fields(rundir):
+    """The run's last field file (fields_*.h5) and its body, the one circle
+    of obstacle.shapes: (path, (xc, zc, r)); exits naming the folder when
+    there is no field file or the body is not one circle."""
+    files = sorted(glob.glob(os.path.join(rundir, "fields_*.h5")))
+    if not files:
+        raise SystemExit(f"{rundir}: no field file (fields_*.h5)")
+    with h5py.File(files[-1], "r") as f:
+        shape = text(f.attrs, "obstacle.shapes").split()
+    if not shape or shape[0] != "circle":
+        raise SystemExit(f"{rundir}: obstacle.shapes is not one circle")
+    return files[-1], tuple(float(x) for x in shape[1:4])
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("rundir")
     ap.add_argument("--out", default=None)
     ap.add_argument("--window", type=float, default=4.0)
     a = ap.parse_args()
-    files = sorted(glob.glob(os.path.join(a.rundir, "fields_*.h5")))
-    if not files:
-        raise SystemExit(f"{a.rundir}: no field file (fields_*.h5)")
-    with h5py.File(files[-1], "r") as f:
+    path, (xc, zc, r) = last_fields(a.rundir)
+    with h5py.File(path, "r") as f:
         at = f.attrs
         n, h = at["n"], at["h"]
-        shape = text(at, "obstacle.shapes").split()
-        if not shape or shape[0] != "circle":
-            raise SystemExit(f"{a.rundir}: obstacle.shapes is not one circle")
-        xc, zc, r = (float(x) for x in shape[1:4])
         mirrored = text(at, "boundary.xlo") == "slip" and xc == 0.0
         speed = np.linalg.norm(f["velocity"][:, 0, :, :], axis=-1)
         fields = [("|u|", speed, None),
