@@ -263,6 +263,120 @@ static void test_amg_matches_lu_2d(void **state)
     teardown_fix(&f);
 }
 
+/* The probed matrix's learnt colouring (probe_matrix_learn): after learning
+ * the pattern of the full tangent with generic coefficients, an operator
+ * with zeros in its coefficients (a region without viscosity) assembles in
+ * fewer probes to the same matrix as the structured colouring, bit for bit;
+ * an operator outside the learnt pattern (the full tangent after learning
+ * the Picard operator's) is caught and assembled again with the structured
+ * colouring, the same matrix again. */
+struct probed_op {
+    struct viscous_solver *vs;
+    const struct viscous_problem *pb;
+};
+
+static void probed_apply(void *ctx, double *v[3], double *out[3])
+{
+    struct probed_op *o = ctx;
+    viscous_apply(o->vs, o->pb, v, out);
+}
+
+static void assert_same_matrix(const struct csr_matrix *A, const struct csr_matrix *B)
+{
+    assert_int_equal(A->n, B->n);
+    assert_true(csr_same_pattern(A, B));
+    for (long e = 0; e < csr_nnz(A); e++)
+        assert_true(A->val[e] == B->val[e]);
+}
+
+static void test_probe_learnt_colouring(void **state)
+{
+    (void)state;
+    struct vfix f;
+    setup_fix(&f, 12, 10, 1.0, 1.0, BC_SLIP);
+    const struct grid *g = &f.g;
+    double *gen[14], *bcell = field_alloc(g), *bedge[3];
+    for (int m = 0; m < 14; m++)
+        gen[m] = field_alloc(g);
+    for (int c = 0; c < 3; c++)
+        bedge[c] = field_alloc(g);
+    for (int i = -1; i <= g->n[0]; i++)
+        for (int j = -1; j <= g->n[1]; j++)
+            for (int k = -1; k <= g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                int iw = (i + g->n[0]) % g->n[0]; /* periodic in x */
+                double xc = (iw + 0.5) * g->h[0], zc = (k + 0.5) * g->h[2];
+                /* no viscosity in a block of cells: exact zeros in the matrix */
+                double eta = (iw >= 3 && iw < 6 && k >= 4 && k < 7) ? 0.0 : 1.0 + xc * zc;
+                for (int c = 0; c < 3; c++) {
+                    f.Ac[c][p] = f.Ae[c][p] = eta;
+                    bedge[c][p] = 0.1 * eta;
+                }
+                bcell[p] = 0.1 * eta;
+                f.u[0][p] = sin(2 * M_PI * xc) * zc;
+                f.u[2][p] = cos(2 * M_PI * xc) * zc * zc;
+                for (int m = 0; m < 14; m++) /* generic coefficients, periodic in x */
+                    gen[m][p] = (m >= 10 && m < 13 ? -0.5 : 1.0) + sin(1.7 * iw + 2.3 * k + 0.9 * m) * 0.4 +
+                                0.01 * (iw * 11 + k * 3 + m) / 100.0;
+            }
+    struct viscous_problem real = {.mass = 1.0, .b_cell = bcell, .base = f.u};
+    struct viscous_problem generic = {.mass = 1.0, .b_cell = gen[6], .base = &gen[10]};
+    for (int c = 0; c < 3; c++) {
+        real.A_cell[c] = f.Ac[c];
+        real.A_edge[c] = f.Ae[c];
+        real.b_edge[c] = bedge[c];
+        generic.A_cell[c] = gen[c];
+        generic.A_edge[c] = gen[3 + c];
+        generic.b_edge[c] = gen[7 + c];
+    }
+    struct viscous_problem picard = generic;
+    picard.b_cell = NULL;
+    char err[256];
+    struct viscous_solver *vs;
+    assert_int_equal(viscous_create(&vs, g, &f.bc, f.act, -1, VISCOUS_LU, err, sizeof err), 0);
+    const int periodic[3] = {1, 1, 0};
+    struct probe_matrix *pm;
+    assert_int_equal(probe_matrix_create(&pm, g, periodic, f.act, 2, err, sizeof err), 0);
+    const int structured = probe_matrix_probes(pm);
+    struct probed_op o = {vs, &real};
+    struct csr_matrix A0 = {0}, A1 = {0}, A2 = {0};
+    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A0), 0);
+
+    struct probed_op og = {vs, &generic};
+    assert_int_equal(probe_matrix_learn(pm, probed_apply, &og, f.x, f.out), 0);
+    const int learnt = probe_matrix_probes(pm);
+    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A1), 0);
+    assert_same_matrix(&A0, &A1);
+    assert_int_equal(probe_matrix_broken(pm), 0);
+
+    struct probed_op op = {vs, &picard};
+    assert_int_equal(probe_matrix_learn(pm, probed_apply, &op, f.x, f.out), 0);
+    const int picard_probes = probe_matrix_probes(pm);
+    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A2), 0);
+    assert_same_matrix(&A0, &A2);
+    assert_int_equal(probe_matrix_broken(pm), 1);
+    assert_int_equal(probe_matrix_probes(pm), structured);
+    print_message("probed matrix: %d probes structured, %d learnt (full tangent), %d learnt "
+                  "(Picard)\n", structured, learnt, picard_probes);
+    /* structured: 3 components x 6 x 5 (the periodic 12 cells take the
+     * period 6, the walled direction 5); the 2D full tangent's rows hold 29
+     * columns, the Picard operator's 9: at least that many colours */
+    assert_int_equal(structured, 90);
+    assert_true(learnt >= 29 && learnt <= 45);
+    assert_true(picard_probes >= 9 && picard_probes <= 12);
+    csr_free(&A0);
+    csr_free(&A1);
+    csr_free(&A2);
+    probe_matrix_destroy(pm);
+    viscous_destroy(vs);
+    field_free(bcell);
+    for (int m = 0; m < 14; m++)
+        field_free(gen[m]);
+    for (int c = 0; c < 3; c++)
+        field_free(bedge[c]);
+    teardown_fix(&f);
+}
+
 /* The line blocks are exact for flows uniform across the lines: one
  * preconditioned iteration solves an x-uniform problem. */
 static void test_line_blocks_exact_for_uniform_flow(void **state)
@@ -496,6 +610,7 @@ void group_viscous(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_drop_component_roundoff),
+        cmocka_unit_test(test_probe_learnt_colouring),
         cmocka_unit_test(test_saddle_point_cause),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),

@@ -13,20 +13,10 @@
 
 #include <stddef.h>
 #include "grid/grid.h"
+#include "solvers/csr.h"
 
 /* The operator to probe: out = A v (v's ghosts may be overwritten). */
 typedef void (*operator_fn)(void *ctx, double *v[3], double *out[3]);
-
-/* Compressed sparse rows: row r's columns col[rowptr[r] .. rowptr[r+1]-1],
- * ascending, with their values.  Read as compressed columns, the same arrays
- * hold the transpose. */
-struct csr_matrix {
-    int n;            /* rows = columns */
-    int *rowptr;      /* n + 1 */
-    int *col;
-    double *val;
-    size_t cap;       /* allocated entries of col and val */
-};
 
 struct probe_matrix;
 
@@ -49,28 +39,26 @@ const int *probe_matrix_components(const struct probe_matrix *pm);
 int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                           double *resp[3], int lower, struct csr_matrix *A);
 
+/* Learns the pattern of op (an operator whose pattern holds that of every
+ * operator this matrix will assemble: generic coefficients) with the
+ * structured colouring, and colours its columns greedily so that no two of
+ * a colour share a row: later assemblies probe once per colour (the 2D
+ * Picard operator: 9 probes instead of 27; the 2D full tangent: 41 instead
+ * of 75, its rows holding 29 columns).  Each probe's response is checked against the pattern;
+ * an operator that leaves it is assembled again with the structured
+ * colouring, which is kept from then on (probe_matrix_broken counts these).
+ * Returns 0, or -1 when the structured colouring stays (no memory, or no
+ * fewer probes). */
+int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
+                       double *resp[3]);
+/* Back to the structured colouring. */
+void probe_matrix_forget(struct probe_matrix *pm);
+/* Assemblies whose operator left the learnt pattern. */
+long probe_matrix_broken(const struct probe_matrix *pm);
+
 /* b[k] = r at unknown k; z at unknown k = x[k] (z elsewhere untouched). */
 void probe_matrix_gather(const struct probe_matrix *pm, double *const r[3], double *b);
 void probe_matrix_scatter(const struct probe_matrix *pm, const double *x, double *z[3]);
-
-/* Room for n rows and nz entries in A (its arrays reused and grown as
- * needed; zero-initialise A before the first call).  Returns 0 or -1. */
-int csr_reserve(struct csr_matrix *A, int n, size_t nz);
-/* T = A^T (T's arrays reused and grown as needed).  Returns 0 or -1. */
-int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
-
-/* Drops, in place, the entries between different velocity components (comp
- * of each unknown) at most rel times the geometric mean of their row's and
- * column's diagonals: the round-off that a flow along one direction leaves
- * between its component and the two across it (the tangent's base strain
- * across is the march's round-off), which would couple blocks that are
- * apart.  Returns the entries dropped. */
-long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel);
-/* Entries of A. */
-static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr[A->n] : 0; }
-/* Same rows and columns (pattern) as B. */
-int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B);
-void csr_free(struct csr_matrix *A);
 
 /* The probes a matrix of this grid would need, and the most that are
  * accepted (beyond it the colouring is refused: periodic cell counts without

@@ -45,6 +45,8 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
 /* z = A^-1 r on the unknowns (z elsewhere untouched). */
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3]);
 
+/* The probed matrix it factorises (to teach it a pattern: probe_matrix_learn). */
+struct probe_matrix *sparse_direct_probe_matrix(struct sparse_direct *s);
 long sparse_direct_unknowns(const struct sparse_direct *s);
 int sparse_direct_probes(const struct sparse_direct *s);
 

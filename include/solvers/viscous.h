@@ -79,6 +79,18 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
 /* Probes and factorises the line blocks for this operator. */
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb);
 
+/* Teaches the probed matrix pm (of this solver's unknowns) the pattern of
+ * pb's kind of operator (full tangent or not, augmentation or not, open
+ * faces given or not), once per kind (*learnt holds the last kind, 0 at
+ * first): the operator with generic coefficients, whose pattern holds that
+ * of any coefficients, zeros included, through probe_matrix_learn.  Its
+ * assemblies then probe once per colour of the pattern: the collapse's
+ * Picard operator 9 times instead of 27, the heap's full tangent 41 times
+ * instead of 75 (docs/design.md, "Probing"). */
+struct probe_matrix;
+void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, int *learnt,
+                           const struct viscous_problem *pb);
+
 /* Solves operator(x) = rhs from x = 0 to relative residual rtol: conjugate
  * gradients for the symmetric operator, BiCGStab for the full tangent.
  * Returns 0 when converged, 1 when maxit was reached, -1 on a breakdown. */

@@ -56,6 +56,7 @@ struct gradient_face {
 
 struct coupled_state {
     struct probe_matrix *pm;
+    int pattern;                 /* the kind of operator pm learnt (viscous_learn_pattern) */
     double *probe[3], *resp[3];
     int nu, nc;
     ptrdiff_t *slot;            /* each velocity unknown's field slot */
@@ -347,6 +348,7 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     struct coupled_state *c = st->coupled;
     const int nu = c->nu;
     struct apply_ctx ctx = {st, pb};
+    viscous_learn_pattern(st->viscous, c->pm, &c->pattern, pb);
     if (probe_matrix_assemble(c->pm, apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
         return -1;
     c->pcols_on = c->pcols && implicit_uses_tangent(st);

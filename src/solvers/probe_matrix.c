@@ -29,6 +29,15 @@ struct probe_matrix {
     size_t tcap;
     int *gcol;
     size_t *gstart;
+    /* a learnt colouring (probe_matrix_learn), or none (ncolours 0): the
+     * columns by colour, cmembers[cstart[q] .. cstart[q+1]), the learnt
+     * pattern by columns, rows pat_row[pat_start[c] .. pat_start[c+1]), and
+     * the stamps that check each probe's response against it */
+    int ncolours;
+    long *cstart, *cmembers;
+    int *pat_start, *pat_row;
+    unsigned *mark, stamp;
+    long broken;               /* assemblies the learnt pattern did not hold */
 };
 
 /* Colours need 2 reach + 1 distinct residues in a row's reach; a periodic
@@ -59,10 +68,18 @@ int probe_matrix_max_probes(void) { return MAX_PROBES; }
 
 long probe_matrix_unknowns(const struct probe_matrix *pm) { return pm->n; }
 
-int probe_matrix_probes(const struct probe_matrix *pm)
+/* The structured colouring's probes. */
+static int structured_probes(const struct probe_matrix *pm)
 {
     return 3 * pm->period[0] * pm->period[1] * pm->period[2];
 }
+
+int probe_matrix_probes(const struct probe_matrix *pm)
+{
+    return pm->ncolours > 0 ? pm->ncolours : structured_probes(pm);
+}
+
+long probe_matrix_broken(const struct probe_matrix *pm) { return pm->broken; }
 
 const int *probe_matrix_components(const struct probe_matrix *pm) { return pm->comp; }
 
@@ -89,11 +106,11 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
         pm->periodic[d] = periodic[d];
         pm->period[d] = colour_period(g->n[d], periodic[d], reach);
     }
-    if (probe_matrix_probes(pm) > MAX_PROBES) {
+    if (structured_probes(pm) > MAX_PROBES) {
         snprintf(err, errlen,
                  "probed matrix: %d probes needed (periodic cell counts without a small "
                  "divisor); use solver.preconditioner = line",
-                 probe_matrix_probes(pm));
+                 structured_probes(pm));
         free(pm);
         return -1;
     }
@@ -133,7 +150,7 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
                 }
     }
     /* the probes' members by a counting sort of the unknowns on their probe */
-    int nprobes = probe_matrix_probes(pm);
+    int nprobes = structured_probes(pm);
     pm->start = calloc((size_t)nprobes + 1, sizeof(long));
     pm->members = malloc((size_t)(pm->n > 0 ? pm->n : 1) * sizeof(long));
     if (!pm->start || !pm->members) {
@@ -169,7 +186,21 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm->tval);
     free(pm->gcol);
     free(pm->gstart);
+    probe_matrix_forget(pm);
     free(pm);
+}
+
+void probe_matrix_forget(struct probe_matrix *pm)
+{
+    free(pm->cstart);
+    free(pm->cmembers);
+    free(pm->pat_start);
+    free(pm->pat_row);
+    free(pm->mark);
+    pm->cstart = pm->cmembers = NULL;
+    pm->pat_start = pm->pat_row = NULL;
+    pm->mark = NULL;
+    pm->ncolours = 0;
 }
 
 
@@ -199,34 +230,127 @@ static void free_entries(struct probe_matrix *pm)
     pm->tcap = 0;
 }
 
-int csr_reserve(struct csr_matrix *A, int n, size_t nz)
+/* Appends entry (row r, value v) of the current column. */
+static int add_entry(struct probe_matrix *pm, size_t *nz, int r, double v)
 {
-    if (A->n != n || !A->rowptr) {
-        int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
-        if (!rp)
-            return -1;
-        A->rowptr = rp;
-        A->n = n;
+    if (*nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0)
+        return -1;
+    pm->trow[*nz] = r;
+    pm->tval[*nz] = v;
+    (*nz)++;
+    return 0;
+}
+
+/* The entries of column col in the structured colouring: the rows it
+ * reaches are the unknowns of any component within reach of its position
+ * (every position of a periodic direction that is its own colour period and
+ * no longer than the stencil); no other column of the probe is within reach
+ * of them, so the response there is this column's entry. */
+static int structured_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
+                             size_t *nz)
+{
+    const struct grid *g = pm->g;
+    const int *at = pm->pos + 3 * col;
+    int lo[3], hi[3];
+    for (int d = 0; d < 3; d++) {
+        int n = g->n[d];
+        if (pm->periodic[d] && pm->period[d] == n && n <= 2 * pm->reach + 1) {
+            lo[d] = 0;
+            hi[d] = n - 1;
+        } else {
+            lo[d] = at[d] - pm->reach;
+            hi[d] = at[d] + pm->reach;
+            if (!pm->periodic[d]) { /* the ghost layer's unknowns: none, index -1 */
+                lo[d] = lo[d] < -1 ? -1 : lo[d];
+                hi[d] = hi[d] > n ? n : hi[d];
+            }
+        }
     }
-    if (nz > A->cap || !A->col) {
-        size_t cap = nz > 0 ? nz : 1;
-        int *c = realloc(A->col, cap * sizeof(int));
-        if (c)
-            A->col = c;
-        double *v = realloc(A->val, cap * sizeof(double));
-        if (v)
-            A->val = v;
-        if (!c || !v)
+    for (int t0 = lo[0]; t0 <= hi[0]; t0++)
+        for (int t1 = lo[1]; t1 <= hi[1]; t1++)
+            for (int t2 = lo[2]; t2 <= hi[2]; t2++) {
+                int t[3] = {t0, t1, t2};
+                for (int d = 0; d < 3; d++)
+                    if (pm->periodic[d])
+                        t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
+                ptrdiff_t p = grid_idx(g, t[0], t[1], t[2]);
+                for (int m = 0; m < 3; m++) {
+                    int r = pm->index[m][p];
+                    if (r < 0 || (lower && col > r))
+                        continue;
+                    double v = resp[m][p];
+                    if (v != 0.0 && add_entry(pm, nz, r, v) != 0)
+                        return -1;
+                }
+            }
+    return 0;
+}
+
+/* The entries of column col in a learnt colouring: the rows of its column
+ * in the learnt pattern, each stamped as read. */
+static int learnt_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
+                         size_t *nz)
+{
+    for (int e = pm->pat_start[col]; e < pm->pat_start[col + 1]; e++) {
+        int r = pm->pat_row[e];
+        pm->mark[r] = pm->stamp;
+        if (lower && col > r)
+            continue;
+        double v = resp[pm->comp[r]][pm->slot[r]];
+        if (v != 0.0 && add_entry(pm, nz, r, v) != 0)
             return -1;
-        A->cap = cap;
     }
+    return 0;
+}
+
+/* Probes op colour by colour into the triplets.  Returns 0, -1 when memory
+ * runs out, 1 when a learnt colouring's response reaches a row outside the
+ * pattern it was learnt from (its entries would mix). */
+static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
+                     double *resp[3], int lower, size_t *nzp, size_t *ngp)
+{
+    const struct grid *g = pm->g;
+    const int learnt = pm->ncolours > 0;
+    const int nprobes = probe_matrix_probes(pm);
+    const long *start = learnt ? pm->cstart : pm->start;
+    const long *members = learnt ? pm->cmembers : pm->members;
+    size_t nz = 0, ng = 0;
+    for (int q = 0; q < nprobes; q++) {
+        if (start[q] == start[q + 1])
+            continue;
+        for (int m = 0; m < 3; m++)
+            memset(probe[m], 0, g->size * sizeof(double));
+        for (long a = start[q]; a < start[q + 1]; a++) {
+            long u = members[a];
+            probe[pm->comp[u]][pm->slot[u]] = 1.0;
+        }
+        op(ctx, probe, resp);
+        if (learnt && ++pm->stamp == 0) { /* the stamps wrapped: clear them */
+            memset(pm->mark, 0, (size_t)pm->n * sizeof(unsigned));
+            pm->stamp = 1;
+        }
+        for (long a = start[q]; a < start[q + 1]; a++) {
+            long col = members[a];
+            pm->gcol[ng] = (int)col;
+            pm->gstart[ng++] = nz;
+            int rc = learnt ? learnt_column(pm, col, resp, lower, &nz)
+                            : structured_column(pm, col, resp, lower, &nz);
+            if (rc != 0)
+                return -1;
+        }
+        if (learnt) /* a response off the pattern: the colouring does not hold */
+            for (long r = 0; r < pm->n; r++)
+                if (pm->mark[r] != pm->stamp && resp[pm->comp[r]][pm->slot[r]] != 0.0)
+                    return 1;
+    }
+    *nzp = nz;
+    *ngp = ng;
     return 0;
 }
 
 int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                           double *resp[3], int lower, struct csr_matrix *A)
 {
-    const struct grid *g = pm->g;
     if (!pm->tcap && grow_triplets(pm, (size_t)pm->n * (lower ? 16 : 40) + 16) != 0)
         return -1;
     if (!pm->gcol) {
@@ -238,82 +362,36 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
         }
     }
     size_t nz = 0, ng = 0;
-    const int nprobes = probe_matrix_probes(pm);
-    for (int q = 0; q < nprobes; q++) {
-        if (pm->start[q] == pm->start[q + 1])
-            continue;
-        for (int m = 0; m < 3; m++)
-            memset(probe[m], 0, g->size * sizeof(double));
-        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
-            long u = pm->members[a];
-            probe[pm->comp[u]][pm->slot[u]] = 1.0;
-        }
-        op(ctx, probe, resp);
-        /* the rows each probed column reaches: the unknowns of any component
-         * within reach of its position (every position of a periodic direction
-         * that is its own colour period and no longer than the stencil); no
-         * other column of the probe is within reach of them, so the response
-         * there is this column's entry */
-        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
-            long col = pm->members[a];
-            const int *at = pm->pos + 3 * col;
-            pm->gcol[ng] = (int)col;
-            pm->gstart[ng++] = nz;
-            int lo[3], hi[3];
-            for (int d = 0; d < 3; d++) {
-                int n = g->n[d];
-                if (pm->periodic[d] && pm->period[d] == n && n <= 2 * pm->reach + 1) {
-                    lo[d] = 0;
-                    hi[d] = n - 1;
-                } else {
-                    lo[d] = at[d] - pm->reach;
-                    hi[d] = at[d] + pm->reach;
-                    if (!pm->periodic[d]) { /* the ghost layer's unknowns: none, index -1 */
-                        lo[d] = lo[d] < -1 ? -1 : lo[d];
-                        hi[d] = hi[d] > n ? n : hi[d];
-                    }
-                }
-            }
-            for (int t0 = lo[0]; t0 <= hi[0]; t0++)
-                for (int t1 = lo[1]; t1 <= hi[1]; t1++)
-                    for (int t2 = lo[2]; t2 <= hi[2]; t2++) {
-                        int t[3] = {t0, t1, t2};
-                        for (int d = 0; d < 3; d++)
-                            if (pm->periodic[d])
-                                t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
-                        ptrdiff_t p = grid_idx(g, t[0], t[1], t[2]);
-                        for (int m = 0; m < 3; m++) {
-                            int r = pm->index[m][p];
-                            if (r < 0 || (lower && col > r))
-                                continue;
-                            double v = resp[m][p];
-                            if (v == 0.0)
-                                continue;
-                            if (nz == pm->tcap && grow_triplets(pm, 2 * pm->tcap) != 0) {
-                                free_entries(pm);
-                                return -1;
-                            }
-                            pm->trow[nz] = r;
-                            pm->tval[nz] = v;
-                            nz++;
-                        }
-                    }
-        }
+    int rc = probe_all(pm, op, ctx, probe, resp, lower, &nz, &ng);
+    if (rc == 1) {
+        /* the operator left the learnt pattern: the structured colouring,
+         * which needs no pattern, from now on */
+        pm->broken++;
+        probe_matrix_forget(pm);
+        rc = probe_all(pm, op, ctx, probe, resp, lower, &nz, &ng);
     }
-    pm->gstart[ng] = nz;
-    /* rows by counting sort (stable), then columns ascending within a row;
-     * every (row, column) comes from exactly one probe.  Each entry's row
-     * becomes its place in the rows; the values move there, then the
-     * columns, each array allocated when the one before is freed: at most
-     * 20 bytes an entry at once (the triplets and a separate matrix held
-     * 28, and the peak memory of an AMG step was there) */
-    int n = (int)pm->n;
-    int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
-    if (!rp) {
+    if (rc != 0) {
         free_entries(pm);
         return -1;
     }
-    A->rowptr = rp;
+    pm->gstart[ng] = nz;
+    /* rows by a counting sort, the columns taken in ascending order so that
+     * each row's come out sorted; every (row, column) comes from exactly
+     * one probe.  Each entry's row becomes its place in the rows; the
+     * values move there, then the columns, each array allocated when the
+     * one before is freed: at most 20 bytes an entry at once (the triplets
+     * and a separate matrix held 28, and the peak memory of an AMG step was
+     * there) */
+    int n = (int)pm->n;
+    int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
+    int *group = malloc(((size_t)n + 1) * sizeof(int)); /* each column's in gcol */
+    if (rp)
+        A->rowptr = rp;
+    if (!rp || !group) {
+        free(group);
+        free_entries(pm);
+        return -1;
+    }
     A->n = n;
     free(A->col);
     free(A->val);
@@ -325,8 +403,15 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
         rp[pm->trow[q] + 1]++;
     for (int r = 0; r < n; r++)
         rp[r + 1] += rp[r];
-    for (size_t q = 0; q < nz; q++)
-        pm->trow[q] = rp[pm->trow[q]]++; /* the entry's place */
+    for (int c = 0; c < n; c++)
+        group[c] = -1;
+    for (size_t m = 0; m < ng; m++)
+        group[pm->gcol[m]] = (int)m;
+    for (int c = 0; c < n; c++)
+        if (group[c] >= 0)
+            for (size_t q = pm->gstart[group[c]]; q < pm->gstart[group[c] + 1]; q++)
+                pm->trow[q] = rp[pm->trow[q]]++; /* the entry's place */
+    free(group);
     for (int r = n; r > 0; r--)
         rp[r] = rp[r - 1];
     rp[0] = 0;
@@ -351,18 +436,6 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
     A->cap = cap;
     /* the entries are as large as the matrix: not kept between assemblies */
     free_entries(pm);
-    for (int r = 0; r < n; r++)
-        for (int a = A->rowptr[r] + 1; a < A->rowptr[r + 1]; a++) {
-            int cc = A->col[a];
-            double vv = A->val[a];
-            int b = a - 1;
-            for (; b >= A->rowptr[r] && A->col[b] > cc; b--) {
-                A->col[b + 1] = A->col[b];
-                A->val[b + 1] = A->val[b];
-            }
-            A->col[b + 1] = cc;
-            A->val[b + 1] = vv;
-        }
     return 0;
 }
 
@@ -378,74 +451,134 @@ void probe_matrix_scatter(const struct probe_matrix *pm, const double *x, double
         z[pm->comp[k]][pm->slot[k]] = x[k];
 }
 
-int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T)
+/* The unknowns ordered by their faces' positions (doubled: a component's
+ * own direction at even coordinates, the others at odd ones), the last
+ * direction slowest, so that the greedy colouring sweeps the staggered
+ * grid's nodes as one lattice: the velocity components' stencils then
+ * tile it like one scalar stencil's (the 2D Picard operator: 9 colours for
+ * both components, where the structured colouring gives each its own 9). */
+struct keyed {
+    long key;
+    int u;
+};
+
+static int by_key(const void *a, const void *b)
 {
-    int n = A->n;
-    size_t nz = (size_t)csr_nnz(A);
-    if (csr_reserve(T, n, nz) != 0)
-        return -1;
-    memset(T->rowptr, 0, ((size_t)n + 1) * sizeof(int));
-    for (size_t q = 0; q < nz; q++)
-        T->rowptr[A->col[q] + 1]++;
-    for (int r = 0; r < n; r++)
-        T->rowptr[r + 1] += T->rowptr[r];
-    for (int r = 0; r < n; r++) /* rows ascending: T's columns come out sorted */
-        for (int a = A->rowptr[r]; a < A->rowptr[r + 1]; a++) {
-            int at = T->rowptr[A->col[a]]++;
-            T->col[at] = r;
-            T->val[at] = A->val[a];
+    long ka = ((const struct keyed *)a)->key, kb = ((const struct keyed *)b)->key;
+    return (ka > kb) - (ka < kb);
+}
+
+static int *by_position(const struct probe_matrix *pm)
+{
+    int *order = malloc(((size_t)pm->n + 1) * sizeof(int));
+    struct keyed *k = malloc(((size_t)pm->n + 1) * sizeof *k);
+    if (order && k) {
+        for (long u = 0; u < pm->n; u++) {
+            long key = 0;
+            for (int d = 2; d >= 0; d--)
+                key = key * (2L * pm->g->n[d] + 4) + 2L * (pm->pos[3 * u + d] + 1) +
+                      (pm->comp[u] != d);
+            k[u] = (struct keyed){key, (int)u};
         }
-    for (int r = n; r > 0; r--)
-        T->rowptr[r] = T->rowptr[r - 1];
-    T->rowptr[0] = 0;
-    return 0;
-}
-
-int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B)
-{
-    if (!A->rowptr || !B->rowptr || A->n != B->n)
-        return 0;
-    if (memcmp(A->rowptr, B->rowptr, ((size_t)A->n + 1) * sizeof(int)) != 0)
-        return 0;
-    return memcmp(A->col, B->col, (size_t)csr_nnz(A) * sizeof(int)) == 0;
-}
-
-long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel)
-{
-    /* the diagonals first: rows are rewritten in place below */
-    double *diag = malloc(((size_t)M->n + 1) * sizeof(double));
-    if (!diag)
-        return 0; /* nothing dropped: the matrix stays as it is */
-    for (int r = 0; r < M->n; r++) {
-        diag[r] = 0.0;
-        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++)
-            if (M->col[e] == r)
-                diag[r] = fabs(M->val[e]);
+        qsort(k, (size_t)pm->n, sizeof *k, by_key);
+        for (long u = 0; u < pm->n; u++)
+            order[u] = k[u].u;
+    } else {
+        free(order);
+        order = NULL;
     }
-    int w = 0;
-    long dropped = 0;
-    for (int r = 0; r < M->n; r++) {
-        int e0 = M->rowptr[r], e1 = M->rowptr[r + 1];
-        M->rowptr[r] = w;
-        for (int e = e0; e < e1; e++) {
-            int c = M->col[e];
-            if (comp[c] != comp[r] && fabs(M->val[e]) <= rel * sqrt(diag[r] * diag[c])) {
-                dropped++;
-                continue;
+    free(k);
+    return order;
+}
+
+int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
+                       double *resp[3])
+{
+    probe_matrix_forget(pm);
+    struct csr_matrix S = {0};
+    int n = (int)pm->n;
+    int *colour = malloc(((size_t)n + 1) * sizeof(int));
+    int *seen = malloc(((size_t)n + 1) * sizeof(int));
+    int ok = colour && seen && probe_matrix_assemble(pm, op, ctx, probe, resp, 0, &S) == 0;
+    int *start = NULL, *row = NULL, *order = NULL;
+    if (ok) {
+        /* the pattern by columns, rows ascending in each (S's values are
+         * not needed) */
+        free(S.val);
+        S.val = NULL;
+        start = calloc((size_t)n + 1, sizeof(int));
+        row = malloc(((size_t)csr_nnz(&S) + 1) * sizeof(int));
+        ok = start && row;
+    }
+    if (ok) {
+        for (long e = 0; e < csr_nnz(&S); e++)
+            start[S.col[e] + 1]++;
+        for (int c = 0; c < n; c++)
+            start[c + 1] += start[c];
+        for (int r = 0; r < n; r++)
+            for (int e = S.rowptr[r]; e < S.rowptr[r + 1]; e++)
+                row[start[S.col[e]]++] = r;
+        for (int c = n; c > 0; c--)
+            start[c] = start[c - 1];
+        start[0] = 0;
+        ok = (order = by_position(pm)) != NULL;
+    }
+    int ncolours = 0;
+    if (ok) {
+        /* greedy: each column takes the least colour that no column sharing
+         * a row with it holds */
+        for (int c = 0; c <= n; c++) {
+            seen[c] = -1;
+            colour[c] = -1;
+        }
+        for (long m = 0; m < pm->n; m++) {
+            int c = order[m];
+            for (int e = start[c]; e < start[c + 1]; e++) {
+                int r = row[e];
+                for (int f = S.rowptr[r]; f < S.rowptr[r + 1]; f++) {
+                    int c2 = S.col[f];
+                    if (colour[c2] >= 0)
+                        seen[colour[c2]] = c;
+                }
             }
-            M->col[w] = c;
-            M->val[w++] = M->val[e];
+            int k = 0;
+            while (seen[k] == c)
+                k++;
+            colour[c] = k;
+            ncolours = k + 1 > ncolours ? k + 1 : ncolours;
         }
     }
-    M->rowptr[M->n] = w;
-    free(diag);
-    return dropped;
-}
-
-void csr_free(struct csr_matrix *A)
-{
-    free(A->rowptr);
-    free(A->col);
-    free(A->val);
-    memset(A, 0, sizeof *A);
+    free(order);
+    free(seen);
+    csr_free(&S);
+    /* kept only when it saves probes */
+    ok = ok && ncolours < structured_probes(pm);
+    if (ok) {
+        pm->cstart = calloc((size_t)ncolours + 1, sizeof(long));
+        pm->cmembers = malloc(((size_t)n + 1) * sizeof(long));
+        pm->mark = calloc((size_t)n + 1, sizeof(unsigned));
+        ok = pm->cstart && pm->cmembers && pm->mark;
+    }
+    if (ok) {
+        for (int c = 0; c < n; c++)
+            pm->cstart[colour[c] + 1]++;
+        for (int q = 0; q < ncolours; q++)
+            pm->cstart[q + 1] += pm->cstart[q];
+        for (int c = 0; c < n; c++)
+            pm->cmembers[pm->cstart[colour[c]]++] = c;
+        for (int q = ncolours; q > 0; q--)
+            pm->cstart[q] = pm->cstart[q - 1];
+        pm->cstart[0] = 0;
+        pm->pat_start = start;
+        pm->pat_row = row;
+        start = row = NULL;
+        pm->stamp = 0;
+        pm->ncolours = ncolours;
+    } else {
+        probe_matrix_forget(pm);
+    }
+    free(start);
+    free(row);
+    free(colour);
+    return pm->ncolours > 0 ? 0 : -1;
 }

@@ -174,6 +174,8 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
     probe_matrix_scatter(s->pm, x, z);
 }
 
+struct probe_matrix *sparse_direct_probe_matrix(struct sparse_direct *s) { return s->pm; }
+
 double sparse_direct_memory_estimate(long unknowns, int dims)
 {
     /* Measured (peak RSS less the fields, UMFPACK's LU of the full tangent on

@@ -88,6 +88,8 @@ struct viscous_solver {
     int gv_len;
     double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
     struct viscous_precond_info info;
+    int direct_pattern, amg_pattern;   /* the pattern_key the probed matrices'
+                                          colourings were learnt for (0: none) */
     struct fourier_lines *fourier;     /* VISCOUS_FOURIER */
     int fourier_ok;                    /* its blocks serve this solve */
     int fourier_valid;                 /* they have been built */
@@ -490,6 +492,73 @@ static inline int probe_offset(int r, int m)
 
 static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb);
 
+/* What decides the probed matrix's pattern: the full tangent's terms, the
+ * augmentation and the open faces' ghosts (the coefficients' values, the
+ * mass term and the body, fixed for the solver, do not). */
+static int pattern_key(const struct viscous_problem *pb)
+{
+    return 1 + (pb->b_cell != NULL) + 2 * (pb->augmentation != NULL) + 4 * (pb->open_given != 0);
+}
+
+/* The generic coefficients: a fixed pseudo-random sequence, the viscosities
+ * and tangent coefficients in [1, 2), the base velocity in [-1, 1). */
+void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, int *learnt,
+                           const struct viscous_problem *pb)
+{
+    int key = pattern_key(pb);
+    if (*learnt == key)
+        return;
+    *learnt = key; /* also when it fails: the structured colouring serves */
+    enum { NFIELDS = 14, BASE = 10 };
+    const struct grid *g = s->g;
+    double *f[NFIELDS] = {0};
+    int ok = 1;
+    for (int m = 0; m < NFIELDS; m++)
+        ok &= (f[m] = field_alloc(g)) != NULL;
+    if (ok) {
+        /* a value per field and node, the same on a node and its periodic
+         * images (as the march's ghosts are): random ghosts would couple a
+         * direction of one periodic cell, whose derivatives vanish */
+        for (int m = 0; m < NFIELDS; m++)
+            for (int i = -1; i <= g->n[0]; i++)
+                for (int j = -1; j <= g->n[1]; j++)
+                    for (int k = -1; k <= g->n[2]; k++) {
+                        int t[3] = {i, j, k};
+                        unsigned long long x = (unsigned long long)m;
+                        for (int d = 0; d < 3; d++) {
+                            if (s->bc->face[d][0] == BC_PERIODIC)
+                                t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
+                            x = x * 0x100000001B3ull + (unsigned long long)(t[d] + 1);
+                        }
+                        x += 0x9E3779B97F4A7C15ull; /* splitmix64's finaliser */
+                        x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+                        x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+                        x ^= x >> 31;
+                        double u = (double)(x >> 11) * 0x1.0p-53; /* [0, 1) */
+                        f[m][grid_idx(g, i, j, k)] =
+                            m >= BASE && m < BASE + 3 ? 2.0 * u - 1.0 : 1.0 + u;
+                    }
+        struct viscous_problem gen = {.mass = 1.0, .embedded = pb->embedded,
+                                      .open_given = pb->open_given};
+        for (int a = 0; a < 3; a++) {
+            gen.A_cell[a] = f[a];
+            gen.A_edge[a] = f[3 + a];
+        }
+        if (pb->b_cell) {
+            gen.b_cell = f[6];
+            for (int a = 0; a < 3; a++)
+                gen.b_edge[a] = f[7 + a];
+            gen.base = &f[BASE];
+        }
+        if (pb->augmentation)
+            gen.augmentation = f[13];
+        struct apply_ctx a = {s, &gen};
+        probe_matrix_learn(pm, apply_cb, &a, s->p, s->q);
+    }
+    for (int m = 0; m < NFIELDS; m++)
+        field_free(f[m]);
+}
+
 void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
@@ -536,6 +605,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
          * triplets and rows are allocated, not after (the peak memory held
          * both) */
         amg_hypre_release(s->amg);
+        viscous_learn_pattern(s, s->probe, &s->amg_pattern, &q);
         double t0 = cpu_now();
         int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
         double t1 = cpu_now();
@@ -565,6 +635,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         return;
     }
     if (s->direct) {
+        viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
         struct apply_ctx a = {s, pb};
         double t0 = cpu_now();
         s->direct_ok = s->direct_valid =

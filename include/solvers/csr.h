@@ -1,0 +1,38 @@
+/* Compressed sparse rows: the matrices the probing assembles (probe_matrix.h)
+ * and the factorisations and algebraic multigrid take. */
+#ifndef MUFLOW_CSR_H
+#define MUFLOW_CSR_H
+
+#include <stddef.h>
+
+/* Compressed sparse rows: row r's columns col[rowptr[r] .. rowptr[r+1]-1],
+ * ascending, with their values.  Read as compressed columns, the same arrays
+ * hold the transpose. */
+struct csr_matrix {
+    int n;            /* rows = columns */
+    int *rowptr;      /* n + 1 */
+    int *col;
+    double *val;
+    size_t cap;       /* allocated entries of col and val */
+};
+
+/* Room for n rows and nz entries in A (its arrays reused and grown as
+ * needed; zero-initialise A before the first call).  Returns 0 or -1. */
+int csr_reserve(struct csr_matrix *A, int n, size_t nz);
+/* T = A^T (T's arrays reused and grown as needed).  Returns 0 or -1. */
+int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
+
+/* Drops, in place, the entries between different velocity components (comp
+ * of each unknown) at most rel times the geometric mean of their row's and
+ * column's diagonals: the round-off that a flow along one direction leaves
+ * between its component and the two across it (the tangent's base strain
+ * across is the march's round-off), which would couple blocks that are
+ * apart.  Returns the entries dropped. */
+long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel);
+/* Entries of A. */
+static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr[A->n] : 0; }
+/* Same rows and columns (pattern) as B. */
+int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B);
+void csr_free(struct csr_matrix *A);
+
+#endif

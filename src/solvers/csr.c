@@ -1,0 +1,101 @@
+/* Compressed sparse rows (csr.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "solvers/csr.h"
+
+int csr_reserve(struct csr_matrix *A, int n, size_t nz)
+{
+    if (A->n != n || !A->rowptr) {
+        int *rp = realloc(A->rowptr, ((size_t)n + 1) * sizeof(int));
+        if (!rp)
+            return -1;
+        A->rowptr = rp;
+        A->n = n;
+    }
+    if (nz > A->cap || !A->col) {
+        size_t cap = nz > 0 ? nz : 1;
+        int *c = realloc(A->col, cap * sizeof(int));
+        if (c)
+            A->col = c;
+        double *v = realloc(A->val, cap * sizeof(double));
+        if (v)
+            A->val = v;
+        if (!c || !v)
+            return -1;
+        A->cap = cap;
+    }
+    return 0;
+}
+
+int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T)
+{
+    int n = A->n;
+    size_t nz = (size_t)csr_nnz(A);
+    if (csr_reserve(T, n, nz) != 0)
+        return -1;
+    memset(T->rowptr, 0, ((size_t)n + 1) * sizeof(int));
+    for (size_t q = 0; q < nz; q++)
+        T->rowptr[A->col[q] + 1]++;
+    for (int r = 0; r < n; r++)
+        T->rowptr[r + 1] += T->rowptr[r];
+    for (int r = 0; r < n; r++) /* rows ascending: T's columns come out sorted */
+        for (int a = A->rowptr[r]; a < A->rowptr[r + 1]; a++) {
+            int at = T->rowptr[A->col[a]]++;
+            T->col[at] = r;
+            T->val[at] = A->val[a];
+        }
+    for (int r = n; r > 0; r--)
+        T->rowptr[r] = T->rowptr[r - 1];
+    T->rowptr[0] = 0;
+    return 0;
+}
+
+int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B)
+{
+    if (!A->rowptr || !B->rowptr || A->n != B->n)
+        return 0;
+    if (memcmp(A->rowptr, B->rowptr, ((size_t)A->n + 1) * sizeof(int)) != 0)
+        return 0;
+    return memcmp(A->col, B->col, (size_t)csr_nnz(A) * sizeof(int)) == 0;
+}
+
+long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel)
+{
+    /* the diagonals first: rows are rewritten in place below */
+    double *diag = malloc(((size_t)M->n + 1) * sizeof(double));
+    if (!diag)
+        return 0; /* nothing dropped: the matrix stays as it is */
+    for (int r = 0; r < M->n; r++) {
+        diag[r] = 0.0;
+        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++)
+            if (M->col[e] == r)
+                diag[r] = fabs(M->val[e]);
+    }
+    int w = 0;
+    long dropped = 0;
+    for (int r = 0; r < M->n; r++) {
+        int e0 = M->rowptr[r], e1 = M->rowptr[r + 1];
+        M->rowptr[r] = w;
+        for (int e = e0; e < e1; e++) {
+            int c = M->col[e];
+            if (comp[c] != comp[r] && fabs(M->val[e]) <= rel * sqrt(diag[r] * diag[c])) {
+                dropped++;
+                continue;
+            }
+            M->col[w] = c;
+            M->val[w++] = M->val[e];
+        }
+    }
+    M->rowptr[M->n] = w;
+    free(diag);
+    return dropped;
+}
+
+void csr_free(struct csr_matrix *A)
+{
+    free(A->rowptr);
+    free(A->col);
+    free(A->val);
+    memset(A, 0, sizeof *A);
+}
