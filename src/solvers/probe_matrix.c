@@ -2,6 +2,7 @@
 #include <stdio.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stdint.h>
 #include <string.h>
 #include "solvers/probe_matrix.h"
 
@@ -31,12 +32,15 @@ struct probe_matrix {
     size_t *gstart;
     /* a learnt colouring (probe_matrix_learn), or none (ncolours 0): the
      * columns by colour, cmembers[cstart[q] .. cstart[q+1]), the learnt
-     * pattern by columns, rows pat_row[pat_start[c] .. pat_start[c+1]), and
-     * the stamps that check each probe's response against it */
+     * pattern as a bit mask per column over the rows it may reach (16 bytes
+     * a column for the 2D full tangent, where a list of its 29 rows takes
+     * 116), and the stamps that check each probe's response against it */
     int ncolours;
     long *cstart, *cmembers;
-    int *pat_start, *pat_row;
+    int words;                 /* of a column's mask */
+    uint64_t *mask;            /* n * words: the rows of column_rows in the pattern */
     unsigned *mark, stamp;
+    int *rows;                 /* column_rows' buffer */
     long broken;               /* assemblies the learnt pattern did not hold */
 };
 
@@ -90,6 +94,19 @@ static int probe_of(const struct probe_matrix *pm, long u)
     const int *at = pm->pos + 3 * u;
     return ((pm->comp[u] * pm->period[0] + at[0] % pm->period[0]) * pm->period[1] +
             at[1] % pm->period[1]) * pm->period[2] + at[2] % pm->period[2];
+}
+
+/* The most rows column_rows gives: 3 components over the reach's box. */
+static int max_column_rows(const struct probe_matrix *pm)
+{
+    int m = 3;
+    for (int d = 0; d < 3; d++) {
+        int span = 2 * pm->reach + 1;
+        if (pm->periodic[d] && pm->g->n[d] < span)
+            span = pm->g->n[d];
+        m *= span;
+    }
+    return m;
 }
 
 int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const int periodic[3],
@@ -153,7 +170,8 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
     int nprobes = structured_probes(pm);
     pm->start = calloc((size_t)nprobes + 1, sizeof(long));
     pm->members = malloc((size_t)(pm->n > 0 ? pm->n : 1) * sizeof(long));
-    if (!pm->start || !pm->members) {
+    pm->rows = malloc((size_t)max_column_rows(pm) * sizeof(int));
+    if (!pm->start || !pm->members || !pm->rows) {
         probe_matrix_destroy(pm);
         snprintf(err, errlen, "probed matrix: out of memory");
         return -1;
@@ -182,6 +200,7 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm->pos);
     free(pm->start);
     free(pm->members);
+    free(pm->rows);
     free(pm->trow);
     free(pm->tval);
     free(pm->gcol);
@@ -194,11 +213,10 @@ void probe_matrix_forget(struct probe_matrix *pm)
 {
     free(pm->cstart);
     free(pm->cmembers);
-    free(pm->pat_start);
-    free(pm->pat_row);
+    free(pm->mask);
     free(pm->mark);
     pm->cstart = pm->cmembers = NULL;
-    pm->pat_start = pm->pat_row = NULL;
+    pm->mask = NULL;
     pm->mark = NULL;
     pm->ncolours = 0;
 }
@@ -241,17 +259,15 @@ static int add_entry(struct probe_matrix *pm, size_t *nz, int r, double v)
     return 0;
 }
 
-/* The entries of column col in the structured colouring: the rows it
- * reaches are the unknowns of any component within reach of its position
- * (every position of a periodic direction that is its own colour period and
- * no longer than the stencil); no other column of the probe is within reach
- * of them, so the response there is this column's entry. */
-static int structured_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
-                             size_t *nz)
+/* The rows column col may reach, in a fixed order: the unknowns of any
+ * component within reach of its position (every position of a periodic
+ * direction that is its own colour period and no longer than the stencil).
+ * Returns their count (at most 3 (2 reach + 1)^3). */
+static int column_rows(const struct probe_matrix *pm, long col, int *rows)
 {
     const struct grid *g = pm->g;
     const int *at = pm->pos + 3 * col;
-    int lo[3], hi[3];
+    int lo[3], hi[3], nr = 0;
     for (int d = 0; d < 3; d++) {
         int n = g->n[d];
         if (pm->periodic[d] && pm->period[d] == n && n <= 2 * pm->reach + 1) {
@@ -274,26 +290,28 @@ static int structured_column(struct probe_matrix *pm, long col, double *resp[3],
                     if (pm->periodic[d])
                         t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
                 ptrdiff_t p = grid_idx(g, t[0], t[1], t[2]);
-                for (int m = 0; m < 3; m++) {
-                    int r = pm->index[m][p];
-                    if (r < 0 || (lower && col > r))
-                        continue;
-                    double v = resp[m][p];
-                    if (v != 0.0 && add_entry(pm, nz, r, v) != 0)
-                        return -1;
-                }
+                for (int m = 0; m < 3; m++)
+                    if (pm->index[m][p] >= 0)
+                        rows[nr++] = pm->index[m][p];
             }
-    return 0;
+    return nr;
 }
 
-/* The entries of column col in a learnt colouring: the rows of its column
- * in the learnt pattern, each stamped as read. */
-static int learnt_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
-                         size_t *nz)
+/* The entries of column col.  Structured colouring: every row it may
+ * reach, where no other column of the probe reaches.  Learnt colouring: the
+ * rows of its column in the learnt pattern (its mask's bits over
+ * column_rows), each stamped as read. */
+static int probe_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
+                        size_t *nz)
 {
-    for (int e = pm->pat_start[col]; e < pm->pat_start[col + 1]; e++) {
-        int r = pm->pat_row[e];
-        pm->mark[r] = pm->stamp;
+    int nr = column_rows(pm, col, pm->rows);
+    const uint64_t *mask = pm->ncolours > 0 ? pm->mask + (size_t)col * pm->words : NULL;
+    for (int b = 0; b < nr; b++) {
+        if (mask && !(mask[b / 64] >> (b % 64) & 1u))
+            continue;
+        int r = pm->rows[b];
+        if (mask)
+            pm->mark[r] = pm->stamp;
         if (lower && col > r)
             continue;
         double v = resp[pm->comp[r]][pm->slot[r]];
@@ -306,10 +324,23 @@ static int learnt_column(struct probe_matrix *pm, long col, double *resp[3], int
 /* Probes op colour by colour into the triplets.  Returns 0, -1 when memory
  * runs out, 1 when a learnt colouring's response reaches a row outside the
  * pattern it was learnt from (its entries would mix). */
+/* resp = op(the probe of members[from .. to)), probe its work. */
+static void apply_probe(const struct probe_matrix *pm, operator_fn op, void *ctx,
+                        const long *members, long from, long to, double *probe[3],
+                        double *resp[3])
+{
+    for (int m = 0; m < 3; m++)
+        memset(probe[m], 0, pm->g->size * sizeof(double));
+    for (long a = from; a < to; a++) {
+        long u = members[a];
+        probe[pm->comp[u]][pm->slot[u]] = 1.0;
+    }
+    op(ctx, probe, resp);
+}
+
 static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                      double *resp[3], int lower, size_t *nzp, size_t *ngp)
 {
-    const struct grid *g = pm->g;
     const int learnt = pm->ncolours > 0;
     const int nprobes = probe_matrix_probes(pm);
     const long *start = learnt ? pm->cstart : pm->start;
@@ -318,13 +349,7 @@ static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double 
     for (int q = 0; q < nprobes; q++) {
         if (start[q] == start[q + 1])
             continue;
-        for (int m = 0; m < 3; m++)
-            memset(probe[m], 0, g->size * sizeof(double));
-        for (long a = start[q]; a < start[q + 1]; a++) {
-            long u = members[a];
-            probe[pm->comp[u]][pm->slot[u]] = 1.0;
-        }
-        op(ctx, probe, resp);
+        apply_probe(pm, op, ctx, members, start[q], start[q + 1], probe, resp);
         if (learnt && ++pm->stamp == 0) { /* the stamps wrapped: clear them */
             memset(pm->mark, 0, (size_t)pm->n * sizeof(unsigned));
             pm->stamp = 1;
@@ -333,9 +358,7 @@ static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double 
             long col = members[a];
             pm->gcol[ng] = (int)col;
             pm->gstart[ng++] = nz;
-            int rc = learnt ? learnt_column(pm, col, resp, lower, &nz)
-                            : structured_column(pm, col, resp, lower, &nz);
-            if (rc != 0)
+            if (probe_column(pm, col, resp, lower, &nz) != 0)
                 return -1;
         }
         if (learnt) /* a response off the pattern: the colouring does not hold */
@@ -495,33 +518,50 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
                        double *resp[3])
 {
     probe_matrix_forget(pm);
-    struct csr_matrix S = {0};
-    int n = (int)pm->n;
+    const int n = (int)pm->n;
+    const int words = (max_column_rows(pm) + 63) / 64;
+    /* the pattern straight into the columns' masks, probe by probe of the
+     * structured colouring: no entries are stored, so learning needs less
+     * memory than an assembly */
+    uint64_t *mask = calloc((size_t)n * words + 1, sizeof(uint64_t));
+    int *rowptr = calloc((size_t)n + 1, sizeof(int));
     int *colour = malloc(((size_t)n + 1) * sizeof(int));
     int *seen = malloc(((size_t)n + 1) * sizeof(int));
-    int ok = colour && seen && probe_matrix_assemble(pm, op, ctx, probe, resp, 0, &S) == 0;
-    int *start = NULL, *row = NULL, *order = NULL;
+    int *cols = NULL, *order = NULL;
+    int ok = mask && rowptr && colour && seen;
+    for (int q = 0; ok && q < structured_probes(pm); q++) {
+        if (pm->start[q] == pm->start[q + 1])
+            continue;
+        apply_probe(pm, op, ctx, pm->members, pm->start[q], pm->start[q + 1], probe, resp);
+        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
+            long c = pm->members[a];
+            int nr = column_rows(pm, c, pm->rows);
+            for (int b = 0; b < nr; b++) {
+                int r = pm->rows[b];
+                if (resp[pm->comp[r]][pm->slot[r]] != 0.0) {
+                    mask[(size_t)c * words + b / 64] |= (uint64_t)1 << (b % 64);
+                    rowptr[r + 1]++;
+                }
+            }
+        }
+    }
+    /* the pattern by rows (each row's columns) for the colouring */
     if (ok) {
-        /* the pattern by columns, rows ascending in each (S's values are
-         * not needed) */
-        free(S.val);
-        S.val = NULL;
-        start = calloc((size_t)n + 1, sizeof(int));
-        row = malloc(((size_t)csr_nnz(&S) + 1) * sizeof(int));
-        ok = start && row;
+        for (int r = 0; r < n; r++)
+            rowptr[r + 1] += rowptr[r];
+        cols = malloc(((size_t)rowptr[n] + 1) * sizeof(int));
+        ok = cols && (order = by_position(pm)) != NULL;
     }
     if (ok) {
-        for (long e = 0; e < csr_nnz(&S); e++)
-            start[S.col[e] + 1]++;
-        for (int c = 0; c < n; c++)
-            start[c + 1] += start[c];
-        for (int r = 0; r < n; r++)
-            for (int e = S.rowptr[r]; e < S.rowptr[r + 1]; e++)
-                row[start[S.col[e]]++] = r;
-        for (int c = n; c > 0; c--)
-            start[c] = start[c - 1];
-        start[0] = 0;
-        ok = (order = by_position(pm)) != NULL;
+        for (int c = 0; c < n; c++) {
+            int nr = column_rows(pm, c, pm->rows);
+            for (int b = 0; b < nr; b++)
+                if (mask[(size_t)c * words + b / 64] >> (b % 64) & 1u)
+                    cols[rowptr[pm->rows[b]]++] = c;
+        }
+        for (int r = n; r > 0; r--)
+            rowptr[r] = rowptr[r - 1];
+        rowptr[0] = 0;
     }
     int ncolours = 0;
     if (ok) {
@@ -533,13 +573,14 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
         }
         for (long m = 0; m < pm->n; m++) {
             int c = order[m];
-            for (int e = start[c]; e < start[c + 1]; e++) {
-                int r = row[e];
-                for (int f = S.rowptr[r]; f < S.rowptr[r + 1]; f++) {
-                    int c2 = S.col[f];
-                    if (colour[c2] >= 0)
-                        seen[colour[c2]] = c;
-                }
+            int nr = column_rows(pm, c, pm->rows);
+            for (int b = 0; b < nr; b++) {
+                if (!(mask[(size_t)c * words + b / 64] >> (b % 64) & 1u))
+                    continue;
+                int r = pm->rows[b];
+                for (int f = rowptr[r]; f < rowptr[r + 1]; f++)
+                    if (colour[cols[f]] >= 0)
+                        seen[colour[cols[f]]] = c;
             }
             int k = 0;
             while (seen[k] == c)
@@ -550,7 +591,8 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
     }
     free(order);
     free(seen);
-    csr_free(&S);
+    free(cols);
+    free(rowptr);
     /* kept only when it saves probes */
     ok = ok && ncolours < structured_probes(pm);
     if (ok) {
@@ -569,16 +611,15 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
         for (int q = ncolours; q > 0; q--)
             pm->cstart[q] = pm->cstart[q - 1];
         pm->cstart[0] = 0;
-        pm->pat_start = start;
-        pm->pat_row = row;
-        start = row = NULL;
+        pm->mask = mask;
+        pm->words = words;
+        mask = NULL;
         pm->stamp = 0;
         pm->ncolours = ncolours;
     } else {
         probe_matrix_forget(pm);
     }
-    free(start);
-    free(row);
+    free(mask);
     free(colour);
     return pm->ncolours > 0 ? 0 : -1;
 }
