@@ -515,8 +515,9 @@ void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, in
     const struct grid *g = s->g;
     /* mapped, not on the heap: freed there, they leave a hole that the
      * later, larger blocks of the probing and the AMG may not fit (the
-     * heap's AMG solve at 140 x 200 peaked at 204 MB in five runs of eight,
-     * 185-186 in the others; mapped, 190-192 in three) */
+     * heap's AMG solve at 140 x 200 peaked at 203-204 MB in five runs of
+     * six, where without the learning it took 185-187 MB in nine of ten;
+     * mapped, 190-192 in three) */
     size_t bytes = NFIELDS * g->size * sizeof(double);
     void *block = mmap(NULL, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     double *f[NFIELDS] = {0};
