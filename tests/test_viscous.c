@@ -263,7 +263,8 @@ static void test_amg_matches_lu_2d(void **state)
     teardown_fix(&f);
 }
 
-/* The probed matrix's learnt colouring (probe_matrix_learn): after learning
+/* The probed matrix's learnt colouring (probe_matrix_learn): the structured
+ * colouring's matrix is the operator's, column by column; after learning
  * the pattern of the full tangent with generic coefficients, an operator
  * with zeros in its coefficients (a region without viscosity) assembles in
  * fewer probes to the same matrix as the structured colouring, bit for bit;
@@ -341,6 +342,33 @@ static void test_probe_learnt_colouring(void **state)
     struct probed_op o = {vs, &real};
     struct csr_matrix A0 = {0}, A1 = {0}, A2 = {0};
     assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A0), 0);
+    /* the structured colouring's matrix against the operator applied to
+     * each unit vector */
+    const long nun = probe_matrix_unknowns(pm);
+    double *unit = calloc((size_t)nun, sizeof(double)), *column = malloc((size_t)nun * sizeof(double));
+    long truth_nnz = 0;
+    for (long c = 0; c < nun; c++) {
+        unit[c] = 1.0;
+        for (int m = 0; m < 3; m++)
+            memset(f.x[m], 0, g->size * sizeof(double));
+        probe_matrix_scatter(pm, unit, f.x);
+        probed_apply(&o, f.x, f.out);
+        probe_matrix_gather(pm, f.out, column);
+        unit[c] = 0.0;
+        for (long r = 0; r < nun; r++) {
+            if (column[r] == 0.0)
+                continue;
+            truth_nnz++;
+            double a = 0.0;
+            for (int e = A0.rowptr[r]; e < A0.rowptr[r + 1]; e++)
+                if (A0.col[e] == c)
+                    a = A0.val[e];
+            assert_true(fabs(a - column[r]) <= 1e-12 * fabs(column[r]));
+        }
+    }
+    assert_int_equal(csr_nnz(&A0), truth_nnz);
+    free(unit);
+    free(column);
 
     struct probed_op og = {vs, &generic};
     assert_int_equal(probe_matrix_learn(pm, probed_apply, &og, f.x, f.out), 0);

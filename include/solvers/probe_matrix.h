@@ -44,11 +44,15 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
  * structured colouring, and colours its columns greedily so that no two of
  * a colour share a row: later assemblies probe once per colour (the 2D
  * Picard operator: 9 probes instead of 27; the 2D full tangent: 41 instead
- * of 75, its rows holding 29 columns).  Each probe's response is checked against the pattern;
- * an operator that leaves it is assembled again with the structured
- * colouring, which is kept from then on (probe_matrix_broken counts these).
- * Returns 0, or -1 when the structured colouring stays (no memory, or no
- * fewer probes). */
+ * of 75, its rows holding 29 columns) and write each response straight to
+ * its entry, row by row.  The pattern is kept (4 bytes an entry and a byte
+ * per colour and unknown).  A probe whose response reaches a row where its
+ * colour has no column (an operator outside the pattern) makes the
+ * assembly start again with the structured colouring, which is kept from
+ * then on (probe_matrix_broken counts these); a response in a row where its
+ * colour has a column is taken as that column's.  Returns 0, or -1 when the
+ * structured colouring stays (no memory, no fewer probes, or a row of 255
+ * columns or more). */
 int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                        double *resp[3]);
 /* Back to the structured colouring. */

@@ -7,6 +7,7 @@
 #include "solvers/probe_matrix.h"
 
 #define MAX_PROBES 600
+#define NO_ENTRY 255 /* entry's mark of a colour without a column in a row */
 
 struct probe_matrix {
     const struct grid *g;
@@ -31,16 +32,18 @@ struct probe_matrix {
     int *gcol;
     size_t *gstart;
     /* a learnt colouring (probe_matrix_learn), or none (ncolours 0): the
-     * columns by colour, cmembers[cstart[q] .. cstart[q+1]), the learnt
-     * pattern as a bit mask per column over the rows it may reach (16 bytes
-     * a column for the 2D full tangent, where a list of its 29 rows takes
-     * 116), and the stamps that check each probe's response against it */
+     * columns by colour, cmembers[cstart[q] .. cstart[q+1]); the learnt
+     * pattern by rows, columns ascending; and for each colour q and row r
+     * the place in its row of the row's column of colour q, entry[q n + r],
+     * or NO_ENTRY (a colour has at most one column in a row): a probe's
+     * response goes straight to its entries, row by row */
     int ncolours;
     long *cstart, *cmembers;
-    int words;                 /* of a column's mask */
-    uint64_t *mask;            /* n * words: the rows of column_rows in the pattern */
-    unsigned *mark, stamp;
-    int *rows;                 /* column_rows' buffer */
+    int *pat_rowptr, *pat_col;
+    unsigned char *entry;
+    int *rows;                 /* column_rows' buffers */
+    ptrdiff_t *row_slot;
+    int *row_comp;
     long broken;               /* assemblies the learnt pattern did not hold */
 };
 
@@ -171,7 +174,9 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
     pm->start = calloc((size_t)nprobes + 1, sizeof(long));
     pm->members = malloc((size_t)(pm->n > 0 ? pm->n : 1) * sizeof(long));
     pm->rows = malloc((size_t)max_column_rows(pm) * sizeof(int));
-    if (!pm->start || !pm->members || !pm->rows) {
+    pm->row_slot = malloc((size_t)max_column_rows(pm) * sizeof(ptrdiff_t));
+    pm->row_comp = malloc((size_t)max_column_rows(pm) * sizeof(int));
+    if (!pm->start || !pm->members || !pm->rows || !pm->row_slot || !pm->row_comp) {
         probe_matrix_destroy(pm);
         snprintf(err, errlen, "probed matrix: out of memory");
         return -1;
@@ -201,6 +206,8 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm->start);
     free(pm->members);
     free(pm->rows);
+    free(pm->row_slot);
+    free(pm->row_comp);
     free(pm->trow);
     free(pm->tval);
     free(pm->gcol);
@@ -213,14 +220,14 @@ void probe_matrix_forget(struct probe_matrix *pm)
 {
     free(pm->cstart);
     free(pm->cmembers);
-    free(pm->mask);
-    free(pm->mark);
+    free(pm->pat_rowptr);
+    free(pm->pat_col);
+    free(pm->entry);
     pm->cstart = pm->cmembers = NULL;
-    pm->mask = NULL;
-    pm->mark = NULL;
+    pm->pat_rowptr = pm->pat_col = NULL;
+    pm->entry = NULL;
     pm->ncolours = 0;
 }
-
 
 static int grow_triplets(struct probe_matrix *pm, size_t cap)
 {
@@ -261,9 +268,10 @@ static int add_entry(struct probe_matrix *pm, size_t *nz, int r, double v)
 
 /* The rows column col may reach, in a fixed order: the unknowns of any
  * component within reach of its position (every position of a periodic
- * direction that is its own colour period and no longer than the stencil).
- * Returns their count (at most 3 (2 reach + 1)^3). */
-static int column_rows(const struct probe_matrix *pm, long col, int *rows)
+ * direction that is its own colour period and no longer than the stencil),
+ * and their field slots and components in row_slot and row_comp.  Returns
+ * their count (at most 3 (2 reach + 1)^3). */
+static int column_rows(struct probe_matrix *pm, long col, int *rows)
 {
     const struct grid *g = pm->g;
     const int *at = pm->pos + 3 * col;
@@ -291,39 +299,32 @@ static int column_rows(const struct probe_matrix *pm, long col, int *rows)
                         t[d] = (t[d] % g->n[d] + g->n[d]) % g->n[d];
                 ptrdiff_t p = grid_idx(g, t[0], t[1], t[2]);
                 for (int m = 0; m < 3; m++)
-                    if (pm->index[m][p] >= 0)
+                    if (pm->index[m][p] >= 0) {
+                        pm->row_slot[nr] = p;
+                        pm->row_comp[nr] = m;
                         rows[nr++] = pm->index[m][p];
+                    }
             }
     return nr;
 }
 
-/* The entries of column col.  Structured colouring: every row it may
- * reach, where no other column of the probe reaches.  Learnt colouring: the
- * rows of its column in the learnt pattern (its mask's bits over
- * column_rows), each stamped as read. */
+/* The entries of column col: every row it may reach, where no other column
+ * of its probe reaches (the structured colouring). */
 static int probe_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
                         size_t *nz)
 {
     int nr = column_rows(pm, col, pm->rows);
-    const uint64_t *mask = pm->ncolours > 0 ? pm->mask + (size_t)col * pm->words : NULL;
     for (int b = 0; b < nr; b++) {
-        if (mask && !(mask[b / 64] >> (b % 64) & 1u))
-            continue;
         int r = pm->rows[b];
-        if (mask)
-            pm->mark[r] = pm->stamp;
         if (lower && col > r)
             continue;
-        double v = resp[pm->comp[r]][pm->slot[r]];
+        double v = resp[pm->row_comp[b]][pm->row_slot[b]];
         if (v != 0.0 && add_entry(pm, nz, r, v) != 0)
             return -1;
     }
     return 0;
 }
 
-/* Probes op colour by colour into the triplets.  Returns 0, -1 when memory
- * runs out, 1 when a learnt colouring's response reaches a row outside the
- * pattern it was learnt from (its entries would mix). */
 /* resp = op(the probe of members[from .. to)), probe its work. */
 static void apply_probe(const struct probe_matrix *pm, operator_fn op, void *ctx,
                         const long *members, long from, long to, double *probe[3],
@@ -338,42 +339,80 @@ static void apply_probe(const struct probe_matrix *pm, operator_fn op, void *ctx
     op(ctx, probe, resp);
 }
 
+/* Probes op colour by colour of the structured colouring into the
+ * triplets.  Returns 0, or -1 when memory runs out. */
 static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                      double *resp[3], int lower, size_t *nzp, size_t *ngp)
 {
-    const int learnt = pm->ncolours > 0;
-    const int nprobes = probe_matrix_probes(pm);
-    const long *start = learnt ? pm->cstart : pm->start;
-    const long *members = learnt ? pm->cmembers : pm->members;
     size_t nz = 0, ng = 0;
-    for (int q = 0; q < nprobes; q++) {
-        if (start[q] == start[q + 1])
+    for (int q = 0; q < structured_probes(pm); q++) {
+        if (pm->start[q] == pm->start[q + 1])
             continue;
-        apply_probe(pm, op, ctx, members, start[q], start[q + 1], probe, resp);
-        if (learnt && ++pm->stamp == 0) { /* the stamps wrapped: clear them */
-            memset(pm->mark, 0, (size_t)pm->n * sizeof(unsigned));
-            pm->stamp = 1;
-        }
-        for (long a = start[q]; a < start[q + 1]; a++) {
-            long col = members[a];
+        apply_probe(pm, op, ctx, pm->members, pm->start[q], pm->start[q + 1], probe, resp);
+        for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
+            long col = pm->members[a];
             pm->gcol[ng] = (int)col;
             pm->gstart[ng++] = nz;
             if (probe_column(pm, col, resp, lower, &nz) != 0)
                 return -1;
         }
-        if (learnt) /* a response off the pattern: the colouring does not hold */
-            for (long r = 0; r < pm->n; r++)
-                if (pm->mark[r] != pm->stamp && resp[pm->comp[r]][pm->slot[r]] != 0.0)
-                    return 1;
     }
     *nzp = nz;
     *ngp = ng;
     return 0;
 }
 
+/* Probes op colour by colour of the learnt colouring, each response
+ * straight into the learnt pattern's entries of A, row by row; then drops
+ * the exact zeros (and with lower the upper triangle) in place.  Returns 0,
+ * -1 when memory runs out, 1 when a response reaches a row where its
+ * colour has no column in the pattern (the operator left the pattern). */
+static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
+                           double *probe[3], double *resp[3], int lower, struct csr_matrix *A)
+{
+    const int n = (int)pm->n;
+    const int *rp = pm->pat_rowptr;
+    if (csr_reserve(A, n, (size_t)rp[n]) != 0)
+        return -1;
+    for (int q = 0; q < pm->ncolours; q++) {
+        apply_probe(pm, op, ctx, pm->cmembers, pm->cstart[q], pm->cstart[q + 1], probe, resp);
+        const unsigned char *at = pm->entry + (size_t)q * n;
+        for (int r = 0; r < n; r++) {
+            double v = resp[pm->comp[r]][pm->slot[r]];
+            if (at[r] != NO_ENTRY)
+                A->val[rp[r] + at[r]] = v;
+            else if (v != 0.0)
+                return 1;
+        }
+    }
+    int w = 0;
+    for (int r = 0; r < n; r++) {
+        int e0 = rp[r];
+        A->rowptr[r] = w;
+        for (int e = e0; e < rp[r + 1]; e++) {
+            int c = pm->pat_col[e];
+            if (A->val[e] == 0.0 || (lower && c > r))
+                continue;
+            A->col[w] = c;
+            A->val[w++] = A->val[e];
+        }
+    }
+    A->rowptr[n] = w;
+    return 0;
+}
+
 int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                           double *resp[3], int lower, struct csr_matrix *A)
 {
+    if (pm->ncolours > 0) {
+        int rc = learnt_assemble(pm, op, ctx, probe, resp, lower, A);
+        if (rc <= 0)
+            return rc;
+        /* the operator left the learnt pattern: the structured colouring,
+         * which needs no pattern, from now on */
+        pm->broken++;
+        probe_matrix_forget(pm);
+    }
     if (!pm->tcap && grow_triplets(pm, (size_t)pm->n * (lower ? 16 : 40) + 16) != 0)
         return -1;
     if (!pm->gcol) {
@@ -385,15 +424,7 @@ int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, do
         }
     }
     size_t nz = 0, ng = 0;
-    int rc = probe_all(pm, op, ctx, probe, resp, lower, &nz, &ng);
-    if (rc == 1) {
-        /* the operator left the learnt pattern: the structured colouring,
-         * which needs no pattern, from now on */
-        pm->broken++;
-        probe_matrix_forget(pm);
-        rc = probe_all(pm, op, ctx, probe, resp, lower, &nz, &ng);
-    }
-    if (rc != 0) {
+    if (probe_all(pm, op, ctx, probe, resp, lower, &nz, &ng) != 0) {
         free_entries(pm);
         return -1;
     }
@@ -538,7 +569,7 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
             int nr = column_rows(pm, c, pm->rows);
             for (int b = 0; b < nr; b++) {
                 int r = pm->rows[b];
-                if (resp[pm->comp[r]][pm->slot[r]] != 0.0) {
+                if (resp[pm->row_comp[b]][pm->row_slot[b]] != 0.0) {
                     mask[(size_t)c * words + b / 64] |= (uint64_t)1 << (b % 64);
                     rowptr[r + 1]++;
                 }
@@ -591,15 +622,17 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
     }
     free(order);
     free(seen);
-    free(cols);
-    free(rowptr);
-    /* kept only when it saves probes */
-    ok = ok && ncolours < structured_probes(pm);
+    free(mask);
+    /* kept only when it saves probes and a row's places fit a byte */
+    int longest = 0;
+    for (int r = 0; ok && r < n; r++)
+        longest = rowptr[r + 1] - rowptr[r] > longest ? rowptr[r + 1] - rowptr[r] : longest;
+    ok = ok && ncolours < structured_probes(pm) && longest < NO_ENTRY;
     if (ok) {
         pm->cstart = calloc((size_t)ncolours + 1, sizeof(long));
         pm->cmembers = malloc(((size_t)n + 1) * sizeof(long));
-        pm->mark = calloc((size_t)n + 1, sizeof(unsigned));
-        ok = pm->cstart && pm->cmembers && pm->mark;
+        pm->entry = malloc((size_t)ncolours * n + 1);
+        ok = pm->cstart && pm->cmembers && pm->entry;
     }
     if (ok) {
         for (int c = 0; c < n; c++)
@@ -611,15 +644,19 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
         for (int q = ncolours; q > 0; q--)
             pm->cstart[q] = pm->cstart[q - 1];
         pm->cstart[0] = 0;
-        pm->mask = mask;
-        pm->words = words;
-        mask = NULL;
-        pm->stamp = 0;
+        memset(pm->entry, NO_ENTRY, (size_t)ncolours * n);
+        for (int r = 0; r < n; r++)
+            for (int e = rowptr[r]; e < rowptr[r + 1]; e++)
+                pm->entry[(size_t)colour[cols[e]] * n + r] = (unsigned char)(e - rowptr[r]);
+        pm->pat_rowptr = rowptr;
+        pm->pat_col = cols;
+        rowptr = cols = NULL;
         pm->ncolours = ncolours;
     } else {
         probe_matrix_forget(pm);
     }
-    free(mask);
+    free(rowptr);
+    free(cols);
     free(colour);
     return pm->ncolours > 0 ? 0 : -1;
 }
