@@ -290,6 +290,23 @@ static void assert_same_matrix(const struct csr_matrix *A, const struct csr_matr
         assert_true(A->val[e] == B->val[e]);
 }
 
+/* Learns learn's pattern into pm, assembles real with it, and asserts the
+ * matrix A0 and the count of broken assemblies; returns the probes learnt. */
+static int learn_then_assemble(struct probe_matrix *pm, struct viscous_solver *vs,
+                               const struct viscous_problem *learn, struct probed_op *real,
+                               struct vfix *f, const struct csr_matrix *A0, long broken)
+{
+    struct probed_op ol = {vs, learn};
+    assert_int_equal(probe_matrix_learn(pm, probed_apply, &ol, f->x, f->out), 0);
+    int probes = probe_matrix_probes(pm);
+    struct csr_matrix A = {0};
+    assert_int_equal(probe_matrix_assemble(pm, probed_apply, real, f->x, f->out, 0, &A), 0);
+    assert_same_matrix(A0, &A);
+    assert_int_equal(probe_matrix_broken(pm), broken);
+    csr_free(&A);
+    return probes;
+}
+
 static void test_probe_learnt_colouring(void **state)
 {
     (void)state;
@@ -340,7 +357,7 @@ static void test_probe_learnt_colouring(void **state)
     assert_int_equal(probe_matrix_create(&pm, g, periodic, f.act, 2, err, sizeof err), 0);
     const int structured = probe_matrix_probes(pm);
     struct probed_op o = {vs, &real};
-    struct csr_matrix A0 = {0}, A1 = {0}, A2 = {0};
+    struct csr_matrix A0 = {0};
     assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A0), 0);
     /* the structured colouring's matrix against the operator applied to
      * each unit vector */
@@ -370,19 +387,8 @@ static void test_probe_learnt_colouring(void **state)
     free(unit);
     free(column);
 
-    struct probed_op og = {vs, &generic};
-    assert_int_equal(probe_matrix_learn(pm, probed_apply, &og, f.x, f.out), 0);
-    const int learnt = probe_matrix_probes(pm);
-    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A1), 0);
-    assert_same_matrix(&A0, &A1);
-    assert_int_equal(probe_matrix_broken(pm), 0);
-
-    struct probed_op op = {vs, &picard};
-    assert_int_equal(probe_matrix_learn(pm, probed_apply, &op, f.x, f.out), 0);
-    const int picard_probes = probe_matrix_probes(pm);
-    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A2), 0);
-    assert_same_matrix(&A0, &A2);
-    assert_int_equal(probe_matrix_broken(pm), 1);
+    const int learnt = learn_then_assemble(pm, vs, &generic, &o, &f, &A0, 0);
+    const int picard_probes = learn_then_assemble(pm, vs, &picard, &o, &f, &A0, 1);
     assert_int_equal(probe_matrix_probes(pm), structured);
     print_message("probed matrix: %d probes structured, %d learnt (full tangent), %d learnt "
                   "(Picard)\n", structured, learnt, picard_probes);
@@ -393,8 +399,6 @@ static void test_probe_learnt_colouring(void **state)
     assert_true(learnt >= 29 && learnt <= 45);
     assert_true(picard_probes >= 9 && picard_probes <= 12);
     csr_free(&A0);
-    csr_free(&A1);
-    csr_free(&A2);
     probe_matrix_destroy(pm);
     viscous_destroy(vs);
     field_free(bcell);
