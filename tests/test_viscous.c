@@ -409,6 +409,57 @@ static void test_probe_learnt_colouring(void **state)
     teardown_fix(&f);
 }
 
+/* A factorisation that fails leaves the step to the line blocks, with its
+ * cause in words (the run prints it once and counts it in summary.ini):
+ * UMFPACK and CHOLMOD on an operator without viscosity or mass in a block
+ * of cells (singular). */
+static void test_factorisation_failure_cause(void **state)
+{
+    (void)state;
+    struct vfix f;
+    setup_fix(&f, 8, 8, 1.0, 1.0, BC_SLIP);
+    const struct grid *g = &f.g;
+    for (int i = -1; i <= g->n[0]; i++)
+        for (int j = -1; j <= g->n[1]; j++)
+            for (int k = -1; k <= g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                int iw = (i + g->n[0]) % g->n[0];
+                double eta = (iw < 4 && k < 4) ? 0.0 : 1.0;
+                for (int c = 0; c < 3; c++)
+                    f.Ac[c][p] = f.Ae[c][p] = eta;
+            }
+    const struct {
+        enum viscous_precond kind;
+        double mass;
+        const char *cause;
+    } cases[] = {{VISCOUS_LU, 0.0, /* 8 x 8 u and v, 8 x 7 w */
+                  "LU factorisation (UMFPACK) of 184 unknowns: the matrix is singular"},
+                 {VISCOUS_CHOLESKY, 0.0, "Cholesky factorisation (CHOLMOD) of 184 unknowns: "
+                                          "the matrix is not positive definite"}};
+    for (size_t m = 0; m < sizeof cases / sizeof cases[0]; m++) {
+        struct viscous_problem pb = {.mass = cases[m].mass};
+        for (int c = 0; c < 3; c++) {
+            pb.A_cell[c] = f.Ac[c];
+            pb.A_edge[c] = f.Ae[c];
+        }
+        char err[256];
+        struct viscous_solver *vs;
+        assert_int_equal(viscous_create(&vs, g, &f.bc, f.act, -1, cases[m].kind, err, sizeof err), 0);
+        struct viscous_precond_info info;
+        viscous_precond_info(vs, &info);
+        assert_int_equal(info.fallbacks, 0);
+        assert_int_equal(viscous_precondition(vs, &pb), 1);
+        assert_int_equal(viscous_precondition(vs, &pb), 1);
+        viscous_precond_info(vs, &info);
+        print_message("%s\n", info.cause);
+        assert_int_equal(info.fallbacks, 2);
+        assert_int_equal(info.kind, VISCOUS_LINE);
+        assert_non_null(strstr(info.cause, cases[m].cause));
+        viscous_destroy(vs);
+    }
+    teardown_fix(&f);
+}
+
 /* The line blocks are exact for flows uniform across the lines: one
  * preconditioned iteration solves an x-uniform problem. */
 static void test_line_blocks_exact_for_uniform_flow(void **state)
@@ -643,6 +694,7 @@ void group_viscous(struct test_tally *t)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_drop_component_roundoff),
         cmocka_unit_test(test_probe_learnt_colouring),
+        cmocka_unit_test(test_factorisation_failure_cause),
         cmocka_unit_test(test_saddle_point_cause),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),

@@ -38,7 +38,7 @@ double sparse_direct_memory_estimate(long unknowns, int dims);
 
 /* Probes op (work: two field triples, overwritten), assembles and factorises.
  * Returns 0, or -1 when the factorisation fails (not positive definite,
- * singular, out of memory). */
+ * singular, out of memory: sparse_direct_cause says which). */
 int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
                          double *resp[3]);
 
@@ -47,6 +47,8 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
 
 /* The probed matrix it factorises (to teach it a pattern: probe_matrix_learn). */
 struct probe_matrix *sparse_direct_probe_matrix(struct sparse_direct *s);
+/* Why the last sparse_direct_factor failed, in words. */
+const char *sparse_direct_cause(const struct sparse_direct *s);
 long sparse_direct_unknowns(const struct sparse_direct *s);
 int sparse_direct_probes(const struct sparse_direct *s);
 

@@ -75,4 +75,9 @@ void suitesparse_serial_end(int saved);
  * with the library or symbol that is missing in err. */
 int suitesparse_load(char *err, size_t errlen);
 
+/* A failed factorisation's status as words (UMFPACK's return value,
+ * CHOLMOD's cholmod_common status). */
+const char *suitesparse_umfpack_text(int status);
+const char *suitesparse_cholmod_text(int status);
+
 #endif

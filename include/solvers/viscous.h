@@ -76,8 +76,11 @@ void viscous_destroy(struct viscous_solver *s);
 void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
                    double *out[3]);
 
-/* Probes and factorises the line blocks for this operator. */
-void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb);
+/* Builds the preconditioner for this operator (probes and factorises the
+ * line blocks, the sparse factorisation, the AMG hierarchy).  Returns 0, or
+ * 1 when the sparse factorisation or the AMG setup failed and the line
+ * blocks serve instead (viscous_precond_info: fallbacks, cause). */
+int viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb);
 
 /* Teaches the probed matrix pm (of this solver's unknowns) the pattern of
  * pb's kind of operator (full tangent or not, augmentation or not, open
@@ -136,6 +139,9 @@ struct viscous_precond_info {
     double complexity;      /* operator complexity */
     int blocks;             /* AMG: diagonal blocks set up apart (amg_hypre_blocks) */
     int reused;             /* 1: the last viscous_precondition kept the hierarchy */
+    long fallbacks;         /* viscous_precondition calls whose factorisation or
+                               AMG setup failed (the line blocks served) */
+    char cause[200];        /* why the last of them failed */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 

@@ -25,6 +25,7 @@ struct observer_ctx {
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
     long last_row;         /* the step of the last history row (-1: none) */
     long unconverged;      /* pressure solves that failed, as last reported */
+    long fallbacks;        /* implicit steps' failed factorisations, as last reported */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
@@ -90,6 +91,26 @@ static void warn_pressure(struct observer_ctx *ctx, const struct march_state *st
     ctx->unconverged = st->pressure_unconverged;
 }
 
+/* A sparse factorisation or AMG setup that failed leaves the step to the
+ * line blocks, which converge slowly or not at all in 2D: never silently
+ * (one line with the cause when the count first rises, the count in
+ * summary.ini). */
+static void warn_preconditioner(struct observer_ctx *ctx, const struct march_state *st)
+{
+    if (!st->viscous)
+        return;
+    struct viscous_precond_info info;
+    viscous_precond_info(st->viscous, &info);
+    if (info.fallbacks <= ctx->fallbacks)
+        return;
+    if (ctx->fallbacks == 0)
+        fprintf(stderr,
+                "muflow: warning: step %ld: %s; the implicit step fell back to the line "
+                "blocks (summary.ini: preconditioner_fallbacks)\n",
+                st->step, info.cause);
+    ctx->fallbacks = info.fallbacks;
+}
+
 static int observe(void *vctx, const struct march_state *st)
 {
     struct observer_ctx *ctx = vctx;
@@ -98,6 +119,7 @@ static int observe(void *vctx, const struct march_state *st)
     if (!ctx->opt->write_output)
         return 0;
     warn_pressure(ctx, st);
+    warn_preconditioner(ctx, st);
     struct scene_errors e;
     memset(&e, 0, sizeof e);
     e.err_rms = NAN;
@@ -132,6 +154,11 @@ void run_result_from(const struct march_state *st, struct run_result *res)
     res->rejected_steps = st->rejected;
     res->pressure_iterations = st->pressure_iterations;
     res->pressure_unconverged = st->pressure_unconverged;
+    if (st->viscous) {
+        struct viscous_precond_info info;
+        viscous_precond_info(st->viscous, &info);
+        res->preconditioner_fallbacks = info.fallbacks;
+    }
     res->time = st->time;
     res->wall_seconds = st->wall_seconds;
     res->residual = st->residual;

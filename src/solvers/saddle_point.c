@@ -62,21 +62,6 @@ void saddle_point_destroy(struct saddle_point *s)
     free(s);
 }
 
-/* UMFPACK's status as words. */
-static const char *umfpack_status_text(int status)
-{
-    switch (status) {
-    case UMFPACK_WARNING_singular_matrix:
-        return "the matrix is singular";
-    case UMFPACK_ERROR_out_of_memory:
-        return "out of memory";
-    case UMFPACK_ERROR_invalid_matrix:
-        return "invalid matrix";
-    default:
-        return "failed";
-    }
-}
-
 /* Whether K has the pattern the symbolic analysis was made of. */
 static int same_pattern(const struct saddle_point *s, const struct csr_matrix *K)
 {
@@ -127,7 +112,7 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
     int status = same_pattern(s, K) ? UMFPACK_OK : analyse(s, K);
     if (status != UMFPACK_OK) {
         snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s in its analysis",
-                 K->n, umfpack_status_text(status));
+                 K->n, suitesparse_umfpack_text(status));
         return -1;
     }
     double control[UMFPACK_CONTROL];
@@ -143,7 +128,7 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
     if (status != UMFPACK_OK) {
         snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s, peak memory "
                               "estimate %.1f GB",
-                 K->n, umfpack_status_text(status), s->peak_bytes / 1e9);
+                 K->n, suitesparse_umfpack_text(status), s->peak_bytes / 1e9);
         free_symbolic(s); /* analysed afresh next time */
         return -1;
     }

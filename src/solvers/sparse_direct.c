@@ -1,5 +1,6 @@
 /* Probed sparse direct factorisations (sparse_direct.h). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "solvers/sparse_direct.h"
@@ -22,6 +23,7 @@ struct sparse_direct {
     /* general: UMFPACK */
     void *symbolic, *numeric;
     double *rhs, *sol;
+    char cause[160];           /* of the last failed factorisation */
 };
 
 static void quiet_handler(int status, const char *file, int line, const char *message)
@@ -30,6 +32,15 @@ static void quiet_handler(int status, const char *file, int line, const char *me
 }
 
 long sparse_direct_unknowns(const struct sparse_direct *s) { return s->n; }
+
+const char *sparse_direct_cause(const struct sparse_direct *s) { return s->cause; }
+
+/* Records why the factorisation failed; returns -1. */
+static int failed(struct sparse_direct *s, const char *what, const char *why)
+{
+    snprintf(s->cause, sizeof s->cause, "the probed %s of %ld unknowns: %s", what, s->n, why);
+    return -1;
+}
 
 int sparse_direct_probes(const struct sparse_direct *s) { return probe_matrix_probes(s->pm); }
 
@@ -113,7 +124,7 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
 {
     /* by rows (the lower triangle if symmetric), transposed into columns */
     if (probe_matrix_assemble(s->pm, op, ctx, probe, resp, s->symmetric, &s->rows) != 0)
-        return -1;
+        return failed(s, "matrix", "out of memory");
     /* the factors of a flow along one direction then hold its component and
      * the two across it apart: the heap at 140 x 200 factorised in half the
      * time and 60 % of the memory, the same steps (docs/design.md); the
@@ -121,7 +132,7 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
     csr_drop_component_roundoff(&s->rows, probe_matrix_components(s->pm),
                                 COMPONENT_ROUNDOFF);
     if (csr_transpose(&s->rows, &s->next) != 0)
-        return -1;
+        return failed(s, "matrix", "out of memory");
     int fresh = !csr_same_pattern(&s->next, &s->cur);
     struct csr_matrix t = s->cur;
     s->cur = s->next;
@@ -132,28 +143,34 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
         if (fresh || !s->L) {
             suitesparse.cholmod_free_factor(&s->L, &s->cm);
             if (!(s->L = suitesparse.cholmod_analyze(&v, &s->cm)))
-                return -1;
+                return failed(s, "Cholesky factorisation (CHOLMOD)",
+                              suitesparse_cholmod_text(s->cm.status));
         }
         int serial = suitesparse_serial_begin();
         int okf = suitesparse.cholmod_factorize(&v, s->L, &s->cm);
         suitesparse_serial_end(serial);
-        return okf && s->cm.status == CHOLMOD_OK ? 0 : -1;
+        if (!okf || s->cm.status != CHOLMOD_OK)
+            return failed(s, "Cholesky factorisation (CHOLMOD)",
+                          suitesparse_cholmod_text(okf ? s->cm.status : CHOLMOD_INVALID));
+        return 0;
     }
     double control[UMFPACK_CONTROL];
     suitesparse_umfpack_control(control);
     if (fresh || !s->symbolic) {
         if (s->symbolic)
             suitesparse.umfpack_di_free_symbolic(&s->symbolic);
-        if (suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val, &s->symbolic, control,
-                                NULL) != UMFPACK_OK)
-            return -1;
+        int status = suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val,
+                                                     &s->symbolic, control, NULL);
+        if (status != UMFPACK_OK)
+            return failed(s, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
     }
     if (s->numeric)
         suitesparse.umfpack_di_free_numeric(&s->numeric);
-    return suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic, &s->numeric, control, NULL) ==
-                   UMFPACK_OK
-               ? 0
-               : -1;
+    int status = suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic,
+                                                &s->numeric, control, NULL);
+    if (status != UMFPACK_OK)
+        return failed(s, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
+    return 0;
 }
 
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3])

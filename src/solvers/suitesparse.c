@@ -93,6 +93,36 @@ static void name_blas_core(void)
 #endif
 }
 
+const char *suitesparse_umfpack_text(int status)
+{
+    switch (status) {
+    case UMFPACK_WARNING_singular_matrix:
+        return "the matrix is singular";
+    case UMFPACK_ERROR_out_of_memory:
+        return "out of memory";
+    case UMFPACK_ERROR_invalid_matrix:
+        return "invalid matrix";
+    default:
+        return "failed";
+    }
+}
+
+const char *suitesparse_cholmod_text(int status)
+{
+    switch (status) {
+    case CHOLMOD_NOT_POSDEF:
+        return "the matrix is not positive definite";
+    case CHOLMOD_OUT_OF_MEMORY:
+        return "out of memory";
+    case CHOLMOD_TOO_LARGE:
+        return "the problem is too large";
+    case CHOLMOD_INVALID:
+        return "invalid matrix";
+    default:
+        return "failed";
+    }
+}
+
 int suitesparse_load(char *err, size_t errlen)
 {
     if (loaded)

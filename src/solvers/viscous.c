@@ -568,7 +568,16 @@ void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, in
         munmap(block, bytes);
 }
 
-void viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
+/* Counts a failed factorisation or AMG setup; the line blocks serve. */
+static int fall_back(struct viscous_solver *s, const struct viscous_problem *pb, const char *cause)
+{
+    s->info.fallbacks++;
+    snprintf(s->info.cause, sizeof s->info.cause, "%s", cause);
+    line_blocks(s, pb);
+    return 1;
+}
+
+int viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
     s->fourier_ok = 0;
@@ -580,7 +589,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
             s->direct_kept.age++;
             s->info.setup_seconds = 0.0;
             s->info.reused = 1;
-            return;
+            return 0;
         }
         struct apply_ctx a = {s, pb};
         double t0 = cpu_now();
@@ -589,7 +598,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->info.reused = 0;
         s->fourier_valid = 1;
         kept_built(&s->direct_kept);
-        return;
+        return 0;
     }
     if (s->amg && s->amg_ok && kept_serves(&s->amg_kept, s->amg_cfg.reuse)) {
         /* the hierarchy of an earlier operator still serves: GMRES works on
@@ -597,7 +606,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->amg_kept.age++;
         s->info.probe_seconds = s->info.setup_seconds = 0.0;
         s->info.reused = 1;
-        return;
+        return 0;
     }
     s->amg_ok = 0;
     s->info.reused = 0;
@@ -616,7 +625,8 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         amg_hypre_release(s->amg);
         viscous_learn_pattern(s, s->probe, &s->amg_pattern, &q);
         double t0 = cpu_now();
-        int ok = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
+        int probed = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
+        int ok = probed;
         double t1 = cpu_now();
         s->info.unknowns = s->amat.n;
         s->info.entries = csr_nnz(&s->amat);
@@ -631,7 +641,12 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->amg_ok = ok;
         kept_built(&s->amg_kept);
         if (ok)
-            return;
+            return 0;
+        char cause[160];
+        snprintf(cause, sizeof cause, "the algebraic multigrid of %ld unknowns: %s",
+                 probe_matrix_unknowns(s->probe),
+                 probed ? "hypre's setup failed" : "out of memory probing the matrix");
+        return fall_back(s, pb, cause);
     }
     if (s->direct && s->direct_valid && kept_serves(&s->direct_kept, s->direct_reuse)) {
         /* the factors of an earlier operator precondition the current one:
@@ -641,7 +656,7 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->direct_ok = 1;
         s->info.probe_seconds = s->info.setup_seconds = 0.0;
         s->info.reused = 1;
-        return;
+        return 0;
     }
     if (s->direct) {
         viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
@@ -654,9 +669,11 @@ void viscous_precondition(struct viscous_solver *s, const struct viscous_problem
         s->info.unknowns = sparse_direct_unknowns(s->direct);
         s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
         if (s->direct_ok)
-            return;
+            return 0;
+        return fall_back(s, pb, sparse_direct_cause(s->direct));
     }
-    line_blocks(s, pb); /* also the fallback of a failed factorisation */
+    line_blocks(s, pb);
+    return 0;
 }
 
 static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb)
