@@ -271,17 +271,6 @@ static void test_amg_matches_lu_2d(void **state)
  * an operator outside the learnt pattern (the full tangent after learning
  * the Picard operator's) is caught and assembled again with the structured
  * colouring, the same matrix again. */
-struct probed_op {
-    struct viscous_solver *vs;
-    const struct viscous_problem *pb;
-};
-
-static void probed_apply(void *ctx, double *v[3], double *out[3])
-{
-    struct probed_op *o = ctx;
-    viscous_apply(o->vs, o->pb, v, out);
-}
-
 static void assert_same_matrix(const struct csr_matrix *A, const struct csr_matrix *B)
 {
     assert_int_equal(A->n, B->n);
@@ -293,14 +282,14 @@ static void assert_same_matrix(const struct csr_matrix *A, const struct csr_matr
 /* Learns learn's pattern into pm, assembles real with it, and asserts the
  * matrix A0 and the count of broken assemblies; returns the probes learnt. */
 static int learn_then_assemble(struct probe_matrix *pm, struct viscous_solver *vs,
-                               const struct viscous_problem *learn, struct probed_op *real,
+                               const struct viscous_problem *learn, struct viscous_operator *real,
                                struct vfix *f, const struct csr_matrix *A0, long broken)
 {
-    struct probed_op ol = {vs, learn};
-    assert_int_equal(probe_matrix_learn(pm, probed_apply, &ol, f->x, f->out), 0);
+    struct viscous_operator ol = {vs, learn};
+    assert_int_equal(probe_matrix_learn(pm, viscous_operator_apply, &ol, f->x, f->out), 0);
     int probes = probe_matrix_probes(pm);
     struct csr_matrix A = {0};
-    assert_int_equal(probe_matrix_assemble(pm, probed_apply, real, f->x, f->out, 0, &A), 0);
+    assert_int_equal(probe_matrix_assemble(pm, viscous_operator_apply, real, f->x, f->out, 0, &A), 0);
     assert_same_matrix(A0, &A);
     assert_int_equal(probe_matrix_broken(pm), broken);
     csr_free(&A);
@@ -356,9 +345,9 @@ static void test_probe_learnt_colouring(void **state)
     struct probe_matrix *pm;
     assert_int_equal(probe_matrix_create(&pm, g, periodic, f.act, 2, err, sizeof err), 0);
     const int structured = probe_matrix_probes(pm);
-    struct probed_op o = {vs, &real};
+    struct viscous_operator o = {vs, &real};
     struct csr_matrix A0 = {0};
-    assert_int_equal(probe_matrix_assemble(pm, probed_apply, &o, f.x, f.out, 0, &A0), 0);
+    assert_int_equal(probe_matrix_assemble(pm, viscous_operator_apply, &o, f.x, f.out, 0, &A0), 0);
     /* the structured colouring's matrix against the operator applied to
      * each unit vector */
     const long nun = probe_matrix_unknowns(pm);
@@ -369,7 +358,7 @@ static void test_probe_learnt_colouring(void **state)
         for (int m = 0; m < 3; m++)
             memset(f.x[m], 0, g->size * sizeof(double));
         probe_matrix_scatter(pm, unit, f.x);
-        probed_apply(&o, f.x, f.out);
+        viscous_operator_apply(&o, f.x, f.out);
         probe_matrix_gather(pm, f.out, column);
         unit[c] = 0.0;
         for (long r = 0; r < nun; r++) {

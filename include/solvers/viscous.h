@@ -76,6 +76,15 @@ void viscous_destroy(struct viscous_solver *s);
 void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
                    double *out[3]);
 
+/* The operator of pb as an operator_fn (probe_matrix.h) with ctx a struct
+ * viscous_operator: what the probed matrices, the Fourier blocks and the
+ * coupled step probe. */
+struct viscous_operator {
+    struct viscous_solver *s;
+    const struct viscous_problem *pb;
+};
+void viscous_operator_apply(void *ctx, double *v[3], double *out[3]);
+
 /* Builds the preconditioner for this operator (probes and factorises the
  * line blocks, the sparse factorisation, the AMG hierarchy).  Returns 0, or
  * 1 when the sparse factorisation or the AMG setup failed and the line

@@ -326,17 +326,6 @@ static int assemble(struct coupled_state *c)
     return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
-struct apply_ctx {
-    struct march_state *st;
-    const struct viscous_problem *pb;
-};
-
-static void apply(void *ctx, double *v[3], double *out[3])
-{
-    struct apply_ctx *a = ctx;
-    viscous_apply(a->st->viscous, a->pb, v, out);
-}
-
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 {
     const struct grid *g = &st->g;
@@ -347,9 +336,9 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     }
     struct coupled_state *c = st->coupled;
     const int nu = c->nu;
-    struct apply_ctx ctx = {st, pb};
+    struct viscous_operator ctx = {st->viscous, pb};
     viscous_learn_pattern(st->viscous, c->pm, &c->pattern, pb);
-    if (probe_matrix_assemble(c->pm, apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
+    if (probe_matrix_assemble(c->pm, viscous_operator_apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
         return -1;
     c->pcols_on = c->pcols && implicit_uses_tangent(st);
     if (c->pcols_on && pressure_columns_probe(c->pcols, st) != 0)

@@ -266,12 +266,12 @@ static int add_entry(struct probe_matrix *pm, size_t *nz, int r, double v)
     return 0;
 }
 
-/* The rows column col may reach, in a fixed order: the unknowns of any
- * component within reach of its position (every position of a periodic
- * direction that is its own colour period and no longer than the stencil),
- * and their field slots and components in row_slot and row_comp.  Returns
- * their count (at most 3 (2 reach + 1)^3). */
-static int column_rows(struct probe_matrix *pm, long col, int *rows)
+/* The rows column col may reach, in a fixed order, into pm->rows: the
+ * unknowns of any component within reach of its position (every position
+ * of a periodic direction that is its own colour period and no longer than
+ * the stencil), and their field slots and components in row_slot and
+ * row_comp.  Returns their count (at most 3 (2 reach + 1)^3). */
+static int column_rows(struct probe_matrix *pm, long col)
 {
     const struct grid *g = pm->g;
     const int *at = pm->pos + 3 * col;
@@ -302,7 +302,7 @@ static int column_rows(struct probe_matrix *pm, long col, int *rows)
                     if (pm->index[m][p] >= 0) {
                         pm->row_slot[nr] = p;
                         pm->row_comp[nr] = m;
-                        rows[nr++] = pm->index[m][p];
+                        pm->rows[nr++] = pm->index[m][p];
                     }
             }
     return nr;
@@ -313,7 +313,7 @@ static int column_rows(struct probe_matrix *pm, long col, int *rows)
 static int probe_column(struct probe_matrix *pm, long col, double *resp[3], int lower,
                         size_t *nz)
 {
-    int nr = column_rows(pm, col, pm->rows);
+    int nr = column_rows(pm, col);
     for (int b = 0; b < nr; b++) {
         int r = pm->rows[b];
         if (lower && col > r)
@@ -548,6 +548,17 @@ static int *by_position(const struct probe_matrix *pm, int first_slowest)
     return order;
 }
 
+/* The rows of column c in the pattern of the masks (its bits over
+ * column_rows), into pm->rows.  Returns their count. */
+static int masked_rows(struct probe_matrix *pm, long c, const uint64_t *mask, int words)
+{
+    int nr = column_rows(pm, c), kept = 0;
+    for (int b = 0; b < nr; b++)
+        if (mask[(size_t)c * words + b / 64] >> (b % 64) & 1u)
+            pm->rows[kept++] = pm->rows[b];
+    return kept;
+}
+
 /* Greedy colouring of the columns in the given order, each taking the
  * least colour that no column sharing a row with it holds (seen: work).
  * Returns the colours. */
@@ -562,10 +573,8 @@ static int greedy_colours(struct probe_matrix *pm, const int *order, const uint6
     }
     for (long m = 0; m < pm->n; m++) {
         int c = order[m];
-        int nr = column_rows(pm, c, pm->rows);
+        int nr = masked_rows(pm, c, mask, words);
         for (int b = 0; b < nr; b++) {
-            if (!(mask[(size_t)c * words + b / 64] >> (b % 64) & 1u))
-                continue;
             int r = pm->rows[b];
             for (int f = rowptr[r]; f < rowptr[r + 1]; f++)
                 if (colour[cols[f]] >= 0)
@@ -601,7 +610,7 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
         apply_probe(pm, op, ctx, pm->members, pm->start[q], pm->start[q + 1], probe, resp);
         for (long a = pm->start[q]; a < pm->start[q + 1]; a++) {
             long c = pm->members[a];
-            int nr = column_rows(pm, c, pm->rows);
+            int nr = column_rows(pm, c);
             for (int b = 0; b < nr; b++) {
                 int r = pm->rows[b];
                 if (resp[pm->row_comp[b]][pm->row_slot[b]] != 0.0) {
@@ -620,10 +629,9 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
     }
     if (ok) {
         for (int c = 0; c < n; c++) {
-            int nr = column_rows(pm, c, pm->rows);
+            int nr = masked_rows(pm, c, mask, words);
             for (int b = 0; b < nr; b++)
-                if (mask[(size_t)c * words + b / 64] >> (b % 64) & 1u)
-                    cols[rowptr[pm->rows[b]]++] = c;
+                cols[rowptr[pm->rows[b]]++] = c;
         }
         for (int r = n; r > 0; r--)
             rowptr[r] = rowptr[r - 1];

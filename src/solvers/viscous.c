@@ -467,14 +467,9 @@ void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, d
         embedded_release(pb->embedded, pb->mass, pb->mass_face, v, out);
 }
 
-struct apply_ctx {
-    struct viscous_solver *s;
-    const struct viscous_problem *pb;
-};
-
-static void apply_cb(void *vctx, double *v[3], double *out[3])
+void viscous_operator_apply(void *ctx, double *v[3], double *out[3])
 {
-    struct apply_ctx *a = vctx;
+    struct viscous_operator *a = ctx;
     viscous_apply(a->s, a->pb, v, out);
 }
 
@@ -561,8 +556,8 @@ void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, in
         }
         if (pb->augmentation)
             gen.augmentation = f[13];
-        struct apply_ctx a = {s, &gen};
-        probe_matrix_learn(pm, apply_cb, &a, s->p, s->q);
+        struct viscous_operator a = {s, &gen};
+        probe_matrix_learn(pm, viscous_operator_apply, &a, s->p, s->q);
     }
     if (ok)
         munmap(block, bytes);
@@ -591,9 +586,9 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
             s->info.reused = 1;
             return 0;
         }
-        struct apply_ctx a = {s, pb};
+        struct viscous_operator a = {s, pb};
         double t0 = cpu_now();
-        s->failed_blocks = fourier_lines_setup(s->fourier, apply_cb, &a, s->p, s->q);
+        s->failed_blocks = fourier_lines_setup(s->fourier, viscous_operator_apply, &a, s->p, s->q);
         s->info.setup_seconds = cpu_now() - t0; /* probing included */
         s->info.reused = 0;
         s->fourier_valid = 1;
@@ -618,14 +613,14 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
             q.b_cell = NULL;
         if (s->amg_cfg.drop_augmentation)
             q.augmentation = NULL;
-        struct apply_ctx a = {s, &q};
+        struct viscous_operator a = {s, &q};
         /* the old hierarchy is no use now: freed before the probing's
          * triplets and rows are allocated, not after (the peak memory held
          * both) */
         amg_hypre_release(s->amg);
         viscous_learn_pattern(s, s->probe, &s->amg_pattern, &q);
         double t0 = cpu_now();
-        int probed = probe_matrix_assemble(s->probe, apply_cb, &a, s->p, s->q, 0, &s->amat) == 0;
+        int probed = probe_matrix_assemble(s->probe, viscous_operator_apply, &a, s->p, s->q, 0, &s->amat) == 0;
         int ok = probed;
         double t1 = cpu_now();
         s->info.unknowns = s->amat.n;
@@ -660,10 +655,10 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
     }
     if (s->direct) {
         viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
-        struct apply_ctx a = {s, pb};
+        struct viscous_operator a = {s, pb};
         double t0 = cpu_now();
         s->direct_ok = s->direct_valid =
-            sparse_direct_factor(s->direct, apply_cb, &a, s->p, s->q) == 0;
+            sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q) == 0;
         kept_built(&s->direct_kept);
         s->info.setup_seconds = cpu_now() - t0; /* probing included */
         s->info.unknowns = sparse_direct_unknowns(s->direct);
