@@ -29,6 +29,10 @@ int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
  * across is the march's round-off), which would couple blocks that are
  * apart.  Returns the entries dropped. */
 long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double rel);
+/* The velocity components (comp of each unknown, 0 to 2) that M's entries
+ * couple, directly or through another: group[c] numbers component c's
+ * group, 0, 1, ... in the order of the groups' first components. */
+void csr_component_groups(const struct csr_matrix *M, const int *comp, int group[3]);
 /* Entries of A. */
 static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr[A->n] : 0; }
 /* Same rows and columns (pattern) as B. */

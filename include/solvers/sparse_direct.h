@@ -36,13 +36,23 @@ int sparse_direct_max_probes(void);
  * varying in dims directions (a measured model, see the source). */
 double sparse_direct_memory_estimate(long unknowns, int dims);
 
-/* Probes op (work: two field triples, overwritten), assembles and factorises.
- * Returns 0, or -1 when the factorisation fails (not positive definite,
- * singular, out of memory: sparse_direct_cause says which). */
+/* Probes op (work: two field triples, overwritten) and assembles its matrix,
+ * to be factorised by sparse_direct_prepare.  Returns 0, or -1 when memory
+ * runs out (sparse_direct_cause). */
 int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
                          double *resp[3]);
 
-/* z = A^-1 r on the unknowns (z elsewhere untouched). */
+/* Factorises the blocks of components (those the matrix couples: one, or
+ * two for a flow in a plane or along one direction) that r reaches and
+ * that are not factorised yet: call it with the right-hand side before a
+ * Krylov solve.  A block no right-hand side reaches is never factorised (a
+ * plane flow's component across the plane).  Returns 0, or -1 when a
+ * factorisation fails (sparse_direct_cause says why). */
+int sparse_direct_prepare(struct sparse_direct *s, double *const r[3]);
+
+/* z = A^-1 r on the unknowns (z elsewhere untouched); a block that r
+ * reaches but sparse_direct_prepare did not is factorised here (its part of z
+ * 0 if that fails). */
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3]);
 
 /* The probed matrix it factorises (to teach it a pattern: probe_matrix_learn). */

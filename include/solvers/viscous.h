@@ -86,9 +86,12 @@ struct viscous_operator {
 void viscous_operator_apply(void *ctx, double *v[3], double *out[3]);
 
 /* Builds the preconditioner for this operator (probes and factorises the
- * line blocks, the sparse factorisation, the AMG hierarchy).  Returns 0, or
- * 1 when the sparse factorisation or the AMG setup failed and the line
- * blocks serve instead (viscous_precond_info: fallbacks, cause). */
+ * line blocks, probes the sparse factorisation's matrix, sets up the AMG
+ * hierarchy).  Returns 0, or 1 when the AMG setup or the probing failed and
+ * the line blocks serve instead (viscous_precond_info: fallbacks, cause).
+ * The sparse factorisation itself runs in viscous_solve, for the blocks of
+ * components its right-hand side reaches; if it fails there, the line
+ * blocks serve that solve (counted and told the same way). */
 int viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb);
 
 /* Teaches the probed matrix pm (of this solver's unknowns) the pattern of
@@ -148,8 +151,8 @@ struct viscous_precond_info {
     double complexity;      /* operator complexity */
     int blocks;             /* AMG: diagonal blocks set up apart (amg_hypre_blocks) */
     int reused;             /* 1: the last viscous_precondition kept the hierarchy */
-    long fallbacks;         /* viscous_precondition calls whose factorisation or
-                               AMG setup failed (the line blocks served) */
+    long fallbacks;         /* preconditioners whose factorisation or AMG setup
+                               failed (the line blocks served) */
     char cause[200];        /* why the last of them failed */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);

@@ -92,6 +92,32 @@ long csr_drop_component_roundoff(struct csr_matrix *M, const int *comp, double r
     return dropped;
 }
 
+void csr_component_groups(const struct csr_matrix *M, const int *comp, int group[3])
+{
+    int coupled[3][3] = {{0}};
+    for (int r = 0; r < M->n; r++)
+        for (int e = M->rowptr[r]; e < M->rowptr[r + 1]; e++)
+            coupled[comp[r]][comp[M->col[e]]] = 1;
+    /* three components: a coupling joins the later one to the earlier's group */
+    for (int c = 0; c < 3; c++)
+        group[c] = c;
+    for (int a = 0; a < 3; a++)
+        for (int b = a + 1; b < 3; b++)
+            if (coupled[a][b] || coupled[b][a]) {
+                int from = group[b], to = group[a];
+                for (int c = 0; c < 3; c++)
+                    if (group[c] == from)
+                        group[c] = to;
+            }
+    /* numbered 0, 1, ... in the order of their first component */
+    int number[3] = {-1, -1, -1}, next = 0;
+    for (int c = 0; c < 3; c++) {
+        if (number[group[c]] < 0)
+            number[group[c]] = next++;
+        group[c] = number[group[c]];
+    }
+}
+
 void csr_free(struct csr_matrix *A)
 {
     free(A->rowptr);

@@ -10,19 +10,37 @@
  * diagonals' geometric mean are round-off (csr_drop_component_roundoff). */
 #define COMPONENT_ROUNDOFF 1e-12
 
-struct sparse_direct {
-    struct probe_matrix *pm;   /* numbering, colouring and probing */
-    int symmetric;
-    long n;                    /* unknowns */
-    struct csr_matrix rows;    /* the probed matrix by rows (work) */
-    struct csr_matrix cur, next; /* by columns: the last factorised one, the new one */
-    cholmod_common cm;
+/* The factors of the velocity components that the matrix couples: one
+ * block for a flow that couples them all, two for a flow in a plane (the
+ * component across it on its own) or along one direction (its component
+ * apart from the two across).  Each block is factorised at the first solve
+ * whose right-hand side reaches it (sparse_direct_prepare): a block that
+ * no right-hand side reaches is never factorised.  The component across a
+ * plane flow (the collapse's, the cavity's) stays 0, so its third of the
+ * unknowns costs nothing. */
+struct block {
+    int ncomp, comp[3];        /* its components, ascending */
+    int n;                     /* unknowns */
+    struct csr_matrix cur, next; /* by columns: the matrix of the last factorisation, the new one */
+    int fresh;                 /* next's pattern differs from cur's: analyse again */
+    int factorised;            /* cur's numeric factors are current */
     /* symmetric: CHOLMOD */
     cholmod_factor *L;
     cholmod_dense *B, *X, *Y, *E;
     /* general: UMFPACK */
     void *symbolic, *numeric;
-    double *rhs, *sol;
+};
+
+struct sparse_direct {
+    struct probe_matrix *pm;   /* numbering, colouring and probing */
+    int symmetric;
+    long n;                    /* unknowns */
+    long first[4];             /* component c's unknowns: first[c] .. first[c + 1] - 1 */
+    struct csr_matrix rows;    /* the probed matrix by rows (work) */
+    int nblocks;
+    struct block blk[3];
+    cholmod_common cm;
+    double *rhs, *sol;         /* all unknowns, block after block */
     char cause[160];           /* of the last failed factorisation */
 };
 
@@ -35,10 +53,22 @@ long sparse_direct_unknowns(const struct sparse_direct *s) { return s->n; }
 
 const char *sparse_direct_cause(const struct sparse_direct *s) { return s->cause; }
 
-/* Records why the factorisation failed; returns -1. */
-static int failed(struct sparse_direct *s, const char *what, const char *why)
+/* Records why the factorisation (of block b, or NULL: of the matrix) failed;
+ * returns -1. */
+static int failed(struct sparse_direct *s, const struct block *b, const char *what,
+                  const char *why)
 {
-    snprintf(s->cause, sizeof s->cause, "the probed %s of %ld unknowns: %s", what, s->n, why);
+    char part[64] = "";
+    if (b && s->nblocks > 1) {
+        static const char axis[3] = {'x', 'y', 'z'};
+        int at = snprintf(part, sizeof part, " (velocity component%s", b->ncomp > 1 ? "s" : "");
+        for (int q = 0; q < b->ncomp && at < (int)sizeof part - 8; q++)
+            at += snprintf(part + at, sizeof part - (size_t)at, "%s%c", q ? " and " : " ",
+                           axis[b->comp[q]]);
+        snprintf(part + at, sizeof part - (size_t)at, " of %ld unknowns)", s->n);
+    }
+    snprintf(s->cause, sizeof s->cause, "the probed %s of %ld unknowns%s: %s", what,
+             b ? (long)b->n : s->n, part, why);
     return -1;
 }
 
@@ -69,15 +99,18 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
         return -1;
     }
     s->n = probe_matrix_unknowns(s->pm);
-    s->rhs = malloc((size_t)s->n * sizeof(double));
-    s->sol = malloc((size_t)s->n * sizeof(double));
-    int ok = s->rhs && s->sol;
+    const int *comp = probe_matrix_components(s->pm);
+    for (int c = 0, k = 0; c <= 3; c++) { /* the unknowns come component by component */
+        while (k < s->n && comp[k] < c)
+            k++;
+        s->first[c] = k;
+    }
+    s->rhs = malloc(((size_t)s->n + 1) * sizeof(double));
+    s->sol = malloc(((size_t)s->n + 1) * sizeof(double));
     suitesparse_cholmod_start(&s->cm);
     s->cm.error_handler = quiet_handler;
     s->cm.print = 0;
-    if (ok && symmetric)
-        ok = (s->B = suitesparse.cholmod_zeros((size_t)s->n, 1, CHOLMOD_REAL, &s->cm)) != NULL;
-    if (!ok) {
+    if (!s->rhs || !s->sol) {
         sparse_direct_destroy(s);
         snprintf(err, errlen, "sparse factorisation: out of memory");
         return -1;
@@ -86,25 +119,32 @@ int sparse_direct_create(struct sparse_direct **out, const struct grid *g, const
     return 0;
 }
 
+static void free_block(struct sparse_direct *s, struct block *b)
+{
+    csr_free(&b->cur);
+    csr_free(&b->next);
+    if (b->symbolic)
+        suitesparse.umfpack_di_free_symbolic(&b->symbolic);
+    if (b->numeric)
+        suitesparse.umfpack_di_free_numeric(&b->numeric);
+    suitesparse.cholmod_free_factor(&b->L, &s->cm);
+    suitesparse.cholmod_free_dense(&b->B, &s->cm);
+    suitesparse.cholmod_free_dense(&b->X, &s->cm);
+    suitesparse.cholmod_free_dense(&b->Y, &s->cm);
+    suitesparse.cholmod_free_dense(&b->E, &s->cm);
+    memset(b, 0, sizeof *b);
+}
+
 void sparse_direct_destroy(struct sparse_direct *s)
 {
     if (!s)
         return;
     probe_matrix_destroy(s->pm);
     csr_free(&s->rows);
-    csr_free(&s->cur);
-    csr_free(&s->next);
     free(s->rhs);
     free(s->sol);
-    if (s->symbolic)
-        suitesparse.umfpack_di_free_symbolic(&s->symbolic);
-    if (s->numeric)
-        suitesparse.umfpack_di_free_numeric(&s->numeric);
-    suitesparse.cholmod_free_factor(&s->L, &s->cm);
-    suitesparse.cholmod_free_dense(&s->B, &s->cm);
-    suitesparse.cholmod_free_dense(&s->X, &s->cm);
-    suitesparse.cholmod_free_dense(&s->Y, &s->cm);
-    suitesparse.cholmod_free_dense(&s->E, &s->cm);
+    for (int k = 0; k < 3; k++)
+        free_block(s, &s->blk[k]);
     suitesparse.cholmod_finish(&s->cm);
     free(s);
 }
@@ -119,76 +159,216 @@ static cholmod_sparse cholmod_view(const struct csr_matrix *A)
     return v;
 }
 
+/* The blocks of components that M couples (entries between components
+ * that csr_drop_component_roundoff kept); the blocks are kept while their
+ * components stay the same. */
+static void split_blocks(struct sparse_direct *s, const struct csr_matrix *M)
+{
+    const int *comp = probe_matrix_components(s->pm);
+    int group[3];
+    csr_component_groups(M, comp, group);
+    struct block want[3];
+    int nb = 0;
+    for (int gi = 0; gi < 3; gi++) {
+        struct block b = {0};
+        for (int c = 0; c < 3; c++)
+            if (group[c] == gi && s->first[c + 1] > s->first[c]) {
+                b.comp[b.ncomp++] = c;
+                b.n += (int)(s->first[c + 1] - s->first[c]);
+            }
+        if (b.ncomp > 0)
+            want[nb++] = b;
+    }
+    int same = nb == s->nblocks;
+    for (int k = 0; same && k < nb; k++)
+        same = want[k].ncomp == s->blk[k].ncomp &&
+               memcmp(want[k].comp, s->blk[k].comp, sizeof want[k].comp) == 0;
+    if (!same) {
+        for (int k = 0; k < 3; k++)
+            free_block(s, &s->blk[k]);
+        for (int k = 0; k < nb; k++)
+            s->blk[k] = want[k];
+        s->nblocks = nb;
+    }
+}
+
+/* Block b's part of M (its rows and columns, numbered within the block: its
+ * components' unknowns one after the other) by columns into b->next: M's
+ * transpose restricted to the block. */
+static int take_block(struct sparse_direct *s, struct block *b, const struct csr_matrix *M)
+{
+    long offset[3] = {0, 0, 0}; /* block index = unknown + offset[c] (c its component) */
+    size_t nz = 0;
+    for (int q = 0, at = 0; q < b->ncomp; q++) {
+        int c = b->comp[q];
+        offset[c] = at - s->first[c];
+        at += (int)(s->first[c + 1] - s->first[c]);
+        nz += (size_t)(M->rowptr[s->first[c + 1]] - M->rowptr[s->first[c]]);
+    }
+    struct csr_matrix *T = &b->next;
+    if (csr_reserve(T, b->n, nz) != 0)
+        return -1;
+    const int *comp = probe_matrix_components(s->pm);
+    memset(T->rowptr, 0, ((size_t)b->n + 1) * sizeof(int));
+    for (int q = 0; q < b->ncomp; q++) { /* the block's entries of each column */
+        int c = b->comp[q];
+        for (int e = M->rowptr[s->first[c]]; e < M->rowptr[s->first[c + 1]]; e++)
+            T->rowptr[M->col[e] + offset[comp[M->col[e]]] + 1]++;
+    }
+    for (int r = 0; r < b->n; r++)
+        T->rowptr[r + 1] += T->rowptr[r];
+    for (int q = 0; q < b->ncomp; q++) { /* rows ascending: the columns come out sorted */
+        int c = b->comp[q];
+        for (long k = s->first[c]; k < s->first[c + 1]; k++)
+            for (int e = M->rowptr[k]; e < M->rowptr[k + 1]; e++) {
+                int at = T->rowptr[M->col[e] + offset[comp[M->col[e]]]]++;
+                T->col[at] = (int)(k + offset[c]);
+                T->val[at] = M->val[e];
+            }
+    }
+    for (int r = b->n; r > 0; r--)
+        T->rowptr[r] = T->rowptr[r - 1];
+    T->rowptr[0] = 0;
+    b->fresh = !csr_same_pattern(&b->next, &b->cur);
+    struct csr_matrix t = b->cur;
+    b->cur = b->next;
+    b->next = t;
+    b->factorised = 0;
+    return 0;
+}
+
 int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
                          double *resp[3])
 {
     /* by rows (the lower triangle if symmetric), transposed into columns */
     if (probe_matrix_assemble(s->pm, op, ctx, probe, resp, s->symmetric, &s->rows) != 0)
-        return failed(s, "matrix", "out of memory");
+        return failed(s, NULL, "matrix", "out of memory");
     /* the factors of a flow along one direction then hold its component and
      * the two across it apart: the heap at 140 x 200 factorised in half the
      * time and 60 % of the memory, the same steps (docs/design.md); the
      * Krylov method keeps the dropped round-off in the operator */
     csr_drop_component_roundoff(&s->rows, probe_matrix_components(s->pm),
                                 COMPONENT_ROUNDOFF);
-    if (csr_transpose(&s->rows, &s->next) != 0)
-        return failed(s, "matrix", "out of memory");
-    int fresh = !csr_same_pattern(&s->next, &s->cur);
-    struct csr_matrix t = s->cur;
-    s->cur = s->next;
-    s->next = t;
-    const struct csr_matrix *A = &s->cur;
+    split_blocks(s, &s->rows);
+    for (int k = 0; k < s->nblocks; k++)
+        if (take_block(s, &s->blk[k], &s->rows) != 0)
+            return failed(s, NULL, "matrix", "out of memory");
+    return 0;
+}
+
+/* Numeric factors of block b's current matrix (its symbolic analysis again
+ * when its pattern changed).  Returns 0 or -1 (the cause recorded). */
+static int factorise_block(struct sparse_direct *s, struct block *b)
+{
+    const struct csr_matrix *A = &b->cur;
     if (s->symmetric) {
         cholmod_sparse v = cholmod_view(A);
-        if (fresh || !s->L) {
-            suitesparse.cholmod_free_factor(&s->L, &s->cm);
-            if (!(s->L = suitesparse.cholmod_analyze(&v, &s->cm)))
-                return failed(s, "Cholesky factorisation (CHOLMOD)",
+        if (b->fresh || !b->L) {
+            suitesparse.cholmod_free_factor(&b->L, &s->cm);
+            if (!(b->L = suitesparse.cholmod_analyze(&v, &s->cm)))
+                return failed(s, b, "Cholesky factorisation (CHOLMOD)",
                               suitesparse_cholmod_text(s->cm.status));
         }
+        if (!b->B && !(b->B = suitesparse.cholmod_zeros((size_t)b->n, 1, CHOLMOD_REAL, &s->cm)))
+            return failed(s, b, "Cholesky factorisation (CHOLMOD)", "out of memory");
         int serial = suitesparse_serial_begin();
-        int okf = suitesparse.cholmod_factorize(&v, s->L, &s->cm);
+        int okf = suitesparse.cholmod_factorize(&v, b->L, &s->cm);
         suitesparse_serial_end(serial);
         if (!okf || s->cm.status != CHOLMOD_OK)
-            return failed(s, "Cholesky factorisation (CHOLMOD)",
+            return failed(s, b, "Cholesky factorisation (CHOLMOD)",
                           suitesparse_cholmod_text(okf ? s->cm.status : CHOLMOD_INVALID));
-        return 0;
-    }
-    double control[UMFPACK_CONTROL];
-    suitesparse_umfpack_control(control);
-    if (fresh || !s->symbolic) {
-        if (s->symbolic)
-            suitesparse.umfpack_di_free_symbolic(&s->symbolic);
-        int status = suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val,
-                                                     &s->symbolic, control, NULL);
+    } else {
+        double control[UMFPACK_CONTROL];
+        suitesparse_umfpack_control(control);
+        if (b->fresh || !b->symbolic) {
+            if (b->symbolic)
+                suitesparse.umfpack_di_free_symbolic(&b->symbolic);
+            int status = suitesparse.umfpack_di_symbolic(A->n, A->n, A->rowptr, A->col, A->val,
+                                                         &b->symbolic, control, NULL);
+            if (status != UMFPACK_OK)
+                return failed(s, b, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
+        }
+        if (b->numeric)
+            suitesparse.umfpack_di_free_numeric(&b->numeric);
+        int status = suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, b->symbolic,
+                                                    &b->numeric, control, NULL);
         if (status != UMFPACK_OK)
-            return failed(s, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
+            return failed(s, b, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
     }
-    if (s->numeric)
-        suitesparse.umfpack_di_free_numeric(&s->numeric);
-    int status = suitesparse.umfpack_di_numeric(A->rowptr, A->col, A->val, s->symbolic,
-                                                &s->numeric, control, NULL);
-    if (status != UMFPACK_OK)
-        return failed(s, "LU factorisation (UMFPACK)", suitesparse_umfpack_text(status));
+    b->fresh = 0;
+    b->factorised = 1;
+    return 0;
+}
+
+/* Block b's part of the unknowns' vector v (all unknowns by component) is
+ * at v + (its offset in the blocks' order); copied between the two orders. */
+static void to_blocks(const struct sparse_direct *s, const double *v, double *out, int back)
+{
+    long at = 0;
+    for (int k = 0; k < s->nblocks; k++)
+        for (int q = 0; q < s->blk[k].ncomp; q++) {
+            int c = s->blk[k].comp[q];
+            size_t len = (size_t)(s->first[c + 1] - s->first[c]);
+            if (back)
+                memcpy(out + s->first[c], v + at, len * sizeof(double));
+            else
+                memcpy(out + at, v + s->first[c], len * sizeof(double));
+            at += (long)len;
+        }
+}
+
+static int reaches(const double *v, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (v[i] != 0.0)
+            return 1;
+    return 0;
+}
+
+int sparse_direct_prepare(struct sparse_direct *s, double *const r[3])
+{
+    probe_matrix_gather(s->pm, r, s->sol);
+    to_blocks(s, s->sol, s->rhs, 0);
+    long at = 0;
+    for (int k = 0; k < s->nblocks; k++) {
+        struct block *b = &s->blk[k];
+        if (!b->factorised && reaches(s->rhs + at, b->n) && factorise_block(s, b) != 0)
+            return -1;
+        at += b->n;
+    }
     return 0;
 }
 
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3])
 {
-    double *b = s->symmetric ? s->B->x : s->rhs;
-    probe_matrix_gather(s->pm, r, b);
-    const double *x = s->sol;
-    if (s->symmetric) {
-        int serial = suitesparse_serial_begin();
-        suitesparse.cholmod_solve2(CHOLMOD_A, s->L, s->B, NULL, &s->X, NULL, &s->Y, &s->E, &s->cm);
-        suitesparse_serial_end(serial);
-        x = s->X->x;
-    } else {
-        const struct csr_matrix *A = &s->cur;
-        suitesparse.umfpack_di_solve(UMFPACK_A, A->rowptr, A->col, A->val, s->sol, s->rhs, s->numeric, NULL,
-                         NULL);
+    probe_matrix_gather(s->pm, r, s->sol);
+    to_blocks(s, s->sol, s->rhs, 0);
+    long at = 0;
+    for (int k = 0; k < s->nblocks; k++) {
+        struct block *b = &s->blk[k];
+        double *rb = s->rhs + at, *xb = s->sol + at;
+        at += b->n;
+        if (!b->factorised && (!reaches(rb, b->n) || factorise_block(s, b) != 0)) {
+            /* no right-hand side has reached it (or its factorisation
+             * failed: the Krylov method then does not converge) */
+            memset(xb, 0, (size_t)b->n * sizeof(double));
+            continue;
+        }
+        if (s->symmetric) {
+            memcpy(b->B->x, rb, (size_t)b->n * sizeof(double));
+            int serial = suitesparse_serial_begin();
+            suitesparse.cholmod_solve2(CHOLMOD_A, b->L, b->B, NULL, &b->X, NULL, &b->Y, &b->E,
+                                       &s->cm);
+            suitesparse_serial_end(serial);
+            memcpy(xb, b->X->x, (size_t)b->n * sizeof(double));
+        } else {
+            const struct csr_matrix *A = &b->cur;
+            suitesparse.umfpack_di_solve(UMFPACK_A, A->rowptr, A->col, A->val, xb, rb, b->numeric,
+                                         NULL, NULL);
+        }
     }
-    probe_matrix_scatter(s->pm, x, z);
+    to_blocks(s, s->sol, s->rhs, 1);
+    probe_matrix_scatter(s->pm, s->rhs, z);
 }
 
 struct probe_matrix *sparse_direct_probe_matrix(struct sparse_direct *s) { return s->pm; }
