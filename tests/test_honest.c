@@ -332,6 +332,48 @@ static void test_warning_not_quiet(void **state)
     remove_tree(dir);
 }
 
+/* An implicit solve stopped at solver.max_linear_iterations is taken (the
+ * step goes on with the iterate) but told: one warning line with the cap
+ * and the residual, and the count in summary.ini.  The column collapse on
+ * a coarse grid with the line blocks and a cap of 2 iterations (they need
+ * hundreds there); the same run with the default cap and preconditioner
+ * (the Cholesky, one iteration) counts none and says nothing. */
+static void test_linear_cap_told(void **state)
+{
+    (void)state;
+    char bin[4096], dir[128], cmd[5000], out[1 << 14], path[256];
+    muflow_bin(bin, sizeof bin);
+    make_tmp(dir, sizeof dir, "linear");
+    for (int capped = 1; capped >= 0; capped--) {
+        snprintf(cmd, sizeof cmd,
+                 "OMP_NUM_THREADS=1 '%s' ../cases/collapse.ini domain.nx=40 domain.nz=12 "
+                 "domain.ly=0.125 solver.end_time=0.05 output.fields=off output.quiet=on %s "
+                 "output.dir=%s 2>&1 >/dev/null",
+                 bin, capped ? "solver.preconditioner=line solver.max_linear_iterations=2" : "",
+                 dir);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("%s: exit %d, stderr: %s\n", capped ? "capped" : "default", rc, out);
+        assert_int_equal(rc, 0);
+        snprintf(path, sizeof path, "%s/summary.ini", dir);
+        char *sum = test_read_file(path, NULL);
+        assert_non_null(sum);
+        const char *k = strstr(sum, "\nlinear_unconverged = ");
+        assert_non_null(k);
+        long n = strtol(k + strlen("\nlinear_unconverged = "), NULL, 10);
+        const char *w = strstr(out, "warning: step 1: the implicit viscous solve stopped at "
+                                    "solver.max_linear_iterations = 2 with a relative residual of");
+        if (capped) {
+            assert_true(n >= 1);
+            assert_non_null(w);
+        } else {
+            assert_int_equal(n, 0);
+            assert_null(strstr(out, "implicit viscous solve stopped"));
+        }
+        free(sum);
+    }
+    remove_tree(dir);
+}
+
 /* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
  * its first step: end_time 1 would take ~1e11 steps) stops the run at once
  * with the step, the time and the reason, keeping the state before. */
@@ -366,6 +408,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_dt_collapse_stops),
         cmocka_unit_test(test_memory_estimate),
         cmocka_unit_test(test_warning_not_quiet),
+        cmocka_unit_test(test_linear_cap_told),
     };
     RUN_GROUP(t, "honest", tests);
 }

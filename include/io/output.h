@@ -22,6 +22,7 @@ struct run_result {
     long rejected_steps; /* steady mode: steps retried with a smaller pseudo-time step */
     long pressure_iterations;  /* the projection's multigrid-CG iterations (FFT: 0) */
     long pressure_unconverged; /* its solves that ended above their tolerance */
+    long linear_unconverged;   /* implicit solves stopped at solver.max_linear_iterations */
     long preconditioner_fallbacks; /* implicit steps whose factorisation or AMG setup
                                       failed, in this process (the line blocks served) */
     double time, wall_seconds, residual, divergence;

@@ -80,6 +80,8 @@ struct march_state {
     long rejected;              /* pseudo-time steps retried with a smaller dt */
     long pressure_iterations;   /* the projection's multigrid-CG iterations, every step */
     long pressure_unconverged;  /* its solves that ended above their tolerance */
+    long linear_unconverged;    /* implicit solves stopped at solver.max_linear_iterations */
+    double linear_residual;     /* relative residual of the last implicit solve */
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */
     long best_step;             /* the step it was reached at */

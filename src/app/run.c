@@ -25,6 +25,7 @@ struct observer_ctx {
     long resume_step;      /* restart: the checkpoint's step, whose outputs exist; else -1 */
     long last_row;         /* the step of the last history row (-1: none) */
     long unconverged;      /* pressure solves that failed, as last reported */
+    long linear_unconverged; /* implicit solves stopped at their cap, as last reported */
     long fallbacks;        /* implicit steps' failed factorisations, as last reported */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
@@ -91,6 +92,22 @@ static void warn_pressure(struct observer_ctx *ctx, const struct march_state *st
     ctx->unconverged = st->pressure_unconverged;
 }
 
+/* An implicit solve that stopped at its iteration cap is taken as it is
+ * (the step goes on with the iterate), but never silently: one line when
+ * the count first rises, the count in summary.ini. */
+static void warn_linear(struct observer_ctx *ctx, const struct march_state *st)
+{
+    if (st->linear_unconverged <= ctx->linear_unconverged)
+        return;
+    if (ctx->linear_unconverged == 0)
+        fprintf(stderr,
+                "muflow: warning: step %ld: the implicit viscous solve stopped at "
+                "solver.max_linear_iterations = %d with a relative residual of %.1e; the step "
+                "took that iterate (summary.ini: linear_unconverged)\n",
+                st->step, st->cs->max_linear_iterations, st->linear_residual);
+    ctx->linear_unconverged = st->linear_unconverged;
+}
+
 /* A sparse factorisation or AMG setup that failed leaves the step to the
  * line blocks, which converge slowly or not at all in 2D: never silently
  * (one line with the cause when the count first rises, the count in
@@ -119,6 +136,7 @@ static int observe(void *vctx, const struct march_state *st)
     if (!ctx->opt->write_output)
         return 0;
     warn_pressure(ctx, st);
+    warn_linear(ctx, st);
     warn_preconditioner(ctx, st);
     struct scene_errors e;
     memset(&e, 0, sizeof e);
@@ -154,6 +172,7 @@ void run_result_from(const struct march_state *st, struct run_result *res)
     res->rejected_steps = st->rejected;
     res->pressure_iterations = st->pressure_iterations;
     res->pressure_unconverged = st->pressure_unconverged;
+    res->linear_unconverged = st->linear_unconverged;
     if (st->viscous) {
         struct viscous_precond_info info;
         viscous_precond_info(st->viscous, &info);
@@ -330,6 +349,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         return rc;
     }
     ctx.unconverged = st.pressure_unconverged; /* a restart's were reported before */
+    ctx.linear_unconverged = st.linear_unconverged;
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
                                 .verbose = opt->write_output && !work.quiet,
                                 .dir = opt->write_output ? work.output_dir : NULL};

@@ -43,6 +43,7 @@ static const struct {
     {"forcing_step", offsetof(struct march_state, forcing_step), S_LONG, 1},
     {"pressure_iterations", offsetof(struct march_state, pressure_iterations), S_LONG, 1},
     {"pressure_unconverged", offsetof(struct march_state, pressure_unconverged), S_LONG, 1},
+    {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 

@@ -270,6 +270,7 @@ int output_summary(const char *dir, const struct muflow_case *cs, const struct r
     fprintf(f, "rejected_steps = %ld\n", r->rejected_steps);
     fprintf(f, "pressure_iterations = %ld\n", r->pressure_iterations);
     fprintf(f, "pressure_unconverged = %ld\n", r->pressure_unconverged);
+    fprintf(f, "linear_unconverged = %ld\n", r->linear_unconverged);
     fprintf(f, "preconditioner_fallbacks = %ld\n", r->preconditioner_fallbacks);
     fprintf(f, "time = %.10g\n", r->time);
     fprintf(f, "wall_seconds = %.6g\n", r->wall_seconds);

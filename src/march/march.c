@@ -103,7 +103,16 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * line blocks, same profile; 16 x 8 x 40 needed 960 probes and failed).  The
  * probes are one operator application each per step: beyond the
  * factorisation's limit the line blocks serve instead of failing. */
-#define CHOLESKY_MAX_UNKNOWNS 400000L
+#define FACTOR_MAX_UNKNOWNS 400000L
+/* The Cholesky (of a transient step or a Picard solve) of a 2D cross-section
+ * further (in 3D its fill grows like n^(4/3): the limit above stays): the column
+ * collapse at 204.8 cells per H0 (1024 x 320, 983,040 unknowns, of which
+ * the 655,360 of the plane factorised: docs/design.md, "Blocks of
+ * components"), 2 threads, its first 5 steps: 3.7 s a step, 1 CG iteration,
+ * peak 2.2 GB; the AMG 5.6 s and 17 iterations, 1.6 GB; the line blocks
+ * 14 s and their CG at its cap of 500 iterations, the residual 10 times
+ * the right-hand side's. */
+#define CHOLESKY_2D_MAX_UNKNOWNS 1000000L
 
 /* Above this many unknowns auto takes BoomerAMG (GMRES(20), one V-cycle an
  * iteration, the inexact Newton forcing term) instead of the LU for a
@@ -180,8 +189,13 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     if (kind == VISCOUS_LU && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
         unknowns > AMG_MIN_UNKNOWNS && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
-    if (unknowns > CHOLESKY_MAX_UNKNOWNS)
-        return VISCOUS_LINE;
+    /* beyond the factorisation's limit a 2D cross-section takes the AMG
+     * (measured above: the line blocks do not converge there) */
+    if (unknowns > (kind == VISCOUS_CHOLESKY && wide == 2 ? CHOLESKY_2D_MAX_UNKNOWNS
+                                                          : FACTOR_MAX_UNKNOWNS))
+        return wide == 2 && !(cs->augmentation > 0.0) && amg_hypre_available(why, sizeof why)
+                   ? VISCOUS_AMG
+                   : VISCOUS_LINE;
     return kind;
 }
 

@@ -70,5 +70,9 @@ int stage_implicit(struct march_state *st, double dt)
     int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, tol,
                            cs->max_linear_iterations, &vs);
     st->linear_iterations = vs.iterations;
+    st->linear_residual = vs.relative_residual;
+    /* the step goes on with the iterate, counted (the run tells it) */
+    if (rc == 1)
+        st->linear_unconverged++;
     return rc < 0 ? -1 : 0;
 }
