@@ -76,6 +76,7 @@ struct coupled_state {
     struct saddle_point *solver;
     struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
     int pcols_on;                   /* this step's matrix has them (the tangent's) */
+    int idle[3];                    /* components this step leaves at du = 0 (idle_components) */
 };
 
 static int by_row(const void *a, const void *b)
@@ -267,20 +268,87 @@ static int to_csr(struct entry *e, long m, int n, struct csr_matrix *M)
 }
 
 /* K from A, G and D. */
+/* The velocity components this step need not solve for.  A velocity
+ * unknown whose row is its diagonal alone and whose right-hand side is 0 (a
+ * node held in the body) has du = 0, whatever its column holds; a component
+ * whose right-hand side is 0 and that nothing couples to the rest of the
+ * system but through such nodes (the operator, the pressure gradient, the
+ * viscosity's pressure columns, the open faces) has du = 0 too.  A flow in a
+ * plane leaves the component across it so (the cylinder's, the cavity's: the
+ * x-z plane, y one periodic cell; at the body its rows reach held u and w
+ * nodes); its rows then hold their diagonal alone, which UMFPACK takes out as
+ * singletons before it factorises the rest. */
+static void idle_components(struct coupled_state *c)
+{
+    const int *comp = probe_matrix_components(c->pm);
+    const struct csr_matrix *A = &c->A;
+    int busy[3] = {0, 0, 0};
+    unsigned char *touched = calloc((size_t)c->nu + 1, 1); /* reached beyond A: not inert */
+    if (!touched) {
+        c->idle[0] = c->idle[1] = c->idle[2] = 0;
+        return;
+    }
+    for (int f = 0; f < c->nfaces; f++) {
+        busy[comp[c->faces[f].k]] = 1;
+        touched[c->faces[f].k] = 1;
+    }
+    for (int r = 0; c->pcols_on && r < c->nu; r++) {
+        int m;
+        const int *cells;
+        const double *val;
+        pressure_columns_row(c->pcols, r, &m, &cells, &val);
+        for (int q = 0; q < m; q++)
+            if (val[q] != 0.0)
+                busy[comp[r]] = touched[r] = 1;
+    }
+    for (int m = 0; m < c->nopen; m++) {
+        int nr;
+        const int *rows;
+        const double *val;
+        coupled_open_column(c->open, m, &nr, &rows, &val);
+        for (int q = 0; q < nr; q++)
+            busy[comp[rows[q]]] = touched[rows[q]] = 1;
+        int ki = coupled_open_link(c->open, m)->ki;
+        busy[comp[ki]] = touched[ki] = 1;
+    }
+    for (int r = 0; r < c->nu; r++) {
+        if (c->b[r] != 0.0)
+            busy[comp[r]] = 1;
+        for (int q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
+            int k = A->col[q];
+            int inert = !touched[k] && c->b[k] == 0.0 && A->rowptr[k + 1] - A->rowptr[k] == 1 &&
+                        A->col[A->rowptr[k]] == k;
+            if (comp[k] != comp[r] && !inert)
+                busy[comp[r]] = busy[comp[k]] = 1;
+        }
+    }
+    free(touched);
+    for (int k = 0; k < 3; k++)
+        c->idle[k] = !busy[k];
+}
+
 static int assemble(struct coupled_state *c)
 {
+    const int *comp = probe_matrix_components(c->pm);
     const int nu = c->nu, nc = c->nc;
     long extra = c->pcols ? pressure_columns_count(c->pcols) : 0;
     extra += coupled_open_entries(c->open) + 5L * c->nopen;
     if (grow_entries(c, csr_nnz(&c->A) + 4L * nu + nc + extra) != 0)
         return -1;
     long n = 0;
-    for (int r = 0; r < nu; r++)
+    for (int r = 0; r < nu; r++) {
+        if (c->idle[comp[r]]) { /* du = 0 (idle_components) */
+            c->e[n++] = (struct entry){r, r, 1.0};
+            continue;
+        }
         for (int q = c->A.rowptr[r]; q < c->A.rowptr[r + 1]; q++)
             c->e[n++] = (struct entry){r, c->A.col[q], c->A.val[q]};
+    }
     /* the pattern keeps these entries in every step (0 in a Picard step),
      * so the symbolic factorisation stays */
     for (int r = 0; c->pcols && r < nu; r++) {
+        if (c->idle[comp[r]])
+            continue;
         int m;
         const int *cells;
         const double *val;
@@ -345,9 +413,10 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         return -1;
     if (c->open && coupled_open_probe(c->open, st, pb) != 0)
         return -1;
+    probe_matrix_gather(c->pm, st->res, c->b);
+    idle_components(c);
     if (assemble(c) != 0)
         return -1;
-    probe_matrix_gather(c->pm, st->res, c->b);
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
