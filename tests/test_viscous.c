@@ -636,6 +636,54 @@ static void test_drop_component_roundoff(void **state)
     csr_free(&M);
 }
 
+/* The blocks of components a matrix couples (csr_component_groups, which
+ * the sparse factorisation splits by): x and z coupled and y apart (a flow
+ * in the x-z plane) give the groups {x, z} and {y}; an entry from y to x
+ * alone joins all three through x; a diagonal matrix keeps three groups;
+ * a component without unknowns keeps a group of its own. */
+static void test_component_groups(void **state)
+{
+    (void)state;
+    const int comp[6] = {0, 0, 1, 1, 2, 2};
+    const struct {
+        int extra_r, extra_c; /* one more entry (-1: none) */
+        int want[3];
+    } cases[] = {{-1, -1, {0, 1, 0}}, {2, 0, {0, 0, 0}}};
+    for (size_t m = 0; m < sizeof cases / sizeof cases[0]; m++) {
+        struct csr_matrix M = {0};
+        assert_int_equal(csr_reserve(&M, 6, 16), 0);
+        int k = 0;
+        for (int r = 0; r < 6; r++) {
+            M.rowptr[r] = k;
+            for (int c = 0; c < 6; c++) {
+                int xz = (r == 1 && c == 4) || (r == 4 && c == 1); /* x-z coupling */
+                if (c == r || xz || (r == cases[m].extra_r && c == cases[m].extra_c)) {
+                    M.col[k] = c;
+                    M.val[k++] = 1.0;
+                }
+            }
+        }
+        M.rowptr[6] = k;
+        int group[3];
+        csr_component_groups(&M, comp, group);
+        for (int c = 0; c < 3; c++)
+            assert_int_equal(group[c], cases[m].want[c]);
+        csr_free(&M);
+    }
+    struct csr_matrix D = {0}; /* diagonal, y without unknowns */
+    const int comp_d[2] = {0, 2};
+    assert_int_equal(csr_reserve(&D, 2, 2), 0);
+    D.rowptr[0] = 0, D.rowptr[1] = 1, D.rowptr[2] = 2;
+    D.col[0] = 0, D.col[1] = 1;
+    D.val[0] = D.val[1] = 1.0;
+    int group[3];
+    csr_component_groups(&D, comp_d, group);
+    assert_int_equal(group[0], 0);
+    assert_int_equal(group[1], 1);
+    assert_int_equal(group[2], 2);
+    csr_free(&D);
+}
+
 /* The coupled step's LU (saddle_point_solve): a small saddle-point system
  * [A B^T; B 0] is solved to round-off; a singular one (B = 0) fails with
  * its cause in words, which the march puts into its "broke down" message. */
@@ -692,6 +740,7 @@ void group_viscous(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_drop_component_roundoff),
+        cmocka_unit_test(test_component_groups),
         cmocka_unit_test(test_probe_learnt_colouring),
         cmocka_unit_test(test_factorisation_failure_cause),
         cmocka_unit_test(test_saddle_point_cause),
