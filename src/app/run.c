@@ -77,35 +77,40 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     return 0;
 }
 
+/* Whether a run's count of some failure rose from 0 to count (its first
+ * occurrence, the one to tell: later ones are only counted); *reported
+ * follows count.  A restart starts *reported at the checkpoint's count,
+ * whose first was told before. */
+static int first_rise(long count, long *reported)
+{
+    int first = count > *reported && *reported == 0;
+    if (count > *reported)
+        *reported = count;
+    return first;
+}
+
 /* A pressure solve that did not converge is taken as it is (the step goes
  * on), but never silently: one line when the count first rises, the count
  * in summary.ini. */
 static void warn_pressure(struct observer_ctx *ctx, const struct march_state *st)
 {
-    if (st->pressure_unconverged <= ctx->unconverged)
-        return;
-    if (ctx->unconverged == 0)
+    if (first_rise(st->pressure_unconverged, &ctx->unconverged))
         fprintf(stderr,
                 "muflow: warning: step %ld: %s; the projection took that iterate "
                 "(summary.ini: pressure_unconverged)\n",
                 st->step, pressure_message(st->pressure_solver));
-    ctx->unconverged = st->pressure_unconverged;
 }
 
 /* An implicit solve that stopped at its iteration cap is taken as it is
- * (the step goes on with the iterate), but never silently: one line when
- * the count first rises, the count in summary.ini. */
+ * (the step goes on with the iterate), but never silently: the same. */
 static void warn_linear(struct observer_ctx *ctx, const struct march_state *st)
 {
-    if (st->linear_unconverged <= ctx->linear_unconverged)
-        return;
-    if (ctx->linear_unconverged == 0)
+    if (first_rise(st->linear_unconverged, &ctx->linear_unconverged))
         fprintf(stderr,
                 "muflow: warning: step %ld: the implicit viscous solve stopped at "
                 "solver.max_linear_iterations = %d with a relative residual of %.1e; the step "
                 "took that iterate (summary.ini: linear_unconverged)\n",
                 st->step, st->cs->max_linear_iterations, st->linear_residual);
-    ctx->linear_unconverged = st->linear_unconverged;
 }
 
 /* A sparse factorisation or AMG setup that failed leaves the step to the
@@ -118,14 +123,11 @@ static void warn_preconditioner(struct observer_ctx *ctx, const struct march_sta
         return;
     struct viscous_precond_info info;
     viscous_precond_info(st->viscous, &info);
-    if (info.fallbacks <= ctx->fallbacks)
-        return;
-    if (ctx->fallbacks == 0)
+    if (first_rise(info.fallbacks, &ctx->fallbacks))
         fprintf(stderr,
                 "muflow: warning: step %ld: %s; the implicit step fell back to the line "
                 "blocks (summary.ini: preconditioner_fallbacks)\n",
                 st->step, info.cause);
-    ctx->fallbacks = info.fallbacks;
 }
 
 static int observe(void *vctx, const struct march_state *st)
