@@ -32,6 +32,7 @@ LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
 # shared libraries instead of 74: bench/analysis.md), by the soname
 # the -dev package's libHYPRE.so points to; mpi.h and hypre's headers give the
 # types.  ompi-c is only in the Cflags' packages.
+MULTIARCH := $(shell $(CC) -print-multiarch)
 HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
 # SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse.c opens
 # them with the first sparse factorisation: they and their BLAS were over half
@@ -86,6 +87,9 @@ $(BUILD)/obj/src/app/main.o: $(BUILD)/version
 $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
 # the hypre library amg_hypre.c opens (HYPRE_LIB above)
 $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_HYPRE_LIB='"$(HYPRE_LIB)"')
+# Debian's serial OpenBLAS, which blas.c opens before the libraries that use
+# a BLAS (the alternatives may point libblas.so.3 to a threaded build)
+$(BUILD)/obj/src/solvers/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
 $(BUILD)/obj/src/solvers/suitesparse.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
                                                    $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
 

@@ -1,11 +1,18 @@
 /* The implicit viscous solver: manufactured solutions with a viscosity
  * contrast of 1e8, as in the rigid zones of a regularised mu(I) flow. */
+#define _GNU_SOURCE /* dladdr, Dl_info */
+#include <dlfcn.h>
 #include <math.h>
+#include <omp.h>
+#include <stdio.h>
+#include <unistd.h>
 #include <stdlib.h>
 #include <string.h>
 #include "test_main.h"
 #include "solvers/viscous.h"
 #include "solvers/amg_hypre.h"
+#include "solvers/blas.h"
+#include "solvers/suitesparse.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_point.h"
 #include "config/case.h"
@@ -398,6 +405,50 @@ static void test_probe_learnt_colouring(void **state)
     teardown_fix(&f);
 }
 
+
+/* The BLAS under CHOLMOD is the serial build that blas_prepare opens, not
+ * the one Debian's alternatives name (a threaded build there deadlocked
+ * the Cholesky or ran idle threads: blas.h).  dgemm_ looked up from
+ * CHOLMOD's own handle is the one its factorisations call.  Without the
+ * serial build (make test installs it) only the one-thread section below
+ * is checked. */
+static void test_serial_blas(void **state)
+{
+    (void)state;
+    char err[256];
+    assert_int_equal(suitesparse_load(err, sizeof err), 0);
+    Dl_info cholmod, dgemm;
+    assert_true(dladdr((void *)suitesparse.cholmod_start, &cholmod) && cholmod.dli_fname);
+    void *h = dlopen(cholmod.dli_fname, RTLD_NOW | RTLD_NOLOAD);
+    assert_non_null(h);
+    void *f = dlsym(h, "dgemm_");
+    assert_non_null(f);
+    assert_true(dladdr(f, &dgemm) && dgemm.dli_fname);
+    const char *dir = blas_serial_dir();
+    char lib[512];
+    snprintf(lib, sizeof lib, "%s/libblas.so.3", dir);
+    const char *choice = getenv("MUFLOW_BLAS");
+    if (access(lib, R_OK) == 0 && !(choice && strcmp(choice, "system") == 0)) {
+        size_t n = strlen(dir);
+        if (strncmp(dgemm.dli_fname, dir, n) != 0 || dgemm.dli_fname[n] != '/')
+            fail_msg("CHOLMOD's dgemm_ is %s, not the serial build's in %s", dgemm.dli_fname,
+                     dir);
+    } else {
+        print_message("(no serial OpenBLAS: CHOLMOD's dgemm_ is %s)\n", dgemm.dli_fname);
+    }
+    dlclose(h);
+
+    /* inside the one-thread section a threaded BLAS is told one thread, and
+     * the thread count and nesting come back after it */
+    int threads = omp_get_max_threads(), levels = omp_get_max_active_levels();
+    struct suitesparse_serial saved = suitesparse_serial_begin();
+    assert_int_equal(omp_get_max_threads(), 1);
+    assert_int_equal(omp_get_max_active_levels(), 0);
+    suitesparse_serial_end(saved);
+    assert_int_equal(omp_get_max_threads(), threads);
+    assert_int_equal(omp_get_max_active_levels(), levels);
+}
+
 /* A factorisation that fails leaves the step to the line blocks, with its
  * cause in words (the run prints it once and counts it in summary.ini):
  * UMFPACK and CHOLMOD on an operator without viscosity or mass in a block
@@ -743,6 +794,7 @@ void group_viscous(struct test_tally *t)
         cmocka_unit_test(test_component_groups),
         cmocka_unit_test(test_probe_learnt_colouring),
         cmocka_unit_test(test_factorisation_failure_cause),
+        cmocka_unit_test(test_serial_blas),
         cmocka_unit_test(test_saddle_point_cause),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),

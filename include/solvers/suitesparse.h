@@ -67,9 +67,14 @@ void suitesparse_cholmod_start(cholmod_common *cm);
  * Debian's CHOLMOD opens a parallel region per supernode (some 5,000 per
  * factorisation of a 160 x 48 cross-section), and their forks and joins
  * cost more than the loops (bench/analysis.md, "CHOLMOD's OpenMP loops").
- * The dense work is BLAS's either way.  Returns what _end restores. */
-int suitesparse_serial_begin(void);
-void suitesparse_serial_end(int saved);
+ * The dense work is BLAS's either way; a threaded BLAS is told one thread
+ * too.  Returns what _end restores. */
+struct suitesparse_serial {
+    int levels;  /* omp_get_max_active_levels() before */
+    int threads; /* omp_get_max_threads() before */
+};
+struct suitesparse_serial suitesparse_serial_begin(void);
+void suitesparse_serial_end(struct suitesparse_serial saved);
 
 /* Opens the libraries (once; later calls return at once).  Returns 0, or -1
  * with the library or symbol that is missing in err. */

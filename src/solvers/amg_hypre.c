@@ -21,6 +21,7 @@
 #include <_hypre_parcsr_ls.h>
 #pragma GCC diagnostic pop
 #include "solvers/amg_hypre.h"
+#include "solvers/blas.h"
 #include "solvers/dynlib.h"
 
 _Static_assert(sizeof(HYPRE_Int) == sizeof(int), "hypre built with 32-bit indices expected");
@@ -107,6 +108,7 @@ static int load_hypre(char *err, size_t errlen)
     const char *name = getenv("MUFLOW_HYPRE_LIB");
     if (!name || !*name)
         name = MUFLOW_HYPRE_LIB;
+    blas_prepare(); /* hypre's BLAS and LAPACK: the serial build */
     void *lib = dlopen(name, RTLD_NOW | RTLD_GLOBAL);
     if (!lib) {
         const char *why = dlerror();

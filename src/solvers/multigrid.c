@@ -847,7 +847,7 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
     }
     suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
     cs->L = suitesparse.cholmod_analyze(A, &cs->cm);
-    int serial = suitesparse_serial_begin();
+    struct suitesparse_serial serial = suitesparse_serial_begin();
     int ok = cs->L && suitesparse.cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
     suitesparse_serial_end(serial);
     suitesparse.cholmod_free_sparse(&A, &cs->cm);
@@ -885,7 +885,7 @@ static void coarse_solve(struct multigrid *mg)
     double *B = cs->B->x;
     for (long r = 0; r < cs->n; r++)
         B[r] = cs->pinned[r] ? 0.0 : -lv->b[cs->slot[r]];
-    int serial = suitesparse_serial_begin();
+    struct suitesparse_serial serial = suitesparse_serial_begin();
     suitesparse.cholmod_solve2(CHOLMOD_A, cs->L, cs->B, NULL, &cs->X, NULL, &cs->Y, &cs->E, &cs->cm);
     suitesparse_serial_end(serial);
     const double *X = cs->X->x;

@@ -271,7 +271,7 @@ static int factorise_block(struct sparse_direct *s, struct block *b)
         }
         if (!b->B && !(b->B = suitesparse.cholmod_zeros((size_t)b->n, 1, CHOLMOD_REAL, &s->cm)))
             return failed(s, b, "Cholesky factorisation (CHOLMOD)", "out of memory");
-        int serial = suitesparse_serial_begin();
+        struct suitesparse_serial serial = suitesparse_serial_begin();
         int okf = suitesparse.cholmod_factorize(&v, b->L, &s->cm);
         suitesparse_serial_end(serial);
         if (!okf || s->cm.status != CHOLMOD_OK)
@@ -356,7 +356,7 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
         }
         if (s->symmetric) {
             memcpy(b->B->x, rb, (size_t)b->n * sizeof(double));
-            int serial = suitesparse_serial_begin();
+            struct suitesparse_serial serial = suitesparse_serial_begin();
             suitesparse.cholmod_solve2(CHOLMOD_A, b->L, b->B, NULL, &b->X, NULL, &b->Y, &b->E,
                                        &s->cm);
             suitesparse_serial_end(serial);

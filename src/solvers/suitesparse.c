@@ -1,6 +1,6 @@
 /* CHOLMOD and UMFPACK opened on first use (see suitesparse.h). */
-#define _POSIX_C_SOURCE 200809L /* setenv */
 #include "solvers/suitesparse.h"
+#include "solvers/blas.h"
 #include "solvers/dynlib.h"
 
 #include <omp.h>
@@ -33,16 +33,21 @@ static void *open_library(const char *name, char *err, size_t errlen)
     return lib;
 }
 
-int suitesparse_serial_begin(void)
+struct suitesparse_serial suitesparse_serial_begin(void)
 {
-    int saved = omp_get_max_active_levels();
+    struct suitesparse_serial saved = {omp_get_max_active_levels(), omp_get_max_threads()};
     omp_set_max_active_levels(0); /* every parallel region inactive: one thread */
+    /* and a threaded BLAS asked for its threads is told one (OpenBLAS's
+     * OpenMP build forks its own team of omp_get_max_threads() and waits
+     * for the members an inactive region never starts: blas.h) */
+    omp_set_num_threads(1);
     return saved;
 }
 
-void suitesparse_serial_end(int saved)
+void suitesparse_serial_end(struct suitesparse_serial saved)
 {
-    omp_set_max_active_levels(saved);
+    omp_set_num_threads(saved.threads);
+    omp_set_max_active_levels(saved.levels);
 }
 
 void suitesparse_umfpack_control(double control[UMFPACK_CONTROL])
@@ -69,28 +74,6 @@ void suitesparse_cholmod_start(cholmod_common *cm)
         cm->nrelax[k] = nrelax[k];
         cm->zrelax[k] = zrelax[k];
     }
-}
-
-/* OpenBLAS (the BLAS under SuiteSparse on Debian) picks its kernels from the
- * CPU's model number and falls back to its oldest x86-64 kernels (Prescott,
- * SSE3) for a model it does not know, as version 0.3.21 does for virtual
- * machines' "Intel Xeon Processor".  Naming the core from the CPU's
- * features gives the factorisations' dense blocks the AVX kernels: the
- * coupled step's factorisation takes 0.26 s instead of 0.34 s.  A core the
- * user names (OPENBLAS_CORETYPE) is kept; other BLAS ignore the variable.
- * It must be set before the library is loaded: OpenBLAS reads it once. */
-static void name_blas_core(void)
-{
-    if (getenv("OPENBLAS_CORETYPE"))
-        return;
-#if defined(__x86_64__) && defined(__GNUC__)
-    __builtin_cpu_init();
-    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
-        setenv("OPENBLAS_CORETYPE", "SkylakeX", 0);
-    else if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-        setenv("OPENBLAS_CORETYPE", "Haswell", 0);
-#endif
 }
 
 const char *suitesparse_umfpack_text(int status)
@@ -127,7 +110,7 @@ int suitesparse_load(char *err, size_t errlen)
 {
     if (loaded)
         return 0;
-    name_blas_core();
+    blas_prepare();
     void *cholmod = open_library(MUFLOW_CHOLMOD_LIB, err, errlen);
     if (!cholmod)
         return -1;
