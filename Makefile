@@ -27,6 +27,10 @@ ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
              -I/usr/include/hypre
 LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
+# the executables' GOMP_parallel (src/solvers/gomp_inline.c) is the one the
+# libraries opened later bind to: CHOLMOD's regions run inline on one thread
+# (fftw3_omp's reference to it exports it too; this does not rely on that)
+LDLIBS += -Wl,--export-dynamic-symbol=GOMP_parallel
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
 # the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
 # shared libraries instead of 74: bench/analysis.md), by the soname

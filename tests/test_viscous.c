@@ -12,6 +12,7 @@
 #include "solvers/viscous.h"
 #include "solvers/amg_hypre.h"
 #include "solvers/blas.h"
+#include "solvers/gomp_inline.h"
 #include "solvers/suitesparse.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_point.h"
@@ -406,6 +407,90 @@ static void test_probe_learnt_colouring(void **state)
 }
 
 
+
+/* CHOLMOD's parallel regions reach muflow's GOMP_parallel (the Makefile
+ * exports it), which runs them inline in the one-thread section: no team,
+ * no futex (gomp_inline.h); outside the section a region still gets its
+ * team, and inside it another thread's regions are not inlined. */
+static void test_one_thread_section(void **state)
+{
+    (void)state;
+    char err[256];
+    assert_int_equal(suitesparse_load(err, sizeof err), 0);
+    /* a supernodal Cholesky of the 5-point Laplacian on 40 x 40 */
+    const int m = 40, n = m * m;
+    cholmod_common cm;
+    suitesparse_cholmod_start(&cm);
+    cm.supernodal = CHOLMOD_SUPERNODAL;
+    cholmod_triplet *T = suitesparse.cholmod_allocate_triplet((size_t)n, (size_t)n, (size_t)(3 * n),
+                                                              -1, CHOLMOD_REAL, &cm);
+    assert_non_null(T);
+    int *ti = T->i, *tj = T->j;
+    double *tx = T->x;
+    for (int j = 0; j < m; j++)
+        for (int i = 0; i < m; i++) {
+            int r = j * m + i;
+            ti[T->nnz] = r, tj[T->nnz] = r, tx[T->nnz++] = 4.0;
+            if (i > 0)
+                ti[T->nnz] = r, tj[T->nnz] = r - 1, tx[T->nnz++] = -1.0;
+            if (j > 0)
+                ti[T->nnz] = r, tj[T->nnz] = r - m, tx[T->nnz++] = -1.0;
+        }
+    cholmod_sparse *A = suitesparse.cholmod_triplet_to_sparse(T, 0, &cm);
+    assert_non_null(A);
+    cholmod_factor *L = suitesparse.cholmod_analyze(A, &cm);
+    assert_non_null(L);
+    long before = gomp_inline_count();
+    struct suitesparse_serial s = suitesparse_serial_begin();
+    int ok = suitesparse.cholmod_factorize(A, L, &cm);
+    suitesparse_serial_end(s);
+    assert_true(ok && cm.status == CHOLMOD_OK && L->is_super);
+    long inlined = gomp_inline_count() - before;
+    print_message("CHOLMOD's supernodal factorisation: %ld parallel regions run inline\n", inlined);
+    assert_true(inlined > 0);
+    suitesparse.cholmod_free_factor(&L, &cm);
+    suitesparse.cholmod_free_sparse(&A, &cm);
+    suitesparse.cholmod_free_triplet(&T, &cm);
+    suitesparse.cholmod_finish(&cm);
+
+    int runs = 0, in_parallel = -1;
+    struct suitesparse_serial saved = suitesparse_serial_begin();
+#pragma omp parallel
+    {
+#pragma omp atomic
+        runs++;
+        in_parallel = omp_in_parallel();
+    }
+    suitesparse_serial_end(saved);
+    assert_int_equal(runs, 1);
+    assert_int_equal(in_parallel, 0); /* inline: not even a team of one */
+
+    int team = 0;
+#pragma omp parallel
+    {
+#pragma omp single
+        team = omp_get_num_threads();
+    }
+    assert_int_equal(team, omp_get_max_threads());
+
+    /* a section entered on one thread leaves the other threads' regions to
+     * libgomp: the nested region of thread 1 is a (inactive) team */
+    if (omp_get_max_threads() >= 2) {
+        int nested_in_parallel = -1;
+#pragma omp parallel num_threads(2)
+        {
+            if (omp_get_thread_num() == 0) {
+                struct suitesparse_serial s0 = suitesparse_serial_begin();
+                suitesparse_serial_end(s0);
+            } else {
+#pragma omp parallel
+                nested_in_parallel = omp_in_parallel();
+            }
+        }
+        assert_int_equal(nested_in_parallel, 1);
+    }
+}
+
 /* The BLAS under CHOLMOD is the serial build that blas_prepare opens, not
  * the one Debian's alternatives name (a threaded build there deadlocked
  * the Cholesky or ran idle threads: blas.h).  dgemm_ looked up from
@@ -795,6 +880,7 @@ void group_viscous(struct test_tally *t)
         cmocka_unit_test(test_probe_learnt_colouring),
         cmocka_unit_test(test_factorisation_failure_cause),
         cmocka_unit_test(test_serial_blas),
+        cmocka_unit_test(test_one_thread_section),
         cmocka_unit_test(test_saddle_point_cause),
         cmocka_unit_test(test_contrast_1d_second_order),
         cmocka_unit_test(test_contrast_2d_solver),

@@ -2,6 +2,7 @@
 #include "solvers/suitesparse.h"
 #include "solvers/blas.h"
 #include "solvers/dynlib.h"
+#include "solvers/gomp_inline.h"
 
 #include <omp.h>
 #include <limits.h>
@@ -41,11 +42,13 @@ struct suitesparse_serial suitesparse_serial_begin(void)
      * OpenMP build forks its own team of omp_get_max_threads() and waits
      * for the members an inactive region never starts: blas.h) */
     omp_set_num_threads(1);
+    gomp_inline_enter(); /* and no team at all for CHOLMOD's regions */
     return saved;
 }
 
 void suitesparse_serial_end(struct suitesparse_serial saved)
 {
+    gomp_inline_leave();
     omp_set_num_threads(saved.threads);
     omp_set_max_active_levels(saved.levels);
 }
