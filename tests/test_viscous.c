@@ -473,6 +473,16 @@ static void test_one_thread_section(void **state)
     }
     assert_int_equal(team, omp_get_max_threads());
 
+    /* a region whose `if` is false (the kernels' on small grids) runs inline
+     * too: libgomp's team of one costs the same futex as CHOLMOD's */
+    int small = 0;
+    in_parallel = -1;
+    long inline_before = gomp_inline_count();
+#pragma omp parallel if (small)
+    in_parallel = omp_in_parallel();
+    assert_int_equal(in_parallel, 0);
+    assert_int_equal(gomp_inline_count(), inline_before + 1);
+
     /* a section entered on one thread leaves the other threads' regions to
      * libgomp: the nested region of thread 1 is a (inactive) team */
     if (omp_get_max_threads() >= 2) {

@@ -44,7 +44,10 @@ static gomp_parallel_entry libgomp_entry(void)
 
 void GOMP_parallel(region_body body, void *data, unsigned num_threads, unsigned flags)
 {
-    if (inline_depth > 0) {
+    /* num_threads 1 is also what GCC passes for a false `if` clause (the
+     * kernels' `if (kernel_parallel(g))` on small grids): a team of one,
+     * whose body runs the same way called directly */
+    if (inline_depth > 0 || num_threads == 1) {
         inline_count++;
         body(data);
         return;
