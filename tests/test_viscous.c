@@ -406,12 +406,11 @@ static void test_probe_learnt_colouring(void **state)
     teardown_fix(&f);
 }
 
-
-
-/* CHOLMOD's parallel regions reach muflow's GOMP_parallel (the Makefile
- * exports it), which runs them inline in the one-thread section: no team,
- * no futex (gomp_inline.h); outside the section a region still gets its
- * team, and inside it another thread's regions are not inlined. */
+/* CHOLMOD's parallel regions reach muflow's GOMP_parallel (exported from
+ * the executable, so the library opened later binds to it), which runs
+ * them inline in the one-thread section: no team, no futex
+ * (gomp_inline.h); outside the section a region still gets its team, and
+ * inside it another thread's regions are not inlined. */
 static void test_one_thread_section(void **state)
 {
     (void)state;

@@ -30,7 +30,8 @@ void gomp_inline_enter(void);
 void gomp_inline_leave(void);
 
 /* The regions this thread has run inline so far (the tests check that
- * CHOLMOD's reach them, i.e. the Makefile's export). */
+ * CHOLMOD's reach them: that CHOLMOD binds to the executable's
+ * GOMP_parallel and that the one-thread section enters the inline mode). */
 long gomp_inline_count(void);
 
 #endif

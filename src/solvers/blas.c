@@ -56,7 +56,6 @@ static void open_serial_build(void)
         if (blas)
             dlclose(blas);
         dlclose(openblas);
-        return;
     }
 }
 
