@@ -416,6 +416,25 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N) $(COLLAPSE_CLIP) --tag clip
 
+# The collapse beside Gerris 1.3.2 (the code of the published runs; Debian's
+# gerris, and libgfs-dev, whose headers Gerris needs to compile a case's
+# functions): a = 0.5 to t = 4 at 25.6 and 51.2 cells per H0
+# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4, about 15 minutes of Gerris at the
+# clip 10 and more at 1e4), the granular viscosity clipped at 10 (Gerris's
+# example) and 1e4 (the Basilisk port, muflow's published set-up), each pair
+# of runs in one sitting: collapse_gerris.md and collapse_gerris_runs.csv in
+# $(BENCH_OUT).  About 25 minutes on 2 idle cores with the defaults.
+COLLAPSE_GERRIS_LEVELS ?= 7 8
+COLLAPSE_GERRIS_CAPS ?= 10 1e4
+COLLAPSE_GERRIS_REPEATS ?= 2
+.PHONY: bench-collapse-gerris
+bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
+	@$(MAKE) --no-print-directory deps DEB_PKGS="gerris libgfs-dev"
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_gerris.py $(BUILD)/muflow $(BENCH_OUT) \
+	  --levels $(COLLAPSE_GERRIS_LEVELS) --caps $(COLLAPSE_GERRIS_CAPS) \
+	  --repeats $(COLLAPSE_GERRIS_REPEATS)
+
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
 # time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
 # 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2

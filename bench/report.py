@@ -546,7 +546,9 @@ if hs:
 for name, title, png in [
         ("bagnold2_table.md", "Granular layer under air (bagnold2) against seeds/001 eqs. (6)-(11)",
          "bagnold2_profile.png"),
-        ("bedload_table.md", "Bed load beside the Newton FEM (seeds/002 Table 2)", None)]:
+        ("bedload_table.md", "Bed load beside the Newton FEM (seeds/002 Table 2)", None),
+        ("collapse_gerris.md", "Column collapse beside Gerris (last `make bench-collapse-gerris`)",
+         None)]:
     path = os.path.join(OUT, name)
     if os.path.exists(path):
         md.append(f"## {title}\n")

@@ -1,0 +1,223 @@
+#!/usr/bin/python3
+"""The column collapse beside Gerris, on one machine in one sitting.
+
+usage: collapse_gerris.py MUFLOW OUTDIR [--levels 7 8] [--caps 10 1e4]
+                          [--repeats 2]
+
+a = 0.5 to t = 4 at LEVEL (2^LEVEL cells across Gerris's 5 H0 box: 7, 8, 9
+are 25.6, 51.2, 102.4 cells per H0), for each upper clip of the granular
+viscosity ETAMAX (Gerris's example of the paper: 10; the Basilisk port and
+muflow's published set-up, `make bench-collapse`: 1e4).  Each pair runs
+Gerris 1.3.2 (bench/gerris/collapse.gfs; serial, as it runs) and muflow
+(cases/collapse.ini with the clip and van Leer's advection on the grid of
+the same cell size, square cells, the caller's OMP_NUM_THREADS, 2 in `make
+bench-collapse-gerris`) one after the other, `repeats` times, alternating
+which goes first.  Recorded per run: wall and CPU seconds of the process
+(wait4), peak resident memory, steps, the 1-minute load average before it,
+the front x_f(t) at t = 1..4 against the reference, the height on the axis h(0, 4) (the Basilisk port's
+output, cases/data/lagree2011_collapse.csv) and the grains' volume drift.
+Writes OUTDIR/collapse_gerris.md (medians, and the ratio Gerris / muflow of
+each pair's wall times) and collapse_gerris_runs.csv.
+
+Gerris's front is the largest interface position where T > 0.1 (its
+example's own diagnostic), muflow's the largest x of the T = 1/2 contour;
+both codes compile nothing of the case but Gerris (it builds the viscosity
+function with the C compiler at start, inside its wall time: about 0.5 s)."""
+import csv
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+
+from summary_ini import loadavg, summary, timed_run
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.join(HERE, "..")
+CASE = os.path.join(ROOT, "cases", "collapse.ini")
+GFS = os.path.join(HERE, "gerris", "collapse.gfs")
+REFERENCE = os.path.join(ROOT, "cases", "data", "lagree2011_collapse.csv")
+TIMES = [1, 2, 3, 4]
+GERRIS = "gerris2D"
+
+
+def reference():
+    ref = {}
+    with open(REFERENCE) as f:
+        rows = [r for r in f if not r.startswith("#")]
+    for r in csv.DictReader(rows):
+        if r["dataset"] == "x_front" and abs(float(r["parameter"]) - 0.5) < 1e-9:
+            ref[float(r["coord"])] = float(r["value"])
+    return ref
+
+
+def at(ts, vs, t):
+    for m in range(1, len(ts)):
+        if ts[m] >= t - 1e-9:
+            w = min(1.0, (t - ts[m - 1]) / (ts[m] - ts[m - 1]))
+            return vs[m - 1] + w * (vs[m] - vs[m - 1])
+    return float("nan")
+
+
+def gerris_norm_log(path):
+    """Times and infinity norms of an OutputScalarNorm file."""
+    ts, vs = [], []
+    with open(path) as f:
+        for line in f:
+            w = line.split()
+            if "time:" in w and "infty:" in w:
+                ts.append(float(w[w.index("time:") + 1]))
+                vs.append(float(w[w.index("infty:") + 1]))
+    return ts, vs
+
+
+def run_gerris(d, level, cap):
+    shutil.rmtree(d, ignore_errors=True)
+    os.makedirs(d)
+    shutil.copy(GFS, d)
+    load = loadavg()
+    with open(os.path.join(d, "gerris.log"), "w") as log:
+        code, wall, cpu, mb = timed_run(
+            [GERRIS, "-DLEVEL=%d" % level, "-DETAMAX=%s" % cap, "collapse.gfs"],
+            cwd=d, stdout=log, stderr=subprocess.STDOUT)
+    if code != 0:
+        sys.exit("gerris failed in %s (exit %d): see gerris.log" % (d, code))
+    steps = 0
+    with open(os.path.join(d, "time.log")) as f:
+        for line in f:
+            if line.startswith("step:"):
+                steps = int(line.split()[1])
+    ts, xf = gerris_norm_log(os.path.join(d, "front.log"))
+    th, h0 = gerris_norm_log(os.path.join(d, "axis.log"))
+    vol = []
+    with open(os.path.join(d, "volume.log")) as f:
+        for line in f:
+            w = line.split()
+            if "sum:" in w:
+                vol.append(float(w[w.index("sum:") + 1]))
+    return {"code": "gerris", "wall": wall, "cpu": cpu, "mb": mb, "load": load,
+            "steps": steps, "ts": ts, "xf": xf, "h4": at(th, h0, 4.0),
+            "volume_drift": abs(vol[-1] - vol[0]) / vol[0]}
+
+
+def run_muflow(muflow, d, level, cap):
+    cells = 2 ** level                     # across Gerris's 5 H0
+    n_per_h0 = cells / 5.0
+    nx, nz = cells, (cells * 5) // 16      # the case's 5 x 1.5625 box
+    shutil.rmtree(d, ignore_errors=True)
+    cmd = [muflow, CASE, "domain.nx=%d" % nx, "domain.nz=%d" % nz,
+           "domain.ly=%.17g" % (1.0 / n_per_h0), "domain.lz=1.5625",
+           "collapse.viscosity_clip=on", "collapse.eta_max=%s" % cap,
+           "physics.advection_scheme=vanleer", "collapse.rest_energy=0",
+           "output.fields=off", "output.quiet=on", "output.dir=" + d]
+    load = loadavg()
+    code, wall, cpu, mb = timed_run(cmd)
+    if code != 0:
+        sys.exit("muflow failed (exit %d): %s" % (code, " ".join(cmd)))
+    s = summary(os.path.join(d, "summary.ini"))
+    with open(os.path.join(d, "collapse.csv")) as f:
+        rows = list(csv.DictReader(f))
+    return {"code": "muflow", "wall": wall, "cpu": cpu, "mb": mb, "load": load,
+            "steps": int(s["steps"]), "ts": [float(r["t"]) for r in rows],
+            "xf": [float(r["x_front"]) for r in rows],
+            "h4": at([float(r["t"]) for r in rows], [float(r["h_axis"]) for r in rows], 4.0),
+            "volume_drift": abs(float(s["mass_error"]))}
+
+
+def options(args):
+    o = {"levels": [7, 8], "caps": ["10", "1e4"], "repeats": 2}
+    key = None
+    for a in args:
+        if a.startswith("--"):
+            key = a[2:]
+            if key not in o:
+                sys.exit("collapse_gerris.py: unknown option %s (--levels, --caps, --repeats)"
+                         % a)
+            if key == "repeats":
+                o[key] = None
+            else:
+                o[key] = []
+        elif key == "repeats":
+            o[key] = int(a)
+        elif key == "levels":
+            o[key].append(int(a))
+        elif key == "caps":
+            o[key].append(a)
+        else:
+            sys.exit("collapse_gerris.py: %s: give --levels, --caps or --repeats first" % a)
+    return o
+
+
+def main():
+    if len(sys.argv) < 3:
+        sys.exit(__doc__)
+    muflow, outdir = sys.argv[1], sys.argv[2]
+    o = options(sys.argv[3:])
+    if shutil.which(GERRIS) is None:
+        sys.exit("collapse_gerris.py: %s not found (Debian's gerris and libgfs-dev: "
+                 "make bench-collapse-gerris installs them)" % GERRIS)
+    os.makedirs(outdir, exist_ok=True)
+    ref = reference()
+    rows = []
+    for level in o["levels"]:
+        for cap in o["caps"]:
+            for rep in range(o["repeats"]):
+                base = os.path.join(outdir, "collapse_gerris_l%d_cap%s" % (level, cap))
+                order = ["gerris", "muflow"] if rep % 2 == 0 else ["muflow", "gerris"]
+                pair = {}
+                for code in order:
+                    d = "%s_%s%d" % (base, code, rep)
+                    print("level %d, clip %s, %s, run %d" % (level, cap, code, rep + 1),
+                          flush=True)
+                    pair[code] = (run_gerris(d, level, cap) if code == "gerris"
+                                  else run_muflow(muflow, d, level, cap))
+                for code in ("gerris", "muflow"):
+                    r = pair[code]
+                    r.update(level=level, cap=cap, rep=rep,
+                             ratio=pair["gerris"]["wall"] / pair["muflow"]["wall"])
+                    r["x"] = [at(r["ts"], r["xf"], t) for t in TIMES]
+                    r["err"] = max(abs(x - ref[t]) for x, t in zip(r["x"], TIMES))
+                    rows.append(r)
+    with open(os.path.join(outdir, "collapse_gerris_runs.csv"), "w") as f:
+        f.write("level,cells_per_H0,eta_max,code,run,wall_s,cpu_s,peak_MB,load,steps,"
+                + ",".join("x_f_%d" % t for t in TIMES) + ",max_err,h_axis_4,volume_drift\n")
+        for r in rows:
+            f.write("%d,%g,%s,%s,%d,%.3f,%.3f,%.1f,%.2f,%d,%s,%.4f,%.4f,%.2e\n" % (
+                r["level"], 2 ** r["level"] / 5.0, r["cap"], r["code"], r["rep"] + 1,
+                r["wall"], r["cpu"], r["mb"], r["load"], r["steps"],
+                ",".join("%.4f" % x for x in r["x"]), r["err"], r["h4"], r["volume_drift"]))
+    threads = os.environ.get("OMP_NUM_THREADS", "unset")
+    lines = ["# Column collapse a = 0.5 to t = 4: muflow beside Gerris 1.3.2", "",
+             "One sitting, one machine; Gerris serial (as it runs), muflow on "
+             "OMP_NUM_THREADS = %s; %d pair(s) per row, alternating which runs "
+             "first; medians; the ratio is Gerris's wall time over muflow's, per "
+             "pair (the median, and the range).  x_f error: the largest |x_f - "
+             "reference| at t = 1..4 (reference: the Basilisk port, cases/data/"
+             "lagree2011_collapse.csv)." % (threads, o["repeats"]), "",
+             "| cells per H0 | eta clip | code | wall s | CPU s | steps | peak MB | "
+             "x_f(1..4) | x_f error | h(0, 4) | volume drift | Gerris / muflow | load |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for level in o["levels"]:
+        for cap in o["caps"]:
+            for code in ("gerris", "muflow"):
+                rs = [r for r in rows if r["level"] == level and r["cap"] == cap
+                      and r["code"] == code]
+                ratios = [r["ratio"] for r in rs]
+                ratio = ("%.2f (%.2f-%.2f)" % (statistics.median(ratios), min(ratios),
+                                                max(ratios)) if code == "muflow" else "")
+                lines.append("| %g | %s | %s | %.2f | %.2f | %d | %.0f | %s | %.3f | %.4f | %.1e | %s | "
+                             "%.1f-%.1f |" % (
+                                 2 ** level / 5.0, cap, code,
+                                 statistics.median(r["wall"] for r in rs),
+                                 statistics.median(r["cpu"] for r in rs), rs[0]["steps"],
+                                 max(r["mb"] for r in rs),
+                                 ", ".join("%.3f" % x for x in rs[0]["x"]), rs[0]["err"],
+                                 rs[0]["h4"], rs[0]["volume_drift"], ratio,
+                                 min(r["load"] for r in rs), max(r["load"] for r in rs)))
+    with open(os.path.join(outdir, "collapse_gerris.md"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
