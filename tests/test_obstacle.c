@@ -386,6 +386,41 @@ static void test_granular_cylinder_lambda_stages(void **state)
     assert_true(fabs(f6 / f2 - 1.0) < 0.05);
 }
 
+/* The stages from a state already steady at the first one's lambda
+ * (solver.initial_state from a lambda 1e-2 solve, D/2, F = 1; lambda 1e-4 by
+ * stages from 1e-2).  The first stage is steady at step 0, so the pseudo-time
+ * scale r0 of dt = dt0 r0 / r must be the next stage's first residual, not
+ * the start's round-off: with the latter dt stayed at dt0 = 1 to the end and
+ * the march crawled linearly, 138 steps ending at 9.1e-9 just under the
+ * tolerance (measured); with the stage's scale 58 steps, the last residual
+ * 5.2e-12 (quadratic), the same drag and U to the printed digits.  At D/4,
+ * F = 1.4, the same start took 2464 steps before, 200 after.  Asserted:
+ * steady within 100 steps and a last residual below 1e-10. */
+static void test_granular_cylinder_stages_from_steady(void **state)
+{
+    (void)state;
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "cylinder_stages");
+    struct muflow_case cs;
+    char err[512];
+    struct run_result start, r;
+    char *o2[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
+                  "domain.nz=60", "output.fields=off", "output.quiet=on", dir.output};
+    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, o2, err, sizeof err), 0);
+    assert_int_equal(run_case(&cs, 1, &start, err, sizeof err), 0);
+    assert_int_equal(start.status, STATUS_STEADY);
+    char *o4[] = {"rheology.lambda=1e-4", "solver.continuation=100", "domain.nx=20",
+                  "domain.nz=60", "output.quiet=on", dir.initial_state};
+    run_checked(CASES_DIR "cylinder.ini", 6, o4, &r);
+    print_message("granular cylinder D/2, lambda 1e-4 by stages from the lambda 1e-2 state: "
+                  "%s in %ld steps, residual %.3e, drag %.6g\n", run_status_name(r.status),
+                  r.steps, r.residual, run_result_value(&r, "drag"));
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(r.steps <= 100);
+    assert_true(r.residual < 1e-10);
+    test_run_dir_remove(&dir);
+}
+
 /* One steady solve of cases/cylinder.ini at D/2, lambda 1e-2, from rest, at
  * pressure p and forcing F (the scene sets the gravity F p / (rho phi L_x),
  * L_x = 20): returns the drag along the flow (control volume, positive)
@@ -559,6 +594,7 @@ void group_obstacle(struct test_tally *t)
         cmocka_unit_test(test_granular_cylinder_collapse_plateau),
         cmocka_unit_test(test_granular_cylinder_open_ends),
         cmocka_unit_test(test_granular_cylinder_continuation),
+        cmocka_unit_test(test_granular_cylinder_stages_from_steady),
         cmocka_unit_test(test_cylinder_scene_keys),
     };
     RUN_GROUP(t, "obstacle", tests);

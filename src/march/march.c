@@ -713,6 +713,12 @@ static void next_stages(struct march_state *st)
         st->rheo.lambda = fmax(cs->rheo.lambda, st->rheo.lambda / LAMBDA_STEP);
         step_evaluate(st);
         st->stage_residual0 = st->residual;
+        /* A start already steady at the stages above (solver.initial_state
+         * from a solve at a larger lambda) left residual0 at that state's
+         * round-off, which would hold the pseudo-time step dt0 r0 / r at dt0
+         * for good: nothing marched yet, so the scale is this stage's. */
+        if (st->step == 0)
+            st->residual0 = st->residual;
         /* a new problem: its progress is measured afresh */
         st->best_residual = INFINITY;
         st->best_step = st->step;
