@@ -301,6 +301,21 @@ static void test_symmetric_half(void **state)
     assert_true(isnan(run_result_value(&rh, "pressure_drop")));
 }
 
+/* The steady state of cases/cylinder.ini at D/2 and lambda 1e-2 from rest,
+ * written into a fresh folder (dir->initial_state starts a run from it). */
+static void coarse_cylinder_state(struct test_run_dir *dir, const char *name)
+{
+    test_run_dir_make(dir, name);
+    struct muflow_case cs;
+    char err[512];
+    struct run_result r;
+    char *ov[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
+                  "domain.nz=60", "output.fields=off", "output.quiet=on", dir->output};
+    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, ov, err, sizeof err), 0);
+    assert_int_equal(run_case(&cs, 1, &r, err, sizeof err), 0);
+    assert_int_equal(r.status, STATUS_STEADY);
+}
+
 /* cases/cylinder.ini at lambda 1e-2 (no continuation), D/4, from rest:
  * steady in 28 steps with the last residual 1.1e-11, the one before 1.3e-6
  * (measured); a last step that lands 100 times below the tolerance 1e-8
@@ -335,15 +350,8 @@ static void test_granular_cylinder_newton(void **state)
      * against 0.1242.  Asserted to 1e-6: the steady tolerance's 1e-8 on a
      * residual scaled by the first one, the drag's sensitivity to it. */
     struct test_run_dir dir;
-    test_run_dir_make(&dir, "cylinder");
-    struct muflow_case cs;
-    char err[512];
-    struct run_result coarse, seq;
-    char *oc[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
-                  "domain.nz=60", "output.fields=off", "output.quiet=on", dir.output};
-    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, oc, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 1, &coarse, err, sizeof err), 0);
-    assert_int_equal(coarse.status, STATUS_STEADY);
+    coarse_cylinder_state(&dir, "cylinder");
+    struct run_result seq;
     char *oseq[] = {"rheology.lambda=1e-2", "solver.continuation=1", "solver.newton_below=1e-2",
                     "output.quiet=on", dir.initial_state};
     run_checked(CASES_DIR "cylinder.ini", 5, oseq, &seq);
@@ -400,15 +408,8 @@ static void test_granular_cylinder_stages_from_steady(void **state)
 {
     (void)state;
     struct test_run_dir dir;
-    test_run_dir_make(&dir, "cylinder_stages");
-    struct muflow_case cs;
-    char err[512];
-    struct run_result start, r;
-    char *o2[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
-                  "domain.nz=60", "output.fields=off", "output.quiet=on", dir.output};
-    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, o2, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 1, &start, err, sizeof err), 0);
-    assert_int_equal(start.status, STATUS_STEADY);
+    coarse_cylinder_state(&dir, "cylinder_stages");
+    struct run_result r;
     char *o4[] = {"rheology.lambda=1e-4", "solver.continuation=100", "domain.nx=20",
                   "domain.nz=60", "output.quiet=on", dir.initial_state};
     run_checked(CASES_DIR "cylinder.ini", 6, o4, &r);
