@@ -419,11 +419,12 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # The collapse beside Gerris 1.3.2 (the code of the published runs; Debian's
 # gerris, and libgfs-dev, whose headers Gerris needs to compile a case's
 # functions): a = 0.5 to t = 4 at 25.6 and 51.2 cells per H0
-# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4, about 15 minutes of Gerris at the
-# clip 10 and more at 1e4), the granular viscosity clipped at 10 (Gerris's
-# example) and 1e4 (the Basilisk port, muflow's published set-up), each pair
-# of runs in one sitting: collapse_gerris.md and collapse_gerris_runs.csv in
-# $(BENCH_OUT).  About 25 minutes on 2 idle cores with the defaults.
+# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4: Gerris took 6.6 minutes at the
+# clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
+# viscosity clipped at 10 (Gerris's example) and 1e4 (the Basilisk port,
+# muflow's published set-up), each pair of runs in one sitting:
+# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 15
+# minutes on 2 idle cores with the defaults.
 COLLAPSE_GERRIS_LEVELS ?= 7 8
 COLLAPSE_GERRIS_CAPS ?= 10 1e4
 COLLAPSE_GERRIS_REPEATS ?= 2

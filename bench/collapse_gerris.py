@@ -23,40 +23,22 @@ Gerris's front is the largest interface position where T > 0.1 (its
 example's own diagnostic), muflow's the largest x of the T = 1/2 contour;
 both codes compile nothing of the case but Gerris (it builds the viscosity
 function with the C compiler at start, inside its wall time: about 0.5 s)."""
-import csv
+import argparse
 import os
 import shutil
 import statistics
 import subprocess
 import sys
 
+from collapse_series import at, reference, series
 from summary_ini import loadavg, summary, timed_run
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..")
 CASE = os.path.join(ROOT, "cases", "collapse.ini")
 GFS = os.path.join(HERE, "gerris", "collapse.gfs")
-REFERENCE = os.path.join(ROOT, "cases", "data", "lagree2011_collapse.csv")
 TIMES = [1, 2, 3, 4]
 GERRIS = "gerris2D"
-
-
-def reference():
-    ref = {}
-    with open(REFERENCE) as f:
-        rows = [r for r in f if not r.startswith("#")]
-    for r in csv.DictReader(rows):
-        if r["dataset"] == "x_front" and abs(float(r["parameter"]) - 0.5) < 1e-9:
-            ref[float(r["coord"])] = float(r["value"])
-    return ref
-
-
-def at(ts, vs, t):
-    for m in range(1, len(ts)):
-        if ts[m] >= t - 1e-9:
-            w = min(1.0, (t - ts[m - 1]) / (ts[m] - ts[m - 1]))
-            return vs[m - 1] + w * (vs[m] - vs[m - 1])
-    return float("nan")
 
 
 def gerris_norm_log(path):
@@ -115,53 +97,35 @@ def run_muflow(muflow, d, level, cap):
     if code != 0:
         sys.exit("muflow failed (exit %d): %s" % (code, " ".join(cmd)))
     s = summary(os.path.join(d, "summary.ini"))
-    with open(os.path.join(d, "collapse.csv")) as f:
-        rows = list(csv.DictReader(f))
+    ts, xf, h0 = series(os.path.join(d, "collapse.csv"))
     return {"code": "muflow", "wall": wall, "cpu": cpu, "mb": mb, "load": load,
-            "steps": int(s["steps"]), "ts": [float(r["t"]) for r in rows],
-            "xf": [float(r["x_front"]) for r in rows],
-            "h4": at([float(r["t"]) for r in rows], [float(r["h_axis"]) for r in rows], 4.0),
+            "steps": int(s["steps"]), "ts": ts, "xf": xf, "h4": at(ts, h0, 4.0),
             "volume_drift": abs(float(s["mass_error"]))}
 
 
-def options(args):
-    o = {"levels": [7, 8], "caps": ["10", "1e4"], "repeats": 2}
-    key = None
-    for a in args:
-        if a.startswith("--"):
-            key = a[2:]
-            if key not in o:
-                sys.exit("collapse_gerris.py: unknown option %s (--levels, --caps, --repeats)"
-                         % a)
-            if key == "repeats":
-                o[key] = None
-            else:
-                o[key] = []
-        elif key == "repeats":
-            o[key] = int(a)
-        elif key == "levels":
-            o[key].append(int(a))
-        elif key == "caps":
-            o[key].append(a)
-        else:
-            sys.exit("collapse_gerris.py: %s: give --levels, --caps or --repeats first" % a)
-    return o
+def options():
+    p = argparse.ArgumentParser(description="The column collapse beside Gerris (see the "
+                                "module's docstring).")
+    p.add_argument("muflow")
+    p.add_argument("outdir")
+    p.add_argument("--levels", type=int, nargs="+", default=[7, 8])
+    p.add_argument("--caps", nargs="+", default=["10", "1e4"])
+    p.add_argument("--repeats", type=int, default=2)
+    return p.parse_args()
 
 
 def main():
-    if len(sys.argv) < 3:
-        sys.exit(__doc__)
-    muflow, outdir = sys.argv[1], sys.argv[2]
-    o = options(sys.argv[3:])
+    o = options()
+    muflow, outdir = o.muflow, o.outdir
     if shutil.which(GERRIS) is None:
         sys.exit("collapse_gerris.py: %s not found (Debian's gerris and libgfs-dev: "
                  "make bench-collapse-gerris installs them)" % GERRIS)
     os.makedirs(outdir, exist_ok=True)
-    ref = reference()
+    ref = reference()["x_front"]
     rows = []
-    for level in o["levels"]:
-        for cap in o["caps"]:
-            for rep in range(o["repeats"]):
+    for level in o.levels:
+        for cap in o.caps:
+            for rep in range(o.repeats):
                 base = os.path.join(outdir, "collapse_gerris_l%d_cap%s" % (level, cap))
                 order = ["gerris", "muflow"] if rep % 2 == 0 else ["muflow", "gerris"]
                 pair = {}
@@ -193,12 +157,12 @@ def main():
              "first; medians; the ratio is Gerris's wall time over muflow's, per "
              "pair (the median, and the range).  x_f error: the largest |x_f - "
              "reference| at t = 1..4 (reference: the Basilisk port, cases/data/"
-             "lagree2011_collapse.csv)." % (threads, o["repeats"]), "",
+             "lagree2011_collapse.csv)." % (threads, o.repeats), "",
              "| cells per H0 | eta clip | code | wall s | CPU s | steps | peak MB | "
              "x_f(1..4) | x_f error | h(0, 4) | volume drift | Gerris / muflow | load |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
-    for level in o["levels"]:
-        for cap in o["caps"]:
+    for level in o.levels:
+        for cap in o.caps:
             for code in ("gerris", "muflow"):
                 rs = [r for r in rows if r["level"] == level and r["cap"] == cap
                       and r["code"] == code]

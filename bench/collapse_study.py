@@ -11,7 +11,6 @@ the Basilisk reference at t = 0..4, the grid convergence of x_f(4), wall
 time, steps, cell-steps per second), collapse_runs.csv and the plot
 collapse_front.png; with --tag NAME, collapse_table_NAME.md and so on, and
 the overrides (section.key=value) go to every run."""
-import csv
 import math
 import os
 import subprocess
@@ -21,38 +20,12 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from collapse_series import at, reference, series
 from summary_ini import summary
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "collapse.ini")
-REFERENCE = os.path.join(HERE, "..", "cases", "data", "lagree2011_collapse.csv")
 TIMES = [0, 1, 2, 3, 4]
-
-
-
-def reference():
-    ref = {"x_front": {}, "h_axis": {}}
-    with open(REFERENCE) as f:
-        rows = [r for r in f if not r.startswith("#")]
-    for r in csv.DictReader(rows):
-        if abs(float(r["parameter"]) - 0.5) < 1e-9:
-            ref[r["dataset"]][float(r["coord"])] = float(r["value"])
-    return ref
-
-
-def series(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return ([float(r["t"]) for r in rows], [float(r["x_front"]) for r in rows],
-            [float(r["h_axis"]) for r in rows])
-
-
-def at(ts, vs, t):
-    for m in range(1, len(ts)):
-        if ts[m] >= t - 1e-9:  # the end time, to the rounding of the sum of steps
-            w = min(1.0, (t - ts[m - 1]) / (ts[m] - ts[m - 1]))
-            return vs[m - 1] + w * (vs[m] - vs[m - 1])
-    return vs[0] if t == 0 else float("nan")
 
 
 def run(muflow, outdir, n, overrides, tag):
