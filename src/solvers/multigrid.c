@@ -49,12 +49,15 @@
 
 /* The statements in a parallel region when par, else on the calling thread
  * outside any region.  The level loops are orphaned `omp for`s: outside a
- * region they are plain loops and their barriers return at once, while in a
- * region of one thread (`if (0)`) every barrier and the join are a futex
- * system call with libgomp, several microseconds each in a virtual machine:
- * 27,000 per five steps of the column collapse at 32 cells per H0, whose
- * levels all run on one thread (bench/analysis.md, "Regions of one thread
- * and CHOLMOD's supernodes"). */
+ * region they are plain loops and their barriers return at once, while in
+ * libgomp's region of one thread (`if (0)`) every barrier and the join are a
+ * futex system call, several microseconds each in a virtual machine: 27,000
+ * per five steps of the column collapse at 32 cells per H0, whose levels all
+ * run on one thread (bench/analysis.md, "Regions of one thread and
+ * CHOLMOD's supernodes").  muflow's own GOMP_parallel (gomp_inline.h) now
+ * runs such a region inline as well; the macro came first and keeps the
+ * multigrid's levels free of the region call whatever GOMP_parallel the
+ * program binds to. */
 #define REGION(par, ...)                                                                        \
     do {                                                                                        \
         if (par) {                                                                              \
