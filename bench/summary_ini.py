@@ -30,7 +30,10 @@ def loadavg():
 
 def timed_run(args, **popen):
     """Runs one process to its end: (exit code, wall s, CPU s of all its
-    threads, peak resident MB), the last two from its own rusage (wait4)."""
+    threads, peak resident MB), the last two from its own rusage (wait4).
+    Linux counts the caller's resident size at the fork into the child's
+    peak, so the peak of a child smaller than this script reads as the
+    script's (a script that imports matplotlib: about 59 MB)."""
     import subprocess
     t0 = time.monotonic()
     p = subprocess.Popen(args, **popen)
