@@ -52,15 +52,17 @@ void suitesparse_umfpack_control(double control[UMFPACK_CONTROL]);
  * coupled solvers; the AMG keeps its own setting (amg_hypre.c). */
 void suitesparse_keep_factor_memory(void);
 
-/* cholmod_start with muflow's settings: its defaults, with larger
- * supernodes (relaxed amalgamation: nrelax 32, 96, 256 columns and zrelax
- * 0.9, 0.2, 0.1 instead of 4, 16, 48 and 0.8, 0.1, 0.05).  Each supernode
- * costs Debian's CHOLMOD five OpenMP parallel regions, whose joins are a
- * system call each even on one thread; fewer, larger supernodes spend a
- * few more flops in BLAS and far fewer regions: the column collapse at 32
- * cells per H0 to t = 1 takes 5.2 s instead of 7.4 s on one thread, the
- * same front to all digits (docs/design.md, "The sparse factorisations'
- * ordering and BLAS"). */
+/* cholmod_start with muflow's settings, which are CHOLMOD's defaults.  The
+ * supernodes were once amalgamated more (nrelax 32, 96, 256 columns and
+ * zrelax 0.9, 0.2, 0.1 instead of 4, 16, 48 and 0.8, 0.1, 0.05): each
+ * supernode cost five OpenMP regions, whose joins were system calls.  Since
+ * the regions of a one-thread section run inline (gomp_inline.c) the
+ * defaults' fewer flops win: the column collapse's implicit solves at 128 x
+ * 40 cells took 2.10-2.20 s instead of 2.89-2.94 s to t = 4, at 256 x 80
+ * 3.32 s instead of 4.63 s to t = 1, and the heap's steady solve at 70 x 100
+ * (cholesky) 4.3-4.4 s instead of 5.6-5.7 s, peak memory 50 instead of
+ * 64 MB (2 threads; docs/design.md, "The sparse factorisations' ordering
+ * and BLAS"). */
 void suitesparse_cholmod_start(cholmod_common *cm);
 
 /* CHOLMOD's own OpenMP loops run on the calling thread between these two:

@@ -109,6 +109,9 @@ struct coarse_direct {
     int *row;              /* row of a field slot, -1 for dead cells and ghosts */
     unsigned char *pinned; /* row k is fixed to 0 (one per floating component) */
     int *queue;            /* breadth-first search of the components */
+    int *pattern;          /* the analysed matrix's column starts and rows: a
+                              matrix of the same pattern keeps L's analysis */
+    size_t pattern_len;
 };
 
 struct multigrid {
@@ -848,8 +851,25 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
         return -1;
     }
-    suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
-    cs->L = suitesparse.cholmod_analyze(A, &cs->cm);
+    /* The analysis (the fill-reducing ordering, the supernodes) depends on
+     * the pattern only, which a new density on the same cells keeps: a
+     * coarsest level as large as a whole small grid (pressure.c) is
+     * refactorised every step, and analysing it afresh cost as much again. */
+    size_t len = (size_t)n + 1 + (size_t)((const int *)A->p)[n];
+    int same = cs->L && cs->pattern && cs->pattern_len == len &&
+               memcmp(cs->pattern, A->p, ((size_t)n + 1) * sizeof(int)) == 0 &&
+               memcmp(cs->pattern + n + 1, A->i, (len - (size_t)n - 1) * sizeof(int)) == 0;
+    if (!same) {
+        suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
+        cs->L = suitesparse.cholmod_analyze(A, &cs->cm);
+        free(cs->pattern);
+        cs->pattern_len = 0;
+        if ((cs->pattern = malloc(len * sizeof(int)))) {
+            memcpy(cs->pattern, A->p, ((size_t)n + 1) * sizeof(int));
+            memcpy(cs->pattern + n + 1, A->i, (len - (size_t)n - 1) * sizeof(int));
+            cs->pattern_len = len;
+        }
+    }
     struct suitesparse_serial serial = suitesparse_serial_begin();
     int ok = cs->L && suitesparse.cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
     suitesparse_serial_end(serial);
@@ -859,6 +879,8 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
                 cs->cm.status);
         return -1;
     }
+    if (same && cs->B && cs->X)
+        return 0; /* the solves' workspace is the right size already */
     suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
     cs->B = suitesparse.cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cs->cm);
     if (!cs->B) {
@@ -959,6 +981,7 @@ void multigrid_destroy(struct multigrid *mg)
     free(cs->row);
     free(cs->pinned);
     free(cs->queue);
+    free(cs->pattern);
     field_free(mg->wr);
     field_free(mg->wz);
     field_free(mg->wp);

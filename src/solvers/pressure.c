@@ -15,6 +15,19 @@
 #define PRESSURE_MAX_ITER 500
 #define PRESSURE_RESTARTS 4
 
+/* A 2D grid of at most this many cells is the multigrid's coarsest level
+ * itself: one level, factorised by CHOLMOD whenever the coefficient changes,
+ * which makes the CG's preconditioner exact.  Measured on the column
+ * collapse (2 threads, the density new every step; docs/design.md,
+ * "Pressure"): the projection and the coefficient's update took 1.56 s
+ * against 1.2 s to t = 4 at 128 x 40 cells (3,936 multigrid-CG iterations
+ * against 422), 2.23 against 1.59 s to t = 1 at 256 x 80, and 2.55 against
+ * 3.75 s to t = 0.3 at 512 x 160, where the factorisation's fill has
+ * overtaken the cycles.  3D grids keep the cycles: their fill grows faster.
+ * (A grid distributed over ranks would gather its coarsest level to one:
+ * there the limit is that of one rank's share.) */
+#define PRESSURE_DIRECT_CELLS 32768L
+
 struct pressure_solver {
     const struct grid *g;
     enum poisson_bc bc[3][2];
@@ -64,7 +77,13 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
     if (ps->uniform)
         return 0;
     if (!ps->mg) {
-        if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, NULL, err,
+        struct multigrid_options o;
+        multigrid_default_options(&o);
+        long cells = (long)grid_cells(ps->g);
+        int flat = ps->g->n[0] == 1 || ps->g->n[1] == 1 || ps->g->n[2] == 1;
+        if (flat && cells <= PRESSURE_DIRECT_CELLS)
+            o.coarse_cells = cells;
+        if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, &o, err,
                              errlen) != 0)
             return -1;
         if (!(ps->rhs = field_alloc(ps->g))) {

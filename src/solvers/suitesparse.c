@@ -68,16 +68,7 @@ void suitesparse_keep_factor_memory(void)
 #endif
 }
 
-void suitesparse_cholmod_start(cholmod_common *cm)
-{
-    suitesparse.cholmod_start(cm);
-    const size_t nrelax[3] = {32, 96, 256};
-    const double zrelax[3] = {0.9, 0.2, 0.1};
-    for (int k = 0; k < 3; k++) {
-        cm->nrelax[k] = nrelax[k];
-        cm->zrelax[k] = zrelax[k];
-    }
-}
+void suitesparse_cholmod_start(cholmod_common *cm) { suitesparse.cholmod_start(cm); }
 
 const char *suitesparse_umfpack_text(int status)
 {
