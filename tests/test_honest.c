@@ -131,7 +131,7 @@ static void test_auto_preconditioner(void **state)
     struct march_state st;
     char err[512];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
-    assert_int_equal(st.precond, VISCOUS_LU);
+    assert_int_equal(st.precond, VISCOUS_CHOLESKY);
     march_destroy(&st);
 }
 

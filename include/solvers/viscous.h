@@ -39,6 +39,11 @@ struct viscous_problem {
     const double *b_cell;
     const double *b_edge[3];
     double *const *base;          /* the velocity the tangent is taken at */
+    /* With the full tangent, the coefficients of the symmetric operator a
+     * Cholesky factorisation takes instead (VISCOUS_CHOLESKY): the diagonal
+     * tangent, normal and shear; NULL: A_* (the lagged viscosity) */
+    const double *sym_cell[3];
+    const double *sym_edge[3];
     /* an embedded solid body (kernels/embedded.h), or NULL: its nodes are
      * held at 0 with mass-only rows, and the links the surface cuts end on it */
     const struct embedded *embedded;

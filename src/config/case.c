@@ -208,12 +208,13 @@ static const struct key keys[] = {
         "instead of the scene's state (a steady solve from a coarser mesh's solution); empty: "
         "the scene's"),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky or LU, AMG, or fourier (the line "
-        "blocks of every plane Fourier mode, for periodic directions across the lines) (auto, "
-        "for grids varying in two or more directions: amg on a steady 2D cross-section with newton, no "
-        "augmentation and over 1e4 unknowns, else lu or cholesky up to 4e5 unknowns (cholesky "
-        "on a 2D cross-section up to 1e6), beyond them amg on a 2D cross-section without "
-        "augmentation; line otherwise)"),
+        "of the implicit solve: line blocks, sparse Cholesky (of the symmetric operator; with "
+        "newton, of the diagonal tangent, preconditioning BiCGStab on the full tangent) or LU, "
+        "AMG, or fourier (the line blocks of every plane Fourier mode, for periodic directions "
+        "across the lines) (auto, for grids varying in two or more directions: amg on a steady "
+        "2D cross-section with newton, no augmentation and over 1e4 unknowns, else cholesky on "
+        "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
+        "unknowns, beyond them amg on a 2D cross-section without augmentation; line otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),

@@ -1,5 +1,6 @@
 /* The linear tolerance of a Newton step solved by a Krylov method with the
- * algebraic multigrid (step.h, implicit_tolerance): an inexact Newton
+ * algebraic multigrid or the Cholesky of the diagonal tangent (step.h,
+ * implicit_tolerance): an inexact Newton
  * forcing term (Eisenstat and Walker's second choice).
  *
  * Far from the steady state a Newton step is limited by its pseudo-time
@@ -9,7 +10,7 @@
  * eta_k = gamma (r_k / r_(k-1))^alpha, which keeps Newton's final rate
  * (alpha = 2: quadratic while the residual falls quadratically).  The
  * probed LU solves exactly in one iteration whatever the tolerance, so
- * only the AMG path takes it. */
+ * only the AMG and Cholesky paths take it. */
 #include <math.h>
 #include <stdlib.h>
 #include "march/step.h"
@@ -26,7 +27,8 @@ double implicit_tolerance(struct march_state *st, int tangent)
 {
     const struct muflow_case *cs = st->cs;
     double floor = cs->linear_tolerance;
-    if (!cs->inexact_newton || !tangent || st->precond != VISCOUS_AMG ||
+    if (!cs->inexact_newton || !tangent ||
+        (st->precond != VISCOUS_AMG && st->precond != VISCOUS_CHOLESKY) ||
         cs->mode != MODE_STEADY)
         return floor;
     /* a step retried with a smaller dt (rejected) starts from the same

@@ -167,26 +167,40 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     long unknowns = 3L * (long)grid_cells(&st->g);
     if (varying < 2)
         return VISCOUS_LINE;
+    /* measured on 2D cross-sections only: a grid that varies in three
+     * directions keeps the LU (or the line blocks beyond its size) */
+    int wide = 0;
+    for (int d = 0; d < 3; d++)
+        wide += st->g.n[d] > 2;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
      * (and reaches two nodes, the symmetric operator one); the LU and the
-     * AMG both take it from the same probes */
-    enum viscous_precond kind = cs->newton ? VISCOUS_LU : VISCOUS_CHOLESKY;
+     * AMG both take it from the same probes.  On a 2D cross-section the
+     * Cholesky of the diagonal tangent (symmetric, one node) preconditions
+     * BiCGStab on the full tangent instead of the LU: the same steps and
+     * states, measured (1 thread, whole steady solves): the heap at 35 x 50
+     * 0.34 s against 0.64 s, the Bingham cavity 0.65 against 1.49 s, the
+     * square duct 0.44 against 1.10 s, the circular duct 0.65 against 0.66 s,
+     * and less memory in each (docs/design.md, "The Cholesky of the
+     * diagonal tangent").  Not with open faces: there the Cholesky path
+     * stalls (the Newtonian chute open at both ends, nz 8: no steady state
+     * after 231 steps, the LU's in 49) */
+    int open = 0;
+    for (int d = 0; d < 3; d++)
+        for (int e = 0; e < 2; e++)
+            open |= st->bc.face[d][e] == BC_OPEN || st->bc.face[d][e] == BC_INFLOW;
+    enum viscous_precond kind =
+        cs->newton && (wide != 2 || open) ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
     if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
         return VISCOUS_LINE;
     /* the AMG has no fill: it serves beyond the factorisation's limit too;
      * without hypre's library (opened here, as the AMG would) the LU or the
      * line blocks as before */
-    /* measured on 2D cross-sections only: a grid that varies in three
-     * directions keeps the LU (or the line blocks beyond its size) */
-    int wide = 0;
-    for (int d = 0; d < 3; d++)
-        wide += st->g.n[d] > 2;
     char why[256];
     /* a transient step lags the viscosity (the tangent is for steady
      * solves), where the AMG was not measured: the LU as before */
-    if (kind == VISCOUS_LU && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
+    if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
         unknowns > AMG_MIN_UNKNOWNS && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
     /* beyond the factorisation's limit a 2D cross-section takes the AMG
@@ -290,7 +304,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
                       ((march_specs[m].flags & FIELD_SAVED) ? 2 : 1);
     if (cs->augmentation > 0.0)
         arrays += 1.0;
-    if ((kind == VISCOUS_LU || kind == VISCOUS_AMG) && cs->newton)
+    if ((kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY) && cs->newton)
         arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
                    viscous_memory_estimate(g, kind);
@@ -430,8 +444,12 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         for (int s = 0; s < 2; s++)
             pbc[d][s] = projection_bc(st->bc.face[d][s]);
     /* the probed LU and the AMG both take the full (non-symmetric) tangent,
-     * and so does the coupled step whatever the preconditioner named */
-    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || cs->coupled) && cs->newton;
+     * and so does the coupled step whatever the preconditioner named; the
+     * Cholesky factorises the diagonal tangent and BiCGStab solves the full
+     * one with it (the heap at 140 x 200: 58 steps instead of the diagonal
+     * tangent's 460; docs/design.md, "The Cholesky of the diagonal tangent") */
+    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY ||
+                        cs->coupled) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {
         const struct field_spec s = {"augmentation", FIELD_CELLS, 0};

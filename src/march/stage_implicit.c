@@ -44,8 +44,12 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
     }
     if (tangent && st->full_tangent) {
         pb.b_cell = st->b_c;
-        for (int a = 0; a < 3; a++)
+        for (int a = 0; a < 3; a++) {
             pb.b_edge[a] = st->b_e[a];
+            /* what a Cholesky factorises in the tangent's place */
+            pb.sym_cell[a] = st->tan_c[a];
+            pb.sym_edge[a] = st->tan_e[a];
+        }
         pb.base = st->vel;
     }
     return pb;

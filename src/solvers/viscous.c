@@ -655,6 +655,21 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
         return 0;
     }
     if (s->direct) {
+        /* a Cholesky factorisation of the full tangent's symmetric
+         * counterpart: the Krylov method (BiCGStab) works on the tangent */
+        struct viscous_problem sym = *pb;
+        if (pb->b_cell && s->kind == VISCOUS_CHOLESKY) {
+            sym.b_cell = NULL;
+            sym.base = NULL;
+            for (int a = 0; a < 3; a++) {
+                sym.b_edge[a] = NULL;
+                if (pb->sym_cell[a])
+                    sym.A_cell[a] = pb->sym_cell[a];
+                if (pb->sym_edge[a])
+                    sym.A_edge[a] = pb->sym_edge[a];
+            }
+            pb = &sym;
+        }
         viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
         struct viscous_operator a = {s, pb};
         double t0 = cpu_now();
@@ -1039,7 +1054,7 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
      * PROBES doubles a node) with VISCOUS_LINE; with any other kind pn, Bc
      * and three per component (and the factorisation,
      * sparse_direct_memory_estimate), and BiCGStab's four more per
-     * component where the LU's full tangent takes them (a fallback to the
+     * component where the full tangent takes them (LU, Cholesky; a fallback to the
      * line blocks, or BiCGStab around the AMG, is not counted) */
     double cells = (double)grid_cells(g), points = (double)g->size;
     double doubles = (3.0 * 4.0 + 1.0) * points;
@@ -1047,7 +1062,7 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
         doubles += 3.0 * cells * (BAND + 1 + PROBES);
     else
         doubles += (2.0 + 3.0 * 3.0) * points;
-    if (kind == VISCOUS_LU)
+    if (kind == VISCOUS_LU || kind == VISCOUS_CHOLESKY)
         doubles += 3.0 * 4.0 * points;
     /* the AMG's GMRES(20) basis (21 vectors of the unknowns, about three a
      * cell) and its gathered right-hand side and correction (hypre's share:
