@@ -67,6 +67,11 @@ void bc_fill_pressure(const struct grid *g, const struct boundary *bc, double *f
 /* 1 when some face of bc is open. */
 int bc_has_open(const struct boundary *bc);
 
+/* 1 when a face of kind k lets mass through (open or inflow). */
+int bc_kind_passes_flow(enum bc_kind k);
+/* 1 when some face of bc lets mass through. */
+int bc_passes_flow(const struct boundary *bc);
+
 /* 1 when direction d lets a mean flow through: periodic, or open at both
  * ends (a direction bounded otherwise holds a body force by its pressure). */
 int bc_through_flow(const struct boundary *bc, int d);

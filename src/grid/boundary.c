@@ -205,6 +205,17 @@ int bc_has_open(const struct boundary *bc)
     return 0;
 }
 
+int bc_kind_passes_flow(enum bc_kind k) { return k == BC_OPEN || k == BC_INFLOW; }
+
+int bc_passes_flow(const struct boundary *bc)
+{
+    for (int d = 0; d < 3; d++)
+        for (int s = 0; s < 2; s++)
+            if (bc_kind_passes_flow(bc->face[d][s]))
+                return 1;
+    return 0;
+}
+
 int bc_through_flow(const struct boundary *bc, int d)
 {
     const enum bc_kind *k = bc->face[d];

@@ -190,12 +190,8 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * diagonal tangent").  Not with open faces: there the Cholesky path
      * stalls (the Newtonian chute open at both ends, nz 8: no steady state
      * after 231 steps, the LU's in 49) */
-    int open = 0;
-    for (int d = 0; d < 3; d++)
-        for (int e = 0; e < 2; e++)
-            open |= st->bc.face[d][e] == BC_OPEN || st->bc.face[d][e] == BC_INFLOW;
     enum viscous_precond kind =
-        cs->newton && (wide != 2 || open) ? VISCOUS_LU : VISCOUS_CHOLESKY;
+        cs->newton && (wide != 2 || bc_passes_flow(&st->bc)) ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
     if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
         return VISCOUS_LINE;

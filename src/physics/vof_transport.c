@@ -39,7 +39,6 @@ void vof_transport_free(struct vof_transport *vt)
  * m_e changes sign and alpha loses m_e.  Closed boundary faces carry no
  * flux, so this only matters to the faces that let fluid through (open,
  * inflow), whose ghost cells hold the light phase: see open_ghosts. */
-static int passes_flow(enum bc_kind k) { return k == BC_OPEN || k == BC_INFLOW; }
 
 /* On an open or inflow face the fluid that enters is the light phase
  * (T = 0): the ghost cells there are empty, with no interface (zero normal:
@@ -52,7 +51,7 @@ static void open_ghosts(struct vof_transport *vt, double *T, int which)
     for (int e = 0; e < 3; e++) {
         int a = (e + 1) % 3, b = (e + 2) % 3;
         for (int side = 0; side < 2; side++) {
-            if (!passes_flow(vt->bc->face[e][side]))
+            if (!bc_kind_passes_flow(vt->bc->face[e][side]))
                 continue;
             int idx[3];
             idx[e] = side == 0 ? -1 : g->n[e];
@@ -106,9 +105,7 @@ int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3]
     if (largest > VOF_CFL_MAX)
         return -1;
 
-    int open = 0;
-    for (int e = 0; e < 3; e++)
-        open |= passes_flow(vt->bc->face[e][0]) || passes_flow(vt->bc->face[e][1]);
+    int open = bc_passes_flow(vt->bc);
     static const int forward[3] = {0, 1, 2}, backward[3] = {2, 1, 0};
     const int *seq = vt->steps % 2 == 0 ? forward : backward;
     vt->nsweeps = 0;
