@@ -225,6 +225,17 @@ static void test_circular(void **state)
     assert_true(fabs(run_result_value(&none, "flow_rate") / run_result_value(&sq, "flow_rate") -
                      1.0) <= 1e-9);
     assert_int_equal(none.steps, sq.steps);
+    /* the Cholesky named: the bed's diagonal tangent stops being positive
+     * definite at step 95, and the factors of the lagged viscosity serve
+     * (viscous.c, direct_factor): no fallback to the line blocks, and the
+     * LU's steps and flow rate (auto takes the LU with a body: march.c) */
+    char *och[] = {"domain.ny=10", "domain.nz=20", "output.fields=off",
+                   "solver.preconditioner=cholesky"};
+    struct run_result ch;
+    run(DUCT_CIRCULAR, 4, och, &ch);
+    assert_int_equal(ch.preconditioner_fallbacks, 0);
+    assert_int_equal(ch.steps, m.steps);
+    assert_true(fabs(run_result_value(&ch, "flow_rate") / q - 1.0) <= 1e-8);
 }
 
 /* (f) Grid sequencing (solver.initial_state): the circular duct at 20 x 40

@@ -159,6 +159,9 @@ struct viscous_precond_info {
     long fallbacks;         /* preconditioners whose factorisation or AMG setup
                                failed (the line blocks served) */
     char cause[200];        /* why the last of them failed */
+    long lagged_factors;    /* Cholesky with the full tangent: times the diagonal
+                               tangent was not positive definite and the lagged
+                               viscosity's factors served instead */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 

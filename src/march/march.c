@@ -185,13 +185,17 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * BiCGStab on the full tangent instead of the LU: the same steps and
      * states, measured (1 thread, whole steady solves): the heap at 35 x 50
      * 0.34 s against 0.64 s, the Bingham cavity 0.65 against 1.49 s, the
-     * square duct 0.44 against 1.10 s, the circular duct 0.65 against 0.66 s,
-     * and less memory in each (docs/design.md, "The Cholesky of the
+     * square duct 0.44 against 1.10 s, and less memory in each (docs/design.md, "The Cholesky of the
      * diagonal tangent").  Not with open faces: there the Cholesky path
      * stalls (the Newtonian chute open at both ends, nz 8: no steady state
-     * after 231 steps, the LU's in 49) */
-    enum viscous_precond kind =
-        cs->newton && (wide != 2 || bc_passes_flow(&st->bc)) ? VISCOUS_LU : VISCOUS_CHOLESKY;
+     * after 231 steps, the LU's in 49).  Nor with a body: the cut cells'
+     * grad-div correction (docs/design.md, "The Laplacian form near the
+     * body") leaves the operator indefinite where the viscosity varies, and
+     * the circular duct at 40 x 80 failed the Cholesky from step 1 (683
+     * fallbacks to the line blocks, unsteady after 586 steps; the LU steady
+     * in 381) */
+    int lu = wide != 2 || bc_passes_flow(&st->bc) || obstacle_active(cs);
+    enum viscous_precond kind = cs->newton && lu ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
     if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
         return VISCOUS_LINE;

@@ -69,6 +69,7 @@ struct viscous_solver {
     int direct_ok;                     /* the factorisation serves this solve */
     double prepare_seconds;            /* factorising the blocks a solve's right-hand side reaches */
     int direct_valid;                  /* the last factorisation succeeded */
+    int direct_lagged;                 /* the factors are the lagged viscosity's (direct_factor) */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
     struct kept direct_kept;
     /* full tangent work: strain products, their tangent stresses (allocated
@@ -573,6 +574,49 @@ static int fall_back(struct viscous_solver *s, const struct viscous_problem *pb,
     return 1;
 }
 
+/* The sparse factors for pb.  A Cholesky with the full tangent factorises a
+ * symmetric counterpart while BiCGStab works on the tangent: the diagonal
+ * tangent (sym_*), or, once that proved not positive definite
+ * (s->direct_lagged), the lagged viscosity that pb's A_* then hold (a bed's
+ * friction law can make d tau / d gamma negative in places: the circular
+ * duct at 10 x 20 did at step 95).  The factorisation is numeric only when
+ * a right-hand side reaches a block (sparse_direct_prepare), so that is
+ * where a failure shows.  Returns 0, or -1 with the cause recorded. */
+static int direct_factor(struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    struct viscous_problem sym = *pb;
+    if (pb->b_cell && s->kind == VISCOUS_CHOLESKY) {
+        sym.b_cell = NULL;
+        sym.base = NULL;
+        for (int a = 0; a < 3; a++) {
+            sym.b_edge[a] = NULL;
+            if (pb->sym_cell[a] && !s->direct_lagged)
+                sym.A_cell[a] = pb->sym_cell[a];
+            if (pb->sym_edge[a] && !s->direct_lagged)
+                sym.A_edge[a] = pb->sym_edge[a];
+        }
+        pb = &sym;
+    }
+    viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
+    struct viscous_operator a = {s, pb};
+    double t0 = cpu_now();
+    s->direct_ok = s->direct_valid =
+        sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q) == 0;
+    kept_built(&s->direct_kept);
+    s->info.setup_seconds = cpu_now() - t0; /* probing included */
+    s->info.unknowns = sparse_direct_unknowns(s->direct);
+    s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
+    return s->direct_ok ? 0 : -1;
+}
+
+/* Whether the factors of the diagonal tangent can give way to those of the
+ * lagged viscosity (direct_factor) */
+static int can_lag(const struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    return s->kind == VISCOUS_CHOLESKY && pb->b_cell && !s->direct_lagged &&
+           (pb->sym_cell[0] || pb->sym_cell[1] || pb->sym_cell[2]);
+}
+
 int viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
@@ -655,31 +699,8 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
         return 0;
     }
     if (s->direct) {
-        /* a Cholesky factorisation of the full tangent's symmetric
-         * counterpart: the Krylov method (BiCGStab) works on the tangent */
-        struct viscous_problem sym = *pb;
-        if (pb->b_cell && s->kind == VISCOUS_CHOLESKY) {
-            sym.b_cell = NULL;
-            sym.base = NULL;
-            for (int a = 0; a < 3; a++) {
-                sym.b_edge[a] = NULL;
-                if (pb->sym_cell[a])
-                    sym.A_cell[a] = pb->sym_cell[a];
-                if (pb->sym_edge[a])
-                    sym.A_edge[a] = pb->sym_edge[a];
-            }
-            pb = &sym;
-        }
-        viscous_learn_pattern(s, sparse_direct_probe_matrix(s->direct), &s->direct_pattern, pb);
-        struct viscous_operator a = {s, pb};
-        double t0 = cpu_now();
-        s->direct_ok = s->direct_valid =
-            sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q) == 0;
-        kept_built(&s->direct_kept);
-        s->info.setup_seconds = cpu_now() - t0; /* probing included */
-        s->info.unknowns = sparse_direct_unknowns(s->direct);
-        s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
-        if (s->direct_ok)
+        s->direct_lagged = 0;
+        if (direct_factor(s, pb) == 0)
             return 0;
         return fall_back(s, pb, sparse_direct_cause(s->direct));
     }
@@ -1006,7 +1027,13 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     if (s->direct_ok) {
         /* the blocks of components this right-hand side reaches */
         double t0 = cpu_now();
-        if (sparse_direct_prepare(s->direct, s->r) != 0) {
+        int failed = sparse_direct_prepare(s->direct, s->r) != 0;
+        if (failed && can_lag(s, pb)) {
+            s->direct_lagged = 1;
+            s->info.lagged_factors++;
+            failed = direct_factor(s, pb) != 0 || sparse_direct_prepare(s->direct, s->r) != 0;
+        }
+        if (failed) {
             s->direct_ok = s->direct_valid = 0;
             s->info.kind = VISCOUS_LINE;
             fall_back(s, pb, sparse_direct_cause(s->direct));
