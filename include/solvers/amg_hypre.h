@@ -62,17 +62,29 @@ int amg_hypre_create(struct amg_hypre **out, int n, const int *dof_func,
                      const struct amg_options *o, char *err, size_t errlen);
 void amg_hypre_destroy(struct amg_hypre *a);
 
-/* Builds the multigrid hierarchy for A, which is copied into hypre's matrix
- * and then released (csr_free: the peak memory holds one copy less).
- * Returns 0, or -1 when hypre reports an error. */
+/* Takes A for the multigrid, copied into hypre's matrix and then released
+ * (csr_free: the peak memory holds one copy less); the hierarchies are
+ * built when a right-hand side first reaches their blocks
+ * (amg_hypre_prepare, or amg_hypre_apply).  Returns 0, or -1 when hypre
+ * reports an error. */
 int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *A);
+
+/* Builds the hierarchies of the blocks that b reaches and that are not
+ * built yet: call it with the right-hand side before a Krylov solve.  Of two
+ * or more blocks, one whose part of b has a norm of at most negligible
+ * (< 0: none) is left out: amg_hypre_apply gives it 0 until the next
+ * prepare (a flow along one direction: the components across it carry only
+ * the state's round-off).  Returns 0, or -1 when hypre reports an error. */
+int amg_hypre_prepare(struct amg_hypre *a, const double *b, double negligible);
 
 /* Frees the last hierarchy and hypre's copy of its matrix (amg_hypre_setup
  * builds new ones): before the next matrix is probed, so that the two are
  * never held at once. */
 void amg_hypre_release(struct amg_hypre *a);
 
-/* x = one V-cycle applied to b (from x = 0). */
+/* x = one V-cycle applied to b (from x = 0); a block left out by the last
+ * amg_hypre_prepare, or whose set-up failed, gives 0, and one that b
+ * reaches for the first time is built first. */
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
 
 /* Diagonal blocks of the last set-up's matrix, each its own hierarchy: runs
@@ -82,13 +94,16 @@ void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
  * its own); the Krylov method keeps the whole operator. */
 int amg_hypre_blocks(const struct amg_hypre *a);
 
+/* Blocks the last amg_hypre_prepare left out. */
+int amg_hypre_dropped(const struct amg_hypre *a);
+
 /* Bytes hypre takes for a hierarchy of this many unknowns (with the default
  * options, the full tangent on a 2D grid), its library and MPI included: a
  * measured model for the run's memory estimate. */
 double amg_hypre_memory_estimate(long unknowns);
 
 /* Levels and operator complexity (sum of the levels' entries over A's) of the
- * last setup. */
+ * hierarchies built since the last setup. */
 int amg_hypre_levels(const struct amg_hypre *a);
 double amg_hypre_complexity(const struct amg_hypre *a);
 

@@ -46,13 +46,19 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
  * two for a flow in a plane or along one direction) that r reaches and
  * that are not factorised yet: call it with the right-hand side before a
  * Krylov solve.  A block no right-hand side reaches is never factorised (a
- * plane flow's component across the plane).  Returns 0, or -1 when a
+ * plane flow's component across the plane).  Of two or more blocks, one
+ * whose part of r has a norm of at most negligible (< 0: none) is left
+ * out: sparse_direct_solve gives it 0 until the next prepare (the Krylov
+ * method leaves its residual as it is).  Returns 0, or -1 when a
  * factorisation fails (sparse_direct_cause says why). */
-int sparse_direct_prepare(struct sparse_direct *s, double *const r[3]);
+int sparse_direct_prepare(struct sparse_direct *s, double *const r[3], double negligible);
+
+/* Blocks the last sparse_direct_prepare left out. */
+int sparse_direct_dropped(const struct sparse_direct *s);
 
 /* z = A^-1 r on the unknowns (z elsewhere untouched); a block that r
- * reaches but sparse_direct_prepare did not is factorised here (its part of z
- * 0 if that fails). */
+ * reaches but sparse_direct_prepare did not (nor left out) is factorised
+ * here (its part of z 0 if that fails). */
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3]);
 
 /* The probed matrix it factorises (to teach it a pattern: probe_matrix_learn). */

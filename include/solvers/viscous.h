@@ -159,11 +159,17 @@ struct viscous_precond_info {
     long fallbacks;         /* preconditioners whose factorisation or AMG setup
                                failed (the line blocks served) */
     char cause[200];        /* why the last of them failed */
+    int dropped_blocks;     /* blocks of components the last solve left out (a
+                               negligible part of its right-hand side) */
     long lagged_factors;    /* Cholesky with the full tangent: times the diagonal
                                tangent was not positive definite and the lagged
                                viscosity's factors served instead */
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
+
+/* on: every solve keeps every block of components (none left out for a
+ * negligible part of the right-hand side; for measurements and tests). */
+void viscous_keep_blocks(struct viscous_solver *s, int on);
 
 /* Bytes viscous_create allocates on g for kind, without the sparse
  * factorisation (sparse_direct_memory_estimate). */

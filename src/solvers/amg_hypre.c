@@ -43,6 +43,8 @@ struct amg_block {
     HYPRE_ParVector b, x;
     HYPRE_Solver amg;
     int rc;                     /* of its last set-up */
+    int built;                  /* its hierarchy is set up (amg_hypre_prepare) */
+    int dropped;                /* the last amg_hypre_prepare left it out */
 };
 
 struct amg_hypre {
@@ -339,6 +341,7 @@ static void release_hierarchy(struct amg_hypre *a)
         b->amg = NULL;
         b->ij = NULL;
         b->A = NULL;
+        b->built = b->dropped = 0;
     }
 }
 
@@ -575,20 +578,17 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
     for (int k = 0; k < nb; k++)
         ok &= load_block(a, &a->blk[k], M) == 0;
     csr_free(M); /* hypre holds the copies it needs */
-    if (!ok)
-        return -1;
-    /* hypre (Debian's build) has no threads of its own: the blocks' set-ups
-     * run side by side, each on its own communicator (hypre's error flag is
-     * shared: either may set it, and it is cleared after) */
-#pragma omp parallel for num_threads(block_threads(a)) schedule(dynamic, 1)
-    for (int k = 0; k < nb; k++)
-        a->blk[k].rc = build_block(a, &a->blk[k]);
-    hy.HYPRE_ClearAllErrors();
+    return ok ? 0 : -1;
+}
+
+/* Levels and operator complexity of the hierarchies built so far. */
+static void hierarchy_stats(struct amg_hypre *a)
+{
     long fine = 0, all = 0;
     a->levels = 0;
-    for (int k = 0; k < nb; k++) {
-        if (a->blk[k].rc != 0)
-            return -1;
+    for (int k = 0; k < a->nblocks; k++) {
+        if (!a->blk[k].built)
+            continue;
         hypre_ParAMGData *d = (hypre_ParAMGData *)a->blk[k].amg;
         int levels = hypre_ParAMGDataNumLevels(d);
         hypre_ParCSRMatrix **As = hypre_ParAMGDataAArray(d);
@@ -598,7 +598,40 @@ int amg_hypre_setup(struct amg_hypre *a, struct csr_matrix *M)
         a->levels = levels > a->levels ? levels : a->levels;
     }
     a->complexity = fine > 0 ? (double)all / (double)fine : 0.0;
-    return 0;
+}
+
+static double block_norm(const double *v, int n)
+{
+    double d = 0.0;
+    for (int i = 0; i < n; i++)
+        d += v[i] * v[i];
+    return sqrt(d);
+}
+
+int amg_hypre_prepare(struct amg_hypre *a, const double *b, double negligible)
+{
+    int todo[3], nt = 0;
+    for (int k = 0; k < a->nblocks; k++) {
+        struct amg_block *bk = &a->blk[k];
+        double bn = block_norm(b + bk->first, bk->n);
+        bk->dropped = a->nblocks > 1 && bn <= negligible;
+        if (!bk->dropped && !bk->built && bn > 0.0)
+            todo[nt++] = k;
+    }
+    /* hypre (Debian's build) has no threads of its own: the blocks' set-ups
+     * run side by side, each on its own communicator (hypre's error flag is
+     * shared: either may set it, and it is cleared after) */
+#pragma omp parallel for num_threads(nt > 1 ? block_threads(a) : 1) schedule(dynamic, 1)
+    for (int t = 0; t < nt; t++)
+        a->blk[todo[t]].rc = build_block(a, &a->blk[todo[t]]);
+    hy.HYPRE_ClearAllErrors();
+    int ok = 1;
+    for (int t = 0; t < nt; t++) {
+        a->blk[todo[t]].built = a->blk[todo[t]].rc == 0;
+        ok &= a->blk[todo[t]].built;
+    }
+    hierarchy_stats(a);
+    return ok ? 0 : -1;
 }
 
 void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
@@ -606,6 +639,15 @@ void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
 #pragma omp parallel for num_threads(block_threads(a)) schedule(dynamic, 1)
     for (int k = 0; k < a->nblocks; k++) {
         struct amg_block *bk = &a->blk[k];
+        if (!bk->dropped && !bk->built && block_norm(b + bk->first, bk->n) > 0.0) {
+            /* reached only now: built here (its part of x 0 if that fails) */
+            bk->rc = build_block(a, bk);
+            bk->built = bk->rc == 0;
+        }
+        if (bk->dropped || !bk->built) {
+            memset(x + bk->first, 0, (size_t)bk->n * sizeof(double));
+            continue;
+        }
         memcpy(vector_data(bk->b), b + bk->first, (size_t)bk->n * sizeof(double));
         memset(vector_data(bk->x), 0, (size_t)bk->n * sizeof(double));
         hy.HYPRE_BoomerAMGSolve(bk->amg, bk->A, bk->b, bk->x);
@@ -615,6 +657,14 @@ void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
 }
 
 int amg_hypre_blocks(const struct amg_hypre *a) { return a->nblocks; }
+
+int amg_hypre_dropped(const struct amg_hypre *a)
+{
+    int n = 0;
+    for (int k = 0; k < a->nblocks; k++)
+        n += a->blk[k].dropped;
+    return n;
+}
 
 /* The library with OpenMPI initialised: the peak RSS of the heap at 14 x 20
  * grew by 12 MB with amg against lu.  The hierarchy: peak RSS less the

@@ -24,6 +24,7 @@ struct block {
     struct csr_matrix cur, next; /* by columns: the matrix of the last factorisation, the new one */
     int fresh;                 /* next's pattern differs from cur's: analyse again */
     int factorised;            /* cur's numeric factors are current */
+    int dropped;               /* the last sparse_direct_prepare left it out */
     /* symmetric: CHOLMOD */
     cholmod_factor *L;
     cholmod_dense *B, *X, *Y, *E;
@@ -325,18 +326,36 @@ static int reaches(const double *v, int n)
     return 0;
 }
 
-int sparse_direct_prepare(struct sparse_direct *s, double *const r[3])
+static double norm(const double *v, int n)
+{
+    double d = 0.0;
+    for (int i = 0; i < n; i++)
+        d += v[i] * v[i];
+    return sqrt(d);
+}
+
+int sparse_direct_prepare(struct sparse_direct *s, double *const r[3], double negligible)
 {
     probe_matrix_gather(s->pm, r, s->sol);
     to_blocks(s, s->sol, s->rhs, 0);
     long at = 0;
     for (int k = 0; k < s->nblocks; k++) {
         struct block *b = &s->blk[k];
-        if (!b->factorised && reaches(s->rhs + at, b->n) && factorise_block(s, b) != 0)
+        b->dropped = s->nblocks > 1 && norm(s->rhs + at, b->n) <= negligible;
+        if (!b->dropped && !b->factorised && reaches(s->rhs + at, b->n) &&
+            factorise_block(s, b) != 0)
             return -1;
         at += b->n;
     }
     return 0;
+}
+
+int sparse_direct_dropped(const struct sparse_direct *s)
+{
+    int n = 0;
+    for (int k = 0; k < s->nblocks; k++)
+        n += s->blk[k].dropped;
+    return n;
 }
 
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3])
@@ -348,9 +367,10 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
         struct block *b = &s->blk[k];
         double *rb = s->rhs + at, *xb = s->sol + at;
         at += b->n;
-        if (!b->factorised && (!reaches(rb, b->n) || factorise_block(s, b) != 0)) {
-            /* no right-hand side has reached it (or its factorisation
-             * failed: the Krylov method then does not converge) */
+        if (b->dropped || (!b->factorised && (!reaches(rb, b->n) || factorise_block(s, b) != 0))) {
+            /* left out, or no right-hand side has reached it (or its
+             * factorisation failed: the Krylov method then does not
+             * converge) */
             memset(xb, 0, (size_t)b->n * sizeof(double));
             continue;
         }

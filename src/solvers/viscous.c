@@ -19,6 +19,9 @@
 
 #define BAND 2               /* nodes reached along a line by the stencil */
 #define PROBES (2 * BAND + 1)
+/* a block of components with at most this share of the tolerance times the
+ * right-hand side's norm is left out of a solve (solve()) */
+#define NEGLIGIBLE_SHARE 0.1
 
 struct line_blocks {
     int nlines, len;          /* lines of this component and nodes per line */
@@ -70,6 +73,8 @@ struct viscous_solver {
     double prepare_seconds;            /* factorising the blocks a solve's right-hand side reaches */
     int direct_valid;                  /* the last factorisation succeeded */
     int direct_lagged;                 /* the factors are the lagged viscosity's (direct_factor) */
+    int keep_blocks, keep_once;        /* solve() leaves no block out: always, this solve */
+    int dropped;                       /* blocks the last solve() left out */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
     struct kept direct_kept;
     /* full tangent work: strain products, their tangent stresses (allocated
@@ -379,6 +384,8 @@ void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond
     *info = s->info;
 }
 
+void viscous_keep_blocks(struct viscous_solver *s, int on) { s->keep_blocks = on != 0; }
+
 void viscous_destroy(struct viscous_solver *s)
 {
     if (!s)
@@ -671,7 +678,7 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
         s->info.unknowns = s->amat.n;
         s->info.entries = csr_nnz(&s->amat);
         /* hypre copies the matrix: ours is released before its setup */
-        ok = ok && amg_hypre_setup(s->amg, &s->amat) == 0;
+        ok = ok && amg_hypre_setup(s->amg, &s->amat) == 0; /* built in solve() */
         s->info.probe_seconds = t1 - t0;
         s->info.setup_seconds = cpu_now() - t1;
         s->info.levels = ok ? amg_hypre_levels(s->amg) : 0;
@@ -995,6 +1002,13 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
         k->force = 0;
         rc = solve(s, pb, rhs, x, rtol, maxit, st);
     }
+    if (rc != 0 && s->dropped) {
+        /* a block left out that the solve needed after all */
+        s->keep_once = 1;
+        rc = solve(s, pb, rhs, x, rtol, maxit, st);
+        s->keep_once = 0;
+    }
+    s->info.dropped_blocks = s->dropped;
     if (s->amg_ok)
         kept_solved(&s->amg_kept, st->iterations);
     else if (s->direct_ok || s->fourier_ok)
@@ -1024,21 +1038,55 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     }
     if (!isfinite(bnorm))
         return -1;
+    /* A block of velocity components (sparse_direct, amg_hypre: those the
+     * matrix does not couple) whose part of the right-hand side is below a
+     * tenth of the tolerance is left out: its correction is 0 and its
+     * residual stays, within the tolerance.  A flow along one direction
+     * (the heap, the ducts) carries only the state's round-off across it
+     * (1e-13 to 1e-10 on the heap, its flow component's 1e-2 to 16), and
+     * its factorisation or hierarchy of the two components across was most
+     * of the step: the heap at 140 x 200 with the LU 10.9 s instead of
+     * 23.7 s, the same 54 steps and state (docs/design.md).  A solve that
+     * fails so is solved again with every block (viscous_solve). */
+    double negligible =
+        s->keep_blocks || s->keep_once ? -1.0 : NEGLIGIBLE_SHARE * rtol * bnorm;
+    s->dropped = 0;
     if (s->direct_ok) {
         /* the blocks of components this right-hand side reaches */
         double t0 = cpu_now();
-        int failed = sparse_direct_prepare(s->direct, s->r) != 0;
+        int failed = sparse_direct_prepare(s->direct, s->r, negligible) != 0;
         if (failed && can_lag(s, pb)) {
             s->direct_lagged = 1;
             s->info.lagged_factors++;
-            failed = direct_factor(s, pb) != 0 || sparse_direct_prepare(s->direct, s->r) != 0;
+            failed = direct_factor(s, pb) != 0 ||
+                     sparse_direct_prepare(s->direct, s->r, negligible) != 0;
         }
+        s->dropped = failed ? 0 : sparse_direct_dropped(s->direct);
         if (failed) {
             s->direct_ok = s->direct_valid = 0;
             s->info.kind = VISCOUS_LINE;
             fall_back(s, pb, sparse_direct_cause(s->direct));
         }
         s->prepare_seconds += cpu_now() - t0;
+    }
+    if (s->amg_ok) {
+        /* the hierarchies of the blocks this right-hand side reaches */
+        double t0 = cpu_now();
+        probe_matrix_gather(s->probe, s->r, s->amg_b);
+        int failed = amg_hypre_prepare(s->amg, s->amg_b, negligible) != 0;
+        s->prepare_seconds += cpu_now() - t0;
+        s->info.levels = amg_hypre_levels(s->amg);
+        s->info.complexity = amg_hypre_complexity(s->amg);
+        s->dropped = amg_hypre_dropped(s->amg);
+        if (failed) {
+            s->amg_ok = 0;
+            s->dropped = 0;
+            s->info.kind = VISCOUS_LINE;
+            char cause[160];
+            snprintf(cause, sizeof cause, "the algebraic multigrid of %ld unknowns: hypre's setup failed",
+                     probe_matrix_unknowns(s->probe));
+            fall_back(s, pb, cause);
+        }
     }
     st->failed_blocks = s->failed_blocks;
     st->direct = s->direct_ok;
