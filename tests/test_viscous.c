@@ -930,18 +930,21 @@ static enum viscous_precond auto_choice(const char *file, int n, char *ov[])
 static void test_auto_choice(void **state)
 {
     (void)state;
-    /* the heap: 14 x 20 (840 unknowns) as the heap tests run it and 35 x 50
-     * (5,250), the Cholesky of the diagonal tangent; 70 x 100 (21,000), the
-     * paper's mesh, the AMG, but not in a transient run */
+    /* the heap: 14 x 20 (840 unknowns) as the heap tests run it, 35 x 50
+     * (5,250) and 70 x 100 (21,000, the paper's mesh), the Cholesky of the
+     * diagonal tangent; 200 x 280 (168,000) the AMG, but not in a transient
+     * run */
     char *coarse[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, coarse), VISCOUS_CHOLESKY);
     char *mid[] = {"domain.ny=35", "domain.nz=50", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, mid), VISCOUS_CHOLESKY);
-    char *transient[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
+    char *paper[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 3, paper), VISCOUS_CHOLESKY);
+    char *transient[] = {"domain.ny=200", "domain.nz=280", "heap.flow_rate=0",
                          "solver.mode=transient"};
     assert_int_equal(auto_choice("../cases/heap.ini", 4, transient), VISCOUS_CHOLESKY);
     /* (open faces keep the LU: test_channel_solvers, group boundary) */
-    char *fine[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0"};
+    char *fine[] = {"domain.ny=200", "domain.nz=280", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, fine), VISCOUS_AMG);
     char *picard[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0", "solver.newton=off"};
     assert_int_equal(auto_choice("../cases/heap.ini", 4, picard), VISCOUS_CHOLESKY);

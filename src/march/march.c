@@ -138,6 +138,16 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * thread, two rounds: LU / AMG in CPU time 1.3-1.4 at 35 x 50, 1.2-1.3 at
  * 50 x 70, 1.4-1.6 at 70 x 100, 1.4 at 100 x 140: the threshold stands. */
 #define AMG_MIN_UNKNOWNS 10000L
+/* Where the Cholesky of the diagonal tangent serves (no open faces, no
+ * body), the AMG only beyond this: once a solve left out the blocks of
+ * components that carry round-off ("Blocks left out of a solve"), whole
+ * steady solves on 2 threads, one sitting: the heap at 70 x 100 (21,000
+ * unknowns) Cholesky 1.59 s against the AMG's 2.02 s, at 140 x 200 (84,000)
+ * 9.69 s and 161 MB against 9.74 s and 178 MB; the square duct at 80 x 160
+ * (38,400) 3.13 s against 7.29 s (206 steps each); at 280 x 400 (336,000; 1
+ * thread, the other core busy) the AMG 55.3 s and 520 MB against 86.4 s and
+ * 620 MB. */
+#define AMG_OVER_CHOLESKY_MIN_UNKNOWNS 100000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
 {
@@ -205,8 +215,9 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     char why[256];
     /* a transient step lags the viscosity (the tangent is for steady
      * solves), where the AMG was not measured: the LU as before */
+    long amg_min = kind == VISCOUS_CHOLESKY ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS : AMG_MIN_UNKNOWNS;
     if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
-        unknowns > AMG_MIN_UNKNOWNS && amg_hypre_available(why, sizeof why))
+        unknowns > amg_min && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
     /* beyond the factorisation's limit a 2D cross-section takes the AMG
      * (measured above: the line blocks do not converge there) */
