@@ -94,8 +94,10 @@ void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x);
  * its own); the Krylov method keeps the whole operator. */
 int amg_hypre_blocks(const struct amg_hypre *a);
 
-/* Blocks the last amg_hypre_prepare left out. */
+/* Blocks the last amg_hypre_prepare left out, and their components (bit
+ * c). */
 int amg_hypre_dropped(const struct amg_hypre *a);
+int amg_hypre_dropped_components(const struct amg_hypre *a);
 
 /* Bytes hypre takes for a hierarchy of this many unknowns (with the default
  * options, the full tangent on a 2D grid), its library and MPI included: a

@@ -38,6 +38,22 @@ const int *probe_matrix_components(const struct probe_matrix *pm);
  * operator.  Returns 0, or -1 when memory runs out. */
 int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                           double *resp[3], int lower, struct csr_matrix *A);
+/* The same for the columns of the given components only (bit c for
+ * component c), the rows of the others made the identity's: the matrix of
+ * a solve that leaves those components out (their part of the right-hand
+ * side negligible), at the probes of a colouring of the columns kept (the
+ * heap's full tangent: 13 for its flow component instead of 41 for all).
+ * Needs the learnt colouring; without it, or with every component present,
+ * the whole matrix.  *probed: the components whose columns were probed (7:
+ * all).  Returns as probe_matrix_assemble. */
+int probe_matrix_assemble_components(struct probe_matrix *pm, operator_fn op, void *ctx,
+                                     double *probe[3], double *resp[3], int lower,
+                                     int components, struct csr_matrix *A, int *probed);
+/* Probes of the last such assembly's colouring (0 before any). */
+int probe_matrix_subset_probes(const struct probe_matrix *pm);
+/* The norm of r over the unknowns of the given components. */
+double probe_matrix_components_norm(const struct probe_matrix *pm, double *const r[3],
+                                    int components);
 
 /* Learns the pattern of op (an operator whose pattern holds that of every
  * operator this matrix will assemble: generic coefficients) with the

@@ -37,10 +37,12 @@ int sparse_direct_max_probes(void);
 double sparse_direct_memory_estimate(long unknowns, int dims);
 
 /* Probes op (work: two field triples, overwritten) and assembles its matrix,
- * to be factorised by sparse_direct_prepare.  Returns 0, or -1 when memory
- * runs out (sparse_direct_cause). */
+ * to be factorised by sparse_direct_prepare: the columns of the given
+ * components (bit c; 7: all), the others' rows the identity's
+ * (probe_matrix_assemble_components; *probed: the components probed).
+ * Returns 0, or -1 when memory runs out (sparse_direct_cause). */
 int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
-                         double *resp[3]);
+                         double *resp[3], int components, int *probed);
 
 /* Factorises the blocks of components (those the matrix couples: one, or
  * two for a flow in a plane or along one direction) that r reaches and
@@ -53,8 +55,10 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
  * factorisation fails (sparse_direct_cause says why). */
 int sparse_direct_prepare(struct sparse_direct *s, double *const r[3], double negligible);
 
-/* Blocks the last sparse_direct_prepare left out. */
+/* Blocks the last sparse_direct_prepare left out, and their components
+ * (bit c). */
 int sparse_direct_dropped(const struct sparse_direct *s);
+int sparse_direct_dropped_components(const struct sparse_direct *s);
 
 /* z = A^-1 r on the unknowns (z elsewhere untouched); a block that r
  * reaches but sparse_direct_prepare did not (nor left out) is factorised

@@ -161,6 +161,8 @@ struct viscous_precond_info {
     char cause[200];        /* why the last of them failed */
     int dropped_blocks;     /* blocks of components the last solve left out (a
                                negligible part of its right-hand side) */
+    int probed_components;  /* of the matrix in use: the components whose
+                               columns its probing took (bit c; 7: all) */
     long lagged_factors;    /* Cholesky with the full tangent: times the diagonal
                                tangent was not positive definite and the lagged
                                viscosity's factors served instead */

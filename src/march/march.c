@@ -139,14 +139,14 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * 50 x 70, 1.4-1.6 at 70 x 100, 1.4 at 100 x 140: the threshold stands. */
 #define AMG_MIN_UNKNOWNS 10000L
 /* Where the Cholesky of the diagonal tangent serves (no open faces, no
- * body), the AMG only beyond this: once a solve left out the blocks of
- * components that carry round-off ("Blocks left out of a solve"), whole
- * steady solves on 2 threads, one sitting: the heap at 70 x 100 (21,000
- * unknowns) Cholesky 1.59 s against the AMG's 2.02 s, at 140 x 200 (84,000)
- * 9.69 s and 161 MB against 9.74 s and 178 MB; the square duct at 80 x 160
- * (38,400) 3.13 s against 7.29 s (206 steps each); at 280 x 400 (336,000; 1
- * thread, the other core busy) the AMG 55.3 s and 520 MB against 86.4 s and
- * 620 MB. */
+ * body), the AMG only beyond this: once solves left out the blocks of
+ * components that carry round-off and the probing their columns ("Blocks
+ * left out of a solve"), whole steady solves on 2 threads, one sitting:
+ * the heap at 70 x 100 (21,000 unknowns) a tie (1.56 s against the AMG's
+ * 1.52 s, 52 MB against 66), at 140 x 200 (84,000) 11.2 s against 6.5 s,
+ * at 280 x 400 77.3 s against 26.3 s; but the square duct, whose march
+ * takes many small pseudo-time steps, at 80 x 160 (38,400) 2.86 s against
+ * 6.68 s and at 120 x 240 (86,400) 6.09 s against 14.7 s. */
 #define AMG_OVER_CHOLESKY_MIN_UNKNOWNS 100000L
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)

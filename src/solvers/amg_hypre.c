@@ -666,6 +666,17 @@ int amg_hypre_dropped(const struct amg_hypre *a)
     return n;
 }
 
+int amg_hypre_dropped_components(const struct amg_hypre *a)
+{
+    int m = 0;
+    for (int k = 0; k < a->nblocks; k++)
+        if (a->blk[k].dropped) /* a range of whole components */
+            for (int c = a->dof_func[a->blk[k].first];
+                 c <= a->dof_func[a->blk[k].first + a->blk[k].n - 1]; c++)
+                m |= 1 << c;
+    return m;
+}
+
 /* The library with OpenMPI initialised: the peak RSS of the heap at 14 x 20
  * grew by 12 MB with amg against lu.  The hierarchy: peak RSS less the
  * march's estimate without hypre's share, less 12 MB, over the unknowns, on

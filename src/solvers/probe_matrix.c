@@ -45,6 +45,12 @@ struct probe_matrix {
     ptrdiff_t *row_slot;
     int *row_comp;
     long broken;               /* assemblies the learnt pattern did not hold */
+    /* a colouring of the columns of some components only, from the learnt
+     * pattern (subset_colouring): components (bit c; 0: none kept), the
+     * columns by colour and the places as above */
+    int sub_mask, sub_ncolours;
+    long *sub_cstart, *sub_cmembers;
+    unsigned char *sub_entry;
 };
 
 /* Colours need 2 reach + 1 distinct residues in a row's reach; a periodic
@@ -79,6 +85,18 @@ long probe_matrix_unknowns(const struct probe_matrix *pm) { return pm->n; }
 static int structured_probes(const struct probe_matrix *pm)
 {
     return 3 * pm->period[0] * pm->period[1] * pm->period[2];
+}
+
+int probe_matrix_subset_probes(const struct probe_matrix *pm) { return pm->sub_ncolours; }
+
+double probe_matrix_components_norm(const struct probe_matrix *pm, double *const r[3],
+                                    int components)
+{
+    double d = 0.0;
+    for (long k = 0; k < pm->n; k++)
+        if (components >> pm->comp[k] & 1)
+            d += r[pm->comp[k]][pm->slot[k]] * r[pm->comp[k]][pm->slot[k]];
+    return sqrt(d);
 }
 
 int probe_matrix_probes(const struct probe_matrix *pm)
@@ -227,6 +245,12 @@ void probe_matrix_forget(struct probe_matrix *pm)
     pm->pat_rowptr = pm->pat_col = NULL;
     pm->entry = NULL;
     pm->ncolours = 0;
+    free(pm->sub_cstart);
+    free(pm->sub_cmembers);
+    free(pm->sub_entry);
+    pm->sub_cstart = pm->sub_cmembers = NULL;
+    pm->sub_entry = NULL;
+    pm->sub_mask = pm->sub_ncolours = 0;
 }
 
 static int grow_triplets(struct probe_matrix *pm, size_t cap)
@@ -367,16 +391,37 @@ static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double 
  * the exact zeros (and with lower the upper triangle) in place.  Returns 0,
  * -1 when memory runs out, 1 when a response reaches a row where its
  * colour has no column in the pattern (the operator left the pattern). */
+static int subset_colouring(struct probe_matrix *pm, int components);
+
+/* The assembly by the learnt colouring: of every column, or (components
+ * short of every one present) of those components' columns only, the rows
+ * of the others then identity rows.  Returns 0, 1 when a response left the
+ * pattern, or -1 when memory runs out. */
 static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
-                           double *probe[3], double *resp[3], int lower, struct csr_matrix *A)
+                           double *probe[3], double *resp[3], int lower, int components,
+                           struct csr_matrix *A)
 {
     const int n = (int)pm->n;
     const int *rp = pm->pat_rowptr;
     if (csr_reserve(A, n, (size_t)rp[n]) != 0)
         return -1;
-    for (int q = 0; q < pm->ncolours; q++) {
-        apply_probe(pm, op, ctx, pm->cmembers, pm->cstart[q], pm->cstart[q + 1], probe, resp);
-        const unsigned char *at = pm->entry + (size_t)q * n;
+    int ncolours = pm->ncolours;
+    const long *cstart = pm->cstart, *cmembers = pm->cmembers;
+    const unsigned char *entry = pm->entry;
+    int part = components != 7;
+    if (part) {
+        if (subset_colouring(pm, components) != 0)
+            return -1;
+        ncolours = pm->sub_ncolours;
+        cstart = pm->sub_cstart;
+        cmembers = pm->sub_cmembers;
+        entry = pm->sub_entry;
+        /* the columns left out keep no value of an earlier assembly */
+        memset(A->val, 0, (size_t)rp[n] * sizeof(double));
+    }
+    for (int q = 0; q < ncolours; q++) {
+        apply_probe(pm, op, ctx, cmembers, cstart[q], cstart[q + 1], probe, resp);
+        const unsigned char *at = entry + (size_t)q * n;
         int outside = 0;
         /* on the threads: a serial loop here was a tenth of the heap's
          * probing at 140 x 200, the other thread idle */
@@ -395,6 +440,12 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
     for (int r = 0; r < n; r++) {
         int e0 = rp[r];
         A->rowptr[r] = w;
+        if (part && !(components >> pm->comp[r] & 1)) {
+            /* a component left out: its row the identity's */
+            A->col[w] = r;
+            A->val[w++] = 1.0;
+            continue;
+        }
         for (int e = e0; e < rp[r + 1]; e++) {
             int c = pm->pat_col[e];
             if (A->val[e] == 0.0 || (lower && c > r))
@@ -410,8 +461,26 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
 int probe_matrix_assemble(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],
                           double *resp[3], int lower, struct csr_matrix *A)
 {
+    int probed;
+    return probe_matrix_assemble_components(pm, op, ctx, probe, resp, lower, 7, A, &probed);
+}
+
+int probe_matrix_assemble_components(struct probe_matrix *pm, operator_fn op, void *ctx,
+                                     double *probe[3], double *resp[3], int lower,
+                                     int components, struct csr_matrix *A, int *probed)
+{
+    /* the components present: a mask of every one of them is the whole */
+    int present = 0;
+    for (long k = 0; k < pm->n; k++)
+        present |= 1 << pm->comp[k];
+    components &= present;
+    if (components == present || components == 0)
+        components = 7;
+    *probed = 7;
     if (pm->ncolours > 0) {
-        int rc = learnt_assemble(pm, op, ctx, probe, resp, lower, A);
+        int rc = learnt_assemble(pm, op, ctx, probe, resp, lower, components, A);
+        if (rc == 0)
+            *probed = components;
         if (rc <= 0)
             return rc;
         /* the operator left the learnt pattern: the structured colouring,
@@ -593,6 +662,95 @@ static int greedy_colours(struct probe_matrix *pm, const int *order, const uint6
         ncolours = k + 1 > ncolours ? k + 1 : ncolours;
     }
     return ncolours;
+}
+
+/* A greedy colouring of the given components' columns over the learnt
+ * pattern, in the order of the faces' positions, kept for the next
+ * assemblies of the same components.  Returns 0, or -1 when memory runs
+ * out. */
+static int subset_colouring(struct probe_matrix *pm, int components)
+{
+    if (pm->sub_mask == components)
+        return 0;
+    free(pm->sub_cstart);
+    free(pm->sub_cmembers);
+    free(pm->sub_entry);
+    pm->sub_cstart = pm->sub_cmembers = NULL;
+    pm->sub_entry = NULL;
+    pm->sub_mask = pm->sub_ncolours = 0;
+    const int n = (int)pm->n;
+    const int *rp = pm->pat_rowptr, *pc = pm->pat_col;
+    /* the pattern by columns (each column's rows) */
+    int *crp = calloc((size_t)n + 2, sizeof(int));
+    int *crow = malloc(((size_t)rp[n] + 1) * sizeof(int));
+    int *colour = malloc(((size_t)n + 1) * sizeof(int));
+    int *seen = malloc(((size_t)n + 1) * sizeof(int));
+    int *order = by_position(pm, 0);
+    int ok = crp && crow && colour && seen && order;
+    int ncolours = 0;
+    if (ok) {
+        for (int e = 0; e < rp[n]; e++)
+            crp[pc[e] + 2]++;
+        for (int c = 0; c < n; c++)
+            crp[c + 2] += crp[c + 1];
+        for (int r = 0; r < n; r++)
+            for (int e = rp[r]; e < rp[r + 1]; e++)
+                crow[crp[pc[e] + 1]++] = r;
+        for (int c = 0; c <= n; c++)
+            colour[c] = seen[c] = -1;
+        for (long m = 0; m < pm->n; m++) {
+            int c = order[m];
+            if (!(components >> pm->comp[c] & 1))
+                continue;
+            for (int b = crp[c]; b < crp[c + 1]; b++) {
+                int r = crow[b];
+                for (int f = rp[r]; f < rp[r + 1]; f++)
+                    if (colour[pc[f]] >= 0)
+                        seen[colour[pc[f]]] = c;
+            }
+            int k = 0;
+            while (seen[k] == c)
+                k++;
+            colour[c] = k;
+            ncolours = k + 1 > ncolours ? k + 1 : ncolours;
+        }
+        pm->sub_cstart = calloc((size_t)ncolours + 1, sizeof(long));
+        pm->sub_cmembers = malloc(((size_t)n + 1) * sizeof(long));
+        pm->sub_entry = malloc((size_t)ncolours * n + 1);
+        ok = pm->sub_cstart && pm->sub_cmembers && pm->sub_entry;
+    }
+    if (ok) {
+        for (int c = 0; c < n; c++)
+            if (colour[c] >= 0)
+                pm->sub_cstart[colour[c] + 1]++;
+        for (int q = 0; q < ncolours; q++)
+            pm->sub_cstart[q + 1] += pm->sub_cstart[q];
+        for (int c = 0; c < n; c++)
+            if (colour[c] >= 0)
+                pm->sub_cmembers[pm->sub_cstart[colour[c]]++] = c;
+        for (int q = ncolours; q > 0; q--)
+            pm->sub_cstart[q] = pm->sub_cstart[q - 1];
+        pm->sub_cstart[0] = 0;
+        memset(pm->sub_entry, NO_ENTRY, (size_t)ncolours * n);
+        for (int r = 0; r < n; r++)
+            for (int e = rp[r]; e < rp[r + 1]; e++)
+                if (colour[pc[e]] >= 0)
+                    pm->sub_entry[(size_t)colour[pc[e]] * n + r] = (unsigned char)(e - rp[r]);
+        pm->sub_mask = components;
+        pm->sub_ncolours = ncolours;
+    } else {
+        free(pm->sub_cstart);
+        free(pm->sub_cmembers);
+        free(pm->sub_entry);
+        pm->sub_cstart = pm->sub_cmembers = NULL;
+        pm->sub_entry = NULL;
+    }
+    free(crp);
+    free(crow);
+    free(colour);
+    free(seen);
+    free(order);
+    return ok ? 0 : -1;
 }
 
 int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, double *probe[3],

@@ -239,10 +239,11 @@ static int take_block(struct sparse_direct *s, struct block *b, const struct csr
 }
 
 int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, double *probe[3],
-                         double *resp[3])
+                         double *resp[3], int components, int *probed)
 {
     /* by rows (the lower triangle if symmetric), transposed into columns */
-    if (probe_matrix_assemble(s->pm, op, ctx, probe, resp, s->symmetric, &s->rows) != 0)
+    if (probe_matrix_assemble_components(s->pm, op, ctx, probe, resp, s->symmetric, components,
+                                         &s->rows, probed) != 0)
         return failed(s, NULL, "matrix", "out of memory");
     /* the factors of a flow along one direction then hold its component and
      * the two across it apart: the heap at 140 x 200 factorised in half the
@@ -356,6 +357,15 @@ int sparse_direct_dropped(const struct sparse_direct *s)
     for (int k = 0; k < s->nblocks; k++)
         n += s->blk[k].dropped;
     return n;
+}
+
+int sparse_direct_dropped_components(const struct sparse_direct *s)
+{
+    int m = 0;
+    for (int k = 0; k < s->nblocks; k++)
+        for (int q = 0; s->blk[k].dropped && q < s->blk[k].ncomp; q++)
+            m |= 1 << s->blk[k].comp[q];
+    return m;
 }
 
 void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[3])

@@ -74,6 +74,9 @@ struct viscous_solver {
     int direct_valid;                  /* the last factorisation succeeded */
     int direct_lagged;                 /* the factors are the lagged viscosity's (direct_factor) */
     int keep_blocks, keep_once;        /* solve() leaves no block out: always, this solve */
+    /* the components whose columns the next probing takes (bit c; 0: all)
+     * and those the current matrix's probing took (7: all) */
+    int probe_components, probed_components;
     int dropped;                       /* blocks the last solve() left out */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
     struct kept direct_kept;
@@ -197,6 +200,7 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         return -1;
     }
     gsl_set_error_handler_off(); /* a non-SPD block is handled, not fatal */
+    s->probe_components = s->probed_components = s->info.probed_components = 7;
     s->g = g;
     s->bc = bc;
     s->line_dir = L;
@@ -581,6 +585,14 @@ static int fall_back(struct viscous_solver *s, const struct viscous_problem *pb,
     return 1;
 }
 
+/* The components whose columns a probing takes: all, or those of the
+ * blocks the last solve kept (the others' rows are then the identity's:
+ * probe_matrix_assemble_components), while solves keep leaving them out. */
+static int probe_mask(const struct viscous_solver *s)
+{
+    return s->keep_blocks || !s->probe_components ? 7 : s->probe_components;
+}
+
 /* The sparse factors for pb.  A Cholesky with the full tangent factorises a
  * symmetric counterpart while BiCGStab works on the tangent: the diagonal
  * tangent (sym_*), or, once that proved not positive definite
@@ -608,7 +620,8 @@ static int direct_factor(struct viscous_solver *s, const struct viscous_problem 
     struct viscous_operator a = {s, pb};
     double t0 = cpu_now();
     s->direct_ok = s->direct_valid =
-        sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q) == 0;
+        sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q,
+                             probe_mask(s), &s->probed_components) == 0;
     kept_built(&s->direct_kept);
     s->info.setup_seconds = cpu_now() - t0; /* probing included */
     s->info.unknowns = sparse_direct_unknowns(s->direct);
@@ -672,7 +685,9 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
         amg_hypre_release(s->amg);
         viscous_learn_pattern(s, s->probe, &s->amg_pattern, &q);
         double t0 = cpu_now();
-        int probed = probe_matrix_assemble(s->probe, viscous_operator_apply, &a, s->p, s->q, 0, &s->amat) == 0;
+        int probed = probe_matrix_assemble_components(s->probe, viscous_operator_apply, &a, s->p,
+                                                      s->q, 0, probe_mask(s), &s->amat,
+                                                      &s->probed_components) == 0;
         int ok = probed;
         double t1 = cpu_now();
         s->info.unknowns = s->amat.n;
@@ -1009,6 +1024,14 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
         s->keep_once = 0;
     }
     s->info.dropped_blocks = s->dropped;
+    s->info.probed_components = s->probed_components;
+    /* the next probing leaves out the components of the blocks this solve
+     * left out (a solve that failed: none) */
+    int out = 0;
+    if (rc == 0 && s->dropped)
+        out = s->amg_ok ? amg_hypre_dropped_components(s->amg)
+                        : s->direct_ok ? sparse_direct_dropped_components(s->direct) : 0;
+    s->probe_components = 7 & ~out;
     if (s->amg_ok)
         kept_solved(&s->amg_kept, st->iterations);
     else if (s->direct_ok || s->fourier_ok)
@@ -1051,6 +1074,21 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     double negligible =
         s->keep_blocks || s->keep_once ? -1.0 : NEGLIGIBLE_SHARE * rtol * bnorm;
     s->dropped = 0;
+    if ((s->direct_ok || s->amg_ok) && s->probed_components != 7) {
+        /* components whose columns the probing left out: while their part
+         * of the right-hand side stays negligible their blocks are left out
+         * of this solve too; otherwise the whole matrix, probed again */
+        const struct probe_matrix *pm =
+            s->amg_ok ? s->probe : sparse_direct_probe_matrix(s->direct);
+        int missing = 7 & ~s->probed_components;
+        if (negligible < 0.0 || probe_matrix_components_norm(pm, s->r, missing) > negligible) {
+            struct kept *k = s->amg_ok ? &s->amg_kept : &s->direct_kept;
+            s->probe_components = 7;
+            k->force = 1;
+            viscous_precondition(s, pb);
+            k->force = 0;
+        }
+    }
     if (s->direct_ok) {
         /* the blocks of components this right-hand side reaches */
         double t0 = cpu_now();
