@@ -399,7 +399,7 @@ static int subset_colouring(struct probe_matrix *pm, int components);
  * pattern, or -1 when memory runs out. */
 static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
                            double *probe[3], double *resp[3], int lower, int components,
-                           struct csr_matrix *A)
+                           struct csr_matrix *A, int *probed)
 {
     const int n = (int)pm->n;
     const int *rp = pm->pat_rowptr;
@@ -409,6 +409,12 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
     const long *cstart = pm->cstart, *cmembers = pm->cmembers;
     const unsigned char *entry = pm->entry;
     int part = components != 7;
+    /* a left-out row's identity entry takes its first place in the
+     * pattern, compacted in place: a row without one takes the whole */
+    for (int r = 0; part && r < n; r++)
+        if (!(components >> pm->comp[r] & 1) && rp[r + 1] == rp[r])
+            part = 0;
+    *probed = part ? components : 7;
     if (part) {
         if (subset_colouring(pm, components) != 0)
             return -1;
@@ -441,6 +447,7 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
         int e0 = rp[r];
         A->rowptr[r] = w;
         if (part && !(components >> pm->comp[r] & 1)) {
+            /* w <= e0: the rows before gave at most their places */
             /* a component left out: its row the identity's */
             A->col[w] = r;
             A->val[w++] = 1.0;
@@ -478,11 +485,10 @@ int probe_matrix_assemble_components(struct probe_matrix *pm, operator_fn op, vo
         components = 7;
     *probed = 7;
     if (pm->ncolours > 0) {
-        int rc = learnt_assemble(pm, op, ctx, probe, resp, lower, components, A);
-        if (rc == 0)
-            *probed = components;
+        int rc = learnt_assemble(pm, op, ctx, probe, resp, lower, components, A, probed);
         if (rc <= 0)
             return rc;
+        *probed = 7;
         /* the operator left the learnt pattern: the structured colouring,
          * which needs no pattern, from now on */
         pm->broken++;
