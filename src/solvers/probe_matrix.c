@@ -422,8 +422,6 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
         cstart = pm->sub_cstart;
         cmembers = pm->sub_cmembers;
         entry = pm->sub_entry;
-        /* the columns left out keep no value of an earlier assembly */
-        memset(A->val, 0, (size_t)rp[n] * sizeof(double));
     }
     for (int q = 0; q < ncolours; q++) {
         apply_probe(pm, op, ctx, cmembers, cstart[q], cstart[q + 1], probe, resp);
@@ -455,7 +453,8 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
         }
         for (int e = e0; e < rp[r + 1]; e++) {
             int c = pm->pat_col[e];
-            if (A->val[e] == 0.0 || (lower && c > r))
+            /* (a column left out holds a value of an earlier assembly) */
+            if (A->val[e] == 0.0 || (lower && c > r) || (part && !(components >> pm->comp[c] & 1)))
                 continue;
             A->col[w] = c;
             A->val[w++] = A->val[e];
