@@ -234,6 +234,17 @@ void probe_matrix_destroy(struct probe_matrix *pm)
     free(pm);
 }
 
+/* Drops the colouring of some components' columns (subset_colouring). */
+static void forget_subset(struct probe_matrix *pm)
+{
+    free(pm->sub_cstart);
+    free(pm->sub_cmembers);
+    free(pm->sub_entry);
+    pm->sub_cstart = pm->sub_cmembers = NULL;
+    pm->sub_entry = NULL;
+    pm->sub_mask = pm->sub_ncolours = 0;
+}
+
 void probe_matrix_forget(struct probe_matrix *pm)
 {
     free(pm->cstart);
@@ -245,12 +256,7 @@ void probe_matrix_forget(struct probe_matrix *pm)
     pm->pat_rowptr = pm->pat_col = NULL;
     pm->entry = NULL;
     pm->ncolours = 0;
-    free(pm->sub_cstart);
-    free(pm->sub_cmembers);
-    free(pm->sub_entry);
-    pm->sub_cstart = pm->sub_cmembers = NULL;
-    pm->sub_entry = NULL;
-    pm->sub_mask = pm->sub_ncolours = 0;
+    forget_subset(pm);
 }
 
 static int grow_triplets(struct probe_matrix *pm, size_t cap)
@@ -639,6 +645,22 @@ static int masked_rows(struct probe_matrix *pm, long c, const uint64_t *mask, in
     return kept;
 }
 
+/* Column c, whose rows are rows[0 .. nr-1], takes the least colour that no
+ * column of those rows (the pattern rowptr, cols) holds yet (seen: work,
+ * -1 at first).  Returns it. */
+static int take_colour(int c, const int *rows, int nr, const int *rowptr, const int *cols,
+                       int *seen, int *colour)
+{
+    for (int b = 0; b < nr; b++)
+        for (int f = rowptr[rows[b]]; f < rowptr[rows[b] + 1]; f++)
+            if (colour[cols[f]] >= 0)
+                seen[colour[cols[f]]] = c;
+    int k = 0;
+    while (seen[k] == c)
+        k++;
+    return colour[c] = k;
+}
+
 /* Greedy colouring of the columns in the given order, each taking the
  * least colour that no column sharing a row with it holds (seen: work).
  * Returns the colours. */
@@ -654,19 +676,50 @@ static int greedy_colours(struct probe_matrix *pm, const int *order, const uint6
     for (long m = 0; m < pm->n; m++) {
         int c = order[m];
         int nr = masked_rows(pm, c, mask, words);
-        for (int b = 0; b < nr; b++) {
-            int r = pm->rows[b];
-            for (int f = rowptr[r]; f < rowptr[r + 1]; f++)
-                if (colour[cols[f]] >= 0)
-                    seen[colour[cols[f]]] = c;
-        }
-        int k = 0;
-        while (seen[k] == c)
-            k++;
-        colour[c] = k;
+        int k = take_colour(c, pm->rows, nr, rowptr, cols, seen, colour);
         ncolours = k + 1 > ncolours ? k + 1 : ncolours;
     }
     return ncolours;
+}
+
+/* The columns by colour (cstart, cmembers) and each colour's place in each
+ * row of the pattern (entry, NO_ENTRY where it has none) for colour[] (-1:
+ * a column left without one).  Returns 0, or -1 when memory runs out
+ * (nothing allocated then). */
+static int colour_tables(const struct probe_matrix *pm, const int *colour, int ncolours,
+                         const int *rowptr, const int *cols, long **cstart_out,
+                         long **cmembers_out, unsigned char **entry_out)
+{
+    const int n = (int)pm->n;
+    long *cstart = calloc((size_t)ncolours + 1, sizeof(long));
+    long *cmembers = malloc(((size_t)n + 1) * sizeof(long));
+    unsigned char *entry = malloc((size_t)ncolours * n + 1);
+    if (!cstart || !cmembers || !entry) {
+        free(cstart);
+        free(cmembers);
+        free(entry);
+        return -1;
+    }
+    for (int c = 0; c < n; c++)
+        if (colour[c] >= 0)
+            cstart[colour[c] + 1]++;
+    for (int q = 0; q < ncolours; q++)
+        cstart[q + 1] += cstart[q];
+    for (int c = 0; c < n; c++)
+        if (colour[c] >= 0)
+            cmembers[cstart[colour[c]]++] = c;
+    for (int q = ncolours; q > 0; q--)
+        cstart[q] = cstart[q - 1];
+    cstart[0] = 0;
+    memset(entry, NO_ENTRY, (size_t)ncolours * n);
+    for (int r = 0; r < n; r++)
+        for (int e = rowptr[r]; e < rowptr[r + 1]; e++)
+            if (colour[cols[e]] >= 0)
+                entry[(size_t)colour[cols[e]] * n + r] = (unsigned char)(e - rowptr[r]);
+    *cstart_out = cstart;
+    *cmembers_out = cmembers;
+    *entry_out = entry;
+    return 0;
 }
 
 /* A greedy colouring of the given components' columns over the learnt
@@ -677,12 +730,7 @@ static int subset_colouring(struct probe_matrix *pm, int components)
 {
     if (pm->sub_mask == components)
         return 0;
-    free(pm->sub_cstart);
-    free(pm->sub_cmembers);
-    free(pm->sub_entry);
-    pm->sub_cstart = pm->sub_cmembers = NULL;
-    pm->sub_entry = NULL;
-    pm->sub_mask = pm->sub_ncolours = 0;
+    forget_subset(pm);
     const int n = (int)pm->n;
     const int *rp = pm->pat_rowptr, *pc = pm->pat_col;
     /* the pattern by columns (each column's rows) */
@@ -707,48 +755,15 @@ static int subset_colouring(struct probe_matrix *pm, int components)
             int c = order[m];
             if (!(components >> pm->comp[c] & 1))
                 continue;
-            for (int b = crp[c]; b < crp[c + 1]; b++) {
-                int r = crow[b];
-                for (int f = rp[r]; f < rp[r + 1]; f++)
-                    if (colour[pc[f]] >= 0)
-                        seen[colour[pc[f]]] = c;
-            }
-            int k = 0;
-            while (seen[k] == c)
-                k++;
-            colour[c] = k;
+            int k = take_colour(c, crow + crp[c], crp[c + 1] - crp[c], rp, pc, seen, colour);
             ncolours = k + 1 > ncolours ? k + 1 : ncolours;
         }
-        pm->sub_cstart = calloc((size_t)ncolours + 1, sizeof(long));
-        pm->sub_cmembers = malloc(((size_t)n + 1) * sizeof(long));
-        pm->sub_entry = malloc((size_t)ncolours * n + 1);
-        ok = pm->sub_cstart && pm->sub_cmembers && pm->sub_entry;
+        ok = colour_tables(pm, colour, ncolours, rp, pc, &pm->sub_cstart, &pm->sub_cmembers,
+                           &pm->sub_entry) == 0;
     }
     if (ok) {
-        for (int c = 0; c < n; c++)
-            if (colour[c] >= 0)
-                pm->sub_cstart[colour[c] + 1]++;
-        for (int q = 0; q < ncolours; q++)
-            pm->sub_cstart[q + 1] += pm->sub_cstart[q];
-        for (int c = 0; c < n; c++)
-            if (colour[c] >= 0)
-                pm->sub_cmembers[pm->sub_cstart[colour[c]]++] = c;
-        for (int q = ncolours; q > 0; q--)
-            pm->sub_cstart[q] = pm->sub_cstart[q - 1];
-        pm->sub_cstart[0] = 0;
-        memset(pm->sub_entry, NO_ENTRY, (size_t)ncolours * n);
-        for (int r = 0; r < n; r++)
-            for (int e = rp[r]; e < rp[r + 1]; e++)
-                if (colour[pc[e]] >= 0)
-                    pm->sub_entry[(size_t)colour[pc[e]] * n + r] = (unsigned char)(e - rp[r]);
         pm->sub_mask = components;
         pm->sub_ncolours = ncolours;
-    } else {
-        free(pm->sub_cstart);
-        free(pm->sub_cmembers);
-        free(pm->sub_entry);
-        pm->sub_cstart = pm->sub_cmembers = NULL;
-        pm->sub_entry = NULL;
     }
     free(crp);
     free(crow);
@@ -836,26 +851,9 @@ int probe_matrix_learn(struct probe_matrix *pm, operator_fn op, void *ctx, doubl
     for (int r = 0; ok && r < n; r++)
         longest = rowptr[r + 1] - rowptr[r] > longest ? rowptr[r + 1] - rowptr[r] : longest;
     ok = ok && ncolours < structured_probes(pm) && longest < NO_ENTRY;
+    ok = ok && colour_tables(pm, colour, ncolours, rowptr, cols, &pm->cstart, &pm->cmembers,
+                             &pm->entry) == 0;
     if (ok) {
-        pm->cstart = calloc((size_t)ncolours + 1, sizeof(long));
-        pm->cmembers = malloc(((size_t)n + 1) * sizeof(long));
-        pm->entry = malloc((size_t)ncolours * n + 1);
-        ok = pm->cstart && pm->cmembers && pm->entry;
-    }
-    if (ok) {
-        for (int c = 0; c < n; c++)
-            pm->cstart[colour[c] + 1]++;
-        for (int q = 0; q < ncolours; q++)
-            pm->cstart[q + 1] += pm->cstart[q];
-        for (int c = 0; c < n; c++)
-            pm->cmembers[pm->cstart[colour[c]]++] = c;
-        for (int q = ncolours; q > 0; q--)
-            pm->cstart[q] = pm->cstart[q - 1];
-        pm->cstart[0] = 0;
-        memset(pm->entry, NO_ENTRY, (size_t)ncolours * n);
-        for (int r = 0; r < n; r++)
-            for (int e = rowptr[r]; e < rowptr[r + 1]; e++)
-                pm->entry[(size_t)colour[cols[e]] * n + r] = (unsigned char)(e - rowptr[r]);
         pm->pat_rowptr = rowptr;
         pm->pat_col = cols;
         rowptr = cols = NULL;
