@@ -967,8 +967,8 @@ static void test_auto_choice(void **state)
     (void)state;
     /* the heap: 14 x 20 (840 unknowns) as the heap tests run it, 35 x 50
      * (5,250) and 70 x 100 (21,000, the paper's mesh), the Cholesky of the
-     * diagonal tangent; 200 x 280 (168,000) the AMG, but not in a transient
-     * run */
+     * diagonal tangent; 140 x 200 (84,000) and 200 x 280 (168,000) the AMG,
+     * but not in a transient run */
     char *coarse[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, coarse), VISCOUS_CHOLESKY);
     char *mid[] = {"domain.ny=35", "domain.nz=50", "heap.flow_rate=0"};
@@ -981,6 +981,11 @@ static void test_auto_choice(void **state)
     /* (open faces keep the LU: test_channel_solvers, group boundary) */
     char *fine[] = {"domain.ny=200", "domain.nz=280", "heap.flow_rate=0"};
     assert_int_equal(auto_choice("../cases/heap.ini", 3, fine), VISCOUS_AMG);
+    char *doubled[] = {"domain.ny=140", "domain.nz=200", "heap.flow_rate=0"};
+    assert_int_equal(auto_choice("../cases/heap.ini", 3, doubled), VISCOUS_AMG);
+    /* the square duct's finest mesh of the paper (38,400): the Cholesky */
+    char *duct80[] = {"domain.ny=80", "domain.nz=160"};
+    assert_int_equal(auto_choice("../cases/duct_square.ini", 2, duct80), VISCOUS_CHOLESKY);
     char *picard[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0", "solver.newton=off"};
     assert_int_equal(auto_choice("../cases/heap.ini", 4, picard), VISCOUS_CHOLESKY);
     char *lu[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
