@@ -39,4 +39,7 @@ static inline long csr_nnz(const struct csr_matrix *A) { return A->n ? A->rowptr
 int csr_same_pattern(const struct csr_matrix *A, const struct csr_matrix *B);
 void csr_free(struct csr_matrix *A);
 
+/* The Euclidean norm of v[0 .. n-1] (a vector in a matrix's numbering). */
+double csr_vector_norm(const double *v, long n);
+
 #endif

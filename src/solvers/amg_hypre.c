@@ -600,20 +600,12 @@ static void hierarchy_stats(struct amg_hypre *a)
     a->complexity = fine > 0 ? (double)all / (double)fine : 0.0;
 }
 
-static double block_norm(const double *v, int n)
-{
-    double d = 0.0;
-    for (int i = 0; i < n; i++)
-        d += v[i] * v[i];
-    return sqrt(d);
-}
-
 int amg_hypre_prepare(struct amg_hypre *a, const double *b, double negligible)
 {
     int todo[3], nt = 0;
     for (int k = 0; k < a->nblocks; k++) {
         struct amg_block *bk = &a->blk[k];
-        double bn = block_norm(b + bk->first, bk->n);
+        double bn = csr_vector_norm(b + bk->first, bk->n);
         bk->dropped = a->nblocks > 1 && bn <= negligible;
         if (!bk->dropped && !bk->built && bn > 0.0)
             todo[nt++] = k;
@@ -639,7 +631,7 @@ void amg_hypre_apply(struct amg_hypre *a, const double *b, double *x)
 #pragma omp parallel for num_threads(block_threads(a)) schedule(dynamic, 1)
     for (int k = 0; k < a->nblocks; k++) {
         struct amg_block *bk = &a->blk[k];
-        if (!bk->dropped && !bk->built && block_norm(b + bk->first, bk->n) > 0.0) {
+        if (!bk->dropped && !bk->built && csr_vector_norm(b + bk->first, bk->n) > 0.0) {
             /* reached only now: built here (its part of x 0 if that fails) */
             bk->rc = build_block(a, bk);
             bk->built = bk->rc == 0;

@@ -118,6 +118,14 @@ void csr_component_groups(const struct csr_matrix *M, const int *comp, int group
     }
 }
 
+double csr_vector_norm(const double *v, long n)
+{
+    double d = 0.0;
+    for (long i = 0; i < n; i++)
+        d += v[i] * v[i];
+    return sqrt(d);
+}
+
 void csr_free(struct csr_matrix *A)
 {
     free(A->rowptr);

@@ -17,6 +17,7 @@ struct probe_matrix {
     long n;                    /* unknowns */
     int *index[3];             /* unknown number of each field slot, or -1 */
     int *comp;                 /* component of unknown k */
+    int present;               /* the components with unknowns (bit c) */
     ptrdiff_t *slot;           /* field slot of unknown k */
     int *pos;                  /* i, j, k of unknown k (3 per unknown) */
     /* the unknowns each probe sets, by probe: members[start[q] .. start[q+1]) */
@@ -181,6 +182,7 @@ int probe_matrix_create(struct probe_matrix **out, const struct grid *g, const i
                     ptrdiff_t p = grid_idx(g, i, j, kk);
                     pm->index[c][p] = (int)k;
                     pm->comp[k] = c;
+                    pm->present |= 1 << c;
                     pm->slot[k] = p;
                     pm->pos[3 * k] = i;
                     pm->pos[3 * k + 1] = j;
@@ -392,17 +394,16 @@ static int probe_all(struct probe_matrix *pm, operator_fn op, void *ctx, double 
     return 0;
 }
 
-/* Probes op colour by colour of the learnt colouring, each response
- * straight into the learnt pattern's entries of A, row by row; then drops
- * the exact zeros (and with lower the upper triangle) in place.  Returns 0,
- * -1 when memory runs out, 1 when a response reaches a row where its
- * colour has no column in the pattern (the operator left the pattern). */
 static int subset_colouring(struct probe_matrix *pm, int components);
 
-/* The assembly by the learnt colouring: of every column, or (components
- * short of every one present) of those components' columns only, the rows
- * of the others then identity rows.  Returns 0, 1 when a response left the
- * pattern, or -1 when memory runs out. */
+/* Probes op colour by colour of the learnt colouring, each response
+ * straight into the learnt pattern's entries of A, row by row; then drops
+ * the exact zeros (and with lower the upper triangle) in place.  Every
+ * column (components 7), or the given components' columns alone (their
+ * colouring: subset_colouring), the others' rows then the identity's;
+ * *probed says which.  Returns 0, -1 when memory runs out, 1 when a
+ * response reaches a row where its colour has no column in the pattern
+ * (the operator left the pattern). */
 static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
                            double *probe[3], double *resp[3], int lower, int components,
                            struct csr_matrix *A, int *probed)
@@ -451,8 +452,8 @@ static int learnt_assemble(struct probe_matrix *pm, operator_fn op, void *ctx,
         int e0 = rp[r];
         A->rowptr[r] = w;
         if (part && !(components >> pm->comp[r] & 1)) {
-            /* w <= e0: the rows before gave at most their places */
-            /* a component left out: its row the identity's */
+            /* a component left out: its row the identity's (w <= e0: the
+             * rows before gave at most their places) */
             A->col[w] = r;
             A->val[w++] = 1.0;
             continue;
@@ -481,12 +482,9 @@ int probe_matrix_assemble_components(struct probe_matrix *pm, operator_fn op, vo
                                      double *probe[3], double *resp[3], int lower,
                                      int components, struct csr_matrix *A, int *probed)
 {
-    /* the components present: a mask of every one of them is the whole */
-    int present = 0;
-    for (long k = 0; k < pm->n; k++)
-        present |= 1 << pm->comp[k];
-    components &= present;
-    if (components == present || components == 0)
+    /* a mask of every component present is the whole */
+    components &= pm->present;
+    if (components == pm->present || components == 0)
         components = 7;
     *probed = 7;
     if (pm->ncolours > 0) {

@@ -327,14 +327,6 @@ static int reaches(const double *v, int n)
     return 0;
 }
 
-static double norm(const double *v, int n)
-{
-    double d = 0.0;
-    for (int i = 0; i < n; i++)
-        d += v[i] * v[i];
-    return sqrt(d);
-}
-
 int sparse_direct_prepare(struct sparse_direct *s, double *const r[3], double negligible)
 {
     probe_matrix_gather(s->pm, r, s->sol);
@@ -342,7 +334,7 @@ int sparse_direct_prepare(struct sparse_direct *s, double *const r[3], double ne
     long at = 0;
     for (int k = 0; k < s->nblocks; k++) {
         struct block *b = &s->blk[k];
-        b->dropped = s->nblocks > 1 && norm(s->rhs + at, b->n) <= negligible;
+        b->dropped = s->nblocks > 1 && csr_vector_norm(s->rhs + at, b->n) <= negligible;
         if (!b->dropped && !b->factorised && reaches(s->rhs + at, b->n) &&
             factorise_block(s, b) != 0)
             return -1;

@@ -74,8 +74,8 @@ struct viscous_solver {
     int direct_valid;                  /* the last factorisation succeeded */
     int direct_lagged;                 /* the factors are the lagged viscosity's (direct_factor) */
     int keep_blocks, keep_once;        /* solve() leaves no block out: always, this solve */
-    /* the components whose columns the next probing takes (bit c; 0: all)
-     * and those the current matrix's probing took (7: all) */
+    /* the components whose columns the next probing takes and those the
+     * current matrix's probing took (bit c; 7: all) */
     int probe_components, probed_components;
     int dropped;                       /* blocks the last solve() left out */
     int direct_reuse;                  /* > 0: it serves up to this many further steps */
@@ -590,7 +590,7 @@ static int fall_back(struct viscous_solver *s, const struct viscous_problem *pb,
  * probe_matrix_assemble_components), while solves keep leaving them out. */
 static int probe_mask(const struct viscous_solver *s)
 {
-    return s->keep_blocks || !s->probe_components ? 7 : s->probe_components;
+    return s->keep_blocks ? 7 : s->probe_components;
 }
 
 /* The sparse factors for pb.  A Cholesky with the full tangent factorises a
@@ -1068,8 +1068,9 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
      * (the heap, the ducts) carries only the state's round-off across it
      * (1e-13 to 1e-10 on the heap, its flow component's 1e-2 to 16), and
      * its factorisation or hierarchy of the two components across was most
-     * of the step: the heap at 140 x 200 with the LU 10.9 s instead of
-     * 23.7 s, the same 54 steps and state (docs/design.md).  A solve that
+     * of the step: leaving them out alone took the heap at 140 x 200 with
+     * the LU from 23.7 s to 10.9 s, the same 54 steps and state
+     * (docs/design.md, "Blocks left out of a solve").  A solve that
      * fails so is solved again with every block (viscous_solve). */
     double negligible =
         s->keep_blocks || s->keep_once ? -1.0 : NEGLIGIBLE_SHARE * rtol * bnorm;
