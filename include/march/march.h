@@ -20,6 +20,11 @@
 #include "solvers/pressure.h"
 #include "solvers/viscous.h"
 
+/* A steady march is judged stalled only after this many steps without
+ * progress (march.c: stalled); the residuals of as many steps are kept. */
+#define MARCH_STALL_STEPS 200
+#define MARCH_RECENT (MARCH_STALL_STEPS + 1)
+
 enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNSTEADY,
                   STATUS_DIVERGED, STATUS_STOPPED };
 
@@ -86,6 +91,10 @@ struct march_state {
     double best_residual;       /* best residual so far (stall detection) */
     long best_step;             /* the step it was reached at */
     double best_time;           /* and the pseudo-time */
+    /* the accepted residual of each of the last MARCH_RECENT steps, at
+     * step % MARCH_RECENT (NAN: not reached since the problem began) */
+    double recent_residual[MARCH_RECENT];
+    double peak_residual;       /* the largest of them since the problem began */
     /* the mean acceleration each time the pseudo-time doubled (newest
      * first): whether an acceleration is sustained or decaying */
     double mark_time;
@@ -178,5 +187,10 @@ int march_driven_component(const struct march_state *st);
 /* The mean of the momentum residual along the driven component per unit
  * mass: the mean acceleration of the layer. */
 double march_mean_acceleration(const struct march_state *st);
+
+/* What a Picard-first solve's drop is measured from (solver.newton_below):
+ * the stage's first residual, or the largest since if the residual climbed
+ * (a start from rest: the square duct's climbs from 1 to 27). */
+double march_picard_reference(const struct march_state *st);
 
 #endif

@@ -17,35 +17,40 @@ static const struct {
     size_t off;
     enum stype type;
     int optional; /* added later: a checkpoint without it keeps march_create's value */
+    int count;    /* values (0: one) */
 } loop_state[] = {
-    {"step", offsetof(struct march_state, step), S_LONG, 0},
-    {"time", offsetof(struct march_state, time), S_DOUBLE, 0},
-    {"dt", offsetof(struct march_state, dt), S_DOUBLE, 0},
-    {"residual0", offsetof(struct march_state, residual0), S_DOUBLE, 0},
-    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE, 0},
-    {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE, 0},
-    {"best_step", offsetof(struct march_state, best_step), S_LONG, 0},
-    {"best_time", offsetof(struct march_state, best_time), S_DOUBLE, 0},
-    {"mark_time", offsetof(struct march_state, mark_time), S_DOUBLE, 0},
-    {"mark_acc0", offsetof(struct march_state, mark_acc[0]), S_DOUBLE, 0},
-    {"mark_acc1", offsetof(struct march_state, mark_acc[1]), S_DOUBLE, 0},
-    {"mark_acc2", offsetof(struct march_state, mark_acc[2]), S_DOUBLE, 0},
-    {"marks", offsetof(struct march_state, marks), S_LONG, 0},
-    {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE, 0},
-    {"lambda", offsetof(struct march_state, rheo.lambda), S_DOUBLE, 1},
-    {"stage_residual0", offsetof(struct march_state, stage_residual0), S_DOUBLE, 1},
-    {"picard_stalled", offsetof(struct march_state, picard_stalled), S_INT, 1},
-    {"rejected", offsetof(struct march_state, rejected), S_LONG, 0},
-    {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE, 0},
-    {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT, 0},
-    {"forcing", offsetof(struct march_state, forcing), S_DOUBLE, 1},
-    {"forcing_rms", offsetof(struct march_state, forcing_rms), S_DOUBLE, 1},
-    {"forcing_step", offsetof(struct march_state, forcing_step), S_LONG, 1},
-    {"pressure_iterations", offsetof(struct march_state, pressure_iterations), S_LONG, 1},
-    {"pressure_unconverged", offsetof(struct march_state, pressure_unconverged), S_LONG, 1},
-    {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1},
+    {"step", offsetof(struct march_state, step), S_LONG, 0, 0},
+    {"time", offsetof(struct march_state, time), S_DOUBLE, 0, 0},
+    {"dt", offsetof(struct march_state, dt), S_DOUBLE, 0, 0},
+    {"residual0", offsetof(struct march_state, residual0), S_DOUBLE, 0, 0},
+    {"force_ref", offsetof(struct march_state, force_ref), S_DOUBLE, 0, 0},
+    {"best_residual", offsetof(struct march_state, best_residual), S_DOUBLE, 0, 0},
+    {"best_step", offsetof(struct march_state, best_step), S_LONG, 0, 0},
+    {"best_time", offsetof(struct march_state, best_time), S_DOUBLE, 0, 0},
+    {"mark_time", offsetof(struct march_state, mark_time), S_DOUBLE, 0, 0},
+    {"mark_acc0", offsetof(struct march_state, mark_acc[0]), S_DOUBLE, 0, 0},
+    {"mark_acc1", offsetof(struct march_state, mark_acc[1]), S_DOUBLE, 0, 0},
+    {"mark_acc2", offsetof(struct march_state, mark_acc[2]), S_DOUBLE, 0, 0},
+    {"marks", offsetof(struct march_state, marks), S_LONG, 0, 0},
+    {"dt_scale", offsetof(struct march_state, dt_scale), S_DOUBLE, 0, 0},
+    {"lambda", offsetof(struct march_state, rheo.lambda), S_DOUBLE, 1, 0},
+    {"stage_residual0", offsetof(struct march_state, stage_residual0), S_DOUBLE, 1, 0},
+    {"picard_stalled", offsetof(struct march_state, picard_stalled), S_INT, 1, 0},
+    {"rejected", offsetof(struct march_state, rejected), S_LONG, 0, 0},
+    {"wall_seconds", offsetof(struct march_state, wall_seconds), S_DOUBLE, 0, 0},
+    {"linear_iterations", offsetof(struct march_state, linear_iterations), S_INT, 0, 0},
+    {"forcing", offsetof(struct march_state, forcing), S_DOUBLE, 1, 0},
+    {"forcing_rms", offsetof(struct march_state, forcing_rms), S_DOUBLE, 1, 0},
+    {"forcing_step", offsetof(struct march_state, forcing_step), S_LONG, 1, 0},
+    {"pressure_iterations", offsetof(struct march_state, pressure_iterations), S_LONG, 1, 0},
+    {"pressure_unconverged", offsetof(struct march_state, pressure_unconverged), S_LONG, 1, 0},
+    {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1, 0},
+    {"recent_residual", offsetof(struct march_state, recent_residual), S_DOUBLE, 1, MARCH_RECENT},
+    {"peak_residual", offsetof(struct march_state, peak_residual), S_DOUBLE, 1, 0},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
+
+static int state_count(int m) { return loop_state[m].count > 0 ? loop_state[m].count : 1; }
 
 static hid_t native(enum stype t)
 {
@@ -112,8 +117,9 @@ static int write_contents(hid_t file, const struct march_state *st, const struct
         h5io_attr_write(file, "omp_threads", H5T_NATIVE_INT, 1, &threads, err, errlen) != 0)
         return -1;
     for (int m = 0; m < NSTATE; m++)
-        if (h5io_attr_write(file, loop_state[m].name, native(loop_state[m].type), 1,
-                            (const char *)st + loop_state[m].off, err, errlen) != 0)
+        if (h5io_attr_write(file, loop_state[m].name, native(loop_state[m].type),
+                            state_count(m), (const char *)st + loop_state[m].off, err,
+                            errlen) != 0)
             return -1;
     if (each_dataset(file, st, 0, err, errlen) != 0)
         return -1;
@@ -305,7 +311,7 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
         return -1;
     for (int m = 0; m < NSTATE; m++)
         if (!(loop_state[m].optional && H5Aexists(file, loop_state[m].name) <= 0) &&
-            h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), 1,
+            h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), state_count(m),
                            (char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
     if (each_dataset(file, st, 1, err, errlen) != 0)

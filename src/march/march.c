@@ -15,12 +15,18 @@
 /* A steady march is judged unable to reach a steady state only when the best
  * residual has not improved by 10% for STALL_STEPS steps AND for a
  * pseudo-time of STALL_STEPS unreduced steps (choose_dt without the cut of
- * rejected steps).  The step count alone took the pseudo-time march through
- * a physical start-up for a stall (bagnold from dt 0.001: residual flat at
- * 4.3e-2 for 400 steps while the layer speeds up, steady after 4041), and a
- * crawl of cut steps (dt ~1e-8 after rejections: the papanastasiou chute,
- * 300 steps in which the pseudo-time moves by 1e-6) for no progress. */
-#define STALL_STEPS 200
+ * rejected steps), AND no residual of those steps is 10% below the one
+ * STALL_STEPS steps ago.  The step count alone took the pseudo-time march
+ * through a physical start-up for a stall (bagnold from dt 0.001: residual
+ * flat at 4.3e-2 for 400 steps while the layer speeds up, steady after
+ * 4041), and a crawl of cut steps (dt ~1e-8 after rejections: the
+ * papanastasiou chute, 300 steps in which the pseudo-time moves by 1e-6) for
+ * no progress.  The best residual alone took a start from rest whose
+ * residual first climbs for a stall: the square duct at 80 x 160 climbs from
+ * 1 to 27 in six steps and falls back below 1 only at step 390, steadily but
+ * with a plateau near 2; it was called unsteady at step 206, and is steady
+ * in 549 steps with the window's condition. */
+#define STALL_STEPS MARCH_STALL_STEPS
 #define STALL_FACTOR 0.9
 /* A net acceleration ends the run only when it is sustained: at the last
  * three doublings of the pseudo-time it lost less than ACC_DECAY over the
@@ -151,6 +157,41 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * duct's meshes of the paper (to 80 x 160) keep the Cholesky, the heap's
  * doubled mesh takes the AMG. */
 #define AMG_OVER_CHOLESKY_MIN_UNKNOWNS 50000L
+
+/* A new problem (a start, a stage of the continuation, a new forcing): its
+ * progress is measured afresh. */
+static void forget_progress(struct march_state *st)
+{
+    st->best_residual = INFINITY;
+    st->best_step = st->step;
+    st->best_time = st->time;
+    for (int k = 0; k < MARCH_RECENT; k++)
+        st->recent_residual[k] = NAN;
+    st->peak_residual = 0.0;
+}
+
+/* Whether a residual of the last `steps` steps (the current one included) is
+ * 10% below the one `steps` steps ago; -1 when that one was not recorded. */
+static int fell_over(const struct march_state *st, long steps)
+{
+    if (st->step < steps)
+        return -1;
+    double start = st->recent_residual[(st->step - steps) % MARCH_RECENT];
+    if (!(start > 0.0))
+        return -1;
+    if (st->residual < STALL_FACTOR * start)
+        return 1;
+    for (long k = st->step - steps + 1; k < st->step; k++)
+        if (st->recent_residual[k % MARCH_RECENT] < STALL_FACTOR * start)
+            return 1;
+    return 0;
+}
+
+double march_picard_reference(const struct march_state *st)
+{
+    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
+    return fmax(r0, st->peak_residual);
+}
 
 static enum viscous_precond choose_preconditioner(const struct march_state *st)
 {
@@ -496,7 +537,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     }
     viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
     st->dt = cs->dt;
-    st->best_residual = INFINITY;
+    forget_progress(st);
     st->dt_scale = 1.0;
     return 0;
 }
@@ -587,9 +628,7 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
      * would hold dt near dt0 and march through the physical transient (a heap
      * solve from the previous tilt: 150-250 steps instead of 15-40 from rest) */
     st->rejected = 0;
-    st->best_residual = INFINITY;
-    st->best_step = 0;
-    st->best_time = 0.0;
+    forget_progress(st);
     st->mark_time = 0.0;
     st->marks = 0;
     st->dt_scale = 1.0;
@@ -708,11 +747,14 @@ static void mark_doubling(struct march_state *st)
 }
 
 /* No 10% progress of the best residual in STALL_STEPS steps and in the
- * pseudo-time of as many unreduced steps. */
+ * pseudo-time of as many unreduced steps, and none over the last STALL_STEPS
+ * steps themselves: no residual since 10% below the one STALL_STEPS steps
+ * ago (the residual st->residual is the current step's, not yet recorded). */
 static int stalled(const struct march_state *st)
 {
     return st->step - st->best_step > STALL_STEPS &&
-           st->time - st->best_time >= STALL_STEPS * choose_dt(st);
+           st->time - st->best_time >= STALL_STEPS * choose_dt(st) &&
+           fell_over(st, STALL_STEPS) != 1;
 }
 
 /* acc (now) and the marks have one sign, the last doubling lost less than
@@ -756,10 +798,7 @@ static void next_stages(struct march_state *st)
          * for good: nothing marched yet, so the scale is this stage's. */
         if (st->step == 0)
             st->residual0 = st->residual;
-        /* a new problem: its progress is measured afresh */
-        st->best_residual = INFINITY;
-        st->best_step = st->step;
-        st->best_time = st->time;
+        forget_progress(st);
         st->dt_scale = 1.0;
         st->picard_stalled = 0;
     }
@@ -925,12 +964,13 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
             st->best_step = st->step;
             st->best_time = st->time;
         }
+        st->recent_residual[st->step % MARCH_RECENT] = st->residual;
+        st->peak_residual = fmax(st->peak_residual, st->residual);
         /* Picard steps that make no 10% progress in PICARD_STALL steps: the
          * tangent takes over before the residual has fallen newton_below-fold */
-        double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
         if (cs->mode == MODE_STEADY && cs->newton && cs->newton_below < 1.0 &&
-            st->step - st->best_step >= PICARD_STALL &&
-            st->residual <= sqrt(cs->newton_below) * r0)
+            st->step - st->best_step >= PICARD_STALL && fell_over(st, PICARD_STALL) != 1 &&
+            st->residual <= sqrt(cs->newton_below) * march_picard_reference(st))
             st->picard_stalled = 1;
         double accepted_residual = st->residual, accepted_rms = st->residual_rms, dt;
         double last_try = NAN; /* the residual the last rejected try reached */

@@ -5,9 +5,9 @@
 int implicit_uses_tangent(const struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
-    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
     return cs->newton && cs->mode == MODE_STEADY &&
-           (cs->newton_below >= 1.0 || st->picard_stalled || st->residual <= cs->newton_below * r0);
+           (cs->newton_below >= 1.0 || st->picard_stalled ||
+            st->residual <= cs->newton_below * march_picard_reference(st));
 }
 
 struct viscous_problem implicit_problem(const struct march_state *st, double dt)
