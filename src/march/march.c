@@ -151,9 +151,9 @@ static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p
  * the heap at 70 x 100 (21,000 unknowns) a tie (1.56 s against the AMG's
  * 1.52 s, 52 MB against 66), at 100 x 140 (42,000) 3.74 s against 2.98 s
  * (66 MB against 94), at 140 x 200 (84,000) 11.2 s against 6.5 s, at
- * 280 x 400 77.3 s against 26.3 s; but the square duct, whose march takes
- * many small pseudo-time steps, at 80 x 160 (38,400) 2.86 s against 6.68 s
- * and at 120 x 240 (86,400) 6.09 s against 14.7 s.  Between the two: the
+ * 280 x 400 77.3 s against 26.3 s; but the square duct at 80 x 160
+ * (38,400) 3.5-3.9 s against 5.6-5.8 s and at 120 x 240 (86,400) 3.2 s
+ * against 5.0 s, steady from rest in 59-93 steps.  Between the two: the
  * duct's meshes of the paper (to 80 x 160) keep the Cholesky, the heap's
  * doubled mesh takes the AMG. */
 #define AMG_OVER_CHOLESKY_MIN_UNKNOWNS 50000L
