@@ -1228,6 +1228,38 @@ static void test_negligible_blocks_left_out(void **state)
     }
 }
 
+/* An AMG whose GMRES fails gives way to the sparse LU of the same tangent
+ * for the rest of the run (viscous_allow_lu_fallback, which the march sets
+ * where the LU's factorisation fits): capped at 3 iterations, the heap's
+ * AMG solves fail at step 5 (its first Newton steps take 9-11), the LU's
+ * take 1.  The run is then the LU's: its 32 steps and state, one fallback
+ * told with its cause.  Without the fallback the capped AMG run took each
+ * unconverged iterate: 42 steps. */
+static void test_amg_gives_way_to_lu(void **state)
+{
+    (void)state;
+    struct muflow_case cs_lu, cs_amg;
+    struct march_state lu, amg;
+    struct reuse_count n_lu = {0, 0, 0, 0, 0}, n_amg = {0, 0, 0, 0, 0};
+    const char *cap = "solver.max_linear_iterations=3";
+    heap_state("solver.preconditioner=lu", cap, &lu, &cs_lu, &n_lu);
+    heap_state("solver.preconditioner=amg", cap, &amg, &cs_amg, &n_amg);
+    struct viscous_precond_info info;
+    viscous_precond_info(amg.viscous, &info);
+    double rel = velocity_difference(&lu, &amg);
+    print_message("heap 35 x 50, GMRES capped at 3: LU %ld steps, AMG %ld steps, %ld "
+                  "fallback(s) (%s), now %s; max |u_amg - u_lu| / max |u| %.2e\n",
+                  lu.step, amg.step, info.fallbacks, info.cause,
+                  info.kind == VISCOUS_LU ? "the LU" : "not the LU", rel);
+    assert_int_equal(info.fallbacks, 1);
+    assert_int_equal(info.kind, VISCOUS_LU);
+    assert_non_null(strstr(info.cause, "cap of 3"));
+    assert_true(labs(amg.step - lu.step) <= 1);
+    assert_true(rel <= 1e-7);
+    march_destroy(&lu);
+    march_destroy(&amg);
+}
+
 /* A 6 x 6 matrix, two unknowns a velocity component: a diagonal, couplings
  * within each component, and the couplings listed (row, column). */
 static void small_matrix(double A[6][6], const int (*pairs)[2], int npairs)
@@ -1348,6 +1380,7 @@ void group_amg(struct test_tally *t)
          * sanitizer's leak check (Makefile, check-asan) */
         cmocka_unit_test(test_negligible_blocks_left_out),
         cmocka_unit_test(test_amg_kept_hierarchy),
+        cmocka_unit_test(test_amg_gives_way_to_lu),
     };
     RUN_GROUP(t, "amg", tests);
 }

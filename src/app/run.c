@@ -114,9 +114,9 @@ static void warn_linear(struct observer_ctx *ctx, const struct march_state *st)
 }
 
 /* A sparse factorisation or AMG setup that failed leaves the step to the
- * line blocks, which converge slowly or not at all in 2D: never silently
- * (one line with the cause when the count first rises, the count in
- * summary.ini). */
+ * line blocks, which converge slowly or not at all in 2D, and an AMG whose
+ * GMRES failed leaves the run to the LU: never silently (one line with the
+ * cause when the count first rises, the count in summary.ini). */
 static void warn_preconditioner(struct observer_ctx *ctx, const struct march_state *st)
 {
     if (!st->viscous)
@@ -125,9 +125,9 @@ static void warn_preconditioner(struct observer_ctx *ctx, const struct march_sta
     viscous_precond_info(st->viscous, &info);
     if (first_rise(info.fallbacks, &ctx->fallbacks))
         fprintf(stderr,
-                "muflow: warning: step %ld: %s; the implicit step fell back to the line "
-                "blocks (summary.ini: preconditioner_fallbacks)\n",
-                st->step, info.cause);
+                "muflow: warning: step %ld: %s; the implicit step fell back to the %s "
+                "(summary.ini: preconditioner_fallbacks)\n",
+                st->step, info.cause, info.kind == VISCOUS_LU ? "sparse LU" : "line blocks");
 }
 
 static int observe(void *vctx, const struct march_state *st)

@@ -536,6 +536,15 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
+    /* an AMG whose GMRES fails gives way to the LU where that fits */
+    int periodic[3];
+    for (int d = 0; d < 3; d++)
+        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    viscous_allow_lu_fallback(st->viscous,
+                              kind == VISCOUS_AMG &&
+                                  3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
+                                  sparse_direct_probes_for(g, periodic, 2) <=
+                                      sparse_direct_max_probes());
     st->dt = cs->dt;
     forget_progress(st);
     st->dt_scale = 1.0;
