@@ -1077,6 +1077,12 @@ static void test_auto_choice(void **state)
                      VISCOUS_CHOLESKY);
     char *duct[] = {"domain.ny=40", "domain.nz=80"};
     assert_int_equal(auto_choice("../cases/duct_circular.ini", 2, duct), VISCOUS_LU);
+    /* with a body the AMG above 5e4 unknowns: at 80 x 160 (38,400) it failed
+     * from rest where the LU is steady in 78 steps; at 120 x 240 it wins */
+    char *duct80c[] = {"domain.ny=80", "domain.nz=160"};
+    assert_int_equal(auto_choice("../cases/duct_circular.ini", 2, duct80c), VISCOUS_LU);
+    char *duct120c[] = {"domain.ny=120", "domain.nz=240"};
+    assert_int_equal(auto_choice("../cases/duct_circular.ini", 2, duct120c), VISCOUS_AMG);
     /* the cavity with its augmentation at 24,300 unknowns: no AMG (its
      * GMRES stalls there), the Cholesky (2.97 s and 56 MB against the LU's
      * 4.25 s and 135 MB, 37 steps each) */

@@ -212,7 +212,8 @@ static const struct key keys[] = {
         "newton, of the diagonal tangent, preconditioning BiCGStab on the full tangent) or LU, "
         "AMG, or fourier (the line blocks of every plane Fourier mode, for periodic directions "
         "across the lines) (auto, for grids varying in two or more directions: amg on a steady "
-        "2D cross-section with newton, no augmentation and over 1e4 unknowns, else cholesky on "
+        "2D cross-section with newton, no augmentation and over 1e4 unknowns (5e4 where cholesky "
+        "would serve or with a body), else cholesky on "
         "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
         "unknowns, beyond them amg on a 2D cross-section without augmentation; line otherwise)"),
     DBL("solver", "augmentation", augmentation, GE0,

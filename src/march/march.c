@@ -259,7 +259,15 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     char why[256];
     /* a transient step lags the viscosity (the tangent is for steady
      * solves), where the AMG was not measured: the LU as before */
-    long amg_min = kind == VISCOUS_CHOLESKY ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS : AMG_MIN_UNKNOWNS;
+    /* with a body too: the circular duct at 80 x 160 from rest (38,400
+     * unknowns) got the AMG, whose GMRES reached its cap from the tangent's
+     * first steps on (steady in 122 steps, 31 s on 2 threads, by the LU it
+     * then gave way to), where the LU from the start takes 78 steps and
+     * 10.8 s; at 120 x 240 (86,400) the AMG serves: 72 steps, 14.2 s
+     * against the LU's 17.8 s */
+    long amg_min = kind == VISCOUS_CHOLESKY || obstacle_active(cs)
+                       ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS
+                       : AMG_MIN_UNKNOWNS;
     if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
         unknowns > amg_min && amg_hypre_available(why, sizeof why))
         return VISCOUS_AMG;
