@@ -544,7 +544,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
-    /* an AMG whose GMRES fails gives way to the LU where that fits */
+    /* an AMG whose GMRES fails gives way to the LU where that fits: the
+     * factorisation's limits, and the run with the LU in the memory the
+     * machine had at the start */
     int periodic[3];
     for (int d = 0; d < 3; d++)
         periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
@@ -552,7 +554,8 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                               kind == VISCOUS_AMG &&
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
                                   sparse_direct_probes_for(g, periodic, 2) <=
-                                      sparse_direct_max_probes());
+                                      sparse_direct_max_probes() &&
+                                  !(avail > 0.0 && memory_estimate(st, VISCOUS_LU) > avail));
     st->dt = cs->dt;
     forget_progress(st);
     st->dt_scale = 1.0;
