@@ -195,8 +195,8 @@ static const struct key keys[] = {
         "steady: solve with rheology.lambda times this first, then lower lambda 10-fold each "
         "time the residual has fallen 1000-fold, to rheology.lambda (1: off)"),
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
-        "the tangent is used once residual / first residual falls below this (Picard before; "
-        "1: from the start)"),
+        "the tangent is used once the residual has fallen below this times the first residual "
+        "or the largest since, if larger (Picard before; 1: from the start)"),
     BOOL("solver", "coupled", coupled,
          "steady: each step solves velocity and pressure together (the saddle-point system "
          "of the step by the sparse LU) instead of the implicit step and the projection; for "
