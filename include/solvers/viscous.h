@@ -184,11 +184,11 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
  * the AMG it sets viscous_amg's reuse (a later viscous_set_amg replaces it). */
 void viscous_set_reuse(struct viscous_solver *s, int steps);
 
-/* An AMG solver whose Krylov method reaches its iteration cap on a fresh
- * hierarchy gives way for good to the probed sparse LU of the same full
- * tangent (the solve is done again with it; viscous_precond_info counts a
- * fallback and says why) when on: the caller allows it where the LU's
- * factorisation fits (march.c).  Off by default. */
+/* When on, an AMG solver whose GMRES fails on a fresh hierarchy (its
+ * iteration cap, or a breakdown) gives way for good to the probed sparse LU
+ * of the same full tangent: the solve is done again with it, and
+ * viscous_precond_info counts a fallback and says why.  The caller allows
+ * it where the LU's factorisation fits (march.c).  Off by default. */
 void viscous_allow_lu_fallback(struct viscous_solver *s, int on);
 
 /* The line direction in use. */
