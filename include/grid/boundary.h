@@ -72,6 +72,9 @@ int bc_kind_passes_flow(enum bc_kind k);
 /* 1 when some face of bc lets mass through. */
 int bc_passes_flow(const struct boundary *bc);
 
+/* periodic[d] = 1 for each direction d that is periodic (both faces are). */
+void bc_periodic_flags(const struct boundary *bc, int periodic[3]);
+
 /* 1 when direction d lets a mean flow through: periodic, or open at both
  * ends (a direction bounded otherwise holds a body force by its pressure). */
 int bc_through_flow(const struct boundary *bc, int d);

@@ -216,6 +216,12 @@ int bc_passes_flow(const struct boundary *bc)
     return 0;
 }
 
+void bc_periodic_flags(const struct boundary *bc, int periodic[3])
+{
+    for (int d = 0; d < 3; d++)
+        periodic[d] = bc->face[d][0] == BC_PERIODIC;
+}
+
 int bc_through_flow(const struct boundary *bc, int d)
 {
     const enum bc_kind *k = bc->face[d];

@@ -89,8 +89,7 @@ static int list_links(struct coupled_open *co, const struct march_state *st, con
 {
     const struct grid *g = &st->g;
     int periodic[3];
-    for (int d = 0; d < 3; d++)
-        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    bc_periodic_flags(&st->bc, periodic);
     int m = 0;
     long cap = 0;
     FOR_OPEN_FACES(st, {

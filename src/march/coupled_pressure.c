@@ -105,10 +105,9 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
     pc->cell = cell;
     pc->held = held;
     pc->pm = pm;
-    for (int d = 0; d < 3; d++) {
+    for (int d = 0; d < 3; d++)
         pc->n[d] = g->n[d];
-        pc->periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
-    }
+    bc_periodic_flags(&st->bc, pc->periodic);
     pc->start = malloc(((size_t)nu + 1) * sizeof *pc->start);
     pc->cells = malloc((size_t)nu * MAX_CANDIDATES * sizeof *pc->cells);
     pc->colour = malloc((size_t)pc->nc);

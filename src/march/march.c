@@ -219,10 +219,9 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
         obstacle_shapes(cs, &set);
         in_plane[set.plane_a] = in_plane[set.plane_b] = 1;
     }
-    for (int d = 0; d < 3; d++) {
-        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    bc_periodic_flags(&st->bc, periodic);
+    for (int d = 0; d < 3; d++)
         varying += st->g.n[d] > 2 && (!periodic[d] || in_plane[d]);
-    }
     long unknowns = 3L * (long)grid_cells(&st->g);
     if (varying < 2)
         return VISCOUS_LINE;
@@ -548,8 +547,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
      * factorisation's limits, and the run with the LU in the memory the
      * machine had at the start */
     int periodic[3];
-    for (int d = 0; d < 3; d++)
-        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    bc_periodic_flags(&st->bc, periodic);
     viscous_allow_lu_fallback(st->viscous,
                               kind == VISCOUS_AMG &&
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&

@@ -160,8 +160,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     if (!c)
         return NULL;
     int periodic[3];
-    for (int d = 0; d < 3; d++)
-        periodic[d] = st->bc.face[d][0] == BC_PERIODIC;
+    bc_periodic_flags(&st->bc, periodic);
     if (probe_matrix_create(&c->pm, g, periodic, st->act, 2, err, errlen) != 0)
         goto fail;
     for (int k = 0; k < 3; k++)

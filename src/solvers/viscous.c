@@ -111,6 +111,17 @@ struct viscous_solver {
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
 
+/* The sparse factorisation of the operator: the full tangent's (LU), which
+ * reaches two nodes (|D| on an edge averages its neighbours' strains), or
+ * the symmetric operator's (Cholesky), which reaches one. */
+static int create_direct(struct viscous_solver *s, int full, char *err, size_t errlen)
+{
+    int periodic[3];
+    bc_periodic_flags(s->bc, periodic);
+    return sparse_direct_create(&s->direct, s->g, periodic, s->act, full ? 2 : 1, !full, err,
+                                errlen);
+}
+
 void viscous_allow_lu_fallback(struct viscous_solver *s, int on) { s->lu_fallback = on; }
 
 void viscous_set_reuse(struct viscous_solver *s, int steps)
@@ -252,20 +263,13 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
             return -1;
         }
     } else if (kind != VISCOUS_LINE) {
-        int periodic[3];
-        for (int d = 0; d < 3; d++)
-            periodic[d] = bc->face[d][0] == BC_PERIODIC;
-        /* the full tangent reaches two nodes (|D| on an edge averages its
-         * neighbours' strains), the symmetric operator one */
-        int full = kind == VISCOUS_LU || kind == VISCOUS_AMG;
         if (kind == VISCOUS_AMG) {
             viscous_amg_defaults(&s->amg_cfg);
             if (viscous_set_amg(s, &s->amg_cfg, err, errlen) != 0) {
                 viscous_destroy(s);
                 return -1;
             }
-        } else if (sparse_direct_create(&s->direct, g, periodic, act, full ? 2 : 1, !full, err,
-                                        errlen) != 0) {
+        } else if (create_direct(s, kind == VISCOUS_LU, err, errlen) != 0) {
             viscous_destroy(s);
             return -1;
         }
@@ -358,8 +362,7 @@ int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char 
     probe_matrix_destroy(s->probe);
     s->probe = NULL;
     int periodic[3];
-    for (int d = 0; d < 3; d++)
-        periodic[d] = s->bc->face[d][0] == BC_PERIODIC;
+    bc_periodic_flags(s->bc, periodic);
     if (probe_matrix_create(&s->probe, s->g, periodic, s->act, c->picard ? 1 : 2, err, errlen) !=
         0)
         return -1;
@@ -1015,12 +1018,8 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
  * -1 (no memory: the AMG stays). */
 static int retire_amg(struct viscous_solver *s, int rc, int maxit)
 {
-    int periodic[3];
-    for (int d = 0; d < 3; d++)
-        periodic[d] = s->bc->face[d][0] == BC_PERIODIC;
     char err[160];
-    if (!s->direct && sparse_direct_create(&s->direct, s->g, periodic, s->act, 2, 0, err,
-                                           sizeof err) != 0)
+    if (!s->direct && create_direct(s, 1, err, sizeof err) != 0)
         return -1;
     amg_hypre_release(s->amg);
     csr_free(&s->amat);
