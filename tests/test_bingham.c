@@ -15,15 +15,7 @@
 static void run_with(const char *file, int n, char *ov[], struct muflow_case *cs,
                      struct run_result *r)
 {
-    char err[512];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    rc = run_case(cs, 0, r, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_run_case(file, n, ov, cs, r);
 }
 
 static double channel_error(const char *reg, int nz, const char *lambda)

@@ -12,6 +12,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "app/run.h"
 #include "config/case.h"
 #include "test_main.h"
 
@@ -41,6 +42,20 @@ void test_run_dir_remove(const struct test_run_dir *d)
     char cmd[96];
     snprintf(cmd, sizeof cmd, "rm -rf %s", d->dir);
     assert_int_equal(system(cmd), 0);
+}
+
+void test_run_case(const char *file, int n, char *ov[], struct muflow_case *cs,
+                   struct run_result *r)
+{
+    char err[512];
+    int rc = case_load(cs, file, n, ov, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    rc = run_case(cs, 0, r, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
 }
 
 char *test_read_file(const char *path, size_t *len)

@@ -46,6 +46,14 @@ struct test_run_dir {
 void test_run_dir_make(struct test_run_dir *d, const char *name);
 void test_run_dir_remove(const struct test_run_dir *d);
 
+/* Loads the case file with its n overrides and runs it to its end without
+ * writing output (run_case with write_output 0), failing the test with the
+ * message if either fails. */
+struct muflow_case;
+struct run_result;
+void test_run_case(const char *file, int n, char *ov[], struct muflow_case *cs,
+                   struct run_result *r);
+
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
 void group_poisson(struct test_tally *t);

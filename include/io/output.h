@@ -24,7 +24,9 @@ struct run_result {
     long pressure_unconverged; /* its solves that ended above their tolerance */
     long linear_unconverged;   /* implicit solves stopped at solver.max_linear_iterations */
     long preconditioner_fallbacks; /* implicit steps whose factorisation or AMG setup
-                                      failed, in this process (the line blocks served) */
+                                      failed, in this process (the line blocks served),
+                                      and coupled steps whose GMRES failed (the LU
+                                      served) */
     double time, wall_seconds, residual, divergence;
     struct scene_errors errors;
     char message[256];

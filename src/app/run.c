@@ -10,6 +10,7 @@
 #include "physics/obstacle.h"
 #include "physics/obstacle_forces.h"
 #include "io/checkpoint.h"
+#include "march/step.h"
 #include "io/initial_state.h"
 #include "io/field_series.h"
 #include "scenes/scene.h"
@@ -27,6 +28,7 @@ struct observer_ctx {
     long unconverged;      /* pressure solves that failed, as last reported */
     long linear_unconverged; /* implicit solves stopped at their cap, as last reported */
     long fallbacks;        /* implicit steps' failed factorisations, as last reported */
+    long coupled_fallbacks; /* coupled steps' failed GMRES solves, as last reported */
     int signal;            /* the signal that stopped the run */
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
@@ -119,6 +121,13 @@ static void warn_linear(struct observer_ctx *ctx, const struct march_state *st)
  * cause when the count first rises, the count in summary.ini). */
 static void warn_preconditioner(struct observer_ctx *ctx, const struct march_state *st)
 {
+    const char *cause;
+    long coupled = stage_coupled_fallbacks(st->coupled, &cause);
+    if (first_rise(coupled, &ctx->coupled_fallbacks))
+        fprintf(stderr,
+                "muflow: warning: step %ld: %s; the coupled step fell back to the sparse LU "
+                "(summary.ini: preconditioner_fallbacks)\n",
+                st->step, cause);
     if (!st->viscous)
         return;
     struct viscous_precond_info info;
@@ -180,6 +189,8 @@ void run_result_from(const struct march_state *st, struct run_result *res)
         viscous_precond_info(st->viscous, &info);
         res->preconditioner_fallbacks = info.fallbacks;
     }
+    const char *cause;
+    res->preconditioner_fallbacks += stage_coupled_fallbacks(st->coupled, &cause);
     res->time = st->time;
     res->wall_seconds = st->wall_seconds;
     res->residual = st->residual;

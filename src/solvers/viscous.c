@@ -16,6 +16,7 @@
 #include "solvers/probe_matrix.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous.h"
+#include "solvers/gmres.h"
 
 #define BAND 2               /* nodes reached along a line by the stencil */
 #define PROBES (2 * BAND + 1)
@@ -96,11 +97,9 @@ struct viscous_solver {
     struct kept amg_kept;              /* the hierarchy's reuse (amg_cfg.reuse) */
     int lu_fallback;                   /* viscous_allow_lu_fallback */
     int amg_retired;                   /* the LU took over from the AMG for good */
-    double **gv;                       /* GMRES basis: restart + 1 vectors of the
-                                          probed unknowns (not field triples, three
-                                          times larger with their ghosts) */
-    int gv_len;
-    double *gwork;                     /* GMRES Hessenberg, rotations, rhs */
+    struct gmres *gm;                  /* GMRES, its basis in the probed unknowns
+                                          (not field triples, three times larger
+                                          with their ghosts) */
     struct viscous_precond_info info;
     int direct_pattern, amg_pattern;   /* the pattern_key the probed matrices'
                                           colourings were learnt for (0: none) */
@@ -293,13 +292,8 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
 
 static void free_gmres(struct viscous_solver *s)
 {
-    for (int m = 0; m < s->gv_len; m++)
-        free(s->gv[m]);
-    free(s->gv);
-    free(s->gwork);
-    s->gv = NULL;
-    s->gwork = NULL;
-    s->gv_len = 0;
+    gmres_destroy(s->gm);
+    s->gm = NULL;
 }
 
 void viscous_amg_defaults(struct viscous_amg *c)
@@ -373,16 +367,7 @@ int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char 
     }
     free_gmres(s);
     int m = c->restart;
-    s->gv = calloc((size_t)m + 1, sizeof *s->gv);
-    /* Hessenberg (m+1) x m, rotations cos/sin (m each), rhs (m+1), y (m) */
-    s->gwork = malloc(((size_t)(m + 1) * m + 4 * (size_t)m + 1) * sizeof(double));
-    int ok = s->amg_b && s->amg_x && s->gv && s->gwork;
-    if (s->gv) {
-        s->gv_len = m + 1;
-        for (int k = 0; k <= m; k++)
-            ok &= (s->gv[k] = malloc((size_t)(n > 0 ? n : 1) * sizeof(double))) != NULL;
-    }
-    if (!ok) {
+    if (!s->amg_b || !s->amg_x || gmres_create(&s->gm, n, m) != 0) {
         snprintf(err, errlen, "viscous solver: out of memory for GMRES(%d)", m);
         return -1;
     }
@@ -901,108 +886,43 @@ static int bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, 
     return 1;
 }
 
-/* Dot product and y += a x over the probed unknowns (serial: the order of
- * the sums does not depend on the threads). */
-static double vec_dot(long n, const double *a, const double *b)
+/* GMRES's operator and preconditioner on the probed unknowns: the operator
+ * acts on fields, the V-cycle on the gathered vectors. */
+struct gmres_ctx {
+    struct viscous_solver *s;
+    const struct viscous_problem *pb;
+};
+
+static void gmres_operator(void *ctx, const double *x, double *y)
 {
-    double d = 0.0;
-    for (long k = 0; k < n; k++)
-        d += a[k] * b[k];
-    return d;
+    const struct gmres_ctx *c = ctx;
+    struct viscous_solver *s = c->s;
+    probe_matrix_scatter(s->probe, x, s->z);
+    viscous_apply(s, c->pb, s->z, s->q);
+    probe_matrix_gather(s->probe, s->q, y);
 }
 
-static void vec_axpy(long n, double a, const double *x, double *y)
+static void gmres_precondition(void *ctx, const double *x, double *y)
 {
-    for (long k = 0; k < n; k++)
-        y[k] += a * x[k];
+    const struct gmres_ctx *c = ctx;
+    amg_hypre_apply(c->s->amg, x, y);
 }
 
-/* Restarted GMRES (Saad and Schultz), right-preconditioned by the AMG: the
- * residual it monitors is the true one, and every restart recomputes it
- * from x.  The basis lives in the probed unknowns' numbering, where the
- * V-cycle takes and gives its vectors; the operator acts on fields. */
+/* Restarted GMRES (gmres.h), right-preconditioned by the AMG, from x = 0. */
 static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
-                 double bnorm, double *x[3], double rtol, int maxit, struct viscous_stats *st)
+                 double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
-    const struct grid *g = s->g;
-    const struct box *act = s->act;
-    const int m = s->gv_len - 1;
     const long n = probe_matrix_unknowns(s->probe);
-    double *H = s->gwork;                       /* H[i * m + j], (m+1) x m */
-    double *cs = H + (size_t)(m + 1) * m, *sn = cs + m, *e = sn + m, *y = e + m + 1;
-    double **r = s->r, **z = s->z;
-    int it = 0;
-    for (;;) {
-        double beta = sqrt(kernel_dot(g, act, r, r));
-        st->iterations = it;
-        st->relative_residual = beta / bnorm;
-        if (!isfinite(beta))
-            return -1;
-        if (beta <= rtol * bnorm)
-            return 0;
-        if (it >= maxit)
-            return 1;
-        probe_matrix_gather(s->probe, r, s->gv[0]);
-        for (long q = 0; q < n; q++)
-            s->gv[0][q] /= beta;
-        e[0] = beta;
-        int k = 0;
-        while (k < m && it < maxit) {
-            double *w = s->gv[k + 1];
-            amg_hypre_apply(s->amg, s->gv[k], s->amg_x); /* w = A M^-1 v_k */
-            probe_matrix_scatter(s->probe, s->amg_x, z);
-            viscous_apply(s, pb, z, s->q);
-            probe_matrix_gather(s->probe, s->q, w);
-            it++;
-            for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
-                double h = vec_dot(n, w, s->gv[i]);
-                H[i * m + k] = h;
-                vec_axpy(n, -h, s->gv[i], w);
-            }
-            double hn = sqrt(vec_dot(n, w, w));
-            H[(k + 1) * m + k] = hn;
-            if (hn > 0.0)
-                for (long q = 0; q < n; q++)
-                    w[q] /= hn;
-            for (int i = 0; i < k; i++) { /* earlier rotations */
-                double a = H[i * m + k], b = H[(i + 1) * m + k];
-                H[i * m + k] = cs[i] * a + sn[i] * b;
-                H[(i + 1) * m + k] = -sn[i] * a + cs[i] * b;
-            }
-            double a = H[k * m + k], b = H[(k + 1) * m + k], d = hypot(a, b);
-            if (!(d > 0.0) || !isfinite(d))
-                return -1;
-            cs[k] = a / d;
-            sn[k] = b / d;
-            H[k * m + k] = d;
-            H[(k + 1) * m + k] = 0.0;
-            e[k + 1] = -sn[k] * e[k];
-            e[k] = cs[k] * e[k];
-            k++;
-            st->iterations = it;
-            st->relative_residual = fabs(e[k]) / bnorm;
-            if (fabs(e[k]) <= rtol * bnorm || hn == 0.0)
-                break;
-        }
-        for (int i = k - 1; i >= 0; i--) { /* H y = e, upper triangular */
-            double t = e[i];
-            for (int j = i + 1; j < k; j++)
-                t -= H[i * m + j] * y[j];
-            y[i] = t / H[i * m + i];
-        }
-        /* x += M^-1 (V y); then the true residual */
-        double *u = s->amg_b;
-        memset(u, 0, (size_t)n * sizeof(double));
-        for (int i = 0; i < k; i++)
-            vec_axpy(n, y[i], s->gv[i], u);
-        amg_hypre_apply(s->amg, u, s->amg_x);
-        probe_matrix_scatter(s->probe, s->amg_x, z);
-        kernel_axpy(g, act, 1.0, z, x);
-        viscous_apply(s, pb, x, s->q);
-        for (int c = 0; c < 3; c++)
-            memcpy(r[c], rhs[c], g->size * sizeof(double));
-        kernel_axpy(g, act, -1.0, s->q, r);
-    }
+    struct gmres_ctx ctx = {s, pb};
+    struct gmres_stats gs;
+    probe_matrix_gather(s->probe, rhs, s->amg_b);
+    memset(s->amg_x, 0, (size_t)n * sizeof(double));
+    int rc = gmres_solve(s->gm, gmres_operator, gmres_precondition, &ctx, s->amg_b, s->amg_x, rtol,
+                         maxit, &gs);
+    probe_matrix_scatter(s->probe, s->amg_x, x);
+    st->iterations = gs.iterations;
+    st->relative_residual = gs.relative_residual;
+    return rc;
 }
 
 static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
@@ -1172,7 +1092,7 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     st->direct = s->direct_ok;
     if (s->amg_ok)
         return s->amg_cfg.bicgstab ? bicgstab(s, pb, bnorm, x, rtol, maxit, st)
-                                   : gmres(s, pb, rhs, bnorm, x, rtol, maxit, st);
+                                   : gmres(s, pb, rhs, x, rtol, maxit, st);
     if (pb->b_cell && s->pn) /* the full tangent (viscous_apply uses it) */
         return bicgstab(s, pb, bnorm, x, rtol, maxit, st);
     precondition_apply(s, s->r, s->z);

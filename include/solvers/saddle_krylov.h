@@ -1,0 +1,45 @@
+/* The coupled step's saddle-point system (saddle_point.h's K, nu velocity
+ * unknowns first) by GMRES with a block-triangular preconditioner,
+ *
+ *     P = [ A  B ]     A  K's velocity block, by one V-cycle of BoomerAMG;
+ *         [ 0  S ]     B  K's columns beyond nu in the velocity rows (the
+ *                         pressure gradient, a pressure-dependent law's
+ *                         d(div tau)/dp, the open faces);
+ *                      S  the Schur complement C - D A^-1 B with A replaced
+ *                         by its diagonal, kept diagonal: per cell
+ *                         C_cc - sum_k D_ck B_kc / A_kk,
+ *
+ * so that the velocity block's preconditioner needs no augmentation: the
+ * pressure is an unknown, not carried by -grad(r div u).  With A's
+ * diagonal, S weighs each cell's pressure by the inverse of its viscosity
+ * (the viscosity-scaled pressure mass matrix of variable-viscosity Stokes
+ * solvers) and, where the pseudo-time mass dominates, by dt / rho. */
+#ifndef MUFLOW_SADDLE_KRYLOV_H
+#define MUFLOW_SADDLE_KRYLOV_H
+
+#include <stddef.h>
+#include "solvers/amg_hypre.h"
+#include "solvers/csr.h"
+
+struct saddle_krylov;
+
+/* For systems of n unknowns whose first nu are velocities, comp[k] the
+ * component of velocity unknown k.  Returns 0, or -1 with a message (hypre
+ * missing: amg_hypre_available's; memory). */
+int saddle_krylov_create(struct saddle_krylov **out, int n, int nu, const int *comp,
+                         const struct amg_options *o, char *err, size_t errlen);
+void saddle_krylov_destroy(struct saddle_krylov *s);
+
+struct saddle_krylov_stats {
+    int iterations;
+    double relative_residual;
+};
+
+/* K x = rhs to |rhs - K x| <= rtol |rhs| from x = 0, at most maxit GMRES
+ * iterations.  Returns 0, 1 at maxit (x the last iterate), or -1 (a
+ * breakdown, a non-finite residual, hypre's error) with the cause in err. */
+int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, const double *rhs,
+                        double *x, double rtol, int maxit, struct saddle_krylov_stats *st,
+                        char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,161 @@
+/* Restarted, right-preconditioned GMRES on flat vectors (gmres.h). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include "solvers/gmres.h"
+
+struct gmres {
+    long n;
+    int m;
+    double **v;  /* the basis, m + 1 vectors */
+    double *H;   /* H[i * m + j], (m + 1) x m, the rotated Hessenberg matrix */
+    double *cs, *sn, *e, *y;
+    double *r, *z;
+};
+
+int gmres_create(struct gmres **out, long n, int m)
+{
+    struct gmres *g = calloc(1, sizeof *g);
+    if (!g)
+        return -1;
+    g->n = n;
+    g->m = m;
+    size_t len = (size_t)(n > 0 ? n : 1);
+    g->v = calloc((size_t)m + 1, sizeof *g->v);
+    g->H = malloc(((size_t)(m + 1) * (size_t)m + 4 * (size_t)(m + 1)) * sizeof(double));
+    g->r = malloc(len * sizeof(double));
+    g->z = malloc(len * sizeof(double));
+    int ok = g->v && g->H && g->r && g->z;
+    for (int i = 0; ok && i <= m; i++)
+        ok = (g->v[i] = malloc(len * sizeof(double))) != NULL;
+    if (!ok) {
+        gmres_destroy(g);
+        return -1;
+    }
+    g->cs = g->H + (size_t)(m + 1) * (size_t)m;
+    g->sn = g->cs + m + 1;
+    g->e = g->sn + m + 1;
+    g->y = g->e + m + 1;
+    *out = g;
+    return 0;
+}
+
+void gmres_destroy(struct gmres *g)
+{
+    if (!g)
+        return;
+    for (int i = 0; g->v && i <= g->m; i++)
+        free(g->v[i]);
+    free(g->v);
+    free(g->H);
+    free(g->r);
+    free(g->z);
+    free(g);
+}
+
+/* Serial sums: the order does not depend on the threads. */
+static double dot(long n, const double *a, const double *b)
+{
+    double d = 0.0;
+    for (long k = 0; k < n; k++)
+        d += a[k] * b[k];
+    return d;
+}
+
+static void axpy(long n, double a, const double *x, double *y)
+{
+    for (long k = 0; k < n; k++)
+        y[k] += a * x[k];
+}
+
+/* r = b - A x */
+static void residual(struct gmres *g, gmres_apply_fn op, void *ctx, const double *b,
+                     const double *x)
+{
+    op(ctx, x, g->r);
+    for (long k = 0; k < g->n; k++)
+        g->r[k] = b[k] - g->r[k];
+}
+
+int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *ctx,
+                const double *b, double *x, double rtol, int maxit, struct gmres_stats *st)
+{
+    const long n = g->n;
+    const int m = g->m;
+    double *H = g->H, *cs = g->cs, *sn = g->sn, *e = g->e, *y = g->y;
+    double bnorm = sqrt(dot(n, b, b));
+    st->iterations = 0;
+    st->relative_residual = 0.0;
+    if (!isfinite(bnorm))
+        return -1;
+    if (bnorm == 0.0) {
+        memset(x, 0, (size_t)n * sizeof *x);
+        return 0;
+    }
+    residual(g, op, ctx, b, x);
+    int it = 0;
+    for (;;) {
+        double beta = sqrt(dot(n, g->r, g->r));
+        st->iterations = it;
+        st->relative_residual = beta / bnorm;
+        if (!isfinite(beta))
+            return -1;
+        if (beta <= rtol * bnorm)
+            return 0;
+        if (it >= maxit)
+            return 1;
+        for (long q = 0; q < n; q++)
+            g->v[0][q] = g->r[q] / beta;
+        e[0] = beta;
+        int k = 0;
+        while (k < m && it < maxit) {
+            double *w = g->v[k + 1];
+            prec(ctx, g->v[k], g->z); /* w = A M^-1 v_k */
+            op(ctx, g->z, w);
+            it++;
+            for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
+                double h = dot(n, w, g->v[i]);
+                H[i * m + k] = h;
+                axpy(n, -h, g->v[i], w);
+            }
+            double hn = sqrt(dot(n, w, w));
+            H[(k + 1) * m + k] = hn;
+            if (hn > 0.0)
+                for (long q = 0; q < n; q++)
+                    w[q] /= hn;
+            for (int i = 0; i < k; i++) { /* earlier rotations */
+                double a = H[i * m + k], c = H[(i + 1) * m + k];
+                H[i * m + k] = cs[i] * a + sn[i] * c;
+                H[(i + 1) * m + k] = -sn[i] * a + cs[i] * c;
+            }
+            double a = H[k * m + k], c = H[(k + 1) * m + k], d = hypot(a, c);
+            if (!(d > 0.0) || !isfinite(d))
+                return -1;
+            cs[k] = a / d;
+            sn[k] = c / d;
+            H[k * m + k] = d;
+            H[(k + 1) * m + k] = 0.0;
+            e[k + 1] = -sn[k] * e[k];
+            e[k] = cs[k] * e[k];
+            k++;
+            st->iterations = it;
+            st->relative_residual = fabs(e[k]) / bnorm;
+            if (fabs(e[k]) <= rtol * bnorm || hn == 0.0)
+                break;
+        }
+        for (int i = k - 1; i >= 0; i--) { /* H y = e, upper triangular */
+            double t = e[i];
+            for (int j = i + 1; j < k; j++)
+                t -= H[i * m + j] * y[j];
+            y[i] = t / H[i * m + i];
+        }
+        /* x += M^-1 (V y); then the true residual */
+        double *u = g->r;
+        memset(u, 0, (size_t)n * sizeof *u);
+        for (int i = 0; i < k; i++)
+            axpy(n, y[i], g->v[i], u);
+        prec(ctx, u, g->z);
+        axpy(n, 1.0, g->z, x);
+        residual(g, op, ctx, b, x);
+    }
+}
