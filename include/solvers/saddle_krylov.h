@@ -42,4 +42,8 @@ int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, con
                         double *x, double rtol, int maxit, struct saddle_krylov_stats *st,
                         char *err, size_t errlen);
 
+/* Bytes of the GMRES basis and work vectors for n unknowns (the AMG's
+ * hierarchies are amg_hypre_memory_estimate's). */
+double saddle_krylov_memory_estimate(long n);
+
 #endif

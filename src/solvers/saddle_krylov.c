@@ -7,8 +7,9 @@
 #include "solvers/saddle_krylov.h"
 
 /* GMRES's restart: above the iterations a step takes on the cavity up to
- * 128 x 128 (at most 60), so that a solve rarely restarts (a restart after
- * 50 took 57 iterations a step at 128 x 128 where 150 took 43) */
+ * 128 x 128 (at most 61), so that a solve rarely restarts (with a V(0,1)
+ * cycle of A at 128 x 128, a restart after 50 took 67 iterations a step,
+ * one after 150 57); at 256 x 256 a few steps take up to 170 */
 #define SADDLE_RESTART 64
 
 struct saddle_krylov {
@@ -28,7 +29,7 @@ struct saddle_krylov {
     const struct csr_matrix *K; /* the system of the solve under way */
     double *schur_inv;         /* 1 / S per unknown beyond nu */
     double *diag;              /* A's diagonal */
-    double *t, *tx;            /* velocity-sized work */
+    double *t;                 /* velocity-sized work */
 };
 
 int saddle_krylov_create(struct saddle_krylov **out, int n, int nu, const int *comp,
@@ -49,14 +50,13 @@ int saddle_krylov_create(struct saddle_krylov **out, int n, int nu, const int *c
     s->schur_inv = malloc(np * sizeof(double));
     s->diag = malloc(nv * sizeof(double));
     s->t = malloc(nv * sizeof(double));
-    s->tx = malloc(nv * sizeof(double));
     s->u1 = malloc(nv * sizeof(double));
     s->u2 = malloc(nv * sizeof(double));
     s->free_of = malloc(np * sizeof(int));
     s->free_row = malloc(np * sizeof(int));
     s->pf = malloc(np * sizeof(double));
     s->pg = malloc(np * sizeof(double));
-    if (!s->schur_inv || !s->diag || !s->t || !s->tx || !s->u1 || !s->u2 || !s->free_of ||
+    if (!s->schur_inv || !s->diag || !s->t || !s->u1 || !s->u2 || !s->free_of ||
         !s->free_row || !s->pf || !s->pg ||
         gmres_create(&s->gm, n, SADDLE_RESTART) != 0) {
         saddle_krylov_destroy(s);
@@ -85,7 +85,6 @@ void saddle_krylov_destroy(struct saddle_krylov *s)
     free(s->schur_inv);
     free(s->diag);
     free(s->t);
-    free(s->tx);
     free(s);
 }
 
@@ -366,4 +365,11 @@ int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, con
         snprintf(err, errlen, "coupled step's GMRES: breakdown after %d iterations (relative "
                               "residual %.3g)", gs.iterations, gs.relative_residual);
     return rc;
+}
+
+double saddle_krylov_memory_estimate(long n)
+{
+    /* the basis (restart + 1 vectors), GMRES's residual and work, and the
+       velocity- and pressure-sized work here (about seven more) */
+    return ((double)SADDLE_RESTART + 10.0) * (double)n * sizeof(double);
 }
