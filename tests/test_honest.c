@@ -331,7 +331,8 @@ static void test_memory_estimate(void **state)
      * for it, and the run would have started) */
     snprintf(cmd, sizeof cmd,
              "MUFLOW_AVAILABLE_MEMORY=300000000 '%s' ../cases/bingham_cavity.ini "
-             "solver.coupled=on solver.augmentation=0 domain.nx=128 domain.nz=128 "
+             "solver.coupled=on solver.augmentation=0 solver.preconditioner=lu "
+             "domain.nx=128 domain.nz=128 "
              "output.dir=%s/run 2>&1",
              bin, dir);
     rc = shell(cmd, out, sizeof out);

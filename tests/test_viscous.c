@@ -1089,6 +1089,15 @@ static void test_auto_choice(void **state)
      * 4.25 s and 135 MB, 37 steps each) */
     char *cavity[] = {"domain.nx=90", "domain.nz=90"};
     assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 2, cavity), VISCOUS_CHOLESKY);
+    /* the coupled step: the LU, or where its estimate exceeds the memory
+     * available and the GMRES's does not, the GMRES (the cavity at 64 x 64:
+     * estimates 102 and 84 MB); not on mu(I), where the GMRES is refused */
+    char *coupled[] = {"domain.nx=64", "domain.nz=64", "solver.coupled=on",
+                       "solver.augmentation=0"};
+    assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 4, coupled), VISCOUS_LU);
+    setenv("MUFLOW_AVAILABLE_MEMORY", "95000000", 1);
+    assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 4, coupled), VISCOUS_AMG);
+    unsetenv("MUFLOW_AVAILABLE_MEMORY");
 }
 
 /* solver.preconditioner_reuse with the AMG: a hierarchy serves further

@@ -120,6 +120,11 @@ int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
                    char *const overrides[], case_warn_fn warn, void *warn_ctx, char *err,
                    size_t errlen);
 
+/* Why the coupled step's GMRES (solver.coupled with solver.preconditioner =
+ * amg) is refused for this case (a mu(I) law, an open face), a phrase that
+ * follows "solver.coupled = on"; NULL where it is allowed. */
+const char *case_coupled_gmres_refusal(const struct muflow_case *c);
+
 /* Defaults for every key (what a case file may leave out), scene "none". */
 void case_defaults(struct muflow_case *c);
 

@@ -217,7 +217,8 @@ static const struct key keys[] = {
         "2D cross-section with newton, no augmentation and over 1e4 unknowns (5e4 where cholesky "
         "would serve or with a body), else cholesky on "
         "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
-        "unknowns, beyond them amg on a 2D cross-section without augmentation; line otherwise)"),
+        "unknowns, beyond them amg on a 2D cross-section without augmentation; line otherwise; "
+        "with solver.coupled lu, or amg where only its GMRES fits in memory)"),
     DBL("solver", "augmentation", augmentation, GE0,
         "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
@@ -735,6 +736,22 @@ static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *wh
     return 0;
 }
 
+const char *case_coupled_gmres_refusal(const struct muflow_case *c)
+{
+    /* its GMRES (saddle_krylov.h) is measured on the Bingham cavity only: on
+     * the granular cylinder (mu(I), whose matrix has the viscosity's
+     * pressure columns) the residual grew to 7e7 in 34 steps and GMRES
+     * then stopped at its cap */
+    if (c->rheo.law == LAW_MUI)
+        return "needs a law without the pressure's dependence (rheology.law = bingham or "
+               "newtonian) with solver.preconditioner = amg: on mu(I) its GMRES steps diverged "
+               "(the granular cylinder); set solver.preconditioner = lu";
+    if (bc_has_open(&c->bc))
+        return "with solver.preconditioner = amg needs no open face (its GMRES is not measured "
+               "there); set solver.preconditioner = lu";
+    return NULL;
+}
+
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
@@ -799,18 +816,7 @@ static void finish(struct ctx *x)
             fail(x, "%s: solver.coupled = on %s", where, why);
             return;
         }
-        /* its GMRES (saddle_krylov.h) is measured on the Bingham cavity
-         * only: on the granular cylinder (mu(I), whose matrix has the
-         * viscosity's pressure columns) the residual grew to 7e7 in 34
-         * steps and GMRES then stopped at its cap */
-        why = c->preconditioner != PRECOND_AMG ? NULL
-              : c->rheo.law == LAW_MUI
-                  ? "needs a law without the pressure's dependence (rheology.law = bingham or "
-                    "newtonian) with solver.preconditioner = amg: on mu(I) its GMRES steps "
-                    "diverged (the granular cylinder); set solver.preconditioner = lu"
-              : bc_has_open(&c->bc) ? "with solver.preconditioner = amg needs no open face (its "
-                                      "GMRES is not measured there); set solver.preconditioner = lu"
-                                    : NULL;
+        why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c) : NULL;
         if (why) {
             fail(x, "%s: solver.coupled = on %s", where, why);
             return;
