@@ -35,6 +35,9 @@ int sparse_direct_max_probes(void);
 /* Bytes of the matrix and factorisation for that many unknowns on a grid
  * varying in dims directions (a measured model, see the source). */
 double sparse_direct_memory_estimate(long unknowns, int dims);
+/* c log2(n) bytes an unknown on a 2D grid (nested dissection's fill), c
+ * n^(1/3) 8 in 3D: the model of both sparse LUs' estimates. */
+double sparse_fill_bytes(long unknowns, int dims, double c);
 
 /* Probes op (work: two field triples, overwritten) and assembles its matrix,
  * to be factorised by sparse_direct_prepare: the columns of the given

@@ -8,11 +8,11 @@
  * since its workspace is counted in 32-bit units.  The pattern's copy the
  * solver keeps anyway (to see when K's pattern changes) is made in the
  * 64-bit indices that interface reads. */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "solvers/saddle_point.h"
+#include "solvers/sparse_direct.h"
 #include "solvers/suitesparse.h"
 
 struct saddle_point {
@@ -143,11 +143,6 @@ double saddle_point_memory_estimate(long unknowns, int dims)
      * left out): 330 MB for 65,536 unknowns at 128 x 128 and 1,540 MB for
      * 262,144 at 256 x 256, about 320 log2(n) bytes an unknown, three times
      * the viscous LU's (sparse_direct_memory_estimate): the pressure rows'
-     * zero diagonal keeps UMFPACK from the symmetric ordering's fill.  In 3D
-     * the same constant times n^(1/3), as there (not measured). */
-    double n = (double)(unknowns > 2 ? unknowns : 2);
-    double per = 320.0 * log2(n);
-    if (dims >= 3)
-        per = 320.0 * cbrt(n) * 8.0;
-    return n * per;
+     * zero diagonal keeps UMFPACK from the symmetric ordering's fill. */
+    return sparse_fill_bytes(unknowns, dims, 320.0);
 }

@@ -395,16 +395,21 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
 
 struct probe_matrix *sparse_direct_probe_matrix(struct sparse_direct *s) { return s->pm; }
 
+double sparse_fill_bytes(long unknowns, int dims, double c)
+{
+    /* the n log n fill of nested dissection on a 2D grid; in 3D it grows
+     * like n^(4/3) (not measured: the same constant times n^(1/3)) */
+    double n = (double)(unknowns > 2 ? unknowns : 2);
+    double per = c * log2(n);
+    if (dims >= 3)
+        per = c * cbrt(n) * 8.0;
+    return n * per;
+}
+
 double sparse_direct_memory_estimate(long unknowns, int dims)
 {
     /* Measured (peak RSS less the fields, UMFPACK's LU of the full tangent on
      * the Bingham cavity): 1,260 bytes an unknown at 64 x 64 (12,288
-     * unknowns), 1,550 at 128 x 128 (49,152): about 100 log2(n) bytes, the
-     * n log n fill of nested dissection on a 2D grid.  In 3D the fill grows
-     * like n^(4/3) (not measured: the same constant times n^(1/3)). */
-    double n = (double)(unknowns > 2 ? unknowns : 2);
-    double per = 100.0 * log2(n);
-    if (dims >= 3)
-        per = 100.0 * cbrt(n) * 8.0;
-    return n * per;
+     * unknowns), 1,550 at 128 x 128 (49,152): about 100 log2(n) bytes. */
+    return sparse_fill_bytes(unknowns, dims, 100.0);
 }
