@@ -5,15 +5,21 @@
  *         [ 0  S ]     B  K's columns beyond nu in the velocity rows (the
  *                         pressure gradient, a pressure-dependent law's
  *                         d(div tau)/dp, the open faces);
- *                      S  the Schur complement C - D A^-1 B with A replaced
- *                         by its diagonal, kept diagonal: per cell
- *                         C_cc - sum_k D_ck B_kc / A_kk,
+ *                      S  on the free cells (a divergence row, no
+ *                         diagonal) the least-squares commutator
+ *                         S^-1 = -M^-1 Y M^-1, M = -D W B, Y = D W A W B,
+ *                         W = diag(A)^-1, each M^-1 a V-cycle of BoomerAMG
+ *                         on M; on the other rows (held, pinned, open
+ *                         faces) the diagonal C_rr - sum_k D_rk B_kr / A_kk,
  *
  * so that the velocity block's preconditioner needs no augmentation: the
- * pressure is an unknown, not carried by -grad(r div u).  With A's
- * diagonal, S weighs each cell's pressure by the inverse of its viscosity
- * (the viscosity-scaled pressure mass matrix of variable-viscosity Stokes
- * solvers) and, where the pseudo-time mass dominates, by dt / rho. */
+ * pressure is an unknown, not carried by -grad(r div u).  The weight W
+ * makes M a pressure Laplacian scaled by the inverse viscosity and, where
+ * the pseudo-time mass dominates, by dt / rho.  Measured on the Bingham
+ * cavity (docs/design.md, "The coupled step by GMRES"): 27-63 iterations a
+ * step from 32 x 32 to 256 x 256; the diagonal alone took 200-500 in the
+ * tangent steps.  The march refuses it on mu(I) and with open faces
+ * (case_coupled_gmres_refusal). */
 #ifndef MUFLOW_SADDLE_KRYLOV_H
 #define MUFLOW_SADDLE_KRYLOV_H
 
