@@ -12,7 +12,9 @@
  * as stage_divergence takes it (the faces' open shares with a body).  Faces held in a body and cells with no open
  * face are left out (their dp is 0), and one pressure is pinned (the
  * constant mode of a closed or periodic box) unless the box has an open
- * face.  UMFPACK factorises it (saddle_point.h).
+ * face.  UMFPACK factorises it (saddle_point.h), or with
+ * solver.preconditioner = amg GMRES solves it (saddle_krylov.h), giving way
+ * to the LU for the rest of the run if it fails.
  *
  * An open face is not a velocity unknown; each has one more unknown, its
  * own increment beyond its inner face's, with the face's balance for its
