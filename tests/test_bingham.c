@@ -12,12 +12,6 @@
 
 #define CASES_DIR "../cases/"
 
-static void run_with(const char *file, int n, char *ov[], struct muflow_case *cs,
-                     struct run_result *r)
-{
-    test_run_case(file, n, ov, cs, r);
-}
-
 static double channel_error(const char *reg, int nz, const char *lambda)
 {
     char o1[64], o2[64], o3[64];
@@ -27,7 +21,7 @@ static double channel_error(const char *reg, int nz, const char *lambda)
     char *ov[] = {o1, o2, o3};
     struct muflow_case cs;
     struct run_result r;
-    run_with(CASES_DIR "bingham_channel.ini", 3, ov, &cs, &r);
+    test_run_case(CASES_DIR "bingham_channel.ini", 3, ov, &cs, &r);
     print_message("channel %-13s h = 1/%-3d lambda %-5s %s in %3ld steps: err_rms %.3e u_plug "
                   "%.5f (exact %.5f)\n",
                   reg, nz, lambda, run_status_name(r.status), r.steps, r.errors.err_rms,
@@ -86,7 +80,7 @@ static void cavity(double bn_vola, struct run_result *r, struct muflow_case *cs)
     char o1[64];
     snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", bn_vola / sqrt(2.0));
     char *ov[] = {"domain.nx=32", "domain.nz=32", o1};
-    run_with(CASES_DIR "bingham_cavity.ini", 3, ov, cs, r);
+    test_run_case(CASES_DIR "bingham_cavity.ini", 3, ov, cs, r);
     print_message("cavity 32x32 Bn(Vola) %-5g %s in %3ld steps: psi_max %.5f (Vola %.5f), "
                   "err_midline %.4f\n",
                   bn_vola, run_status_name(r->status), r->steps, r->errors.headline,
@@ -147,7 +141,7 @@ static void test_cavity_bn1000_converges(void **state)
     char *ov[] = {"domain.nx=32", "domain.nz=32", o1, "solver.max_steps=300"};
     struct muflow_case cs;
     struct run_result r;
-    run_with(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
+    test_run_case(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
     print_message("cavity 32x32 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
                   run_status_name(r.status), r.steps, r.residual, r.errors.headline);
     assert_int_equal(r.status, STATUS_STEADY);
@@ -170,7 +164,7 @@ static void test_cavity_bn1000_64_enters_newton(void **state)
     char *ov[] = {"domain.nx=64", "domain.nz=64", o1, "solver.max_steps=120"};
     struct muflow_case cs;
     struct run_result r;
-    run_with(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
+    test_run_case(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
     print_message("cavity 64x64 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
                   run_status_name(r.status), r.steps, r.residual, r.errors.headline);
     assert_int_equal(r.status, STATUS_STEADY);
@@ -193,8 +187,8 @@ static void test_cavity_coupled(void **state)
                        "solver.augmentation=0"};
     struct muflow_case ca, cc;
     struct run_result ra, rc;
-    run_with(CASES_DIR "bingham_cavity.ini", 2, aug, &ca, &ra);
-    run_with(CASES_DIR "bingham_cavity.ini", 4, coupled, &cc, &rc);
+    test_run_case(CASES_DIR "bingham_cavity.ini", 2, aug, &ca, &ra);
+    test_run_case(CASES_DIR "bingham_cavity.ini", 4, coupled, &cc, &rc);
     print_message("cavity 32x32: augmented %s in %ld steps, psi_max %.10f; coupled, no "
                   "augmentation, %s in %ld steps, psi_max %.10f\n",
                   run_status_name(ra.status), ra.steps, ra.errors.headline,

@@ -46,8 +46,8 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb);
  * it, and was steady in one step from that state without it). */
 void stage_coupled_update(struct march_state *st);
 /* GMRES solves of the coupled step (solver.preconditioner = amg) that
- * failed and left the run to the LU, and why the last one failed (NULL: none
- * failed, or no coupled step yet). */
+ * failed and left the run to the LU, and, unless cause is NULL, why the last
+ * one failed (NULL: none failed, or no coupled step yet). */
 long stage_coupled_fallbacks(const struct coupled_state *c, const char **cause);
 /* Frees what the coupled steps keep (numbering, colouring, the LU's
  * analysis); NULL is a no-op. */

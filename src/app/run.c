@@ -189,8 +189,7 @@ void run_result_from(const struct march_state *st, struct run_result *res)
         viscous_precond_info(st->viscous, &info);
         res->preconditioner_fallbacks = info.fallbacks;
     }
-    const char *cause;
-    res->preconditioner_fallbacks += stage_coupled_fallbacks(st->coupled, &cause);
+    res->preconditioner_fallbacks += stage_coupled_fallbacks(st->coupled, NULL);
     res->time = st->time;
     res->wall_seconds = st->wall_seconds;
     res->residual = st->residual;

@@ -386,7 +386,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
            of the pressure's commutator with GMRES's basis.  Measured, peak
            RSS against the estimate: the cavity's LU at 128 and 256 cells
            across 384 and 1,693 MB against 389 and 1,661 MB (130 and 497 MB
-           when the viscous LU's model stood for it); the GMRES 199 and 685
+           when the viscous LU's model stood for it); the GMRES 186 and 653
            MB against 239 and 859 MB */
         long unknowns = 4L * (long)grid_cells(g);
         if (kind == VISCOUS_AMG)
@@ -500,7 +500,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     st->memory_estimate = memory_estimate(st, kind);
     double avail = march_available_memory();
     /* auto's coupled LU that does not fit gives way to the coupled GMRES
-     * where that is allowed and fits (the cavity at 256 x 256: 685 MB
+     * where that is allowed and fits (the cavity at 256 x 256: 653 MB
      * against the LU's 1,693 MB, 1.3x its time) */
     if (cs->coupled && cs->preconditioner == PRECOND_AUTO && kind == VISCOUS_LU &&
         avail > 0.0 && st->memory_estimate > avail && !case_coupled_gmres_refusal(cs)) {

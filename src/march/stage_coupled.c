@@ -496,7 +496,8 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 
 long stage_coupled_fallbacks(const struct coupled_state *c, const char **cause)
 {
-    *cause = c && c->fallbacks ? c->cause : NULL;
+    if (cause)
+        *cause = c && c->fallbacks ? c->cause : NULL;
     return c ? c->fallbacks : 0;
 }
 

@@ -25,9 +25,10 @@ struct saddle_krylov {
     double *pf, *pg;           /* free-sized work */
     double *u1, *u2;           /* velocity-sized work */
     struct gmres *gm;
-    struct csr_matrix A;       /* K's velocity block, handed to the AMG */
+    struct csr_matrix A;       /* K's velocity block, handed to the AMG (which
+                                  releases it) */
     const struct csr_matrix *K; /* the system of the solve under way */
-    double *schur_inv;         /* 1 / S per unknown beyond nu */
+    double *schur_inv;         /* 1 / S per unknown beyond nu (0 on free rows) */
     double *diag;              /* A's diagonal */
     double *t;                 /* velocity-sized work */
 };
@@ -210,8 +211,13 @@ static int split(struct saddle_krylov *s, const struct csr_matrix *K)
             }
         s->A.rowptr[r + 1] = (int)at;
     }
+    number_free(s, K);
     for (int r = nu; r < s->n; r++) {
         double S = 0.0;
+        if (s->free_of[r - nu] >= 0) { /* the commutator's (apply_P) */
+            s->schur_inv[r - nu] = 0.0;
+            continue;
+        }
         for (int q = K->rowptr[r]; q < K->rowptr[r + 1]; q++) {
             int k = K->col[q];
             if (k == r)
@@ -223,7 +229,6 @@ static int split(struct saddle_krylov *s, const struct csr_matrix *K)
            diagonal) is left as it is */
         s->schur_inv[r - nu] = S != 0.0 ? 1.0 / S : 1.0;
     }
-    number_free(s, K);
     return form_M(s, K);
 }
 
@@ -254,10 +259,10 @@ static void apply_Y(struct saddle_krylov *s, const double *x, double *y)
         }
         s->u1[k] = s->diag[k] != 0.0 ? a / s->diag[k] : 0.0;
     }
-    for (int k = 0; k < nu; k++) {
+    for (int k = 0; k < nu; k++) { /* A: the velocity columns, first in K's rows */
         double a = 0.0;
-        for (int q = s->A.rowptr[k]; q < s->A.rowptr[k + 1]; q++)
-            a += s->A.val[q] * s->u1[s->A.col[q]];
+        for (int q = K->rowptr[k]; q < K->rowptr[k + 1] && K->col[q] < nu; q++)
+            a += K->val[q] * s->u1[K->col[q]];
         s->u2[k] = s->diag[k] != 0.0 ? a / s->diag[k] : 0.0;
     }
     for (int f = 0; f < s->nf; f++) {
@@ -326,18 +331,8 @@ int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, con
         if (rc != 0)
             return -1;
     }
-    /* a copy of the velocity block's values stays for Y's products: the AMG
-       takes its own */
-    struct csr_matrix Acopy = {0};
-    if (csr_reserve(&Acopy, s->A.n, (size_t)csr_nnz(&s->A)) != 0) {
-        snprintf(err, errlen, "coupled step's GMRES: out of memory");
-        return -1;
-    }
-    memcpy(Acopy.rowptr, s->A.rowptr, ((size_t)s->A.n + 1) * sizeof(int));
-    memcpy(Acopy.col, s->A.col, (size_t)csr_nnz(&s->A) * sizeof(int));
-    memcpy(Acopy.val, s->A.val, (size_t)csr_nnz(&s->A) * sizeof(double));
-    int bad = amg_hypre_setup(s->amg, &Acopy) != 0 || amg_hypre_prepare(s->amg, rhs, -1.0) != 0;
-    csr_free(&Acopy);
+    /* the AMG takes A (and releases it); Y's products read A in K */
+    int bad = amg_hypre_setup(s->amg, &s->A) != 0 || amg_hypre_prepare(s->amg, rhs, -1.0) != 0;
     if (s->nf > 0 && !bad) {
         bad = amg_hypre_setup(s->amg_m, &s->M) != 0;
         if (!bad) {
