@@ -564,6 +564,40 @@ static void test_granular_cylinder_continuation(void **state)
     assert_non_null(strstr(r.message, "no steady state at F = 1.15"));
 }
 
+/* The continuation in the mean velocity (cylinder.velocity_end,
+ * physics/flow_rate.h), D/2, lambda 1e-2: F = 1 and 1.15, then U doubled up
+ * to 2 with F solved for.  Its end must be a steady state of the plain
+ * problem: a solve from rest at the F it found ends on its U and drag (to
+ * 1e-6: the summary's F has 15 digits and U's sensitivity to F, d ln U /
+ * d ln F, is about 15 here, so the rounding alone moves U by 1e-13; the
+ * steady tolerance 1e-8 of either solve leaves about 1e-8), and U is the
+ * target to round-off (the bordered step holds it exactly: it is linear in
+ * the velocity). */
+static void test_granular_cylinder_velocity_continuation(void **state)
+{
+    (void)state;
+    char *ov[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
+                  "domain.nz=60", "cylinder.forcing_end=1.15", "cylinder.forcing_step=0.15",
+                  "cylinder.velocity_end=2", "cylinder.velocity_ratio=2", "output.quiet=on"};
+    struct run_result r;
+    run_checked(CASES_DIR "cylinder.ini", 9, ov, &r);
+    double F = run_result_value(&r, "forcing"), u_end = run_result_value(&r, "mean_velocity");
+    double fd = run_result_value(&r, "drag");
+    print_message("granular cylinder D/2, continuation in U to 2: %s, %g solves, %g steps, F "
+                  "%.12g, U %.12g, F_D %.10g; %s\n",
+                  run_status_name(r.status), run_result_value(&r, "solves"),
+                  run_result_value(&r, "steps_total"), F, u_end, fd, r.message);
+    assert_int_equal(r.status, STATUS_STEADY);
+    assert_true(fabs(u_end / 2.0 - 1.0) < 1e-12);
+    assert_true(F > 1.15 && F < 1.6);
+    assert_non_null(strstr(r.message, "steady at U = 2"));
+    double u;
+    double fresh = granular_drag(10.0, F, &u);
+    print_message("  from rest at that F: U %.12g, F_D %.10g\n", u, fresh);
+    assert_true(fabs(u / u_end - 1.0) < 1e-6);
+    assert_true(fabs(fd / fresh - 1.0) < 1e-6);
+}
+
 /* Bad input of the scene names its key. */
 static void test_cylinder_scene_keys(void **state)
 {
@@ -577,8 +611,22 @@ static void test_cylinder_scene_keys(void **state)
         {"rheology.law=newtonian", "rheology.law"},
         {"physics.tilt=0.1", "physics.tilt"},
         {"boundary.zlo=wall", "boundary.zlo"},
+        {"cylinder.velocity_end=-1", "cylinder.velocity_end"},
+        {"cylinder.velocity_end=5", "cylinder.velocity_end"},
     };
     test_bad_overrides(CASES_DIR "cylinder.ini", bad, sizeof bad / sizeof bad[0]);
+    char *ratio[] = {"cylinder.forcing_end=2", "cylinder.velocity_end=5",
+                     "cylinder.velocity_ratio=1"},
+         *open_ends[] = {"cylinder.forcing_end=2", "cylinder.velocity_end=5",
+                         "boundary.zlo=open", "boundary.zhi=open"};
+    struct muflow_case cs;
+    char err[512];
+    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 3, ratio, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "cylinder.velocity_ratio"));
+    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 4, open_ends, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "cylinder.velocity_end"));
 }
 
 void group_obstacle(struct test_tally *t)
@@ -595,6 +643,7 @@ void group_obstacle(struct test_tally *t)
         cmocka_unit_test(test_granular_cylinder_collapse_plateau),
         cmocka_unit_test(test_granular_cylinder_open_ends),
         cmocka_unit_test(test_granular_cylinder_continuation),
+        cmocka_unit_test(test_granular_cylinder_velocity_continuation),
         cmocka_unit_test(test_granular_cylinder_stages_from_steady),
         cmocka_unit_test(test_cylinder_scene_keys),
     };

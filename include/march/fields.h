@@ -22,6 +22,8 @@ enum field_where { FIELD_CELLS = 0, FIELD_FACES, FIELD_EDGES, FIELD_CELLS3 };
 enum field_flags {
     FIELD_CHECKPOINT = 1, /* in the checkpoint: a continued run needs it */
     FIELD_SAVED = 2,      /* saved before a step, restored when the step is rejected */
+    FIELD_START_OPTIONAL = 4, /* a start from a state without it (solver.initial_state,
+                                 a restart) keeps march_create's value */
 };
 
 struct field_spec {

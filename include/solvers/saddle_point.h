@@ -25,6 +25,10 @@ void saddle_point_destroy(struct saddle_point *s);
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
                        double *x, char *err, size_t errlen);
 
+/* The same for nrhs right-hand sides with one factorisation. */
+int saddle_point_solve_many(struct saddle_point *s, const struct csr_matrix *K, int nrhs,
+                            const double *const *rhs, double *const *x, char *err, size_t errlen);
+
 /* Bytes of the LU of a saddle-point system of this many unknowns on a grid
  * of dims dimensions (a measured model, for the run's memory estimate). */
 double saddle_point_memory_estimate(long unknowns, int dims);

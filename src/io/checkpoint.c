@@ -84,6 +84,10 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
         for (int c = 0; c < n; c++) {
             char name[96];
             checkpoint_dataset_name(&e->spec, c, name, sizeof name);
+            /* a field added since the checkpoint was written keeps its start */
+            if (read && (e->spec.flags & FIELD_START_OPTIONAL) &&
+                H5Lexists(file, name, H5P_DEFAULT) <= 0)
+                continue;
             int rc = read ? h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err, errlen)
                           : h5io_write(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err,
                                        errlen);
@@ -382,6 +386,17 @@ int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, s
     if (rc != 0)
         snprintf(err, errlen, "checkpoint %s: %s", path, cause);
     return rc;
+}
+
+int checkpoint_has_dataset(const char *path, const char *name)
+{
+    char err[600];
+    hid_t file = open_checkpoint(path, err, sizeof err);
+    if (file < 0)
+        return -1;
+    int has = H5Lexists(file, name, H5P_DEFAULT) > 0;
+    H5Fclose(file);
+    return has;
 }
 
 int checkpoint_read_dataset(const char *path, const char *name, const int n[3], double *buf,

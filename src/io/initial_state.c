@@ -107,6 +107,8 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         for (int c = 0; rc == 0 && c < n; c++) {
             char name[96];
             checkpoint_dataset_name(&fe->spec, c, name, sizeof name);
+            if ((fe->spec.flags & FIELD_START_OPTIONAL) && checkpoint_has_dataset(file, name) == 0)
+                break;
             if (checkpoint_read_dataset(file, name, ns, src, cause, sizeof cause) != 0) {
                 snprintf(err, errlen, "solver.initial_state: %s", cause);
                 rc = -1;

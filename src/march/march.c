@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include "march/march.h"
 #include "march/step.h"
+#include "physics/flow_rate.h"
 #include "physics/obstacle.h"
 #include "solvers/saddle_krylov.h"
 #include "solvers/saddle_point.h"
@@ -455,7 +456,7 @@ static int add_modules(struct march_state *st, const struct module *const *extra
             }
             /* the coupled step solves the velocity and pressure of one
              * density and one velocity field: a body only */
-            if (st->cs->coupled && *m != &obstacle_module) {
+            if (st->cs->coupled && *m != &obstacle_module && *m != &flow_rate_module) {
                 snprintf(err, errlen, "solver.coupled = on: the physics module '%s' of this "
                                       "scene is not supported by the coupled step yet",
                          (*m)->name);

@@ -16,6 +16,9 @@
  * solver.preconditioner = amg GMRES solves it (saddle_krylov.h), giving way
  * to the LU for the rest of the run if it fails.
  *
+ * A prescribed mean velocity (physics/flow_rate.h) borders K with the force's
+ * size as one more unknown: a second right-hand side of the same LU.
+ *
  * An open face is not a velocity unknown; each has one more unknown, its
  * own increment beyond its inner face's, with the face's balance for its
  * row (coupled_open.h).
@@ -38,6 +41,7 @@
 #include "march/coupled_pressure.h"
 #include "march/coupled_open.h"
 #include "march/step.h"
+#include "physics/flow_rate.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_krylov.h"
 #include "solvers/saddle_point.h"
@@ -83,6 +87,9 @@ struct coupled_state {
     struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
     int pcols_on;                   /* this step's matrix has them (the tangent's) */
     int idle[3];                    /* components this step leaves at du = 0 (idle_components) */
+    double *f, *x2;                 /* a prescribed mean velocity: the bordered solve's
+                                       second column and its solution (physics/flow_rate.h) */
+    int bordered;                   /* this step's solve has them */
 };
 
 static int by_row(const void *a, const void *b)
@@ -116,6 +123,8 @@ void stage_coupled_destroy(struct coupled_state *c)
     free(c->e);
     free(c->b);
     free(c->x);
+    free(c->f);
+    free(c->x2);
     free(c);
 }
 
@@ -209,6 +218,9 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     c->b = malloc(nall * sizeof *c->b);
     c->x = malloc(nall * sizeof *c->x);
     if (!c->b || !c->x)
+        goto oom;
+    if (march_module_state(st, &flow_rate_module) &&
+        (!(c->f = calloc(nall, sizeof *c->f)) || !(c->x2 = malloc(nall * sizeof *c->x2))))
         goto oom;
     memset(c->held, 1, (size_t)c->nc);
     for (int f = 0; f < c->nfaces; f++) {
@@ -329,7 +341,7 @@ static void idle_components(struct coupled_state *c)
         busy[comp[ki]] = touched[ki] = 1;
     }
     for (int r = 0; r < c->nu; r++) {
-        if (c->b[r] != 0.0)
+        if (c->b[r] != 0.0 || (c->bordered && c->f[r] != 0.0))
             busy[comp[r]] = 1;
         for (int q = A->rowptr[r]; q < A->rowptr[r + 1]; q++) {
             int k = A->col[q];
@@ -411,6 +423,25 @@ static int assemble(struct coupled_state *c)
     return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
+/* The bordered step of a prescribed mean velocity (physics/flow_rate.h):
+ * x = x1 + dg x2 with dg such that the mean of u + x is the target. */
+static void border(struct march_state *st, struct coupled_state *c, double gap)
+{
+    size_t nall = (size_t)c->nu + (size_t)c->nc + (size_t)c->nopen;
+    double w[2];
+    const double *sol[2] = {c->x, c->x2};
+    for (int r = 0; r < 2; r++) {
+        for (int k = 0; k < 3; k++)
+            memset(st->delta[k], 0, st->g.size * sizeof(double));
+        probe_matrix_scatter(c->pm, sol[r], st->delta);
+        w[r] = flow_rate_mean(st, st->delta);
+    }
+    double dg = w[1] != 0.0 ? (gap - w[0]) / w[1] : 0.0;
+    for (size_t q = 0; q < nall; q++)
+        c->x[q] += dg * c->x2[q];
+    flow_rate_increment(st, dg);
+}
+
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 {
     const struct grid *g = &st->g;
@@ -431,6 +462,10 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     if (c->open && coupled_open_probe(c->open, st, pb) != 0)
         return -1;
     probe_matrix_gather(c->pm, st->res, c->b);
+    double gap = 0.0;
+    c->bordered = c->f && flow_rate_border(st, st->delta, &gap) == 0;
+    if (c->bordered)
+        probe_matrix_gather(c->pm, st->delta, c->f); /* its pressure rows stay 0 */
     idle_components(c);
     if (assemble(c) != 0)
         return -1;
@@ -452,7 +487,7 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
     struct saddle_krylov_stats ks = {0, 0.0};
     int rc = 1;
-    if (c->krylov) {
+    if (c->krylov && !c->bordered) { /* the bordered solve is the LU's */
         double tol = implicit_tolerance(st, pb->b_cell != NULL);
         rc = saddle_krylov_solve(c->krylov, &c->K, c->b, c->x, tol, st->cs->max_linear_iterations,
                                  &ks, c->cause, sizeof c->cause);
@@ -473,11 +508,15 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         }
     }
     if (rc != 0) {
-        if (saddle_point_solve(c->solver, &c->K, c->b, c->x, st->step_error,
-                               sizeof st->step_error) != 0)
+        const double *rhs[2] = {c->b, c->f};
+        double *sol[2] = {c->x, c->x2};
+        if (saddle_point_solve_many(c->solver, &c->K, c->bordered ? 2 : 1, rhs, sol, st->step_error,
+                                    sizeof st->step_error) != 0)
             return -1;
         st->linear_iterations = 1;
     }
+    if (c->bordered)
+        border(st, c, gap);
     for (int k = 0; k < 3; k++)
         memset(st->delta[k], 0, g->size * sizeof(double));
     probe_matrix_scatter(c->pm, c->x, st->delta);

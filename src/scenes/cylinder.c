@@ -20,6 +20,7 @@
 #include "config/case.h"
 #include "io/output.h"
 #include "march/step.h"
+#include "physics/flow_rate.h"
 #include "physics/obstacle.h"
 #include "physics/obstacle_forces.h"
 #include "scenes/scene.h"
@@ -30,6 +31,8 @@ struct cylinder_params {
     double forcing_end;  /* the last F (<= forcing: one solve) */
     double forcing_step; /* the continuation's step in F */
     double min_step;     /* a failed step is halved down to this */
+    double velocity_end; /* > 0: then continue in the mean velocity U up to this */
+    double velocity_ratio; /* the continuation's factor in U */
 };
 
 #define T struct cylinder_params
@@ -48,6 +51,14 @@ static const struct key cylinder_keys[] = {
             "a failed F is retried at half the step down to this; below it the continuation "
             "ends on the last steady state",
             KEY_GT0),
+    KEY_DBL(T, "cylinder", "velocity_end", velocity_end,
+            "after the continuation in F, continue in the mean velocity U up to this, F solved "
+            "for (0: none); needs cylinder.forcing_end > cylinder.forcing and a periodic box",
+            KEY_GE0),
+    KEY_DBL(T, "cylinder", "velocity_ratio", velocity_ratio,
+            "the continuation's factor in U (a failed U is retried at the factor's square root, "
+            "down to 1 + (the factor - 1) / 8; a steady one squares it back)",
+            KEY_GT0),
 };
 #undef T
 
@@ -58,6 +69,8 @@ static void cylinder_defaults(void *block)
     c->forcing_end = 0.0;
     c->forcing_step = 0.05;
     c->min_step = 0.0125;
+    c->velocity_end = 0.0;
+    c->velocity_ratio = 1.25;
 }
 
 SCENE_PARAMS(cylinder_block, "cylinder", struct cylinder_params, cylinder_keys, cylinder_defaults)
@@ -133,6 +146,25 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     const struct cylinder_params *p = params(c);
+    if (p->velocity_end > 0.0 && !(p->forcing_end > p->forcing)) {
+        snprintf(msg, msglen, "cylinder.velocity_end = %g needs cylinder.forcing_end > "
+                              "cylinder.forcing: the continuation in U starts from the last two "
+                              "steady states in F",
+                 p->velocity_end);
+        return 1;
+    }
+    if (p->velocity_end > 0.0 && !(p->velocity_ratio > 1.0)) {
+        snprintf(msg, msglen, "cylinder.velocity_ratio = %g must be > 1", p->velocity_ratio);
+        return 1;
+    }
+    if (p->velocity_end > 0.0 && (zlo != BC_PERIODIC || zhi != BC_PERIODIC || !c->coupled ||
+                                  c->preconditioner == PRECOND_AMG)) {
+        snprintf(msg, msglen, "cylinder.velocity_end = %g (U held, F solved for) needs "
+                              "boundary.zlo = zhi = periodic, solver.coupled = on and the "
+                              "coupled step's LU (solver.preconditioner = lu or auto)",
+                 p->velocity_end);
+        return 1;
+    }
     if (p->forcing_end > p->forcing && c->checkpoint_every > 0) {
         snprintf(msg, msglen, "cylinder.forcing_end > cylinder.forcing (a continuation over "
                               "steady solves) needs output.checkpoint_every = 0");
@@ -188,6 +220,8 @@ struct cylinder_run {
     int solves;
     long steps;
     double failed_F;      /* the F the continuation ended at, or NaN */
+    int in_velocity;      /* it went on in U (cylinder.velocity_end) */
+    double failed_U;      /* the U it ended at, or NaN */
 };
 
 /* cylinder.csv, replaced whole after every solve; a failure to write it is
@@ -223,15 +257,26 @@ static void write_rows(const char *dir, const struct muflow_case *cs, const stru
 
 /* One steady solve at F from the state st holds (fresh: the case's start,
  * with its continuation in lambda; else a continued solve, measured afresh
- * like a run from solver.initial_state). */
-static enum run_status solve(struct scene_drive *d, double F, int fresh, struct row *row)
+ * like a run from solver.initial_state); with U > 0 at the mean velocity U,
+ * F its start and then the solve's (physics/flow_rate.h). */
+static enum run_status solve(struct scene_drive *d, double F, double U, int fresh,
+                             struct row *row)
 {
     struct march_state *st = d->st;
+    memset(row, 0, sizeof *row);
+    row->F = F;
+    row->status = STATUS_DIVERGED; /* until the march says */
     d->cs->gravity = gravity_of(d->cs, F);
+    row->g = d->cs->gravity;
     char err[256];
     if (march_reforce(st, err, sizeof err) != 0) {
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message, "F = %g: %.200s", F, err);
+        return st->status;
+    }
+    if (flow_rate_restart(st, d->cs->gravity, U, err, sizeof err) != 0) {
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message, "U = %g: %.200s", U, err);
         return st->status;
     }
     if (!fresh) {
@@ -240,6 +285,10 @@ static enum run_status solve(struct scene_drive *d, double F, int fresh, struct 
         st->picard_stalled = 0;
     }
     enum run_status s = march_run(st, d->observe, d->observe_ctx);
+    if (U > 0.0) { /* the force the solve found */
+        d->cs->gravity = flow_rate_gravity(st);
+        F = forcing_of(d->cs);
+    }
     memset(row, 0, sizeof *row);
     row->F = F;
     row->g = d->cs->gravity;
@@ -249,7 +298,11 @@ static enum run_status solve(struct scene_drive *d, double F, int fresh, struct 
     if (s == STATUS_STEADY)
         values_of(st, &row->v);
     if (d->verbose) {
-        printf("cylinder: F %-9.6g %s after %ld steps", F, run_status_name(s), st->step);
+        if (U > 0.0)
+            printf("cylinder: U %-9.6g %s after %ld steps, F %.6g", U, run_status_name(s),
+                   st->step, F);
+        else
+            printf("cylinder: F %-9.6g %s after %ld steps", F, run_status_name(s), st->step);
         if (s == STATUS_STEADY)
             printf("  U %.5g  Fr %.4g  F_D %.5g  F_D / p_ext %.5g", row->v.U, row->v.Fr,
                    row->v.drag, row->v.drag / d->cs->confining_pressure);
@@ -276,7 +329,7 @@ static int drive(struct scene_drive *d)
     struct cylinder_run *run = (struct cylinder_run *)d->data.bytes;
     _Static_assert(sizeof(struct cylinder_run) <= sizeof d->data.bytes, "drive data");
     memset(run, 0, sizeof *run);
-    run->failed_F = NAN;
+    run->failed_F = run->failed_U = NAN;
     run->continued = p->forcing_end > p->forcing;
     struct row *rows = malloc(MAX_ROWS * sizeof *rows);
     if (!rows) {
@@ -285,7 +338,7 @@ static int drive(struct scene_drive *d)
     }
     int n = 0;
     double t0 = omp_get_wtime();
-    enum run_status s = solve(d, p->forcing, 1, &rows[n++]);
+    enum run_status s = solve(d, p->forcing, 0.0, 1, &rows[n++]);
     run->solves = 1;
     run->steps = st->step;
     if (d->dir)
@@ -303,6 +356,7 @@ static int drive(struct scene_drive *d)
     }
     long last_steps = st->step;
     double F_last = p->forcing, F_older = NAN, step = p->forcing_step;
+    double U_last = rows[0].v.U, U_older = NAN;
     const double eps = 1e-9 * p->forcing_end;
     while (F_last < p->forcing_end - eps && n < MAX_ROWS) {
         double F = fmin(F_last + step, p->forcing_end);
@@ -310,7 +364,7 @@ static int drive(struct scene_drive *d)
          * their steps ahead */
         double w = isfinite(F_older) ? fmin(1.0, (F - F_last) / (F_last - F_older)) : 0.0;
         fields_snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, &st->fields);
-        s = solve(d, F, 0, &rows[n++]);
+        s = solve(d, F, 0.0, 0, &rows[n++]);
         run->solves++;
         run->steps += st->step;
         if (d->dir)
@@ -327,6 +381,8 @@ static int drive(struct scene_drive *d)
             }
             F_older = F_last;
             F_last = F;
+            U_older = U_last;
+            U_last = rows[n - 1].v.U;
             last_steps = st->step;
             continue;
         }
@@ -338,17 +394,70 @@ static int drive(struct scene_drive *d)
         run->failed_F = F;
         break;
     }
+    /* then in U (cylinder.velocity_end), from the last two steady states,
+     * by their secant, on which U is exact (it is linear in the velocity) */
+    if (s != STATUS_STOPPED && p->velocity_end > 0.0 && isfinite(U_older) && U_last > U_older &&
+        n < MAX_ROWS) {
+        double ratio = p->velocity_ratio, min_ratio = 1.0 + (p->velocity_ratio - 1.0) / 8.0;
+        run->failed_F = NAN;
+        run->in_velocity = 1;
+        while (U_last < p->velocity_end * (1.0 - 1e-9) && n < MAX_ROWS) {
+            double U = fmin(U_last * ratio, p->velocity_end);
+            fields_snapshot_put(&last, &older, (U - U_last) / (U_last - U_older), &st->fields);
+            double g = flow_rate_gravity(st); /* the secant's */
+            s = solve(d, g / gravity_of(cs, 1.0), U, 0, &rows[n++]);
+            run->solves++;
+            run->steps += st->step;
+            if (d->dir)
+                write_rows(d->dir, cs, rows, n);
+            if (s == STATUS_STOPPED)
+                break;
+            if (s == STATUS_STEADY) {
+                struct field_snapshot t = older;
+                older = last;
+                last = t;
+                if (fields_snapshot_take(&last, &st->fields) != 0) {
+                    out_of_memory(st);
+                    break;
+                }
+                U_older = U_last;
+                U_last = U;
+                F_last = rows[n - 1].F;
+                last_steps = st->step;
+                ratio = fmin(p->velocity_ratio, ratio * ratio); /* back after a cut */
+                continue;
+            }
+            if (sqrt(ratio) >= min_ratio * (1.0 - 1e-12)) {
+                ratio = sqrt(ratio);
+                continue;
+            }
+            run->failed_U = U;
+            break;
+        }
+    }
     if (s != STATUS_STOPPED && s != STATUS_STEADY) {
         /* the continuation ends on its last steady state */
         fields_snapshot_put(&last, NULL, 0.0, &st->fields);
         cs->gravity = gravity_of(cs, F_last);
         char err[256];
         march_reforce(st, err, sizeof err);
+        flow_rate_restart(st, cs->gravity, run->in_velocity ? U_last : 0.0, err, sizeof err);
         step_evaluate(st);
         st->step = last_steps; /* the summary's steps: the solve of this state */
         st->status = STATUS_STEADY;
     }
-    if (st->status == STATUS_STEADY) {
+    if (st->status == STATUS_STEADY && run->in_velocity) {
+        if (isfinite(run->failed_U))
+            snprintf(st->message, sizeof st->message,
+                     "steady at U = %.6g (F = %.6g), the continuation's end: no steady state "
+                     "at U = %.6g within a factor of %g of it",
+                     U_last, F_last, run->failed_U,
+                     1.0 + (p->velocity_ratio - 1.0) / 8.0);
+        else
+            snprintf(st->message, sizeof st->message,
+                     "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", U_last,
+                     F_last, run->solves, p->forcing);
+    } else if (st->status == STATUS_STEADY) {
         if (isfinite(run->failed_F))
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g, the continuation's end: no steady state at F = %.6g "
@@ -378,16 +487,18 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     const struct muflow_case *cs = st->cs;
     const struct cylinder_run *run = (const struct cylinder_run *)d->data.bytes;
     double F = forcing_of(cs), width = geometry(cs).width;
-    run_result_add(res, "forcing", "%.10g", F);
+    run_result_add(res, "forcing", "%.15g", F);
     if (run->continued) {
         snprintf(res->stop_note, sizeof res->stop_note,
-                 "during the continuation in F (not restartable): cylinder.csv has the solves "
+                 "during the continuation (not restartable): cylinder.csv has the solves "
                  "so far, checkpoint.h5 the last state (solver.initial_state starts a new run "
                  "from it)");
         run_result_add(res, "solves", "%d", run->solves);
         run_result_add(res, "steps_total", "%ld", run->steps);
         if (isfinite(run->failed_F))
             run_result_add(res, "forcing_failed", "%.10g", run->failed_F);
+        if (isfinite(run->failed_U))
+            run_result_add(res, "velocity_failed", "%.10g", run->failed_U);
     }
     if (st->status != STATUS_STEADY)
         return;
@@ -409,6 +520,9 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 
 static const char *const cylinder_files[] = {"cylinder.csv", NULL};
 
+/* idle but for a continuation in U (cylinder.velocity_end) */
+static const struct module *const cylinder_modules[] = {&flow_rate_module, NULL};
+
 const struct scene scene_cylinder = {
     .name = "cylinder",
     .title = "granular flow past a cylinder driven by F = rho phi g L_x / p_ext, continued in F",
@@ -420,4 +534,5 @@ const struct scene scene_cylinder = {
     .not_restartable = not_restartable,
     .results = results,
     .files = cylinder_files,
+    .modules = cylinder_modules,
 };

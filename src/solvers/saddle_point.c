@@ -110,6 +110,12 @@ static int analyse(struct saddle_point *s, const struct csr_matrix *K)
 int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const double *rhs,
                        double *x, char *err, size_t errlen)
 {
+    return saddle_point_solve_many(s, K, 1, &rhs, &x, err, errlen);
+}
+
+int saddle_point_solve_many(struct saddle_point *s, const struct csr_matrix *K, int nrhs,
+                            const double *const *rhs, double *const *x, char *err, size_t errlen)
+{
     int status = same_pattern(s, K) ? UMFPACK_OK : analyse(s, K);
     if (status != UMFPACK_OK) {
         snprintf(err, errlen, "coupled step's LU (UMFPACK), %d unknowns: %s in its analysis",
@@ -120,9 +126,9 @@ int saddle_point_solve(struct saddle_point *s, const struct csr_matrix *K, const
     suitesparse_umfpack_control(control);
     status = suitesparse.umfpack_dl_numeric(s->rowptr, s->col, K->val, s->symbolic, &s->numeric,
                                             control, NULL);
-    if (status == UMFPACK_OK)
-        status = suitesparse.umfpack_dl_solve(UMFPACK_At, s->rowptr, s->col, K->val, x, rhs,
-                                              s->numeric, NULL, NULL);
+    for (int r = 0; r < nrhs && status == UMFPACK_OK; r++)
+        status = suitesparse.umfpack_dl_solve(UMFPACK_At, s->rowptr, s->col, K->val, x[r],
+                                              rhs[r], s->numeric, NULL, NULL);
     /* the factors serve this solve only: freed before the next step's
      * matrix is probed, so that the two are never held at once */
     free_numeric(s);
