@@ -136,6 +136,9 @@ def main():
     ap.add_argument("--min-step", type=float, default=0.0125, dest="min_step")
     ap.add_argument("--reuse", action="store_true",
                     help="keep the steady solves already in OUTDIR (same p, F, grid)")
+    ap.add_argument("--png", default=None,
+                    help="the plot's file name in outdir (default cylinder_granular.png)")
+    ap.add_argument("--title", default=None, help="the plot's title (with --csv)")
     ap.add_argument("--no-solve", action="store_true", dest="no_solve",
                     help="solve nothing: the CSV and plots of the steady solves in OUTDIR")
     ap.add_argument("--csv", default=None,
@@ -231,33 +234,41 @@ def plot_csv(a):
                 rows.append(row)
     pressures = sorted({r["p_ext"] for r in rows})
     os.makedirs(a.outdir, exist_ok=True)
-    plot(a, rows, pressures, nx, nz, note="")
+    plot(a, rows, pressures, nx, nz, note=a.title or "")
 
 
 def plot(a, rows, pressures, nx, nz, note=", lambda 1e-6"):
-    """cylinder_granular.png: F_D / p_ext against Fr, C_D against Fr_eff."""
+    """cylinder_granular.png: F_D / p_ext against Fr, C_D against Fr_eff,
+    and the forcing F against Fr (the approach to the limit of steady flow
+    that a continuation in U, cylinder.velocity_end, follows)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.5))
+    fig, ax = plt.subplots(1, 3, figsize=(15, 4.5))
     for p in pressures:
         r = [x for x in rows if x["p_ext"] == p and x["status"] == "steady"]
+        r.sort(key=lambda x: x["Fr"])
         ax[0].plot([x["Fr"] for x in r], [x["F_D_over_p"] for x in r], "o-",
                    label=f"p_ext = {p:g}")
         # C_D itself: at a fixed F, F_D ~ p_ext and U^2 ~ p_ext, so C_D (not
         # C_D / p_ext) is what collapses here
         ax[1].loglog([x["Fr_eff"] for x in r], [x["C_D"] for x in r], "o-",
                      label=f"p_ext = {p:g}")
+        ax[2].semilogx([x["Fr"] for x in r], [x["F"] for x in r], "o-",
+                       label=f"p_ext = {p:g}")
     ax[0].set_xlabel("Fr = U / sqrt(g D)")
     ax[0].set_ylabel("F_D / p_ext")
     ax[1].set_xlabel("U / sqrt(g (D + d))")
     ax[1].set_ylabel("C_D = F_D / (rho phi U^2 / 2)")
+    ax[2].set_xlabel("Fr = U / sqrt(g D)")
+    ax[2].set_ylabel("F = rho phi g L_x / p_ext")
     for x in ax:
         x.legend()
         x.grid(True, which="both", alpha=0.3)
     fig.suptitle(f"granular cylinder, half box {nx} x {nz} (D/{nx // 10}){note}")
     fig.tight_layout()
-    fig.savefig(os.path.join(a.outdir, "cylinder_granular.png"), dpi=110)
+    fig.savefig(os.path.join(a.outdir, getattr(a, "png", None) or "cylinder_granular.png"),
+                dpi=110)
 
 
 if __name__ == "__main__":

@@ -453,6 +453,11 @@ static int drive(struct scene_drive *d)
                      "at U = %.6g within a factor of %g of it",
                      U_last, F_last, run->failed_U,
                      1.0 + (p->velocity_ratio - 1.0) / 8.0);
+        else if (U_last < p->velocity_end * (1.0 - 1e-9))
+            snprintf(st->message, sizeof st->message,
+                     "steady at U = %.6g (F = %.6g): the continuation stopped at its limit of "
+                     "%d solves short of cylinder.velocity_end = %g",
+                     U_last, F_last, MAX_ROWS, p->velocity_end);
         else
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", U_last,
