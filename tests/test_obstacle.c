@@ -613,6 +613,7 @@ static void test_cylinder_scene_keys(void **state)
         {"boundary.zlo=wall", "boundary.zlo"},
         {"cylinder.velocity_end=-1", "cylinder.velocity_end"},
         {"cylinder.velocity_end=5", "cylinder.velocity_end"},
+        {"cylinder.velocity_stages=0.5", "cylinder.velocity_stages"},
     };
     test_bad_overrides(CASES_DIR "cylinder.ini", bad, sizeof bad / sizeof bad[0]);
     char *ratio[] = {"cylinder.forcing_end=2", "cylinder.velocity_end=5",
