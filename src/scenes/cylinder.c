@@ -329,6 +329,33 @@ static void out_of_memory(struct march_state *st)
     snprintf(st->message, sizeof st->message, "cylinder: out of memory for the continuation");
 }
 
+/* One continued solve from the state fields_snapshot_put left, counted and
+ * recorded; a steady one becomes the last of the two states the next
+ * secant takes (older <- last <- it).  Returns the solve's status, or
+ * STATUS_STOPPED when there is no memory for its state. */
+static enum run_status continued_solve(struct scene_drive *d, struct cylinder_run *run,
+                                       struct row *rows, int *n, double F, double U,
+                                       double stages, struct field_snapshot *last,
+                                       struct field_snapshot *older)
+{
+    struct march_state *st = d->st;
+    enum run_status s = solve(d, F, U, 0, stages, &rows[(*n)++]);
+    run->solves++;
+    run->steps += st->step;
+    if (d->dir)
+        write_rows(d->dir, d->cs, rows, *n);
+    if (s == STATUS_STEADY) {
+        struct field_snapshot t = *older;
+        *older = *last;
+        *last = t;
+        if (fields_snapshot_take(last, &st->fields) != 0) {
+            out_of_memory(st);
+            return STATUS_STOPPED;
+        }
+    }
+    return s;
+}
+
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
@@ -372,21 +399,10 @@ static int drive(struct scene_drive *d)
          * their steps ahead */
         double w = isfinite(F_older) ? fmin(1.0, (F - F_last) / (F_last - F_older)) : 0.0;
         fields_snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, &st->fields);
-        s = solve(d, F, 0.0, 0, 1.0, &rows[n++]);
-        run->solves++;
-        run->steps += st->step;
-        if (d->dir)
-            write_rows(d->dir, cs, rows, n);
-        if (s == STATUS_STOPPED) /* a signal or a failed output: the run says which */
+        s = continued_solve(d, run, rows, &n, F, 0.0, 1.0, &last, &older);
+        if (s == STATUS_STOPPED) /* a signal, a failed output or no memory: the run says which */
             break;
         if (s == STATUS_STEADY) {
-            struct field_snapshot t = older;
-            older = last;
-            last = t;
-            if (fields_snapshot_take(&last, &st->fields) != 0) {
-                out_of_memory(st);
-                break;
-            }
             F_older = F_last;
             F_last = F;
             U_older = U_last;
@@ -414,22 +430,11 @@ static int drive(struct scene_drive *d)
             double U = fmin(U_last * ratio, p->velocity_end);
             fields_snapshot_put(&last, &older, (U - U_last) / (U_last - U_older), &st->fields);
             double g = flow_rate_gravity(st); /* the secant's */
-            s = solve(d, g / gravity_of(cs, 1.0), U, 0, staged ? p->velocity_stages : 1.0,
-                      &rows[n++]);
-            run->solves++;
-            run->steps += st->step;
-            if (d->dir)
-                write_rows(d->dir, cs, rows, n);
+            s = continued_solve(d, run, rows, &n, g / gravity_of(cs, 1.0), U,
+                                staged ? p->velocity_stages : 1.0, &last, &older);
             if (s == STATUS_STOPPED)
                 break;
             if (s == STATUS_STEADY) {
-                struct field_snapshot t = older;
-                older = last;
-                last = t;
-                if (fields_snapshot_take(&last, &st->fields) != 0) {
-                    out_of_memory(st);
-                    break;
-                }
                 U_older = U_last;
                 U_last = U;
                 F_last = rows[n - 1].F;
