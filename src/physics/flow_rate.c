@@ -15,8 +15,7 @@ struct flow_rate {
     double *gravity;     /* the registry's cell field: g, uniform */
     double *unit[3];     /* the body force per unit g (st->force at g = 1) */
     double applied;      /* the g st->force holds */
-                         /* (the module is idle, the force the case's, while target is 0) */
-    double target;       /* U* */
+    double target;       /* U*; 0 while idle (the force the case's) */
     double pending;      /* this step's increment of g */
     int a;               /* the driven component */
     double sign;         /* of the force along it */
@@ -86,8 +85,8 @@ static const char *refusal(const struct march_state *st)
     return NULL;
 }
 
-/* The force follows the held g: at a new start (march_create's split) it is
- * the case's gravity's, after a rejection or a blend the saved state's. */
+/* The force follows the held g, which a rejected step or the line search's
+ * blend may have put back (the field is saved with the state). */
 static void properties(struct march_state *st, void *state)
 {
     struct flow_rate *s = state;
