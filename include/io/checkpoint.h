@@ -50,12 +50,12 @@ void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, s
 /* The grid (cells per direction) and the box lengths of the checkpoint at
  * path.  Returns 0, or -1 with the cause in err. */
 int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, size_t errlen);
-/* Its dataset `name` (a checkpointed field's array, each_dataset's names:
- * checkpoint_dataset_name) on its grid n: (n[0]+2)(n[1]+2)(n[2]+2) doubles in
- * the layout of grid.h into buf.  Returns 0, or -1 with the cause in err. */
 /* 1 when the checkpoint has the dataset, 0 when not, -1 when the file is
  * not a readable checkpoint. */
 int checkpoint_has_dataset(const char *path, const char *name);
+/* Its dataset `name` (a checkpointed field's array, each_dataset's names:
+ * checkpoint_dataset_name) on its grid n: (n[0]+2)(n[1]+2)(n[2]+2) doubles in
+ * the layout of grid.h into buf.  Returns 0, or -1 with the cause in err. */
 int checkpoint_read_dataset(const char *path, const char *name, const int n[3], double *buf,
                             char *err, size_t errlen);
 

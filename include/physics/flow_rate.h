@@ -22,8 +22,8 @@
  * The gravity is a cell field (uniform, "driving_gravity"): a rejected step,
  * the line search's blend, the continuation's secant and the checkpoint
  * carry it like the velocity.  The force's hydrostatic part would depend on
- * g through the rheology's pressure: the module asks for a force along a
- * direction the mean flow passes through (periodic), where it has none. */
+ * g through the rheology's pressure: the module asks for a force along z
+ * (tilt 0) through a periodic z, where it has none. */
 #ifndef MUFLOW_PHYSICS_FLOW_RATE_H
 #define MUFLOW_PHYSICS_FLOW_RATE_H
 
@@ -32,6 +32,9 @@
 
 extern const struct module flow_rate_module;
 
+/* NULL when a march of this case can hold its mean velocity, else why not
+ * (a phrase starting "needs", for a message naming the key that asks). */
+const char *flow_rate_refusal(const struct muflow_case *cs);
 
 /* The gravity the state holds, or NAN without the module. */
 double flow_rate_gravity(const struct march_state *st);
@@ -40,8 +43,7 @@ double flow_rate_gravity(const struct march_state *st);
  * force the case's (call after march_reforce, which computes the force at
  * the case's gravity; a scene lists the module and starts it idle).
  * Returns 0, or -1 with the reason in err when the march cannot hold U
- * (not a steady coupled step with its LU, or the force not along a
- * periodic direction of a box without open faces). */
+ * (flow_rate_refusal, or a start at g <= 0). */
 int flow_rate_restart(struct march_state *st, double g, double U, char *err, size_t errlen);
 
 /* For the coupled step: into f (a face field triple, overwritten) the

@@ -61,27 +61,21 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     return 0;
 }
 
-static const char *refusal(const struct march_state *st)
+const char *flow_rate_refusal(const struct muflow_case *cs)
 {
-    const struct muflow_case *cs = st->cs;
-    double f[3];
-    body_force_vector(cs, f);
-    int a = march_driven_component(st);
     if (cs->mode != MODE_STEADY || !cs->coupled)
         return "needs solver.mode = steady and solver.coupled = on (the force is an unknown of "
                "the coupled Newton step)";
     if (cs->preconditioner == PRECOND_AMG)
         return "needs the coupled step's LU: solver.preconditioner = lu or auto";
-    if (!(cs->gravity > 0.0))
-        return "needs physics.gravity > 0 at the start (the force per unit g)";
-    if (f[(a + 1) % 3] != 0.0 || f[(a + 2) % 3] != 0.0 || f[a] == 0.0)
-        return "needs a body force along one grid direction";
+    if (cs->tilt != 0.0)
+        return "needs physics.tilt = 0 (the force along z, with no hydrostatic part)";
     for (int d = 0; d < 3; d++)
         for (int e = 0; e < 2; e++)
-            if (st->bc.face[d][e] == BC_OPEN || st->bc.face[d][e] == BC_INFLOW ||
-                (d == a && st->bc.face[d][e] != BC_PERIODIC))
-                return "needs the force along a periodic direction and no open or inflow face "
-                       "(the mean velocity is then the flow rate)";
+            if (cs->bc.face[d][e] == BC_OPEN || cs->bc.face[d][e] == BC_INFLOW ||
+                (d == 2 && cs->bc.face[d][e] != BC_PERIODIC))
+                return "needs boundary.zlo = zhi = periodic and no open or inflow face (the "
+                       "mean velocity is then the flow rate)";
     return NULL;
 }
 
@@ -139,9 +133,10 @@ int flow_rate_restart(struct march_state *st, double g, double U, char *err, siz
     struct flow_rate *s = state_of(st);
     if (!s)
         return 0;
-    const char *why = U > 0.0 ? refusal(st) : NULL;
-    if (why) {
-        snprintf(err, errlen, "a prescribed mean velocity %s", why);
+    const char *why = U > 0.0 ? flow_rate_refusal(st->cs) : NULL;
+    if (why || (U > 0.0 && !(st->cs->gravity > 0.0))) {
+        snprintf(err, errlen, "a prescribed mean velocity %s",
+                 why ? why : "needs a start with gravity > 0 (the force per unit g)");
         return -1;
     }
     take_unit_force(st, s);

@@ -163,12 +163,10 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         snprintf(msg, msglen, "cylinder.velocity_ratio = %g must be > 1", p->velocity_ratio);
         return 1;
     }
-    if (p->velocity_end > 0.0 && (zlo != BC_PERIODIC || zhi != BC_PERIODIC || !c->coupled ||
-                                  c->preconditioner == PRECOND_AMG)) {
-        snprintf(msg, msglen, "cylinder.velocity_end = %g (U held, F solved for) needs "
-                              "boundary.zlo = zhi = periodic, solver.coupled = on and the "
-                              "coupled step's LU (solver.preconditioner = lu or auto)",
-                 p->velocity_end);
+    const char *why = p->velocity_end > 0.0 ? flow_rate_refusal(c) : NULL;
+    if (why) {
+        snprintf(msg, msglen, "cylinder.velocity_end = %g (U held, F solved for) %s",
+                 p->velocity_end, why);
         return 1;
     }
     if (p->forcing_end > p->forcing && c->checkpoint_every > 0) {
@@ -297,8 +295,7 @@ static enum run_status solve(struct scene_drive *d, double F, double U, int fres
         d->cs->gravity = flow_rate_gravity(st);
         F = forcing_of(d->cs);
     }
-    memset(row, 0, sizeof *row);
-    row->F = F;
+    row->F = F; /* the row was cleared above */
     row->g = d->cs->gravity;
     row->status = s;
     row->steps = st->step;
