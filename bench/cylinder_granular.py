@@ -235,6 +235,63 @@ def plot_csv(a):
     pressures = sorted({r["p_ext"] for r in rows})
     os.makedirs(a.outdir, exist_ok=True)
     plot(a, rows, pressures, nx, nz, note=a.title or "")
+    collapse_table(a, rows, pressures)
+
+
+def collapse_table(a, rows, pressures):
+    """collapse.md: how far each pressure's F_D / p_ext and F lie from
+    p_ext = 10's (or the first pressure's) at the same Fr, the reference
+    interpolated linearly in log Fr between its steady solves, over the Fr
+    both cover."""
+    import math
+    ref_p = 10.0 if 10.0 in pressures else pressures[0]
+
+    def steady(p):
+        r = [x for x in rows if x["p_ext"] == p and x["status"] == "steady" and x["Fr"] > 0]
+        r.sort(key=lambda x: x["Fr"])
+        return r
+
+    ref = steady(ref_p)
+
+    def at(fr, key):
+        lf = math.log(fr)
+        for lo, hi in zip(ref, ref[1:]):
+            a0, a1 = math.log(lo["Fr"]), math.log(hi["Fr"])
+            if a0 <= lf <= a1 and a1 > a0:
+                w = (lf - a0) / (a1 - a0)
+                return (1 - w) * lo[key] + w * hi[key]
+        return float("nan")
+
+    lines = ["| p_ext | steady solves | Fr up to | largest F_D / p_ext | largest F | "
+             "F_D / p_ext from p_ext = %g's: Fr <= 2, <= 10, <= 100 | F from p_ext = %g's |"
+             % (ref_p, ref_p),
+             "|---|---|---|---|---|---|---|"]
+    for p in pressures:
+        r = steady(p)
+        if not r:
+            continue
+        dev = {2: 0.0, 10: 0.0, 100: 0.0}
+        devF = 0.0
+        for x in r:
+            if p == ref_p:
+                break
+            q, f = at(x["Fr"], "F_D_over_p"), at(x["Fr"], "F")
+            if not math.isfinite(q):
+                continue
+            d = abs(x["F_D_over_p"] / q - 1.0)
+            for lim in dev:
+                if x["Fr"] <= lim:
+                    dev[lim] = max(dev[lim], d)
+            devF = max(devF, abs(x["F"] / f - 1.0))
+        cells = ("reference" if p == ref_p else
+                 ", ".join("%.2f %%" % (100 * dev[k]) for k in sorted(dev)))
+        lines.append("| %g | %d | %.3g | %.4f | %.5f | %s | %s |" % (
+            p, len(r), r[-1]["Fr"], r[-1]["F_D_over_p"], r[-1]["F"], cells,
+            "reference" if p == ref_p else "%.2f %%" % (100 * devF)))
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(a.outdir, "collapse.md"), "w") as f:
+        f.write(text)
+    print(text, end="")
 
 
 def plot(a, rows, pressures, nx, nz, note=", lambda 1e-6"):

@@ -36,6 +36,9 @@ extern const struct module flow_rate_module;
  * (a phrase starting "needs", for a message naming the key that asks). */
 const char *flow_rate_refusal(const struct muflow_case *cs);
 
+/* 1 while the module holds a mean velocity (started with U > 0), else 0. */
+int flow_rate_held(const struct march_state *st);
+
 /* The gravity the state holds, or NAN without the module. */
 double flow_rate_gravity(const struct march_state *st);
 

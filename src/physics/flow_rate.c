@@ -122,6 +122,12 @@ const struct module flow_rate_module = {
     .destroy = destroy,
 };
 
+int flow_rate_held(const struct march_state *st)
+{
+    const struct flow_rate *s = state_of(st);
+    return s && s->target > 0.0;
+}
+
 double flow_rate_gravity(const struct march_state *st)
 {
     const struct flow_rate *s = state_of(st);
