@@ -262,7 +262,7 @@ def collapse_table(a, rows, pressures):
                 return (1 - w) * lo[key] + w * hi[key]
         return float("nan")
 
-    lines = ["| p_ext | steady solves | Fr up to | largest F_D / p_ext | largest F | "
+    lines = ["| p_ext | steady solves | Fr up to | last F_D / p_ext | last F | "
              "F_D / p_ext from p_ext = %g's: Fr <= 2, <= 10, <= 100 | F from p_ext = %g's |"
              % (ref_p, ref_p),
              "|---|---|---|---|---|---|---|"]
@@ -272,9 +272,7 @@ def collapse_table(a, rows, pressures):
             continue
         dev = {2: 0.0, 10: 0.0, 100: 0.0}
         devF = 0.0
-        for x in r:
-            if p == ref_p:
-                break
+        for x in (r if p != ref_p else []):
             q, f = at(x["Fr"], "F_D_over_p"), at(x["Fr"], "F")
             if not math.isfinite(q):
                 continue
