@@ -374,6 +374,16 @@ bench-cylinder-grids: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_grids.py $(BUILD)/muflow $(BENCH_OUT) \
 	  --grids $(GRANULAR_GRIDS)
 
+# The same study on stretched grids: D/h within 1.5 D of the cylinder's
+# centre (domain.x_band, z_band), D/4 far from it, h over GRANULAR_BANDS
+# (README "Flow past a cylinder"): $(BENCH_OUT)/cylinder_bands.md.
+GRANULAR_BANDS ?= 8,16,32,64
+.PHONY: bench-cylinder-bands
+bench-cylinder-bands: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/cylinder_grids.py $(BUILD)/muflow $(BENCH_OUT) \
+	  --grids $(GRANULAR_BANDS) --band 1.5
+
 # The granular cylinder's continuation in F in one run (scene cylinder,
 # cases/cylinder.ini: D/4, p_ext = 10, lambda 1e-6; from rest at F = 1 to
 # CYLINDER_FORCING_END in steps of 0.05, 2 threads): the time of each steady

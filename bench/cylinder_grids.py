@@ -4,7 +4,7 @@
 cylinder").
 
 usage: cylinder_grids.py MUFLOW OUTDIR [--grids 4,8,16] [--lambda 1e-2]
-                         [section.key=value ...]
+                         [--band W [--far 4]] [section.key=value ...]
 
 The first grid (D/h cells across a diameter) starts from rest, each finer
 one from the state before it interpolated (solver.initial_state) with
@@ -12,8 +12,13 @@ Picard steps until the residual has fallen a hundredfold
 (solver.newton_below = 1e-2): from rest the finer grids are not steady in
 any sane time.  lambda (default 1e-2, the case's continuation off) is the
 same on every grid.  Extra overrides go to every run (for instance
-rheology.curve=barker_gray).  Writes OUTDIR/cylinder_grids.md: per grid
-its steps, wall and CPU seconds, peak memory, the machine's load, U, F_D by
+rheology.curve=barker_gray).  With --band W the grids are stretched
+(domain.x_band, z_band): D/h cells in the band within W diameters of the
+cylinder's centre (x from the symmetry plane to W), growing by
+domain.growth outside it to the far grid D/FAR (default D/4; a grid as
+fine as the far one is the uniform grid), the first from rest, the others
+as above.  Writes OUTDIR/cylinder_grids.md: per grid
+(cylinder_bands.md with --band) its cells, steps, wall and CPU seconds, peak memory, the machine's load, U, F_D by
 the control volume and by the surface integral, the successive
 differences of F_D and the observed order where three grids give one, and
 the sheared layer at the body (max |D| and h max |D|, bench/cylinder_layer.py),
@@ -37,15 +42,24 @@ def main():
     ap.add_argument("overrides", nargs="*")
     ap.add_argument("--grids", default="4,8,16")
     ap.add_argument("--lambda", dest="lam", default="1e-2")
+    ap.add_argument("--band", type=float, default=0.0)
+    ap.add_argument("--far", type=int, default=4)
     a = ap.parse_args()
     grids = [int(g) for g in a.grids.split(",")]
     muflow, outdir, extra, lam = a.muflow, a.outdir, a.overrides, a.lam
     os.makedirs(outdir, exist_ok=True)
     rows, previous = [], None
     for n in grids:
-        d = os.path.join(outdir, f"cylinder_grid_d{n}")
-        run = [muflow, CASE, f"domain.nx={10 * n}", f"domain.nz={30 * n}",
-               f"rheology.lambda={lam}", "solver.continuation=1", f"output.dir={d}"] + extra
+        if a.band > 0 and n != a.far:
+            d = os.path.join(outdir, f"cylinder_band_d{n}")
+            grid = [f"domain.nx={10 * a.far}", f"domain.nz={30 * a.far}",
+                    f"domain.x_band=0 {a.band} {1.0 / n!r}",
+                    f"domain.z_band={15 - a.band} {15 + a.band} {1.0 / n!r}"]
+        else:
+            d = os.path.join(outdir, f"cylinder_grid_d{n}")
+            grid = [f"domain.nx={10 * n}", f"domain.nz={30 * n}"]
+        run = [muflow, CASE] + grid + [f"rheology.lambda={lam}", "solver.continuation=1",
+                                       f"output.dir={d}"] + extra
         if previous:
             run += ["solver.newton_below=1e-2",
                     f"solver.initial_state={os.path.join(previous, 'checkpoint.h5')}"]
@@ -61,6 +75,8 @@ def main():
                      "surface": float(res["drag_surface"]), "layer": layer(d)})
         previous = d
     lines = [f"Granular cylinder, F = 1, p_ext = 10, lambda {lam}"
+             + (f", stretched: D/h within {a.band} D of the centre, D/{a.far} far"
+                if a.band > 0 else "")
              + (f", {' '.join(extra)}" if extra else "")
              + f"; OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS', '(unset)')}", "",
              "| grid | cells | steps | wall s | CPU s | peak MB | load | U | F_D control volume "
@@ -68,7 +84,8 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for i, r in enumerate(rows):
         step = f"{r['cv'] - rows[i - 1]['cv']:+.3f}" if i else ""
-        lines.append(f"| D/{r['n']} | {10 * r['n']} x {30 * r['n']} | {r['steps']} | "
+        cells = f"{r['layer']['n'][0]} x {r['layer']['n'][1]}"
+        lines.append(f"| D/{r['n']} | {cells} | {r['steps']} | "
                      f"{r['wall']:.1f} | {r['cpu']:.1f} | {r['mb']:.0f} | {r['load']:.2f} | "
                      f"{r['U']:.4f} | {r['cv']:.3f} | {r['surface']:.3f} | {step} | "
                      f"{r['layer']['max']:.3f} | {r['layer']['h'] * r['layer']['max']:.3f} |")
@@ -80,11 +97,12 @@ def main():
         lines.append(f"Observed order from D/{rows[i - 2]['n']}, D/{rows[i - 1]['n']}, "
                      f"D/{rows[i]['n']}: {order} (ratio of the steps {q:.3f}).")
     text = "\n".join(lines) + "\n"
-    with open(os.path.join(outdir, "cylinder_grids.md"), "w") as f:
+    name = "cylinder_bands.md" if a.band > 0 else "cylinder_grids.md"
+    with open(os.path.join(outdir, name), "w") as f:
         f.write(text)
     print(text)
     if rows:
-        plot(os.path.join(outdir, "cylinder_grids_layer.png"), [r["layer"] for r in rows])
+        plot(os.path.join(outdir, name.replace(".md", "_layer.png")), [r["layer"] for r in rows])
 
 
 if __name__ == "__main__":

@@ -18,35 +18,37 @@ import h5py
 import matplotlib
 import numpy as np
 
-from cylinder_maps import last_fields
+from cylinder_maps import axis, last_fields
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
 def layer(rundir):
-    """The layer of one run: h, the cells, the largest |D| outside the body
+    """The layer of one run: h (the width of the cell of the largest |D|), the cells, the largest |D| outside the body
     and its angle, and |D| against the distance s along the ray through it."""
     path, (xc, zc, r) = last_fields(rundir)
     with h5py.File(path, "r") as f:
-        n, h = f.attrs["n"], f.attrs["h"]
+        n = f.attrs["n"]
         rate = np.array(f["shear_rate"][:, 0, :])
-    x = (np.arange(n[0]) + 0.5) * h[0]
-    z = (np.arange(n[2]) + 0.5) * h[2]
+        x, xf = axis(f, 0)
+        z, zf = axis(f, 2)
     X, Z = np.meshgrid(x, z)
     dist = np.hypot(X - xc, Z - zc) - r
     flow = np.isfinite(rate) & (dist > 0)
     k = np.argmax(np.where(flow, rate, -np.inf))
     kz, ix = np.unravel_index(k, rate.shape)
     angle = math.atan2(Z[kz, ix] - zc, X[kz, ix] - xc)
-    # the cells the ray crosses, sampled at a tenth of a cell
-    s = np.arange(0.0, 1.0, 0.1 * h[0])
+    # the cell of the largest |D|: its width (a stretched grid's local one)
+    h = max(xf[ix + 1] - xf[ix], zf[kz + 1] - zf[kz])
+    # the cells the ray crosses, sampled at a tenth of that cell
+    s = np.arange(0.0, 1.0, 0.1 * h)
     px, pz = xc + (r + s) * math.cos(angle), zc + (r + s) * math.sin(angle)
-    ii = np.clip((px / h[0]).astype(int), 0, n[0] - 1)
-    kk = np.clip((pz / h[2]).astype(int), 0, n[2] - 1)
+    ii = np.clip(np.searchsorted(xf, px, side="right") - 1, 0, n[0] - 1)
+    kk = np.clip(np.searchsorted(zf, pz, side="right") - 1, 0, n[2] - 1)
     prof = rate[kk, ii]
     keep = flow[kk, ii]
-    return {"dir": rundir, "h": h[0], "n": (n[0], n[2]), "max": rate[kz, ix],
+    return {"dir": rundir, "h": h, "n": (n[0], n[2]), "max": rate[kz, ix],
             "angle": math.degrees(angle), "s": s[keep], "rate": prof[keep]}
 
 

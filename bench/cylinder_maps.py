@@ -28,6 +28,18 @@ def text(attrs, key):
     return v.decode() if isinstance(v, bytes) else str(v)
 
 
+def axis(f, d):
+    """The cell centres and faces of direction d of an open field file: its
+    stretched faces (x_faces, ...) where the grid has them, else the
+    uniform ones of n and h."""
+    name = "xyz"[d] + "_faces"
+    if name in f:
+        faces = np.array(f[name][:])
+    else:
+        faces = np.arange(f.attrs["n"][d] + 1) * f.attrs["h"][d]
+    return 0.5 * (faces[:-1] + faces[1:]), faces
+
+
 def last_fields(rundir):
     """The run's last field file (fields_*.h5) and its body, the one circle
     of obstacle.shapes: (path, (xc, zc, r)); exits naming the folder when
@@ -51,7 +63,7 @@ def main():
     path, (xc, zc, r) = last_fields(a.rundir)
     with h5py.File(path, "r") as f:
         at = f.attrs
-        n, h = at["n"], at["h"]
+        n = at["n"]
         mirrored = text(at, "boundary.xlo") == "slip" and xc == 0.0
         speed = np.linalg.norm(f["velocity"][:, 0, :, :], axis=-1)
         fields = [("|u|", speed, None),
@@ -60,8 +72,8 @@ def main():
         title = (f"p_ext {text(at, 'physics.confining_pressure')}, g "
                  f"{text(at, 'physics.gravity')}, {n[0]} x {n[2]} cells, lambda "
                  f"{text(at, 'rheology.lambda')}")
-    x = (np.arange(n[0]) + 0.5) * h[0]
-    z = (np.arange(n[2]) + 0.5) * h[2]
+        x, xf = axis(f, 0)
+        z, _ = axis(f, 2)
     if mirrored:
         x = np.concatenate([-x[::-1], x])
     X, Z = np.meshgrid(x, z)
@@ -78,7 +90,8 @@ def main():
         im = ax.pcolormesh(X, Z, v, shading="nearest", norm=norm, cmap="viridis")
         ax.add_patch(plt.Circle((xc, zc), r, color="0.6"))
         if a.window > 0:
-            ax.set_xlim(max(x[0] - 0.5 * h[0], xc - a.window), min(x[-1] + 0.5 * h[0], xc + a.window))
+            lo, hi = (-xf[-1], xf[-1]) if mirrored else (xf[0], xf[-1])
+            ax.set_xlim(max(lo, xc - a.window), min(hi, xc + a.window))
             ax.set_ylim(zc - 1.5 * a.window, zc + 1.5 * a.window)
         ax.set_aspect("equal")
         ax.set_title(name)

@@ -48,7 +48,9 @@ void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], 
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
                     ptrdiff_t q = grid_idx(g, i, j, k);
-                    va[q] -= c * ba[q] * (p[q] - p[q - o[a]]);
+                    const int ia = a == 0 ? i : a == 1 ? j : k;
+                    double ca = g->axis[a] ? scale / grid_hf(g, a, ia) : c;
+                    va[q] -= ca * ba[q] * (p[q] - p[q - o[a]]);
                 }
     }
 }

@@ -10,9 +10,10 @@ void kernel_divergence(const struct grid *g, double *const vel[3], double *div)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
+                const int idx[3] = {i, j, k};
                 double s = 0.0;
                 for (int a = 0; a < 3; a++)
-                    s += (vel[a][p + o[a]] - vel[a][p]) / h[a];
+                    s += (vel[a][p + o[a]] - vel[a][p]) / (g->axis[a] ? grid_hc(g, a, idx[a]) : h[a]);
                 div[p] = s;
             }
 }
@@ -30,7 +31,10 @@ void kernel_gradient_update(const struct grid *g, const struct box act[3], const
             for (int j = bx->lo[1]; j < bx->hi[1]; j++)
                 for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
                     ptrdiff_t q = grid_idx(g, i, j, k);
-                    va[q] -= c * (p[q] - p[q - o[a]]);
+                    /* a stretched direction: the distance of the two centres */
+                    const int ia = a == 0 ? i : a == 1 ? j : k;
+                    double ca = g->axis[a] ? scale / grid_hf(g, a, ia) : c;
+                    va[q] -= ca * (p[q] - p[q - o[a]]);
                 }
     }
 }

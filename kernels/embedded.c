@@ -50,6 +50,18 @@ void embedded_divergence(const struct grid *g, const struct embedded *e, double 
     const double *a0 = e->share[0], *a1 = e->share[1], *a2 = e->share[2];
     const double *u0 = v[0], *u1 = v[1], *u2 = v[2];
     const double i0 = 1.0 / g->h[0], i1 = 1.0 / g->h[1], i2 = 1.0 / g->h[2];
+    if (grid_stretched(g)) {
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
+        for (int i = 0; i < g->n[0]; i++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int k = 0; k < g->n[2]; k++) {
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    out[p] = (a0[p + o[0]] * u0[p + o[0]] - a0[p] * u0[p]) / grid_hc(g, 0, i) +
+                             (a1[p + o[1]] * u1[p + o[1]] - a1[p] * u1[p]) / grid_hc(g, 1, j) +
+                             (a2[p + o[2]] * u2[p + o[2]] - a2[p] * u2[p]) / grid_hc(g, 2, k);
+                }
+        return;
+    }
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)

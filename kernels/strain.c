@@ -14,10 +14,12 @@ static void strain_pairs(const struct grid *g, double *const u[3], double *const
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
+                const int idx[3] = {i, j, k};
                 double q = 0.0;
                 for (int a = 0; a < 3; a++) {
-                    double gu = 2.0 * (u[a][p + o[a]] - u[a][p]) / h[a];
-                    double gv = 2.0 * (v[a][p + o[a]] - v[a][p]) / h[a];
+                    double ha = g->axis[a] ? grid_hc(g, a, idx[a]) : h[a];
+                    double gu = 2.0 * (u[a][p + o[a]] - u[a][p]) / ha;
+                    double gv = 2.0 * (v[a][p + o[a]] - v[a][p]) / ha;
                     q += scale * gu * gv;
                 }
                 cell[p] = q;
@@ -31,8 +33,12 @@ static void strain_pairs(const struct grid *g, double *const u[3], double *const
             for (int j = lo[1]; j <= hi[1]; j++)
                 for (int k = lo[2]; k <= hi[2]; k++) {
                     ptrdiff_t e = grid_idx(g, i, j, k);
-                    ec[e] = edge_gamma(u, a, b, e, o[a], o[b], h[a], h[b]) *
-                            edge_gamma(v, a, b, e, o[a], o[b], h[a], h[b]);
+                    const int idx[3] = {i, j, k};
+                    /* the edge sits on faces of a and b: the centres' distances */
+                    double ha = g->axis[a] ? grid_hf(g, a, idx[a]) : h[a];
+                    double hb = g->axis[b] ? grid_hf(g, b, idx[b]) : h[b];
+                    ec[e] = edge_gamma(u, a, b, e, o[a], o[b], ha, hb) *
+                            edge_gamma(v, a, b, e, o[a], o[b], ha, hb);
                 }
     }
 }

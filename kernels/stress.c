@@ -106,10 +106,73 @@ stress_loop(const struct grid *g, const struct box act[3], const double *const A
     }
 }
 
+/* The same divergence where a direction is stretched: each difference is
+ * divided by its own distance (a normal stress's by the cell's width, its
+ * divergence at a face by the two centres' distance; a shear stress's at an
+ * edge by the centres' distance, its divergence by the cell's width).  A
+ * plain loop: the stretched grids are the coupled steady solves', whose
+ * cost is the factorisation. */
+static void stress_loop_stretched(const struct grid *g, const struct box act[3],
+                                  const double *const A_cell[3], const double *const A_edge[3],
+                                  double *const v[3], double *out[3], const int magnitude)
+{
+    const ptrdiff_t *o = g->stride;
+    for (int a = 0; a < 3; a++) {
+        const struct box *bx = &act[a];
+        const double *Aa = A_cell[a], *va = v[a];
+        const ptrdiff_t oa = o[a];
+        double *res = out[a];
+        for (size_t q = 0; q < g->size; q++)
+            res[q] = 0.0;
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
+        for (int i = bx->lo[0]; i < bx->hi[0]; i++)
+            for (int j = bx->lo[1]; j < bx->hi[1]; j++)
+                for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
+                    const int idx[3] = {i, j, k};
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    const int ia = idx[a];
+                    double hp = grid_hc(g, a, ia), hm = grid_hc(g, a, ia - 1);
+                    double hfa = grid_hf(g, a, ia);
+                    double f;
+                    if (magnitude)
+                        f = (fabs(Aa[p]) * 2.0 * (fabs(va[p + oa]) + fabs(va[p])) / hp +
+                             fabs(Aa[p - oa]) * 2.0 * (fabs(va[p]) + fabs(va[p - oa])) / hm) / hfa;
+                    else
+                        f = (Aa[p] * 2.0 * (va[p + oa] - va[p]) / hp -
+                             Aa[p - oa] * 2.0 * (va[p] - va[p - oa]) / hm) / hfa;
+                    for (int t = 1; t <= 2; t++) {
+                        const int b = (a + t) % 3;
+                        const double *Ae = A_edge[3 - a - b], *vb = v[b];
+                        const ptrdiff_t ob = o[b];
+                        const int jb = idx[b];
+                        double hb0 = grid_hf(g, b, jb), hb1 = grid_hf(g, b, jb + 1);
+                        ptrdiff_t e = p + ob;
+                        double s1, s0;
+                        if (magnitude) {
+                            s1 = fabs(Ae[e]) * ((fabs(va[e]) + fabs(va[e - ob])) / hb1 +
+                                                (fabs(vb[e]) + fabs(vb[e - oa])) / hfa);
+                            s0 = fabs(Ae[p]) * ((fabs(va[p]) + fabs(va[p - ob])) / hb0 +
+                                                (fabs(vb[p]) + fabs(vb[p - oa])) / hfa);
+                            f += (s1 + s0) / grid_hc(g, b, jb);
+                        } else {
+                            s1 = Ae[e] * ((va[e] - va[e - ob]) / hb1 + (vb[e] - vb[e - oa]) / hfa);
+                            s0 = Ae[p] * ((va[p] - va[p - ob]) / hb0 + (vb[p] - vb[p - oa]) / hfa);
+                            f += (s1 - s0) / grid_hc(g, b, jb);
+                        }
+                    }
+                    res[p] = f;
+                }
+    }
+}
+
 void kernel_stress_divergence(const struct grid *g, const struct box act[3],
                               const double *const A_cell[3], const double *const A_edge[3],
                               double *const v[3], double *out[3])
 {
+    if (grid_stretched(g)) {
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0);
+        return;
+    }
     stress_loop(g, act, A_cell, A_edge, v, out, 0);
 }
 
@@ -117,5 +180,9 @@ void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
                              const double *const A_cell[3], const double *const A_edge[3],
                              double *const v[3], double *out[3])
 {
+    if (grid_stretched(g)) {
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 1);
+        return;
+    }
     stress_loop(g, act, A_cell, A_edge, v, out, 1);
 }

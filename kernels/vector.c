@@ -117,6 +117,26 @@ double kernel_box_mean(const struct grid *g, const struct box *b, const double *
     return n > 0 ? s / (double)n : 0.0;
 }
 
+double kernel_component_mean(const struct grid *g, const struct box *b, int c, const double *f)
+{
+    if (!grid_stretched(g))
+        return kernel_box_mean(g, b, f);
+    /* each node weighs its control volume: the cell's width across c's
+     * other directions, the two half cells' along c */
+    double s = 0.0, vol = 0.0;
+    for (int i = b->lo[0]; i < b->hi[0]; i++)
+        for (int j = b->lo[1]; j < b->hi[1]; j++)
+            for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                const int idx[3] = {i, j, k};
+                double w = 1.0;
+                for (int d = 0; d < 3; d++)
+                    w *= d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]);
+                s += w * f[grid_idx(g, i, j, k)];
+                vol += w;
+            }
+    return vol > 0.0 ? s / vol : 0.0;
+}
+
 double kernel_norm2_cells(const struct grid *g, const double *f)
 {
     struct box bx;

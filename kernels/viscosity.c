@@ -54,7 +54,9 @@ KERNEL_INLINE void viscosity_cells_loop(const struct grid *g, const struct rheol
                     b_c[q] = shear > 0.0 ? pt.deta_dshear / (2.0 * shear) : 0.0;
                 if (tan_c)
                     for (int a = 0; a < 3; a++) {
-                        double gn = 2.0 * (vel[a][q + o[a]] - vel[a][q]) / h[a];
+                        const int ia = a == 0 ? i : a == 1 ? j : k;
+                        double ha = g->axis[a] ? grid_hc(g, a, ia) : h[a];
+                        double gn = 2.0 * (vel[a][q + o[a]] - vel[a][q]) / ha;
                         /* gamma_aa^2 / (2 |D|) <= |D|: the coefficient stays >= eta + eta' |D|,
                          * the slope of the stress-shear curve, positive for every law */
                         tan_c[a][q] = shear > 0.0 ? pt.eta + pt.deta_dshear * gn * gn / (2.0 * shear)

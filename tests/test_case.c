@@ -469,6 +469,16 @@ static const struct bad bad_cases[] = {
     {NULL, "boundary.yhi=slip", {"boundary.ylo", "boundary.yhi"}},
     {"[solver]\ndt = 0.1\ndt_max = 0.01\n", NULL, {"solver.dt_max", "solver.dt"}},
     {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL, {"domain", "nx*ny*nz"}},
+    /* stretched directions: three numbers, inside the box, finer than the far
+     * cells, and only with the coupled steady step */
+    {"[domain]\nnx = 8\nx_band = 0.2 0.5\n", NULL, {"domain.x_band = '0.2 0.5'", "three numbers"}},
+    {"[domain]\nnx = 8\nx_band = 0.2 1.5 0.01\n", NULL,
+     {"domain.x_band = '0.2 1.5 0.01'", "must lie in [0, 1]"}},
+    {"[domain]\nnx = 8\nx_band = 0.2 0.5 0.5\n", NULL, {"domain.x_band", "(0, 0.125]"}},
+    {"[domain]\nny = 1\ny_band = 0.2 0.5 0.01\n", NULL, {"domain.y_band", "domain.ny >= 2"}},
+    {"[domain]\nnz = 8\nz_band = 0.2 0.5 0.01\n", NULL,
+     {"domain.z_band = '0.2 0.5 0.01' needs", "solver.coupled = on"}},
+    {NULL, "domain.growth=2", {"override domain.growth=2", "must be in (1, 1.5]"}},
     {"[rheology]\nlaw = bingham\n", NULL, {"bingham", "plastic_viscosity", "yield_stress"}},
     /* the Barker & Gray curve: alpha in (0, 2), and a jop curve with a well-posed band */
     {NULL, "rheology.alpha=2", {"override rheology.alpha=2", "must be in (0, 2)"}},

@@ -104,6 +104,7 @@ static const struct {
     {"boundary", group_boundary},
     {"duct", group_duct},
     {"obstacle", group_obstacle},
+    {"stretched", group_stretched},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
@@ -156,6 +157,10 @@ int main(int argc, char **argv)
 {
     struct test_tally tally = {0, 0};
     int unknown = 0;
+    /* MUFLOW_TEST_FILTER=test_pipe*: only the tests whose names match */
+    const char *filter = getenv("MUFLOW_TEST_FILTER");
+    if (filter && *filter)
+        cmocka_set_test_filter(filter);
     for (int a = 1; a < argc; a++) {
         size_t g = 0;
         while (g < NGROUPS && strcmp(argv[a], groups[g].name) != 0)
@@ -166,7 +171,8 @@ int main(int argc, char **argv)
         }
     }
     if (unknown) {
-        fprintf(stderr, "usage: muflow_tests [group ...] (all groups without one)\n");
+        fprintf(stderr, "usage: muflow_tests [group ...] (all groups without one; "
+                        "MUFLOW_TEST_FILTER=pattern runs the matching tests only)\n");
         list_groups(stderr);
         return 2;
     }
@@ -182,6 +188,9 @@ int main(int argc, char **argv)
         if (wanted)
             groups[g].run(&tally);
     }
-    printf("tests: %d passed, %d failed\n", tally.run - tally.failed, tally.failed);
+    if (filter && *filter) /* the groups' counts include the tests the filter skipped */
+        printf("tests: only those matching '%s': %d failed\n", filter, tally.failed);
+    else
+        printf("tests: %d passed, %d failed\n", tally.run - tally.failed, tally.failed);
     return tally.failed != 0;
 }

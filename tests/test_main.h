@@ -56,6 +56,7 @@ void test_run_case(const char *file, int n, char *ov[], struct muflow_case *cs,
 
 /* One runner per tests/test_<module>.c */
 void group_rheology(struct test_tally *t);
+void group_stretched(struct test_tally *t);
 void group_poisson(struct test_tally *t);
 void group_multigrid(struct test_tally *t);
 void group_case(struct test_tally *t);

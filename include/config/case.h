@@ -31,6 +31,9 @@ struct muflow_case {
     /* [domain] */
     double len[3];           /* lx ly lz */
     int n[3];                /* nx ny nz */
+    char band[3][128];       /* x_band y_band z_band: "lo hi h", a direction refined to
+                                cells of h in [lo, hi] (empty: uniform len / n) */
+    double growth;           /* the stretched cells' size ratio outside a band */
 
     /* [boundary] xlo xhi ylo yhi zlo zhi */
     struct boundary bc;
@@ -154,5 +157,9 @@ const struct key *case_key_at(int i); /* NULL out of range */
  * scene's section, with its default, allowed values and meaning, all from
  * the key tables. */
 void case_write_key_list(FILE *out);
+
+/* The band of direction d: 1 with lo, hi, h in band[3] when domain.<d>_band
+ * is set, 0 when it is empty, -1 when it is not three numbers. */
+int case_band(const struct muflow_case *c, int d, double band[3]);
 
 #endif

@@ -16,10 +16,27 @@
 
 #include <stddef.h>
 
+/* The spacing of a stretched direction, ghosts included (index i + 1 holds
+ * index i): faces -1 .. n + 1, cells -1 .. n.  A ghost cell mirrors the
+ * width of the cell across its face (the wall sits half-way between the two
+ * centres, as the ghost-mirror conditions assume), or of its periodic image. */
+struct grid_axis {
+    int n;
+    double *xf;  /* face coordinates, faces -1 .. n + 1 */
+    double *xc;  /* cell centres, cells -1 .. n */
+    double *hc;  /* cell widths xf[i + 1] - xf[i], cells -1 .. n */
+    double *hf;  /* centre distances xc[i] - xc[i - 1], faces -1 .. n + 1 */
+    double *ihc; /* 1 / hc */
+    double *ihf; /* 1 / hf */
+};
+
 struct grid {
     int n[3];            /* cells per direction */
     double len[3];       /* domain lengths */
-    double h[3];         /* cell sizes len/n */
+    double h[3];         /* cell sizes len/n; NaN for a stretched direction */
+    /* NULL: direction d is uniform (h[d] everywhere); else its spacing,
+     * owned by whoever set it (grid_axis_build) */
+    const struct grid_axis *axis[3];
     int ext[3];          /* allocated extent per direction, n + 2 */
     ptrdiff_t stride[3]; /* array strides: stride[2] = 1 */
     size_t size;         /* doubles per field array */
@@ -36,9 +53,66 @@ struct box {
     int lo[3], hi[3];
 };
 
+/* Width of cell i (-1 .. n) of direction d. */
+static inline double grid_hc(const struct grid *g, int d, int i)
+{
+    return g->axis[d] ? g->axis[d]->hc[i + 1] : g->h[d];
+}
+
+/* Distance between the centres of cells i - 1 and i (face i, -1 .. n + 1). */
+static inline double grid_hf(const struct grid *g, int d, int i)
+{
+    return g->axis[d] ? g->axis[d]->hf[i + 1] : g->h[d];
+}
+
+/* Coordinate of the centre of cell i (-1 .. n) of direction d. */
+static inline double grid_xc(const struct grid *g, int d, int i)
+{
+    return g->axis[d] ? g->axis[d]->xc[i + 1] : (i + 0.5) * g->h[d];
+}
+
+/* Coordinate of face i (-1 .. n + 1) of direction d. */
+static inline double grid_xf(const struct grid *g, int d, int i)
+{
+    return g->axis[d] ? g->axis[d]->xf[i + 1] : i * g->h[d];
+}
+
+/* The indices (i, j, k), each -1 .. n, of slot p (the inverse of grid_idx). */
+static inline void grid_slot_index(const struct grid *g, ptrdiff_t p, int idx[3])
+{
+    idx[0] = (int)(p / g->stride[0]) - 1;
+    p %= g->stride[0];
+    idx[1] = (int)(p / g->stride[1]) - 1;
+    idx[2] = (int)(p % g->stride[1]) - 1;
+}
+
+/* 1 if any direction is stretched. */
+static inline int grid_stretched(const struct grid *g)
+{
+    return g->axis[0] || g->axis[1] || g->axis[2];
+}
+
+/* The cell of direction d whose faces bracket x (clamped to -1 .. n). */
+int grid_locate(const struct grid *g, int d, double x);
+
 /* Fills a grid from cell counts and lengths; returns 0, or -1 for a count < 1
  * or a length <= 0. */
 int grid_init(struct grid *g, const int n[3], const double len[3]);
+
+/* The faces of a direction refined in a band: cells of about h_band in
+ * [lo, hi], growing by the ratio `growth` from one cell to the next outside
+ * it up to h_far, then h_far to the ends 0 and len (the cells of each side
+ * scaled to end exactly there).  On success ax holds n cells (ax->n) and 0
+ * is returned; -1 with msg for impossible parameters or no memory.
+ * periodic: the ghosts take the widths of their periodic images. */
+int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
+                    double h_band, double growth, int periodic, char *msg, size_t msglen);
+void grid_axis_free(struct grid_axis *ax);
+
+/* Makes direction d of g stretched by ax (ax->n cells over g->len[d]);
+ * the strides and sizes follow the new count.  Returns 0, or -1 when the
+ * field would not fit in memory. */
+int grid_set_axis(struct grid *g, int d, const struct grid_axis *ax);
 
 /* Zero-initialised field array of g->size doubles (64-byte aligned), or NULL. */
 double *field_alloc(const struct grid *g);

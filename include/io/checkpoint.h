@@ -50,6 +50,10 @@ void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, s
 /* The grid (cells per direction) and the box lengths of the checkpoint at
  * path.  Returns 0, or -1 with the cause in err. */
 int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, size_t errlen);
+
+/* The case key `key` ("domain.x_band") as the checkpoint stored it, into
+ * text; 0, or -1 when the file cannot be read or has no such key. */
+int checkpoint_read_key(const char *path, const char *key, char *text, size_t len);
 /* 1 when the checkpoint has the dataset, 0 when not, -1 when the file is
  * not a readable checkpoint. */
 int checkpoint_has_dataset(const char *path, const char *name);

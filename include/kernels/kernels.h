@@ -150,4 +150,8 @@ double kernel_max_abs_cells(const struct grid *g, const double *f);
  * deterministic across runs; 0 for an empty box. */
 double kernel_box_mean(const struct grid *g, const struct box *b, const double *f);
 
+/* The mean of component c's field f over box b, each node weighed by its
+ * control volume (kernel_box_mean where the grid is uniform). */
+double kernel_component_mean(const struct grid *g, const struct box *b, int c, const double *f);
+
 #endif

@@ -31,6 +31,7 @@ enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNS
 struct march_state {
     const struct muflow_case *cs;
     struct grid g;
+    struct grid_axis axes[3]; /* the stretched directions' spacing (g.axis) */
     struct boundary bc;
     struct box act[3];          /* velocity unknowns per component */
     struct field_registry fields; /* every array below is registered there */

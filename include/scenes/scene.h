@@ -62,6 +62,9 @@ struct scene {
     int (*check)(const struct muflow_case *cs, char *msg, size_t msglen);
     int (*setup)(struct march_state *st, char *err, size_t errlen);
 
+    int stretched_grid;            /* 1: setup and results read positions and
+                                      sizes through grid_xc / grid_hc (a
+                                      domain.<d>_band is allowed) */
     int profile_axis, profile_component; /* -1: no profile */
     /* limits the profile to the faces and cells of index in [lo, hi] (both
      * inclusive) along profile_slab_axis (0: x, the cavity's mid-line; 1: y,

@@ -20,6 +20,7 @@
 #include <string.h>
 #include "config/ini.h"
 #include "config/keys.h"
+#include "grid/grid.h"
 #include "grid/shapes.h"
 #include "scenes/scene.h"
 
@@ -103,6 +104,13 @@ static const struct key keys[] = {
         "cells along y (nx*ny*nz at most 500000000)"),
     INT("domain", "nz", n[2], RANGE(1, 100000000, 1, 1),
         "cells along z (nx*ny*nz at most 500000000)"),
+    STR("domain", "x_band", band[0],
+        "'lo hi h': x refined to cells of about h in [lo, hi], growing by domain.growth from "
+        "cell to cell outside up to lx / nx (empty: uniform lx / nx); the count follows"),
+    STR("domain", "y_band", band[1], "'lo hi h': y refined in [lo, hi], as domain.x_band"),
+    STR("domain", "z_band", band[2], "'lo hi h': z refined in [lo, hi], as domain.x_band"),
+    DBL("domain", "growth", growth, RANGE(1, 1.5, 0, 1),
+        "size ratio of neighbouring cells outside a band, in (1, 1.5]"),
 
     CHO("boundary", "xlo", bc.face[0][0], bc_choices, FACE_HELP("low x")),
     CHO("boundary", "xhi", bc.face[0][1], bc_choices, FACE_HELP("high x")),
@@ -264,9 +272,11 @@ void case_defaults(struct muflow_case *c)
     for (int d = 0; d < 3; d++) {
         c->len[d] = 1.0;
         c->n[d] = 1;
+        c->band[d][0] = '\0';
         c->bc.face[d][0] = BC_PERIODIC;
         c->bc.face[d][1] = BC_PERIODIC;
     }
+    c->growth = 1.1;
     c->bc.lid_velocity = 1.0;
     c->bc.lid_direction = 0;
     c->bc.inflow_velocity = 1.0;
@@ -752,6 +762,76 @@ const char *case_coupled_gmres_refusal(const struct muflow_case *c)
     return NULL;
 }
 
+int case_band(const struct muflow_case *c, int d, double band[3])
+{
+    const char *s = c->band[d];
+    while (*s == ' ' || *s == '\t')
+        s++;
+    if (!*s)
+        return 0;
+    char tail[2];
+    if (sscanf(s, "%lf %lf %lf %1s", &band[0], &band[1], &band[2], tail) != 3)
+        return -1;
+    return 1;
+}
+
+/* The stretched directions: three numbers each, a band the grid can hold,
+ * and only the paths built for varying spacing (the coupled steady step:
+ * the FFT and geometric-multigrid pressures, the Fourier and Cholesky
+ * preconditioners, advection and the volume of fluid assume one size per
+ * direction).  Returns 0, or 1 after fail(). */
+static int check_bands(struct ctx *x, const char *where)
+{
+    struct muflow_case *c = x->c;
+    static const char axis[3] = {'x', 'y', 'z'};
+    static const char *const len_key[3] = {"lx", "ly", "lz"}, *const n_key[3] = {"nx", "ny", "nz"};
+    for (int d = 0; d < 3; d++) {
+        double b[3];
+        int r = case_band(c, d, b);
+        if (r == 0)
+            continue;
+        if (r < 0) {
+            fail(x, "%s: domain.%c_band = '%.100s': must be three numbers 'lo hi h' (empty: a "
+                    "uniform direction)",
+                 where, axis[d], c->band[d]);
+            return 1;
+        }
+        if (c->n[d] < 2) {
+            fail(x, "%s: domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
+                    "stretched)",
+                 where, axis[d], n_key[d]);
+            return 1;
+        }
+        struct grid_axis ax;
+        char why[300];
+        if (grid_axis_build(&ax, c->len[d], c->len[d] / c->n[d], b[0], b[1], b[2], c->growth,
+                            c->bc.face[d][0] == BC_PERIODIC, why, sizeof why) != 0) {
+            fail(x, "%s: domain.%c_band = '%.100s' with domain.%s = %.10g, domain.%s = %d: %s",
+                 where, axis[d], c->band[d], len_key[d], c->len[d], n_key[d], c->n[d], why);
+            return 1;
+        }
+        grid_axis_free(&ax);
+        const char *need = NULL;
+        if (!case_scene(c)->stretched_grid)
+            need = "a scene built for varying cell sizes (case.scene = none or cylinder)";
+        else if (!c->coupled || c->mode != MODE_STEADY)
+            need = "solver.mode = steady with solver.coupled = on (the only pressure built for "
+                   "varying cell sizes)";
+        else if (bc_has_open(&c->bc) || inflow_face(&c->bc) >= 0)
+            need = "no open or inflow face (their rows assume one cell size per direction)";
+        else if (c->advection)
+            need = "physics.advection = off (advection assumes one cell size per direction)";
+        else if (c->preconditioner != PRECOND_AUTO && c->preconditioner != PRECOND_LU)
+            need = "solver.preconditioner = auto or lu (the others assume one cell size per "
+                   "direction)";
+        if (need) {
+            fail(x, "%s: domain.%c_band = '%.100s' needs %s", where, axis[d], c->band[d], need);
+            return 1;
+        }
+    }
+    return 0;
+}
+
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
@@ -831,6 +911,9 @@ static void finish(struct ctx *x)
              where, axis[inflow / 2], inflow % 2 ? "hi" : "lo", c->bc.inflow_velocity);
         return;
     }
+
+    if (check_bands(x, where) != 0)
+        return;
 
     /* the shapes are read here so that a bad one stops the case at load */
     {

@@ -73,7 +73,7 @@ int profile_extract(struct profile *pr, const struct march_state *st)
                 cells[l]++;
             }
     for (int l = 0; l < n; l++) {
-        pr->coord[l] = (l + 0.5) * g->h[pr->axis];
+        pr->coord[l] = grid_xc(g, pr->axis, l);
         pr->velocity[l] /= nodes[l] > 0 ? (double)nodes[l] : 1.0;
         double nc = cells[l] > 0 ? (double)cells[l] : 1.0;
         pr->pressure[l] /= nc;

@@ -2,7 +2,9 @@
 #include "grid/grid.h"
 
 #include <limits.h>
+#include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,11 +31,168 @@ int grid_init(struct grid *g, const int n[3], const double len[3])
         g->len[d] = len[d];
         g->h[d] = len[d] / n[d];
         g->ext[d] = n[d] + 2;
+        g->axis[d] = NULL;
     }
     g->stride[2] = 1;
     g->stride[1] = g->ext[2];
     g->stride[0] = (ptrdiff_t)g->ext[1] * g->ext[2];
     g->size = size;
+    return 0;
+}
+
+int grid_locate(const struct grid *g, int d, double x)
+{
+    if (!g->axis[d]) {
+        int i = (int)floor(x / g->h[d]);
+        return i < -1 ? -1 : i > g->n[d] ? g->n[d] : i;
+    }
+    const double *xf = g->axis[d]->xf; /* face i at xf[i + 1] */
+    int lo = -1, hi = g->n[d];         /* the cell is in [lo, hi] */
+    if (x < xf[lo + 1])
+        return -1;
+    if (x >= xf[hi + 1])
+        return hi;
+    while (hi - lo > 1) { /* xf[lo + 1] <= x < xf[hi + 1] */
+        int mid = lo + (hi - lo) / 2;
+        if (xf[mid + 1] <= x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Widths of the cells of one side of the band, from the band outward:
+ * h_band growth^k capped at h_far, as many as make their sum nearest to
+ * length, scaled to sum to it exactly.  Returns the count (0 for length 0),
+ * writing at most max widths into w (NULL: count only). */
+static int side_cells(double length, double h_band, double growth, double h_far, double *w,
+                      int max)
+{
+    if (length <= 0.0)
+        return 0;
+    double s = h_band, sum = 0.0;
+    int m = 0;
+    for (;;) {
+        s = fmin(s * growth, h_far);
+        if (sum + s >= length) {
+            /* m + 1 cells overshoot, m fall short: keep the nearer */
+            if (m > 0 && length - sum < sum + s - length)
+                break;
+            sum += s;
+            m++;
+            break;
+        }
+        sum += s;
+        m++;
+    }
+    if (w) {
+        double scale = length / sum;
+        s = h_band;
+        for (int k = 0; k < m && k < max; k++) {
+            s = fmin(s * growth, h_far);
+            w[k] = s * scale;
+        }
+    }
+    return m;
+}
+
+void grid_axis_free(struct grid_axis *ax)
+{
+    if (!ax)
+        return;
+    free(ax->xf);
+    memset(ax, 0, sizeof *ax);
+}
+
+int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
+                    double h_band, double growth, int periodic, char *msg, size_t msglen)
+{
+    memset(ax, 0, sizeof *ax);
+    if (!(len > 0.0) || !(h_far > 0.0) || !(lo >= 0.0) || !(hi <= len) || !(lo < hi) ||
+        !(h_band > 0.0) || !(h_band <= h_far) || !(growth > 1.0)) {
+        snprintf(msg, msglen,
+                 "the band [%.17g, %.17g] must lie in [0, %.17g] with lo < hi, its cell size "
+                 "%.17g in (0, %.17g] (the far cell size) and the growth %.17g above 1",
+                 lo, hi, len, h_band, h_far, growth);
+        return -1;
+    }
+    int mb = (int)ceil((hi - lo) / h_band - 1e-9);
+    if (mb < 1)
+        mb = 1;
+    int ml = side_cells(lo, h_band, growth, h_far, NULL, 0);
+    int mh = side_cells(len - hi, h_band, growth, h_far, NULL, 0);
+    if ((double)ml + mb + mh > 100000000.0) {
+        snprintf(msg, msglen, "the band's cell size %.17g makes more than 1e8 cells", h_band);
+        return -1;
+    }
+    int n = ml + mb + mh;
+    size_t slots = (size_t)n + 3;
+    double *block = malloc(6 * slots * sizeof(double));
+    if (!block) {
+        snprintf(msg, msglen, "out of memory for a stretched direction of %d cells", n);
+        return -1;
+    }
+    ax->n = n;
+    ax->xf = block;
+    ax->xc = block + slots;
+    ax->hc = block + 2 * slots;
+    ax->hf = block + 3 * slots;
+    ax->ihc = block + 4 * slots;
+    ax->ihf = block + 5 * slots;
+    double *hc = ax->hc + 1; /* hc[i], cells -1 .. n */
+    /* the low side is built outward from the band: reversed into place */
+    side_cells(lo, h_band, growth, h_far, hc, ml);
+    for (int a = 0, b = ml - 1; a < b; a++, b--) {
+        double t = hc[a];
+        hc[a] = hc[b];
+        hc[b] = t;
+    }
+    for (int k = 0; k < mb; k++)
+        hc[ml + k] = (hi - lo) / mb;
+    side_cells(len - hi, h_band, growth, h_far, hc + ml + mb, mh);
+    double *xf = ax->xf + 1, *xc = ax->xc + 1, *hf = ax->hf + 1;
+    xf[0] = 0.0;
+    for (int i = 0; i < n; i++)
+        xf[i + 1] = xf[i] + hc[i];
+    xf[ml] = lo; /* exact at the band's ends and the box's */
+    xf[ml + mb] = hi;
+    xf[n] = len;
+    for (int i = 0; i < n; i++)
+        hc[i] = xf[i + 1] - xf[i];
+    hc[-1] = periodic ? hc[n - 1] : hc[0];
+    hc[n] = periodic ? hc[0] : hc[n - 1];
+    xf[-1] = -hc[-1];
+    xf[n + 1] = len + hc[n];
+    for (int i = -1; i <= n; i++)
+        xc[i] = 0.5 * (xf[i] + xf[i + 1]);
+    for (int i = 0; i <= n; i++)
+        hf[i] = xc[i] - xc[i - 1];
+    hf[-1] = periodic ? hf[n - 1] : hc[-1];
+    hf[n + 1] = periodic ? hf[1] : hc[n];
+    for (size_t q = 0; q < slots; q++) {
+        ax->ihc[q] = q < slots - 1 ? 1.0 / ax->hc[q] : 0.0;
+        ax->ihf[q] = 1.0 / ax->hf[q];
+    }
+    return 0;
+}
+
+int grid_set_axis(struct grid *g, int d, const struct grid_axis *ax)
+{
+    int n[3] = {g->n[0], g->n[1], g->n[2]};
+    const struct grid_axis *keep[3] = {g->axis[0], g->axis[1], g->axis[2]};
+    double h[3] = {g->h[0], g->h[1], g->h[2]};
+    n[d] = ax->n;
+    if (grid_init(g, n, g->len) != 0)
+        return -1;
+    for (int e = 0; e < 3; e++) {
+        g->axis[e] = keep[e];
+        g->h[e] = h[e];
+    }
+    g->axis[d] = ax;
+    /* no single size: code that reads h[d] where the spacing varies gets
+     * NaN, which the march's checks stop on, rather than a wrong number */
+    g->h[d] = NAN;
     return 0;
 }
 

@@ -100,6 +100,13 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
 
 static int write_wisdom(hid_t file, char *err, size_t errlen)
 {
+    /* the wisdom's header names the threaded planner: a run that made no
+     * FFT plan (a stretched grid's) must still export it threaded, or the
+     * restart's import (after fftw_init_threads) rejects it */
+    if (!fftw_init_threads()) {
+        snprintf(err, errlen, "fftw_init_threads failed");
+        return -1;
+    }
     char *w = fftw_export_wisdom_to_string();
     if (!w) {
         snprintf(err, errlen, "cannot export FFTW wisdom");
@@ -385,6 +392,21 @@ int checkpoint_read_grid(const char *path, int n[3], double len[3], char *err, s
     H5Fclose(file);
     if (rc != 0)
         snprintf(err, errlen, "checkpoint %s: %s", path, cause);
+    return rc;
+}
+
+int checkpoint_read_key(const char *path, const char *key, char *text, size_t len)
+{
+    char err[600];
+    hid_t file = open_checkpoint(path, err, sizeof err);
+    if (file < 0)
+        return -1;
+    /* a checkpoint from before a key was added has no such attribute */
+    int rc = H5Aexists(file, key) > 0 &&
+                     h5io_attr_read_text(file, key, text, len, err, sizeof err) == 0
+                 ? 0
+                 : -1;
+    H5Fclose(file);
     return rc;
 }
 

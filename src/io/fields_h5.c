@@ -102,6 +102,16 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
         h5io_attr_write_text(file, "status", run_status_name(st->status), err, errlen) != 0 ||
         fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0)
         return -1;
+    if (grid_stretched(g)) { /* the faces' coordinates, n + 1 per direction (h is NaN) */
+        static const char *const names[3] = {"x_faces", "y_faces", "z_faces"};
+        for (int d = 0; d < 3; d++) {
+            hsize_t nf = (hsize_t)g->n[d] + 1;
+            for (int i = 0; i <= g->n[d]; i++)
+                buf[i] = grid_xf(g, d, i);
+            if (h5io_write(file, names[d], H5T_NATIVE_DOUBLE, 1, &nf, buf, err, errlen) != 0)
+                return -1;
+        }
+    }
     /* the registry's outputs (march/fields.h): face fields as their face
      * values and the cell-centred vector, cell fields through their maps */
     const struct field_registry *r = &st->fields;

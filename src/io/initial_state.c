@@ -13,21 +13,48 @@
  * written to the case file with 17 digits comes back to the last bit). */
 #define SAME_BOX 1e-12
 
-/* The value at x of a source array on grid ns with spacing hs, its nodes at
- * (index + off[d]) hs[d]: trilinear between the nodes around x, the index
- * held within the source's slots -1 .. ns (its ghost layer at the ends). */
-static double sample(const double *src, const int ns[3], const double hs[3], const double off[3],
+/* The source node below x along direction d and the share of the way to
+ * the next, the nodes at (index + off) h (off 0: faces, 1/2: centres) on a
+ * uniform direction or at the faces or centres of a stretched one, the
+ * index held within the source's slots -1 .. n (its ghost layer at the
+ * ends). */
+static void bracket(const struct grid *gs, int d, double off, double x, int *i0, double *w)
+{
+    const int n = gs->n[d];
+    if (!gs->axis[d]) {
+        double t = fmin(fmax(x / gs->h[d] - off, -1.0), (double)n);
+        *i0 = (int)floor(t);
+        if (*i0 > n - 1)
+            *i0 = n - 1;
+        *w = t - *i0;
+        return;
+    }
+#define NODE(i) (off == 0.0 ? grid_xf(gs, d, (i)) : grid_xc(gs, d, (i)))
+    if (x <= NODE(-1)) {
+        *i0 = -1, *w = 0.0;
+        return;
+    }
+    if (x >= NODE(n)) {
+        *i0 = n - 1, *w = 1.0;
+        return;
+    }
+    int c = grid_locate(gs, d, x), i = off == 0.0 ? c : x < grid_xc(gs, d, c) ? c - 1 : c;
+    i = i < -1 ? -1 : i > n - 1 ? n - 1 : i;
+    *i0 = i;
+    *w = (x - NODE(i)) / (NODE(i + 1) - NODE(i));
+#undef NODE
+}
+
+/* The value at x of a source array on grid gs: trilinear between the
+ * nodes around x. */
+static double sample(const double *src, const struct grid *gs, const double off[3],
                      const double x[3])
 {
     int i0[3];
     double w[3];
-    for (int d = 0; d < 3; d++) {
-        double t = fmin(fmax(x[d] / hs[d] - off[d], -1.0), (double)ns[d]);
-        i0[d] = (int)floor(t);
-        if (i0[d] > ns[d] - 1)
-            i0[d] = ns[d] - 1;
-        w[d] = t - i0[d];
-    }
+    for (int d = 0; d < 3; d++)
+        bracket(gs, d, off[d], x[d], &i0[d], &w[d]);
+    const int *ns = gs->n;
     const ptrdiff_t s0 = (ptrdiff_t)(ns[1] + 2) * (ns[2] + 2), s1 = ns[2] + 2;
     double v = 0.0;
     for (int a = 0; a < 2; a++)
@@ -44,19 +71,55 @@ static double sample(const double *src, const int ns[3], const double hs[3], con
 }
 
 /* Interpolates the source array into f on every slot of g (ghosts too: the
- * march fills them again), the nodes of both at (index + off) h. */
-static void interpolate(const double *src, const int ns[3], const double hs[3],
-                        const double off[3], const struct grid *g, double *f)
+ * march fills them again), the nodes of both at their faces or centres. */
+static void interpolate(const double *src, const struct grid *gs, const double off[3],
+                        const struct grid *g, double *f)
 {
     for (int i = -1; i <= g->n[0]; i++)
         for (int j = -1; j <= g->n[1]; j++)
             for (int k = -1; k <= g->n[2]; k++) {
                 const int idx[3] = {i, j, k};
                 double x[3];
-                for (int d = 0; d < 3; d++)
-                    x[d] = (idx[d] + off[d]) * g->h[d];
-                f[grid_idx(g, i, j, k)] = sample(src, ns, hs, off, x);
+                for (int d = 0; d < 3; d++) /* off: 0 at faces, 1/2 at centres */
+                    x[d] = off[d] == 0.0 ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
+                f[grid_idx(g, i, j, k)] = sample(src, gs, off, x);
             }
+}
+
+/* The source's stretched directions, rebuilt from the keys it was run with
+ * (domain.<d>_band, growth, the far count n<d>, a periodic low face) as the
+ * march built them.  Returns 0, or -1 with err. */
+static int source_axes(const char *file, struct grid *gs, struct grid_axis ax[3], char *err,
+                       size_t errlen)
+{
+    static const char xyz[3] = {'x', 'y', 'z'};
+    for (int d = 0; d < 3; d++) {
+        char key[48], text[160];
+        snprintf(key, sizeof key, "domain.%c_band", xyz[d]);
+        double b[3];
+        if (checkpoint_read_key(file, key, text, sizeof text) != 0 ||
+            sscanf(text, "%lf %lf %lf", &b[0], &b[1], &b[2]) != 3)
+            continue; /* uniform (or from before the bands) */
+        char nt[48], gt[48], bt[48];
+        snprintf(key, sizeof key, "domain.n%c", xyz[d]);
+        int okn = checkpoint_read_key(file, key, nt, sizeof nt) == 0;
+        int okg = checkpoint_read_key(file, "domain.growth", gt, sizeof gt) == 0;
+        snprintf(key, sizeof key, "boundary.%clo", xyz[d]);
+        int okb = checkpoint_read_key(file, key, bt, sizeof bt) == 0;
+        char why[300] = "its keys domain.n<d> and domain.growth are missing";
+        if (!okn || !okg || !okb ||
+            grid_axis_build(&ax[d], gs->len[d], gs->len[d] / atoi(nt), b[0], b[1], b[2],
+                            strtod(gt, NULL), strcmp(bt, "periodic") == 0, why,
+                            sizeof why) != 0 ||
+            ax[d].n != gs->n[d] || grid_set_axis(gs, d, &ax[d]) != 0) {
+            snprintf(err, errlen,
+                     "solver.initial_state: %s: its stretched %c direction cannot be rebuilt "
+                     "(%s)",
+                     file, xyz[d], ax[d].n != gs->n[d] ? "another count of cells" : why);
+            return -1;
+        }
+    }
+    return 0;
 }
 
 int initial_state_load(const char *path, struct march_state *st, char *err, size_t errlen)
@@ -69,26 +132,38 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         snprintf(file, sizeof file, "%s", path);
     const struct grid *g = &st->g;
     int ns[3];
-    double len[3], hs[3];
+    double len[3];
     if (checkpoint_read_grid(file, ns, len, cause, sizeof cause) != 0) {
         snprintf(err, errlen, "solver.initial_state: %s", cause);
         return -1;
     }
     for (int d = 0; d < 3; d++) {
-        double mine = g->n[d] * g->h[d];
+        double mine = g->axis[d] ? g->len[d] : g->n[d] * g->h[d];
         if (fabs(len[d] - mine) > SAME_BOX * mine) {
             snprintf(err, errlen,
                      "solver.initial_state: %s holds a box of %g x %g x %g, this case's is "
                      "%g x %g x %g (the same box is needed)",
-                     file, len[0], len[1], len[2], g->n[0] * g->h[0], g->n[1] * g->h[1],
-                     g->n[2] * g->h[2]);
+                     file, len[0], len[1], len[2], g->len[0], g->len[1], g->len[2]);
             return -1;
         }
-        hs[d] = len[d] / ns[d];
+    }
+    struct grid gs;
+    struct grid_axis ax[3];
+    memset(ax, 0, sizeof ax);
+    if (grid_init(&gs, ns, len) != 0) {
+        snprintf(err, errlen, "solver.initial_state: %s: not a grid", file);
+        return -1;
+    }
+    if (source_axes(file, &gs, ax, err, errlen) != 0) {
+        for (int d = 0; d < 3; d++)
+            grid_axis_free(&ax[d]);
+        return -1;
     }
     double *src = malloc((size_t)(ns[0] + 2) * (ns[1] + 2) * (ns[2] + 2) * sizeof *src);
     if (!src) {
         snprintf(err, errlen, "solver.initial_state: out of memory for %s", file);
+        for (int d = 0; d < 3; d++)
+            grid_axis_free(&ax[d]);
         return -1;
     }
     const struct field_registry *r = &st->fields;
@@ -119,10 +194,12 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
             double off[3];
             for (int d = 0; d < 3; d++)
                 off[d] = fe->spec.where == FIELD_FACES && d == c ? 0.0 : 0.5;
-            interpolate(src, ns, hs, off, g, fe->v[c]);
+            interpolate(src, &gs, off, g, fe->v[c]);
         }
     }
     free(src);
+    for (int d = 0; d < 3; d++)
+        grid_axis_free(&ax[d]);
     /* a body's nodes stay at rest (the coarse grid's wall is elsewhere) */
     if (rc == 0 && st->embedded)
         embedded_zero(st->embedded, st->vel);

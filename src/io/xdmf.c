@@ -45,17 +45,36 @@ int xdmf_write(const char *dir, const struct grid *g, const struct field_registr
     for (int m = 0; m < count; m++) {
         char file[64];
         fields_h5_name(steps[m], file, sizeof file);
-        fprintf(f,
-                "      <Grid Name=\"step %ld\" GridType=\"Uniform\">\n"
-                "        <Time Value=\"%.17g\"/>\n"
-                "        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%s\"/>\n"
-                "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
-                "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
-                "Format=\"XML\">0 0 0</DataItem>\n"
-                "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
-                "Format=\"XML\">%.17g %.17g %.17g</DataItem>\n"
-                "        </Geometry>\n",
-                steps[m], times[m], nodes, g->h[2], g->h[1], g->h[0]);
+        if (grid_stretched(g)) {
+            /* a stretched grid: the faces' coordinates per direction, inline */
+            fprintf(f,
+                    "      <Grid Name=\"step %ld\" GridType=\"Uniform\">\n"
+                    "        <Time Value=\"%.17g\"/>\n"
+                    "        <Topology TopologyType=\"3DRectMesh\" Dimensions=\"%s\"/>\n"
+                    "        <Geometry GeometryType=\"VXVYVZ\">\n",
+                    steps[m], times[m], nodes);
+            for (int d = 0; d < 3; d++) {
+                fprintf(f,
+                        "          <DataItem Dimensions=\"%d\" NumberType=\"Float\" "
+                        "Precision=\"8\" Format=\"XML\">",
+                        g->n[d] + 1);
+                for (int i = 0; i <= g->n[d]; i++)
+                    fprintf(f, "%s%.17g", i ? " " : "", grid_xf(g, d, i));
+                fprintf(f, "</DataItem>\n");
+            }
+            fprintf(f, "        </Geometry>\n");
+        } else
+            fprintf(f,
+                    "      <Grid Name=\"step %ld\" GridType=\"Uniform\">\n"
+                    "        <Time Value=\"%.17g\"/>\n"
+                    "        <Topology TopologyType=\"3DCoRectMesh\" Dimensions=\"%s\"/>\n"
+                    "        <Geometry GeometryType=\"ORIGIN_DXDYDZ\">\n"
+                    "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                    "Format=\"XML\">0 0 0</DataItem>\n"
+                    "          <DataItem Dimensions=\"3\" NumberType=\"Float\" Precision=\"8\" "
+                    "Format=\"XML\">%.17g %.17g %.17g</DataItem>\n"
+                    "        </Geometry>\n",
+                    steps[m], times[m], nodes, g->h[2], g->h[1], g->h[0]);
         /* the registry's outputs: cell scalars first, then the vectors */
         for (int vector = 0; vector < 2; vector++)
             for (int o = 0; o < r->noutputs; o++)

@@ -20,6 +20,29 @@ static int zero_pressure(enum bc_kind k) { return k == BC_SURFACE || k == BC_OPE
  * variable face density rho_f the force is rho_f g, and the part removed is
  * the one the variable projection would remove: div(beta grad p) =
  * div(beta rho_f g) = div(rho_ref g), beta = rho_ref / rho_f. */
+/* The same pressure in closed form, for a grid whose spacing varies (no
+ * Poisson solver takes it): where every boundary face of a non-periodic
+ * direction is closed (the stretched grids have no open face: case.c),
+ * p = f_a scale (x_a - len_a / 2) summed over those directions has the
+ * flux f_a scale on every interior face, as the force, and the closed faces
+ * pass none, which is the discrete problem above; a periodic direction's
+ * uniform flux has no divergence.  Zero mean over the box's volume, as the
+ * solver's singular problem. */
+static void stretched_hydrostatic(struct march_state *st, const double f[3], double scale)
+{
+    const struct grid *g = &st->g;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                const int idx[3] = {i, j, k};
+                double p = 0.0;
+                for (int a = 0; a < 3; a++)
+                    if (st->bc.face[a][0] != BC_PERIODIC)
+                        p += f[a] * scale * (grid_xc(g, a, idx[a]) - 0.5 * g->len[a]);
+                st->p_hyd[grid_idx(g, i, j, k)] = p;
+            }
+}
+
 int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
@@ -51,6 +74,12 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }
     kernel_divergence(g, flux, st->div);
+    if (grid_stretched(g)) {
+        stretched_hydrostatic(st, f, scale);
+        bc_fill_scalar(g, &st->bc, st->p_hyd);
+        hydrostatic_force(st);
+        return 0;
+    }
     struct pressure_solver *ps;
     if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
         return -1;

@@ -491,6 +491,20 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }
+    for (int d = 0; d < 3; d++) {
+        double b[3];
+        if (case_band(cs, d, b) != 1)
+            continue;
+        char why[300] = "the field would not fit in memory";
+        if (grid_axis_build(&st->axes[d], cs->len[d], cs->len[d] / cs->n[d], b[0], b[1], b[2],
+                            cs->growth, cs->bc.face[d][0] == BC_PERIODIC, why,
+                            sizeof why) != 0 ||
+            grid_set_axis(&st->g, d, &st->axes[d]) != 0) {
+            snprintf(err, errlen, "domain.%c_band: %s", "xyz"[d], why);
+            march_destroy(st);
+            return -1;
+        }
+    }
     const struct grid *g = &st->g;
     fields_init(&st->fields, g);
     bc_unknown_boxes(g, &st->bc, st->act);
@@ -563,8 +577,10 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         march_destroy(st);
         return -1;
     }
-    if (pressure_create(&st->pressure_solver, g, (const enum poisson_bc(*)[2])pbc, err,
-                        errlen) != 0 ||
+    /* a stretched grid's steps are the coupled ones (case.c): no projection */
+    if ((!grid_stretched(g) && pressure_create(&st->pressure_solver, g,
+                                               (const enum poisson_bc(*)[2])pbc, err,
+                                               errlen) != 0) ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
         add_modules(st, extra, err, errlen) != 0 || scene_setup(st, err, errlen) != 0 ||
@@ -590,6 +606,15 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     return 0;
 }
 
+/* The projection's coefficient; none without a projection (a stretched
+ * grid's coupled steps solve the pressure with the velocity). */
+static int projection_coefficient(struct march_state *st, double *const beta[3], char *err,
+                                  size_t errlen)
+{
+    return st->pressure_solver ? pressure_set_coefficient(st->pressure_solver, beta, err, errlen)
+                               : 0;
+}
+
 /* With an embedded body the projection's coefficient is the cut cells'
  * flux form: beta = 0 on the held faces (the velocity correction
  * -beta grad phi leaves them at 0), and the pressure operator
@@ -608,7 +633,7 @@ static int set_cut_coefficient(struct march_state *st, char *err, size_t errlen)
         for (int c = 0; c < 3; c++)
             for (size_t p = 0; p < g->size; p++)
                 coef[c][p] = st->beta[c][p] * e->share[c][p];
-        rc = pressure_set_coefficient(st->pressure_solver, coef, err, errlen);
+        rc = projection_coefficient(st, coef, err, errlen);
     } else {
         snprintf(err, errlen, "out of memory for the cut cells' projection coefficient");
     }
@@ -625,7 +650,7 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
     st->density_uniform = uniform;
     hydrostatic_force(st); /* gravity acts on the density of now */
     if (uniform)
-        return pressure_set_coefficient(st->pressure_solver, NULL, err, errlen);
+        return projection_coefficient(st, NULL, err, errlen);
     if (!st->beta[0]) {
         const struct field_spec sb = {"projection_coefficient", FIELD_FACES, 0},
                                 sm = {"mass_faces", FIELD_FACES, 0};
@@ -640,7 +665,7 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
             st->beta[c][p] = st->rho_face[c][p] > 0.0 ? st->rho_ref / st->rho_face[c][p] : 0.0;
     if (st->embedded)
         return set_cut_coefficient(st, err, errlen);
-    return pressure_set_coefficient(st->pressure_solver, st->beta, err, errlen);
+    return projection_coefficient(st, st->beta, err, errlen);
 }
 
 void *march_module_state(const struct march_state *st, const struct module *m)
@@ -660,6 +685,8 @@ void march_destroy(struct march_state *st)
     pressure_destroy(st->pressure_solver);
     viscous_destroy(st->viscous);
     stage_coupled_destroy(st->coupled);
+    for (int d = 0; d < 3; d++)
+        grid_axis_free(&st->axes[d]);
     memset(st, 0, sizeof *st);
 }
 
@@ -692,12 +719,23 @@ double march_force_scale(const struct march_state *st)
     return st->force_ref > 0.0 ? st->force_ref : 1.0;
 }
 
+/* The smallest cell width of direction d. */
+static double min_width(const struct grid *g, int d)
+{
+    if (!g->axis[d])
+        return g->h[d];
+    double h = grid_hc(g, d, 0);
+    for (int i = 1; i < g->n[d]; i++)
+        h = fmin(h, grid_hc(g, d, i));
+    return h;
+}
+
 double march_min_spacing(const struct grid *g)
 {
-    double h = g->h[0];
+    double h = min_width(g, 0);
     for (int d = 1; d < 3; d++)
-        if (g->n[d] > 1 && g->h[d] < h)
-            h = g->h[d];
+        if (g->n[d] > 1 && min_width(g, d) < h)
+            h = min_width(g, d);
     return h;
 }
 
@@ -715,7 +753,7 @@ double march_mean_acceleration(const struct march_state *st)
 {
     /* mean residual per unit mass of the component the body force drives */
     int a = march_driven_component(st);
-    return kernel_box_mean(&st->g, &st->act[a], st->res[a]) / st->cs->density;
+    return kernel_component_mean(&st->g, &st->act[a], a, st->res[a]) / st->cs->density;
 }
 
 void march_evaluate(struct march_state *st) { step_evaluate(st); }

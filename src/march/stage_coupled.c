@@ -58,7 +58,8 @@ struct entry {
  * own periodic image carry none. */
 struct gradient_face {
     int k, lo, hi;
-    double s, h;
+    double s, h;       /* open share; distance of the centres lo and hi */
+    double h_lo, h_hi; /* widths of the cells lo and hi (their divergences) */
 };
 
 struct coupled_state {
@@ -164,7 +165,11 @@ static int list_gradient_faces(const struct march_state *st, struct coupled_stat
         int hi = c->cell[p], lo = c->cell[p - st->g.stride[comp]];
         if (s == 0.0 || (hi >= 0 && hi == lo))
             continue;
-        c->faces[c->nfaces++] = (struct gradient_face){k, lo, hi, s, st->g.h[comp]};
+        int idx[3];
+        grid_slot_index(&st->g, p, idx);
+        c->faces[c->nfaces++] = (struct gradient_face){
+            k, lo, hi, s, grid_hf(&st->g, comp, idx[comp]), grid_hc(&st->g, comp, idx[comp] - 1),
+            grid_hc(&st->g, comp, idx[comp])};
     }
     return 0;
 }
@@ -391,12 +396,12 @@ static int assemble(struct coupled_state *c)
         if (a->hi >= 0) {
             c->e[n++] = (struct entry){a->k, nu + a->hi, ih};
             if (!c->held[a->hi])
-                c->e[n++] = (struct entry){nu + a->hi, a->k, -a->s * ih};
+                c->e[n++] = (struct entry){nu + a->hi, a->k, -a->s * (1.0 / a->h_hi)};
         }
         if (a->lo >= 0) {
             c->e[n++] = (struct entry){a->k, nu + a->lo, -ih};
             if (!c->held[a->lo])
-                c->e[n++] = (struct entry){nu + a->lo, a->k, a->s * ih};
+                c->e[n++] = (struct entry){nu + a->lo, a->k, a->s * (1.0 / a->h_lo)};
         }
     }
     for (int q = 0; q < nc; q++)

@@ -73,6 +73,18 @@ static double open_share(const struct shape_set *set, const double x0[3], const 
     return open;
 }
 
+/* The ends of cell idx of direction t, whose centre is at xt. */
+static void cell_span(const struct grid *g, int t, int idx, double xt, double *lo, double *hi)
+{
+    if (g->axis[t]) {
+        *lo = grid_xf(g, t, idx);
+        *hi = grid_xf(g, t, idx + 1);
+    } else {
+        *lo = xt - 0.5 * g->h[t];
+        *hi = xt + 0.5 * g->h[t];
+    }
+}
+
 /* The open share of face (i, j, k) of component c: the length share of the
  * face's extent along the plane's other direction (the shapes are extruded,
  * so nothing varies along the third); a face normal to the extrusion takes
@@ -82,6 +94,7 @@ static double face_share(const struct shape_set *set, const struct grid *g, int 
                          int k)
 {
     double x[3];
+    const int idx[3] = {i, j, k};
     obstacle_node_position(g, c, i, j, k, x);
     if (shape_distance(set, x) <= 0.0)
         return 0.0;
@@ -89,18 +102,20 @@ static double face_share(const struct shape_set *set, const struct grid *g, int 
     if (c == a || c == b) {
         int t = c == a ? b : a;
         double x0[3] = {x[0], x[1], x[2]}, x1[3] = {x[0], x[1], x[2]};
-        x0[t] -= 0.5 * g->h[t];
-        x1[t] += 0.5 * g->h[t];
+        cell_span(g, t, idx[t], x[t], &x0[t], &x1[t]);
         return open_share(set, x0, x1);
     }
-    double s = 0.0;
+    double s = 0.0, b0, b1;
+    cell_span(g, b, idx[b], x[b], &b0, &b1);
     for (int q = 0; q < FACE_PARTS; q++) {
         double x0[3] = {x[0], x[1], x[2]}, x1[3];
-        x0[b] += ((q + 0.5) / FACE_PARTS - 0.5) * g->h[b];
-        x0[a] -= 0.5 * g->h[a];
+        if (g->axis[b])
+            x0[b] = b0 + (q + 0.5) / FACE_PARTS * (b1 - b0);
+        else
+            x0[b] += ((q + 0.5) / FACE_PARTS - 0.5) * g->h[b];
         for (int d = 0; d < 3; d++)
             x1[d] = x0[d];
-        x1[a] += g->h[a];
+        cell_span(g, a, idx[a], x[a], &x0[a], &x1[a]);
         s += open_share(set, x0, x1);
     }
     return s / FACE_PARTS;
@@ -127,7 +142,7 @@ void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, do
 {
     int idx[3] = {i, j, k};
     for (int d = 0; d < 3; d++)
-        x[d] = (idx[d] + (d == c ? 0.0 : 0.5)) * g->h[d];
+        x[d] = d == c ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
 }
 
 /* The share theta of the segment from x0 (fluid) to x1 (solid) at which
@@ -180,7 +195,11 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                         continue; /* one cell across: no link along d */
                     for (int side = -1; side <= 1; side += 2) {
                         double y[3] = {x[0], x[1], x[2]};
-                        y[d] += side * g->h[d];
+                        if (g->axis[d])
+                            y[d] = d == c ? grid_xf(g, d, idx[d] + side)
+                                          : grid_xc(g, d, idx[d] + side);
+                        else
+                            y[d] += side * g->h[d];
                         /* a neighbour beyond the box is the boundary's */
                         int nidx = idx[d] + side;
                         if (nidx < 0 || nidx > g->n[d] - (d == c ? 0 : 1))
@@ -189,7 +208,12 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                             continue;
                         double theta = fmax(cut_share(&ob->set, x, y), THETA_MIN);
                         struct embedded_link l = {.p = p, .c = c};
-                        l.w = (1.0 - theta) / theta / (g->h[d] * g->h[d]);
+                        /* c = A / (the link's length x the node's control width) */
+                        double hh = g->h[d] * g->h[d];
+                        if (g->axis[d])
+                            hh = fabs(y[d] - x[d]) *
+                                 (d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]));
+                        l.w = (1.0 - theta) / theta / hh;
                         if (d == c) { /* the normal stress of the cell above or below */
                             l.coef = c;
                             l.at = side > 0 ? p : p - g->stride[d];

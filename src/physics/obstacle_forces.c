@@ -41,7 +41,7 @@ static void plane_init(struct plane *pl, const struct march_state *st)
     const int dd[2] = {pl->a, pl->b};
     for (int k = 0; k < 2; k++) {
         int d = dd[k];
-        double len = st->g.n[d] * st->g.h[d];
+        double len = st->g.len[d];
         pl->mirror[k] = 0;
         for (int side = 0; side < 2 && pl->set.n > 0 && !pl->set.invert; side++) {
             if (st->bc.face[d][side] != BC_SLIP)
@@ -62,7 +62,7 @@ static int in_box(const struct plane *pl, const double x[3])
     const struct grid *g = &pl->st->g;
     const int dd[2] = {pl->a, pl->b};
     for (int k = 0; k < 2; k++) {
-        double len = g->n[dd[k]] * g->h[dd[k]];
+        double len = g->len[dd[k]];
         if (pl->mirror[k] && (x[dd[k]] < 0.0 || x[dd[k]] > len))
             return 0;
     }
@@ -85,9 +85,20 @@ static int interp(const struct plane *pl, const double *f, int c, const double x
     double w[2];
     for (int k = 0; k < 2; k++) {
         int d = d2[k];
-        double t = x[d] / g->h[d] - (d == c ? 0.0 : 0.5);
-        i0[k] = (int)floor(t);
-        w[k] = t - i0[k];
+        if (g->axis[d]) { /* the two nodes around x and the share between them */
+            int ic = grid_locate(g, d, x[d]);
+            if (d == c) {
+                i0[k] = ic;
+                w[k] = (x[d] - grid_xf(g, d, ic)) / grid_hc(g, d, ic);
+            } else {
+                i0[k] = x[d] < grid_xc(g, d, ic) ? ic - 1 : ic;
+                w[k] = (x[d] - grid_xc(g, d, i0[k])) / grid_hf(g, d, i0[k] + 1);
+            }
+        } else {
+            double t = x[d] / g->h[d] - (d == c ? 0.0 : 0.5);
+            i0[k] = (int)floor(t);
+            w[k] = t - i0[k];
+        }
         int top = d == c ? g->n[d] : g->n[d] - 1;
         if (i0[k] < -1 || i0[k] + 1 > top + 1)
             return -1;
@@ -119,6 +130,9 @@ static int surface_sample(const struct plane *pl, struct sample *s)
     const struct march_state *st = pl->st;
     const struct grid *g = &st->g;
     double h = fmax(g->h[pl->a], g->h[pl->b]);
+    if (grid_stretched(g)) /* the cell at the surface point */
+        h = fmax(grid_hc(g, pl->a, grid_locate(g, pl->a, s->x[pl->a])),
+                 grid_hc(g, pl->b, grid_locate(g, pl->b, s->x[pl->b])));
     const double s1 = 1.5 * h, s2 = 3.0 * h;
     double u[2][2], p[2], eta;
     for (int q = 0; q < 2; q++) {
@@ -151,6 +165,14 @@ static int outline(const struct plane *pl, sample_fn fn, void *ctx)
 {
     const struct grid *g = &pl->st->g;
     double h = fmin(g->h[pl->a], g->h[pl->b]);
+    if (grid_stretched(g)) /* the finest cell of the plane */
+        for (int k = 0; k < 2; k++) {
+            int d = k ? pl->b : pl->a;
+            double hd = grid_hc(g, d, 0);
+            for (int i = 1; i < g->n[d]; i++)
+                hd = fmin(hd, grid_hc(g, d, i));
+            h = k ? fmin(h, hd) : hd;
+        }
     int bad = 0;
     for (int i = 0; i < pl->set.n; i++) {
         const struct shape *sh = &pl->set.s[i];
@@ -179,7 +201,7 @@ static int outline(const struct plane *pl, sample_fn fn, void *ctx)
             }
             struct sample smp = {{0.0, 0.0, 0.0}, {0.0, 0.0}, 0.0, 0.0, {0.0, 0.0}};
             smp.x[pl->a] = pa, smp.x[pl->b] = pb;
-            smp.x[pl->m] = (pl->jm + 0.5) * g->h[pl->m];
+            smp.x[pl->m] = grid_xc(g, pl->m, pl->jm);
             /* inside another shape of the union: not on its surface */
             if (fabs(shape_distance(&pl->set, smp.x)) > 1e-9 * per || !in_box(pl, smp.x))
                 continue;
@@ -223,7 +245,8 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
      * was most of the difference between the two estimates */
     const double rho = st->cs->advection ? st->cs->density : 0.0;
     const double *uN = st->vel[N], *uT = st->vel[T], *etae = st->eta_e[3 - N - T];
-    const double hN = g->h[N], hT = g->h[T];
+    /* the widths and centres' distances where each difference is taken
+     * (one size per direction on a uniform grid) */
     /* at(): indices in (a, b) order */
     for (int k = K0; k < K1; k++) {
 #define IX(iN, iT) (N == pl->a ? at(pl, (iN), (iT)) : at(pl, (iT), (iN)))
@@ -231,12 +254,14 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
         double ut = 0.25 * (uT[IX(I - 1, k)] + uT[IX(I, k)] + uT[IX(I - 1, k + 1)] + uT[IX(I, k + 1)]);
         double p = 0.5 * (st->p_dyn[IX(I - 1, k)] + st->p_dyn[IX(I, k)] + st->p_hyd[IX(I - 1, k)] +
                           st->p_hyd[IX(I, k)]);
-        double tnn = st->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hN +
-                     st->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hN; /* mean of 2 eta dudn */
-        double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / hT +
-                                      (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hN);
-        double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / hT +
-                                          (uT[IX(I, k + 1)] - uT[IX(I - 1, k + 1)]) / hN);
+        const double hNm = grid_hc(g, N, I - 1), hNp = grid_hc(g, N, I), hNf = grid_hf(g, N, I);
+        const double hT = grid_hc(g, T, k);
+        double tnn = st->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
+                     st->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp; /* mean of 2 eta dudn */
+        double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / grid_hf(g, T, k) +
+                                      (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hNf);
+        double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / grid_hf(g, T, k + 1) +
+                                          (uT[IX(I, k + 1)] - uT[IX(I - 1, k + 1)]) / hNf);
 #undef IX
         double tnt = 0.5 * (t0 + t1);
         F[N] += sign * (-p + tnn - rho * un * un) * hT;
@@ -264,6 +289,24 @@ static void symmetric_whole(const int mirror[2], double F[2])
 static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2])
 {
     const struct grid *g = &pl->st->g;
+    if (grid_stretched(g)) { /* each cell's share of its own area */
+        double area = 0.0;
+        for (int i = I0[0]; i < I1[0]; i++)
+            for (int j = I0[1]; j < I1[1]; j++) {
+                double ha = grid_hc(g, pl->a, i), hb = grid_hc(g, pl->b, j);
+                long solid = 0;
+                for (int si = 0; si < AREA_SAMPLES; si++)
+                    for (int sj = 0; sj < AREA_SAMPLES; sj++) {
+                        double x[3] = {0.0, 0.0, 0.0};
+                        x[pl->a] = grid_xf(g, pl->a, i) + (si + 0.5) / AREA_SAMPLES * ha;
+                        x[pl->b] = grid_xf(g, pl->b, j) + (sj + 0.5) / AREA_SAMPLES * hb;
+                        x[pl->m] = grid_xc(g, pl->m, pl->jm);
+                        solid += shape_distance(&pl->set, x) <= 0.0;
+                    }
+                area += (1.0 - (double)solid / (AREA_SAMPLES * AREA_SAMPLES)) * ha * hb;
+            }
+        return area;
+    }
     const double ha = g->h[pl->a], hb = g->h[pl->b];
     long solid = 0;
     for (int i = I0[0]; i < I1[0]; i++)
@@ -278,6 +321,23 @@ static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2
                 }
     return ((double)(I1[0] - I0[0]) * (I1[1] - I0[1]) -
             (double)solid / (AREA_SAMPLES * AREA_SAMPLES)) * ha * hb;
+}
+
+/* The control area in the plane of component c's node at slot p (per unit
+ * length of the extrusion): its cell's width across c, the two half cells'
+ * along c.  The residual is a flux difference over that area's widths. */
+static double node_area(const struct plane *pl, int c, ptrdiff_t p)
+{
+    const struct grid *g = &pl->st->g;
+    int idx[3];
+    grid_slot_index(g, p, idx);
+    double w = 1.0;
+    const int dd[2] = {pl->a, pl->b};
+    for (int k = 0; k < 2; k++) {
+        int d = dd[k];
+        w *= d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]);
+    }
+    return w;
 }
 
 /* The force on the bodies as the discrete momentum equations apply it.
@@ -325,13 +385,15 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
     for (int c = 0; c < 3; c++)
         for (long i = 0; i < e->nheld[c]; i++) {
             ptrdiff_t S = e->held[c][i];
-            Fd[c] += (r[c][S] + rp[c][S]) * vol;
-            Fpd[c] += rp[c][S] * vol;
+            double v = grid_stretched(g) ? node_area(pl, c, S) : vol;
+            Fd[c] += (r[c][S] + rp[c][S]) * v;
+            Fpd[c] += rp[c][S] * v;
         }
     for (long i = 0; i < e->nlinks; i++) { /* the residual's -A w v_P, taken from the fluid */
         const struct embedded_link *l = &e->links[i];
         double A = l->coef < 3 ? st->eta[l->at] : st->eta_e[l->coef - 3][l->at];
-        Fd[l->c] += A * l->w * st->vel[l->c][l->p] * vol;
+        double v = grid_stretched(g) ? node_area(pl, l->c, l->p) : vol;
+        Fd[l->c] += A * l->w * st->vel[l->c][l->p] * v;
     }
     F[0] = Fd[pl->a], F[1] = Fd[pl->b];
     Fp[0] = Fpd[pl->a], Fp[1] = Fpd[pl->b];
@@ -391,12 +453,19 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
         /* the control volume: the box around the bodies, half their size
          * and two cells beyond them, on the grid's faces, inside the domain */
         double margin[2] = {0.5 * (hi[0] - lo[0]) + 2.0 * g->h[pl.a],
-                            0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl.b]};
+                            0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl.b]}; /* NaN if stretched */
         int dd[2] = {pl.a, pl.b}, I0[2], I1[2];
         for (int k = 0; k < 2; k++) {
             int d = dd[k];
-            I0[k] = (int)floor((lo[k] - margin[k]) / g->h[d]);
-            I1[k] = (int)ceil((hi[k] + margin[k]) / g->h[d]);
+            if (g->axis[d]) { /* two of the local cells beyond, as below */
+                int c0 = grid_locate(g, d, lo[k]), c1 = grid_locate(g, d, hi[k]);
+                margin[k] = 0.5 * (hi[k] - lo[k]) + 2.0 * fmax(grid_hc(g, d, c0), grid_hc(g, d, c1));
+                I0[k] = grid_locate(g, d, lo[k] - margin[k]);
+                I1[k] = grid_locate(g, d, hi[k] + margin[k]) + 1;
+            } else {
+                I0[k] = (int)floor((lo[k] - margin[k]) / g->h[d]);
+                I1[k] = (int)ceil((hi[k] + margin[k]) / g->h[d]);
+            }
             if (I0[k] < 2)
                 I0[k] = 2;
             if (I1[k] > g->n[d] - 2)
@@ -454,7 +523,7 @@ double obstacle_mean_velocity(const struct march_state *st)
     int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
-    return copysign(1.0, f[a]) * kernel_box_mean(&st->g, &st->act[a], st->vel[a]);
+    return copysign(1.0, f[a]) * kernel_component_mean(&st->g, &st->act[a], a, st->vel[a]);
 }
 
 void obstacle_results(const struct march_state *st, struct run_result *res)

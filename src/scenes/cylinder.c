@@ -552,6 +552,7 @@ static const struct module *const cylinder_modules[] = {&flow_rate_module, NULL}
 
 const struct scene scene_cylinder = {
     .name = "cylinder",
+    .stretched_grid = 1,
     .title = "granular flow past a cylinder driven by F = rho phi g L_x / p_ext, continued in F",
     .keys = &cylinder_block,
     .check = check,

@@ -4,6 +4,7 @@
 
 const struct scene scene_none = {
     .name = "none",
+    .stretched_grid = 1,
     .title = "no scene: status, residual and fields only",
     .profile_axis = -1,
     .profile_component = -1,
