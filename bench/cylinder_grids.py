@@ -47,14 +47,15 @@ def main():
     a = ap.parse_args()
     grids = [int(g) for g in a.grids.split(",")]
     muflow, outdir, extra, lam = a.muflow, a.outdir, a.overrides, a.lam
+    band, far = a.band, a.far
     os.makedirs(outdir, exist_ok=True)
     rows, previous = [], None
     for n in grids:
-        if a.band > 0 and n != a.far:
+        if band > 0 and n != far:
             d = os.path.join(outdir, f"cylinder_band_d{n}")
-            grid = [f"domain.nx={10 * a.far}", f"domain.nz={30 * a.far}",
-                    f"domain.x_band=0 {a.band} {1.0 / n!r}",
-                    f"domain.z_band={15 - a.band} {15 + a.band} {1.0 / n!r}"]
+            grid = [f"domain.nx={10 * far}", f"domain.nz={30 * far}",
+                    f"domain.x_band=0 {band} {1.0 / n!r}",
+                    f"domain.z_band={15 - band} {15 + band} {1.0 / n!r}"]
         else:
             d = os.path.join(outdir, f"cylinder_grid_d{n}")
             grid = [f"domain.nx={10 * n}", f"domain.nz={30 * n}"]
@@ -75,8 +76,8 @@ def main():
                      "surface": float(res["drag_surface"]), "layer": layer(d)})
         previous = d
     lines = [f"Granular cylinder, F = 1, p_ext = 10, lambda {lam}"
-             + (f", stretched: D/h within {a.band} D of the centre, D/{a.far} far"
-                if a.band > 0 else "")
+             + (f", stretched: D/h within {band} D of the centre, D/{far} far"
+                if band > 0 else "")
              + (f", {' '.join(extra)}" if extra else "")
              + f"; OMP_NUM_THREADS = {os.environ.get('OMP_NUM_THREADS', '(unset)')}", "",
              "| grid | cells | steps | wall s | CPU s | peak MB | load | U | F_D control volume "
@@ -97,7 +98,7 @@ def main():
         lines.append(f"Observed order from D/{rows[i - 2]['n']}, D/{rows[i - 1]['n']}, "
                      f"D/{rows[i]['n']}: {order} (ratio of the steps {q:.3f}).")
     text = "\n".join(lines) + "\n"
-    name = "cylinder_bands.md" if a.band > 0 else "cylinder_grids.md"
+    name = "cylinder_bands.md" if band > 0 else "cylinder_grids.md"
     with open(os.path.join(outdir, name), "w") as f:
         f.write(text)
     print(text)
