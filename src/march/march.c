@@ -531,8 +531,10 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         format_bytes(need, sizeof need, st->memory_estimate);
         format_bytes(have, sizeof have, avail);
         snprintf(err, errlen,
-                 "domain.nx x domain.ny x domain.nz = %d x %d x %d: the run needs about %s "
+                 "%s = %d x %d x %d: the run needs about %s "
                  "(fields, solver work%s), more than the %s of memory available on this machine",
+                 grid_stretched(g) ? "the cells with the domain's bands"
+                                   : "domain.nx x domain.ny x domain.nz",
                  g->n[0], g->n[1], g->n[2], need,
                  kind == VISCOUS_LINE || kind == VISCOUS_FOURIER ? "" : ", sparse factorisation",
                  have);
