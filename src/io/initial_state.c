@@ -106,16 +106,25 @@ static int source_axes(const char *file, struct grid *gs, struct grid_axis ax[3]
         int okg = checkpoint_read_key(file, "domain.growth", gt, sizeof gt) == 0;
         snprintf(key, sizeof key, "boundary.%clo", xyz[d]);
         int okb = checkpoint_read_key(file, key, bt, sizeof bt) == 0;
-        char why[300] = "its keys domain.n<d> and domain.growth are missing";
-        if (!okn || !okg || !okb ||
-            grid_axis_build(&ax[d], gs->len[d], gs->len[d] / atoi(nt), b[0], b[1], b[2],
-                            strtod(gt, NULL), strcmp(bt, "periodic") == 0, why,
-                            sizeof why) != 0 ||
-            ax[d].n != gs->n[d] || grid_set_axis(gs, d, &ax[d]) != 0) {
+        char why[300] = "its keys domain.n<d>, domain.growth or boundary.<d>lo are missing";
+        int bad = !okn || !okg || !okb ||
+                  grid_axis_build(&ax[d], gs->len[d], gs->len[d] / atoi(nt), b[0], b[1], b[2],
+                                  strtod(gt, NULL), strcmp(bt, "periodic") == 0, why,
+                                  sizeof why) != 0;
+        if (!bad && ax[d].n != gs->n[d]) {
+            snprintf(why, sizeof why, "%d cells from its keys, %d in its fields", ax[d].n,
+                     gs->n[d]);
+            bad = 1;
+        }
+        if (!bad && grid_set_axis(gs, d, &ax[d]) != 0) {
+            snprintf(why, sizeof why, "out of memory");
+            bad = 1;
+        }
+        if (bad) {
             snprintf(err, errlen,
                      "solver.initial_state: %s: its stretched %c direction cannot be rebuilt "
                      "(%s)",
-                     file, xyz[d], ax[d].n != gs->n[d] ? "another count of cells" : why);
+                     file, xyz[d], why);
             return -1;
         }
     }
