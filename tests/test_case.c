@@ -471,7 +471,7 @@ static const struct bad bad_cases[] = {
     {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL, {"domain", "nx*ny*nz"}},
     /* stretched directions: three numbers, inside the box, finer than the far
      * cells, and only with the coupled steady step */
-    {"[domain]\nnx = 8\nx_band = 0.2 0.5\n", NULL, {"domain.x_band = '0.2 0.5'", "three numbers"}},
+    {"[domain]\nnx = 8\nx_band = 0.2 0.5\n", NULL, {"domain.x_band = '0.2 0.5'", "triples 'lo hi h'"}},
     {"[domain]\nnx = 8\nx_band = 0.2 1.5 0.01\n", NULL,
      {"domain.x_band = '0.2 1.5 0.01'", "must lie in [0, 1]"}},
     {"[domain]\nnx = 8\nx_band = 0.2 0.5 0.5\n", NULL, {"domain.x_band", "(0, 0.125]"}},

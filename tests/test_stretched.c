@@ -2,7 +2,9 @@
  * - the band's faces: the box's and the band's ends exact, cells of at most
  *   the band's size inside it, neighbours' sizes within the growth ratio
  *   outside (the fit's scaling only at the band's edge), the ghosts'
- *   widths mirrored or periodic, the centres' distances consistent;
+ *   widths mirrored or periodic, the centres' distances consistent; two
+ *   bands with a gap growing from both; malformed and unordered bands
+ *   refused;
  * - a band over the whole box is the uniform grid: the stress divergence,
  *   the strain and the divergence through the stretched loops equal the
  *   uniform ones to round-off on a random field;
@@ -56,6 +58,41 @@ static void test_axis_band(void **state)
         }
         grid_axis_free(&ax);
     }
+    /* two bands: the gap's cells grow from both, the smaller first */
+    struct grid_band two[2];
+    assert_int_equal(grid_bands_parse(" 1 2 0.02 ; 6 6.5 0.05", two, 8), 2);
+    assert_int_equal(grid_bands_parse("1 2 0.02; 6 6.5", two, 8), -1);
+    assert_int_equal(grid_bands_parse("1 2 0.02 6 6.5 0.05", two, 8), -1);
+    struct grid_axis ab;
+    assert_int_equal(grid_axis_build_bands(&ab, 10.0, 0.5, two, 2, 1.1, 0, msg, sizeof msg), 0);
+    {
+        int n = ab.n, found = 0;
+        const double *xf = ab.xf + 1, *hc = ab.hc + 1;
+        assert_true(xf[0] == 0.0 && xf[n] == 10.0);
+        int ends[4] = {-1, -1, -1, -1};
+        const double at[4] = {1.0, 2.0, 6.0, 6.5};
+        for (int i = 0; i <= n; i++)
+            for (int e = 0; e < 4; e++)
+                if (xf[i] == at[e])
+                    ends[e] = i, found++;
+        assert_int_equal(found, 4);
+        assert_int_equal(ends[1] - ends[0], 50);
+        assert_int_equal(ends[3] - ends[2], 10);
+        for (int i = 1; i < n; i++) {
+            int edge = 0;
+            for (int e = 0; e < 4; e++)
+                edge |= i == ends[e];
+            double r = hc[i] > hc[i - 1] ? hc[i] / hc[i - 1] : hc[i - 1] / hc[i];
+            if (!edge)
+                assert_true(r <= 1.1 * (1 + 1e-12));
+            assert_true(hc[i] <= 0.5 * 1.05);
+        }
+        grid_axis_free(&ab);
+    }
+    assert_int_equal(grid_axis_build_bands(&ab, 10.0, 0.5, (struct grid_band[]){{6, 7, 0.1}, {1, 2, 0.1}},
+                                           2, 1.1, 0, msg, sizeof msg),
+                     -1);
+    assert_non_null(strstr(msg, "increasing order"));
     struct grid_axis ax;
     assert_int_equal(grid_axis_build(&ax, 1.0, 0.1, 0.5, 0.4, 0.01, 1.1, 0, msg, sizeof msg), -1);
     assert_int_equal(grid_axis_build(&ax, 1.0, 0.1, 0.2, 0.4, 0.2, 1.1, 0, msg, sizeof msg), -1);

@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdio.h>
 #include "grid/boundary.h"
+#include "grid/grid.h"
 #include "kernels/rheology.h"
 
 /* obstacle.plane: the shapes' coordinates (A, B) are along these directions */
@@ -158,8 +159,8 @@ const struct key *case_key_at(int i); /* NULL out of range */
  * the key tables. */
 void case_write_key_list(FILE *out);
 
-/* The band of direction d: 1 with lo, hi, h in band[3] when domain.<d>_band
- * is set, 0 when it is empty, -1 when it is not three numbers. */
-int case_band(const struct muflow_case *c, int d, double band[3]);
+/* The bands of direction d (domain.<d>_band): their count, 0 when the key
+ * is empty, -1 when it is not 'lo hi h' triples separated by ';'. */
+int case_bands(const struct muflow_case *c, int d, struct grid_band band[GRID_BANDS_MAX]);
 
 #endif

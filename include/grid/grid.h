@@ -107,6 +107,21 @@ int grid_init(struct grid *g, const int n[3], const double len[3]);
  * periodic: the ghosts take the widths of their periodic images. */
 int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
                     double h_band, double growth, int periodic, char *msg, size_t msglen);
+
+/* Several bands (at most GRID_BANDS_MAX, in increasing order, not
+ * overlapping): between two bands the cells grow from both, the smaller
+ * next cell first, up to h_far. */
+#define GRID_BANDS_MAX 8
+struct grid_band {
+    double lo, hi, h;
+};
+int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
+                          const struct grid_band *band, int nb, double growth, int periodic,
+                          char *msg, size_t msglen);
+
+/* "lo hi h" triples separated by ';' into b (at most max): their count, 0
+ * for an empty text, -1 when malformed or more than max. */
+int grid_bands_parse(const char *text, struct grid_band *b, int max);
 void grid_axis_free(struct grid_axis *ax);
 
 /* Makes direction d of g stretched by ax (ax->n cells over g->len[d]);

@@ -106,7 +106,8 @@ static const struct key keys[] = {
         "cells along z (nx*ny*nz at most 500000000)"),
     STR("domain", "x_band", band[0],
         "'lo hi h': x refined to cells of about h in [lo, hi], growing by domain.growth from "
-        "cell to cell outside up to lx / nx (empty: uniform lx / nx); the count follows"),
+        "cell to cell outside up to lx / nx (empty: uniform lx / nx); the count follows; "
+        "several bands 'lo hi h; lo hi h' (at most 8, increasing)"),
     STR("domain", "y_band", band[1], "'lo hi h': y refined in [lo, hi], as domain.x_band"),
     STR("domain", "z_band", band[2], "'lo hi h': z refined in [lo, hi], as domain.x_band"),
     DBL("domain", "growth", growth, RANGE(1, 1.5, 0, 1),
@@ -762,17 +763,9 @@ const char *case_coupled_gmres_refusal(const struct muflow_case *c)
     return NULL;
 }
 
-int case_band(const struct muflow_case *c, int d, double band[3])
+int case_bands(const struct muflow_case *c, int d, struct grid_band band[GRID_BANDS_MAX])
 {
-    const char *s = c->band[d];
-    while (*s == ' ' || *s == '\t')
-        s++;
-    if (!*s)
-        return 0;
-    char tail[2];
-    if (sscanf(s, "%lf %lf %lf %1s", &band[0], &band[1], &band[2], tail) != 3)
-        return -1;
-    return 1;
+    return grid_bands_parse(c->band[d], band, GRID_BANDS_MAX);
 }
 
 /* The stretched directions: three numbers each, a band the grid can hold,
@@ -786,14 +779,14 @@ static int check_bands(struct ctx *x, const char *where)
     static const char axis[3] = {'x', 'y', 'z'};
     static const char *const len_key[3] = {"lx", "ly", "lz"}, *const n_key[3] = {"nx", "ny", "nz"};
     for (int d = 0; d < 3; d++) {
-        double b[3];
-        int r = case_band(c, d, b);
+        struct grid_band b[GRID_BANDS_MAX];
+        int r = case_bands(c, d, b);
         if (r == 0)
             continue;
         if (r < 0) {
-            fail(x, "%s: domain.%c_band = '%.100s': must be three numbers 'lo hi h' (empty: a "
-                    "uniform direction)",
-                 where, axis[d], c->band[d]);
+            fail(x, "%s: domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
+                    "separated by ';' (empty: a uniform direction)",
+                 where, axis[d], c->band[d], GRID_BANDS_MAX);
             return 1;
         }
         if (c->n[d] < 2) {
@@ -804,8 +797,8 @@ static int check_bands(struct ctx *x, const char *where)
         }
         struct grid_axis ax;
         char why[300];
-        if (grid_axis_build(&ax, c->len[d], c->len[d] / c->n[d], b[0], b[1], b[2], c->growth,
-                            c->bc.face[d][0] == BC_PERIODIC, why, sizeof why) != 0) {
+        if (grid_axis_build_bands(&ax, c->len[d], c->len[d] / c->n[d], b, r, c->growth,
+                                  c->bc.face[d][0] == BC_PERIODIC, why, sizeof why) != 0) {
             fail(x, "%s: domain.%c_band = '%.100s' with domain.%s = %.10g, domain.%s = %d: %s",
                  where, axis[d], c->band[d], len_key[d], c->len[d], n_key[d], c->n[d], why);
             return 1;

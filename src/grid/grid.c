@@ -105,30 +105,131 @@ void grid_axis_free(struct grid_axis *ax)
     memset(ax, 0, sizeof *ax);
 }
 
+/* Widths of the cells of a gap of length `length` between two bands of
+ * cells h1 (its low end) and h2 (its high end): each side grows from its
+ * band by the ratio, capped at h_far, the smaller next cell taken first,
+ * as many as make their sum nearest to length, scaled to sum to it
+ * exactly; in order from the low end (the high side's cells reversed).
+ * Returns the count, writing at most max widths into w (NULL: count only). */
+static int gap_cells(double length, double h1, double h2, double growth, double h_far, double *w,
+                     int max)
+{
+    if (length <= 0.0)
+        return 0;
+    double a = h1, b = h2, sum = 0.0;
+    int nl = 0, nr = 0;
+    for (;;) {
+        double na = fmin(a * growth, h_far), nb = fmin(b * growth, h_far);
+        int left = na <= nb;
+        double s = left ? na : nb;
+        if (sum + s >= length) {
+            if (nl + nr > 0 && length - sum < sum + s - length)
+                break;
+        }
+        sum += s;
+        if (left) {
+            a = na;
+            nl++;
+        } else {
+            b = nb;
+            nr++;
+        }
+        if (sum >= length)
+            break;
+    }
+    int m = nl + nr;
+    if (w) {
+        double scale = length / sum;
+        a = h1;
+        for (int k = 0; k < nl && k < max; k++)
+            w[k] = (a = fmin(a * growth, h_far)) * scale;
+        b = h2;
+        for (int k = 0; k < nr && m - 1 - k < max; k++)
+            w[m - 1 - k] = (b = fmin(b * growth, h_far)) * scale;
+    }
+    return m;
+}
+
+int grid_bands_parse(const char *text, struct grid_band *b, int max)
+{
+    int nb = 0;
+    const char *s = text;
+    for (;;) {
+        while (*s == ' ' || *s == '\t')
+            s++;
+        if (!*s)
+            return nb;
+        if (nb == max)
+            return -1;
+        int used = 0;
+        if (sscanf(s, "%lf %lf %lf%n", &b[nb].lo, &b[nb].hi, &b[nb].h, &used) != 3)
+            return -1;
+        nb++;
+        s += used;
+        while (*s == ' ' || *s == '\t')
+            s++;
+        if (*s == ';')
+            s++;
+        else if (*s)
+            return -1;
+    }
+}
+
 int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
                     double h_band, double growth, int periodic, char *msg, size_t msglen)
 {
+    const struct grid_band b = {lo, hi, h_band};
+    return grid_axis_build_bands(ax, len, h_far, &b, 1, growth, periodic, msg, msglen);
+}
+
+int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
+                          const struct grid_band *band, int nb, double growth, int periodic,
+                          char *msg, size_t msglen)
+{
     memset(ax, 0, sizeof *ax);
-    if (!(len > 0.0) || !(h_far > 0.0) || !(lo >= 0.0) || !(hi <= len) || !(lo < hi) ||
-        !(h_band > 0.0) || !(h_band <= h_far) || !(growth > 1.0)) {
-        snprintf(msg, msglen,
-                 "the band [%.17g, %.17g] must lie in [0, %.17g] with lo < hi, its cell size "
-                 "%.17g in (0, %.17g] (the far cell size) and the growth %.17g above 1",
-                 lo, hi, len, h_band, h_far, growth);
+    if (nb < 1 || nb > GRID_BANDS_MAX) {
+        snprintf(msg, msglen, "1 to %d bands, not %d", GRID_BANDS_MAX, nb);
         return -1;
     }
-    int mb = (int)ceil((hi - lo) / h_band - 1e-9);
-    if (mb < 1)
-        mb = 1;
-    int ml = side_cells(lo, h_band, growth, h_far, NULL, 0);
-    int mh = side_cells(len - hi, h_band, growth, h_far, NULL, 0);
-    if ((double)ml + mb + mh > 100000000.0) {
-        snprintf(msg, msglen, "the band's cell size %.17g makes more than 1e8 cells", h_band);
+    for (int i = 0; i < nb; i++) {
+        double lo = band[i].lo, hi = band[i].hi, h_band = band[i].h;
+        if (!(len > 0.0) || !(h_far > 0.0) || !(lo >= 0.0) || !(hi <= len) || !(lo < hi) ||
+            !(h_band > 0.0) || !(h_band <= h_far) || !(growth > 1.0)) {
+            snprintf(msg, msglen,
+                     "the band [%.17g, %.17g] must lie in [0, %.17g] with lo < hi, its cell size "
+                     "%.17g in (0, %.17g] (the far cell size) and the growth %.17g above 1",
+                     lo, hi, len, h_band, h_far, growth);
+            return -1;
+        }
+        if (i > 0 && !(lo >= band[i - 1].hi)) {
+            snprintf(msg, msglen,
+                     "the bands must be in increasing order without overlap: [%.17g, %.17g] "
+                     "after [%.17g, %.17g]",
+                     lo, hi, band[i - 1].lo, band[i - 1].hi);
+            return -1;
+        }
+    }
+    /* the counts: the low end, each band and the gap after it (the last's:
+     * the high end) */
+    int count[2 * GRID_BANDS_MAX + 1];
+    count[0] = side_cells(band[0].lo, band[0].h, growth, h_far, NULL, 0);
+    double total = count[0];
+    for (int i = 0; i < nb; i++) {
+        int mb = (int)ceil((band[i].hi - band[i].lo) / band[i].h - 1e-9);
+        count[1 + 2 * i] = mb < 1 ? 1 : mb;
+        count[2 + 2 * i] =
+            i + 1 < nb ? gap_cells(band[i + 1].lo - band[i].hi, band[i].h, band[i + 1].h, growth,
+                                   h_far, NULL, 0)
+                       : side_cells(len - band[i].hi, band[i].h, growth, h_far, NULL, 0);
+        total += (double)count[1 + 2 * i] + count[2 + 2 * i];
+    }
+    if (total > 100000000.0) {
+        snprintf(msg, msglen, "the bands' cell sizes make more than 1e8 cells");
         return -1;
     }
-    int n = ml + mb + mh;
+    int n = (int)total;
     size_t slots = (size_t)n + 3;
-    double *block = malloc(6 * slots * sizeof(double));
+    double *block = calloc(6 * slots, sizeof(double));
     if (!block) {
         snprintf(msg, msglen, "out of memory for a stretched direction of %d cells", n);
         return -1;
@@ -141,22 +242,36 @@ int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, d
     ax->ihc = block + 4 * slots;
     ax->ihf = block + 5 * slots;
     double *hc = ax->hc + 1; /* hc[i], cells -1 .. n */
-    /* the low side is built outward from the band: reversed into place */
-    side_cells(lo, h_band, growth, h_far, hc, ml);
+    /* the low end is built outward from the first band: reversed into place */
+    int ml = count[0];
+    side_cells(band[0].lo, band[0].h, growth, h_far, hc, ml);
     for (int a = 0, b = ml - 1; a < b; a++, b--) {
         double t = hc[a];
         hc[a] = hc[b];
         hc[b] = t;
     }
-    for (int k = 0; k < mb; k++)
-        hc[ml + k] = (hi - lo) / mb;
-    side_cells(len - hi, h_band, growth, h_far, hc + ml + mb, mh);
+    int at = ml, ends[2 * GRID_BANDS_MAX]; /* the faces at the bands' ends */
+    for (int i = 0; i < nb; i++) {
+        ends[2 * i] = at;
+        for (int k = 0; k < count[1 + 2 * i]; k++)
+            hc[at + k] = (band[i].hi - band[i].lo) / count[1 + 2 * i];
+        at += count[1 + 2 * i];
+        ends[2 * i + 1] = at;
+        if (i + 1 < nb)
+            gap_cells(band[i + 1].lo - band[i].hi, band[i].h, band[i + 1].h, growth, h_far,
+                      hc + at, count[2 + 2 * i]);
+        else
+            side_cells(len - band[i].hi, band[i].h, growth, h_far, hc + at, count[2 + 2 * i]);
+        at += count[2 + 2 * i];
+    }
     double *xf = ax->xf + 1, *xc = ax->xc + 1, *hf = ax->hf + 1;
     xf[0] = 0.0;
     for (int i = 0; i < n; i++)
         xf[i + 1] = xf[i] + hc[i];
-    xf[ml] = lo; /* exact at the band's ends and the box's */
-    xf[ml + mb] = hi;
+    for (int i = 0; i < nb; i++) { /* exact at the bands' ends and the box's */
+        xf[ends[2 * i]] = band[i].lo;
+        xf[ends[2 * i + 1]] = band[i].hi;
+    }
     xf[n] = len;
     for (int i = 0; i < n; i++)
         hc[i] = xf[i + 1] - xf[i];

@@ -96,9 +96,11 @@ static int source_axes(const char *file, struct grid *gs, struct grid_axis ax[3]
     for (int d = 0; d < 3; d++) {
         char key[48], text[160];
         snprintf(key, sizeof key, "domain.%c_band", xyz[d]);
-        double b[3];
-        if (checkpoint_read_key(file, key, text, sizeof text) != 0 ||
-            sscanf(text, "%lf %lf %lf", &b[0], &b[1], &b[2]) != 3)
+        struct grid_band b[GRID_BANDS_MAX];
+        int nb = checkpoint_read_key(file, key, text, sizeof text) == 0
+                     ? grid_bands_parse(text, b, GRID_BANDS_MAX)
+                     : 0;
+        if (nb <= 0)
             continue; /* uniform (or from before the bands) */
         char nt[48], gt[48], bt[48];
         snprintf(key, sizeof key, "domain.n%c", xyz[d]);
@@ -108,9 +110,9 @@ static int source_axes(const char *file, struct grid *gs, struct grid_axis ax[3]
         int okb = checkpoint_read_key(file, key, bt, sizeof bt) == 0;
         char why[300] = "its keys domain.n<d>, domain.growth or boundary.<d>lo are missing";
         int bad = !okn || !okg || !okb ||
-                  grid_axis_build(&ax[d], gs->len[d], gs->len[d] / atoi(nt), b[0], b[1], b[2],
-                                  strtod(gt, NULL), strcmp(bt, "periodic") == 0, why,
-                                  sizeof why) != 0;
+                  grid_axis_build_bands(&ax[d], gs->len[d], gs->len[d] / atoi(nt), b, nb,
+                                        strtod(gt, NULL), strcmp(bt, "periodic") == 0, why,
+                                        sizeof why) != 0;
         if (!bad && ax[d].n != gs->n[d]) {
             snprintf(why, sizeof why, "%d cells from its keys, %d in its fields", ax[d].n,
                      gs->n[d]);

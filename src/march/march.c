@@ -492,13 +492,14 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     for (int d = 0; d < 3; d++) {
-        double b[3];
-        if (case_band(cs, d, b) != 1)
+        struct grid_band b[GRID_BANDS_MAX];
+        int nb = case_bands(cs, d, b);
+        if (nb <= 0)
             continue;
         char why[300] = "the field would not fit in memory";
-        if (grid_axis_build(&st->axes[d], cs->len[d], cs->len[d] / cs->n[d], b[0], b[1], b[2],
-                            cs->growth, cs->bc.face[d][0] == BC_PERIODIC, why,
-                            sizeof why) != 0 ||
+        if (grid_axis_build_bands(&st->axes[d], cs->len[d], cs->len[d] / cs->n[d], b, nb,
+                                  cs->growth, cs->bc.face[d][0] == BC_PERIODIC, why,
+                                  sizeof why) != 0 ||
             grid_set_axis(&st->g, d, &st->axes[d]) != 0) {
             snprintf(err, errlen, "domain.%c_band: %s", "xyz"[d], why);
             march_destroy(st);
