@@ -130,7 +130,7 @@ double kernel_component_mean(const struct grid *g, const struct box *b, int c, c
                 const int idx[3] = {i, j, k};
                 double w = 1.0;
                 for (int d = 0; d < 3; d++)
-                    w *= d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]);
+                    w *= grid_node_width(g, c, d, idx[d]);
                 s += w * f[grid_idx(g, i, j, k)];
                 vol += w;
             }

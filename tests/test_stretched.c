@@ -24,8 +24,8 @@ static void test_axis_band(void **state)
     for (int periodic = 0; periodic < 2; periodic++) {
         struct grid_axis ax;
         /* the granular cylinder's z: 30 long, far 1/4, band [13.5, 16.5] at 1/32 */
-        assert_int_equal(grid_axis_build(&ax, 30.0, 0.25, 13.5, 16.5, 1.0 / 32, 1.1, periodic,
-                                         msg, sizeof msg),
+        const struct grid_band z = {13.5, 16.5, 1.0 / 32};
+        assert_int_equal(grid_axis_build_bands(&ax, 30.0, 0.25, &z, 1, 1.1, periodic, msg, sizeof msg),
                          0);
         int n = ax.n;
         const double *xf = ax.xf + 1, *hc = ax.hc + 1, *hf = ax.hf + 1, *xc = ax.xc + 1;
@@ -94,8 +94,9 @@ static void test_axis_band(void **state)
                      -1);
     assert_non_null(strstr(msg, "increasing order"));
     struct grid_axis ax;
-    assert_int_equal(grid_axis_build(&ax, 1.0, 0.1, 0.5, 0.4, 0.01, 1.1, 0, msg, sizeof msg), -1);
-    assert_int_equal(grid_axis_build(&ax, 1.0, 0.1, 0.2, 0.4, 0.2, 1.1, 0, msg, sizeof msg), -1);
+    const struct grid_band reversed = {0.5, 0.4, 0.01}, coarse = {0.2, 0.4, 0.2};
+    assert_int_equal(grid_axis_build_bands(&ax, 1.0, 0.1, &reversed, 1, 1.1, 0, msg, sizeof msg), -1);
+    assert_int_equal(grid_axis_build_bands(&ax, 1.0, 0.1, &coarse, 1, 1.1, 0, msg, sizeof msg), -1);
     assert_non_null(strstr(msg, "must lie in [0, 1]"));
 }
 
@@ -165,8 +166,9 @@ static void test_full_band_is_uniform(void **state)
     struct grid_axis ax[3];
     char msg[300];
     for (int d = 0; d < 3; d++) {
-        assert_int_equal(grid_axis_build(&ax[d], len[d], len[d] / n[d], 0.0, len[d], len[d] / n[d],
-                                         1.1, d == 1, msg, sizeof msg),
+        assert_int_equal(grid_axis_build_bands(&ax[d], len[d], len[d] / n[d],
+                                               &(struct grid_band){0.0, len[d], len[d] / n[d]}, 1,
+                                               1.1, d == 1, msg, sizeof msg),
                          0);
         assert_int_equal(ax[d].n, n[d]);
         assert_int_equal(grid_set_axis(&gs, d, &ax[d]), 0);
@@ -229,7 +231,7 @@ static double weighted_dot(const struct grid *g, const struct box act[3], double
                     const int idx[3] = {i, j, k};
                     double vol = 1.0;
                     for (int d = 0; d < 3; d++)
-                        vol *= d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]);
+                        vol *= grid_node_width(g, c, d, idx[d]);
                     ptrdiff_t p = grid_idx(g, i, j, k);
                     s += vol * a[c][p] * b[c][p];
                 }
@@ -247,8 +249,9 @@ static void test_stretched_symmetric(void **state)
     struct grid_axis ax[3];
     char msg[300];
     for (int d = 0; d < 3; d++) {
-        assert_int_equal(grid_axis_build(&ax[d], len[d], len[d] / n[d], band[d][0], band[d][1],
-                                         band[d][2], 1.2, 0, msg, sizeof msg),
+        assert_int_equal(grid_axis_build_bands(&ax[d], len[d], len[d] / n[d],
+                                               &(struct grid_band){band[d][0], band[d][1], band[d][2]},
+                                               1, 1.2, 0, msg, sizeof msg),
                          0);
         assert_int_equal(grid_set_axis(&g, d, &ax[d]), 0);
     }

@@ -159,8 +159,12 @@ const struct key *case_key_at(int i); /* NULL out of range */
  * the key tables. */
 void case_write_key_list(FILE *out);
 
-/* The bands of direction d (domain.<d>_band): their count, 0 when the key
- * is empty, -1 when it is not 'lo hi h' triples separated by ';'. */
-int case_bands(const struct muflow_case *c, int d, struct grid_band band[GRID_BANDS_MAX]);
+/* The spacing of direction d from domain.<d>_band, domain.growth, the far
+ * size l / n and the periodicity: 1 with ax built (grid_axis_free frees it),
+ * 0 for a uniform direction (the key empty), -1 with msg when the key is
+ * not 'lo hi h' triples separated by ';' (msg empty) or the bands do not
+ * fit (msg says why). */
+int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *msg,
+              size_t msglen);
 
 #endif

@@ -26,8 +26,6 @@ struct grid_axis {
     double *xc;  /* cell centres, cells -1 .. n */
     double *hc;  /* cell widths xf[i + 1] - xf[i], cells -1 .. n */
     double *hf;  /* centre distances xc[i] - xc[i - 1], faces -1 .. n + 1 */
-    double *ihc; /* 1 / hc */
-    double *ihf; /* 1 / hf */
 };
 
 struct grid {
@@ -35,7 +33,7 @@ struct grid {
     double len[3];       /* domain lengths */
     double h[3];         /* cell sizes len/n; NaN for a stretched direction */
     /* NULL: direction d is uniform (h[d] everywhere); else its spacing,
-     * owned by whoever set it (grid_axis_build) */
+     * owned by whoever set it (grid_axis_build_bands) */
     const struct grid_axis *axis[3];
     int ext[3];          /* allocated extent per direction, n + 2 */
     ptrdiff_t stride[3]; /* array strides: stride[2] = 1 */
@@ -77,6 +75,14 @@ static inline double grid_xf(const struct grid *g, int d, int i)
     return g->axis[d] ? g->axis[d]->xf[i + 1] : i * g->h[d];
 }
 
+/* The width along d of the control volume of component c's node of index
+ * i along d: the centres' distance along c (the node is a face there), the
+ * cell's width across it. */
+static inline double grid_node_width(const struct grid *g, int c, int d, int i)
+{
+    return d == c ? grid_hf(g, d, i) : grid_hc(g, d, i);
+}
+
 /* The indices (i, j, k), each -1 .. n, of slot p (the inverse of grid_idx). */
 static inline void grid_slot_index(const struct grid *g, ptrdiff_t p, int idx[3])
 {
@@ -95,22 +101,26 @@ static inline int grid_stretched(const struct grid *g)
 /* The cell of direction d whose faces bracket x (clamped to -1 .. n). */
 int grid_locate(const struct grid *g, int d, double x);
 
+/* The node of direction d below x and the share w of the way to the next,
+ * the nodes at the faces (at_faces) or at the cell centres; not clamped. */
+void grid_bracket(const struct grid *g, int d, int at_faces, double x, int *i0, double *w);
+
+/* The smallest cell width of direction d. */
+double grid_min_width(const struct grid *g, int d);
+
 /* Fills a grid from cell counts and lengths; returns 0, or -1 for a count < 1
  * or a length <= 0. */
 int grid_init(struct grid *g, const int n[3], const double len[3]);
 
-/* The faces of a direction refined in a band: cells of about h_band in
+/* The faces of a direction refined in bands (at most GRID_BANDS_MAX, in
+ * increasing order, not overlapping): cells of about h in each band
  * [lo, hi], growing by the ratio `growth` from one cell to the next outside
- * it up to h_far, then h_far to the ends 0 and len (the cells of each side
- * scaled to end exactly there).  On success ax holds n cells (ax->n) and 0
- * is returned; -1 with msg for impossible parameters or no memory.
- * periodic: the ghosts take the widths of their periodic images. */
-int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
-                    double h_band, double growth, int periodic, char *msg, size_t msglen);
-
-/* Several bands (at most GRID_BANDS_MAX, in increasing order, not
- * overlapping): between two bands the cells grow from both, the smaller
- * next cell first, up to h_far. */
+ * it up to h_far, then h_far to the ends 0 and len; between two bands the
+ * cells grow from both, the smaller next cell first (the cells of each
+ * stretch scaled to end exactly on the bands and the box).  On success ax
+ * holds n cells (ax->n) and 0 is returned; -1 with msg for impossible
+ * parameters or no memory.  periodic: the ghosts take the widths of their
+ * periodic images. */
 #define GRID_BANDS_MAX 8
 struct grid_band {
     double lo, hi, h;

@@ -763,12 +763,21 @@ const char *case_coupled_gmres_refusal(const struct muflow_case *c)
     return NULL;
 }
 
-int case_bands(const struct muflow_case *c, int d, struct grid_band band[GRID_BANDS_MAX])
+int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *msg,
+              size_t msglen)
 {
-    return grid_bands_parse(c->band[d], band, GRID_BANDS_MAX);
+    struct grid_band b[GRID_BANDS_MAX];
+    int nb = grid_bands_parse(c->band[d], b, GRID_BANDS_MAX);
+    msg[0] = '\0';
+    if (nb <= 0)
+        return nb;
+    return grid_axis_build_bands(ax, c->len[d], c->len[d] / c->n[d], b, nb, c->growth,
+                                 c->bc.face[d][0] == BC_PERIODIC, msg, msglen) == 0
+               ? 1
+               : -1;
 }
 
-/* The stretched directions: three numbers each, a band the grid can hold,
+/* The stretched directions: 'lo hi h' triples, bands the grid can hold,
  * and only the paths built for varying spacing (the coupled steady step:
  * the FFT and geometric-multigrid pressures, the Fourier and Cholesky
  * preconditioners, advection and the volume of fluid assume one size per
@@ -779,31 +788,30 @@ static int check_bands(struct ctx *x, const char *where)
     static const char axis[3] = {'x', 'y', 'z'};
     static const char *const len_key[3] = {"lx", "ly", "lz"}, *const n_key[3] = {"nx", "ny", "nz"};
     for (int d = 0; d < 3; d++) {
-        struct grid_band b[GRID_BANDS_MAX];
-        int r = case_bands(c, d, b);
+        struct grid_axis ax;
+        char why[300];
+        int r = case_axis(c, d, &ax, why, sizeof why);
         if (r == 0)
             continue;
-        if (r < 0) {
+        if (r < 0 && !why[0]) {
             fail(x, "%s: domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
                     "separated by ';' (empty: a uniform direction)",
                  where, axis[d], c->band[d], GRID_BANDS_MAX);
             return 1;
         }
+        if (r > 0)
+            grid_axis_free(&ax);
         if (c->n[d] < 2) {
             fail(x, "%s: domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
                     "stretched)",
                  where, axis[d], n_key[d]);
             return 1;
         }
-        struct grid_axis ax;
-        char why[300];
-        if (grid_axis_build_bands(&ax, c->len[d], c->len[d] / c->n[d], b, r, c->growth,
-                                  c->bc.face[d][0] == BC_PERIODIC, why, sizeof why) != 0) {
+        if (r < 0) {
             fail(x, "%s: domain.%c_band = '%.100s' with domain.%s = %.10g, domain.%s = %d: %s",
                  where, axis[d], c->band[d], len_key[d], c->len[d], n_key[d], c->n[d], why);
             return 1;
         }
-        grid_axis_free(&ax);
         const char *need = NULL;
         if (!case_scene(c)->stretched_grid)
             need = "a scene built for varying cell sizes (case.scene = none or cylinder)";

@@ -40,6 +40,34 @@ int grid_init(struct grid *g, const int n[3], const double len[3])
     return 0;
 }
 
+double grid_min_width(const struct grid *g, int d)
+{
+    if (!g->axis[d])
+        return g->h[d];
+    double h = grid_hc(g, d, 0);
+    for (int i = 1; i < g->n[d]; i++)
+        h = fmin(h, grid_hc(g, d, i));
+    return h;
+}
+
+void grid_bracket(const struct grid *g, int d, int at_faces, double x, int *i0, double *w)
+{
+    if (!g->axis[d]) {
+        double t = x / g->h[d] - (at_faces ? 0.0 : 0.5);
+        *i0 = (int)floor(t);
+        *w = t - *i0;
+        return;
+    }
+    int c = grid_locate(g, d, x);
+    if (at_faces) {
+        *i0 = c;
+        *w = (x - grid_xf(g, d, c)) / grid_hc(g, d, c);
+    } else {
+        *i0 = x < grid_xc(g, d, c) ? c - 1 : c;
+        *w = (x - grid_xc(g, d, *i0)) / grid_hf(g, d, *i0 + 1);
+    }
+}
+
 int grid_locate(const struct grid *g, int d, double x)
 {
     if (!g->axis[d]) {
@@ -62,41 +90,6 @@ int grid_locate(const struct grid *g, int d, double x)
     return lo;
 }
 
-/* Widths of the cells of one side of the band, from the band outward:
- * h_band growth^k capped at h_far, as many as make their sum nearest to
- * length, scaled to sum to it exactly.  Returns the count (0 for length 0),
- * writing at most max widths into w (NULL: count only). */
-static int side_cells(double length, double h_band, double growth, double h_far, double *w,
-                      int max)
-{
-    if (length <= 0.0)
-        return 0;
-    double s = h_band, sum = 0.0;
-    int m = 0;
-    for (;;) {
-        s = fmin(s * growth, h_far);
-        if (sum + s >= length) {
-            /* m + 1 cells overshoot, m fall short: keep the nearer */
-            if (m > 0 && length - sum < sum + s - length)
-                break;
-            sum += s;
-            m++;
-            break;
-        }
-        sum += s;
-        m++;
-    }
-    if (w) {
-        double scale = length / sum;
-        s = h_band;
-        for (int k = 0; k < m && k < max; k++) {
-            s = fmin(s * growth, h_far);
-            w[k] = s * scale;
-        }
-    }
-    return m;
-}
-
 void grid_axis_free(struct grid_axis *ax)
 {
     if (!ax)
@@ -105,12 +98,13 @@ void grid_axis_free(struct grid_axis *ax)
     memset(ax, 0, sizeof *ax);
 }
 
-/* Widths of the cells of a gap of length `length` between two bands of
- * cells h1 (its low end) and h2 (its high end): each side grows from its
- * band by the ratio, capped at h_far, the smaller next cell taken first,
- * as many as make their sum nearest to length, scaled to sum to it
- * exactly; in order from the low end (the high side's cells reversed).
- * Returns the count, writing at most max widths into w (NULL: count only). */
+/* Widths of the cells of a stretch of length `length` between two bands
+ * of cells h1 (its low end) and h2 (its high end), either 0 for none (the
+ * box's end): each side grows from its band by the ratio, capped at h_far,
+ * the smaller next cell taken first, as many as make their sum nearest to
+ * length, scaled to sum to it exactly; in order from the low end (the high
+ * side's cells reversed).  Returns the count, writing at most max widths
+ * into w (NULL: count only). */
 static int gap_cells(double length, double h1, double h2, double growth, double h_far, double *w,
                      int max)
 {
@@ -119,9 +113,11 @@ static int gap_cells(double length, double h1, double h2, double growth, double 
     double a = h1, b = h2, sum = 0.0;
     int nl = 0, nr = 0;
     for (;;) {
-        double na = fmin(a * growth, h_far), nb = fmin(b * growth, h_far);
+        double na = h1 > 0.0 ? fmin(a * growth, h_far) : INFINITY;
+        double nb = h2 > 0.0 ? fmin(b * growth, h_far) : INFINITY;
         int left = na <= nb;
         double s = left ? na : nb;
+        /* m + 1 cells overshoot, m fall short: keep the nearer */
         if (sum + s >= length) {
             if (nl + nr > 0 && length - sum < sum + s - length)
                 break;
@@ -175,13 +171,6 @@ int grid_bands_parse(const char *text, struct grid_band *b, int max)
     }
 }
 
-int grid_axis_build(struct grid_axis *ax, double len, double h_far, double lo, double hi,
-                    double h_band, double growth, int periodic, char *msg, size_t msglen)
-{
-    const struct grid_band b = {lo, hi, h_band};
-    return grid_axis_build_bands(ax, len, h_far, &b, 1, growth, periodic, msg, msglen);
-}
-
 int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
                           const struct grid_band *band, int nb, double growth, int periodic,
                           char *msg, size_t msglen)
@@ -212,15 +201,14 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
     /* the counts: the low end, each band and the gap after it (the last's:
      * the high end) */
     int count[2 * GRID_BANDS_MAX + 1];
-    count[0] = side_cells(band[0].lo, band[0].h, growth, h_far, NULL, 0);
+    count[0] = gap_cells(band[0].lo, 0.0, band[0].h, growth, h_far, NULL, 0);
     double total = count[0];
     for (int i = 0; i < nb; i++) {
         int mb = (int)ceil((band[i].hi - band[i].lo) / band[i].h - 1e-9);
         count[1 + 2 * i] = mb < 1 ? 1 : mb;
-        count[2 + 2 * i] =
-            i + 1 < nb ? gap_cells(band[i + 1].lo - band[i].hi, band[i].h, band[i + 1].h, growth,
-                                   h_far, NULL, 0)
-                       : side_cells(len - band[i].hi, band[i].h, growth, h_far, NULL, 0);
+        count[2 + 2 * i] = gap_cells((i + 1 < nb ? band[i + 1].lo : len) - band[i].hi,
+                                     band[i].h, i + 1 < nb ? band[i + 1].h : 0.0, growth, h_far,
+                                     NULL, 0);
         total += (double)count[1 + 2 * i] + count[2 + 2 * i];
     }
     if (total > 100000000.0) {
@@ -229,7 +217,7 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
     }
     int n = (int)total;
     size_t slots = (size_t)n + 3;
-    double *block = calloc(6 * slots, sizeof(double));
+    double *block = calloc(4 * slots, sizeof(double));
     if (!block) {
         snprintf(msg, msglen, "out of memory for a stretched direction of %d cells", n);
         return -1;
@@ -239,17 +227,9 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
     ax->xc = block + slots;
     ax->hc = block + 2 * slots;
     ax->hf = block + 3 * slots;
-    ax->ihc = block + 4 * slots;
-    ax->ihf = block + 5 * slots;
     double *hc = ax->hc + 1; /* hc[i], cells -1 .. n */
-    /* the low end is built outward from the first band: reversed into place */
     int ml = count[0];
-    side_cells(band[0].lo, band[0].h, growth, h_far, hc, ml);
-    for (int a = 0, b = ml - 1; a < b; a++, b--) {
-        double t = hc[a];
-        hc[a] = hc[b];
-        hc[b] = t;
-    }
+    gap_cells(band[0].lo, 0.0, band[0].h, growth, h_far, hc, ml);
     int at = ml, ends[2 * GRID_BANDS_MAX]; /* the faces at the bands' ends */
     for (int i = 0; i < nb; i++) {
         ends[2 * i] = at;
@@ -257,11 +237,8 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
             hc[at + k] = (band[i].hi - band[i].lo) / count[1 + 2 * i];
         at += count[1 + 2 * i];
         ends[2 * i + 1] = at;
-        if (i + 1 < nb)
-            gap_cells(band[i + 1].lo - band[i].hi, band[i].h, band[i + 1].h, growth, h_far,
-                      hc + at, count[2 + 2 * i]);
-        else
-            side_cells(len - band[i].hi, band[i].h, growth, h_far, hc + at, count[2 + 2 * i]);
+        gap_cells((i + 1 < nb ? band[i + 1].lo : len) - band[i].hi, band[i].h,
+                  i + 1 < nb ? band[i + 1].h : 0.0, growth, h_far, hc + at, count[2 + 2 * i]);
         at += count[2 + 2 * i];
     }
     double *xf = ax->xf + 1, *xc = ax->xc + 1, *hf = ax->hf + 1;
@@ -285,10 +262,6 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
         hf[i] = xc[i] - xc[i - 1];
     hf[-1] = periodic ? hf[n - 1] : hc[-1];
     hf[n + 1] = periodic ? hf[1] : hc[n];
-    for (size_t q = 0; q < slots; q++) {
-        ax->ihc[q] = q < slots - 1 ? 1.0 / ax->hc[q] : 0.0;
-        ax->ihf[q] = 1.0 / ax->hf[q];
-    }
     return 0;
 }
 

@@ -29,20 +29,16 @@ static void bracket(const struct grid *gs, int d, double off, double x, int *i0,
         *w = t - *i0;
         return;
     }
-#define NODE(i) (off == 0.0 ? grid_xf(gs, d, (i)) : grid_xc(gs, d, (i)))
-    if (x <= NODE(-1)) {
+    const int faces = off == 0.0;
+    if (x <= (faces ? grid_xf(gs, d, -1) : grid_xc(gs, d, -1))) {
         *i0 = -1, *w = 0.0;
         return;
     }
-    if (x >= NODE(n)) {
+    if (x >= (faces ? grid_xf(gs, d, n) : grid_xc(gs, d, n))) {
         *i0 = n - 1, *w = 1.0;
         return;
     }
-    int c = grid_locate(gs, d, x), i = off == 0.0 ? c : x < grid_xc(gs, d, c) ? c - 1 : c;
-    i = i < -1 ? -1 : i > n - 1 ? n - 1 : i;
-    *i0 = i;
-    *w = (x - NODE(i)) / (NODE(i + 1) - NODE(i));
-#undef NODE
+    grid_bracket(gs, d, faces, x, i0, w); /* inside: i0 in -1 .. n - 1 */
 }
 
 /* The value at x of a source array on grid gs: trilinear between the

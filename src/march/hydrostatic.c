@@ -14,20 +14,14 @@ void body_force_vector(const struct muflow_case *cs, double f[3])
 /* 1 for the faces where the hydrostatic pressure vanishes. */
 static int zero_pressure(enum bc_kind k) { return k == BC_SURFACE || k == BC_OPEN; }
 
-/* Hydrostatic pressure of the body force: the pressure whose gradient removes
- * the curl-free part of the force under the walls' no-penetration condition,
- * with p = 0 on free surfaces.  The remaining force drives the flow.  With a
- * variable face density rho_f the force is rho_f g, and the part removed is
- * the one the variable projection would remove: div(beta grad p) =
- * div(beta rho_f g) = div(rho_ref g), beta = rho_ref / rho_f. */
-/* The same pressure in closed form, for a grid whose spacing varies (no
- * Poisson solver takes it): where every boundary face of a non-periodic
- * direction is closed (the stretched grids have no open face: case.c),
- * p = f_a scale (x_a - len_a / 2) summed over those directions has the
- * flux f_a scale on every interior face, as the force, and the closed faces
- * pass none, which is the discrete problem above; a periodic direction's
- * uniform flux has no divergence.  Zero mean over the box's volume, as the
- * solver's singular problem. */
+/* The hydrostatic pressure (below) in closed form, for a grid whose
+ * spacing varies (no Poisson solver takes it): where every boundary face of
+ * a non-periodic direction is closed (the stretched grids have no open
+ * face: case.c), p = f_a scale (x_a - len_a / 2) summed over those
+ * directions has the flux f_a scale on every interior face, as the force,
+ * and the closed faces pass none, which is the split's discrete problem; a
+ * periodic direction's uniform flux has no divergence.  Zero mean over the
+ * box's volume, as the solver's singular problem. */
 static void stretched_hydrostatic(struct march_state *st, const double f[3], double scale)
 {
     const struct grid *g = &st->g;
@@ -43,11 +37,24 @@ static void stretched_hydrostatic(struct march_state *st, const double f[3], dou
             }
 }
 
+/* Hydrostatic pressure of the body force: the pressure whose gradient removes
+ * the curl-free part of the force under the walls' no-penetration condition,
+ * with p = 0 on free surfaces.  The remaining force drives the flow.  With a
+ * variable face density rho_f the force is rho_f g, and the part removed is
+ * the one the variable projection would remove: div(beta grad p) =
+ * div(beta rho_f g) = div(rho_ref g), beta = rho_ref / rho_f. */
 int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
     double f[3];
     body_force_vector(st->cs, f);
+    double scale = st->density_uniform ? 1.0 : st->rho_ref / st->cs->density;
+    if (grid_stretched(g)) {
+        stretched_hydrostatic(st, f, scale);
+        bc_fill_scalar(g, &st->bc, st->p_hyd);
+        hydrostatic_force(st);
+        return 0;
+    }
     enum poisson_bc pbc[3][2];
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++) {
@@ -59,7 +66,6 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     /* fluxes of the force through every face; a closed boundary face passes
      * none (a surface or an open face, where p_hyd = 0, passes it) */
     double **flux = st->delta;
-    double scale = st->density_uniform ? 1.0 : st->rho_ref / st->cs->density;
     for (int a = 0; a < 3; a++)
         for (int i = -1; i <= g->n[0]; i++)
             for (int j = -1; j <= g->n[1]; j++)
@@ -74,12 +80,6 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }
     kernel_divergence(g, flux, st->div);
-    if (grid_stretched(g)) {
-        stretched_hydrostatic(st, f, scale);
-        bc_fill_scalar(g, &st->bc, st->p_hyd);
-        hydrostatic_force(st);
-        return 0;
-    }
     struct pressure_solver *ps;
     if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
         return -1;

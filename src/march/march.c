@@ -492,16 +492,15 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     for (int d = 0; d < 3; d++) {
-        struct grid_band b[GRID_BANDS_MAX];
-        int nb = case_bands(cs, d, b);
-        if (nb <= 0)
-            continue;
-        char why[300] = "the field would not fit in memory";
-        if (grid_axis_build_bands(&st->axes[d], cs->len[d], cs->len[d] / cs->n[d], b, nb,
-                                  cs->growth, cs->bc.face[d][0] == BC_PERIODIC, why,
-                                  sizeof why) != 0 ||
-            grid_set_axis(&st->g, d, &st->axes[d]) != 0) {
-            snprintf(err, errlen, "domain.%c_band: %s", "xyz"[d], why);
+        char why[300];
+        int r = case_axis(cs, d, &st->axes[d], why, sizeof why);
+        if (r > 0 && grid_set_axis(&st->g, d, &st->axes[d]) != 0) {
+            snprintf(why, sizeof why, "the field would not fit in memory");
+            r = -1;
+        }
+        if (r < 0) {
+            snprintf(err, errlen, "domain.%c_band: %s", "xyz"[d],
+                     why[0] ? why : "not 'lo hi h' triples separated by ';'");
             march_destroy(st);
             return -1;
         }
@@ -722,23 +721,14 @@ double march_force_scale(const struct march_state *st)
     return st->force_ref > 0.0 ? st->force_ref : 1.0;
 }
 
-/* The smallest cell width of direction d. */
-static double min_width(const struct grid *g, int d)
-{
-    if (!g->axis[d])
-        return g->h[d];
-    double h = grid_hc(g, d, 0);
-    for (int i = 1; i < g->n[d]; i++)
-        h = fmin(h, grid_hc(g, d, i));
-    return h;
-}
-
 double march_min_spacing(const struct grid *g)
 {
-    double h = min_width(g, 0);
-    for (int d = 1; d < 3; d++)
-        if (g->n[d] > 1 && min_width(g, d) < h)
-            h = min_width(g, d);
+    double h = grid_min_width(g, 0);
+    for (int d = 1; d < 3; d++) {
+        double w = grid_min_width(g, d);
+        if (g->n[d] > 1 && w < h)
+            h = w;
+    }
     return h;
 }
 

@@ -211,8 +211,7 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                         /* c = A / (the link's length x the node's control width) */
                         double hh = g->h[d] * g->h[d];
                         if (g->axis[d])
-                            hh = fabs(y[d] - x[d]) *
-                                 (d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]));
+                            hh = fabs(y[d] - x[d]) * grid_node_width(g, c, d, idx[d]);
                         l.w = (1.0 - theta) / theta / hh;
                         if (d == c) { /* the normal stress of the cell above or below */
                             l.coef = c;

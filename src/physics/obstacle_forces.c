@@ -85,20 +85,7 @@ static int interp(const struct plane *pl, const double *f, int c, const double x
     double w[2];
     for (int k = 0; k < 2; k++) {
         int d = d2[k];
-        if (g->axis[d]) { /* the two nodes around x and the share between them */
-            int ic = grid_locate(g, d, x[d]);
-            if (d == c) {
-                i0[k] = ic;
-                w[k] = (x[d] - grid_xf(g, d, ic)) / grid_hc(g, d, ic);
-            } else {
-                i0[k] = x[d] < grid_xc(g, d, ic) ? ic - 1 : ic;
-                w[k] = (x[d] - grid_xc(g, d, i0[k])) / grid_hf(g, d, i0[k] + 1);
-            }
-        } else {
-            double t = x[d] / g->h[d] - (d == c ? 0.0 : 0.5);
-            i0[k] = (int)floor(t);
-            w[k] = t - i0[k];
-        }
+        grid_bracket(g, d, d == c, x[d], &i0[k], &w[k]);
         int top = d == c ? g->n[d] : g->n[d] - 1;
         if (i0[k] < -1 || i0[k] + 1 > top + 1)
             return -1;
@@ -164,15 +151,7 @@ typedef void (*sample_fn)(void *ctx, const struct sample *s, double ds, double a
 static int outline(const struct plane *pl, sample_fn fn, void *ctx)
 {
     const struct grid *g = &pl->st->g;
-    double h = fmin(g->h[pl->a], g->h[pl->b]);
-    if (grid_stretched(g)) /* the finest cell of the plane */
-        for (int k = 0; k < 2; k++) {
-            int d = k ? pl->b : pl->a;
-            double hd = grid_hc(g, d, 0);
-            for (int i = 1; i < g->n[d]; i++)
-                hd = fmin(hd, grid_hc(g, d, i));
-            h = k ? fmin(h, hd) : hd;
-        }
+    double h = fmin(grid_min_width(g, pl->a), grid_min_width(g, pl->b)); /* the finest cell */
     int bad = 0;
     for (int i = 0; i < pl->set.n; i++) {
         const struct shape *sh = &pl->set.s[i];
@@ -331,13 +310,7 @@ static double node_area(const struct plane *pl, int c, ptrdiff_t p)
     const struct grid *g = &pl->st->g;
     int idx[3];
     grid_slot_index(g, p, idx);
-    double w = 1.0;
-    const int dd[2] = {pl->a, pl->b};
-    for (int k = 0; k < 2; k++) {
-        int d = dd[k];
-        w *= d == c ? grid_hf(g, d, idx[d]) : grid_hc(g, d, idx[d]);
-    }
-    return w;
+    return grid_node_width(g, c, pl->a, idx[pl->a]) * grid_node_width(g, c, pl->b, idx[pl->b]);
 }
 
 /* The force on the bodies as the discrete momentum equations apply it.
