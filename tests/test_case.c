@@ -479,6 +479,12 @@ static const struct bad bad_cases[] = {
     {"[domain]\nnz = 8\nz_band = 0.2 0.5 0.01\n", NULL,
      {"domain.z_band = '0.2 0.5 0.01' needs", "solver.coupled = on"}},
     {NULL, "domain.growth=2", {"override domain.growth=2", "must be in (1, 1.5]"}},
+    /* the implicit step's geometric multigrid: a periodic direction, no coupled step */
+    {"[boundary]\nxlo = wall\nxhi = wall\nylo = wall\nyhi = wall\nzlo = wall\nzhi = surface\n"
+     "[solver]\npreconditioner = gmg\n",
+     NULL, {"solver.preconditioner = gmg needs a periodic direction"}},
+    {"[solver]\nmode = steady\ncoupled = on\npreconditioner = gmg\n", NULL,
+     {"solver.coupled = on with solver.preconditioner = gmg"}},
     {"[rheology]\nlaw = bingham\n", NULL, {"bingham", "plastic_viscosity", "yield_stress"}},
     /* the Barker & Gray curve: alpha in (0, 2), and a jop curve with a well-posed band */
     {NULL, "rheology.alpha=2", {"override rheology.alpha=2", "must be in (0, 2)"}},

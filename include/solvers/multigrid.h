@@ -53,6 +53,12 @@ enum multigrid_average {
                                 (the default) */
 };
 
+enum multigrid_smoother {
+    MG_SMOOTH_POINT = 0,   /* red-black point Gauss-Seidel */
+    MG_SMOOTH_LINES        /* zebra line Gauss-Seidel along each non-periodic direction in
+                              turn (anisotropic coefficients: the viscous tangent) */
+};
+
 struct multigrid_options {
     int pre, post;          /* red-black Gauss-Seidel sweeps before / after the coarse
                                correction (equal for a symmetric cycle) */
@@ -60,6 +66,7 @@ struct multigrid_options {
     enum multigrid_average average;
     long coarse_cells;      /* stop coarsening at or below this many cells */
     int gamma;              /* coarse visits per level: 1 V-cycle, 2 W-cycle */
+    enum multigrid_smoother smoother;
 };
 
 /* The defaults chosen by measurement: W(2,2), flux prolongation, coincident
@@ -81,6 +88,16 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
  * coarsest factorisation failing). */
 int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
                                size_t errlen);
+
+/* The same with a cell mass term: the operator becomes L - m, m >= 0 per
+ * cell (a field array of the grid; its interior is read), the implicit
+ * viscous step's (rho / dt) u - div(eta grad u) with the sign changed.
+ * Coarse levels take the mean of their children's m.  mass NULL is
+ * multigrid_set_coefficients.  A problem with a mass term is not singular
+ * (no mean is removed); a connected group of live cells held by neither
+ * a Dirichlet face nor a mass term is pinned on the coarsest level. */
+int multigrid_set_operator(struct multigrid *mg, double *const a[3], const double *mass,
+                           char *err, size_t errlen);
 
 #define MULTIGRID_HISTORY 64
 

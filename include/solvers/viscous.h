@@ -61,7 +61,8 @@ struct viscous_stats {
 
 struct viscous_solver;
 
-enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG, VISCOUS_FOURIER };
+enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG, VISCOUS_FOURIER,
+                        VISCOUS_GMG };
 
 /* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
  * kind: line blocks; the probed sparse Cholesky factorisation of the
@@ -70,7 +71,12 @@ enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_A
  * probed matrix inside restarted GMRES, for the symmetric operator and the
  * full tangent alike; each with line blocks as fallback; or the line blocks
  * of every plane Fourier mode (fourier_lines.h: both directions across the
- * lines periodic), for the symmetric operator.  Returns 0, or -1
+ * lines periodic), for the symmetric operator; or the geometric multigrid
+ * of the velocity components along periodic directions (viscous_gmg.h:
+ * their blocks of the symmetric operator, or of the diagonal tangent,
+ * zebra line smoothing) inside restarted GMRES on those components, the
+ * others left out while their right-hand side is negligible (else their
+ * line blocks, with BiCGStab), matrix-free.  Returns 0, or -1
  * with a message in err. */
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
                    const struct box act[3], int line_dir, enum viscous_precond kind, char *err,

@@ -56,7 +56,7 @@ static const struct choice advection_choices[] = {
     {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
-    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER}, {NULL, 0}};
+    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER}, {"gmg", PRECOND_GMG}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
@@ -222,7 +222,9 @@ static const struct key keys[] = {
         "of the implicit solve: line blocks, sparse Cholesky (of the symmetric operator; with "
         "newton, of the diagonal tangent, preconditioning BiCGStab on the full tangent) or LU, "
         "AMG, or fourier (the line blocks of every plane Fourier mode, for periodic directions "
-        "across the lines) (auto, for grids varying in two or more directions: amg on a steady "
+        "across the lines), or gmg (geometric multigrid of the velocity components along "
+        "periodic directions inside GMRES, matrix-free: flows along a periodic direction such "
+        "as the heap and the ducts; never chosen by auto) (auto, for grids varying in two or more directions: amg on a steady "
         "2D cross-section with newton, no augmentation and over 1e4 unknowns (5e4 where cholesky "
         "would serve or with a body), else cholesky on "
         "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
@@ -897,11 +899,25 @@ static void finish(struct ctx *x)
             fail(x, "%s: solver.coupled = on %s", where, why);
             return;
         }
-        why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c) : NULL;
+        why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c)
+              : c->preconditioner == PRECOND_GMG
+                  ? "with solver.preconditioner = gmg: the coupled step solves its own matrix; "
+                    "set solver.preconditioner = lu or amg"
+                  : NULL;
         if (why) {
             fail(x, "%s: solver.coupled = on %s", where, why);
             return;
         }
+    }
+    /* the implicit step's geometric multigrid covers the velocity components
+     * along periodic directions (viscous_gmg.h) */
+    if (c->preconditioner == PRECOND_GMG && c->bc.face[0][0] != BC_PERIODIC &&
+        c->bc.face[1][0] != BC_PERIODIC && c->bc.face[2][0] != BC_PERIODIC) {
+        fail(x, "%s: solver.preconditioner = gmg needs a periodic direction (its multigrid "
+                "serves the velocity components along periodic directions); use cholesky, lu "
+                "or amg",
+             where);
+        return;
     }
 
     /* an inflow's volume must leave somewhere: through an open face */

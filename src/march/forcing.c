@@ -28,7 +28,8 @@ double implicit_tolerance(struct march_state *st, int tangent)
     const struct muflow_case *cs = st->cs;
     double floor = cs->linear_tolerance;
     if (!cs->inexact_newton || !tangent ||
-        (st->precond != VISCOUS_AMG && st->precond != VISCOUS_CHOLESKY) ||
+        (st->precond != VISCOUS_AMG && st->precond != VISCOUS_CHOLESKY &&
+         st->precond != VISCOUS_GMG) ||
         cs->mode != MODE_STEADY)
         return floor;
     /* a step retried with a smaller dt (rejected) starts from the same

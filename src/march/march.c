@@ -205,6 +205,7 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_LU: return VISCOUS_LU;
     case PRECOND_AMG: return VISCOUS_AMG;
     case PRECOND_FOURIER: return VISCOUS_FOURIER;
+    case PRECOND_GMG: return VISCOUS_GMG;
     case PRECOND_AUTO: break;
     }
     /* the coupled step probes and factorises its own matrix: the viscous
@@ -398,7 +399,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
     }
     if (kind == VISCOUS_AMG) {
         bytes += amg_hypre_memory_estimate(3L * (long)grid_cells(g));
-    } else if (kind != VISCOUS_LINE && kind != VISCOUS_FOURIER) {
+    } else if (kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_GMG) {
         bytes += sparse_direct_memory_estimate(3L * (long)grid_cells(g), dims);
     }
     return bytes;
@@ -536,7 +537,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                  grid_stretched(g) ? "the cells with the domain's bands"
                                    : "domain.nx x domain.ny x domain.nz",
                  g->n[0], g->n[1], g->n[2], need,
-                 kind == VISCOUS_LINE || kind == VISCOUS_FOURIER ? "" : ", sparse factorisation",
+                 kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG
+                     ? ""
+                     : ", sparse factorisation",
                  have);
         march_destroy(st);
         return -1;
@@ -562,6 +565,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
      * one with it (the heap at 140 x 200: 58 steps instead of the diagonal
      * tangent's 460; docs/design.md, "The Cholesky of the diagonal tangent") */
     st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY ||
+                        kind == VISCOUS_GMG ||
                         cs->coupled) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {

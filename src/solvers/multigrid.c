@@ -85,6 +85,10 @@ struct level {
     int coarse[3];         /* this level halves direction d of the finer one */
     double ih2[3];         /* 1 / h_d^2 */
     double *a[3];          /* face coefficients, conditions folded in (see top) */
+    double *m;             /* cell mass term m >= 0 of L - m (NULL: none; mbuf) */
+    double *mbuf;          /* its storage, allocated on the first mass set */
+    double *lc[3], *li[3]; /* MG_SMOOTH_LINES: Thomas factors c' and 1 / pivot of the
+                              lines along each line direction (line_factors) */
     unsigned char *live;   /* D > 0 */
     double *x;             /* unknown (level 0: the caller's array, set per call) */
     const double *b;       /* right-hand side (level 0: the caller's array) */
@@ -124,6 +128,8 @@ struct multigrid {
     double *wr, *wz, *wp, *wq;     /* fine-level work arrays of the solvers */
     double *wbest;                 /* multigrid_pcg: the iterate of the least residual */
     long live;                     /* live cells of level 0 */
+    int has_mass;                  /* the operator is L - m (multigrid_set_operator) */
+    int line_dirs[3], nline_dirs;  /* MG_SMOOTH_LINES: the directions of its lines */
     int ready;                     /* coefficients set */
     double partial[MAX_THREADS * PAD];
 };
@@ -146,6 +152,7 @@ void multigrid_default_options(struct multigrid_options *o)
     o->average = MG_AVERAGE_ARITHMETIC;
     o->coarse_cells = 64;
     o->gamma = 2;
+    o->smoother = MG_SMOOTH_POINT;
 }
 
 /* ---- halo fills: the only writers of ghost values ------------------------------ */
@@ -342,7 +349,9 @@ static double live_norm2(struct multigrid *mg, const struct level *lv, const dou
 /* ---- stencil kernels ----------------------------------------------------------- */
 
 /* The six face weights w_f = a_f / h_d^2 of cell p (x low, x high, y low,
- * y high, z low, z high) and their sum D, the diagonal of -L. */
+ * y high, z low, z high) and their sum D plus the cell's mass term, the
+ * diagonal of -(L - m).  Without a mass term (lv->m NULL, loop-invariant:
+ * the compiler unswitches the loops) D is the face sum alone, to the bit. */
 static inline __attribute__((always_inline)) double
 cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
 {
@@ -353,7 +362,8 @@ cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
     w[3] = lv->ih2[1] * lv->a[1][p + sy];
     w[4] = lv->ih2[2] * lv->a[2][p];
     w[5] = lv->ih2[2] * lv->a[2][p + 1];
-    return w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
+    const double D = w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
+    return lv->m ? D + lv->m[p] : D;
 }
 
 /* One red-black half sweep of Gauss-Seidel: the cells with (i+j+k) % 2 == colour
@@ -377,6 +387,104 @@ static void smooth_colour(const struct level *lv, int colour)
                 const double S = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
                                  w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1];
                 x[p] = D > 0.0 ? (S - b[p]) / D : 0.0;
+            }
+        }
+}
+
+/* One half sweep of zebra line Gauss-Seidel along direction d (the k-th line
+ * direction): the lines along d whose index across (the sum of the other
+ * two indices) has the parity colour solve their own tridiagonal rows
+ * exactly, with the neighbouring lines' current values.  A line smoother is
+ * what survives anisotropy along it (the viscous tangent's: the shear
+ * direction's coefficient is the tangent, far below the viscosity across
+ * it), and alternating the directions covers anisotropy that changes its
+ * direction over the domain.  d is not periodic (a cyclic line is not
+ * solved here), so the line ends read ghosts of 0 (HALO_OPERATOR).  The
+ * Thomas factors (line_factors) are the level's: the forward pass keeps its
+ * values in x itself, which the line's own rows do not read. */
+static inline __attribute__((always_inline)) void
+smooth_lines_body(const struct level *lv, int k, int d, int colour, const int across1)
+{
+    const struct grid *g = &lv->g;
+    const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
+    const int n1 = g->n[e1], n2 = g->n[e2];
+    const ptrdiff_t sd = g->stride[d], s1 = g->stride[e1], s2 = g->stride[e2];
+    const double h1 = lv->ih2[e1], h2 = lv->ih2[e2], hd = lv->ih2[d];
+    const double *restrict b = lv->b, *restrict a1 = lv->a[e1], *restrict a2 = lv->a[e2],
+                           *restrict ad = lv->a[d];
+    const double *restrict cp = lv->lc[k], *restrict inv = lv->li[k];
+    double *restrict x = lv->x;
+#pragma omp for collapse(2) schedule(static)
+    for (int u = 0; u < n1; u++)
+        for (int v = 0; v < n2; v++) {
+            if (((u + v) & 1) != colour)
+                continue;
+            int c[3];
+            c[d] = 0;
+            c[e1] = u;
+            c[e2] = v;
+            const ptrdiff_t p0 = grid_idx(g, c[0], c[1], c[2]);
+            double prev = 0.0;
+            for (int t = 0; t < n; t++) {
+                const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
+                double S = h2 * (a2[p] * x[p - s2] + a2[p + s2] * x[p + s2]) - b[p];
+                if (across1)
+                    S += h1 * (a1[p] * x[p - s1] + a1[p + s1] * x[p + s1]);
+                prev = x[p] = (S + hd * ad[p] * prev) * inv[p];
+            }
+            double next = 0.0;
+            for (int t = n - 1; t >= 0; t--) {
+                const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
+                next = x[p] += cp[p] * next;
+            }
+        }
+}
+
+/* The first direction across (e1 < e2) is left out where it is a periodic
+ * direction of one cell, whose coefficients are 0 (a 2D cross-section:
+ * its two ghost planes would be read for nothing, a third of the loads). */
+static void smooth_lines(const struct multigrid *mg, const struct level *lv, int k, int d,
+                         int colour)
+{
+    const int e1 = d == 0 ? 1 : 0;
+    if (mg->periodic[e1] && lv->g.n[e1] == 1)
+        smooth_lines_body(lv, k, d, colour, 0);
+    else
+        smooth_lines_body(lv, k, d, colour, 1);
+}
+
+/* The Thomas factors of every line along the k-th line direction d of level
+ * lv: for the rows -lo x[t-1] + D x[t] - hi x[t+1] (the face weights along
+ * d, D the whole diagonal), inv = 1 / (D - lo c'[t-1]) and c' = hi inv;
+ * dead cells (D = 0) get 0 for both, which holds them at 0 and cuts the
+ * line there.  lo is 0 at t = 0 and hi at t = n - 1: the boundary face's
+ * weight stays in D only (ghost 0). */
+static void line_factors(const struct level *lv, int k, int d)
+{
+    const struct grid *g = &lv->g;
+    const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
+    const ptrdiff_t sd = g->stride[d];
+    double *cp = lv->lc[k], *inv = lv->li[k];
+#pragma omp parallel for collapse(2) schedule(static) if (lv->par)
+    for (int u = 0; u < g->n[e1]; u++)
+        for (int v = 0; v < g->n[e2]; v++) {
+            int c[3];
+            c[d] = 0;
+            c[e1] = u;
+            c[e2] = v;
+            const ptrdiff_t p0 = grid_idx(g, c[0], c[1], c[2]);
+            double prev = 0.0;
+            for (int t = 0; t < n; t++) {
+                const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
+                double w[6];
+                const double D = cell_weights(lv, p, w);
+                if (!(D > 0.0)) {
+                    cp[p] = inv[p] = prev = 0.0;
+                    continue;
+                }
+                const double lo = t > 0 ? w[2 * d] : 0.0, hi = t + 1 < n ? w[2 * d + 1] : 0.0;
+                inv[p] = 1.0 / (D - lo * prev);
+                prev = cp[p] = hi * inv[p];
             }
         }
 }
@@ -706,7 +814,7 @@ static void finish_level_coefficients(const struct multigrid *mg, struct level *
             for (int k = 0; k < g->n[2]; k++) {
                 const ptrdiff_t p = grid_idx(g, i, j, k);
                 const double D = lv->a[0][p] + lv->a[0][p + sx] + lv->a[1][p] + lv->a[1][p + sy] +
-                                 lv->a[2][p] + lv->a[2][p + 1];
+                                 lv->a[2][p] + lv->a[2][p + 1] + (lv->m ? lv->m[p] : 0.0);
                 lv->live[p] = D > 0.0;
             }
 }
@@ -774,7 +882,7 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
         if (cs->pinned[r0] != 2)
             continue;
         long head = 0, tail = 0;
-        int held = 0;
+        int held = 0; /* a Dirichlet face or a mass term holds the component */
         cs->queue[tail++] = (int)r0;
         cs->pinned[r0] = 0;
         while (head < tail) {
@@ -784,6 +892,8 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
             c[0] = (int)(p / g->stride[0]) - 1;
             c[1] = (int)((p % g->stride[0]) / g->stride[1]) - 1;
             c[2] = (int)(p % g->stride[1]) - 1;
+            if (lv->m && lv->m[p] > 0.0)
+                held = 1;
             for (int d = 0; d < 3; d++)
                 for (int s = -1; s <= 1; s += 2) {
                     double w = face_weight(lv, c, d, s);
@@ -840,6 +950,8 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
                 Tx[nz] = -w;
                 nz++;
             }
+        if (lv->m)
+            D += lv->m[p];
         Ti[nz] = Tj[nz] = (int)r;
         Tx[nz] = cs->pinned[r] ? 1.0 : D;
         nz++;
@@ -950,6 +1062,11 @@ static int choose_halving(const struct grid *g, long coarse_cells, int halve[3])
 
 static void level_free(struct level *lv, int owns_xb)
 {
+    field_free(lv->mbuf);
+    for (int k = 0; k < 3; k++) {
+        field_free(lv->lc[k]);
+        field_free(lv->li[k]);
+    }
     for (int d = 0; d < 3; d++) {
         field_free(lv->a[d]);
         free(lv->pi[d]);
@@ -1108,6 +1225,17 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
                 ok &= build_prolongation(&mg->lev[l - 1], lv) == 0;
         }
     }
+    if (ok && mg->opt.smoother == MG_SMOOTH_LINES) {
+        /* lines along every direction that is not periodic and has cells to
+         * couple; none (a periodic box): the point smoother */
+        for (int d = 0; d < 3; d++)
+            if (!mg->periodic[d] && g->n[d] > 1)
+                mg->line_dirs[mg->nline_dirs++] = d;
+        for (int l = 0; l < mg->nlev && ok; l++)
+            for (int k = 0; k < mg->nline_dirs; k++)
+                ok &= (mg->lev[l].lc[k] = field_alloc(&mg->lev[l].g)) != NULL &&
+                      (mg->lev[l].li[k] = field_alloc(&mg->lev[l].g)) != NULL;
+    }
     ok = ok && (mg->wr = field_alloc(g)) && (mg->wz = field_alloc(g)) && (mg->wp = field_alloc(g)) &&
          (mg->wq = field_alloc(g)) && (mg->wbest = field_alloc(g));
     struct coarse_direct *cs = &mg->cs;
@@ -1134,12 +1262,71 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
     return 0;
 }
 
+/* The mass term of every level: level 0's copied from mass (>= 0 and finite
+ * on the interior), each coarser one the mean of its children, the scaling
+ * of the restriction (a constant residual restricts to itself), so the
+ * coarse operator stays the rediscretised L - m.  mass NULL: none. */
+static int set_mass(struct multigrid *mg, const double *mass, char *err, size_t errlen)
+{
+    mg->has_mass = mass != NULL;
+    for (int l = 0; l < mg->nlev; l++) {
+        struct level *lv = &mg->lev[l];
+        lv->m = NULL;
+        if (mass && !lv->mbuf && !(lv->mbuf = field_alloc(&lv->g))) {
+            set_err(err, errlen, "multigrid: out of memory (mass term)");
+            return -1;
+        }
+    }
+    if (!mass)
+        return 0;
+    const struct grid *g = &mg->lev[0].g;
+    double *m0 = mg->lev[0].mbuf;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                const ptrdiff_t p = grid_idx(g, i, j, k);
+                if (!(mass[p] >= 0.0) || !isfinite(mass[p])) {
+                    set_err(err, errlen, "multigrid: mass term %g in cell (%d,%d,%d)", mass[p], i,
+                            j, k);
+                    return -1;
+                }
+                m0[p] = mass[p];
+            }
+    for (int l = 1; l < mg->nlev; l++) {
+        const struct level *f = &mg->lev[l - 1];
+        struct level *c = &mg->lev[l];
+        const int n0 = c->coarse[0] ? 2 : 1, n1 = c->coarse[1] ? 2 : 1, n2 = c->coarse[2] ? 2 : 1;
+        const double inv = 1.0 / (n0 * n1 * n2);
+        for (int I = 0; I < c->g.n[0]; I++)
+            for (int J = 0; J < c->g.n[1]; J++)
+                for (int K = 0; K < c->g.n[2]; K++) {
+                    double sum = 0.0;
+                    for (int a = 0; a < n0; a++)
+                        for (int b = 0; b < n1; b++)
+                            for (int q = 0; q < n2; q++)
+                                sum += f->mbuf[grid_idx(&f->g, n0 * I + a, n1 * J + b, n2 * K + q)];
+                    c->mbuf[grid_idx(&c->g, I, J, K)] = sum * inv;
+                }
+    }
+    for (int l = 0; l < mg->nlev; l++)
+        mg->lev[l].m = mg->lev[l].mbuf;
+    return 0;
+}
+
 int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *err,
                                size_t errlen)
+{
+    return multigrid_set_operator(mg, a, NULL, err, errlen);
+}
+
+int multigrid_set_operator(struct multigrid *mg, double *const a[3], const double *mass,
+                           char *err, size_t errlen)
 {
     struct level *l0 = &mg->lev[0];
     const struct grid *g = &l0->g;
     mg->ready = 0;
+    if (set_mass(mg, mass, err, errlen) != 0)
+        return -1;
     for (int d = 0; d < 3; d++) {
         const int n = g->n[d], per = mg->periodic[d];
         int hi[3] = {g->n[0], g->n[1], g->n[2]};
@@ -1185,6 +1372,10 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
     mg->live = live;
     if (coarse_factor(mg, err, errlen) != 0)
         return -1;
+    if (mg->opt.smoother == MG_SMOOTH_LINES)
+        for (int l = 0; l < mg->nlev - 1; l++)
+            for (int k = 0; k < mg->nline_dirs; k++)
+                line_factors(&mg->lev[l], k, mg->line_dirs[k]);
     mg->ready = 1;
     return 0;
 }
@@ -1197,6 +1388,18 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 static void smooth(const struct multigrid *mg, const struct level *lv, int first_colour,
                    int sweeps)
 {
+    if (mg->opt.smoother == MG_SMOOTH_LINES && mg->nline_dirs > 0) {
+        /* the post-smoother (first_colour 1) runs the pre-smoother's half
+         * sweeps in reverse order: its adjoint, so the cycle stays symmetric */
+        const int nd = mg->nline_dirs;
+        for (int s = 0; s < sweeps; s++)
+            for (int q = 0; q < 2 * nd; q++) {
+                const int k = first_colour ? 2 * nd - 1 - q : q;
+                halo_fill(mg, lv, lv->x, HALO_OPERATOR);
+                smooth_lines(mg, lv, k / 2, mg->line_dirs[k / 2], k & 1);
+            }
+        return;
+    }
     for (int s = 0; s < sweeps; s++)
         for (int c = 0; c < 2; c++) {
             halo_fill(mg, lv, lv->x, HALO_OPERATOR);
@@ -1267,6 +1470,8 @@ static void fine_residual(struct multigrid *mg, double *phi, const double *rhs, 
 
 static int singular(const struct multigrid *mg)
 {
+    if (mg->has_mass)
+        return 0; /* a component without mass or Dirichlet face is pinned (coarse_factor) */
     for (int d = 0; d < 3; d++)
         if (mg->bc[d][0] == POISSON_DIRICHLET || mg->bc[d][1] == POISSON_DIRICHLET)
             return 0;
@@ -1521,6 +1726,10 @@ size_t multigrid_bytes(const struct multigrid *mg)
         const struct level *lv = &mg->lev[l];
         size_t f = lv->g.size * sizeof(double);
         b += 4 * f + lv->g.size; /* a[3], r, live */
+        if (lv->mbuf)
+            b += f;
+        for (int k = 0; k < mg->nline_dirs; k++)
+            b += 2 * f;
         if (l > 0)
             b += 2 * f; /* x, b */
         for (int d = 0; d < 3; d++)

@@ -13,6 +13,7 @@
 #include <gsl/gsl_linalg.h>
 #include "solvers/amg_hypre.h"
 #include "solvers/fourier_lines.h"
+#include "solvers/viscous_gmg.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous.h"
@@ -23,6 +24,10 @@
 /* a block of components with at most this share of the tolerance times the
  * right-hand side's norm is left out of a solve (solve()) */
 #define NEGLIGIBLE_SHARE 0.1
+/* the components the geometric multigrid does not cover are left out below
+ * this share of the right-hand side too (gmg_others) */
+#define GMG_NEGLIGIBLE 1e-4
+#define GMG_RESTART 20       /* GMRES(20) on the multigrid's components */
 
 struct line_blocks {
     int nlines, len;          /* lines of this component and nodes per line */
@@ -106,6 +111,13 @@ struct viscous_solver {
     struct fourier_lines *fourier;     /* VISCOUS_FOURIER */
     int fourier_ok;                    /* its blocks serve this solve */
     int fourier_valid;                 /* they have been built */
+    struct viscous_gmg *gmg;           /* VISCOUS_GMG: the covered components' multigrid */
+    int gmg_ok;                        /* its hierarchies serve this solve */
+    int line_skip;                     /* components line_blocks leaves to the multigrid (bits) */
+    int gmg_lines;                     /* the line blocks of the others are built for this operator */
+    int gmg_dropped;                   /* the others are left out of this solve */
+    struct gmres *gmg_gm;              /* GMRES on the covered components' unknowns */
+    double *gmg_b, *gmg_x;             /* their gathered right-hand side and solution */
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -256,6 +268,11 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         return -1;
     }
     s->kind = s->info.kind = kind;
+    if (kind == VISCOUS_GMG &&
+        viscous_gmg_create(&s->gmg, g, bc, act, err, errlen) != 0) {
+        viscous_destroy(s);
+        return -1;
+    }
     if (kind == VISCOUS_FOURIER) {
         if (fourier_lines_create(&s->fourier, g, bc, act, L, err, errlen) != 0) {
             viscous_destroy(s);
@@ -268,7 +285,7 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
                 viscous_destroy(s);
                 return -1;
             }
-        } else if (create_direct(s, kind == VISCOUS_LU, err, errlen) != 0) {
+        } else if (kind != VISCOUS_GMG && create_direct(s, kind == VISCOUS_LU, err, errlen) != 0) {
             viscous_destroy(s);
             return -1;
         }
@@ -397,6 +414,10 @@ void viscous_destroy(struct viscous_solver *s)
     free(s->linebuf);
     field_free(s->divbuf);
     fourier_lines_destroy(s->fourier);
+    viscous_gmg_destroy(s->gmg);
+    gmres_destroy(s->gmg_gm);
+    free(s->gmg_b);
+    free(s->gmg_x);
     sparse_direct_destroy(s->direct);
     amg_hypre_destroy(s->amg);
     probe_matrix_destroy(s->probe);
@@ -629,10 +650,102 @@ static int can_lag(const struct viscous_solver *s, const struct viscous_problem 
            (pb->sym_cell[0] || pb->sym_cell[1] || pb->sym_cell[2]);
 }
 
+/* The multigrid of the covered components on the symmetric operator's
+ * coefficients (the diagonal tangent with Newton's full tangent, as the
+ * Cholesky takes); the others' line blocks are built by the first solve
+ * that needs them (gmg_others). */
+static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
+{
+    double t0 = cpu_now();
+    struct viscous_gmg_operator op = {.mass = pb->mass, .augmentation = pb->augmentation};
+    for (int a = 0; a < 3; a++) {
+        op.A_cell[a] = pb->b_cell && pb->sym_cell[a] ? pb->sym_cell[a] : pb->A_cell[a];
+        op.A_edge[a] = pb->b_cell && pb->sym_edge[a] ? pb->sym_edge[a] : pb->A_edge[a];
+        op.mass_face[a] = pb->mass_face[a];
+    }
+    char why[160];
+    s->gmg_ok = !pb->embedded && viscous_gmg_setup(s->gmg, &op, why, sizeof why) == 0;
+    s->info.setup_seconds = cpu_now() - t0;
+    s->info.probe_seconds = 0.0;
+    s->info.reused = 0;
+    s->info.levels = viscous_gmg_levels(s->gmg, __builtin_ctz((unsigned)viscous_gmg_components(s->gmg)));
+    if (!s->gmg_ok) {
+        s->info.kind = VISCOUS_LINE;
+        char cause[200];
+        snprintf(cause, sizeof cause, "%s",
+                 pb->embedded ? "the geometric multigrid of the implicit step: a body's cut cells "
+                                "are not in its operator"
+                              : why);
+        return fall_back(s, pb, cause);
+    }
+    s->info.kind = VISCOUS_GMG;
+    s->gmg_lines = 0; /* built by the first solve that needs them */
+    return 0;
+}
+
+/* Squared norm of the components in mask (bits) of a field triple. */
+static double components_norm2(const struct viscous_solver *s, double *const f[3], int mask)
+{
+    const struct grid *g = s->g;
+    double sum = 0.0;
+    for (int c = 0; c < 3; c++) {
+        if (!(mask >> c & 1))
+            continue;
+        const struct box *b = &s->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    const double v = f[c][grid_idx(g, i, j, k)];
+                    sum += v * v;
+                }
+    }
+    return sum;
+}
+
+/* The components the multigrid does not cover: left out of this solve
+ * while their part of the right-hand side is negligible (as the
+ * factorisations' blocks are: a flow along a periodic direction carries
+ * round-off across it), else preconditioned by their line blocks, built
+ * once per operator.  Measured on the heap at 35 x 50: with the line
+ * blocks of the two components across the flow BiCGStab took 220-440
+ * iterations a step, with them left out 23 (docs/design.md).  Negligible
+ * is also anything within GMG_NEGLIGIBLE of the whole right-hand side: in
+ * the heap's last steps (70 x 100) the two components' round-off, 8e-13,
+ * was 2.4 times the linear tolerance times the right-hand side, their
+ * line blocks took over and BiCGStab stalled at its cap (0.91). */
+static void gmg_others(struct viscous_solver *s, const struct viscous_problem *pb, double negligible,
+                       double bnorm)
+{
+    const int others = 7 & ~viscous_gmg_components(s->gmg);
+    s->gmg_dropped = !others; /* none to leave out: GMRES on all */
+    if (!others)
+        return;
+    if (negligible >= 0.0 &&
+        sqrt(components_norm2(s, s->r, others)) <= fmax(negligible, GMG_NEGLIGIBLE * bnorm)) {
+        /* their right-hand side is not solved for: the Krylov method's
+         * residual test is then the covered components' */
+        for (int c = 0; c < 3; c++)
+            if (others >> c & 1)
+                memset(s->r[c], 0, s->g->size * sizeof(double));
+        s->gmg_dropped = 1;
+        s->dropped = 1;
+        return;
+    }
+    if (!s->gmg_lines) {
+        s->line_skip = 7 & ~others;
+        line_blocks(s, pb);
+        s->line_skip = 0;
+        s->gmg_lines = 1;
+    }
+}
+
 int viscous_precondition(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     s->direct_ok = 0;
     s->fourier_ok = 0;
+    s->gmg_ok = 0;
+    if (s->gmg)
+        return gmg_setup(s, pb);
     if (s->fourier) {
         /* kept like a factorisation (solver.preconditioner_reuse): its probes
          * are most of a step once CG needs a few iterations */
@@ -735,7 +848,7 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
     }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
-        if (b->nlines == 0)
+        if (b->nlines == 0 || (s->line_skip >> c & 1))
             continue;
         for (int r = 0; r < PROBES; r++) {
             zero_fields(g, s->p);
@@ -805,9 +918,20 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
         probe_matrix_scatter(s->probe, s->amg_x, z);
         return;
     }
+    int skip = 0;
+    if (s->gmg_ok) {
+        viscous_gmg_apply(s->gmg, r, z);
+        skip = viscous_gmg_components(s->gmg);
+        if (s->gmg_dropped) { /* the other components are left out of this solve */
+            for (int c = 0; c < 3; c++)
+                if (!(skip >> c & 1))
+                    memset(z[c], 0, s->g->size * sizeof(double));
+            return;
+        }
+    }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
-        if (b->nlines == 0)
+        if (b->nlines == 0 || (skip >> c & 1))
             continue;
         if (!b->band) { /* line_blocks could not allocate them */
             memcpy(z[c], r[c], s->g->size * sizeof(double));
@@ -1003,6 +1127,89 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     return rc;
 }
 
+/* GMRES on the multigrid's components alone (the others left out): their
+ * unknowns gathered from the boxes act[c] into one vector.  GMRES rather
+ * than BiCGStab: in the heap's last Newton steps (dt 1e6, a right-hand side
+ * of 3e-5 to be solved to 1e-8) BiCGStab with the multigrid stalled at its
+ * cap of 500 iterations at 35 x 50 to 280 x 400 (relative residuals 3.7e-6
+ * to 0.97) where the Cholesky's exact inverse took 34; restarted GMRES
+ * converges there (docs/design.md, "Geometric multigrid for the implicit
+ * step"). */
+static void gmg_move(const struct viscous_solver *s, double *f[3], double *v, int to_vector)
+{
+    const int cov = viscous_gmg_components(s->gmg);
+    long n = 0;
+    for (int c = 0; c < 3; c++) {
+        if (!(cov >> c & 1))
+            continue;
+        const struct box *b = &s->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++) {
+                double *row = f[c] + grid_idx(s->g, i, j, 0);
+                for (int k = b->lo[2]; k < b->hi[2]; k++, n++) {
+                    if (to_vector)
+                        v[n] = row[k];
+                    else
+                        row[k] = v[n];
+                }
+            }
+    }
+}
+
+struct gmg_ctx {
+    struct viscous_solver *s;
+    const struct viscous_problem *pb;
+};
+
+static void gmg_gmres_operator(void *ctx, const double *x, double *y)
+{
+    const struct gmg_ctx *c = ctx;
+    gmg_move(c->s, c->s->z, (double *)x, 0); /* the others stay 0 (solve()) */
+    viscous_apply(c->s, c->pb, c->s->z, c->s->q);
+    gmg_move(c->s, c->s->q, y, 1);
+}
+
+static void gmg_gmres_precondition(void *ctx, const double *x, double *y)
+{
+    const struct gmg_ctx *c = ctx;
+    gmg_move(c->s, c->s->p, (double *)x, 0);
+    viscous_gmg_apply(c->s->gmg, c->s->p, c->s->q);
+    gmg_move(c->s, c->s->q, y, 1);
+}
+
+static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *x[3],
+                     double rtol, int maxit, struct viscous_stats *st)
+{
+    if (!s->gmg_gm) {
+        long n = 0;
+        const int cov = viscous_gmg_components(s->gmg);
+        for (int c = 0; c < 3; c++)
+            if (cov >> c & 1)
+                n += (long)(s->act[c].hi[0] - s->act[c].lo[0]) *
+                     (s->act[c].hi[1] - s->act[c].lo[1]) * (s->act[c].hi[2] - s->act[c].lo[2]);
+        s->gmg_b = malloc((size_t)n * sizeof(double));
+        s->gmg_x = malloc((size_t)n * sizeof(double));
+        if (!s->gmg_b || !s->gmg_x || gmres_create(&s->gmg_gm, n, GMG_RESTART) != 0)
+            return -1;
+    }
+    zero_fields(s->g, s->z);
+    struct gmg_ctx ctx = {s, pb};
+    struct gmres_stats gs;
+    gmg_move(s, s->r, s->gmg_b, 1);
+    long n = 0;
+    for (int c = 0; c < 3; c++)
+        if (viscous_gmg_components(s->gmg) >> c & 1)
+            n += (long)(s->act[c].hi[0] - s->act[c].lo[0]) *
+                 (s->act[c].hi[1] - s->act[c].lo[1]) * (s->act[c].hi[2] - s->act[c].lo[2]);
+    memset(s->gmg_x, 0, (size_t)n * sizeof(double));
+    int rc = gmres_solve(s->gmg_gm, gmg_gmres_operator, gmg_gmres_precondition, &ctx, s->gmg_b,
+                         s->gmg_x, rtol, maxit, &gs);
+    gmg_move(s, x, s->gmg_x, 0);
+    st->iterations = gs.iterations;
+    st->relative_residual = gs.relative_residual;
+    return rc;
+}
+
 static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                  double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
@@ -1088,8 +1295,12 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
             fall_back(s, pb, cause);
         }
     }
+    if (s->gmg_ok)
+        gmg_others(s, pb, negligible, bnorm);
     st->failed_blocks = s->failed_blocks;
     st->direct = s->direct_ok;
+    if (s->gmg_ok && s->gmg_dropped)
+        return gmg_gmres(s, pb, x, rtol, maxit, st);
     if (s->amg_ok)
         return s->amg_cfg.bicgstab ? bicgstab(s, pb, bnorm, x, rtol, maxit, st)
                                    : gmres(s, pb, rhs, x, rtol, maxit, st);
@@ -1144,6 +1355,12 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
      * amg_hypre_memory_estimate) */
     if (kind == VISCOUS_AMG)
         doubles += (21.0 + 2.0) * 3.0 * cells;
+    /* the geometric multigrid: per covered component (at most two) and
+     * level (4/3 of the finest in 2D) the coefficients, mass, Thomas
+     * factors and cycle arrays (about 12 fields), the set-up's four, and
+     * GMRES(20)'s basis of the covered unknowns */
+    if (kind == VISCOUS_GMG)
+        doubles += (2.0 * 12.0 * 4.0 / 3.0 + 4.0) * points + (GMG_RESTART + 3.0) * 2.0 * cells;
     return doubles * sizeof(double) +
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0);
 }

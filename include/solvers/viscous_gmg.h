@@ -1,0 +1,74 @@
+/* Geometric multigrid preconditioner of the implicit viscous step, matrix-free
+ * (no probing, no factorisation but the multigrid's small coarsest level).
+ *
+ * A velocity component c along a periodic direction has its unknowns on a
+ * box of the cell grid's shape (the faces normal to c, shifted by half a
+ * cell along c), and its diagonal block of the operator is the scalar
+ * variable-coefficient problem
+ *
+ *   m u - d_c(2 A_cell[c] d_c u) - sum_{e != c} d_e(A_edge[k] d_e u),  k = 3 - c - e,
+ *
+ * (plus the augmentation's d_c(r d_c u)), which multigrid.h solves with its
+ * mass term: one W-cycle approximates the block's inverse.  The
+ * coefficients are those the symmetric operator has (the viscosities, or
+ * the diagonal tangent when Newton's full tangent is solved: the Cholesky
+ * path's operator), and the Krylov method of the viscous step (CG, or
+ * BiCGStab on the full tangent) solves the whole operator with it.  The
+ * couplings between components (the transpose part of the strain, the full
+ * tangent's b terms) are left to the Krylov method: in a flow along one
+ * direction (the heap, the ducts, the profile scenes) they vanish.  The
+ * other components (those along a bounded direction) are not covered here:
+ * viscous.c gives them its line blocks.
+ *
+ * Conditions of a covered component on the faces across it: a wall or a
+ * lid (the velocity held) is the multigrid's Dirichlet face, a slip wall or
+ * the free surface (no shear) its Neumann face, periodic stays periodic;
+ * open and inflow faces are refused at creation. */
+#ifndef MUFLOW_VISCOUS_GMG_H
+#define MUFLOW_VISCOUS_GMG_H
+
+#include <stddef.h>
+#include "grid/boundary.h"
+#include "grid/grid.h"
+
+struct viscous_gmg;
+
+/* The operator's coefficients for viscous_gmg_setup (field arrays of the
+ * grid, ghosts filled): the normal-stress coefficients per cell, the shear
+ * coefficients per edge plane, the mass per face (rho_f / dt) or the
+ * scalar mass, the augmentation r per cell or NULL. */
+struct viscous_gmg_operator {
+    const double *A_cell[3];
+    const double *A_edge[3];
+    const double *mass_face[3];
+    double mass;
+    const double *augmentation;
+};
+
+/* Builds the hierarchies of the components along periodic directions whose
+ * unknowns fill the cell box (act[c] of bc_unknown_boxes).  Returns 0, or -1
+ * with a message naming the cause (no periodic direction, an open or
+ * inflow face across a covered component, a stretched grid, no memory). */
+int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const struct boundary *bc,
+                       const struct box act[3], char *err, size_t errlen);
+void viscous_gmg_destroy(struct viscous_gmg *m);
+
+/* Bit c set: component c is covered. */
+int viscous_gmg_components(const struct viscous_gmg *m);
+
+/* Sets each covered component's coefficients and mass (and factorises its
+ * coarsest level).  Returns 0, or -1 with a message. */
+int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *op, char *err,
+                      size_t errlen);
+
+/* z[c] ~ (block c)^-1 r[c] for the covered components (one cycle each; the
+ * others untouched).  r is read on the interior; z's interior is written. */
+void viscous_gmg_apply(struct viscous_gmg *m, double *const r[3], double *z[3]);
+
+/* Bytes held (the hierarchies and the coefficient work arrays). */
+size_t viscous_gmg_bytes(const struct viscous_gmg *m);
+
+/* Levels of component c's hierarchy (0: not covered). */
+int viscous_gmg_levels(const struct viscous_gmg *m, int c);
+
+#endif

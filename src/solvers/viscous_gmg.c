@@ -1,0 +1,191 @@
+/* Geometric multigrid preconditioner of the implicit viscous step
+ * (include/solvers/viscous_gmg.h; docs/design.md, "Geometric multigrid for
+ * the implicit step").  One multigrid.h hierarchy per covered component,
+ * with its mass term; the coefficient arrays are shared by the components,
+ * since each hierarchy copies what it is given. */
+#include "solvers/viscous_gmg.h"
+#include "solvers/multigrid.h"
+#include "kernels/kernels.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct viscous_gmg {
+    const struct grid *g;
+    struct multigrid *mg[3];     /* NULL: component not covered */
+    double *a[3], *mass;         /* the block's face coefficients and mass, set-up work */
+};
+
+int viscous_gmg_components(const struct viscous_gmg *m)
+{
+    int bits = 0;
+    for (int c = 0; c < 3; c++)
+        bits |= m->mg[c] ? 1 << c : 0;
+    return bits;
+}
+
+int viscous_gmg_levels(const struct viscous_gmg *m, int c)
+{
+    return m->mg[c] ? multigrid_levels(m->mg[c]) : 0;
+}
+
+void viscous_gmg_destroy(struct viscous_gmg *m)
+{
+    if (!m)
+        return;
+    for (int c = 0; c < 3; c++) {
+        multigrid_destroy(m->mg[c]);
+        field_free(m->a[c]);
+    }
+    field_free(m->mass);
+    free(m);
+}
+
+/* The component's unknowns fill the cell box: it lies along a periodic
+ * direction (its faces normal to it are as many as the cells). */
+static int covered(const struct grid *g, const struct boundary *bc, const struct box act[3], int c)
+{
+    if (bc->face[c][0] != BC_PERIODIC)
+        return 0;
+    for (int d = 0; d < 3; d++)
+        if (act[c].lo[d] != 0 || act[c].hi[d] != g->n[d])
+            return 0;
+    return 1;
+}
+
+/* The multigrid's condition for a tangential component on face (d, side): the
+ * velocity held (ghost = -interior, boundary.c) is Dirichlet, the mirror
+ * (slip, surface, open) Neumann. */
+static enum poisson_bc tangential_bc(enum bc_kind k)
+{
+    switch (k) {
+    case BC_PERIODIC: return POISSON_PERIODIC;
+    case BC_WALL:
+    case BC_LID:
+    case BC_INFLOW: return POISSON_DIRICHLET;
+    case BC_SLIP:
+    case BC_SURFACE:
+    case BC_OPEN: break;
+    }
+    return POISSON_NEUMANN;
+}
+
+int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const struct boundary *bc,
+                       const struct box act[3], char *err, size_t errlen)
+{
+    *out = NULL;
+    if (grid_stretched(g)) {
+        snprintf(err, errlen, "the geometric multigrid of the implicit step needs uniform cells "
+                              "(solver.preconditioner = gmg with a domain band)");
+        return -1;
+    }
+    struct viscous_gmg *m = calloc(1, sizeof *m);
+    if (!m) {
+        snprintf(err, errlen, "viscous multigrid: out of memory");
+        return -1;
+    }
+    m->g = g;
+    int any = 0;
+    for (int c = 0; c < 3; c++) {
+        if (!covered(g, bc, act, c))
+            continue;
+        enum poisson_bc pbc[3][2];
+        for (int d = 0; d < 3; d++)
+            for (int s = 0; s < 2; s++)
+                pbc[d][s] = tangential_bc(bc->face[d][s]);
+        char why[200];
+        struct multigrid_options opt;
+        multigrid_default_options(&opt);
+        /* zebra lines in both directions, W(1,1): measured on the heap
+         * (docs/design.md, "Geometric multigrid for the implicit step") */
+        opt.smoother = MG_SMOOTH_LINES;
+        opt.pre = opt.post = 1;
+        if (multigrid_create(&m->mg[c], g, (const enum poisson_bc(*)[2])pbc, &opt, why,
+                             sizeof why) != 0) {
+            snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
+                     "xyz"[c], why);
+            viscous_gmg_destroy(m);
+            return -1;
+        }
+        any = 1;
+    }
+    if (!any) {
+        snprintf(err, errlen, "the geometric multigrid of the implicit step serves the velocity "
+                              "components along periodic directions, and this grid has none "
+                              "(solver.preconditioner = gmg)");
+        viscous_gmg_destroy(m);
+        return -1;
+    }
+    int ok = (m->mass = field_alloc(g)) != NULL;
+    for (int d = 0; d < 3; d++)
+        ok &= (m->a[d] = field_alloc(g)) != NULL;
+    if (!ok) {
+        snprintf(err, errlen, "viscous multigrid: out of memory");
+        viscous_gmg_destroy(m);
+        return -1;
+    }
+    *out = m;
+    return 0;
+}
+
+/* Component c's block: along c the normal stress 2 A_cell[c] (and the
+ * augmentation r) of the cell below the node, across it the shear
+ * coefficient of the edge plane normal to the third direction, at the
+ * node's own index (edge (i,j,k) is the low corner of cell (i,j,k)). */
+static void block_coefficients(struct viscous_gmg *m, const struct viscous_gmg_operator *op, int c)
+{
+    const struct grid *g = m->g;
+    const ptrdiff_t sc = g->stride[c];
+    const double *Ac = op->A_cell[c], *r = op->augmentation;
+    const double *mf = op->mass_face[c];
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (size_t p = (size_t)sc; p < g->size; p++) {
+        m->a[c][p] = 2.0 * Ac[p - sc] + (r ? r[p - sc] : 0.0);
+        m->mass[p] = mf ? mf[p] : op->mass;
+    }
+    for (int e = 0; e < 3; e++)
+        if (e != c)
+            memcpy(m->a[e], op->A_edge[3 - c - e], g->size * sizeof(double));
+}
+
+int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *op, char *err,
+                      size_t errlen)
+{
+    for (int c = 0; c < 3; c++) {
+        if (!m->mg[c])
+            continue;
+        block_coefficients(m, op, c);
+        char why[200];
+        if (multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why) != 0) {
+            snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
+                     "xyz"[c], why);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+void viscous_gmg_apply(struct viscous_gmg *m, double *const r[3], double *z[3])
+{
+    const struct grid *g = m->g;
+    for (int c = 0; c < 3; c++) {
+        if (!m->mg[c])
+            continue;
+        /* the multigrid inverts L - m = -(block) */
+        multigrid_cycle(m->mg[c], r[c], z[c]);
+        double *zc = z[c];
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+        for (size_t p = 0; p < g->size; p++)
+            zc[p] = -zc[p];
+    }
+}
+
+size_t viscous_gmg_bytes(const struct viscous_gmg *m)
+{
+    size_t b = 4 * m->g->size * sizeof(double);
+    for (int c = 0; c < 3; c++)
+        b += m->mg[c] ? multigrid_bytes(m->mg[c]) : 0;
+    return b;
+}
+
