@@ -485,6 +485,8 @@ static const struct bad bad_cases[] = {
      NULL, {"solver.preconditioner = gmg needs a periodic direction"}},
     {"[solver]\nmode = steady\ncoupled = on\npreconditioner = gmg\n", NULL,
      {"solver.coupled = on with solver.preconditioner = gmg"}},
+    {"[domain]\nnx = 4\nny = 1\n[boundary]\nzlo = wall\nzhi = surface\n[solver]\npreconditioner = gmg\n",
+     NULL, {"solver.preconditioner = gmg needs every periodic direction to be one cell across"}},
     {"[rheology]\nlaw = bingham\n", NULL, {"bingham", "plastic_viscosity", "yield_stress"}},
     /* the Barker & Gray curve: alpha in (0, 2), and a jop curve with a well-posed band */
     {NULL, "rheology.alpha=2", {"override rheology.alpha=2", "must be in (0, 2)"}},

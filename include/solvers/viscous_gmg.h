@@ -45,6 +45,12 @@ struct viscous_gmg_operator {
     const double *augmentation;
 };
 
+/* Why a grid of n cells with these conditions cannot take the multigrid
+ * (a message naming solver.preconditioner = gmg), or NULL: it needs a
+ * periodic direction, and every periodic direction one cell across (the
+ * line smoother runs along the bounded directions). */
+const char *viscous_gmg_refusal(const int n[3], const struct boundary *bc);
+
 /* Builds the hierarchies of the components along periodic directions whose
  * unknowns fill the cell box (act[c] of bc_unknown_boxes).  Returns 0, or -1
  * with a message naming the cause (no periodic direction, an open or

@@ -20,6 +20,7 @@
 #include <string.h>
 #include "config/ini.h"
 #include "config/keys.h"
+#include "solvers/viscous_gmg.h"
 #include "grid/grid.h"
 #include "grid/shapes.h"
 #include "scenes/scene.h"
@@ -911,13 +912,12 @@ static void finish(struct ctx *x)
     }
     /* the implicit step's geometric multigrid covers the velocity components
      * along periodic directions (viscous_gmg.h) */
-    if (c->preconditioner == PRECOND_GMG && c->bc.face[0][0] != BC_PERIODIC &&
-        c->bc.face[1][0] != BC_PERIODIC && c->bc.face[2][0] != BC_PERIODIC) {
-        fail(x, "%s: solver.preconditioner = gmg needs a periodic direction (its multigrid "
-                "serves the velocity components along periodic directions); use cholesky, lu "
-                "or amg",
-             where);
-        return;
+    if (c->preconditioner == PRECOND_GMG) {
+        const char *why = viscous_gmg_refusal(c->n, &c->bc);
+        if (why) {
+            fail(x, "%s: %s", where, why);
+            return;
+        }
     }
 
     /* an inflow's volume must leave somewhere: through an open face */

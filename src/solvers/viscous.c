@@ -24,10 +24,10 @@
 /* a block of components with at most this share of the tolerance times the
  * right-hand side's norm is left out of a solve (solve()) */
 #define NEGLIGIBLE_SHARE 0.1
-/* the components the geometric multigrid does not cover are left out below
- * this share of the right-hand side too (gmg_others) */
-#define GMG_NEGLIGIBLE 1e-4
 #define GMG_RESTART 20       /* GMRES(20) on the multigrid's components */
+/* the components the multigrid does not cover are left out below this share
+ * of the largest right-hand side solved so far too: round-off (gmg_others) */
+#define GMG_ROUNDOFF 1e-12
 
 struct line_blocks {
     int nlines, len;          /* lines of this component and nodes per line */
@@ -116,7 +116,9 @@ struct viscous_solver {
     int line_skip;                     /* components line_blocks leaves to the multigrid (bits) */
     int gmg_lines;                     /* the line blocks of the others are built for this operator */
     int gmg_dropped;                   /* the others are left out of this solve */
-    struct gmres *gmg_gm;              /* GMRES on the covered components' unknowns */
+    struct gmres *gmg_gm[2];           /* GMRES on the covered components' unknowns, on all */
+    int gmg_mask;                      /* the components of this solve's GMRES (bits) */
+    double gmg_scale;                  /* the largest right-hand side solved so far */
     double *gmg_b, *gmg_x;             /* their gathered right-hand side and solution */
 };
 
@@ -415,7 +417,8 @@ void viscous_destroy(struct viscous_solver *s)
     field_free(s->divbuf);
     fourier_lines_destroy(s->fourier);
     viscous_gmg_destroy(s->gmg);
-    gmres_destroy(s->gmg_gm);
+    gmres_destroy(s->gmg_gm[0]);
+    gmres_destroy(s->gmg_gm[1]);
     free(s->gmg_b);
     free(s->gmg_x);
     sparse_direct_destroy(s->direct);
@@ -703,31 +706,31 @@ static double components_norm2(const struct viscous_solver *s, double *const f[3
 }
 
 /* The components the multigrid does not cover: left out of this solve
- * while their part of the right-hand side is negligible (as the
- * factorisations' blocks are: a flow along a periodic direction carries
- * round-off across it), else preconditioned by their line blocks, built
- * once per operator.  Measured on the heap at 35 x 50: with the line
- * blocks of the two components across the flow BiCGStab took 220-440
- * iterations a step, with them left out 23 (docs/design.md).  Negligible
- * is also anything within GMG_NEGLIGIBLE of the whole right-hand side: in
- * the heap's last steps (70 x 100) the two components' round-off, 8e-13,
- * was 2.4 times the linear tolerance times the right-hand side, their
- * line blocks took over and BiCGStab stalled at its cap (0.91). */
+ * while their part of the right-hand side is negligible (below a tenth of
+ * the tolerance, as the factorisations' blocks are: a flow along a
+ * periodic direction carries round-off across it) or round-off (below
+ * GMG_ROUNDOFF of the largest right-hand side solved), else in GMRES with
+ * their line blocks, built once per operator.  Measured on the heap at
+ * 35 x 50: with the two components across the flow in every solve on
+ * their line blocks, BiCGStab took 220-440 iterations a step; left out,
+ * 23 (docs/design.md).  The round-off test came from the last Newton
+ * steps: there the two components' round-off (2.3e-13 at 35 x 50, 8.1e-13
+ * at 70 x 100: 1.4e-14 and 2.5e-14 of the largest right-hand sides, 16.5
+ * and 33) exceeded a tenth of the tolerance times the right-hand side
+ * (9.6e-14), and with their line blocks GMRES stalled at its cap (0.97). */
 static void gmg_others(struct viscous_solver *s, const struct viscous_problem *pb, double negligible,
                        double bnorm)
 {
-    const int others = 7 & ~viscous_gmg_components(s->gmg);
-    s->gmg_dropped = !others; /* none to leave out: GMRES on all */
+    const int covered = viscous_gmg_components(s->gmg), others = 7 & ~covered;
+    s->gmg_dropped = 0;
+    s->gmg_mask = 7;
+    s->gmg_scale = fmax(s->gmg_scale, bnorm);
     if (!others)
         return;
-    if (negligible >= 0.0 &&
-        sqrt(components_norm2(s, s->r, others)) <= fmax(negligible, GMG_NEGLIGIBLE * bnorm)) {
-        /* their right-hand side is not solved for: the Krylov method's
-         * residual test is then the covered components' */
-        for (int c = 0; c < 3; c++)
-            if (others >> c & 1)
-                memset(s->r[c], 0, s->g->size * sizeof(double));
+    const double part = sqrt(components_norm2(s, s->r, others));
+    if (negligible >= 0.0 && part <= fmax(negligible, GMG_ROUNDOFF * s->gmg_scale)) {
         s->gmg_dropped = 1;
+        s->gmg_mask = covered;
         s->dropped = 1;
         return;
     }
@@ -1127,20 +1130,31 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     return rc;
 }
 
-/* GMRES on the multigrid's components alone (the others left out): their
- * unknowns gathered from the boxes act[c] into one vector.  GMRES rather
- * than BiCGStab: in the heap's last Newton steps (dt 1e6, a right-hand side
- * of 3e-5 to be solved to 1e-8) BiCGStab with the multigrid stalled at its
- * cap of 500 iterations at 35 x 50 to 280 x 400 (relative residuals 3.7e-6
- * to 0.97) where the Cholesky's exact inverse took 34; restarted GMRES
- * converges there (docs/design.md, "Geometric multigrid for the implicit
- * step"). */
+/* GMRES on the components of the mask s->gmg_mask (the multigrid's, and the
+ * others unless they are left out): their unknowns gathered from the boxes
+ * act[c] into one vector.  GMRES rather than BiCGStab: in the heap's last
+ * Newton steps (dt 1e6, a right-hand side of 3e-6 solved to 1e-8)
+ * BiCGStab stalled at its cap of 500 iterations from 35 x 50 to 280 x 400
+ * (relative residuals 4.8e-7 to 0.97), where the Cholesky's exact inverse
+ * of the same diagonal tangent takes 34; GMRES converges there, also with
+ * the two components across the flow in the solve on their line blocks
+ * (their round-off 2.4 times the tolerance: docs/design.md, "Geometric
+ * multigrid for the implicit step"). */
+static long gmg_unknowns(const struct viscous_solver *s, int mask)
+{
+    long n = 0;
+    for (int c = 0; c < 3; c++)
+        if (mask >> c & 1)
+            n += (long)(s->act[c].hi[0] - s->act[c].lo[0]) *
+                 (s->act[c].hi[1] - s->act[c].lo[1]) * (s->act[c].hi[2] - s->act[c].lo[2]);
+    return n;
+}
+
 static void gmg_move(const struct viscous_solver *s, double *f[3], double *v, int to_vector)
 {
-    const int cov = viscous_gmg_components(s->gmg);
     long n = 0;
     for (int c = 0; c < 3; c++) {
-        if (!(cov >> c & 1))
+        if (!(s->gmg_mask >> c & 1))
             continue;
         const struct box *b = &s->act[c];
         for (int i = b->lo[0]; i < b->hi[0]; i++)
@@ -1164,7 +1178,7 @@ struct gmg_ctx {
 static void gmg_gmres_operator(void *ctx, const double *x, double *y)
 {
     const struct gmg_ctx *c = ctx;
-    gmg_move(c->s, c->s->z, (double *)x, 0); /* the others stay 0 (solve()) */
+    gmg_move(c->s, c->s->z, (double *)x, 0); /* the components left out stay 0 */
     viscous_apply(c->s, c->pb, c->s->z, c->s->q);
     gmg_move(c->s, c->s->q, y, 1);
 }
@@ -1173,37 +1187,30 @@ static void gmg_gmres_precondition(void *ctx, const double *x, double *y)
 {
     const struct gmg_ctx *c = ctx;
     gmg_move(c->s, c->s->p, (double *)x, 0);
-    viscous_gmg_apply(c->s->gmg, c->s->p, c->s->q);
+    precondition_apply(c->s, c->s->p, c->s->q); /* the multigrid, the others' line blocks */
     gmg_move(c->s, c->s->q, y, 1);
 }
 
 static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *x[3],
                      double rtol, int maxit, struct viscous_stats *st)
 {
-    if (!s->gmg_gm) {
-        long n = 0;
-        const int cov = viscous_gmg_components(s->gmg);
-        for (int c = 0; c < 3; c++)
-            if (cov >> c & 1)
-                n += (long)(s->act[c].hi[0] - s->act[c].lo[0]) *
-                     (s->act[c].hi[1] - s->act[c].lo[1]) * (s->act[c].hi[2] - s->act[c].lo[2]);
-        s->gmg_b = malloc((size_t)n * sizeof(double));
-        s->gmg_x = malloc((size_t)n * sizeof(double));
-        if (!s->gmg_b || !s->gmg_x || gmres_create(&s->gmg_gm, n, GMG_RESTART) != 0)
+    const int all = s->gmg_mask != viscous_gmg_components(s->gmg);
+    const long n = gmg_unknowns(s, s->gmg_mask);
+    if (!s->gmg_gm[all]) {
+        /* the vectors for every component, the basis for the mask's */
+        const long most = gmg_unknowns(s, 7);
+        if ((!s->gmg_b && !(s->gmg_b = malloc((size_t)most * sizeof(double)))) ||
+            (!s->gmg_x && !(s->gmg_x = malloc((size_t)most * sizeof(double)))) ||
+            gmres_create(&s->gmg_gm[all], n, GMG_RESTART) != 0)
             return -1;
     }
     zero_fields(s->g, s->z);
     struct gmg_ctx ctx = {s, pb};
     struct gmres_stats gs;
     gmg_move(s, s->r, s->gmg_b, 1);
-    long n = 0;
-    for (int c = 0; c < 3; c++)
-        if (viscous_gmg_components(s->gmg) >> c & 1)
-            n += (long)(s->act[c].hi[0] - s->act[c].lo[0]) *
-                 (s->act[c].hi[1] - s->act[c].lo[1]) * (s->act[c].hi[2] - s->act[c].lo[2]);
     memset(s->gmg_x, 0, (size_t)n * sizeof(double));
-    int rc = gmres_solve(s->gmg_gm, gmg_gmres_operator, gmg_gmres_precondition, &ctx, s->gmg_b,
-                         s->gmg_x, rtol, maxit, &gs);
+    int rc = gmres_solve(s->gmg_gm[all], gmg_gmres_operator, gmg_gmres_precondition, &ctx,
+                         s->gmg_b, s->gmg_x, rtol, maxit, &gs);
     gmg_move(s, x, s->gmg_x, 0);
     st->iterations = gs.iterations;
     st->relative_residual = gs.relative_residual;
@@ -1299,7 +1306,7 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
         gmg_others(s, pb, negligible, bnorm);
     st->failed_blocks = s->failed_blocks;
     st->direct = s->direct_ok;
-    if (s->gmg_ok && s->gmg_dropped)
+    if (s->gmg_ok)
         return gmg_gmres(s, pb, x, rtol, maxit, st);
     if (s->amg_ok)
         return s->amg_cfg.bicgstab ? bicgstab(s, pb, bnorm, x, rtol, maxit, st)
