@@ -391,6 +391,16 @@ static void smooth_colour(const struct level *lv, int colour)
         }
 }
 
+/* The first cell of the line along d through index u along e1, v along e2. */
+static inline ptrdiff_t line_start(const struct grid *g, int d, int e1, int e2, int u, int v)
+{
+    int c[3];
+    c[d] = 0;
+    c[e1] = u;
+    c[e2] = v;
+    return grid_idx(g, c[0], c[1], c[2]);
+}
+
 /* One half sweep of zebra line Gauss-Seidel along direction d (the k-th line
  * direction): the lines along d whose index across (the sum of the other
  * two indices) has the parity colour solve their own tridiagonal rows
@@ -419,11 +429,7 @@ smooth_lines_body(const struct level *lv, int k, int d, int colour, const int ac
         for (int v = 0; v < n2; v++) {
             if (((u + v) & 1) != colour)
                 continue;
-            int c[3];
-            c[d] = 0;
-            c[e1] = u;
-            c[e2] = v;
-            const ptrdiff_t p0 = grid_idx(g, c[0], c[1], c[2]);
+            const ptrdiff_t p0 = line_start(g, d, e1, e2, u, v);
             double prev = 0.0;
             for (int t = 0; t < n; t++) {
                 const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
@@ -468,11 +474,7 @@ static void line_factors(const struct level *lv, int k, int d)
 #pragma omp parallel for collapse(2) schedule(static) if (lv->par)
     for (int u = 0; u < g->n[e1]; u++)
         for (int v = 0; v < g->n[e2]; v++) {
-            int c[3];
-            c[d] = 0;
-            c[e1] = u;
-            c[e2] = v;
-            const ptrdiff_t p0 = grid_idx(g, c[0], c[1], c[2]);
+            const ptrdiff_t p0 = line_start(g, d, e1, e2, u, v);
             double prev = 0.0;
             for (int t = 0; t < n; t++) {
                 const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
