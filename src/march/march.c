@@ -595,13 +595,14 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
-    /* an AMG whose GMRES fails gives way to the LU where that fits: the
+    /* an AMG or a geometric multigrid whose GMRES fails gives way to the
+     * LU where that fits: the
      * factorisation's limits, and the run with the LU in the memory the
      * machine had at the start */
     int periodic[3];
     bc_periodic_flags(&st->bc, periodic);
     viscous_allow_lu_fallback(st->viscous,
-                              kind == VISCOUS_AMG &&
+                              (kind == VISCOUS_AMG || kind == VISCOUS_GMG) &&
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
                                   sparse_direct_probes_for(g, periodic, 2) <=
                                       sparse_direct_max_probes() &&

@@ -1085,6 +1085,36 @@ static int retire_amg(struct viscous_solver *s, int rc, int maxit)
     return 0;
 }
 
+/* The geometric multigrid gives way to the probed LU of the same full
+ * tangent, as the AMG does (retire_amg): its GMRES failed.  Measured: the
+ * square duct at 80 x 160 from rest, where the two components across the
+ * flow carry a residual of their own during the march (74-247 of a
+ * right-hand side of 205-312), stalled with their line blocks at the cap
+ * of 500 from step 71 and stayed unsteady (0.98 after 285 steps); 120 x
+ * 240 and 20 x 40 never needed them.  Returns 0, or -1 (no memory: the
+ * multigrid stays). */
+static int retire_gmg(struct viscous_solver *s, int rc, int maxit)
+{
+    char err[160];
+    if (!s->direct && create_direct(s, 1, err, sizeof err) != 0)
+        return -1;
+    viscous_gmg_destroy(s->gmg);
+    s->gmg = NULL;
+    s->gmg_ok = 0;
+    for (int k = 0; k < 2; k++) {
+        gmres_destroy(s->gmg_gm[k]);
+        s->gmg_gm[k] = NULL;
+    }
+    s->probe_components = 7;
+    s->info.kind = VISCOUS_LU;
+    s->info.fallbacks++;
+    snprintf(s->info.cause, sizeof s->info.cause,
+             rc == 1 ? "the geometric multigrid's GMRES reached its cap of %d iterations"
+                     : "the geometric multigrid's GMRES broke down (cap %d)",
+             maxit);
+    return 0;
+}
+
 int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                   double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
@@ -1108,6 +1138,10 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
         s->keep_once = 0;
     }
     if (rc != 0 && s->amg_ok && s->lu_fallback && retire_amg(s, rc, maxit) == 0) {
+        viscous_precondition(s, pb);
+        rc = solve(s, pb, rhs, x, rtol, maxit, st);
+    }
+    if (rc != 0 && s->gmg_ok && s->lu_fallback && retire_gmg(s, rc, maxit) == 0) {
         viscous_precondition(s, pb);
         rc = solve(s, pb, rhs, x, rtol, maxit, st);
     }
