@@ -57,7 +57,8 @@ static const struct choice advection_choices[] = {
     {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
-    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER}, {"gmg", PRECOND_GMG}, {NULL, 0}};
+    {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER},
+    {"gmg", PRECOND_GMG}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");
@@ -225,7 +226,8 @@ static const struct key keys[] = {
         "AMG, or fourier (the line blocks of every plane Fourier mode, for periodic directions "
         "across the lines), or gmg (geometric multigrid of the velocity components along "
         "periodic directions inside GMRES, matrix-free: flows along a periodic direction such "
-        "as the heap and the ducts; never chosen by auto) (auto, for grids varying in two or more directions: amg on a steady "
+        "as the heap and the ducts; never chosen by auto) (auto, for grids varying in two or "
+        "more directions: amg on a steady "
         "2D cross-section with newton, no augmentation and over 1e4 unknowns (5e4 where cholesky "
         "would serve or with a body), else cholesky on "
         "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "

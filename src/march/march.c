@@ -364,6 +364,13 @@ static enum poisson_bc projection_bc(enum bc_kind k)
  * before they are created.  Measured against the peak RSS: bagnold
  * 100 x 100 x 50 (line blocks) 353 MB, estimate 367 MB; cavity 128 x 128
  * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB. */
+/* The kinds that factorise no sparse matrix of the operator (the line
+ * blocks' bands and the multigrid's coarsest level aside). */
+static int without_factors(enum viscous_precond kind)
+{
+    return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG;
+}
+
 static double memory_estimate(const struct march_state *st, enum viscous_precond kind)
 {
     const struct grid *g = &st->g;
@@ -399,7 +406,7 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
     }
     if (kind == VISCOUS_AMG) {
         bytes += amg_hypre_memory_estimate(3L * (long)grid_cells(g));
-    } else if (kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_GMG) {
+    } else if (!without_factors(kind)) {
         bytes += sparse_direct_memory_estimate(3L * (long)grid_cells(g), dims);
     }
     return bytes;
@@ -537,9 +544,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                  grid_stretched(g) ? "the cells with the domain's bands"
                                    : "domain.nx x domain.ny x domain.nz",
                  g->n[0], g->n[1], g->n[2], need,
-                 kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG
-                     ? ""
-                     : ", sparse factorisation",
+                 without_factors(kind) ? "" : ", sparse factorisation",
                  have);
         march_destroy(st);
         return -1;
@@ -595,10 +600,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
-    /* an AMG or a geometric multigrid whose GMRES fails gives way to the
-     * LU where that fits: the
-     * factorisation's limits, and the run with the LU in the memory the
-     * machine had at the start */
+    /* an AMG or a geometric multigrid whose GMRES fails gives way to the LU
+     * where that fits: the factorisation's limits, and the run with the LU
+     * in the memory the machine had at the start */
     int periodic[3];
     bc_periodic_flags(&st->bc, periodic);
     viscous_allow_lu_fallback(st->viscous,

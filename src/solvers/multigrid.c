@@ -128,7 +128,6 @@ struct multigrid {
     double *wr, *wz, *wp, *wq;     /* fine-level work arrays of the solvers */
     double *wbest;                 /* multigrid_pcg: the iterate of the least residual */
     long live;                     /* live cells of level 0 */
-    int has_mass;                  /* the operator is L - m (multigrid_set_operator) */
     int line_dirs[3], nline_dirs;  /* MG_SMOOTH_LINES: the directions of its lines */
     int ready;                     /* coefficients set */
     double partial[MAX_THREADS * PAD];
@@ -1233,7 +1232,8 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         for (int d = 0; d < 3; d++)
             if (!mg->periodic[d] && g->n[d] > 1)
                 mg->line_dirs[mg->nline_dirs++] = d;
-        for (int l = 0; l < mg->nlev && ok; l++)
+        /* the coarsest level is solved, not smoothed: no factors there */
+        for (int l = 0; l < mg->nlev - 1 && ok; l++)
             for (int k = 0; k < mg->nline_dirs; k++)
                 ok &= (mg->lev[l].lc[k] = field_alloc(&mg->lev[l].g)) != NULL &&
                       (mg->lev[l].li[k] = field_alloc(&mg->lev[l].g)) != NULL;
@@ -1270,7 +1270,6 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
  * coarse operator stays the rediscretised L - m.  mass NULL: none. */
 static int set_mass(struct multigrid *mg, const double *mass, char *err, size_t errlen)
 {
-    mg->has_mass = mass != NULL;
     for (int l = 0; l < mg->nlev; l++) {
         struct level *lv = &mg->lev[l];
         lv->m = NULL;
@@ -1472,8 +1471,9 @@ static void fine_residual(struct multigrid *mg, double *phi, const double *rhs, 
 
 static int singular(const struct multigrid *mg)
 {
-    if (mg->has_mass)
-        return 0; /* a component without mass or Dirichlet face is pinned (coarse_factor) */
+    if (mg->lev[0].m)
+        return 0; /* a mass term: a component without mass or Dirichlet face is pinned
+                     (coarse_factor) */
     for (int d = 0; d < 3; d++)
         if (mg->bc[d][0] == POISSON_DIRICHLET || mg->bc[d][1] == POISSON_DIRICHLET)
             return 0;
@@ -1731,7 +1731,7 @@ size_t multigrid_bytes(const struct multigrid *mg)
         if (lv->mbuf)
             b += f;
         for (int k = 0; k < mg->nline_dirs; k++)
-            b += 2 * f;
+            b += lv->lc[k] ? 2 * f : 0;
         if (l > 0)
             b += 2 * f; /* x, b */
         for (int d = 0; d < 3; d++)

@@ -113,11 +113,10 @@ struct viscous_solver {
     int fourier_valid;                 /* they have been built */
     struct viscous_gmg *gmg;           /* VISCOUS_GMG: the covered components' multigrid */
     int gmg_ok;                        /* its hierarchies serve this solve */
-    int line_skip;                     /* components line_blocks leaves to the multigrid (bits) */
-    int gmg_lines;                     /* the line blocks of the others are built for this operator */
-    int gmg_dropped;                   /* the others are left out of this solve */
+    int gmg_lines;                     /* the others' line blocks are built for this operator */
     struct gmres *gmg_gm[2];           /* GMRES on the covered components' unknowns, on all */
-    int gmg_mask;                      /* the components of this solve's GMRES (bits) */
+    int gmg_mask;                      /* the components of this solve's GMRES (bits): the
+                                          multigrid's, and the others unless left out */
     double gmg_scale;                  /* the largest right-hand side solved so far */
     double *gmg_b, *gmg_x;             /* their gathered right-hand side and solution */
 };
@@ -516,7 +515,7 @@ static inline int probe_offset(int r, int m)
     return off > BAND ? off - PROBES : off;
 }
 
-static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb);
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb, int skip);
 
 /* What decides the probed matrix's pattern: the full tangent's terms, the
  * augmentation and the open faces' ghosts (the coefficients' values, the
@@ -597,7 +596,7 @@ static int fall_back(struct viscous_solver *s, const struct viscous_problem *pb,
 {
     s->info.fallbacks++;
     snprintf(s->info.cause, sizeof s->info.cause, "%s", cause);
-    line_blocks(s, pb);
+    line_blocks(s, pb, 0);
     return 1;
 }
 
@@ -671,7 +670,8 @@ static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
     s->info.setup_seconds = cpu_now() - t0;
     s->info.probe_seconds = 0.0;
     s->info.reused = 0;
-    s->info.levels = viscous_gmg_levels(s->gmg, __builtin_ctz((unsigned)viscous_gmg_components(s->gmg)));
+    const int first = __builtin_ctz((unsigned)viscous_gmg_components(s->gmg));
+    s->info.levels = viscous_gmg_levels(s->gmg, first);
     if (!s->gmg_ok) {
         s->info.kind = VISCOUS_LINE;
         char cause[200];
@@ -686,23 +686,14 @@ static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
     return 0;
 }
 
-/* Squared norm of the components in mask (bits) of a field triple. */
-static double components_norm2(const struct viscous_solver *s, double *const f[3], int mask)
+/* The unknowns' boxes with those of the components outside mask (bits)
+ * emptied: the kernels and reductions on them skip those components. */
+static void masked_boxes(const struct viscous_solver *s, int mask, struct box out[3])
 {
-    const struct grid *g = s->g;
-    double sum = 0.0;
-    for (int c = 0; c < 3; c++) {
+    memcpy(out, s->act, 3 * sizeof *out);
+    for (int c = 0; c < 3; c++)
         if (!(mask >> c & 1))
-            continue;
-        const struct box *b = &s->act[c];
-        for (int i = b->lo[0]; i < b->hi[0]; i++)
-            for (int j = b->lo[1]; j < b->hi[1]; j++)
-                for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                    const double v = f[c][grid_idx(g, i, j, k)];
-                    sum += v * v;
-                }
-    }
-    return sum;
+            out[c].hi[0] = out[c].lo[0];
 }
 
 /* The components the multigrid does not cover: left out of this solve
@@ -718,26 +709,24 @@ static double components_norm2(const struct viscous_solver *s, double *const f[3
  * at 70 x 100: 1.4e-14 and 2.5e-14 of the largest right-hand sides, 16.5
  * and 33) exceeded a tenth of the tolerance times the right-hand side
  * (9.6e-14), and with their line blocks GMRES stalled at its cap (0.97). */
-static void gmg_others(struct viscous_solver *s, const struct viscous_problem *pb, double negligible,
-                       double bnorm)
+static void gmg_others(struct viscous_solver *s, const struct viscous_problem *pb,
+                       double negligible, double bnorm)
 {
     const int covered = viscous_gmg_components(s->gmg), others = 7 & ~covered;
-    s->gmg_dropped = 0;
     s->gmg_mask = 7;
     s->gmg_scale = fmax(s->gmg_scale, bnorm);
     if (!others)
         return;
-    const double part = sqrt(components_norm2(s, s->r, others));
-    if (negligible >= 0.0 && part <= fmax(negligible, GMG_ROUNDOFF * s->gmg_scale)) {
-        s->gmg_dropped = 1;
+    struct box part[3];
+    masked_boxes(s, others, part);
+    if (negligible >= 0.0 && sqrt(kernel_dot(s->g, part, s->r, s->r)) <=
+                                 fmax(negligible, GMG_ROUNDOFF * s->gmg_scale)) {
         s->gmg_mask = covered;
         s->dropped = 1;
         return;
     }
     if (!s->gmg_lines) {
-        s->line_skip = 7 & ~others;
-        line_blocks(s, pb);
-        s->line_skip = 0;
+        line_blocks(s, pb, covered);
         s->gmg_lines = 1;
     }
 }
@@ -834,11 +823,12 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
             return 0;
         return fall_back(s, pb, sparse_direct_cause(s->direct));
     }
-    line_blocks(s, pb);
+    line_blocks(s, pb, 0);
     return 0;
 }
 
-static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb)
+/* skip: components (bits) left without blocks */
+static void line_blocks(struct viscous_solver *s, const struct viscous_problem *pb, int skip)
 {
     const struct grid *g = s->g;
     int L = s->line_dir;
@@ -851,7 +841,7 @@ static void line_blocks(struct viscous_solver *s, const struct viscous_problem *
     }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
-        if (b->nlines == 0 || (s->line_skip >> c & 1))
+        if (b->nlines == 0 || (skip >> c & 1))
             continue;
         for (int r = 0; r < PROBES; r++) {
             zero_fields(g, s->p);
@@ -922,15 +912,9 @@ static void precondition_apply(struct viscous_solver *s, double *const r[3], dou
         return;
     }
     int skip = 0;
-    if (s->gmg_ok) {
+    if (s->gmg_ok) { /* the multigrid's components, and those left out of the solve */
         viscous_gmg_apply(s->gmg, r, z);
-        skip = viscous_gmg_components(s->gmg);
-        if (s->gmg_dropped) { /* the other components are left out of this solve */
-            for (int c = 0; c < 3; c++)
-                if (!(skip >> c & 1))
-                    memset(z[c], 0, s->g->size * sizeof(double));
-            return;
-        }
+        skip = viscous_gmg_components(s->gmg) | (7 & ~s->gmg_mask);
     }
     for (int c = 0; c < 3; c++) {
         struct line_blocks *b = &s->blk[c];
@@ -1055,6 +1039,27 @@ static int gmres(struct viscous_solver *s, const struct viscous_problem *pb, dou
 static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                  double *x[3], double rtol, int maxit, struct viscous_stats *st);
 
+/* The probed LU of the full tangent takes over from a multigrid (named in
+ * the cause) whose GMRES ended with rc: the factorisation is created (its
+ * probing learns its own pattern) and made by the next
+ * viscous_precondition, the fallback counted with its cause.  Returns 0, or
+ * -1 (no memory: the multigrid stays, the caller releases nothing). */
+static int lu_takes_over(struct viscous_solver *s, const char *multigrid, int rc, int maxit)
+{
+    char err[160];
+    if (!s->direct && create_direct(s, 1, err, sizeof err) != 0)
+        return -1;
+    s->probe_components = 7;
+    s->info.kind = VISCOUS_LU;
+    s->info.fallbacks++;
+    if (rc == 1)
+        snprintf(s->info.cause, sizeof s->info.cause,
+                 "the %s's GMRES reached its cap of %d iterations", multigrid, maxit);
+    else
+        snprintf(s->info.cause, sizeof s->info.cause, "the %s's GMRES broke down", multigrid);
+    return 0;
+}
+
 /* The AMG gives way to the probed sparse LU of the same full tangent: its
  * GMRES failed (its cap, or a breakdown) on a fresh hierarchy.  Measured: the circular duct
  * at 80 x 160 from rest (38,400 unknowns with a body, where auto took the
@@ -1065,23 +1070,13 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
  * -1 (no memory: the AMG stays). */
 static int retire_amg(struct viscous_solver *s, int rc, int maxit)
 {
-    char err[160];
-    if (!s->direct && create_direct(s, 1, err, sizeof err) != 0)
+    if (lu_takes_over(s, "algebraic multigrid", rc, maxit) != 0)
         return -1;
     amg_hypre_release(s->amg);
     csr_free(&s->amat);
     free_gmres(s);
     s->amg_ok = 0;
     s->amg_retired = 1;
-    s->probe_components = 7; /* the LU's probing learns its own pattern */
-    s->info.kind = VISCOUS_LU;
-    s->info.fallbacks++;
-    if (rc == 1)
-        snprintf(s->info.cause, sizeof s->info.cause,
-                 "the algebraic multigrid's GMRES reached its cap of %d iterations", maxit);
-    else
-        snprintf(s->info.cause, sizeof s->info.cause,
-                 "the algebraic multigrid's GMRES broke down");
     return 0;
 }
 
@@ -1095,8 +1090,7 @@ static int retire_amg(struct viscous_solver *s, int rc, int maxit)
  * multigrid stays). */
 static int retire_gmg(struct viscous_solver *s, int rc, int maxit)
 {
-    char err[160];
-    if (!s->direct && create_direct(s, 1, err, sizeof err) != 0)
+    if (lu_takes_over(s, "geometric multigrid", rc, maxit) != 0)
         return -1;
     viscous_gmg_destroy(s->gmg);
     s->gmg = NULL;
@@ -1105,13 +1099,6 @@ static int retire_gmg(struct viscous_solver *s, int rc, int maxit)
         gmres_destroy(s->gmg_gm[k]);
         s->gmg_gm[k] = NULL;
     }
-    s->probe_components = 7;
-    s->info.kind = VISCOUS_LU;
-    s->info.fallbacks++;
-    snprintf(s->info.cause, sizeof s->info.cause,
-             rc == 1 ? "the geometric multigrid's GMRES reached its cap of %d iterations"
-                     : "the geometric multigrid's GMRES broke down (cap %d)",
-             maxit);
     return 0;
 }
 
@@ -1217,13 +1204,12 @@ static void gmg_gmres_operator(void *ctx, const double *x, double *y)
     const struct gmg_ctx *c = ctx;
     struct viscous_solver *s = c->s;
     gmg_move(s, s->z, (double *)x, 0); /* the components left out stay 0 */
-    struct box act[3];
-    memcpy(act, s->act, sizeof act);
-    for (int k = 0; k < 3; k++)
-        if (!(s->gmg_mask >> k & 1))
-            s->act[k].hi[0] = s->act[k].lo[0];
+    struct box kept[3], part[3];
+    masked_boxes(s, s->gmg_mask, part);
+    memcpy(kept, s->act, sizeof kept);
+    memcpy(s->act, part, sizeof part);
     viscous_apply(s, c->pb, s->z, s->q);
-    memcpy(s->act, act, sizeof act);
+    memcpy(s->act, kept, sizeof kept);
     gmg_move(s, s->q, y, 1);
 }
 
