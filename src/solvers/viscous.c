@@ -1191,17 +1191,12 @@ static void gmg_move(const struct viscous_solver *s, double *f[3], double *v, in
     }
 }
 
-struct gmg_ctx {
-    struct viscous_solver *s;
-    const struct viscous_problem *pb;
-};
-
 /* The operator's rows of the mask's components only: the kernels write the
  * boxes act[c], which are emptied for the others while it runs (their rows
  * are not gathered; on the heap two thirds of the stress divergence). */
 static void gmg_gmres_operator(void *ctx, const double *x, double *y)
 {
-    const struct gmg_ctx *c = ctx;
+    const struct gmres_ctx *c = ctx;
     struct viscous_solver *s = c->s;
     gmg_move(s, s->z, (double *)x, 0); /* the components left out stay 0 */
     struct box kept[3], part[3];
@@ -1215,7 +1210,7 @@ static void gmg_gmres_operator(void *ctx, const double *x, double *y)
 
 static void gmg_gmres_precondition(void *ctx, const double *x, double *y)
 {
-    const struct gmg_ctx *c = ctx;
+    const struct gmres_ctx *c = ctx;
     gmg_move(c->s, c->s->p, (double *)x, 0);
     precondition_apply(c->s, c->s->p, c->s->q); /* the multigrid, the others' line blocks */
     gmg_move(c->s, c->s->q, y, 1);
@@ -1235,7 +1230,7 @@ static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb,
             return -1;
     }
     zero_fields(s->g, s->z);
-    struct gmg_ctx ctx = {s, pb};
+    struct gmres_ctx ctx = {s, pb};
     struct gmres_stats gs;
     gmg_move(s, s->r, s->gmg_b, 1);
     memset(s->gmg_x, 0, (size_t)n * sizeof(double));
