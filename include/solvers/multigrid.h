@@ -99,6 +99,21 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 int multigrid_set_operator(struct multigrid *mg, double *const a[3], const double *mass,
                            char *err, size_t errlen);
 
+/* Adds a mixed-derivative term to L on the levels that are smoothed (the
+ * coarsest level's direct solve leaves it out): for the two bounded
+ * directions d1, d2,
+ *   d_d1(k1 <d_d2 phi>) + d_d2(k2 <d_d1 phi>),
+ * k1 on the faces of d1 and k2 on those of d2 (field arrays; boundary faces
+ * are not read), <d_e phi> at a face the mean of the four differences along
+ * e around it.  It is the cross term of an anisotropic coefficient whose
+ * principal directions turn over the domain (the viscous tangent of a
+ * shear-thinning law); the smoothers take it with the values before each
+ * line's update.  Coarse faces take the mean of the fine faces they
+ * coincide with.  Call after multigrid_set_operator (which does not clear
+ * it); k1 or k2 NULL removes it.  Returns 0, or -1 with a message. */
+int multigrid_set_mixed(struct multigrid *mg, int d1, int d2, const double *k1, const double *k2,
+                        char *err, size_t errlen);
+
 #define MULTIGRID_HISTORY 64
 
 struct multigrid_stats {

@@ -43,6 +43,11 @@ struct viscous_gmg_operator {
     const double *mass_face[3];
     double mass;
     const double *augmentation;
+    /* Newton's full tangent (viscous.h): the edges' b and the velocity it is
+     * taken at (ghosts filled), or NULL: its cross term between the two
+     * bounded directions of a cross-section enters the multigrid */
+    const double *b_edge[3];
+    double *const *base;
 };
 
 /* Why a grid of n cells with these conditions cannot take the multigrid

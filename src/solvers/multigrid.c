@@ -101,6 +101,12 @@ struct level {
     int *pi[3];
     double *pw[3];
     int par;               /* run the loops of this level with OpenMP */
+    /* the mixed-derivative term (multigrid_set_mixed) of directions md[0],
+     * md[1]: km[t] on the faces of md[t], the coefficient of the mean
+     * gradient along the other direction there; NULL: none (kbuf holds it) */
+    const double *km[2];
+    double *kbuf[2];
+    int md[2];
 };
 
 struct coarse_direct {
@@ -130,6 +136,8 @@ struct multigrid {
     long live;                     /* live cells of level 0 */
     int line_dirs[3], nline_dirs;  /* MG_SMOOTH_LINES: the directions of its lines */
     int ready;                     /* coefficients set */
+    double *mxbuf;                 /* the lines' mixed terms, per thread (multigrid_set_mixed) */
+    int mxlen;                     /* the longest line */
     double partial[MAX_THREADS * PAD];
 };
 
@@ -365,6 +373,25 @@ cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
     return lv->m ? D + lv->m[p] : D;
 }
 
+/* The mixed-derivative term's part of (L x)_p: along each of the two
+ * directions, the difference of the fluxes km (mean gradient across) on the
+ * cell's two faces; the mean gradient across a face is that of the four
+ * faces of the other direction around it.  km is 0 on boundary faces, so
+ * no corner ghost is read with a weight. */
+static inline __attribute__((always_inline)) double mixed_row(const struct level *lv,
+                                                              const double *x, ptrdiff_t p)
+{
+    const ptrdiff_t s1 = lv->g.stride[lv->md[0]], s2 = lv->g.stride[lv->md[1]];
+    const double *k1 = lv->km[0], *k2 = lv->km[1];
+    const double q = 0.25 / (lv->g.h[lv->md[0]] * lv->g.h[lv->md[1]]);
+    const double d2 = x[p + s2] - x[p - s2], d1 = x[p + s1] - x[p - s1];
+    const double f1 = k1[p + s1] * (d2 + x[p + s1 + s2] - x[p + s1 - s2]) -
+                      k1[p] * (d2 + x[p - s1 + s2] - x[p - s1 - s2]);
+    const double f2 = k2[p + s2] * (d1 + x[p + s2 + s1] - x[p + s2 - s1]) -
+                      k2[p] * (d1 + x[p - s2 + s1] - x[p - s2 - s1]);
+    return q * (f1 + f2);
+}
+
 /* One red-black half sweep of Gauss-Seidel: the cells with (i+j+k) % 2 == colour
  * solve their own row with the neighbours' current values (ghosts filled in
  * HALO_OPERATOR mode before the call).  Dead cells are set to 0. */
@@ -383,8 +410,10 @@ static void smooth_colour(const struct level *lv, int colour)
                 const ptrdiff_t p = row + k;
                 double w[6];
                 const double D = cell_weights(lv, p, w);
-                const double S = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
-                                 w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1];
+                double S = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
+                           w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1];
+                if (lv->km[0])
+                    S += mixed_row(lv, x, p);
                 x[p] = D > 0.0 ? (S - b[p]) / D : 0.0;
             }
         }
@@ -412,7 +441,8 @@ static inline ptrdiff_t line_start(const struct grid *g, int d, int e1, int e2, 
  * Thomas factors (line_factors) are the level's: the forward pass keeps its
  * values in x itself, which the line's own rows do not read. */
 static inline __attribute__((always_inline)) void
-smooth_lines_body(const struct level *lv, int k, int d, int colour, const int across1)
+smooth_lines_body(const struct level *lv, int k, int d, int colour, const int across1,
+                  double *mxbuf, int mxlen)
 {
     const struct grid *g = &lv->g;
     const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
@@ -429,12 +459,20 @@ smooth_lines_body(const struct level *lv, int k, int d, int colour, const int ac
             if (((u + v) & 1) != colour)
                 continue;
             const ptrdiff_t p0 = line_start(g, d, e1, e2, u, v);
+            /* the mixed term from the values before the line's update (its
+             * own nodes are overwritten by the forward pass) */
+            double *mx = lv->km[0] ? mxbuf + (size_t)thread_id() * (size_t)mxlen : NULL;
+            if (mx)
+                for (int t = 0; t < n; t++)
+                    mx[t] = mixed_row(lv, x, p0 + (ptrdiff_t)t * sd);
             double prev = 0.0;
             for (int t = 0; t < n; t++) {
                 const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
                 double S = h2 * (a2[p] * x[p - s2] + a2[p + s2] * x[p + s2]) - b[p];
                 if (across1)
                     S += h1 * (a1[p] * x[p - s1] + a1[p + s1] * x[p + s1]);
+                if (mx)
+                    S += mx[t];
                 prev = x[p] = (S + hd * ad[p] * prev) * inv[p];
             }
             double next = 0.0;
@@ -453,9 +491,9 @@ static void smooth_lines(const struct multigrid *mg, const struct level *lv, int
 {
     const int e1 = d == 0 ? 1 : 0;
     if (mg->periodic[e1] && lv->g.n[e1] == 1)
-        smooth_lines_body(lv, k, d, colour, 0);
+        smooth_lines_body(lv, k, d, colour, 0, mg->mxbuf, mg->mxlen);
     else
-        smooth_lines_body(lv, k, d, colour, 1);
+        smooth_lines_body(lv, k, d, colour, 1, mg->mxbuf, mg->mxlen);
 }
 
 /* The Thomas factors of every line along the k-th line direction d of level
@@ -507,8 +545,10 @@ static void residual(const struct level *lv, const double *x, const double *b, d
                 const ptrdiff_t p = row + k;
                 double w[6];
                 const double D = cell_weights(lv, p, w);
-                const double Lx = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
-                                  w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1] - D * x[p];
+                double Lx = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
+                            w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1] - D * x[p];
+                if (lv->km[0])
+                    Lx += mixed_row(lv, x, p);
                 const double bb = b ? b[p] - shift : 0.0;
                 r[p] = D > 0.0 ? bb + sign * Lx : 0.0;
             }
@@ -1074,6 +1114,8 @@ static void level_free(struct level *lv, int owns_xb)
         field_free(lv->pw[d]);
     }
     free(lv->live);
+    field_free(lv->kbuf[0]);
+    field_free(lv->kbuf[1]);
     field_free(lv->r);
     field_free(lv->bbuf);
     if (owns_xb)
@@ -1086,6 +1128,7 @@ void multigrid_destroy(struct multigrid *mg)
         return;
     for (int l = 0; l < mg->nlev; l++)
         level_free(&mg->lev[l], l > 0);
+    free(mg->mxbuf);
     struct coarse_direct *cs = &mg->cs;
     if (cs->started) {
         suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
@@ -1311,6 +1354,102 @@ static int set_mass(struct multigrid *mg, const double *mass, char *err, size_t 
     }
     for (int l = 0; l < mg->nlev; l++)
         mg->lev[l].m = mg->lev[l].mbuf;
+    return 0;
+}
+
+/* Face array km of direction d on level c from level f: the mean of the
+ * fine faces each coarse face coincides with (boundary faces 0). */
+static void coarsen_mixed(const struct level *f, struct level *c, int t)
+{
+    const int d = c->md[t], e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+    const struct grid *gf = &f->g, *gc = &c->g;
+    const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1, halved = c->coarse[d];
+    const double inv = 1.0 / (n1 * n2);
+    double *ck = c->kbuf[t];
+    for (int I = 0; I < gc->n[0]; I++)
+        for (int J = 0; J < gc->n[1]; J++)
+            for (int K = 0; K < gc->n[2]; K++) {
+                const int cc[3] = {I, J, K};
+                double sum = 0.0;
+                for (int a = 0; a < n1; a++)
+                    for (int b = 0; b < n2; b++) {
+                        int fc[3];
+                        fc[d] = halved ? 2 * cc[d] : cc[d];
+                        fc[e1] = n1 * cc[e1] + a;
+                        fc[e2] = n2 * cc[e2] + b;
+                        sum += f->km[t][grid_idx(gf, fc[0], fc[1], fc[2])];
+                    }
+                ck[grid_idx(gc, I, J, K)] = cc[d] == 0 ? 0.0 : sum * inv;
+            }
+}
+
+int multigrid_set_mixed(struct multigrid *mg, int d1, int d2, const double *k1, const double *k2,
+                        char *err, size_t errlen)
+{
+    for (int l = 0; l < mg->nlev; l++)
+        mg->lev[l].km[0] = mg->lev[l].km[1] = NULL;
+    if (!k1 || !k2)
+        return 0;
+    const struct grid *g = &mg->lev[0].g;
+    if (d1 == d2 || d1 < 0 || d1 > 2 || d2 < 0 || d2 > 2 || mg->periodic[d1] ||
+        mg->periodic[d2]) {
+        set_err(err, errlen, "multigrid: the mixed term needs two bounded directions");
+        return -1;
+    }
+    const int md[2] = {d1, d2};
+    int longest = 0;
+    for (int d = 0; d < 3; d++)
+        longest = g->n[d] > longest ? g->n[d] : longest;
+#ifdef _OPENMP
+    const int nt = omp_get_max_threads();
+#else
+    const int nt = 1;
+#endif
+    if (!mg->mxbuf) {
+        mg->mxlen = longest;
+        if (!(mg->mxbuf = malloc((size_t)longest * (size_t)nt * sizeof(double)))) {
+            set_err(err, errlen, "multigrid: out of memory (mixed term)");
+            return -1;
+        }
+    }
+    for (int l = 0; l < mg->nlev; l++) {
+        struct level *lv = &mg->lev[l];
+        for (int t = 0; t < 2; t++) {
+            lv->md[t] = md[t];
+            if (!lv->kbuf[t] && !(lv->kbuf[t] = field_alloc(&lv->g))) {
+                set_err(err, errlen, "multigrid: out of memory (mixed term)");
+                return -1;
+            }
+        }
+    }
+    struct level *l0 = &mg->lev[0];
+    for (int t = 0; t < 2; t++) {
+        const double *src = t ? k2 : k1;
+        const int d = md[t], n = g->n[d];
+        for (size_t p = 0; p < g->size; p++)
+            l0->kbuf[t][p] = 0.0;
+        for (int i = 0; i < g->n[0]; i++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int k = 0; k < g->n[2]; k++) {
+                    const int c[3] = {i, j, k};
+                    const ptrdiff_t p = grid_idx(g, i, j, k);
+                    if (c[d] == 0 || c[d] == n)
+                        continue;
+                    if (!isfinite(src[p])) {
+                        set_err(err, errlen, "multigrid: mixed coefficient %g on face (%d,%d,%d)",
+                                src[p], i, j, k);
+                        return -1;
+                    }
+                    l0->kbuf[t][p] = src[p];
+                }
+        l0->km[t] = l0->kbuf[t];
+    }
+    for (int l = 1; l < mg->nlev; l++)
+        for (int t = 0; t < 2; t++) {
+            struct level *c = &mg->lev[l];
+            c->km[t] = c->kbuf[t];
+            coarsen_mixed(&mg->lev[l - 1], c, t);
+        }
     return 0;
 }
 

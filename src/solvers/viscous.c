@@ -664,7 +664,9 @@ static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
         op.A_cell[a] = pb->b_cell && pb->sym_cell[a] ? pb->sym_cell[a] : pb->A_cell[a];
         op.A_edge[a] = pb->b_cell && pb->sym_edge[a] ? pb->sym_edge[a] : pb->A_edge[a];
         op.mass_face[a] = pb->mass_face[a];
+        op.b_edge[a] = pb->b_cell ? pb->b_edge[a] : NULL;
     }
+    op.base = pb->b_cell ? pb->base : NULL;
     char why[160];
     s->gmg_ok = !pb->embedded && viscous_gmg_setup(s->gmg, &op, why, sizeof why) == 0;
     s->info.setup_seconds = cpu_now() - t0;

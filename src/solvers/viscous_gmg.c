@@ -15,6 +15,7 @@ struct viscous_gmg {
     const struct grid *g;
     struct multigrid *mg[3];     /* NULL: component not covered */
     double *a[3], *mass;         /* the block's face coefficients and mass, set-up work */
+    double *km[2];               /* the tangent's cross term (mixed_coefficients) */
 };
 
 const char *viscous_gmg_refusal(const int n[3], const struct boundary *bc)
@@ -58,6 +59,8 @@ void viscous_gmg_destroy(struct viscous_gmg *m)
         multigrid_destroy(m->mg[c]);
         field_free(m->a[c]);
     }
+    field_free(m->km[0]);
+    field_free(m->km[1]);
     field_free(m->mass);
     free(m);
 }
@@ -138,7 +141,8 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
             return -1;
         }
     }
-    int ok = (m->mass = field_alloc(g)) != NULL;
+    int ok = (m->mass = field_alloc(g)) != NULL && (m->km[0] = field_alloc(g)) != NULL &&
+             (m->km[1] = field_alloc(g)) != NULL;
     for (int d = 0; d < 3; d++)
         ok &= (m->a[d] = field_alloc(g)) != NULL;
     if (!ok) {
@@ -170,6 +174,57 @@ static void block_coefficients(struct viscous_gmg *m, const struct viscous_gmg_o
             memcpy(m->a[e], op->A_edge[3 - c - e], g->size * sizeof(double));
 }
 
+/* gamma_cd of the velocity u on the edge of plane 3-c-d at index p (the
+ * low d-face of cell p along d, the low c-face along c) */
+static inline double edge_shear(const struct grid *g, double *const u[3], int c, int d,
+                                ptrdiff_t p)
+{
+    return (u[c][p] - u[c][p - g->stride[d]]) / g->h[d] +
+           (u[d][p] - u[d][p - g->stride[c]]) / g->h[c];
+}
+
+/* The full tangent's cross term in component c's block on a cross-section
+ * (c along its one-cell periodic direction, d1 < d2 the bounded ones): the
+ * edge stress gamma_cd1 carries b gamma_cd1 d|D|^2, whose part from the
+ * other shear is 2 mean4(gamma_cd2 dgamma_cd2) (kernels.h); with the base
+ * strain's mean taken out of the sum, k1 = 2 b gamma_cd1 mean4(gamma_cd2)
+ * multiplies the mean gradient along d2, and k2 alike.  Returns 0 when the
+ * block has no such term (no tangent, or not a cross-section). */
+static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_operator *op, int c,
+                              int *d1, int *d2)
+{
+    const struct grid *g = m->g;
+    if (!op->base || !op->b_edge[0] || g->n[c] != 1)
+        return 0;
+    *d1 = c == 0 ? 1 : 0;
+    *d2 = c == 2 ? 1 : 2;
+    if (g->n[*d1] < 2 || g->n[*d2] < 2)
+        return 0;
+    for (int t = 0; t < 2; t++) {
+        const int d = t ? *d2 : *d1, e = t ? *d1 : *d2;
+        const ptrdiff_t sd = g->stride[d], se = g->stride[e];
+        const double *b = op->b_edge[3 - c - d];
+        double *k = m->km[t];
+        int hi[3] = {g->n[0], g->n[1], g->n[2]};
+        hi[d] = g->n[d] - 1; /* interior faces 1 .. n-1 */
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
+        for (int i = 0; i < hi[0]; i++)
+            for (int j = 0; j < hi[1]; j++)
+                for (int l = 0; l < hi[2]; l++) {
+                    int q[3] = {i, j, l};
+                    q[d] += 1;
+                    const ptrdiff_t p = grid_idx(g, q[0], q[1], q[2]);
+                    const double across =
+                        0.25 * (edge_shear(g, op->base, c, e, p) +
+                                edge_shear(g, op->base, c, e, p + se) +
+                                edge_shear(g, op->base, c, e, p - sd) +
+                                edge_shear(g, op->base, c, e, p - sd + se));
+                    k[p] = 2.0 * b[p] * edge_shear(g, op->base, c, d, p) * across;
+                }
+    }
+    return 1;
+}
+
 int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *op, char *err,
                       size_t errlen)
 {
@@ -178,7 +233,11 @@ int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *
             continue;
         block_coefficients(m, op, c);
         char why[200];
-        if (multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why) != 0) {
+        int d1 = 0, d2 = 0;
+        const int mixed = mixed_coefficients(m, op, c, &d1, &d2);
+        if (multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why) != 0 ||
+            multigrid_set_mixed(m->mg[c], d1, d2, mixed ? m->km[0] : NULL,
+                                mixed ? m->km[1] : NULL, why, sizeof why) != 0) {
             snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
                      "xyz"[c], why);
             return -1;
