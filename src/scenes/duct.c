@@ -302,6 +302,7 @@ const struct scene scene_duct = {
     .modules = duct_modules,
     .check = check,
     .setup = setup,
+    .cross_section_flow = 1,
     .profile_axis = 2,
     .profile_component = 0,
     .profile_slab = midplane,

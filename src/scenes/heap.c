@@ -293,6 +293,7 @@ const struct scene scene_heap = {
     .title = "surface flow on a heap between rough side walls (tilt for a flow rate)",
     .keys = &heap_block,
     .check = check,
+    .cross_section_flow = 1,
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,
