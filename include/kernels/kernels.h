@@ -81,6 +81,23 @@ void kernel_tangent_cells(const struct grid *g, const double *pn, double *const 
 void kernel_tangent_edges(const struct grid *g, const double *pn, double *const pe[3],
                           double *const b_e[3], double *B_e[3]);
 
+/* The implicit operator, mass v - div tau(v), for a v whose only nonzero
+ * component is c, along the grid's periodic direction of one cell (the
+ * flow of a cross-section: viscous.c's solve of that component alone), on
+ * uniform cells: what kernel_stress_divergence and the tangent's terms
+ * (kernel_strain_products, kernel_tangent_edges, with the base velocity
+ * base and the edges' b_edge; NULL: Picard) give for such a v, in three
+ * passes over the cross-section instead of the general path's dozen over
+ * every component and plane; the same sums up to rounding.  v's ghosts
+ * filled; A_edge and b_edge as viscous.h; mass_face NULL: the scalar mass.
+ * pe and S are work arrays (the two shear planes' strain products and
+ * stresses); out is written on the cross-section's cells (index 0 along
+ * c). */
+void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
+                       const double *const A_edge[3], const double *const b_edge[3],
+                       const double *mass_face, double mass, double *pe[2], double *S[2],
+                       double *out);
+
 /* out_c = [div tau]_c on the faces of act[c] (zero elsewhere), with
  * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)
  * on the edges of plane c.  With the viscosities and v = u this is the stress

@@ -1,0 +1,84 @@
+/* The implicit operator's block of the flow component of a cross-section
+ * (kernels.h, kernel_flow_block). */
+#include "kernels/kernels.h"
+#include "stencil.h"
+
+/* The products gamma(base) gamma(v) on the edges of the shear plane of c
+ * and d (its index 3 - c - d), as kernel_strain_products computes them:
+ * face indices along c and d, cells -1 .. n along the third direction e;
+ * the flow component is the only one of v (its index along c is 0). */
+static void plane_products(const struct grid *g, int c, int d, double *const base[3],
+                           const double *v, double *pe)
+{
+    const int e = 3 - c - d;
+    const ptrdiff_t od = g->stride[d], oe = g->stride[e];
+    const double hd = g->h[d];
+    int lo, hi;
+    plane_dirs(e, &lo, &hi);
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int j = 0; j <= g->n[d]; j++)
+        for (int k = -1; k <= g->n[e]; k++) {
+            const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
+            const double gb = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi],
+                                         g->h[lo], g->h[hi]);
+            /* gamma_cd(v): v_c's difference along d (v_d is 0) */
+            pe[p] = gb * ((v[p] - v[p - od]) / hd);
+        }
+}
+
+/* The shear stress of the tangent on the edges of the plane of c and d: the
+ * viscosity's part A gamma(v), and b gamma(base) d(|D|^2)[v], whose d is
+ * 2 pe of the edge and 2 the mean of the other plane's pe around it
+ * (kernel_tangent_edges: the normal strains and the third plane's products
+ * vanish for a v along c alone). */
+static void plane_stress(const struct grid *g, int c, int d, double *const base[3],
+                         const double *v, const double *A, const double *b, const double *pe,
+                         const double *pe_other, double *S)
+{
+    const int e = 3 - c - d;
+    const ptrdiff_t od = g->stride[d], oe = g->stride[e];
+    const double ihd = 1.0 / g->h[d];
+    int lo, hi;
+    plane_dirs(e, &lo, &hi);
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int j = 0; j <= g->n[d]; j++)
+        for (int k = 0; k < g->n[e]; k++) {
+            const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
+            double s = A[p] * ((v[p] - v[p - od]) * ihd);
+            if (b) {
+                const double dD = 2.0 * pe[p] + 2.0 * mean4(pe_other, p + oe, oe, od);
+                const double gb = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi],
+                                             g->h[lo], g->h[hi]);
+                s += b[p] * dD * gb;
+            }
+            S[p] = s;
+        }
+}
+
+void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
+                       const double *const A_edge[3], const double *const b_edge[3],
+                       const double *mass_face, double mass, double *pe[2], double *S[2],
+                       double *out)
+{
+    const int a = c == 0 ? 1 : 0, b = c == 2 ? 1 : 2;
+    const int dirs[2] = {a, b};
+    if (b_edge) {
+        for (int t = 0; t < 2; t++)
+            plane_products(g, c, dirs[t], base, v, pe[t]);
+    }
+    for (int t = 0; t < 2; t++) {
+        const int d = dirs[t], plane = 3 - c - d;
+        plane_stress(g, c, d, base, v, A_edge[plane], b_edge ? b_edge[plane] : NULL, pe[t],
+                     pe[1 - t], S[t]);
+    }
+    const ptrdiff_t oa = g->stride[a], ob = g->stride[b];
+    const double iha = 1.0 / g->h[a], ihb = 1.0 / g->h[b];
+    const double *Sa = S[0], *Sb = S[1];
+#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+    for (int j = 0; j < g->n[a]; j++)
+        for (int k = 0; k < g->n[b]; k++) {
+            const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * oa + (ptrdiff_t)k * ob;
+            const double div = (Sa[p + oa] - Sa[p]) * iha + (Sb[p + ob] - Sb[p]) * ihb;
+            out[p] = (mass_face ? mass_face[p] : mass) * v[p] - div;
+        }
+}
