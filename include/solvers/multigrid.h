@@ -67,6 +67,10 @@ struct multigrid_options {
     long coarse_cells;      /* stop coarsening at or below this many cells */
     int gamma;              /* coarse visits per level: 1 V-cycle, 2 W-cycle */
     enum multigrid_smoother smoother;
+    int full_coarsening;    /* 1: halve every even direction, whatever the cells' aspect
+                               ratio (with MG_SMOOTH_LINES, whose lines take the
+                               anisotropy); 0: only the directions within 1.5 times
+                               the finest spacing */
 };
 
 /* The defaults chosen by measurement: W(2,2), flux prolongation, coincident

@@ -133,6 +133,7 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
          * (docs/design.md, "Geometric multigrid for the implicit step") */
         opt.smoother = MG_SMOOTH_LINES;
         opt.pre = opt.post = 1;
+        opt.full_coarsening = 1;
         if (multigrid_create(&m->mg[c], g, (const enum poisson_bc(*)[2])pbc, &opt, why,
                              sizeof why) != 0) {
             snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
