@@ -51,6 +51,13 @@ void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *v
  * it solves for; the projection then corrects it, stage_projection.c). */
 void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3]);
 
+/* bc_fill_velocity_homogeneous's ghosts of component c alone, across the
+ * two directions other than c (a cross-section's flow component along its
+ * one-cell periodic direction: what kernel_flow_block reads; the two
+ * ghost planes along c are whole planes of the layout). */
+void bc_fill_increment_component(const struct grid *g, const struct boundary *bc, double *vel[3],
+                                 int c);
+
 /* The increment's fill with the open faces' normal increments given (kept
  * as they are): the operator's response to an open face's own increment
  * (the coupled step's columns of it, stage_coupled.c). */

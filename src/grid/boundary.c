@@ -101,12 +101,18 @@ static void inflow_plane(const struct grid *g, const struct boundary *bc, int d,
  * whose open faces' normal components are given (kept as they are). */
 enum fill_mode { FILL_STATE, FILL_INCREMENT, FILL_INCREMENT_OPEN_GIVEN };
 
+/* The ghosts of the components of comps (bits) across the directions of
+ * dirs (bits). */
 static void fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3],
-                          enum fill_mode mode)
+                          enum fill_mode mode, int comps, int dirs)
 {
     for (int d = 0; d < 3; d++) {
+        if (!(dirs >> d & 1))
+            continue;
         int n = g->n[d];
         for (int c = 0; c < 3; c++) {
+            if (!(comps >> c & 1))
+                continue;
             double *f = vel[c];
             if (bc->face[d][0] == BC_PERIODIC) {
                 /* faces and cells alike: slot -1 is n-1, slot n is 0 */
@@ -156,17 +162,23 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
 
 void bc_fill_velocity(const struct grid *g, const struct boundary *bc, double *vel[3])
 {
-    fill_velocity(g, bc, vel, FILL_STATE);
+    fill_velocity(g, bc, vel, FILL_STATE, 7, 7);
 }
 
 void bc_fill_velocity_homogeneous(const struct grid *g, const struct boundary *bc, double *vel[3])
 {
-    fill_velocity(g, bc, vel, FILL_INCREMENT);
+    fill_velocity(g, bc, vel, FILL_INCREMENT, 7, 7);
+}
+
+void bc_fill_increment_component(const struct grid *g, const struct boundary *bc, double *vel[3],
+                                 int c)
+{
+    fill_velocity(g, bc, vel, FILL_INCREMENT, 1 << c, 7 & ~(1 << c));
 }
 
 void bc_fill_velocity_open_given(const struct grid *g, const struct boundary *bc, double *vel[3])
 {
-    fill_velocity(g, bc, vel, FILL_INCREMENT_OPEN_GIVEN);
+    fill_velocity(g, bc, vel, FILL_INCREMENT_OPEN_GIVEN, 7, 7);
 }
 
 /* Cell ghosts: periodic images, else the interior value mirrored with the

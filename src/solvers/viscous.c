@@ -1217,7 +1217,7 @@ static void gmg_gmres_operator(void *ctx, const double *x, double *y)
     if (flow_block_serves(s, c->pb)) {
         const struct viscous_problem *pb = c->pb;
         const int k = __builtin_ctz((unsigned)s->gmg_mask);
-        bc_fill_velocity_homogeneous(s->g, s->bc, s->z);
+        bc_fill_increment_component(s->g, s->bc, s->z, k);
         double *pe[2] = {s->pe[0], s->pe[1]}, *S[2] = {s->tmp[0], s->tmp[1]};
         kernel_flow_block(s->g, k, pb->base, s->z[k], pb->A_edge,
                           pb->b_cell ? pb->b_edge : NULL, pb->mass_face[k], pb->mass, pe, S,
