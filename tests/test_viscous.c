@@ -1146,6 +1146,9 @@ static void test_auto_choice(void **state)
     assert_int_equal(auto_choice("../cases/heap.ini", 3, fine), VISCOUS_GMG);
     char *duct80[] = {"domain.ny=80", "domain.nz=160"};
     assert_int_equal(auto_choice("../cases/duct_square.ini", 2, duct80), VISCOUS_GMG);
+    /* the duct's two-fluid model solves its pair itself: the Cholesky as before */
+    char *two_fluid[] = {"domain.ny=80", "domain.nz=160", "duct.model=two_fluid"};
+    assert_int_equal(auto_choice("../cases/duct_square.ini", 3, two_fluid), VISCOUS_CHOLESKY);
     /* not in a transient run, without Newton or with the augmentation (not
      * measured): the Cholesky of the diagonal tangent below 5e4 unknowns,
      * the AMG above it without the augmentation */

@@ -66,10 +66,11 @@ struct scene {
                                       sizes through grid_xc / grid_hc (a
                                       domain.<d>_band is allowed) */
     /* 1: the flow runs along the grid's periodic direction of one cell, the
-     * grid a cross-section of it (the heap, the ducts): solver.preconditioner
-     * = auto takes the implicit step's geometric multigrid for its steady
-     * Newton solves (march.c) */
-    int cross_section_flow;
+     * grid a cross-section of it, and the implicit step's solver solves it
+     * (the heap, the duct's mixed model): solver.preconditioner = auto takes
+     * the implicit step's geometric multigrid for its steady Newton solves
+     * (march.c); NULL: 0 */
+    int (*cross_section_flow)(const struct muflow_case *cs);
     int profile_axis, profile_component; /* -1: no profile */
     /* limits the profile to the faces and cells of index in [lo, hi] (both
      * inclusive) along profile_slab_axis (0: x, the cavity's mid-line; 1: y,

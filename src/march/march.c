@@ -247,7 +247,8 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * 5.7 s; the same steps and states.  Measured with Newton in steady
      * mode, without the augmentation and without a body (whose cut cells
      * it does not hold) */
-    if (case_scene(cs)->cross_section_flow && cs->newton && cs->mode == MODE_STEADY &&
+    const struct scene *sc = case_scene(cs);
+    if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton && cs->mode == MODE_STEADY &&
         wide == 2 && !(cs->augmentation > 0.0) && !obstacle_active(cs) &&
         !grid_stretched(&st->g) && !viscous_gmg_refusal(st->g.n, &st->bc))
         return VISCOUS_GMG;

@@ -292,6 +292,14 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
 }
 
 static const char *const duct_files[] = {"midplane.csv", NULL};
+/* The mixed model's flow along x is the implicit step's to solve; the
+ * two-fluid model solves its pair itself (bed_two_fluid.c), and with `gmg`
+ * the run took 10.9 s at 80 x 160 against 5.8 s with the Cholesky */
+static int along_x(const struct muflow_case *cs)
+{
+    return params(cs)->model == BEDLOAD_MIXED;
+}
+
 /* both models' modules: setup configures the one of duct.model, the other idles */
 static const struct module *const duct_modules[] = {&bed_module, &two_fluid_module, NULL};
 
@@ -302,7 +310,7 @@ const struct scene scene_duct = {
     .modules = duct_modules,
     .check = check,
     .setup = setup,
-    .cross_section_flow = 1,
+    .cross_section_flow = along_x,
     .profile_axis = 2,
     .profile_component = 0,
     .profile_slab = midplane,

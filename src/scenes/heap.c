@@ -288,12 +288,18 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
 
 static const char *const heap_files[] = {"heap.csv", NULL};
 
+static int along_x(const struct muflow_case *cs)
+{
+    (void)cs;
+    return 1;
+}
+
 const struct scene scene_heap = {
     .name = "heap",
     .title = "surface flow on a heap between rough side walls (tilt for a flow rate)",
     .keys = &heap_block,
     .check = check,
-    .cross_section_flow = 1,
+    .cross_section_flow = along_x,
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,
