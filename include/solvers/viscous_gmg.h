@@ -12,13 +12,16 @@
  * mass term: one W-cycle approximates the block's inverse.  The
  * coefficients are those the symmetric operator has (the viscosities, or
  * the diagonal tangent when Newton's full tangent is solved: the Cholesky
- * path's operator), and the Krylov method of the viscous step (CG, or
- * BiCGStab on the full tangent) solves the whole operator with it.  The
- * couplings between components (the transpose part of the strain, the full
- * tangent's b terms) are left to the Krylov method: in a flow along one
- * direction (the heap, the ducts, the profile scenes) they vanish.  The
- * other components (those along a bounded direction) are not covered here:
- * viscous.c gives them its line blocks.
+ * path's operator), plus, with Newton on a cross-section, the full
+ * tangent's cross term between the two bounded directions
+ * (multigrid_set_mixed: where the shear is oblique to the grid the
+ * tangent's principal directions are too); viscous.c's GMRES solves the
+ * whole operator with it.  The couplings between components (the transpose
+ * part of the strain, the full tangent's b terms across components) are
+ * left to GMRES: in a flow along one direction (the heap, the ducts, the
+ * profile scenes) they vanish.  The other components (those along a
+ * bounded direction) are not covered here: viscous.c gives them its line
+ * blocks.
  *
  * Conditions of a covered component on the faces across it: a wall or a
  * lid (the velocity held) is the multigrid's Dirichlet face, a slip wall or
@@ -36,7 +39,8 @@ struct viscous_gmg;
 /* The operator's coefficients for viscous_gmg_setup (field arrays of the
  * grid, ghosts filled): the normal-stress coefficients per cell, the shear
  * coefficients per edge plane, the mass per face (rho_f / dt) or the
- * scalar mass, the augmentation r per cell or NULL. */
+ * scalar mass, the augmentation r per cell or NULL, and for the cross term
+ * Newton's edge coefficients b and the velocity the tangent is taken at. */
 struct viscous_gmg_operator {
     const double *A_cell[3];
     const double *A_edge[3];
