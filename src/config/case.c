@@ -238,8 +238,8 @@ static const struct key keys[] = {
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
         "relative tolerance of the implicit viscous solve"),
     BOOL("solver", "inexact_newton", inexact_newton,
-         "steady Newton steps solved with amg: the linear tolerance follows the residual's "
-         "last decrease (Eisenstat-Walker), down to linear_tolerance"),
+         "steady Newton steps solved with amg, cholesky or gmg: the linear tolerance follows "
+         "the residual's last decrease (Eisenstat-Walker), down to linear_tolerance"),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
