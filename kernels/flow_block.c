@@ -15,7 +15,7 @@ static void plane_products(const struct grid *g, int c, int d, double *const bas
     const double hd = g->h[d];
     int lo, hi;
     plane_dirs(e, &lo, &hi);
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+#pragma omp for schedule(static) nowait
     for (int j = 0; j <= g->n[d]; j++)
         for (int k = -1; k <= g->n[e]; k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
@@ -40,7 +40,7 @@ static void plane_stress(const struct grid *g, int c, int d, double *const base[
     const double ihd = 1.0 / g->h[d];
     int lo, hi;
     plane_dirs(e, &lo, &hi);
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+#pragma omp for schedule(static) nowait
     for (int j = 0; j <= g->n[d]; j++)
         for (int k = 0; k < g->n[e]; k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
@@ -55,30 +55,45 @@ static void plane_stress(const struct grid *g, int c, int d, double *const base[
         }
 }
 
-void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
-                       const double *const A_edge[3], const double *const b_edge[3],
-                       const double *mass_face, double mass, double *pe[2], double *S[2],
-                       double *out)
+/* The three passes in one parallel region (a region's wake-up costs more
+ * than a pass over a cross-section of 28,000 cells): the products of both
+ * planes, a barrier, the stresses of both, a barrier, the divergence.  The
+ * loops are orphaned worksharing: plain loops outside a region. */
+static void flow_block_passes(const struct grid *g, int c, double *const base[3], const double *v,
+                              const double *const A_edge[3], const double *const b_edge[3],
+                              const double *mass_face, double mass, double *pe[2], double *S[2],
+                              double *out)
 {
     const int a = c == 0 ? 1 : 0, b = c == 2 ? 1 : 2;
     const int dirs[2] = {a, b};
     if (b_edge) {
         for (int t = 0; t < 2; t++)
             plane_products(g, c, dirs[t], base, v, pe[t]);
+#pragma omp barrier
     }
     for (int t = 0; t < 2; t++) {
         const int d = dirs[t], plane = 3 - c - d;
         plane_stress(g, c, d, base, v, A_edge[plane], b_edge ? b_edge[plane] : NULL, pe[t],
                      pe[1 - t], S[t]);
     }
+#pragma omp barrier
     const ptrdiff_t oa = g->stride[a], ob = g->stride[b];
     const double iha = 1.0 / g->h[a], ihb = 1.0 / g->h[b];
     const double *Sa = S[0], *Sb = S[1];
-#pragma omp parallel for schedule(static) if (kernel_parallel(g))
+#pragma omp for schedule(static)
     for (int j = 0; j < g->n[a]; j++)
         for (int k = 0; k < g->n[b]; k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * oa + (ptrdiff_t)k * ob;
             const double div = (Sa[p + oa] - Sa[p]) * iha + (Sb[p + ob] - Sb[p]) * ihb;
             out[p] = (mass_face ? mass_face[p] : mass) * v[p] - div;
         }
+}
+
+void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
+                       const double *const A_edge[3], const double *const b_edge[3],
+                       const double *mass_face, double mass, double *pe[2], double *S[2],
+                       double *out)
+{
+#pragma omp parallel if (kernel_parallel(g))
+    flow_block_passes(g, c, base, v, A_edge, b_edge, mass_face, mass, pe, S, out);
 }
