@@ -235,22 +235,24 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     int wide = 0;
     for (int d = 0; d < 3; d++)
         wide += st->g.n[d] > 2;
-    /* a flow along the one-cell periodic direction of a cross-section (the
-     * scene says so): the geometric multigrid of the implicit step, whose
-     * cycle has the tangent's cross term (docs/design.md, "Geometric
-     * multigrid for the implicit step"): at least as fast as every other
-     * kind at every size measured, whole steady solves on 2 threads, the
-     * heap at the tilt 0.4061 at 35 x 50 0.19 s against the Cholesky's
-     * 0.20 s, 70 x 100 0.80 against 1.55 s, 140 x 200 3.9 s against the
-     * AMG's 6.8 s and the LU's 8.1 s, the square duct at 20 x 40 0.11
-     * against 0.12 s, 80 x 160 1.9 against 3.8 s, 120 x 240 2.5 against
-     * 5.7 s; the same steps and states.  Measured with Newton in steady
-     * mode, without the augmentation and without a body (whose cut cells
-     * it does not hold) */
+    /* a flow along the one-cell periodic direction of a cross-section that
+     * the implicit step solves (the scene says so): the geometric multigrid
+     * of the implicit step, whose cycle has the tangent's cross term
+     * (docs/design.md, "Geometric multigrid for the implicit step"): at
+     * least as fast as every other kind at every size measured, whole
+     * steady solves on 2 threads, the heap at the tilt 0.4061 at 35 x 50
+     * 0.16 s against the Cholesky's 0.20 s, at 70 x 100 0.57 against
+     * 1.55 s, at 140 x 200 2.5 s against the AMG's 6.6 s and the LU's
+     * 8.2 s; the square duct at 20 x 40 0.10 against 0.12 s, at 80 x 160
+     * 1.65 against 3.29 s, at 120 x 240 1.90 s against the AMG's 5.15 s;
+     * the same steps and states.  Measured with Newton in steady mode,
+     * without the augmentation and without a body (whose cut cells it
+     * does not hold) */
     const struct scene *sc = case_scene(cs);
-    if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton && cs->mode == MODE_STEADY &&
-        wide == 2 && !(cs->augmentation > 0.0) && !obstacle_active(cs) &&
-        !grid_stretched(&st->g) && !viscous_gmg_refusal(st->g.n, &st->bc))
+    if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton &&
+        cs->mode == MODE_STEADY && wide == 2 && !(cs->augmentation > 0.0) &&
+        !obstacle_active(cs) && !grid_stretched(&st->g) &&
+        !viscous_gmg_refusal(st->g.n, &st->bc))
         return VISCOUS_GMG;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
