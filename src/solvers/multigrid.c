@@ -800,39 +800,48 @@ static double harmonic3(double a1, double a0, double a2)
  * harmonic3 of the three fine faces along the normal (harmonic mode, interior
  * faces of a halved direction) or the coincident fine face (otherwise, and on
  * boundary faces, whose folded-in conditions are linear in a). */
+/* The coarse face cc of direction d from the fine face array fa: the mean
+ * across it of the fine faces it coincides with, each replaced by harmonic3
+ * of the three fine faces along the normal when harmonic. */
+static inline double coarse_face_mean(const struct level *f, const struct level *c, int d,
+                                      const double *fa, const int cc[3], int harmonic)
+{
+    const struct grid *gf = &f->g;
+    const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+    const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1;
+    const ptrdiff_t sd = gf->stride[d];
+    double s = 0.0;
+    for (int p = 0; p < n1; p++)
+        for (int q = 0; q < n2; q++) {
+            int fc[3];
+            fc[d] = c->coarse[d] ? 2 * cc[d] : cc[d];
+            fc[e1] = n1 * cc[e1] + p;
+            fc[e2] = n2 * cc[e2] + q;
+            const ptrdiff_t pf = grid_idx(gf, fc[0], fc[1], fc[2]);
+            s += harmonic ? harmonic3(fa[pf - sd], fa[pf], fa[pf + sd]) : fa[pf];
+        }
+    return s * (1.0 / (n1 * n2));
+}
+
 static void coarsen_coefficients(const struct multigrid *mg, const struct level *f,
                                  struct level *c)
 {
-    const struct grid *gf = &f->g, *gc = &c->g;
+    const struct grid *gc = &c->g;
     for (int d = 0; d < 3; d++) {
-        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
-        const int nc = gc->n[d], per = mg->periodic[d], halved = c->coarse[d];
-        const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1;
-        const double inv = 1.0 / (n1 * n2);
+        const int nc = gc->n[d], per = mg->periodic[d];
         int hi[3] = {gc->n[0], gc->n[1], gc->n[2]};
         hi[d] = per ? nc : nc + 1;
         const double *fa = f->a[d];
         double *ca = c->a[d];
-        const ptrdiff_t sd = gf->stride[d];
-        const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && halved;
+        const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && c->coarse[d];
 #pragma omp parallel for collapse(2) schedule(static) if (c->par)
         for (int I = 0; I < hi[0]; I++)
             for (int J = 0; J < hi[1]; J++)
                 for (int K = 0; K < hi[2]; K++) {
                     const int cc[3] = {I, J, K};
                     const int boundary = !per && (cc[d] == 0 || cc[d] == nc);
-                    double s = 0.0;
-                    for (int p = 0; p < n1; p++)
-                        for (int q = 0; q < n2; q++) {
-                            int fc[3];
-                            fc[d] = halved ? 2 * cc[d] : cc[d];
-                            fc[e1] = n1 * cc[e1] + p;
-                            fc[e2] = n2 * cc[e2] + q;
-                            const ptrdiff_t pf = grid_idx(gf, fc[0], fc[1], fc[2]);
-                            s += harmonic && !boundary ? harmonic3(fa[pf - sd], fa[pf], fa[pf + sd])
-                                                       : fa[pf];
-                        }
-                    ca[grid_idx(gc, I, J, K)] = s * inv;
+                    ca[grid_idx(gc, I, J, K)] = coarse_face_mean(f, c, d, fa, cc,
+                                                                 harmonic && !boundary);
                 }
     }
 }
@@ -1368,25 +1377,15 @@ static int set_mass(struct multigrid *mg, const double *mass, char *err, size_t 
  * fine faces each coarse face coincides with (boundary faces 0). */
 static void coarsen_mixed(const struct level *f, struct level *c, int t)
 {
-    const int d = c->md[t], e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
-    const struct grid *gf = &f->g, *gc = &c->g;
-    const int n1 = c->coarse[e1] ? 2 : 1, n2 = c->coarse[e2] ? 2 : 1, halved = c->coarse[d];
-    const double inv = 1.0 / (n1 * n2);
+    const int d = c->md[t];
+    const struct grid *gc = &c->g;
     double *ck = c->kbuf[t];
     for (int I = 0; I < gc->n[0]; I++)
         for (int J = 0; J < gc->n[1]; J++)
             for (int K = 0; K < gc->n[2]; K++) {
                 const int cc[3] = {I, J, K};
-                double sum = 0.0;
-                for (int a = 0; a < n1; a++)
-                    for (int b = 0; b < n2; b++) {
-                        int fc[3];
-                        fc[d] = halved ? 2 * cc[d] : cc[d];
-                        fc[e1] = n1 * cc[e1] + a;
-                        fc[e2] = n2 * cc[e2] + b;
-                        sum += f->km[t][grid_idx(gf, fc[0], fc[1], fc[2])];
-                    }
-                ck[grid_idx(gc, I, J, K)] = cc[d] == 0 ? 0.0 : sum * inv;
+                ck[grid_idx(gc, I, J, K)] = cc[d] == 0 ? 0.0 : coarse_face_mean(f, c, d,
+                                                                              f->km[t], cc, 0);
             }
 }
 
