@@ -98,6 +98,17 @@ void kernel_flow_block(const struct grid *g, int c, double *const base[3], const
                        const double *mass_face, double mass, double *pe[2], double *S[2],
                        double *out);
 
+/* The full tangent's cross term in the block of that flow component c
+ * (multigrid_set_mixed's coefficients, viscous_gmg.c): the edge stress
+ * gamma_cd carries b gamma_cd d|D|^2, whose part from the other shear e is
+ * 2 mean4(gamma_ce dgamma_ce) over the four edges around it; with the base
+ * strain's mean taken out of the sum, k[t] = 2 b gamma_cd mean4(gamma_ce)
+ * on the interior faces of d, d the t-th of the two directions other than
+ * c (ascending), e the other.  base with filled ghosts; b_edge per edge
+ * plane as viscous.h. */
+void kernel_cross_coefficients(const struct grid *g, int c, double *const base[3],
+                               const double *const b_edge[3], double *k[2]);
+
 /* out_c = [div tau]_c on the faces of act[c] (zero elsewhere), with
  * tau_aa = A_cell[a] gamma_aa(v) at cells and tau_ab = A_edge[c] gamma_ab(v)
  * on the edges of plane c.  With the viscosities and v = u this is the stress

@@ -175,22 +175,10 @@ static void block_coefficients(struct viscous_gmg *m, const struct viscous_gmg_o
             memcpy(m->a[e], op->A_edge[3 - c - e], g->size * sizeof(double));
 }
 
-/* gamma_cd of the velocity u on the edge of plane 3-c-d at index p (the
- * low d-face of cell p along d, the low c-face along c) */
-static inline double edge_shear(const struct grid *g, double *const u[3], int c, int d,
-                                ptrdiff_t p)
-{
-    return (u[c][p] - u[c][p - g->stride[d]]) / g->h[d] +
-           (u[d][p] - u[d][p - g->stride[c]]) / g->h[c];
-}
-
 /* The full tangent's cross term in component c's block on a cross-section
- * (c along its one-cell periodic direction, d1 < d2 the bounded ones): the
- * edge stress gamma_cd1 carries b gamma_cd1 d|D|^2, whose part from the
- * other shear is 2 mean4(gamma_cd2 dgamma_cd2) (kernels.h); with the base
- * strain's mean taken out of the sum, k1 = 2 b gamma_cd1 mean4(gamma_cd2)
- * multiplies the mean gradient along d2, and k2 alike.  Returns 0 when the
- * block has no such term (no tangent, or not a cross-section). */
+ * (c along its one-cell periodic direction, d1 < d2 the bounded ones):
+ * kernel_cross_coefficients.  Returns 0 when the block has no such term
+ * (no tangent, or not a cross-section). */
 static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_operator *op, int c,
                               int *d1, int *d2)
 {
@@ -201,28 +189,7 @@ static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_op
     *d2 = c == 2 ? 1 : 2;
     if (g->n[*d1] < 2 || g->n[*d2] < 2)
         return 0;
-    for (int t = 0; t < 2; t++) {
-        const int d = t ? *d2 : *d1, e = t ? *d1 : *d2;
-        const ptrdiff_t sd = g->stride[d], se = g->stride[e];
-        const double *b = op->b_edge[3 - c - d];
-        double *k = m->km[t];
-        int hi[3] = {g->n[0], g->n[1], g->n[2]};
-        hi[d] = g->n[d] - 1; /* interior faces 1 .. n-1 */
-#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
-        for (int i = 0; i < hi[0]; i++)
-            for (int j = 0; j < hi[1]; j++)
-                for (int l = 0; l < hi[2]; l++) {
-                    int q[3] = {i, j, l};
-                    q[d] += 1;
-                    const ptrdiff_t p = grid_idx(g, q[0], q[1], q[2]);
-                    const double across =
-                        0.25 * (edge_shear(g, op->base, c, e, p) +
-                                edge_shear(g, op->base, c, e, p + se) +
-                                edge_shear(g, op->base, c, e, p - sd) +
-                                edge_shear(g, op->base, c, e, p - sd + se));
-                    k[p] = 2.0 * b[p] * edge_shear(g, op->base, c, d, p) * across;
-                }
-    }
+    kernel_cross_coefficients(g, c, op->base, op->b_edge, m->km);
     return 1;
 }
 
