@@ -18,6 +18,14 @@ struct test_tally {
     int failed;
 };
 
+/* Deterministic pseudo-random numbers in [-1, 1) (a linear congruential
+ * step; the tests' fields and coefficients). */
+static inline double rand_pm1(unsigned long long *s)
+{
+    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*s >> 11) / 4503599627370496.0 - 1.0; /* 2^53 / 2 */
+}
+
 #define RUN_GROUP(tally, name, tests)                                                   \
     do {                                                                                \
         (tally)->run += (int)(sizeof(tests) / sizeof((tests)[0]));                      \

@@ -33,12 +33,6 @@ static const enum poisson_bc kind_bc[NKIND][2] = {
 };
 static const char *const kind_name[NKIND] = {"P", "NN", "DD", "ND", "DN"};
 
-/* Deterministic pseudo-random numbers in [-1, 1). */
-static double rand_pm1(unsigned long long *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) / 4503599627370496.0 - 1.0;
-}
 
 /* ---- a problem: grid, conditions, coefficients, fields ------------------------- */
 

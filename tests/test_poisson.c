@@ -338,12 +338,6 @@ static void test_collapsed(void **state)
     check_convergence("collapsed z (neumann)", n3, test_len, k3, p3, 1e-2);
 }
 
-/* Deterministic pseudo-random numbers in [-1, 1). */
-static double rand_pm1(unsigned long long *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) / 4503599627370496.0 - 1.0; /* 2^53 / 2 */
-}
 
 /* Every combination of conditions on small, odd, even and n = 1 grids with a
  * random rhs: the discrete equation must hold to round-off. */

@@ -988,10 +988,10 @@ static void test_saddle_point_cause(void **state)
 }
 
 /* defined below, beside the heap runs of the AMG tests */
+/* in [0, 1): the same numbers as (rand_pm1 + 1) / 2, exactly */
 static double rand_unit(unsigned long long *s)
 {
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) / 9007199254740992.0;
+    return 0.5 * (rand_pm1(s) + 1.0);
 }
 
 /* kernel_flow_block, the operator's column of a cross-section's flow
