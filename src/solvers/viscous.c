@@ -1083,13 +1083,14 @@ static int retire_amg(struct viscous_solver *s, int rc, int maxit)
 }
 
 /* The geometric multigrid gives way to the probed LU of the same full
- * tangent, as the AMG does (retire_amg): its GMRES failed.  Measured: the
- * square duct at 80 x 160 from rest, where the two components across the
- * flow carry a residual of their own during the march (74-247 of a
- * right-hand side of 205-312), stalled with their line blocks at the cap
- * of 500 from step 71 and stayed unsteady (0.98 after 285 steps); 120 x
- * 240 and 20 x 40 never needed them.  Returns 0, or -1 (no memory: the
- * multigrid stays). */
+ * tangent, as the AMG does (retire_amg): its GMRES failed.  Measured
+ * before the tangent's cross term entered the cycle: the square duct at
+ * 80 x 160 from rest, where the two components across the flow carry a
+ * residual of their own during the march (74-247 of a right-hand side of
+ * 205-312), stalled with their line blocks at the cap of 500 from step 71
+ * and stayed unsteady (0.98 after 285 steps); with the term it is steady
+ * in 77 steps without the fallback, which test_amg_gives_way_to_lu keeps
+ * exercised.  Returns 0, or -1 (no memory: the multigrid stays). */
 static int retire_gmg(struct viscous_solver *s, int rc, int maxit)
 {
     if (lu_takes_over(s, "geometric multigrid", rc, maxit) != 0)
