@@ -136,7 +136,8 @@ struct multigrid {
     long live;                     /* live cells of level 0 */
     int line_dirs[3], nline_dirs;  /* MG_SMOOTH_LINES: the directions of its lines */
     int ready;                     /* coefficients set */
-    double *mxbuf;                 /* the lines' mixed terms, per thread (multigrid_set_mixed) */
+    double *mxbuf;                 /* the lines' mixed terms, two lines per thread
+                                      (multigrid_set_mixed) */
     int mxlen;                     /* the longest line */
     double partial[MAX_THREADS * PAD];
 };
@@ -430,6 +431,44 @@ static inline ptrdiff_t line_start(const struct grid *g, int d, int e1, int e2, 
     return grid_idx(g, c[0], c[1], c[2]);
 }
 
+/* The forward and backward Thomas passes of m (1 or 2, a constant after
+ * inlining) lines of one colour along d from their first cells p0[j], mx[j]
+ * their mixed terms (NULL: none).  Two lines go through the passes side by
+ * side: each pass is a chain of dependent multiply-adds along its line, and
+ * a second, independent chain fills the latency of the first (the backward
+ * pass's store-load chain was a third of the cycle's smoothing time).  Every
+ * line's arithmetic and order are those of one line alone. */
+static inline __attribute__((always_inline)) void
+solve_lines(const struct level *lv, int k, int d, int e1, int e2, const int across1,
+            const ptrdiff_t p0[2], double *const mx[2], const int m)
+{
+    const struct grid *g = &lv->g;
+    const int n = g->n[d];
+    const ptrdiff_t sd = g->stride[d], s1 = g->stride[e1], s2 = g->stride[e2];
+    const double h1 = lv->ih2[e1], h2 = lv->ih2[e2], hd = lv->ih2[d];
+    const double *restrict b = lv->b, *restrict a1 = lv->a[e1], *restrict a2 = lv->a[e2],
+                           *restrict ad = lv->a[d];
+    const double *restrict cp = lv->lc[k], *restrict inv = lv->li[k];
+    double *restrict x = lv->x;
+    double prev[2] = {0.0, 0.0};
+    for (int t = 0; t < n; t++)
+        for (int j = 0; j < m; j++) {
+            const ptrdiff_t p = p0[j] + (ptrdiff_t)t * sd;
+            double S = h2 * (a2[p] * x[p - s2] + a2[p + s2] * x[p + s2]) - b[p];
+            if (across1)
+                S += h1 * (a1[p] * x[p - s1] + a1[p + s1] * x[p + s1]);
+            if (mx[0])
+                S += mx[j][t];
+            prev[j] = x[p] = (S + hd * ad[p] * prev[j]) * inv[p];
+        }
+    double next[2] = {0.0, 0.0};
+    for (int t = n - 1; t >= 0; t--)
+        for (int j = 0; j < m; j++) {
+            const ptrdiff_t p = p0[j] + (ptrdiff_t)t * sd;
+            next[j] = x[p] += cp[p] * next[j];
+        }
+}
+
 /* One half sweep of zebra line Gauss-Seidel along direction d (the k-th line
  * direction): the lines along d whose index across (the sum of the other
  * two indices) has the parity colour solve their own tridiagonal rows
@@ -440,7 +479,9 @@ static inline ptrdiff_t line_start(const struct grid *g, int d, int e1, int e2, 
  * direction over the domain.  d is not periodic (a cyclic line is not
  * solved here), so the line ends read ghosts of 0 (HALO_OPERATOR).  The
  * Thomas factors (line_factors) are the level's: the forward pass keeps its
- * values in x itself, which the line's own rows do not read. */
+ * values in x itself, which the line's own rows do not read.  The lines of
+ * a colour go in pairs two apart along e2 (solve_lines); lines of one colour
+ * do not read each other, so the pairing changes no result. */
 static inline __attribute__((always_inline)) void
 smooth_lines_body(const struct level *lv, int k, int d, int colour, const int across1,
                   double *mxbuf, int mxlen)
@@ -448,39 +489,32 @@ smooth_lines_body(const struct level *lv, int k, int d, int colour, const int ac
     const struct grid *g = &lv->g;
     const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
     const int n1 = g->n[e1], n2 = g->n[e2];
-    const ptrdiff_t sd = g->stride[d], s1 = g->stride[e1], s2 = g->stride[e2];
-    const double h1 = lv->ih2[e1], h2 = lv->ih2[e2], hd = lv->ih2[d];
-    const double *restrict b = lv->b, *restrict a1 = lv->a[e1], *restrict a2 = lv->a[e2],
-                           *restrict ad = lv->a[d];
-    const double *restrict cp = lv->lc[k], *restrict inv = lv->li[k];
-    double *restrict x = lv->x;
+    const ptrdiff_t sd = g->stride[d], s2 = g->stride[e2];
+    const double *x = lv->x;
+    const int pairs = (n2 + 3) / 4; /* of the about n2 / 2 lines of a colour per u */
 #pragma omp for collapse(2) schedule(static)
     for (int u = 0; u < n1; u++)
-        for (int v = 0; v < n2; v++) {
-            if (((u + v) & 1) != colour)
+        for (int w = 0; w < pairs; w++) {
+            const int v = ((colour - u) & 1) + 4 * w; /* the pair's first line */
+            if (v >= n2)
                 continue;
-            const ptrdiff_t p0 = line_start(g, d, e1, e2, u, v);
-            /* the mixed term from the values before the line's update (its
+            const int m = v + 2 < n2 ? 2 : 1;
+            const ptrdiff_t p0[2] = {line_start(g, d, e1, e2, u, v),
+                                     line_start(g, d, e1, e2, u, v) + 2 * s2};
+            /* the mixed term from the values before the lines' update (their
              * own nodes are overwritten by the forward pass) */
-            double *mx = lv->km[0] ? mxbuf + (size_t)thread_id() * (size_t)mxlen : NULL;
-            if (mx)
-                for (int t = 0; t < n; t++)
-                    mx[t] = mixed_row(lv, x, p0 + (ptrdiff_t)t * sd);
-            double prev = 0.0;
-            for (int t = 0; t < n; t++) {
-                const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
-                double S = h2 * (a2[p] * x[p - s2] + a2[p + s2] * x[p + s2]) - b[p];
-                if (across1)
-                    S += h1 * (a1[p] * x[p - s1] + a1[p + s1] * x[p + s1]);
-                if (mx)
-                    S += mx[t];
-                prev = x[p] = (S + hd * ad[p] * prev) * inv[p];
+            double *mx[2] = {NULL, NULL};
+            if (lv->km[0]) {
+                mx[0] = mxbuf + (size_t)thread_id() * (size_t)(2 * mxlen);
+                mx[1] = mx[0] + mxlen;
+                for (int j = 0; j < m; j++)
+                    for (int t = 0; t < n; t++)
+                        mx[j][t] = mixed_row(lv, x, p0[j] + (ptrdiff_t)t * sd);
             }
-            double next = 0.0;
-            for (int t = n - 1; t >= 0; t--) {
-                const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
-                next = x[p] += cp[p] * next;
-            }
+            if (m == 2)
+                solve_lines(lv, k, d, e1, e2, across1, p0, mx, 2);
+            else
+                solve_lines(lv, k, d, e1, e2, across1, p0, mx, 1);
         }
 }
 
@@ -1413,7 +1447,7 @@ int multigrid_set_mixed(struct multigrid *mg, int d1, int d2, const double *k1, 
 #endif
     if (!mg->mxbuf) {
         mg->mxlen = longest;
-        if (!(mg->mxbuf = malloc((size_t)longest * (size_t)nt * sizeof(double)))) {
+        if (!(mg->mxbuf = malloc(2 * (size_t)longest * (size_t)nt * sizeof(double)))) {
             set_err(err, errlen, "multigrid: out of memory (mixed term)");
             return -1;
         }
