@@ -27,15 +27,22 @@
 #error "MUFLOW_VERSION is defined by the Makefile"
 #endif
 
-/* Passive waiting for OpenMP threads unless the user chose a policy.
+/* Short spinning for OpenMP threads unless the user chose a policy.
  *
  * libgomp's default lets a thread that reaches a barrier spin for up to
  * 300,000 iterations before it sleeps.  On a machine whose cores other
  * processes also use, the thread being waited for is often preempted while its
  * partner spins on the core it needs: a thin profile scene, which opens
  * thousands of parallel regions, ran 10 to 1000 times slower at 2 threads than
- * at 1 (bench/analysis.md, section 7).  With OMP_WAIT_POLICY=passive a waiting
- * thread sleeps at once (GOMP_SPINCOUNT 0).
+ * at 1 (bench/analysis.md, section 7).  Sleeping at once (OMP_WAIT_POLICY=
+ * passive, spin count 0, the policy until then) costs a futex wake-up at every
+ * barrier instead, several microseconds in a virtual machine: the heap with
+ * the multigrid preconditioner, whose cycle runs its finest level on two
+ * threads and its coarse ones on one, spent 15 % of its samples there.  A
+ * spin count of SPIN_COUNT bounds what a waiting thread can take from a busy
+ * core to a few tens of microseconds and catches the short waits: on a quiet
+ * machine 0.85 of the time of sleeping at once, on one with six other
+ * processes running 1.02 of it (bench/analysis.md, "Short spinning").
  *
  * libgomp reads the environment in its ELF constructor, before main, so
  * setting the variable in main is too late; setting it in the executable's
@@ -51,9 +58,11 @@
  * development machine, against seconds of spinning saved on a busy one
  * (bench/analysis.md, "Start-up").
  * `OMP_DISPLAY_ENV=verbose build/muflow CASE` (a case whose grid opens
- * parallel regions) shows the effect: the last GOMP_SPINCOUNT printed is '0'
- * (the tests check it). */
-static void passive_wait_default(char **argv)
+ * parallel regions) shows the effect: the last GOMP_SPINCOUNT printed is
+ * SPIN_COUNT's (the tests check it). */
+#define SPIN_COUNT "1000"
+
+static void short_spin_default(char **argv)
 {
     if (getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT") || omp_get_max_threads() < 2)
         return;
@@ -67,10 +76,10 @@ static void passive_wait_default(char **argv)
     if (n <= 0 || (size_t)n >= sizeof self - 1)
         return;
     self[n] = '\0';
-    if (setenv("OMP_WAIT_POLICY", "passive", 1) != 0)
+    if (setenv("GOMP_SPINCOUNT", SPIN_COUNT, 1) != 0)
         return;
     execv(self, argv);
-    unsetenv("OMP_WAIT_POLICY"); /* the exec failed: this image keeps its default */
+    unsetenv("GOMP_SPINCOUNT"); /* the exec failed: this image keeps its default */
 }
 
 static void usage(FILE *f)
@@ -186,11 +195,11 @@ static void print_warning(void *ctx, const char *line)
  * regions (kernels.h: kernel_parallel); a thin profile grid runs on one
  * thread and is spared the second program start (about 15 ms of a 30 ms
  * run, bench/analysis.md). */
-static void passive_wait_for(const struct muflow_case *cs, char **argv)
+static void wait_policy_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
     if (slots >= KERNEL_PARALLEL_MIN)
-        passive_wait_default(argv);
+        short_spin_default(argv);
 }
 
 int main(int argc, char **argv)
@@ -223,11 +232,11 @@ int main(int argc, char **argv)
             return 2;
         }
         opt.restart_from = path;
-        passive_wait_for(&cs, argv);
+        wait_policy_for(&cs, argv);
     } else {
         /* silently first: a re-executed image loads it again and warns once */
         if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) == 0)
-            passive_wait_for(&cs, argv);
+            wait_policy_for(&cs, argv);
         if (case_load_warn(&cs, argv[1], argc - 2, argv + 2, print_warning, NULL, err,
                            sizeof err) != 0) {
             fprintf(stderr, "muflow: %s\n", err);
