@@ -909,7 +909,7 @@ if pr_runs:
         "CPU the rest of the machine used during the runs (/proc/stat's busy time less the "
         "benchmark and its waited-for children, over the runs' wall time), in cores. "
         f"OMP_WAIT_POLICY in the environment: {pm.get('omp_wait_policy', '?')} (unset: "
-        "muflow chooses passive itself, re-executing itself only for grids that open "
+        "muflow sets a short spin count itself, GOMP_SPINCOUNT=1000, re-executing itself only for grids that open "
         "parallel regions, src/app/main.c; none of the grids here does).\n")
 
     # 7a: bagnold as shipped, 2 threads, idle
