@@ -12,10 +12,11 @@
  * 3D grid at 2 threads (kernels, reductions and transforms threaded) for a
  * few steps.
  *
- * The thread policy: muflow re-executes itself with a short spin count
+ * The run-time defaults: muflow re-executes itself with a short spin count
  * (GOMP_SPINCOUNT=1000) unless the user set OMP_WAIT_POLICY or GOMP_SPINCOUNT
- * (src/app/main.c);
- * libgomp's OMP_DISPLAY_ENV=verbose prints the spin count each image uses. */
+ * or runs one thread, and with malloc's huge pages (GLIBC_TUNABLES) unless the
+ * user set that (src/app/main.c); libgomp's OMP_DISPLAY_ENV=verbose prints
+ * the spin count each image uses, one block per image. */
 #define _POSIX_C_SOURCE 200809L
 #include <hdf5.h>
 #include <limits.h>
@@ -216,15 +217,19 @@ static void test_wait_policy(void **state)
     } cases[] = {
         /* a 32^3 grid opens parallel regions: no policy set, short spinning */
         {"OMP_NUM_THREADS=2", 1000, 2, LARGE},
-        {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=active", -1, 1, LARGE}, /* the user's choice */
-        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000", 5000, 1, LARGE},
-        {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive", 0, 1, LARGE},
-        {"OMP_NUM_THREADS=1", -1, 1, LARGE},                  /* one thread: no re-exec */
-        {"OMP_NUM_THREADS=2", -1, 1, ""},                    /* 2 x 1 x 40: one thread's work */
+        /* the user's choices are kept; the huge pages alone still re-execute */
+        {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=active", -1, 2, LARGE},
+        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000", 5000, 2, LARGE},
+        {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive", 0, 2, LARGE},
+        /* both set by the user (an empty GLIBC_TUNABLES too): no re-exec */
+        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000 GLIBC_TUNABLES=", 5000, 1, LARGE},
+        {"OMP_NUM_THREADS=1", -1, 2, LARGE},       /* one thread: libgomp's own count */
+        {"OMP_NUM_THREADS=1 GLIBC_TUNABLES=", -1, 1, LARGE},
+        {"OMP_NUM_THREADS=2", -1, 1, ""},          /* 2 x 1 x 40: no re-exec */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         snprintf(cmd, sizeof cmd,
-                 "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT OMP_DISPLAY_ENV=verbose %s '%s' "
+                 "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT -u GLIBC_TUNABLES OMP_DISPLAY_ENV=verbose %s '%s' "
                  "../cases/bagnold.ini %s solver.max_steps=1 output.fields=off output.quiet=on "
                  "output.dir=%s 2>&1",
                  cases[c].env, bin, cases[c].grid, dir);

@@ -27,44 +27,59 @@
 #error "MUFLOW_VERSION is defined by the Makefile"
 #endif
 
-/* Short spinning for OpenMP threads unless the user chose a policy.
+/* Two run-time settings that libraries read before main, unless the user
+ * chose them.
  *
- * libgomp's default lets a thread that reaches a barrier spin for up to
- * 300,000 iterations before it sleeps.  On a machine whose cores other
- * processes also use, the thread being waited for is often preempted while its
- * partner spins on the core it needs: a thin profile scene, which opens
- * thousands of parallel regions, ran 10 to 1000 times slower at 2 threads than
- * at 1 (bench/analysis.md, section 7).  Sleeping at once (OMP_WAIT_POLICY=
- * passive, spin count 0, the policy until then) costs a futex wake-up at every
- * barrier instead, several microseconds in a virtual machine: the heap with
- * the multigrid preconditioner, whose cycle runs its finest level on two
- * threads and its coarse ones on one, spent 15 % of its samples there.  A
- * spin count of SPIN_COUNT bounds what a waiting thread can take from a busy
- * core to a few tens of microseconds and catches the short waits: on a quiet
- * machine 0.85 of the time of sleeping at once, on one with six other
- * processes running 1.02 of it (bench/analysis.md, "Short spinning").
+ * Short spinning for OpenMP threads.  libgomp's default lets a thread that
+ * reaches a barrier spin for up to 300,000 iterations before it sleeps.  On a
+ * machine whose cores other processes also use, the thread being waited for
+ * is often preempted while its partner spins on the core it needs: a thin
+ * profile scene, which opens thousands of parallel regions, ran 10 to 1000
+ * times slower at 2 threads than at 1 (bench/analysis.md, section 7).
+ * Sleeping at once (OMP_WAIT_POLICY=passive, spin count 0, the policy until
+ * then) costs a futex wake-up at every barrier instead, several microseconds
+ * in a virtual machine: the heap with the multigrid preconditioner, whose
+ * cycle runs its finest level on two threads and its coarse ones on one,
+ * spent 15 % of its samples there.  A spin count of SPIN_COUNT bounds what a
+ * waiting thread can take from a busy core to a few tens of microseconds and
+ * catches the short waits: on a quiet machine 0.85 of the time of sleeping at
+ * once, on one with six other processes running 1.02 of it
+ * (bench/analysis.md, "Short spinning").  One thread needs no policy.
  *
- * libgomp reads the environment in its ELF constructor, before main, so
- * setting the variable in main is too late; setting it in the executable's
- * .preinit_array does not work either (glibc resets environ to the original
- * block between the two).  So main sets it and executes /proc/self/exe again,
- * with the same arguments, first thing: the new image's libgomp reads it.  The
- * second image finds the variable set and goes on, so there is no loop.  A
- * user's OMP_WAIT_POLICY or GOMP_SPINCOUNT (even an empty one) is left alone,
- * one thread needs no policy (no re-exec), and under valgrind (its preload
- * library in LD_PRELOAD) there is no re-exec either.  When the exec fails (no
- * /proc) the run continues with libgomp's default.  The re-exec costs one more
- * program start (loading the ten shared libraries again): 13 ms of CPU on the
- * development machine, against seconds of spinning saved on a busy one
+ * Huge pages for the field arrays.  A field of a mid-sized grid (0.7 MB at
+ * 140 x 200) is below glibc's threshold for a mapping of its own, which it
+ * gets anyway (the threshold grows only after a free), and every 4 kB page of
+ * it is a fault on first touch: 20,000 at the heap's 140 x 200, several
+ * microseconds each in a virtual machine.  MALLOC_TUNABLES keeps blocks below
+ * 32 MB in malloc's heap and lets malloc ask for transparent huge pages there
+ * (glibc 2.35 and later; where the kernel gives none, or an older glibc does
+ * not know the tunable, nothing changes): 1,900 faults, the heap with `gmg`
+ * 0.92 of the time and with `lu` 0.95 (bench/analysis.md, "Huge pages").
+ *
+ * libgomp and malloc read the environment before main, so setting a variable
+ * in main is too late; setting it in the executable's .preinit_array does
+ * not work either (glibc resets environ to the original block between the
+ * two).  So main sets them and executes /proc/self/exe again, with the same
+ * arguments, first thing: the new image's libraries read them.  The second
+ * image finds the variables set and goes on, so there is no loop.  A user's
+ * OMP_WAIT_POLICY or GOMP_SPINCOUNT, or GLIBC_TUNABLES (even an empty one),
+ * is left alone; under valgrind (its preload library in LD_PRELOAD) there is
+ * no re-exec.  When the exec fails (no /proc) the run continues with the
+ * libraries' defaults.  The re-exec costs one more program start (loading
+ * the ten shared libraries again): 13 ms of CPU on the development machine
  * (bench/analysis.md, "Start-up").
  * `OMP_DISPLAY_ENV=verbose build/muflow CASE` (a case whose grid opens
- * parallel regions) shows the effect: the last GOMP_SPINCOUNT printed is
+ * parallel regions) shows the spin count: the last GOMP_SPINCOUNT printed is
  * SPIN_COUNT's (the tests check it). */
 #define SPIN_COUNT "1000"
+#define MALLOC_TUNABLES "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432"
 
-static void short_spin_default(char **argv)
+static void runtime_defaults(char **argv)
 {
-    if (getenv("OMP_WAIT_POLICY") || getenv("GOMP_SPINCOUNT") || omp_get_max_threads() < 2)
+    const int spin =
+        !getenv("OMP_WAIT_POLICY") && !getenv("GOMP_SPINCOUNT") && omp_get_max_threads() >= 2;
+    const int tunables = !getenv("GLIBC_TUNABLES");
+    if (!spin && !tunables)
         return;
     /* Under valgrind the process is the tool's: /proc/self/exe is the tool,
      * and an exec of the program itself would leave the tool behind. */
@@ -76,10 +91,15 @@ static void short_spin_default(char **argv)
     if (n <= 0 || (size_t)n >= sizeof self - 1)
         return;
     self[n] = '\0';
-    if (setenv("GOMP_SPINCOUNT", SPIN_COUNT, 1) != 0)
+    if ((spin && setenv("GOMP_SPINCOUNT", SPIN_COUNT, 1) != 0) ||
+        (tunables && setenv("GLIBC_TUNABLES", MALLOC_TUNABLES, 1) != 0))
         return;
     execv(self, argv);
-    unsetenv("GOMP_SPINCOUNT"); /* the exec failed: this image keeps its default */
+    /* the exec failed: this image keeps the defaults */
+    if (spin)
+        unsetenv("GOMP_SPINCOUNT");
+    if (tunables)
+        unsetenv("GLIBC_TUNABLES");
 }
 
 static void usage(FILE *f)
@@ -191,15 +211,15 @@ static void print_warning(void *ctx, const char *line)
     fprintf(stderr, "muflow: warning: %s\n", line);
 }
 
-/* The waiting policy matters only to a run whose kernels open parallel
- * regions (kernels.h: kernel_parallel); a thin profile grid runs on one
- * thread and is spared the second program start (about 15 ms of a 30 ms
- * run, bench/analysis.md). */
-static void wait_policy_for(const struct muflow_case *cs, char **argv)
+/* The waiting policy and the huge pages matter only to a run whose kernels
+ * open parallel regions (kernels.h: kernel_parallel); a thin profile grid
+ * runs on one thread in little memory and is spared the second program
+ * start (about 15 ms of a 30 ms run, bench/analysis.md). */
+static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
     if (slots >= KERNEL_PARALLEL_MIN)
-        short_spin_default(argv);
+        runtime_defaults(argv);
 }
 
 int main(int argc, char **argv)
@@ -232,11 +252,11 @@ int main(int argc, char **argv)
             return 2;
         }
         opt.restart_from = path;
-        wait_policy_for(&cs, argv);
+        runtime_defaults_for(&cs, argv);
     } else {
         /* silently first: a re-executed image loads it again and warns once */
         if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) == 0)
-            wait_policy_for(&cs, argv);
+            runtime_defaults_for(&cs, argv);
         if (case_load_warn(&cs, argv[1], argc - 2, argv + 2, print_warning, NULL, err,
                            sizeof err) != 0) {
             fprintf(stderr, "muflow: %s\n", err);
