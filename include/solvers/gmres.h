@@ -13,6 +13,12 @@ struct gmres;
 /* For vectors of n entries and a restart after m iterations.  Returns 0, or
  * -1 when memory runs out. */
 int gmres_create(struct gmres **out, long n, int m);
+
+/* The same keeping the preconditioned basis M^-1 v_k as well (m more
+ * vectors): the update x += M^-1 V y is then Z y, one preconditioner
+ * application less per restart cycle, and the preconditioner may change
+ * from one iteration to the next (flexible GMRES, Saad 1993). */
+int gmres_create_flexible(struct gmres **out, long n, int m);
 void gmres_destroy(struct gmres *g);
 
 struct gmres_stats {

@@ -8,12 +8,13 @@ struct gmres {
     long n;
     int m;
     double **v;  /* the basis, m + 1 vectors */
+    double **zs; /* flexible: the preconditioned basis M^-1 v_k, m vectors; NULL: none */
     double *H;   /* H[i * m + j], (m + 1) x m, the rotated Hessenberg matrix */
     double *cs, *sn, *e, *y;
     double *r, *z;
 };
 
-int gmres_create(struct gmres **out, long n, int m)
+static int create(struct gmres **out, long n, int m, int flexible)
 {
     struct gmres *g = calloc(1, sizeof *g);
     if (!g)
@@ -25,9 +26,13 @@ int gmres_create(struct gmres **out, long n, int m)
     g->H = malloc(((size_t)(m + 1) * (size_t)m + 4 * (size_t)(m + 1)) * sizeof(double));
     g->r = malloc(len * sizeof(double));
     g->z = malloc(len * sizeof(double));
-    int ok = g->v && g->H && g->r && g->z;
+    if (flexible)
+        g->zs = calloc((size_t)m, sizeof *g->zs);
+    int ok = g->v && g->H && g->r && g->z && (!flexible || g->zs);
     for (int i = 0; ok && i <= m; i++)
         ok = (g->v[i] = malloc(len * sizeof(double))) != NULL;
+    for (int i = 0; ok && flexible && i < m; i++)
+        ok = (g->zs[i] = malloc(len * sizeof(double))) != NULL;
     if (!ok) {
         gmres_destroy(g);
         return -1;
@@ -40,12 +45,25 @@ int gmres_create(struct gmres **out, long n, int m)
     return 0;
 }
 
+int gmres_create(struct gmres **out, long n, int m)
+{
+    return create(out, n, m, 0);
+}
+
+int gmres_create_flexible(struct gmres **out, long n, int m)
+{
+    return create(out, n, m, 1);
+}
+
 void gmres_destroy(struct gmres *g)
 {
     if (!g)
         return;
     for (int i = 0; g->v && i <= g->m; i++)
         free(g->v[i]);
+    for (int i = 0; g->zs && i < g->m; i++)
+        free(g->zs[i]);
+    free(g->zs);
     free(g->v);
     free(g->H);
     free(g->r);
@@ -109,9 +127,9 @@ int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *c
         e[0] = beta;
         int k = 0;
         while (k < m && it < maxit) {
-            double *w = g->v[k + 1];
-            prec(ctx, g->v[k], g->z); /* w = A M^-1 v_k */
-            op(ctx, g->z, w);
+            double *w = g->v[k + 1], *zk = g->zs ? g->zs[k] : g->z;
+            prec(ctx, g->v[k], zk); /* w = A M^-1 v_k */
+            op(ctx, zk, w);
             it++;
             for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
                 double h = dot(n, w, g->v[i]);
@@ -149,13 +167,20 @@ int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *c
                 t -= H[i * m + j] * y[j];
             y[i] = t / H[i * m + i];
         }
-        /* x += M^-1 (V y); then the true residual */
-        double *u = g->r;
-        memset(u, 0, (size_t)n * sizeof *u);
-        for (int i = 0; i < k; i++)
-            axpy(n, y[i], g->v[i], u);
-        prec(ctx, u, g->z);
-        axpy(n, 1.0, g->z, x);
+        /* x += M^-1 (V y), as Z y where the preconditioned basis is kept
+         * (one preconditioner application less per restart); then the true
+         * residual */
+        if (g->zs) {
+            for (int i = 0; i < k; i++)
+                axpy(n, y[i], g->zs[i], x);
+        } else {
+            double *u = g->r;
+            memset(u, 0, (size_t)n * sizeof *u);
+            for (int i = 0; i < k; i++)
+                axpy(n, y[i], g->v[i], u);
+            prec(ctx, u, g->z);
+            axpy(n, 1.0, g->z, x);
+        }
         residual(g, op, ctx, b, x);
     }
 }

@@ -24,7 +24,7 @@
 /* a block of components with at most this share of the tolerance times the
  * right-hand side's norm is left out of a solve (solve()) */
 #define NEGLIGIBLE_SHARE 0.1
-#define GMG_RESTART 20       /* GMRES(20) on the multigrid's components */
+#define GMG_RESTART 20       /* flexible GMRES(20) on the multigrid's components */
 /* the components the multigrid does not cover are left out below this share
  * of the largest right-hand side solved so far too: round-off (gmg_others) */
 #define GMG_ROUNDOFF 1e-12
@@ -1254,7 +1254,7 @@ static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb,
         const long most = gmg_unknowns(s, 7);
         if ((!s->gmg_b && !(s->gmg_b = malloc((size_t)most * sizeof(double)))) ||
             (!s->gmg_x && !(s->gmg_x = malloc((size_t)most * sizeof(double)))) ||
-            gmres_create(&s->gmg_gm[all], n, GMG_RESTART) != 0)
+            gmres_create_flexible(&s->gmg_gm[all], n, GMG_RESTART) != 0)
             return -1;
     }
     zero_fields(s->g, s->z);
@@ -1418,9 +1418,10 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
     /* the geometric multigrid: per covered component (at most two) and
      * level (4/3 of the finest in 2D) the coefficients, mass, Thomas
      * factors and cycle arrays (about 12 fields), the set-up's four, and
-     * GMRES(20)'s basis of the covered unknowns */
+     * the flexible GMRES(20)'s two bases of the covered unknowns */
     if (kind == VISCOUS_GMG)
-        doubles += (2.0 * 12.0 * 4.0 / 3.0 + 4.0) * points + (GMG_RESTART + 3.0) * 2.0 * cells;
+        doubles += (2.0 * 12.0 * 4.0 / 3.0 + 4.0) * points +
+                   (2.0 * GMG_RESTART + 3.0) * 2.0 * cells;
     return doubles * sizeof(double) +
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0);
 }
