@@ -3,26 +3,48 @@
 #include "kernels/kernels.h"
 #include "stencil.h"
 
-/* The products gamma(base) gamma(v) on the edges of the shear plane of c
- * and d (its index 3 - c - d), as kernel_strain_products computes them:
- * face indices along c and d, cells -1 .. n along the third direction e;
- * the flow component is the only one of v (its index along c is 0). */
-static void plane_products(const struct grid *g, int c, int d, double *const base[3],
-                           const double *v, double *pe)
+/* The base strain gamma_cd(base) = edge_gamma on the edges of the shear
+ * plane of c and d (its index 3 - c - d): face indices along c and d, cells
+ * -1 .. n along the third direction e (what plane_products reads; the
+ * flow component's index along c is 0). */
+static void plane_gammas(const struct grid *g, int c, int d, double *const base[3], double *gb)
 {
     const int e = 3 - c - d;
     const ptrdiff_t od = g->stride[d], oe = g->stride[e];
-    const double hd = g->h[d];
     int lo, hi;
     plane_dirs(e, &lo, &hi);
 #pragma omp for schedule(static) nowait
     for (int j = 0; j <= g->n[d]; j++)
         for (int k = -1; k <= g->n[e]; k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
-            const double gb = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi],
-                                         g->h[lo], g->h[hi]);
+            gb[p] = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi], g->h[lo], g->h[hi]);
+        }
+}
+
+void kernel_flow_gammas(const struct grid *g, int c, double *const base[3], double *gb[2])
+{
+    const int dirs[2] = {c == 0 ? 1 : 0, c == 2 ? 1 : 2};
+#pragma omp parallel if (kernel_parallel(g))
+    for (int t = 0; t < 2; t++)
+        plane_gammas(g, c, dirs[t], base, gb[t]);
+}
+
+/* The products gamma(base) gamma(v) on the edges of the shear plane of c
+ * and d, as kernel_strain_products computes them, gb that plane's
+ * gamma(base) (plane_gammas), over the same edges; the flow component is
+ * the only one of v. */
+static void plane_products(const struct grid *g, int c, int d, const double *gb, const double *v,
+                           double *pe)
+{
+    const int e = 3 - c - d;
+    const ptrdiff_t od = g->stride[d], oe = g->stride[e];
+    const double hd = g->h[d];
+#pragma omp for schedule(static) nowait
+    for (int j = 0; j <= g->n[d]; j++)
+        for (int k = -1; k <= g->n[e]; k++) {
+            const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
             /* gamma_cd(v): v_c's difference along d (v_d is 0) */
-            pe[p] = gb * ((v[p] - v[p - od]) / hd);
+            pe[p] = gb[p] * ((v[p] - v[p - od]) / hd);
         }
 }
 
@@ -31,15 +53,13 @@ static void plane_products(const struct grid *g, int c, int d, double *const bas
  * 2 pe of the edge and 2 the mean of the other plane's pe around it
  * (kernel_tangent_edges: the normal strains and the third plane's products
  * vanish for a v along c alone). */
-static void plane_stress(const struct grid *g, int c, int d, double *const base[3],
-                         const double *v, const double *A, const double *b, const double *pe,
+static void plane_stress(const struct grid *g, int c, int d, const double *gb, const double *v,
+                         const double *A, const double *b, const double *pe,
                          const double *pe_other, double *S)
 {
     const int e = 3 - c - d;
     const ptrdiff_t od = g->stride[d], oe = g->stride[e];
     const double ihd = 1.0 / g->h[d];
-    int lo, hi;
-    plane_dirs(e, &lo, &hi);
 #pragma omp for schedule(static) nowait
     for (int j = 0; j <= g->n[d]; j++)
         for (int k = 0; k < g->n[e]; k++) {
@@ -47,19 +67,19 @@ static void plane_stress(const struct grid *g, int c, int d, double *const base[
             double s = A[p] * ((v[p] - v[p - od]) * ihd);
             if (b) {
                 const double dD = 2.0 * pe[p] + 2.0 * mean4(pe_other, p + oe, oe, od);
-                const double gb = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi],
-                                             g->h[lo], g->h[hi]);
-                s += b[p] * dD * gb;
+                s += b[p] * dD * gb[p];
             }
             S[p] = s;
         }
 }
 
 /* The three passes in one parallel region (a region's wake-up costs more
- * than a pass over a cross-section of 28,000 cells): the products of both
+ * than a pass over a cross-section of 28,000 cells), reading the base
+ * strains gb (kernel_flow_gammas, once a Newton step): the products of both
  * planes, a barrier, the stresses of both, a barrier, the divergence.  The
  * loops are orphaned worksharing: plain loops outside a region. */
-static void flow_block_passes(const struct grid *g, int c, double *const base[3], const double *v,
+static void flow_block_passes(const struct grid *g, int c, const double *const gb[2],
+                              const double *v,
                               const double *const A_edge[3], const double *const b_edge[3],
                               const double *mass_face, double mass, double *pe[2], double *S[2],
                               double *out)
@@ -68,13 +88,13 @@ static void flow_block_passes(const struct grid *g, int c, double *const base[3]
     const int dirs[2] = {a, b};
     if (b_edge) {
         for (int t = 0; t < 2; t++)
-            plane_products(g, c, dirs[t], base, v, pe[t]);
+            plane_products(g, c, dirs[t], gb[t], v, pe[t]);
 #pragma omp barrier
     }
     for (int t = 0; t < 2; t++) {
         const int d = dirs[t], plane = 3 - c - d;
-        plane_stress(g, c, d, base, v, A_edge[plane], b_edge ? b_edge[plane] : NULL, pe[t],
-                     pe[1 - t], S[t]);
+        plane_stress(g, c, d, b_edge ? gb[t] : NULL, v, A_edge[plane],
+                     b_edge ? b_edge[plane] : NULL, pe[t], pe[1 - t], S[t]);
     }
 #pragma omp barrier
     const ptrdiff_t oa = g->stride[a], ob = g->stride[b];
@@ -89,13 +109,13 @@ static void flow_block_passes(const struct grid *g, int c, double *const base[3]
         }
 }
 
-void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
+void kernel_flow_block(const struct grid *g, int c, const double *const gb[2], const double *v,
                        const double *const A_edge[3], const double *const b_edge[3],
                        const double *mass_face, double mass, double *pe[2], double *S[2],
                        double *out)
 {
 #pragma omp parallel if (kernel_parallel(g))
-    flow_block_passes(g, c, base, v, A_edge, b_edge, mass_face, mass, pe, S, out);
+    flow_block_passes(g, c, gb, v, A_edge, b_edge, mass_face, mass, pe, S, out);
 }
 
 void kernel_cross_coefficients(const struct grid *g, int c, double *const base[3],

@@ -1039,8 +1039,9 @@ static void test_flow_block_operator(void **state)
     }
     for (size_t p = 0; p < g.size; p++)
         bc_cell[p] = rand_unit(&seed) - 0.5;
+    double *gb[2];
     for (int t = 0; t < 2; t++)
-        pe[t] = field_alloc(&g), S[t] = field_alloc(&g);
+        pe[t] = field_alloc(&g), S[t] = field_alloc(&g), gb[t] = field_alloc(&g);
     bc_fill_velocity(&g, &bc, base);
     for (int newton = 0; newton < 2; newton++) {
         struct viscous_problem pb;
@@ -1055,7 +1056,9 @@ static void test_flow_block_operator(void **state)
         pb.b_cell = newton ? bc_cell : NULL;
         pb.base = base;
         viscous_apply(vs, &pb, v, out);
-        kernel_flow_block(&g, 0, base, v[0], pb.A_edge, newton ? pb.b_edge : NULL, mf[0],
+        kernel_flow_gammas(&g, 0, base, gb);
+        const double *gbc[2] = {gb[0], gb[1]};
+        kernel_flow_block(&g, 0, gbc, v[0], pb.A_edge, newton ? pb.b_edge : NULL, mf[0],
                           pb.mass, pe, S, fast);
         double worst = 0.0, top = 0.0;
         for (int j = 0; j < n[1]; j++)
@@ -1074,7 +1077,7 @@ static void test_flow_block_operator(void **state)
             field_free(fs[m]);
     }
     for (int t = 0; t < 2; t++)
-        field_free(pe[t]), field_free(S[t]);
+        field_free(pe[t]), field_free(S[t]), field_free(gb[t]);
     field_free(bc_cell);
     field_free(fast);
     viscous_destroy(vs);

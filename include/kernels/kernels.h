@@ -85,18 +85,30 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
  * component is c, along the grid's periodic direction of one cell (the
  * flow of a cross-section: viscous.c's solve of that component alone), on
  * uniform cells: what kernel_stress_divergence and the tangent's terms
- * (kernel_strain_products, kernel_tangent_edges, with the base velocity
- * base and the edges' b_edge; NULL: Picard) give for such a v, in three
+ * (kernel_strain_products, kernel_tangent_edges, with the base strains gb
+ * of kernel_flow_gammas and the edges' b_edge; b_edge NULL: Picard, gb not
+ * read) give for such a v, in three
  * passes over the cross-section instead of the general path's dozen over
  * every component and plane; the same sums up to rounding.  v's ghosts
  * filled; A_edge and b_edge as viscous.h; mass_face NULL: the scalar mass.
  * pe and S are work arrays (the two shear planes' strain products and
  * stresses); out is written on the cross-section's cells (index 0 along
  * c). */
-void kernel_flow_block(const struct grid *g, int c, double *const base[3], const double *v,
+void kernel_flow_block(const struct grid *g, int c, const double *const gb[2], const double *v,
                        const double *const A_edge[3], const double *const b_edge[3],
                        const double *mass_face, double mass, double *pe[2], double *S[2],
                        double *out);
+
+/* The base strains kernel_flow_block reads with Newton (its gb): on the
+ * edges of the two shear planes of the flow component c (gb[t]: the plane
+ * of c and the t-th other direction, ascending), gamma of the base
+ * velocity as kernel_strain_products takes it, over face indices 0 .. n of
+ * that direction and cells -1 .. n of the third.  They are constant over a
+ * Newton step, so its operator applications read them instead of
+ * recomputing them (the heap at 140 x 200 with the multigrid
+ * preconditioner: 1.58-1.63 s against 1.67-1.81 s).  base with filled
+ * ghosts. */
+void kernel_flow_gammas(const struct grid *g, int c, double *const base[3], double *gb[2]);
 
 /* The full tangent's cross term in the block of that flow component c
  * (multigrid_set_mixed's coefficients, viscous_gmg.c): the edge stress

@@ -119,6 +119,8 @@ struct viscous_solver {
                                           multigrid's, and the others unless left out */
     double gmg_scale;                  /* the largest right-hand side solved so far */
     double *gmg_b, *gmg_x;             /* their gathered right-hand side and solution */
+    double *flow_gb[2];                /* the flow block's base strains (kernel_flow_gammas),
+                                          set by each Newton solve that uses it */
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -420,6 +422,8 @@ void viscous_destroy(struct viscous_solver *s)
     gmres_destroy(s->gmg_gm[1]);
     free(s->gmg_b);
     free(s->gmg_x);
+    field_free(s->flow_gb[0]);
+    field_free(s->flow_gb[1]);
     sparse_direct_destroy(s->direct);
     amg_hypre_destroy(s->amg);
     probe_matrix_destroy(s->probe);
@@ -1221,7 +1225,8 @@ static void gmg_gmres_operator(void *ctx, const double *x, double *y)
         const int k = __builtin_ctz((unsigned)s->gmg_mask);
         bc_fill_increment_component(s->g, s->bc, s->z, k);
         double *pe[2] = {s->pe[0], s->pe[1]}, *S[2] = {s->tmp[0], s->tmp[1]};
-        kernel_flow_block(s->g, k, pb->base, s->z[k], pb->A_edge,
+        const double *gb[2] = {s->flow_gb[0], s->flow_gb[1]};
+        kernel_flow_block(s->g, k, gb, s->z[k], pb->A_edge,
                           pb->b_cell ? pb->b_edge : NULL, pb->mass_face[k], pb->mass, pe, S,
                           s->q[k]);
         gmg_move(s, s->q, y, 1);
@@ -1256,6 +1261,13 @@ static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb,
             (!s->gmg_x && !(s->gmg_x = malloc((size_t)most * sizeof(double)))) ||
             gmres_create_flexible(&s->gmg_gm[all], n, GMG_RESTART) != 0)
             return -1;
+    }
+    if (flow_block_serves(s, pb) && pb->b_cell) {
+        /* the base strains of the flow block's Newton term, once a solve */
+        for (int t = 0; t < 2; t++)
+            if (!s->flow_gb[t] && !(s->flow_gb[t] = field_alloc(s->g)))
+                return -1;
+        kernel_flow_gammas(s->g, __builtin_ctz((unsigned)s->gmg_mask), pb->base, s->flow_gb);
     }
     zero_fields(s->g, s->z);
     struct gmres_ctx ctx = {s, pb};
