@@ -1,6 +1,8 @@
 /* Stage 4, projection: u = u + du - beta grad phi with div(beta grad phi) =
  * div du, beta = rho_ref / rho_f on faces (1 for one density), the pressure
  * increments of the projection and of the augmented Lagrangian (step.h). */
+#include <string.h>
+
 #include "march/open_faces.h"
 #include "march/step.h"
 
@@ -82,6 +84,21 @@ static void project_solve(struct march_state *st, double *rhs_phi, double floor)
     st->pressure_iterations += pressure_iterations(st->pressure_solver) - before;
 }
 
+/* Whether the cell field f is 0 on every cell (the divergence of an
+ * increment that has no component across the grid: a cross-section's flow
+ * along its periodic direction of one cell, a profile's along the plane). */
+static int all_zero(const struct grid *g, const double *f)
+{
+    int zero = 1;
+#pragma omp parallel for collapse(2) schedule(static) reduction(&& : zero) \
+    if (kernel_parallel(g))
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                zero = zero && f[grid_idx(g, i, j, k)] == 0.0;
+    return zero;
+}
+
 void stage_projection(struct march_state *st, double dt)
 {
     const struct grid *g = &st->g;
@@ -113,11 +130,20 @@ void stage_projection(struct march_state *st, double dt)
                        ? 0.0 /* the FFT path is direct: no floor to pass */
                        : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
                              march_min_spacing(g);
-    project_solve(st, st->phi, floor);
-    bc_fill_pressure(g, &st->bc, st->phi);
-    subtract_gradient(st, st->phi);
-    if (open)
-        open_correct(st, st->phi);
+    /* div delta exactly 0 (the flow of a cross-section or a profile, whose
+     * implicit step moves no component across the grid): phi is 0 and the
+     * solve, its fill and the gradient would change nothing (the heap at
+     * 140 x 200: 4 % of the run) */
+    const int nothing = all_zero(g, st->phi);
+    if (nothing) {
+        memset(st->phi, 0, g->size * sizeof *st->phi);
+    } else {
+        project_solve(st, st->phi, floor);
+        bc_fill_pressure(g, &st->bc, st->phi);
+        subtract_gradient(st, st->phi);
+        if (open)
+            open_correct(st, st->phi);
+    }
     bc_fill_velocity(g, &st->bc, st->vel);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
         stage_divergence(st, st->vel, st->div);
@@ -132,7 +158,7 @@ void stage_projection(struct march_state *st, double dt)
     /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
      * dt it is small and the Uzawa update carries the pressure */
     double scale = st->rho_ref / dt;
-    for (int i = 0; i < g->n[0]; i++)
+    for (int i = 0; i < (nothing ? 0 : g->n[0]); i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
