@@ -71,6 +71,11 @@ struct multigrid_options {
                                ratio (with MG_SMOOTH_LINES, whose lines take the
                                anisotropy); 0: only the directions within 1.5 times
                                the finest spacing */
+    int split_finest;       /* 1: with MG_SMOOTH_LINES along two directions, the finest
+                               level's pre-smoother sweeps the second direction's lines
+                               only and its post-smoother the first's (half the
+                               smoothing of the costliest level; the coarse levels
+                               sweep both); 0: both in each */
 };
 
 /* The defaults chosen by measurement: W(2,2), flux prolongation, coincident

@@ -167,6 +167,7 @@ void multigrid_default_options(struct multigrid_options *o)
     o->gamma = 2;
     o->smoother = MG_SMOOTH_POINT;
     o->full_coarsening = 0;
+    o->split_finest = 0;
 }
 
 /* ---- halo fills: the only writers of ghost values ------------------------------ */
@@ -1594,9 +1595,16 @@ static void smooth(const struct multigrid *mg, const struct level *lv, int first
         /* the post-smoother (first_colour 1) runs the pre-smoother's half
          * sweeps in reverse order: its adjoint, so the cycle stays symmetric */
         const int nd = mg->nline_dirs;
+        /* split_finest: the finest level's pre-smoother takes the lines
+         * of direction 1, its post-smoother those of direction 0 */
+        const int only = mg->opt.split_finest && nd == 2 && lv == &mg->lev[0]
+                             ? (first_colour ? 0 : 1)
+                             : -1;
         for (int s = 0; s < sweeps; s++)
             for (int q = 0; q < 2 * nd; q++) {
                 const int k = first_colour ? 2 * nd - 1 - q : q;
+                if (only >= 0 && k / 2 != only)
+                    continue;
                 if (wraps)
                     halo_fill(mg, lv, lv->x, HALO_OPERATOR);
                 smooth_lines(mg, lv, k / 2, mg->line_dirs[k / 2], k & 1);

@@ -129,11 +129,13 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
         char why[200];
         struct multigrid_options opt;
         multigrid_default_options(&opt);
-        /* zebra lines in both directions, W(1,1): measured on the heap
-         * (docs/design.md, "Geometric multigrid for the implicit step") */
+        /* zebra lines in both directions, W(1,1), the finest level's
+         * smoothing split between them: measured on the heap (docs/design.md,
+         * "Geometric multigrid for the implicit step") */
         opt.smoother = MG_SMOOTH_LINES;
         opt.pre = opt.post = 1;
         opt.full_coarsening = 1;
+        opt.split_finest = 1;
         if (multigrid_create(&m->mg[c], g, (const enum poisson_bc(*)[2])pbc, &opt, why,
                              sizeof why) != 0) {
             snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
