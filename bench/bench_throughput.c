@@ -204,7 +204,7 @@ static void s_visc_edges(struct bench3d *b)
 {
     struct march_state *st = ST(b);
     kernel_viscosity_edges(G(b), &b->cs.rheo, st->cn2, st->e2, st->pressure, st->eta_e, st->tan_e,
-                           st->full_tangent ? st->b_e : NULL);
+                           st->full_tangent ? st->b_e : NULL, 0);
 }
 
 /* the ghost fills that go with a viscosity evaluation (march.c, evaluate_residual) */

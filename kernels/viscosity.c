@@ -78,10 +78,12 @@ void kernel_viscosity_cells(const struct grid *g, const struct rheology *r, doub
 }
 
 /* Edges of plane c (a, b the plane's directions): face indices 0..n along a
- * and b, interior cells along c. */
+ * and b, interior cells along c; along a direction of wraps (a bit per
+ * direction) face indices 0..n-1, face n being copied from face 0 after
+ * (copy_wrapped). */
 KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheology *r, int c,
                                         const double *cn2, double *const e2[3], const double *p,
-                                        double *ee, double *te, double *be,
+                                        double *ee, double *te, double *be, int wraps,
                                         const enum rheology_law law,
                                         const enum regularisation reg,
                                         const enum rheology_curve curve)
@@ -90,8 +92,8 @@ KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheol
     int a, b;
     plane_dirs(c, &a, &b);
     int hi[3];
-    hi[a] = g->n[a];
-    hi[b] = g->n[b];
+    hi[a] = g->n[a] - ((wraps >> a) & 1);
+    hi[b] = g->n[b] - ((wraps >> b) & 1);
     hi[c] = g->n[c] - 1;
     /* the other two shear components: plane b holds (a, c), plane a holds (b, c) */
     const double *eac = e2[b], *ebc = e2[a], *own2 = e2[c];
@@ -118,16 +120,54 @@ KERNEL_INLINE void viscosity_edges_loop(const struct grid *g, const struct rheol
             }
 }
 
+/* Face n of plane c's edges along each wrapped face direction d of the
+ * plane, copied from face 0: the same inputs (periodic images) give the same
+ * values, so a direction of one cell is evaluated once instead of twice.
+ * Direction a first over faces 0..n-1 of b, then b over all of a's. */
+static void copy_wrapped(const struct grid *g, int c, int wraps, double *f)
+{
+    int a, b;
+    plane_dirs(c, &a, &b);
+    const int dirs[2] = {a, b};
+    for (int t = 0; t < 2; t++) {
+        const int d = dirs[t];
+        if (!((wraps >> d) & 1))
+            continue;
+        int lo[3] = {0, 0, 0}, hi[3];
+        for (int e = 0; e < 3; e++)
+            hi[e] = e == c ? g->n[e] - 1 : g->n[e] - (t == 0 && ((wraps >> e) & 1));
+        lo[d] = hi[d] = 0;
+        const ptrdiff_t shift = (ptrdiff_t)g->n[d] * g->stride[d];
+#pragma omp for collapse(2) schedule(static)
+        for (int i = lo[0]; i <= hi[0]; i++)
+            for (int j = lo[1]; j <= hi[1]; j++)
+                for (int k = lo[2]; k <= hi[2]; k++) {
+                    const ptrdiff_t e = grid_idx(g, i, j, k);
+                    f[e + shift] = f[e];
+                }
+    }
+}
+
 void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
                             double *const e2[3], const double *p, double *eta_e[3],
-                            double *tan_e[3], double *b_e[3])
+                            double *tan_e[3], double *b_e[3], int wraps)
 {
 #define EDGES(law, reg, curve)                                                             \
     for (int c = 0; c < 3; c++)                                                            \
         viscosity_edges_loop(g, r, c, cn2, e2, p, eta_e[c], tan_e ? tan_e[c] : NULL,       \
-                             b_e ? b_e[c] : NULL, law, reg, curve)
+                             b_e ? b_e[c] : NULL, wraps, law, reg, curve)
 #pragma omp parallel if (kernel_parallel(g))
-    RHEOLOGY_DISPATCH(r, EDGES);
+    {
+        RHEOLOGY_DISPATCH(r, EDGES);
+        if (wraps)
+            for (int c = 0; c < 3; c++) {
+                copy_wrapped(g, c, wraps, eta_e[c]);
+                if (tan_e)
+                    copy_wrapped(g, c, wraps, tan_e[c]);
+                if (b_e)
+                    copy_wrapped(g, c, wraps, b_e[c]);
+            }
+    }
 #undef EDGES
 }
 

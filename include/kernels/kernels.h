@@ -62,10 +62,14 @@ double kernel_edge_shear2(const struct grid *g, const double *cn2, double *const
  * eta + (d eta/d|D|) gamma_ab^2 / |D| (derivative of tau_ab = eta gamma_ab
  * with respect to gamma_ab), on face indices 0..n along a and b, cells
  * 0..n-1 along c.  p (total pressure) and cn2 need filled ghosts.  tan_e may
- * be NULL. */
+ * be NULL.  wraps: a bit per direction whose face n is the periodic image of
+ * face 0 on this grid (periodic, and the grid holds the whole direction: a
+ * decomposed direction's bit is 0); face n is then copied from face 0, not
+ * evaluated again (half of the edges of a cross-section's planes along its
+ * one-cell direction).  0: every face evaluated. */
 void kernel_viscosity_edges(const struct grid *g, const struct rheology *r, const double *cn2,
                             double *const e2[3], const double *p, double *eta_e[3],
-                            double *tan_e[3], double *b_e[3]);
+                            double *tan_e[3], double *b_e[3], int wraps);
 
 /* The full consistent tangent couples every strain component through |D|:
  * d tau = eta d gamma + b gamma d(|D|^2), b = (d eta/d|D|) / (2|D|).  These
