@@ -210,8 +210,13 @@ static void halo_fill(const struct multigrid *mg, const struct level *lv, double
          * (finish_level_coefficients): the operator reads its ghosts only
          * times 0, and on a 2D cross-section (ny = 1) they are two whole
          * planes, most of a fill's traffic (27 % of the collapse at
-         * 320 x 96); the transfers' fills still write them */
-        if (faces_only && mg->periodic[d] && n == 1)
+         * 320 x 96).  The residual's and the correction's fills skip them
+         * too: a direction no level halves has the weight 0 for the ghost
+         * in the prolongation and none in the restriction, and a ghost no
+         * fill writes keeps a finite value (0 from the allocation, or the
+         * last fill's).  The transfer weights' fill (even) still writes
+         * them. */
+        if (kind != HALO_EVEN && mg->periodic[d] && n == 1)
             continue;
         int src_lo, src_hi;
         double s_lo, s_hi;
