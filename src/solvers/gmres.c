@@ -71,13 +71,21 @@ void gmres_destroy(struct gmres *g)
     free(g);
 }
 
-/* Serial sums: the order does not depend on the threads. */
+/* Serial sums: the order does not depend on the threads.  Four partial
+ * sums (entries k mod 4), added in a fixed order at the end: one running
+ * sum is a chain of dependent additions, four let the core overlap them
+ * (and the compiler vectorise), and the order stays the same for any
+ * thread count. */
 static double dot(long n, const double *a, const double *b)
 {
-    double d = 0.0;
-    for (long k = 0; k < n; k++)
-        d += a[k] * b[k];
-    return d;
+    double d[4] = {0.0, 0.0, 0.0, 0.0};
+    long k = 0;
+    for (; k + 4 <= n; k += 4)
+        for (int j = 0; j < 4; j++)
+            d[j] += a[k + j] * b[k + j];
+    for (; k < n; k++)
+        d[k & 3] += a[k] * b[k];
+    return (d[0] + d[1]) + (d[2] + d[3]);
 }
 
 static void axpy(long n, double a, const double *x, double *y)
