@@ -106,6 +106,8 @@ struct level {
     int *pi[3];
     double *pw[3];
     int par;               /* run the loops of this level with OpenMP */
+    int flat;              /* a periodic direction of one cell (0 coefficients: its
+                              terms are left out of the row sums), -1: none */
     /* the mixed-derivative term (multigrid_set_mixed) of directions md[0],
      * md[1]: km[t] on the faces of md[t], the coefficient of the mean
      * gradient along the other direction there; NULL: none (kbuf holds it) */
@@ -386,6 +388,35 @@ cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
     return lv->m ? D + lv->m[p] : D;
 }
 
+/* The same, and the weighted sum of the six neighbours of x, for a level
+ * whose direction flat (a constant after inlining; -1: none) is periodic
+ * of one cell: its two weights are 0 (finish_level_coefficients), so its
+ * terms are left out, neither coefficient nor neighbour loaded (on a 2D
+ * cross-section the neighbours are two whole ghost planes).  Zero terms
+ * added first change no sum, so D and the neighbours' sum are those of all
+ * six terms to the bit. */
+static inline __attribute__((always_inline)) double
+row_sums(const struct level *lv, const double *x, ptrdiff_t p, const int flat, double *nb)
+{
+    const ptrdiff_t s[3] = {lv->g.stride[0], lv->g.stride[1], 1};
+    double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    for (int d = 0; d < 3; d++)
+        if (d != flat) {
+            w[2 * d] = lv->ih2[d] * lv->a[d][p];
+            w[2 * d + 1] = lv->ih2[d] * lv->a[d][p + s[d]];
+        }
+    const double D = flat == 0   ? w[2] + w[3] + w[4] + w[5]
+                     : flat == 1 ? w[0] + w[1] + w[4] + w[5]
+                     : flat == 2 ? w[0] + w[1] + w[2] + w[3]
+                                 : w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
+    *nb = flat == 0   ? w[2] * x[p - s[1]] + w[3] * x[p + s[1]] + w[4] * x[p - 1] + w[5] * x[p + 1]
+          : flat == 1 ? w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[4] * x[p - 1] + w[5] * x[p + 1]
+          : flat == 2 ? w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[2] * x[p - s[1]] + w[3] * x[p + s[1]]
+                      : w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[2] * x[p - s[1]] +
+                            w[3] * x[p + s[1]] + w[4] * x[p - 1] + w[5] * x[p + 1];
+    return lv->m ? D + lv->m[p] : D;
+}
+
 /* The mixed-derivative term's part of (L x)_p: along each of the two
  * directions, the difference of the fluxes km (mean gradient across) on the
  * cell's two faces; the mean gradient across a face is that of the four
@@ -408,11 +439,11 @@ static inline __attribute__((always_inline)) double mixed_row(const struct level
 /* One red-black half sweep of Gauss-Seidel: the cells with (i+j+k) % 2 == colour
  * solve their own row with the neighbours' current values (ghosts filled in
  * HALO_OPERATOR mode before the call).  Dead cells are set to 0. */
-static void smooth_colour(const struct level *lv, int colour)
+static inline __attribute__((always_inline)) void
+smooth_colour_body(const struct level *lv, int colour, const int flat)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
     const double *restrict b = lv->b;
     double *restrict x = lv->x;
 #pragma omp for collapse(2) schedule(static)
@@ -421,15 +452,23 @@ static void smooth_colour(const struct level *lv, int colour)
             const ptrdiff_t row = grid_idx(g, i, j, 0);
             for (int k = (i + j + colour) & 1; k < nz; k += 2) {
                 const ptrdiff_t p = row + k;
-                double w[6];
-                const double D = cell_weights(lv, p, w);
-                double S = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
-                           w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1];
+                double S;
+                const double D = row_sums(lv, x, p, flat, &S);
                 if (lv->km[0])
                     S += mixed_row(lv, x, p);
                 x[p] = D > 0.0 ? (S - b[p]) / D : 0.0;
             }
         }
+}
+
+static void smooth_colour(const struct level *lv, int colour)
+{
+    switch (lv->flat) {
+    case 0: smooth_colour_body(lv, colour, 0); break;
+    case 1: smooth_colour_body(lv, colour, 1); break;
+    case 2: smooth_colour_body(lv, colour, 2); break;
+    default: smooth_colour_body(lv, colour, -1); break;
+    }
 }
 
 /* The first cell of the line along d through index u along e1, v along e2. */
@@ -576,12 +615,12 @@ static void line_factors(const struct level *lv, int k, int d)
 
 /* r = (b - shift) - L x on live cells, 0 on dead ones; with b NULL, r = L x
  * (0 on dead cells).  x's ghosts in HALO_OPERATOR mode.  r may not alias x. */
-static void residual(const struct level *lv, const double *x, const double *b, double shift,
-                     double *r)
+static inline __attribute__((always_inline)) void
+residual_body(const struct level *lv, const double *x, const double *b, double shift, double *r,
+              const int flat)
 {
     const struct grid *g = &lv->g;
     const int nx = g->n[0], ny = g->n[1], nz = g->n[2];
-    const ptrdiff_t sx = g->stride[0], sy = g->stride[1];
     const double sign = b ? -1.0 : 1.0;
 #pragma omp for collapse(2) schedule(static)
     for (int i = 0; i < nx; i++)
@@ -589,16 +628,26 @@ static void residual(const struct level *lv, const double *x, const double *b, d
             const ptrdiff_t row = grid_idx(g, i, j, 0);
             for (int k = 0; k < nz; k++) {
                 const ptrdiff_t p = row + k;
-                double w[6];
-                const double D = cell_weights(lv, p, w);
-                double Lx = w[0] * x[p - sx] + w[1] * x[p + sx] + w[2] * x[p - sy] +
-                            w[3] * x[p + sy] + w[4] * x[p - 1] + w[5] * x[p + 1] - D * x[p];
+                double nb;
+                const double D = row_sums(lv, x, p, flat, &nb);
+                double Lx = nb - D * x[p];
                 if (lv->km[0])
                     Lx += mixed_row(lv, x, p);
                 const double bb = b ? b[p] - shift : 0.0;
                 r[p] = D > 0.0 ? bb + sign * Lx : 0.0;
             }
         }
+}
+
+static void residual(const struct level *lv, const double *x, const double *b, double shift,
+                     double *r)
+{
+    switch (lv->flat) {
+    case 0: residual_body(lv, x, b, shift, r, 0); break;
+    case 1: residual_body(lv, x, b, shift, r, 1); break;
+    case 2: residual_body(lv, x, b, shift, r, 2); break;
+    default: residual_body(lv, x, b, shift, r, -1); break;
+    }
 }
 
 /* m = |b - shift| + |L| |x| cell by cell (|L|: the operator with every
@@ -1316,6 +1365,10 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
     for (int l = 0; l < mg->nlev && ok; l++) {
         struct level *lv = &mg->lev[l];
         lv->par = grid_cells(&lv->g) >= PAR_CELLS;
+        lv->flat = -1;
+        for (int d = 2; d >= 0; d--)
+            if (mg->periodic[d] && lv->g.n[d] == 1)
+                lv->flat = d;
         for (int d = 0; d < 3; d++) {
             lv->ih2[d] = 1.0 / (lv->g.h[d] * lv->g.h[d]);
             ok &= (lv->a[d] = field_alloc(&lv->g)) != NULL;
