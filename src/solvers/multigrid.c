@@ -768,8 +768,12 @@ static void restrict_residual(const struct multigrid *mg, const struct level *f,
         }
 }
 
-/* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode. */
-static void prolong_add(const struct level *f, const struct level *c)
+/* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode.
+ * Along f's flat direction (a constant after inlining, -1: none; never
+ * halved) the weight of the neighbouring coarse line is 0, and its terms
+ * are left out: (1 - 0) a + 0 b is a to the bit. */
+static inline __attribute__((always_inline)) void
+prolong_add_body(const struct level *f, const struct level *c, const int flat)
 {
     const struct grid *gf = &f->g, *gc = &c->g;
     const int nx = gf->n[0], ny = gf->n[1], nz = gf->n[2];
@@ -792,15 +796,36 @@ static void prolong_add(const struct level *f, const struct level *c)
                 if (!live[p])
                     continue;
                 const ptrdiff_t k0 = iz[2 * k] + 1, k1 = iz[2 * k + 1] + 1;
-                const double ux = wx[p], uy = wy[p], uz = wz[p];
+                const double uz = wz[p];
                 const double z0 = 1.0 - uz, z1 = uz;
-                const double v = (1.0 - ux) * ((1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
-                                               uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1])) +
-                                 ux * ((1.0 - uy) * (z0 * e[l10 + k0] + z1 * e[l10 + k1]) +
-                                       uy * (z0 * e[l11 + k0] + z1 * e[l11 + k1]));
+                double v;
+                if (flat == 0) {
+                    const double uy = wy[p];
+                    v = (1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
+                        uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1]);
+                } else if (flat == 1) {
+                    const double ux = wx[p];
+                    v = (1.0 - ux) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
+                        ux * (z0 * e[l10 + k0] + z1 * e[l10 + k1]);
+                } else {
+                    const double ux = wx[p], uy = wy[p];
+                    v = (1.0 - ux) * ((1.0 - uy) * (z0 * e[l00 + k0] + z1 * e[l00 + k1]) +
+                                      uy * (z0 * e[l01 + k0] + z1 * e[l01 + k1])) +
+                        ux * ((1.0 - uy) * (z0 * e[l10 + k0] + z1 * e[l10 + k1]) +
+                              uy * (z0 * e[l11 + k0] + z1 * e[l11 + k1]));
+                }
                 x[p] += v;
             }
         }
+}
+
+static void prolong_add(const struct level *f, const struct level *c)
+{
+    switch (f->flat) {
+    case 0: prolong_add_body(f, c, 0); break;
+    case 1: prolong_add_body(f, c, 1); break;
+    default: prolong_add_body(f, c, -1); break; /* z flat: the general sum */
+    }
 }
 
 /* Prolongation weights of fine level f for the directions c halves.  Linear:
