@@ -698,8 +698,9 @@ static void zero_interior(const struct level *lv, double *f)
  * f->r's ghosts are in HALO_MIRROR mode and the weights' in HALO_EVEN: a fine
  * ghost then carries the condition's sign and its mirror cell's weight, which
  * is exactly the transpose of the prolongation reading a coarse ghost. */
-static void restrict_residual(const struct multigrid *mg, const struct level *f,
-                              struct level *c)
+static inline __attribute__((always_inline)) void
+restrict_residual_body(const struct multigrid *mg, const struct level *f, struct level *c,
+                       const int flat)
 {
     const struct grid *gf = &f->g, *gc = &c->g;
     int off[3][4], par[3][4], cnt[3], m[3];
@@ -754,10 +755,17 @@ static void restrict_residual(const struct multigrid *mg, const struct level *f,
                     for (int t = 0; t < cnt[2]; t++) {
                         const double az = A[2][t], bz = B[2][t];
                         const int o = off[2][t], mz = m[2];
+                        /* along the flat direction (never halved) the weight
+                         * is 1 - 0: left out, the same product to the bit */
                         for (int K = 0; K < nz; K++) {
                             const ptrdiff_t pf = base + mz * K + o;
-                            brow[K] += (ax + bx * wx[pf]) * (ay + by * wy[pf]) *
-                                       (az + bz * wz[pf]) * r[pf];
+                            if (flat == 0)
+                                brow[K] += (ay + by * wy[pf]) * (az + bz * wz[pf]) * r[pf];
+                            else if (flat == 1)
+                                brow[K] += (ax + bx * wx[pf]) * (az + bz * wz[pf]) * r[pf];
+                            else
+                                brow[K] += (ax + bx * wx[pf]) * (ay + by * wy[pf]) *
+                                           (az + bz * wz[pf]) * r[pf];
                         }
                     }
                 }
@@ -766,6 +774,16 @@ static void restrict_residual(const struct multigrid *mg, const struct level *f,
             for (int K = 0; K < nz; K++)
                 brow[K] = lrow[K] ? scale * brow[K] : 0.0;
         }
+}
+
+static void restrict_residual(const struct multigrid *mg, const struct level *f,
+                              struct level *c)
+{
+    switch (f->flat) {
+    case 0: restrict_residual_body(mg, f, c, 0); break;
+    case 1: restrict_residual_body(mg, f, c, 1); break;
+    default: restrict_residual_body(mg, f, c, -1); break; /* z flat: the general product */
+    }
 }
 
 /* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode.
