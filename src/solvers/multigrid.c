@@ -83,7 +83,9 @@
         }                                                                                       \
     } while (0)
 
-enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN };
+/* HALO_RESULT: the mirror's values in every ghost, the flat direction's
+ * too (a solution handed back: its gradient may be taken at once) */
+enum halo_kind { HALO_OPERATOR, HALO_MIRROR, HALO_EVEN, HALO_RESULT };
 
 struct level {
     struct grid g;
@@ -216,9 +218,9 @@ static void halo_fill(const struct multigrid *mg, const struct level *lv, double
          * too: a direction no level halves has the weight 0 for the ghost
          * in the prolongation and none in the restriction, and a ghost no
          * fill writes keeps a finite value (0 from the allocation, or the
-         * last fill's).  The transfer weights' fill (even) still writes
-         * them. */
-        if (kind != HALO_EVEN && mg->periodic[d] && n == 1)
+         * last fill's).  The transfer weights' fill (even) and the
+         * solution's (result) still write them. */
+        if ((kind == HALO_OPERATOR || kind == HALO_MIRROR) && mg->periodic[d] && n == 1)
             continue;
         int src_lo, src_hi;
         double s_lo, s_hi;
@@ -1818,7 +1820,7 @@ static void finish_phi(struct multigrid *mg, double *phi)
                 for (int k = 0; k < nz; k++)
                     phi[row + k] = live[row + k] ? phi[row + k] - m : 0.0;
             }
-        halo_fill(mg, l0, phi, HALO_MIRROR);
+        halo_fill(mg, l0, phi, HALO_RESULT);
     });
 }
 
