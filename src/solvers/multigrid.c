@@ -900,9 +900,11 @@ static void transfer_weights(const struct multigrid *mg, struct level *f, const 
                             /* faces by index: periodic faces wrap modulo n
                              * (the indices lie in -1 .. n + 1: one shift is
                              * the modulo, without its divisions) */
-                            own = own < 0 ? own + n : own >= n ? own - n : own;
-                            cross = cross < 0 ? cross + n : cross >= n ? cross - n : cross;
-                            far = far < 0 ? far + n : far >= n ? far - n : far;
+                            if (per) {
+                                own = own < 0 ? own + n : own >= n ? own - n : own;
+                                cross = cross < 0 ? cross + n : cross >= n ? cross - n : cross;
+                                far = far < 0 ? far + n : far >= n ? far - n : far;
+                            }
                             const double ao = f->a[d][p0 + (ptrdiff_t)own * sd];
                             const double ac = f->a[d][p0 + (ptrdiff_t)cross * sd];
                             const double af = f->a[d][p0 + (ptrdiff_t)far * sd];
