@@ -118,18 +118,15 @@ void kernel_flow_block(const struct grid *g, int c, const double *const gb[2], c
     flow_block_passes(g, c, gb, v, A_edge, b_edge, mass_face, mass, pe, S, out);
 }
 
-void kernel_cross_coefficients(const struct grid *g, int c, double *const base[3],
+void kernel_cross_coefficients(const struct grid *g, int c, const double *const gb[2],
                                const double *const b_edge[3], double *k[2])
 {
     const int dirs[2] = {c == 0 ? 1 : 0, c == 2 ? 1 : 2};
     for (int t = 0; t < 2; t++) {
         const int d = dirs[t], e = dirs[1 - t];
         const ptrdiff_t sd = g->stride[d], se = g->stride[e];
-        const double *b = b_edge[3 - c - d];
+        const double *b = b_edge[3 - c - d], *own = gb[t], *across = gb[1 - t];
         double *kt = k[t];
-        int ld, hd, le, he; /* edge_gamma's order: each plane's lower direction first */
-        plane_dirs(3 - c - d, &ld, &hd);
-        plane_dirs(3 - c - e, &le, &he);
         int hi[3] = {g->n[0], g->n[1], g->n[2]};
         hi[d] = g->n[d] - 1; /* interior faces 1 .. n-1 */
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
@@ -139,16 +136,11 @@ void kernel_cross_coefficients(const struct grid *g, int c, double *const base[3
                     int q[3] = {i, j, l};
                     q[d] += 1;
                     const ptrdiff_t p = grid_idx(g, q[0], q[1], q[2]);
-#define GAMMA_E(at) \
-    edge_gamma(base, le, he, (at), g->stride[le], g->stride[he], g->h[le], g->h[he])
-                    const double across =
-                        0.25 * (GAMMA_E(p) + GAMMA_E(p + se) + GAMMA_E(p - sd) +
-                                GAMMA_E(p - sd + se));
-#undef GAMMA_E
-                    kt[p] = 2.0 * b[p] *
-                            edge_gamma(base, ld, hd, p, g->stride[ld], g->stride[hd], g->h[ld],
-                                       g->h[hd]) *
-                            across;
+                    /* the base strain gamma_ce on the four edges of the other
+                     * plane around this one */
+                    const double mean = 0.25 * (across[p] + across[p + se] + across[p - sd] +
+                                                across[p - sd + se]);
+                    kt[p] = 2.0 * b[p] * own[p] * mean;
                 }
     }
 }

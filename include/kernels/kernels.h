@@ -120,9 +120,9 @@ void kernel_flow_gammas(const struct grid *g, int c, double *const base[3], doub
  * 2 mean4(gamma_ce dgamma_ce) over the four edges around it; with the base
  * strain's mean taken out of the sum, k[t] = 2 b gamma_cd mean4(gamma_ce)
  * on the interior faces of d, d the t-th of the two directions other than
- * c (ascending), e the other.  base with filled ghosts; b_edge per edge
- * plane as viscous.h. */
-void kernel_cross_coefficients(const struct grid *g, int c, double *const base[3],
+ * c (ascending), e the other.  gb: the base strains of kernel_flow_gammas;
+ * b_edge per edge plane as viscous.h. */
+void kernel_cross_coefficients(const struct grid *g, int c, const double *const gb[2],
                                const double *const b_edge[3], double *k[2]);
 
 /* out_c = [div tau]_c on the faces of act[c] (zero elsewhere), with

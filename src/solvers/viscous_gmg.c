@@ -179,7 +179,9 @@ static void block_coefficients(struct viscous_gmg *m, const struct viscous_gmg_o
 
 /* The full tangent's cross term in component c's block on a cross-section
  * (c along its one-cell periodic direction, d1 < d2 the bounded ones):
- * kernel_cross_coefficients.  Returns 0 when the block has no such term
+ * kernel_cross_coefficients from the base strains of kernel_flow_gammas,
+ * which take m->a[0..1] as their work arrays (the multigrid has copied the
+ * block's coefficients by then).  Returns 0 when the block has no such term
  * (no tangent, or not a cross-section). */
 static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_operator *op, int c,
                               int *d1, int *d2)
@@ -191,7 +193,10 @@ static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_op
     *d2 = c == 2 ? 1 : 2;
     if (g->n[*d1] < 2 || g->n[*d2] < 2)
         return 0;
-    kernel_cross_coefficients(g, c, op->base, op->b_edge, m->km);
+    double *gb[2] = {m->a[0], m->a[1]};
+    kernel_flow_gammas(g, c, op->base, gb);
+    const double *gbc[2] = {gb[0], gb[1]};
+    kernel_cross_coefficients(g, c, gbc, op->b_edge, m->km);
     return 1;
 }
 
@@ -204,10 +209,12 @@ int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *
         block_coefficients(m, op, c);
         char why[200];
         int d1 = 0, d2 = 0;
-        const int mixed = mixed_coefficients(m, op, c, &d1, &d2);
-        if (multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why) != 0 ||
-            multigrid_set_mixed(m->mg[c], d1, d2, mixed ? m->km[0] : NULL,
-                                mixed ? m->km[1] : NULL, why, sizeof why) != 0) {
+        int rc = multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why);
+        const int mixed = rc == 0 && mixed_coefficients(m, op, c, &d1, &d2);
+        if (rc == 0)
+            rc = multigrid_set_mixed(m->mg[c], d1, d2, mixed ? m->km[0] : NULL,
+                                     mixed ? m->km[1] : NULL, why, sizeof why);
+        if (rc != 0) {
             snprintf(err, errlen, "the geometric multigrid of velocity component %c: %s",
                      "xyz"[c], why);
             return -1;
