@@ -33,7 +33,13 @@
     } while (0)
 
 static inline double add(double a, double b) { return a + b; }
-static inline double maxabs(double a, double b) { return fmax(fabs(a), fabs(b)); }
+/* fmax(|a|, |b|), NaN ignored as fmax ignores it, written out: GCC calls
+ * libm's fmax rather than inline it (1.5 % of the heap's run) */
+static inline double maxabs(double a, double b)
+{
+    const double x = fabs(a), y = fabs(b);
+    return x > y || y != y ? x : y;
+}
 
 double kernel_dot(const struct grid *g, const struct box act[3], double *const a[3],
                   double *const b[3])
