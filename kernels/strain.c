@@ -35,15 +35,25 @@ static void strain_pairs(const struct grid *g, double *const u[3], double *const
              * Krylov step) */
             const double ha = h[a], hb = h[b];
             const ptrdiff_t oa = o[a], ob = o[b];
+            /* |D|^2's squares (u and v the same field): one edge_gamma
+             * squared, the same product */
+            const int same = u == v;
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
             for (int i = lo[0]; i <= hi[0]; i++)
                 for (int j = lo[1]; j <= hi[1]; j++) {
                     const ptrdiff_t row = grid_idx(g, i, j, 0);
-                    for (int k = lo[2]; k <= hi[2]; k++) {
-                        const ptrdiff_t e = row + k;
-                        ec[e] = edge_gamma(u, a, b, e, oa, ob, ha, hb) *
-                                edge_gamma(v, a, b, e, oa, ob, ha, hb);
-                    }
+                    if (same)
+                        for (int k = lo[2]; k <= hi[2]; k++) {
+                            const ptrdiff_t e = row + k;
+                            const double gu = edge_gamma(u, a, b, e, oa, ob, ha, hb);
+                            ec[e] = gu * gu;
+                        }
+                    else
+                        for (int k = lo[2]; k <= hi[2]; k++) {
+                            const ptrdiff_t e = row + k;
+                            ec[e] = edge_gamma(u, a, b, e, oa, ob, ha, hb) *
+                                    edge_gamma(v, a, b, e, oa, ob, ha, hb);
+                        }
                 }
             continue;
         }
