@@ -375,49 +375,55 @@ static double live_norm2(struct multigrid *mg, const struct level *lv, const dou
 /* The six face weights w_f = a_f / h_d^2 of cell p (x low, x high, y low,
  * y high, z low, z high) and their sum D plus the cell's mass term, the
  * diagonal of -(L - m).  Without a mass term (lv->m NULL, loop-invariant:
- * the compiler unswitches the loops) D is the face sum alone, to the bit. */
+ * the compiler unswitches the loops) D is the face sum alone, to the bit.
+ * flat (a constant after inlining; -1: none) is a periodic direction of one
+ * cell: its two weights are 0 (finish_level_coefficients), so they are not
+ * loaded and are left out of D; zero terms added first change no sum, so D
+ * is that of all six terms to the bit. */
 static inline __attribute__((always_inline)) double
-cell_weights(const struct level *lv, ptrdiff_t p, double w[6])
-{
-    const ptrdiff_t sx = lv->g.stride[0], sy = lv->g.stride[1];
-    w[0] = lv->ih2[0] * lv->a[0][p];
-    w[1] = lv->ih2[0] * lv->a[0][p + sx];
-    w[2] = lv->ih2[1] * lv->a[1][p];
-    w[3] = lv->ih2[1] * lv->a[1][p + sy];
-    w[4] = lv->ih2[2] * lv->a[2][p];
-    w[5] = lv->ih2[2] * lv->a[2][p + 1];
-    const double D = w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
-    return lv->m ? D + lv->m[p] : D;
-}
-
-/* The same, and the weighted sum of the six neighbours of x, for a level
- * whose direction flat (a constant after inlining; -1: none) is periodic
- * of one cell: its two weights are 0 (finish_level_coefficients), so its
- * terms are left out, neither coefficient nor neighbour loaded (on a 2D
- * cross-section the neighbours are two whole ghost planes).  Zero terms
- * added first change no sum, so D and the neighbours' sum are those of all
- * six terms to the bit. */
-static inline __attribute__((always_inline)) double
-row_sums(const struct level *lv, const double *x, ptrdiff_t p, const int flat, double *nb)
+cell_weights(const struct level *lv, ptrdiff_t p, const int flat, double w[6])
 {
     const ptrdiff_t s[3] = {lv->g.stride[0], lv->g.stride[1], 1};
-    double w[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-    for (int d = 0; d < 3; d++)
-        if (d != flat) {
-            w[2 * d] = lv->ih2[d] * lv->a[d][p];
-            w[2 * d + 1] = lv->ih2[d] * lv->a[d][p + s[d]];
-        }
+    for (int d = 0; d < 3; d++) {
+        w[2 * d] = d == flat ? 0.0 : lv->ih2[d] * lv->a[d][p];
+        w[2 * d + 1] = d == flat ? 0.0 : lv->ih2[d] * lv->a[d][p + s[d]];
+    }
     const double D = flat == 0   ? w[2] + w[3] + w[4] + w[5]
                      : flat == 1 ? w[0] + w[1] + w[4] + w[5]
                      : flat == 2 ? w[0] + w[1] + w[2] + w[3]
                                  : w[0] + w[1] + w[2] + w[3] + w[4] + w[5];
+    return lv->m ? D + lv->m[p] : D;
+}
+
+/* cell_weights, and the weighted sum nb of the six neighbours of x, the
+ * flat direction's left out (on a 2D cross-section its neighbours are two
+ * whole ghost planes, read only times 0): the same sum to the bit. */
+static inline __attribute__((always_inline)) double
+row_sums(const struct level *lv, const double *x, ptrdiff_t p, const int flat, double *nb)
+{
+    const ptrdiff_t s[3] = {lv->g.stride[0], lv->g.stride[1], 1};
+    double w[6];
+    const double D = cell_weights(lv, p, flat, w);
     *nb = flat == 0   ? w[2] * x[p - s[1]] + w[3] * x[p + s[1]] + w[4] * x[p - 1] + w[5] * x[p + 1]
           : flat == 1 ? w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[4] * x[p - 1] + w[5] * x[p + 1]
           : flat == 2 ? w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[2] * x[p - s[1]] + w[3] * x[p + s[1]]
                       : w[0] * x[p - s[0]] + w[1] * x[p + s[0]] + w[2] * x[p - s[1]] +
                             w[3] * x[p + s[1]] + w[4] * x[p - 1] + w[5] * x[p + 1];
-    return lv->m ? D + lv->m[p] : D;
+    return D;
 }
+
+/* Runs CALL(flat) with a level's flat direction as a constant (-1: none),
+ * so that its kernel is instantiated with the terms of that direction left
+ * out (cell_weights). */
+#define FLAT_DISPATCH(flat, CALL)                                                               \
+    do {                                                                                        \
+        switch (flat) {                                                                         \
+        case 0: CALL(0); break;                                                                 \
+        case 1: CALL(1); break;                                                                 \
+        case 2: CALL(2); break;                                                                 \
+        default: CALL(-1); break;                                                               \
+        }                                                                                       \
+    } while (0)
 
 /* The mixed-derivative term's part of (L x)_p: along each of the two
  * directions, the difference of the fluxes km (mean gradient across) on the
@@ -465,12 +471,9 @@ smooth_colour_body(const struct level *lv, int colour, const int flat)
 
 static void smooth_colour(const struct level *lv, int colour)
 {
-    switch (lv->flat) {
-    case 0: smooth_colour_body(lv, colour, 0); break;
-    case 1: smooth_colour_body(lv, colour, 1); break;
-    case 2: smooth_colour_body(lv, colour, 2); break;
-    default: smooth_colour_body(lv, colour, -1); break;
-    }
+#define CALL(flat) smooth_colour_body(lv, colour, flat)
+    FLAT_DISPATCH(lv->flat, CALL);
+#undef CALL
 }
 
 /* The first cell of the line along d through index u along e1, v along e2. */
@@ -603,7 +606,7 @@ static void line_factors(const struct level *lv, int k, int d)
             for (int t = 0; t < n; t++) {
                 const ptrdiff_t p = p0 + (ptrdiff_t)t * sd;
                 double w[6];
-                const double D = cell_weights(lv, p, w);
+                const double D = cell_weights(lv, p, -1, w);
                 if (!(D > 0.0)) {
                     cp[p] = inv[p] = prev = 0.0;
                     continue;
@@ -644,12 +647,9 @@ residual_body(const struct level *lv, const double *x, const double *b, double s
 static void residual(const struct level *lv, const double *x, const double *b, double shift,
                      double *r)
 {
-    switch (lv->flat) {
-    case 0: residual_body(lv, x, b, shift, r, 0); break;
-    case 1: residual_body(lv, x, b, shift, r, 1); break;
-    case 2: residual_body(lv, x, b, shift, r, 2); break;
-    default: residual_body(lv, x, b, shift, r, -1); break;
-    }
+#define CALL(flat) residual_body(lv, x, b, shift, r, flat)
+    FLAT_DISPATCH(lv->flat, CALL);
+#undef CALL
 }
 
 /* m = |b - shift| + |L| |x| cell by cell (|L|: the operator with every
@@ -668,7 +668,7 @@ static void magnitude(const struct level *lv, const double *x, const double *b, 
             for (int k = 0; k < nz; k++) {
                 const ptrdiff_t p = row + k;
                 double w[6];
-                const double D = cell_weights(lv, p, w);
+                const double D = cell_weights(lv, p, -1, w);
                 const double A = w[0] * fabs(x[p - sx]) + w[1] * fabs(x[p + sx]) +
                                  w[2] * fabs(x[p - sy]) + w[3] * fabs(x[p + sy]) +
                                  w[4] * fabs(x[p - 1]) + w[5] * fabs(x[p + 1]) + D * fabs(x[p]);
@@ -758,7 +758,8 @@ restrict_residual_body(const struct multigrid *mg, const struct level *f, struct
                         const double az = A[2][t], bz = B[2][t];
                         const int o = off[2][t], mz = m[2];
                         /* along the flat direction (never halved) the weight
-                         * is 1 - 0: left out, the same product to the bit */
+                         * is 1 - 0: left out, the same product to the bit (x
+                         * and y; a flat z takes the general product) */
                         for (int K = 0; K < nz; K++) {
                             const ptrdiff_t pf = base + mz * K + o;
                             if (flat == 0)
@@ -781,17 +782,16 @@ restrict_residual_body(const struct multigrid *mg, const struct level *f, struct
 static void restrict_residual(const struct multigrid *mg, const struct level *f,
                               struct level *c)
 {
-    switch (f->flat) {
-    case 0: restrict_residual_body(mg, f, c, 0); break;
-    case 1: restrict_residual_body(mg, f, c, 1); break;
-    default: restrict_residual_body(mg, f, c, -1); break; /* z flat: the general product */
-    }
+#define CALL(flat) restrict_residual_body(mg, f, c, flat)
+    FLAT_DISPATCH(f->flat, CALL);
+#undef CALL
 }
 
 /* f->x += P c->x on live fine cells; c->x's ghosts in HALO_MIRROR mode.
  * Along f's flat direction (a constant after inlining, -1: none; never
  * halved) the weight of the neighbouring coarse line is 0, and its terms
- * are left out: (1 - 0) a + 0 b is a to the bit. */
+ * are left out: (1 - 0) a + 0 b is a to the bit (x and y; a flat z takes
+ * the general sum). */
 static inline __attribute__((always_inline)) void
 prolong_add_body(const struct level *f, const struct level *c, const int flat)
 {
@@ -841,11 +841,9 @@ prolong_add_body(const struct level *f, const struct level *c, const int flat)
 
 static void prolong_add(const struct level *f, const struct level *c)
 {
-    switch (f->flat) {
-    case 0: prolong_add_body(f, c, 0); break;
-    case 1: prolong_add_body(f, c, 1); break;
-    default: prolong_add_body(f, c, -1); break; /* z flat: the general sum */
-    }
+#define CALL(flat) prolong_add_body(f, c, flat)
+    FLAT_DISPATCH(f->flat, CALL);
+#undef CALL
 }
 
 /* Prolongation weights of fine level f for the directions c halves.  Linear:
@@ -938,11 +936,6 @@ static double harmonic3(double a1, double a0, double a2)
     return 1.0 / (0.25 / a1 + 0.5 / a0 + 0.25 / a2);
 }
 
-/* Coarse face coefficients of c from the fine level f: for each coarse face,
- * the mean across the face of the fine lines' values, each line's value being
- * harmonic3 of the three fine faces along the normal (harmonic mode, interior
- * faces of a halved direction) or the coincident fine face (otherwise, and on
- * boundary faces, whose folded-in conditions are linear in a). */
 /* The coarse face cc of direction d from the fine face array fa: the mean
  * across it of the fine faces it coincides with, each replaced by harmonic3
  * of the three fine faces along the normal when harmonic. */
@@ -966,6 +959,11 @@ static inline double coarse_face_mean(const struct level *f, const struct level 
     return s * (1.0 / (n1 * n2));
 }
 
+/* Coarse face coefficients of c from the fine level f: for each coarse face,
+ * the mean across the face of the fine lines' values, each line's value being
+ * harmonic3 of the three fine faces along the normal (harmonic mode, interior
+ * faces of a halved direction) or the coincident fine face (otherwise, and on
+ * boundary faces, whose folded-in conditions are linear in a). */
 static void coarsen_coefficients(const struct multigrid *mg, const struct level *f,
                                  struct level *c)
 {
