@@ -33,7 +33,6 @@ static const enum poisson_bc kind_bc[NKIND][2] = {
 };
 static const char *const kind_name[NKIND] = {"P", "NN", "DD", "ND", "DN"};
 
-
 /* ---- a problem: grid, conditions, coefficients, fields ------------------------- */
 
 struct prob {
