@@ -284,13 +284,14 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
 
 # The algebraic multigrid against the probed LU on whole steady solves
-# (bench/heap_amg.py): the heap at the tilt 0.4061 on 140 x 200 with lu and
-# amg alternating (AMG_REPEATS each: wall and CPU time, peak memory, steps,
-# the load average beside each run), 280 x 400 with amg to its steady state,
-# and the Krylov iterations per Newton step of the heap (35 x 50 to
-# 280 x 400) and the Bingham cavity (32 x 32 to 256 x 256);
-# bench/out/amg_table.md.  About 25 minutes on 2 idle cores, most of it the
-# LU runs.
+# (bench/heap_amg.py): the heap at the tilt 0.4061 on 140 x 200 with lu,
+# amg and gmg alternating (AMG_REPEATS each: wall and CPU time, peak memory,
+# steps, the load average beside each run), 280 x 400 with amg, gmg and lu
+# to their steady states, the Krylov iterations per Newton step of the heap
+# (35 x 50 to 280 x 400, amg and gmg) and of the Bingham cavity (32 x 32 to
+# 256 x 256: the AMG's first 8 steps, and whole solves of the coupled step
+# by GMRES); bench/out/amg_table.md.  About 30 minutes on 2 idle cores, most
+# of it the LU runs and the coupled 256 x 256 cavity.
 AMG_REPEATS ?= 2
 .PHONY: bench-amg
 bench-amg: deps bench-deps $(BUILD)/muflow

@@ -2,6 +2,7 @@
 """The algebraic multigrid against the probed LU on whole steady solves.
 
 usage: heap_amg.py MUFLOW OUTDIR [--repeats N] [--quick] [--skip-side] [--side-only]
+                   [--scaling-only]
 
 Runs `muflow` processes (OMP_NUM_THREADS as the caller sets it, 2 in `make
 bench-amg`), each timed from start to exit (wall), with its CPU time and
@@ -22,13 +23,22 @@ before and after:
    first 10 steps at the fixed linear tolerance 1e-8
    (solver.inexact_newton = off); the Bingham cavity (cases/bingham_cavity.ini)
    from 32 x 32 to 256 x 256, its first 8 steps with the AMG, with its
-   grad-div augmentation (the case's) and without.
+   grad-div augmentation (the case's) and without;
+4. the geometric multigrid's scaling: the heap from 35 x 50 to 280 x 400
+   with solver.preconditioner = gmg, whole solves (iterations per Newton
+   step and their growth per doubling), and 280 x 400 with gmg and with the
+   LU, one run each (time and memory);
+5. the cavity's coupled step by GMRES (solver.coupled = on,
+   solver.augmentation = 0, solver.preconditioner = amg), whole steady
+   solves from 32 x 32 to 256 x 256 with solver.newton_below = 1e-3 on
+   every grid (the same march everywhere; the case's 1e-2 switches to the
+   tangent earlier and at 256 x 256 cuts dt to 2e-6), iterations per step.
 
 Writes OUTDIR/amg_runs.csv (one row a run) and OUTDIR/amg_table.md, and
 prints the tables.  --quick: one repeat, no 280 x 400, grids to 140 x 200
 and 128 x 128 (a smoke test of the script); --skip-side: parts 2 and 3 only
 (the iteration table's 140 x 200 whole solve is then run once with amg);
---side-only: part 1 alone."""
+--side-only: part 1 alone; --scaling-only: parts 4 and 5 alone."""
 import csv
 import os
 import statistics
@@ -60,6 +70,7 @@ def run(muflow, outdir, tag, case, overrides):
              load0=load0, load1=load1, status=s.get("status", f"exit {code}"),
              steps=int(s.get("steps", 0)), rejected=int(s.get("rejected_steps", 0)),
              flow_rate=s.get("flow_rate", ""), u_surface=s.get("u_surface_mid", ""),
+             psi_max=s.get("psi_max", ""),
              iters_mean=statistics.mean(iters) if iters else float("nan"),
              iters_max=max(iters) if iters else 0)
     print(f"  {r['status']}, {r['steps']} steps, {wall:.1f} s wall, {r['cpu']:.1f} s CPU, "
@@ -87,6 +98,10 @@ def main():
                 "amg, reuse 2": ["solver.preconditioner=amg", "solver.preconditioner_reuse=2"],
                 "gmg": ["solver.preconditioner=gmg"]}
     side = {pc: [] for pc in variants}
+    if "--scaling-only" in sys.argv:
+        scaling(muflow, outdir, quick, side, runs, lines)
+        write_tables(outdir, runs, lines)
+        return
     skip_side = "--skip-side" in sys.argv
     if skip_side:
         side["amg"].append(heap(muflow, outdir, "heap140_amg", 140, 200,
@@ -189,7 +204,68 @@ def main():
                      f"| {gb} |")
         prev = (a["iters_mean"] if a else None, b["iters_mean"])
 
+    scaling(muflow, outdir, quick, side, runs, lines)
     write_tables(outdir, runs, lines)
+
+
+def growth_rows(results, label):
+    """Table rows: grid, steps (rejected), iterations a step mean (max),
+    growth of the mean against the row above."""
+    rows, prev = [], None
+    for grid, r in results:
+        g = f"{r['iters_mean'] / prev:.2f}x" if prev else ""
+        rows.append(f"| {label(grid)} | {r['steps']} ({r['rejected']}) "
+                    f"| {r['iters_mean']:.1f} ({r['iters_max']}) | {g} |")
+        prev = r["iters_mean"]
+    return rows
+
+
+def scaling(muflow, outdir, quick, side, runs, lines):
+    """Parts 4 and 5: the multigrid's and the coupled GMRES's iterations
+    per Newton step against the grid, whole steady solves."""
+    grids = HEAP_GRIDS[:3] if quick else HEAP_GRIDS
+    gmg = []
+    for ny, nz in grids:
+        if (ny, nz) == (140, 200) and side.get("gmg"):
+            r = side["gmg"][0]
+        else:
+            r = heap(muflow, outdir, f"heap{ny}_gmg", ny, nz, "solver.preconditioner=gmg")
+            runs.append(r)
+        gmg.append(((ny, nz), r))
+    lines += ["", "Heap with the geometric multigrid (gmg), whole steady solves from rest: "
+              "GMRES iterations per Newton step:", "",
+              "| grid | steps (rejected) | its a step, mean (max) | growth |", "|---|---|---|---|"]
+    lines += growth_rows(gmg, lambda g: f"{g[0]} x {g[1]}")
+    if not quick:
+        r_lu = heap(muflow, outdir, "heap280_lu", 280, 400, "solver.preconditioner=lu")
+        runs.append(r_lu)
+        r_mg = gmg[-1][1]
+        lines += ["", "Heap 280 x 400, one run each:", "",
+                  "| preconditioner | status | steps | wall s | peak MB | u_surface mid | load |",
+                  "|---|---|---|---|---|---|---|"]
+        for name, r in (("gmg", r_mg), ("lu", r_lu)):
+            lines.append(f"| {name} | {r['status']} | {r['steps']} | {r['wall']:.1f} "
+                         f"| {r['mb']:.0f} | {r['u_surface']} "
+                         f"| {r['load0']:.2f}-{r['load1']:.2f} |")
+        lines += ["", f"LU / gmg: wall {r_lu['wall'] / r_mg['wall']:.2f}x, peak memory "
+                  f"gmg / LU {r_mg['mb'] / r_lu['mb']:.2f}"]
+
+    coupled = []
+    for n in CAVITY_GRIDS[:3] if quick else CAVITY_GRIDS:
+        r = run(muflow, outdir, f"cavity{n}_coupled_gmres", "cases/bingham_cavity.ini",
+                [f"domain.nx={n}", f"domain.nz={n}", "solver.coupled=on",
+                 "solver.augmentation=0", "solver.preconditioner=amg",
+                 "solver.newton_below=1e-3"])
+        runs.append(r)
+        coupled.append((n, r))
+    lines += ["", "Bingham cavity (Vola Bn = 10), the coupled step by GMRES "
+              "(solver.coupled=on, augmentation 0, amg), newton_below 1e-3 on every grid, "
+              "whole steady solves: GMRES iterations per Newton step:", "",
+              "| grid | steps (rejected) | its a step, mean (max) | growth |", "|---|---|---|---|"]
+    lines += growth_rows(coupled, lambda n: f"{n} x {n}")
+    lines.append("")
+    lines.append("psi_max: " + ", ".join(f"{n}: {r['psi_max']} ({r['status']})"
+                                         for n, r in coupled))
 
 
 def write_tables(outdir, runs, lines):
