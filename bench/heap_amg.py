@@ -36,7 +36,7 @@ before and after:
 
 Writes OUTDIR/amg_runs.csv (one row a run) and OUTDIR/amg_table.md, and
 prints the tables.  --quick: one repeat, no 280 x 400, grids to 140 x 200
-and 128 x 128 (a smoke test of the script); --skip-side: parts 2 and 3 only
+and 128 x 128 (a smoke test of the script); --skip-side: parts 2 to 5 only
 (the iteration table's 140 x 200 whole solve is then run once with amg);
 --side-only: part 1 alone; --scaling-only: parts 4 and 5 alone."""
 import csv
