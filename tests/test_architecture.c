@@ -85,7 +85,7 @@ static int tracer_create(struct march_state *st, void **state, char *err, size_t
     return 0;
 }
 
-static void tracer_transport(struct march_state *st, void *state, double dt)
+static int tracer_transport(struct march_state *st, void *state, double dt)
 {
     struct tracer_state *t = state;
     const struct grid *g = &st->g;
@@ -95,6 +95,7 @@ static void tracer_transport(struct march_state *st, void *state, double dt)
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 t->tracer[p] += dt * fabs(st->vel[0][p]) * (1.0 + k);
             }
+    return 0;
 }
 
 static void tracer_destroy(void *state) { free(state); }

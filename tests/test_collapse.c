@@ -314,10 +314,46 @@ static void test_bad_input(void **state)
     test_bad_overrides(CASE, bad, sizeof bad / sizeof bad[0]);
 }
 
+/* A stage that cannot complete breaks the step loudly: a module's transport
+ * that fails (as the density's update does when its coefficient is refused
+ * or its factorisation fails) ends the run with the last good state and the
+ * module's cause in the message, instead of going on with a stale
+ * projection. */
+static int failing_transport(struct march_state *st, void *state, double dt)
+{
+    (void)state;
+    (void)dt;
+    if (st->step < 2)
+        return 0;
+    snprintf(st->step_error, sizeof st->step_error, "the test's transport gave up");
+    return -1;
+}
+
+static const struct module failing_module = {.name = "failing_transport",
+                                             .transport = failing_transport};
+
+static void test_transport_failure(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=40", "domain.nz=12", "domain.ly=0.125", "collapse.rest_energy=0"};
+    struct muflow_case cs;
+    load(&cs, 4, ov);
+    const struct module *const extra[] = {&failing_module, NULL};
+    struct run_options opt = {.write_output = 0, .modules = extra};
+    struct run_result r;
+    char err[512];
+    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), 0);
+    print_message("status %s, steps %ld: %s\n", run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_int_equal(r.steps, 2);
+    assert_non_null(strstr(r.message, "step 2 broke down (the test's transport gave up)"));
+}
+
 void group_collapse(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bad_input),
+        cmocka_unit_test(test_transport_failure),
         cmocka_unit_test(test_comes_to_rest),
         cmocka_unit_test(test_pressure_solves),
         cmocka_unit_test(test_record_while_running),

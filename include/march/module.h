@@ -19,7 +19,9 @@
  *               0, -1 when it broke down, 1 when it declines (an idle
  *               module: the viscous solver takes the step)
  *   transport   after the projection: advects its tracers by the new
- *               velocity over dt
+ *               velocity over dt; 0, or -1 with the cause in st->step_error
+ *               (the step breaks down: the march ends with its last good
+ *               state and says why)
  *   end_step    the last stage of an accepted step
  *   max_dt      the largest time step its stages allow at the current state
  *               (a transient step is the smallest of these, the CFL limit
@@ -39,7 +41,7 @@ struct module {
     void (*residual)(struct march_state *st, void *state);
     double (*residual_max)(const struct march_state *st, void *state, double *excess);
     int (*implicit)(struct march_state *st, void *state, double dt);
-    void (*transport)(struct march_state *st, void *state, double dt);
+    int (*transport)(struct march_state *st, void *state, double dt);
     void (*end_step)(struct march_state *st, void *state, double dt);
     double (*max_dt)(const struct march_state *st, void *state);
     void (*destroy)(void *state);

@@ -1129,9 +1129,9 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
                     restore_good(st);
                     st->status = STATUS_DIVERGED;
                     snprintf(st->message, sizeof st->message,
-                             "the implicit viscous solve broke down at step %ld%s%.150s%s; the last "
-                             "finite state is kept", st->step, st->step_error[0] ? " (" : "",
-                             st->step_error, st->step_error[0] ? ")" : "");
+                             "step %ld broke down (%.150s); the last finite state is kept",
+                             st->step,
+                             st->step_error[0] ? st->step_error : "the implicit viscous solve");
                 }
                 break;
             }

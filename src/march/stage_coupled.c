@@ -515,9 +515,12 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     if (rc != 0) {
         const double *rhs[2] = {c->b, c->f};
         double *sol[2] = {c->x, c->x2};
-        if (saddle_point_solve_many(c->solver, &c->K, c->bordered ? 2 : 1, rhs, sol, st->step_error,
-                                    sizeof st->step_error) != 0)
+        char why[sizeof st->step_error - 32];
+        if (saddle_point_solve_many(c->solver, &c->K, c->bordered ? 2 : 1, rhs, sol, why,
+                                    sizeof why) != 0) {
+            snprintf(st->step_error, sizeof st->step_error, "the implicit coupled solve: %s", why);
             return -1;
+        }
         st->linear_iterations = 1;
     }
     if (c->bordered)

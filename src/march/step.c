@@ -20,8 +20,9 @@ int step_advance(struct march_state *st, double dt)
     else
         stage_projection(st, dt);
     for (int m = 0; m < st->nmodules; m++)
-        if (st->modules[m]->transport)
-            st->modules[m]->transport(st, st->module_state[m], dt);
+        if (st->modules[m]->transport &&
+            st->modules[m]->transport(st, st->module_state[m], dt) != 0)
+            return -1;
     for (int m = 0; m < st->nmodules; m++)
         if (st->modules[m]->end_step)
             st->modules[m]->end_step(st, st->module_state[m], dt);

@@ -284,11 +284,11 @@ static void properties(struct march_state *st, void *state)
  * geometric VOF (physics/vof_transport.h), in as many equal sub-steps as the
  * sweeps' CFL limit needs, so that the implicit step's dt is not bound by
  * it; then the mixture density follows T. */
-static void transport(struct march_state *st, void *state, double dt)
+static int transport(struct march_state *st, void *state, double dt)
 {
     struct two_phase *tp = state;
     if (!tp->configured || !tp->transported)
-        return;
+        return 0;
     double cfl[3];
     long n = (long)ceil(vof_cfl(&st->g, st->vel, dt, cfl) / TRANSPORT_CFL);
     if (n < 1)
@@ -310,8 +310,12 @@ static void transport(struct march_state *st, void *state, double dt)
             }
     if (moved > TRACER_UNCHANGED) {
         char err[256];
-        two_phase_tracer_changed(st, err, sizeof err);
+        if (two_phase_tracer_changed(st, err, sizeof err) != 0) {
+            snprintf(st->step_error, sizeof st->step_error, "the transport: %.140s", err);
+            return -1;
+        }
     }
+    return 0;
 }
 
 /* The VOF limit of the step: step_cfl h_d / max |u_d| over the swept
