@@ -76,6 +76,11 @@ struct multigrid_options {
                                only and its post-smoother the first's (half the
                                smoothing of the costliest level; the coarse levels
                                sweep both); 0: both in each */
+    int coarse_simplicial;  /* 1: the coarsest level's factorisation is CHOLMOD's
+                               simplicial one, which calls no BLAS, so that it can run
+                               beside another thread's factorisation (the serial
+                               OpenBLAS muflow loads shares its buffers between
+                               calls); 0: CHOLMOD chooses */
 };
 
 /* The defaults chosen by measurement: W(2,2), flux prolongation, coincident
@@ -107,6 +112,18 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
  * a Dirichlet face nor a mass term is pinned on the coarsest level. */
 int multigrid_set_operator(struct multigrid *mg, double *const a[3], const double *mass,
                            char *err, size_t errlen);
+
+/* multigrid_set_operator in two parts: the coefficients copied, checked and
+ * coarsened (the part that reads the caller's arrays), and the coarsest
+ * level's factorisation with the line smoother's factors, which read only
+ * the multigrid's own arrays, so that a caller may run them on another
+ * thread beside work that does not touch this multigrid
+ * (march/step.c).  No solve until the second part has returned 0:
+ * multigrid_pending says whether it is due. */
+int multigrid_set_operator_deferred(struct multigrid *mg, double *const a[3], const double *mass,
+                                    char *err, size_t errlen);
+int multigrid_finish_operator(struct multigrid *mg, char *err, size_t errlen);
+int multigrid_pending(const struct multigrid *mg);
 
 /* Adds a mixed-derivative term to L on the levels that are smoothed (the
  * coarsest level's direct solve leaves it out): for the two bounded

@@ -17,9 +17,18 @@ int pressure_create(struct pressure_solver **out, const struct grid *g,
 void pressure_destroy(struct pressure_solver *ps);
 
 /* The coefficient for the next solves: NULL for beta = 1 (the FFT solver),
- * or three face arrays (copied).  Returns 0, or -1 with the cause. */
+ * or three face arrays (copied and checked).  The multigrid's factorisation
+ * of its coarsest level (on a small 2D grid the whole grid) is left to
+ * pressure_finish, which may run on another thread beside work that does
+ * not use this solver; the next solve does it otherwise.  Returns 0, or -1
+ * with the cause. */
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen);
+
+/* 1 while the coefficient's factorisation is due; pressure_finish does it
+ * (0, or -1 with the cause: out of memory, a failed factorisation). */
+int pressure_pending(const struct pressure_solver *ps);
+int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen);
 
 /* 1 while the coefficient is uniform (the FFT path). */
 int pressure_uniform(const struct pressure_solver *ps);

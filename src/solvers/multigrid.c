@@ -145,6 +145,8 @@ struct multigrid {
     long live;                     /* live cells of level 0 */
     int line_dirs[3], nline_dirs;  /* MG_SMOOTH_LINES: the directions of its lines */
     int ready;                     /* coefficients set */
+    int pending;                   /* set, the coarsest factorisation (and the line
+                                      factors) still to do: multigrid_finish_operator */
     double *mxbuf;                 /* the lines' mixed terms, two lines per thread
                                       (multigrid_set_mixed) */
     int mxlen;                     /* the longest line */
@@ -172,6 +174,7 @@ void multigrid_default_options(struct multigrid_options *o)
     o->smoother = MG_SMOOTH_POINT;
     o->full_coarsening = 0;
     o->split_finest = 0;
+    o->coarse_simplicial = 0;
 }
 
 /* ---- halo fills: the only writers of ghost values ------------------------------ */
@@ -1458,6 +1461,8 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         cs->started = 1;
         cs->cm.error_handler = quiet_handler;
         cs->cm.print = 0;
+        if (mg->opt.coarse_simplicial)
+            cs->cm.supernodal = CHOLMOD_SIMPLICIAL;
     }
     if (!ok) {
         multigrid_destroy(mg);
@@ -1613,9 +1618,18 @@ int multigrid_set_coefficients(struct multigrid *mg, double *const a[3], char *e
 int multigrid_set_operator(struct multigrid *mg, double *const a[3], const double *mass,
                            char *err, size_t errlen)
 {
+    if (multigrid_set_operator_deferred(mg, a, mass, err, errlen) != 0)
+        return -1;
+    return multigrid_finish_operator(mg, err, errlen);
+}
+
+int multigrid_set_operator_deferred(struct multigrid *mg, double *const a[3], const double *mass,
+                                    char *err, size_t errlen)
+{
     struct level *l0 = &mg->lev[0];
     const struct grid *g = &l0->g;
     mg->ready = 0;
+    mg->pending = 0;
     if (set_mass(mg, mass, err, errlen) != 0)
         return -1;
     for (int d = 0; d < 3; d++) {
@@ -1661,6 +1675,15 @@ int multigrid_set_operator(struct multigrid *mg, double *const a[3], const doubl
     for (size_t p = 0; p < g->size; p++)
         live += l0->live[p];
     mg->live = live;
+    mg->pending = 1;
+    return 0;
+}
+
+int multigrid_finish_operator(struct multigrid *mg, char *err, size_t errlen)
+{
+    if (!mg->pending)
+        return 0;
+    mg->pending = 0;
     if (coarse_factor(mg, err, errlen) != 0)
         return -1;
     if (mg->opt.smoother == MG_SMOOTH_LINES)
@@ -1669,6 +1692,11 @@ int multigrid_set_operator(struct multigrid *mg, double *const a[3], const doubl
                 line_factors(&mg->lev[l], k, mg->line_dirs[k]);
     mg->ready = 1;
     return 0;
+}
+
+int multigrid_pending(const struct multigrid *mg)
+{
+    return mg->pending;
 }
 
 /* ---- cycles and solvers -------------------------------------------------------- */
