@@ -114,12 +114,13 @@ int multigrid_set_operator(struct multigrid *mg, double *const a[3], const doubl
                            char *err, size_t errlen);
 
 /* multigrid_set_operator in two parts: the coefficients copied, checked and
- * coarsened (the part that reads the caller's arrays), and the coarsest
- * level's factorisation with the line smoother's factors, which read only
+ * coarsened, the coarsest level's matrix assembled (and analysed when its
+ * pattern is new: the orderings stay on the caller's thread); then its
+ * numeric factorisation and the line smoother's factors, which touch only
  * the multigrid's own arrays, so that a caller may run them on another
- * thread beside work that does not touch this multigrid
- * (march/step.c).  No solve until the second part has returned 0:
- * multigrid_pending says whether it is due. */
+ * thread beside work that does not use this multigrid (march/step.c).  No
+ * solve until the second part has returned 0: multigrid_pending says
+ * whether it is due. */
 int multigrid_set_operator_deferred(struct multigrid *mg, double *const a[3], const double *mass,
                                     char *err, size_t errlen);
 int multigrid_finish_operator(struct multigrid *mg, char *err, size_t errlen);

@@ -48,7 +48,7 @@ static int implicit_beside_pressure(struct march_state *st, double dt)
         return stage_implicit(st, dt);
     struct pressure_job job = {.ps = ps};
     pthread_t worker;
-    const int beside = st->step > 0 && omp_get_max_threads() > 1 && !kernel_parallel(&st->g) &&
+    const int beside = omp_get_max_threads() > 1 && !kernel_parallel(&st->g) &&
                        pthread_create(&worker, NULL, pressure_job_run, &job) == 0;
     int rc = stage_implicit(st, dt);
     if (beside)

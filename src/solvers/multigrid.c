@@ -121,6 +121,7 @@ struct level {
 struct coarse_direct {
     cholmod_common cm;
     int started;
+    cholmod_sparse *A;     /* assembled and analysed, its numeric factorisation due */
     cholmod_factor *L;
     cholmod_dense *B, *X, *Y, *E;
     long n;                /* rows (live cells of the coarsest level) */
@@ -131,6 +132,7 @@ struct coarse_direct {
     int *pattern;          /* the analysed matrix's column starts and rows: a
                               matrix of the same pattern keeps L's analysis */
     size_t pattern_len;
+    int same;              /* cs->A has the pattern L was analysed for before */
 };
 
 struct multigrid {
@@ -1044,15 +1046,19 @@ static double face_weight(const struct level *lv, const int c[3], int d, int s)
     return lv->ih2[d] * lv->a[d][s < 0 ? p : p + g->stride[d]];
 }
 
-/* Assembles -L of the coarsest level on its live cells and factorises it.
- * Each connected component of live cells that no Dirichlet face holds is
- * singular (constants): its first cell is pinned to 0 (identity row and
- * column), which leaves the other rows a nonsingular M-matrix and, for a
- * compatible right-hand side, the same solution up to that component's
- * constant. */
-static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
+/* Assembles -L of the coarsest level on its live cells (cs->A) and, when
+ * its pattern is new, analyses it; coarse_numeric factorises it.  The
+ * analysis (the AMD or METIS ordering) stays on the caller's thread: only
+ * the numeric factorisation may run beside other work (multigrid.h,
+ * multigrid_finish_operator).  Each connected component of live cells
+ * that no Dirichlet face holds is singular (constants): its first cell is
+ * pinned to 0 (identity row and column), which leaves the other rows a
+ * nonsingular M-matrix and, for a compatible right-hand side, the same
+ * solution up to that component's constant. */
+static int coarse_assemble(struct multigrid *mg, char *err, size_t errlen)
 {
     struct coarse_direct *cs = &mg->cs;
+    suitesparse.cholmod_free_sparse(&cs->A, &cs->cm);
     struct level *lv = &mg->lev[mg->nlev - 1];
     const struct grid *g = &lv->g;
     long n = 0;
@@ -1177,10 +1183,30 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
             cs->pattern_len = len;
         }
     }
+    cs->A = A;
+    cs->same = same;
+    if (!cs->L) {
+        set_err(err, errlen, "multigrid: the coarsest level's analysis failed (status %d)",
+                cs->cm.status);
+        return -1;
+    }
+    return 0;
+}
+
+/* The numeric factorisation of what coarse_assemble left in cs->A, and the
+ * solves' workspace. */
+static int coarse_numeric(struct multigrid *mg, char *err, size_t errlen)
+{
+    struct coarse_direct *cs = &mg->cs;
+    if (cs->n == 0)
+        return 0;
+    const int same = cs->same;
+    const size_t n = (size_t)cs->n;
     struct suitesparse_serial serial = suitesparse_serial_begin();
-    int ok = cs->L && suitesparse.cholmod_factorize(A, cs->L, &cs->cm) && cs->cm.status == CHOLMOD_OK;
+    int ok = cs->A && cs->L && suitesparse.cholmod_factorize(cs->A, cs->L, &cs->cm) &&
+             cs->cm.status == CHOLMOD_OK;
     suitesparse_serial_end(serial);
-    suitesparse.cholmod_free_sparse(&A, &cs->cm);
+    suitesparse.cholmod_free_sparse(&cs->A, &cs->cm);
     if (!ok) {
         set_err(err, errlen, "multigrid: the coarsest factorisation failed (status %d)",
                 cs->cm.status);
@@ -1189,7 +1215,7 @@ static int coarse_factor(struct multigrid *mg, char *err, size_t errlen)
     if (same && cs->B && cs->X)
         return 0; /* the solves' workspace is the right size already */
     suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
-    cs->B = suitesparse.cholmod_zeros((size_t)n, 1, CHOLMOD_REAL, &cs->cm);
+    cs->B = suitesparse.cholmod_zeros(n, 1, CHOLMOD_REAL, &cs->cm);
     if (!cs->B) {
         set_err(err, errlen, "multigrid: out of memory (coarsest level)");
         return -1;
@@ -1291,6 +1317,7 @@ void multigrid_destroy(struct multigrid *mg)
     free(mg->mxbuf);
     struct coarse_direct *cs = &mg->cs;
     if (cs->started) {
+        suitesparse.cholmod_free_sparse(&cs->A, &cs->cm);
         suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
         suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
         suitesparse.cholmod_free_dense(&cs->X, &cs->cm);
@@ -1675,6 +1702,8 @@ int multigrid_set_operator_deferred(struct multigrid *mg, double *const a[3], co
     for (size_t p = 0; p < g->size; p++)
         live += l0->live[p];
     mg->live = live;
+    if (coarse_assemble(mg, err, errlen) != 0)
+        return -1;
     mg->pending = 1;
     return 0;
 }
@@ -1684,7 +1713,7 @@ int multigrid_finish_operator(struct multigrid *mg, char *err, size_t errlen)
     if (!mg->pending)
         return 0;
     mg->pending = 0;
-    if (coarse_factor(mg, err, errlen) != 0)
+    if (coarse_numeric(mg, err, errlen) != 0)
         return -1;
     if (mg->opt.smoother == MG_SMOOTH_LINES)
         for (int l = 0; l < mg->nlev - 1; l++)
@@ -1818,7 +1847,7 @@ static int singular(const struct multigrid *mg)
 {
     if (mg->lev[0].m)
         return 0; /* a mass term: a component without mass or Dirichlet face is pinned
-                     (coarse_factor) */
+                     (coarse_assemble) */
     for (int d = 0; d < 3; d++)
         if (mg->bc[d][0] == POISSON_DIRICHLET || mg->bc[d][1] == POISSON_DIRICHLET)
             return 0;
