@@ -548,7 +548,10 @@ for name, title, png in [
          "bagnold2_profile.png"),
         ("bedload_table.md", "Bed load beside the Newton FEM (seeds/002 Table 2)", None),
         ("collapse_gerris.md", "Column collapse beside Gerris (last `make bench-collapse-gerris`)",
-         None)]:
+         None),
+        ("amg_table.md", "Preconditioners of the implicit step on whole steady solves "
+         "(last `make bench-amg`)", None),
+        ("bagnold3d.md", "A 3D steady flow of a million cells (last `make bench-3d`)", None)]:
     path = os.path.join(OUT, name)
     if os.path.exists(path):
         md.append(f"## {title}\n")
