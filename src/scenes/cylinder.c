@@ -461,12 +461,20 @@ static int drive(struct scene_drive *d)
         /* the continuation ends on its last steady state */
         fields_snapshot_put(&last, NULL, 0.0, &st->fields);
         cs->gravity = gravity_of(cs, F_last);
-        char err[256];
-        march_reforce(st, err, sizeof err);
-        flow_rate_restart(st, cs->gravity, run->in_velocity ? U_last : 0.0, err, sizeof err);
-        step_evaluate(st);
-        st->step = last_steps; /* the summary's steps: the solve of this state */
-        st->status = STATUS_STEADY;
+        char err[200];
+        if (march_reforce(st, err, sizeof err) != 0 ||
+            flow_rate_restart(st, cs->gravity, run->in_velocity ? U_last : 0.0, err,
+                              sizeof err) != 0) {
+            /* the same forcing gave this state before: only memory can fail */
+            st->status = STATUS_DIVERGED;
+            snprintf(st->message, sizeof st->message,
+                     "the continuation's last steady state could not be set up again: %.150s",
+                     err);
+        } else {
+            step_evaluate(st);
+            st->step = last_steps; /* the summary's steps: the solve of this state */
+            st->status = STATUS_STEADY;
+        }
     }
     if (st->status == STATUS_STEADY && run->in_velocity) {
         if (isfinite(run->failed_U))
