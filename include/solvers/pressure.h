@@ -26,7 +26,11 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
                              size_t errlen);
 
 /* 1 while the coefficient's factorisation is due; pressure_finish does it
- * (0, or -1 with the cause: out of memory, a failed factorisation). */
+ * (0, or -1 with the cause: out of memory, a failed factorisation).
+ * pressure_direct: 1 when that factorisation is the whole grid's (a 2D grid
+ * of at most PRESSURE_DIRECT_CELLS cells with a variable coefficient), the
+ * costly case; else the multigrid's small coarsest level. */
+int pressure_direct(const struct pressure_solver *ps);
 int pressure_pending(const struct pressure_solver *ps);
 int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen);
 

@@ -1,7 +1,6 @@
 /* The step's stages in order (step.h): the one place that says what a step
  * does, and where the physics modules come in. */
 #include "march/step.h"
-#include "kernels/kernels.h"
 #include "solvers/pressure.h"
 
 #include <omp.h>
@@ -33,14 +32,16 @@ static void *pressure_job_run(void *arg)
 /* Stage 3, and beside it the projection's factorisation that the last
  * transport left due (a new density: pressure_set_coefficient).  The two
  * share nothing: the factorisation reads the pressure multigrid's own
- * arrays only.  On a small 2D grid both are serial (CHOLMOD runs on one
- * thread, suitesparse.h; the kernels below kernel_parallel's size), and
- * one after the other they left the second core idle: the pressure's
+ * arrays only.  One after the other, on a small 2D grid whose pressure is
+ * the whole grid's factorisation, they are both serial (CHOLMOD runs on one
+ * thread, suitesparse.h) and the second core sat idle: the pressure's
  * factorisation is a sixth of the column collapse's run at 25.6 cells per
  * H0 (docs/design.md, "Column collapse").  A POSIX thread takes it, outside
- * any OpenMP team, so the implicit stage's regions run as they do alone.
- * Where the kernels are parallel the two would contend for the cores: the
- * factorisation follows the implicit stage there, as on one thread. */
+ * any OpenMP team, so that the implicit stage's regions run as they do
+ * alone, with one thread fewer meanwhile (on 256 x 80, where the kernels
+ * are parallel, that is still 0.87 of the time).  Where the pressure is
+ * the multigrid's cycles the factorisation is its small coarsest level:
+ * it follows the implicit stage, which keeps every thread. */
 static int implicit_beside_pressure(struct march_state *st, double dt)
 {
     struct pressure_solver *ps = st->pressure_solver;
@@ -48,13 +49,18 @@ static int implicit_beside_pressure(struct march_state *st, double dt)
         return stage_implicit(st, dt);
     struct pressure_job job = {.ps = ps};
     pthread_t worker;
-    const int beside = omp_get_max_threads() > 1 && !kernel_parallel(&st->g) &&
+    const int threads = omp_get_max_threads();
+    const int beside = threads > 1 && pressure_direct(ps) &&
                        pthread_create(&worker, NULL, pressure_job_run, &job) == 0;
-    int rc = stage_implicit(st, dt);
     if (beside)
+        omp_set_num_threads(threads - 1);
+    int rc = stage_implicit(st, dt);
+    if (beside) {
+        omp_set_num_threads(threads);
         pthread_join(worker, NULL);
-    else if (rc == 0)
+    } else if (rc == 0) {
         pressure_job_run(&job);
+    }
     if (rc != 0)
         return -1;
     if (job.rc != 0) {

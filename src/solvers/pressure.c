@@ -37,6 +37,7 @@ struct pressure_solver {
     double *rhs;            /* the multigrid path's copy of rhs (may alias phi) */
     long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
+    int direct;        /* the multigrid is one level: the whole grid factorised */
 };
 
 int pressure_create(struct pressure_solver **out, const struct grid *g,
@@ -83,12 +84,11 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
         int flat = ps->g->n[0] == 1 || ps->g->n[1] == 1 || ps->g->n[2] == 1;
         if (flat && cells <= PRESSURE_DIRECT_CELLS) {
             o.coarse_cells = cells;
-            /* where the kernels are serial the whole grid's factorisation
-             * runs beside the implicit step's (pressure_finish,
-             * march/step.c): no BLAS in it then (it is CHOLMOD's own
-             * choice there: 128 x 40 gives the same bits); on larger grids
-             * CHOLMOD chooses (supernodal at 256 x 80, 6 % faster) */
-            o.coarse_simplicial = !kernel_parallel(ps->g);
+            /* the whole grid's factorisation runs beside the implicit
+             * step (pressure_finish, march/step.c): no BLAS in it, which
+             * the implicit step's factorisation calls at the same time */
+            o.coarse_simplicial = 1;
+            ps->direct = 1;
         }
         if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, &o, err,
                              errlen) != 0)
@@ -99,6 +99,11 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
         }
     }
     return multigrid_set_operator_deferred(ps->mg, beta, NULL, err, errlen);
+}
+
+int pressure_direct(const struct pressure_solver *ps)
+{
+    return !ps->uniform && ps->direct;
 }
 
 int pressure_pending(const struct pressure_solver *ps)
