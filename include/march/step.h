@@ -16,6 +16,9 @@
  *                     after a coupled step (3 solved for du and dp at
  *                     once, stage_coupled.c) u += du alone
  *     5. transport    the modules' tracers advected by the new velocity
+ *                     (a new density leaves the projection's factorisation
+ *                     due: where it is the whole grid's, a second thread
+ *                     does it beside the next step's stage 3, step.c)
  *     6. end of step  the modules' last word on the step
  * The body force is split once (and again when it changes) into its
  * hydrostatic pressure and the rest (hydrostatic.c). */
@@ -25,8 +28,9 @@
 #include "march/march.h"
 
 void step_evaluate(struct march_state *st);
-/* Returns 0, or -1 when the implicit solve broke down (nothing changed
- * that a restore of the saved fields does not undo). */
+/* Returns 0, or -1 when a stage broke down, its cause in st->step_error
+ * when the stage gave one (nothing changed that a restore of the saved
+ * fields does not undo). */
 int step_advance(struct march_state *st, double dt);
 
 /* The stages (each in its own file). */
