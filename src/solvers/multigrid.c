@@ -132,7 +132,6 @@ struct coarse_direct {
     int *pattern;          /* the analysed matrix's column starts and rows: a
                               matrix of the same pattern keeps L's analysis */
     size_t pattern_len;
-    int same;              /* cs->A has the pattern L was analysed for before */
 };
 
 struct multigrid {
@@ -1173,6 +1172,8 @@ static int coarse_assemble(struct multigrid *mg, char *err, size_t errlen)
                memcmp(cs->pattern, A->p, ((size_t)n + 1) * sizeof(int)) == 0 &&
                memcmp(cs->pattern + n + 1, A->i, (len - (size_t)n - 1) * sizeof(int)) == 0;
     if (!same) {
+        /* and the solves' workspace is set up again after the factorisation */
+        suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
         suitesparse.cholmod_free_factor(&cs->L, &cs->cm);
         cs->L = suitesparse.cholmod_analyze(A, &cs->cm);
         free(cs->pattern);
@@ -1184,7 +1185,6 @@ static int coarse_assemble(struct multigrid *mg, char *err, size_t errlen)
         }
     }
     cs->A = A;
-    cs->same = same;
     if (!cs->L) {
         set_err(err, errlen, "multigrid: the coarsest level's analysis failed (status %d)",
                 cs->cm.status);
@@ -1200,7 +1200,6 @@ static int coarse_numeric(struct multigrid *mg, char *err, size_t errlen)
     struct coarse_direct *cs = &mg->cs;
     if (cs->n == 0)
         return 0;
-    const int same = cs->same;
     const size_t n = (size_t)cs->n;
     struct suitesparse_serial serial = suitesparse_serial_begin();
     int ok = cs->A && cs->L && suitesparse.cholmod_factorize(cs->A, cs->L, &cs->cm) &&
@@ -1212,8 +1211,8 @@ static int coarse_numeric(struct multigrid *mg, char *err, size_t errlen)
                 cs->cm.status);
         return -1;
     }
-    if (same && cs->B && cs->X)
-        return 0; /* the solves' workspace is the right size already */
+    if (cs->B && cs->X)
+        return 0; /* the solves' workspace is the right size already (the pattern's) */
     suitesparse.cholmod_free_dense(&cs->B, &cs->cm);
     cs->B = suitesparse.cholmod_zeros(n, 1, CHOLMOD_REAL, &cs->cm);
     if (!cs->B) {
