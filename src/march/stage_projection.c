@@ -157,8 +157,10 @@ void stage_projection(struct march_state *st, double dt)
     }
     /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
      * dt it is small and the Uzawa update carries the pressure */
+    if (nothing)
+        return; /* phi = 0: no correction */
     double scale = st->rho_ref / dt;
-    for (int i = 0; i < (nothing ? 0 : g->n[0]); i++)
+    for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
