@@ -433,11 +433,14 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4: Gerris took 6.6 minutes at the
 # clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
 # viscosity clipped at 10 (Gerris's example) and 1e4 (the Basilisk port,
-# muflow's published set-up), each pair of runs in one sitting:
-# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 15
+# muflow's published set-up), Gerris's step capped at 0.01 (its example's)
+# and 0.02, muflow's at 0.01 (its set-up's), 0.02, 0.04, and 0.04 with the
+# CFL numbers at their bound 0.5; every run of a repeat in one sitting:
+# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 25
 # minutes on 2 idle cores with the defaults.
 COLLAPSE_GERRIS_LEVELS ?= 7 8
 COLLAPSE_GERRIS_CAPS ?= 10 1e4
+COLLAPSE_GERRIS_GERRIS_DTS ?= 0.01 0.02
 COLLAPSE_GERRIS_REPEATS ?= 2
 .PHONY: bench-collapse-gerris
 bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
@@ -445,6 +448,7 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_gerris.py $(BUILD)/muflow $(BENCH_OUT) \
 	  --levels $(COLLAPSE_GERRIS_LEVELS) --caps $(COLLAPSE_GERRIS_CAPS) \
+	  --gerris-dts $(COLLAPSE_GERRIS_GERRIS_DTS) \
 	  --repeats $(COLLAPSE_GERRIS_REPEATS)
 
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in

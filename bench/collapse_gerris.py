@@ -2,22 +2,29 @@
 """The column collapse beside Gerris, on one machine in one sitting.
 
 usage: collapse_gerris.py MUFLOW OUTDIR [--levels 7 8] [--caps 10 1e4]
+                          [--muflow-sets SET ...] [--gerris-dts 0.01 0.02]
                           [--repeats 2]
 
 a = 0.5 to t = 4 at LEVEL (2^LEVEL cells across Gerris's 5 H0 box: 7, 8, 9
 are 25.6, 51.2, 102.4 cells per H0), for each upper clip of the granular
 viscosity ETAMAX (Gerris's example of the paper: 10; the Basilisk port and
-muflow's published set-up, `make bench-collapse`: 1e4).  Each pair runs
-Gerris 1.3.2 (bench/gerris/collapse.gfs; serial, as it runs) and muflow
-(cases/collapse.ini with the clip and van Leer's advection on the grid of
-the same cell size, square cells, the caller's OMP_NUM_THREADS, 2 in `make
-bench-collapse-gerris`) one after the other, `repeats` times, alternating
-which goes first.  Recorded per run: wall and CPU seconds of the process
-(wait4), peak resident memory, steps, the 1-minute load average before it,
-the front x_f(t) at t = 1..4 against the reference, the height on the axis h(0, 4) (the Basilisk port's
-output, cases/data/lagree2011_collapse.csv) and the grains' volume drift.
-Writes OUTDIR/collapse_gerris.md (medians, and the ratio Gerris / muflow of
-each pair's wall times) and collapse_gerris_runs.csv.
+muflow's published set-up, `make bench-collapse`: 1e4), with each code's
+time-step settings: Gerris's cap `dtmax` (the example's 0.01; its CFL,
+0.8, cuts it) and muflow's SETs, each a space-separated list of case
+overrides (the defaults: the set-up's cap solver.dt = 0.01; 0.02; 0.04;
+0.04 with the advective and VOF CFL numbers at 0.5, the bound of both).  Each
+repeat runs Gerris 1.3.2 (bench/gerris/collapse.gfs; serial, as it runs)
+at each of its caps and muflow (cases/collapse.ini with the clip and van
+Leer's advection on the grid of the same cell size, square cells, the
+caller's OMP_NUM_THREADS, 2 in `make bench-collapse-gerris`) with each of
+its SETs, one after the other, the order reversed every other repeat.  Recorded per run: wall and CPU seconds
+of the process (wait4), peak resident memory, steps, the 1-minute load
+average before it, the front x_f(t) at t = 1..4 against the reference,
+the height on the axis h(0, 4) (the Basilisk port's output,
+cases/data/lagree2011_collapse.csv) and the grains' volume drift.  Writes
+OUTDIR/collapse_gerris.md (medians, and per run the ratio of the wall time
+of Gerris at its first cap, the example's, in the same repeat over the
+run's) and collapse_gerris_runs.csv.
 
 Gerris's front is the largest interface position where T > 0.1 (its
 example's own diagnostic), muflow's the largest x of the T = 1/2 contour;
@@ -53,14 +60,15 @@ def gerris_norm_log(path):
     return ts, vs
 
 
-def run_gerris(d, level, cap):
+def run_gerris(d, level, cap, dt):
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
     shutil.copy(GFS, d)
     load = loadavg()
     with open(os.path.join(d, "gerris.log"), "w") as log:
         code, wall, cpu, mb = timed_run(
-            [GERRIS, "-DLEVEL=%d" % level, "-DETAMAX=%s" % cap, "collapse.gfs"],
+            [GERRIS, "-DLEVEL=%d" % level, "-DETAMAX=%s" % cap, "-DDTMAX=%s" % dt,
+             "collapse.gfs"],
             cwd=d, stdout=log, stderr=subprocess.STDOUT)
     if code != 0:
         sys.exit("gerris failed in %s (exit %d): see gerris.log" % (d, code))
@@ -82,7 +90,7 @@ def run_gerris(d, level, cap):
             "volume_drift": abs(vol[-1] - vol[0]) / vol[0]}
 
 
-def run_muflow(muflow, d, level, cap):
+def run_muflow(muflow, d, level, cap, overrides):
     cells = 2 ** level                     # across Gerris's 5 H0
     n_per_h0 = cells / 5.0
     nx, nz = cells, (cells * 5) // 16      # the case's 5 x 1.5625 box
@@ -91,7 +99,7 @@ def run_muflow(muflow, d, level, cap):
            "domain.ly=%.17g" % (1.0 / n_per_h0), "domain.lz=1.5625",
            "collapse.viscosity_clip=on", "collapse.eta_max=%s" % cap,
            "physics.advection_scheme=vanleer", "collapse.rest_energy=0",
-           "output.fields=off", "output.quiet=on", "output.dir=" + d]
+           "output.fields=off", "output.quiet=on", "output.dir=" + d] + overrides.split()
     load = loadavg()
     code, wall, cpu, mb = timed_run(cmd)
     if code != 0:
@@ -110,6 +118,13 @@ def options():
     p.add_argument("outdir")
     p.add_argument("--levels", type=int, nargs="+", default=[7, 8])
     p.add_argument("--caps", nargs="+", default=["10", "1e4"])
+    p.add_argument("--muflow-sets", nargs="+",
+                   default=["solver.dt=0.01", "solver.dt=0.02", "solver.dt=0.04",
+                            "solver.dt=0.04 solver.cfl=0.5 collapse.vof_cfl=0.5"],
+                   help="muflow's time-step settings, each a space-separated list of "
+                        "case overrides")
+    p.add_argument("--gerris-dts", nargs="+", default=["0.01", "0.02"],
+                   help="Gerris's step caps (dtmax); the first is the ratios' reference")
     p.add_argument("--repeats", type=int, default=2)
     return p.parse_args()
 
@@ -123,55 +138,63 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     ref = reference()["x_front"]
     rows = []
+    runs = ([("gerris", dt) for dt in o.gerris_dts]
+            + [("muflow", m) for m in o.muflow_sets])
     for level in o.levels:
         for cap in o.caps:
             for rep in range(o.repeats):
                 base = os.path.join(outdir, "collapse_gerris_l%d_cap%s" % (level, cap))
-                order = ["gerris", "muflow"] if rep % 2 == 0 else ["muflow", "gerris"]
-                pair = {}
-                for code in order:
-                    d = "%s_%s%d" % (base, code, rep)
-                    print("level %d, clip %s, %s, run %d" % (level, cap, code, rep + 1),
-                          flush=True)
-                    pair[code] = (run_gerris(d, level, cap) if code == "gerris"
-                                  else run_muflow(muflow, d, level, cap))
-                for code in ("gerris", "muflow"):
-                    r = pair[code]
-                    r.update(level=level, cap=cap, rep=rep,
-                             ratio=pair["gerris"]["wall"] / pair["muflow"]["wall"])
+                order = runs if rep % 2 == 0 else runs[::-1]
+                got = {}
+                for code, dt in order:
+                    d = "%s_%s%d_%d" % (base, code, runs.index((code, dt)), rep)
+                    print("level %d, clip %s, %s, %s, run %d"
+                          % (level, cap, code, dt, rep + 1), flush=True)
+                    got[code, dt] = (run_gerris(d, level, cap, dt) if code == "gerris"
+                                     else run_muflow(muflow, d, level, cap, dt))
+                first = got["gerris", o.gerris_dts[0]]["wall"]
+                for code, dt in runs:
+                    r = got[code, dt]
+                    r.update(level=level, cap=cap, rep=rep, dt=dt, ratio=first / r["wall"])
                     r["x"] = [at(r["ts"], r["xf"], t) for t in TIMES]
                     r["err"] = max(abs(x - ref[t]) for x, t in zip(r["x"], TIMES))
                     rows.append(r)
     with open(os.path.join(outdir, "collapse_gerris_runs.csv"), "w") as f:
-        f.write("level,cells_per_H0,eta_max,code,run,wall_s,cpu_s,peak_MB,load,steps,"
+        f.write("level,cells_per_H0,eta_max,code,dt_cap,run,wall_s,cpu_s,peak_MB,load,steps,"
                 + ",".join("x_f_%d" % t for t in TIMES) + ",max_err,h_axis_4,volume_drift\n")
         for r in rows:
-            f.write("%d,%g,%s,%s,%d,%.3f,%.3f,%.1f,%.2f,%d,%s,%.4f,%.4f,%.2e\n" % (
-                r["level"], 2 ** r["level"] / 5.0, r["cap"], r["code"], r["rep"] + 1,
+            f.write("%d,%g,%s,%s,%s,%d,%.3f,%.3f,%.1f,%.2f,%d,%s,%.4f,%.4f,%.2e\n" % (
+                r["level"], 2 ** r["level"] / 5.0, r["cap"], r["code"], r["dt"], r["rep"] + 1,
                 r["wall"], r["cpu"], r["mb"], r["load"], r["steps"],
                 ",".join("%.4f" % x for x in r["x"]), r["err"], r["h4"], r["volume_drift"]))
     threads = os.environ.get("OMP_NUM_THREADS", "unset")
     lines = ["# Column collapse a = 0.5 to t = 4: muflow beside Gerris 1.3.2", "",
              "One sitting, one machine; Gerris serial (as it runs), muflow on "
-             "OMP_NUM_THREADS = %s; %d pair(s) per row, alternating which runs "
-             "first; medians; the ratio is Gerris's wall time over muflow's, per "
-             "pair (the median, and the range).  x_f error: the largest |x_f - "
-             "reference| at t = 1..4 (reference: the Basilisk port, cases/data/"
-             "lagree2011_collapse.csv)." % (threads, o.repeats), "",
-             "| cells per H0 | eta clip | code | wall s | CPU s | steps | peak MB | "
-             "x_f(1..4) | x_f error | h(0, 4) | volume drift | Gerris / muflow | load |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "OMP_NUM_THREADS = %s; %d repeat(s) per row, the order reversed every "
+             "other repeat; medians.  Steps: Gerris's dtmax (its CFL 0.8 cuts it), "
+             "muflow's overrides (cases/collapse.ini: solver.dt 0.01, solver.cfl and "
+             "collapse.vof_cfl 0.4).  The ratio is the wall time of Gerris at dtmax "
+             "%s (its example's) over the row's, per repeat (the median, and the "
+             "range).  x_f error: the largest |x_f - reference| at t = 1..4 "
+             "(reference: the Basilisk port, cases/data/lagree2011_collapse.csv)."
+             % (threads, o.repeats, o.gerris_dts[0]), "",
+             "| cells per H0 | eta clip | code | steps set | wall s | CPU s | steps | peak MB | "
+             "x_f(1..4) | x_f error | h(0, 4) | volume drift | Gerris (%s) / row | load |"
+             % o.gerris_dts[0],
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for level in o.levels:
         for cap in o.caps:
-            for code in ("gerris", "muflow"):
+            for code, dt in runs:
                 rs = [r for r in rows if r["level"] == level and r["cap"] == cap
-                      and r["code"] == code]
+                      and r["code"] == code and r["dt"] == dt]
                 ratios = [r["ratio"] for r in rs]
                 ratio = ("%.2f (%.2f-%.2f)" % (statistics.median(ratios), min(ratios),
-                                                max(ratios)) if code == "muflow" else "")
-                lines.append("| %g | %s | %s | %.2f | %.2f | %d | %.0f | %s | %.3f | %.4f | %.1e | %s | "
-                             "%.1f-%.1f |" % (
+                                                max(ratios))
+                         if (code, dt) != ("gerris", o.gerris_dts[0]) else "")
+                lines.append("| %g | %s | %s | %s | %.2f | %.2f | %d | %.0f | %s | %.3f | %.4f | "
+                             "%.1e | %s | %.1f-%.1f |" % (
                                  2 ** level / 5.0, cap, code,
+                                 ("dtmax = " if code == "gerris" else "") + dt,
                                  statistics.median(r["wall"] for r in rs),
                                  statistics.median(r["cpu"] for r in rs), rs[0]["steps"],
                                  max(r["mb"] for r in rs),
