@@ -60,14 +60,14 @@ def gerris_norm_log(path):
     return ts, vs
 
 
-def run_gerris(d, level, cap, dt):
+def run_gerris(d, level, cap, dtmax):
     shutil.rmtree(d, ignore_errors=True)
     os.makedirs(d)
     shutil.copy(GFS, d)
     load = loadavg()
     with open(os.path.join(d, "gerris.log"), "w") as log:
         code, wall, cpu, mb = timed_run(
-            [GERRIS, "-DLEVEL=%d" % level, "-DETAMAX=%s" % cap, "-DDTMAX=%s" % dt,
+            [GERRIS, "-DLEVEL=%d" % level, "-DETAMAX=%s" % cap, "-DDTMAX=%s" % dtmax,
              "collapse.gfs"],
             cwd=d, stdout=log, stderr=subprocess.STDOUT)
     if code != 0:
@@ -138,7 +138,7 @@ def main():
     os.makedirs(outdir, exist_ok=True)
     ref = reference()["x_front"]
     rows = []
-    runs = ([("gerris", dt) for dt in o.gerris_dts]
+    runs = ([("gerris", dtmax) for dtmax in o.gerris_dts]
             + [("muflow", m) for m in o.muflow_sets])
     for level in o.levels:
         for cap in o.caps:
@@ -146,25 +146,26 @@ def main():
                 base = os.path.join(outdir, "collapse_gerris_l%d_cap%s" % (level, cap))
                 order = runs if rep % 2 == 0 else runs[::-1]
                 got = {}
-                for code, dt in order:
-                    d = "%s_%s%d_%d" % (base, code, runs.index((code, dt)), rep)
+                for code, setting in order:
+                    d = "%s_%s%d_%d" % (base, code, runs.index((code, setting)), rep)
                     print("level %d, clip %s, %s, %s, run %d"
-                          % (level, cap, code, dt, rep + 1), flush=True)
-                    got[code, dt] = (run_gerris(d, level, cap, dt) if code == "gerris"
-                                     else run_muflow(muflow, d, level, cap, dt))
+                          % (level, cap, code, setting, rep + 1), flush=True)
+                    got[code, setting] = (run_gerris(d, level, cap, setting) if code == "gerris"
+                                          else run_muflow(muflow, d, level, cap, setting))
                 first = got["gerris", o.gerris_dts[0]]["wall"]
-                for code, dt in runs:
-                    r = got[code, dt]
-                    r.update(level=level, cap=cap, rep=rep, dt=dt, ratio=first / r["wall"])
+                for code, setting in runs:
+                    r = got[code, setting]
+                    r.update(level=level, cap=cap, rep=rep, setting=setting,
+                             ratio=first / r["wall"])
                     r["x"] = [at(r["ts"], r["xf"], t) for t in TIMES]
                     r["err"] = max(abs(x - ref[t]) for x, t in zip(r["x"], TIMES))
                     rows.append(r)
     with open(os.path.join(outdir, "collapse_gerris_runs.csv"), "w") as f:
-        f.write("level,cells_per_H0,eta_max,code,dt_cap,run,wall_s,cpu_s,peak_MB,load,steps,"
+        f.write("level,cells_per_H0,eta_max,code,step_setting,run,wall_s,cpu_s,peak_MB,load,steps,"
                 + ",".join("x_f_%d" % t for t in TIMES) + ",max_err,h_axis_4,volume_drift\n")
         for r in rows:
             f.write("%d,%g,%s,%s,%s,%d,%.3f,%.3f,%.1f,%.2f,%d,%s,%.4f,%.4f,%.2e\n" % (
-                r["level"], 2 ** r["level"] / 5.0, r["cap"], r["code"], r["dt"], r["rep"] + 1,
+                r["level"], 2 ** r["level"] / 5.0, r["cap"], r["code"], r["setting"], r["rep"] + 1,
                 r["wall"], r["cpu"], r["mb"], r["load"], r["steps"],
                 ",".join("%.4f" % x for x in r["x"]), r["err"], r["h4"], r["volume_drift"]))
     threads = os.environ.get("OMP_NUM_THREADS", "unset")
@@ -184,17 +185,17 @@ def main():
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for level in o.levels:
         for cap in o.caps:
-            for code, dt in runs:
+            for code, setting in runs:
                 rs = [r for r in rows if r["level"] == level and r["cap"] == cap
-                      and r["code"] == code and r["dt"] == dt]
+                      and r["code"] == code and r["setting"] == setting]
                 ratios = [r["ratio"] for r in rs]
                 ratio = ("%.2f (%.2f-%.2f)" % (statistics.median(ratios), min(ratios),
                                                 max(ratios))
-                         if (code, dt) != ("gerris", o.gerris_dts[0]) else "")
+                         if (code, setting) != ("gerris", o.gerris_dts[0]) else "")
                 lines.append("| %g | %s | %s | %s | %.2f | %.2f | %d | %.0f | %s | %.3f | %.4f | "
                              "%.1e | %s | %.1f-%.1f |" % (
                                  2 ** level / 5.0, cap, code,
-                                 ("dtmax = " if code == "gerris" else "") + dt,
+                                 ("dtmax = " if code == "gerris" else "") + setting,
                                  statistics.median(r["wall"] for r in rs),
                                  statistics.median(r["cpu"] for r in rs), rs[0]["steps"],
                                  max(r["mb"] for r in rs),
