@@ -22,6 +22,15 @@ int csr_reserve(struct csr_matrix *A, int n, size_t nz);
 /* T = A^T (T's arrays reused and grown as needed).  Returns 0 or -1. */
 int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T);
 
+/* The lower triangle, by columns, of the symmetric matrix whose unknown
+ * place[i] is A's unknown i (place[i] -1: left out), n unknowns, from A's
+ * lower triangle by columns (rows >= the column).  Each column's rows
+ * ascend; slot[e] is where A's entry e goes in P (-1: left out), so that
+ * later values of A's pattern are copied in one pass (P's values are not
+ * set here).  Returns 0 or -1 (memory). */
+int csr_permute_lower(const struct csr_matrix *A, const int *place, int n, struct csr_matrix *P,
+                      long *slot);
+
 /* Drops, in place, the entries between different velocity components (comp
  * of each unknown) at most rel times the geometric mean of their row's and
  * column's diagonals: the round-off that a flow along one direction leaves

@@ -28,6 +28,64 @@ int csr_reserve(struct csr_matrix *A, int n, size_t nz)
     return 0;
 }
 
+int csr_permute_lower(const struct csr_matrix *A, const int *place, int n, struct csr_matrix *P,
+                      long *slot)
+{
+    const long nz = csr_nnz(A);
+    int *row_next = calloc((size_t)n + 1, sizeof(int));
+    int *col_next = malloc(((size_t)n + 1) * sizeof(int));
+    int *by_row = malloc(((size_t)nz + 1) * sizeof(int)); /* entries by their new row */
+    int *new_row = malloc(((size_t)nz + 1) * sizeof(int));
+    int *new_col = malloc(((size_t)nz + 1) * sizeof(int));
+    int ok = row_next && col_next && by_row && new_row && new_col;
+    long kept = 0;
+    if (ok) {
+        /* entry e (column j, row A->col[e]) lands at the row max(place) of
+         * the column min(place): the entries are bucketed by their new row,
+         * then put into their new columns in that order, so that each
+         * column's rows ascend */
+        for (int j = 0; j < A->n; j++)
+            for (int e = A->rowptr[j]; e < A->rowptr[j + 1]; e++) {
+                int pi = place[A->col[e]], pj = place[j];
+                if (pi < 0 || pj < 0) {
+                    new_row[e] = -1;
+                    continue;
+                }
+                new_row[e] = pi > pj ? pi : pj;
+                new_col[e] = pi > pj ? pj : pi;
+                row_next[new_row[e]]++;
+                kept++;
+            }
+        ok = csr_reserve(P, n, (size_t)kept) == 0;
+    }
+    if (ok) {
+        memset(P->rowptr, 0, ((size_t)n + 1) * sizeof(int));
+        for (long e = 0; e < nz; e++)
+            if (new_row[e] >= 0)
+                P->rowptr[new_col[e] + 1]++;
+        for (int k = 0, sum = 0; k < n; k++) { /* counts -> starts */
+            int count = row_next[k];
+            row_next[k] = sum;
+            sum += count;
+            P->rowptr[k + 1] += P->rowptr[k];
+        }
+        long q = 0;
+        for (long e = 0; e < nz; e++)
+            if (new_row[e] >= 0)
+                by_row[row_next[new_row[e]]++] = (int)e;
+            else
+                slot[e] = -1;
+        memcpy(col_next, P->rowptr, (size_t)n * sizeof(int));
+        for (q = 0; q < kept; q++) {
+            int e = by_row[q], at = col_next[new_col[e]]++;
+            slot[e] = at;
+            P->col[at] = new_row[e];
+        }
+    }
+    free(row_next), free(col_next), free(by_row), free(new_row), free(new_col);
+    return ok ? 0 : -1;
+}
+
 int csr_transpose(const struct csr_matrix *A, struct csr_matrix *T)
 {
     int n = A->n;

@@ -25,8 +25,14 @@ struct block {
     int fresh;                 /* next's pattern differs from cur's: analyse again */
     int factorised;            /* cur's numeric factors are current */
     int dropped;               /* the last sparse_direct_prepare left it out */
-    /* symmetric: CHOLMOD */
+    /* symmetric: CHOLMOD, given the lower triangle of P A P' (P the
+     * fill-reducing order of its analysis) with a factor analysed in that
+     * order: CHOLMOD then factorises what it is given, where with A and P
+     * it transposed A twice into new arrays each time */
     cholmod_factor *L;
+    int *order;                /* order[k]: the block's unknown in place k of P A P' */
+    long *slot;                /* slot[e]: where entry e of cur goes in permuted */
+    struct csr_matrix permuted; /* lower triangle of P A P' by columns */
     cholmod_dense *B, *X, *Y, *E;
     /* general: UMFPACK */
     void *symbolic, *numeric;
@@ -124,6 +130,9 @@ static void free_block(struct sparse_direct *s, struct block *b)
 {
     csr_free(&b->cur);
     csr_free(&b->next);
+    csr_free(&b->permuted);
+    free(b->order);
+    free(b->slot);
     if (b->symbolic)
         suitesparse.umfpack_di_free_symbolic(&b->symbolic);
     if (b->numeric)
@@ -258,21 +267,74 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
     return 0;
 }
 
+/* Analyses block b's current matrix A for CHOLMOD: its fill-reducing order
+ * P (CHOLMOD's choice, postordered, as cholmod_analyze gives it for A), the
+ * pattern of P A P''s lower triangle with the place of each of A's entries
+ * in it, and the factor of P A P' in its own order (natural, not
+ * postordered again: P is).  The factor's supernodes and operations are
+ * those of A's factor with P.  Returns 0 or -1 (the cause recorded). */
+static int analyse_permuted(struct sparse_direct *s, struct block *b)
+{
+    const struct csr_matrix *A = &b->cur;
+    const int n = A->n;
+    const long nz = csr_nnz(A);
+    suitesparse.cholmod_free_factor(&b->L, &s->cm);
+    cholmod_sparse v = cholmod_view(A);
+    cholmod_factor *L0 = suitesparse.cholmod_analyze(&v, &s->cm);
+    if (!L0)
+        return failed(s, b, "Cholesky factorisation (CHOLMOD)",
+                      suitesparse_cholmod_text(s->cm.status));
+    int *order = realloc(b->order, ((size_t)n + 1) * sizeof(int));
+    if (order)
+        b->order = order;
+    long *slot = realloc(b->slot, ((size_t)nz + 1) * sizeof(long));
+    if (slot)
+        b->slot = slot;
+    int *place = malloc(((size_t)n + 1) * sizeof(int)); /* place[i]: unknown i's k */
+    int ok = order && slot && place;
+    if (ok) {
+        memcpy(order, L0->Perm, (size_t)n * sizeof(int));
+        for (int k = 0; k < n; k++)
+            place[order[k]] = k;
+        ok = csr_permute_lower(A, place, n, &b->permuted, slot) == 0;
+    }
+    if (ok) {
+        /* the factor of P A P' in its own order */
+        cholmod_sparse pv = cholmod_view(&b->permuted);
+        int nmethods = s->cm.nmethods, ordering = s->cm.method[0].ordering,
+            postorder = s->cm.postorder;
+        s->cm.nmethods = 1;
+        s->cm.method[0].ordering = CHOLMOD_NATURAL;
+        s->cm.postorder = 0;
+        b->L = suitesparse.cholmod_analyze(&pv, &s->cm);
+        s->cm.nmethods = nmethods;
+        s->cm.method[0].ordering = ordering;
+        s->cm.postorder = postorder;
+        ok = b->L && b->L->ordering == CHOLMOD_NATURAL;
+    }
+    suitesparse.cholmod_free_factor(&L0, &s->cm);
+    free(place);
+    if (!ok)
+        suitesparse.cholmod_free_factor(&b->L, &s->cm);
+    return ok ? 0 : failed(s, b, "Cholesky factorisation (CHOLMOD)",
+                           s->cm.status != CHOLMOD_OK ? suitesparse_cholmod_text(s->cm.status)
+                                                      : "out of memory");
+}
+
 /* Numeric factors of block b's current matrix (its symbolic analysis again
  * when its pattern changed).  Returns 0 or -1 (the cause recorded). */
 static int factorise_block(struct sparse_direct *s, struct block *b)
 {
     const struct csr_matrix *A = &b->cur;
     if (s->symmetric) {
-        cholmod_sparse v = cholmod_view(A);
-        if (b->fresh || !b->L) {
-            suitesparse.cholmod_free_factor(&b->L, &s->cm);
-            if (!(b->L = suitesparse.cholmod_analyze(&v, &s->cm)))
-                return failed(s, b, "Cholesky factorisation (CHOLMOD)",
-                              suitesparse_cholmod_text(s->cm.status));
-        }
+        if ((b->fresh || !b->L) && analyse_permuted(s, b) != 0)
+            return -1;
         if (!b->B && !(b->B = suitesparse.cholmod_zeros((size_t)b->n, 1, CHOLMOD_REAL, &s->cm)))
             return failed(s, b, "Cholesky factorisation (CHOLMOD)", "out of memory");
+        const long nz = csr_nnz(A);
+        for (long e = 0; e < nz; e++)
+            b->permuted.val[b->slot[e]] = A->val[e];
+        cholmod_sparse v = cholmod_view(&b->permuted);
         struct suitesparse_serial serial = suitesparse_serial_begin();
         int okf = suitesparse.cholmod_factorize(&v, b->L, &s->cm);
         suitesparse_serial_end(serial);
@@ -377,12 +439,16 @@ void sparse_direct_solve(struct sparse_direct *s, double *const r[3], double *z[
             continue;
         }
         if (s->symmetric) {
-            memcpy(b->B->x, rb, (size_t)b->n * sizeof(double));
+            double *in = b->B->x; /* in P A P''s order */
+            for (int k = 0; k < b->n; k++)
+                in[k] = rb[b->order[k]];
             struct suitesparse_serial serial = suitesparse_serial_begin();
             suitesparse.cholmod_solve2(CHOLMOD_A, b->L, b->B, NULL, &b->X, NULL, &b->Y, &b->E,
                                        &s->cm);
             suitesparse_serial_end(serial);
-            memcpy(xb, b->X->x, (size_t)b->n * sizeof(double));
+            const double *out = b->X->x;
+            for (int k = 0; k < b->n; k++)
+                xb[b->order[k]] = out[k];
         } else {
             const struct csr_matrix *A = &b->cur;
             suitesparse.umfpack_di_solve(UMFPACK_A, A->rowptr, A->col, A->val, xb, rb, b->numeric,
