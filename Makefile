@@ -31,6 +31,9 @@ LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
 # libraries opened later bind to: CHOLMOD's regions run inline on one thread
 # (fftw3_omp's reference to it exports it too; this does not rely on that)
 LDLIBS += -Wl,--export-dynamic-symbol=GOMP_parallel
+# and so is its SuiteSparse_time (src/solvers/suitesparse_clock.c, taken from
+# the archive though nothing in muflow calls it): CHOLMOD's clock, stopped
+LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSparse_time
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
 # the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
 # shared libraries instead of 74: bench/analysis.md), by the soname
