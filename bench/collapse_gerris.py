@@ -11,8 +11,9 @@ viscosity ETAMAX (Gerris's example of the paper: 10; the Basilisk port and
 muflow's published set-up, `make bench-collapse`: 1e4), with each code's
 time-step settings: Gerris's cap `dtmax` (the example's 0.01; its CFL,
 0.8, cuts it) and muflow's SETs, each a space-separated list of case
-overrides (the defaults: the set-up's cap solver.dt = 0.01; 0.02; 0.04;
-0.04 with the advective and VOF CFL numbers at 0.5, the bound of both).  Each
+overrides (the defaults: the set-up's cap solver.dt = 0.01; 0.04; the
+caps 0.03 and 0.04 with the advective CFL number 1 and the VOF's limit of
+the step off, collapse.vof_cfl = 0, its transport sub-stepping instead).  Each
 repeat runs Gerris 1.3.2 (bench/gerris/collapse.gfs; serial, as it runs)
 at each of its caps and muflow (cases/collapse.ini with the clip and van
 Leer's advection on the grid of the same cell size, square cells, the
@@ -119,8 +120,9 @@ def options():
     p.add_argument("--levels", type=int, nargs="+", default=[7, 8])
     p.add_argument("--caps", nargs="+", default=["10", "1e4"])
     p.add_argument("--muflow-sets", nargs="+",
-                   default=["solver.dt=0.01", "solver.dt=0.02", "solver.dt=0.04",
-                            "solver.dt=0.04 solver.cfl=0.5 collapse.vof_cfl=0.5"],
+                   default=["solver.dt=0.01", "solver.dt=0.04",
+                            "solver.dt=0.03 solver.cfl=1 collapse.vof_cfl=0",
+                            "solver.dt=0.04 solver.cfl=1 collapse.vof_cfl=0"],
                    help="muflow's time-step settings, each a space-separated list of "
                         "case overrides")
     p.add_argument("--gerris-dts", nargs="+", default=["0.01", "0.02"],

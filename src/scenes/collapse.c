@@ -58,8 +58,10 @@ static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "profile_interval", profile_interval,
             "time between the surface profiles h(x) of surface.csv", KEY_GT0),
     KEY_DBL(T, "collapse", "vof_cfl", vof_cfl,
-            "largest sweep CFL number of the VOF transport that the time step allows",
-            KEY_RANGE(0.0, 0.5, 0, 1)),
+            "largest sweep CFL number of the VOF transport that the time step allows "
+            "(0: the VOF does not bound the step, the transport's sub-steps alone keep "
+            "its sweeps within their limit)",
+            KEY_RANGE(0.0, 0.5, 1, 1)),
 };
 #undef T
 
