@@ -69,14 +69,13 @@ int csr_permute_lower(const struct csr_matrix *A, const int *place, int n, struc
             sum += count;
             P->rowptr[k + 1] += P->rowptr[k];
         }
-        long q = 0;
         for (long e = 0; e < nz; e++)
             if (new_row[e] >= 0)
                 by_row[row_next[new_row[e]]++] = (int)e;
             else
                 slot[e] = -1;
         memcpy(col_next, P->rowptr, (size_t)n * sizeof(int));
-        for (q = 0; q < kept; q++) {
+        for (long q = 0; q < kept; q++) {
             int e = by_row[q], at = col_next[new_col[e]]++;
             slot[e] = at;
             P->col[at] = new_row[e];

@@ -1,4 +1,4 @@
-/* SuiteSparse's clock, stopped (see suitesparse.h).
+/* SuiteSparse's clock, stopped.
  *
  * Debian's CHOLMOD (SuiteSparse 5.12) reads the clock around every BLAS
  * call of its supernodal factorisation, for timing statistics in its
@@ -8,7 +8,9 @@
  * program exports this SuiteSparse_time (the Makefile's
  * --export-dynamic-symbol), which CHOLMOD's calls find before
  * libsuitesparseconfig's, and it returns 0: the statistics read 0, and
- * nothing else in the libraries muflow opens depends on the clock. */
+ * nothing else in the libraries muflow opens depends on the clock
+ * (test_cholmod_clock_stopped, group viscous; docs/design.md, "The sparse
+ * factorisations' ordering and BLAS"). */
 #include <SuiteSparse_config.h>
 
 double SuiteSparse_time(void)
