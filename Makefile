@@ -437,9 +437,10 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
 # viscosity clipped at 10 (Gerris's example) and 1e4 (the Basilisk port,
 # muflow's published set-up), Gerris's step capped at 0.01 (its example's)
-# and 0.02, muflow's at 0.01 (its set-up's), 0.02, 0.04, and 0.04 with the
-# CFL numbers at their bound 0.5; every run of a repeat in one sitting:
-# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 25
+# and 0.02, muflow's at 0.01 (its set-up's) and 0.04, and 0.03 and 0.04 with
+# the advective CFL number 1 and the VOF's limit of the step off
+# (collapse.vof_cfl = 0); every run of a repeat in one sitting:
+# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 20
 # minutes on 2 idle cores with the defaults.
 COLLAPSE_GERRIS_LEVELS ?= 7 8
 COLLAPSE_GERRIS_CAPS ?= 10 1e4
