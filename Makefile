@@ -440,7 +440,7 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # and 0.02, muflow's at 0.01 (its set-up's) and 0.04, and 0.03 and 0.04 with
 # the advective CFL number 1 and the VOF's limit of the step off
 # (collapse.vof_cfl = 0); every run of a repeat in one sitting:
-# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 20
+# collapse_gerris.md and collapse_gerris_runs.csv in $(BENCH_OUT).  About 25
 # minutes on 2 idle cores with the defaults.
 COLLAPSE_GERRIS_LEVELS ?= 7 8
 COLLAPSE_GERRIS_CAPS ?= 10 1e4
