@@ -9,7 +9,7 @@
  * --export-dynamic-symbol), which CHOLMOD's calls find before
  * libsuitesparseconfig's, and it returns 0: the statistics read 0, and
  * nothing else in the libraries muflow opens depends on the clock
- * (test_cholmod_clock_stopped, group viscous; docs/design.md, "The sparse
+ * (test_one_thread_section, group viscous; docs/design.md, "The sparse
  * factorisations' ordering and BLAS"). */
 #include <SuiteSparse_config.h>
 
