@@ -292,6 +292,7 @@ static int analyse_permuted(struct sparse_direct *s, struct block *b)
         b->slot = slot;
     int *place = malloc(((size_t)n + 1) * sizeof(int)); /* place[i]: unknown i's k */
     int ok = order && slot && place;
+    const char *why = "out of memory";
     if (ok) {
         memcpy(order, L0->Perm, (size_t)n * sizeof(int));
         for (int k = 0; k < n; k++)
@@ -311,14 +312,14 @@ static int analyse_permuted(struct sparse_direct *s, struct block *b)
         s->cm.method[0].ordering = ordering;
         s->cm.postorder = postorder;
         ok = b->L && b->L->ordering == CHOLMOD_NATURAL;
+        why = !b->L ? suitesparse_cholmod_text(s->cm.status)
+                    : "the permuted matrix's analysis is not in its own order";
     }
     suitesparse.cholmod_free_factor(&L0, &s->cm);
     free(place);
     if (!ok)
         suitesparse.cholmod_free_factor(&b->L, &s->cm);
-    return ok ? 0 : failed(s, b, "Cholesky factorisation (CHOLMOD)",
-                           s->cm.status != CHOLMOD_OK ? suitesparse_cholmod_text(s->cm.status)
-                                                      : "out of memory");
+    return ok ? 0 : failed(s, b, "Cholesky factorisation (CHOLMOD)", why);
 }
 
 /* Numeric factors of block b's current matrix (its symbolic analysis again
