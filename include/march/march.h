@@ -52,7 +52,11 @@ struct march_state {
     double *p_dyn;              /* dynamic pressure (projection) */
     double *p_hyd;              /* hydrostatic pressure of the body force */
     double *force[3];           /* body force minus its hydrostatic gradient */
-    double *pressure;           /* total pressure: confining + hydrostatic + dynamic */
+    double *pressure;           /* total pressure: confining + gauge + hydrostatic + dynamic */
+    /* a constant a scene adds to the pressure the rheology reads (0 unless
+     * set): the projection fixes only p_dyn's gradient, the rheology needs
+     * its level (the collapse: the top at -rho_f g lz, scenes/collapse.c) */
+    double pressure_gauge;
     double *cn2, *e2[3];        /* normal strain^2 per cell, shear strain^2 per edge */
     double *shear2, *eta, *preg; /* cell |D|^2, viscosity, regularised pressure */
     double *tan_c[3];           /* normal-stress tangent coefficients (cells) */

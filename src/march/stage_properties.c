@@ -10,7 +10,8 @@ void stage_properties(struct march_state *st)
     kernel_strain(g, st->vel, st->cn2, st->e2);
     bc_fill_scalar(g, &st->bc, st->cn2);
     for (size_t p = 0; p < g->size; p++)
-        st->pressure[p] = cs->confining_pressure + st->p_hyd[p] + st->p_dyn[p];
+        st->pressure[p] =
+            cs->confining_pressure + st->pressure_gauge + st->p_hyd[p] + st->p_dyn[p];
     bc_fill_scalar_linear(g, &st->bc, st->pressure);
     kernel_viscosity_cells(g, &st->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
                            cs->newton ? st->tan_c : NULL, st->shear2, st->preg, st->b_c);
