@@ -15,6 +15,22 @@ const char *bc_kind_name(enum bc_kind kind)
     return "?";
 }
 
+/* The plane of direction d as rows: a the direction across the rows, b
+ * the one along them, the smaller stride, so that a row runs along memory.
+ * The plane normal to y of a 2D x-z grid is the whole grid, and with b = x
+ * every point of its rows was a cache line and a page of its own: the
+ * fills were 5 % of the column collapse at 102.4 cells per H0. */
+static void plane_axes(const struct grid *g, int d, int *a, int *b)
+{
+    *a = (d + 1) % 3;
+    *b = (d + 2) % 3;
+    if (g->stride[*b] > g->stride[*a]) {
+        int t = *a;
+        *a = *b;
+        *b = t;
+    }
+}
+
 /* Sets f[ghost] = sign * f[source] + sign2 * f[source2] (or 0) on the whole
  * plane of direction d.  The offsets are hoisted out of the loops: on thin
  * grids the fills run once per operator application and dominated the
@@ -22,7 +38,8 @@ const char *bc_kind_name(enum bc_kind kind)
 static void ghost_plane2(const struct grid *g, int d, int ghost, int source, int source2, double *f,
                          double sign, double sign2, int zero_ghost)
 {
-    int a = (d + 1) % 3, b = (d + 2) % 3;
+    int a, b;
+    plane_axes(g, d, &a, &b);
     ptrdiff_t sa = g->stride[a], sb = g->stride[b], sd = g->stride[d];
     ptrdiff_t from = (ptrdiff_t)(source - ghost) * sd, from2 = (ptrdiff_t)(source2 - ghost) * sd;
     int gi[3];
@@ -52,7 +69,8 @@ static void ghost_plane(const struct grid *g, int d, int ghost, int source, doub
 /* f[ghost] += value on the plane of direction d. */
 static void ghost_plane_add(const struct grid *g, int d, int ghost, double *f, double value)
 {
-    int a = (d + 1) % 3, b = (d + 2) % 3;
+    int a, b;
+    plane_axes(g, d, &a, &b);
     ptrdiff_t sa = g->stride[a], sb = g->stride[b];
     int gi[3];
     gi[d] = ghost; gi[a] = -1; gi[b] = -1;
