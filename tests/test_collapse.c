@@ -187,7 +187,7 @@ static void test_front_with_clip(void **state)
 /* The published runs' gauge (collapse.fluid_weight = off): the top at
  * -rho_f g lz, so that the light phase's weight does not press on the
  * grains.  Then the box's height does not move the front: with the
- * published set-up on 16 cells per H0 the tops at 1.5 and 3 gave x_f 0.0021
+ * published set-up on 16 cells per H0 the tops at 1.5 and 3 gave x_f 0.0022
  * apart at most over t = 1..4 (0.0023 with 5), asserted to a tenth of a
  * cell (0.00625).  With p = 0 at the top instead (fluid_weight = on) they
  * are 0.032 apart at t = 4, the taller box's front behind: the light phase
