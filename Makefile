@@ -412,7 +412,8 @@ bench-cylinder-continuation: deps $(BUILD)/muflow
 # 1.42 and 6.26 at
 # COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
 # (collapse_deposits.md, collapse_deposit_a*.png), without and with the
-# clip.  About 25 minutes on 2 idle cores, most of it the two runs at N = 64.
+# clip.  About 4 minutes on 2 idle cores (2026-12-05), most of it the two
+# runs at N = 64.
 COLLAPSE_N ?= 16 32 64
 COLLAPSE_DEPOSIT_N ?= 32
 # The published set-up: the clip, and van Leer's second-order advection,
@@ -433,8 +434,8 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # The collapse beside Gerris 1.3.2 (the code of the published runs; Debian's
 # gerris, and libgfs-dev, whose headers Gerris needs to compile a case's
 # functions): a = 0.5 to t = 4 at 25.6 and 51.2 cells per H0
-# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4: Gerris took 6.6 minutes at the
-# clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
+# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4: Gerris took 6.6 to 12.8 minutes
+# at the clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
 # viscosity clipped at 10 (Gerris's example) and 1e4 (the Basilisk port,
 # muflow's published set-up), Gerris's step capped at 0.01 (its example's)
 # and 0.02, muflow's at 0.01 (its set-up's) and 0.04, and 0.03 and 0.04 with
