@@ -402,7 +402,7 @@ static void test_overrides(void **state)
     assert_int_equal(c.scene, scene_find("bagnold"));
 
     /* the Barker & Gray curve's derived values, from the final keys (the
-     * refdata's BG2017_glass set: I_1^N 0.0039718, A_minus 15642) */
+     * BG2017_glass set of Barker & Gray 2017: I_1^N 0.0039718, A_minus 15642) */
     char *ovs_bg[] = {"rheology.curve=barker_gray", "rheology.mu_s=0.342",
                       "rheology.delta_mu=0.215", "rheology.i0=0.069"};
     assert_int_equal(case_load(&c, path, 4, ovs_bg, err, sizeof(err)), 0);

@@ -4,7 +4,8 @@
  * physical checks, the exact plane solution of Ouriemi, Aussillous &
  * Guazzelli (2009) and the measured top of the fixed bed.
  *
- * Exact solution (as written in the refdata item 4): y = z / D,
+ * Exact solution (Ouriemi, Aussillous & Guazzelli 2009, "Sediment dynamics.
+ * Part 1. Bed-load transport by laminar shearing flows"): y = z / D,
  * u = U0 u*(y), U0 = (rho_p - rho_f) g D^2 / eta_f,
  * G = (dp/dx) / ((rho_p - rho_f) g), h = h_p / D, eta = 1 + 5 phi0 / 2,
  * A = G + mu_s phi0 (bed load needs A > 0),
@@ -57,7 +58,7 @@ extern const struct choice bedload_model_choices[];
             "gravity g in the grains' buoyant weight p_p = phi (rho_p - rho_f) g (h_p - z)",    \
             KEY_GT0)
 
-/* Set A of the refdata (the sedFoam tutorial's parameters), the mixed model,
+/* Set A (the parameters of SedFoam's bed-load tutorial), the mixed model,
  * d = 0.065 / 30 and k_CK = 180. */
 void bedload_defaults(struct bedload_params *b);
 

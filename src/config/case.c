@@ -302,7 +302,7 @@ void case_defaults(struct muflow_case *c)
     c->rheo.delta_mu = 0.26;
     c->rheo.i0 = 0.279;
     c->rheo.curve = CURVE_JOP;
-    c->rheo.alpha = 1.9;  /* Barker & Gray (2017), as in the refdata item 6 */
+    c->rheo.alpha = 1.9;  /* Barker & Gray (2017), partially regularised mu(I) */
     c->rheo.mu_inf = 0.05;
     c->rheo.phi = 0.6;
     c->rheo.grain_diameter = 1.0;

@@ -1,5 +1,7 @@
 /* Scene "bagnold": steady flow of a granular layer of height H down a rough
- * plane tilted by alpha (seeds/000 sec. 3.2, app. B; cases/bagnold.ini).
+ * plane tilted by alpha (Chauchat & Medale 2014,
+ * "A three-dimensional numerical model for dense granular flows based on the
+ * mu(I) rheology", sec. 3.2, app. B; cases/bagnold.ini).
  * Periodic along the flow, no slip at the base, flat stress-free surface.
  *
  * Exact solution (eqs. 18-19, 30-32): mu(I) = tan(alpha) everywhere, so

@@ -1,10 +1,11 @@
 /* Scene "bagnold2": a granular layer of height h0 under a Newtonian fluid
  * (air) in a square domain L x L, periodic along the flow, no slip at the
- * base, inclined by zeta (seeds/001 sec. 2-3; cases/bagnold2.ini).  The two
+ * base, inclined by zeta (Barker & Rauter 2018, "Two-fluid
+ * regularised mu(I)-rheology with OpenFOAM", sec. 2-3; cases/bagnold2.ini).  The two
  * phases are the two_phase module's mixture (physics/two_phase.h); the
  * interface is flat and held, so the steady state is the exact solution.
  *
- * Exact solution (seeds/001 eqs. 6-11, written from their derivation; the
+ * Exact solution (Barker & Rauter 2018, eqs. 6-11, written from their derivation; the
  * printed constants have sign slips): mu(I) = tan(zeta) in the grains, so
  * I = I_zeta, with the pressure P(z) = g cos(zeta) [rho_g (h0 - z) +
  * rho_f (L - h0)] (rho_g = phi rho_s the grains' bulk density):
@@ -15,7 +16,7 @@
  *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
  *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
  * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the seed's open top (`open`: p = 0, du/dz = 0, flow through it
+ * The top is the paper's open top (`open`: p = 0, du/dz = 0, flow through it
  * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
  * which for this flat, unidirectional state is the same. */
 #include <math.h>
@@ -60,8 +61,8 @@ static const struct key bagnold2_keys[] = {
     KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
             "viscosity eta_f of the (Newtonian) fluid above", KEY_GT0),
     KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
-            "mixture viscosity of a cell holding both: weighted (seeds/001 eq. 14) or harmonic "
-            "(eq. 15)"),
+            "mixture viscosity of a cell holding both: weighted (Barker & Rauter 2018, eq. 14) "
+            "or harmonic (eq. 15)"),
     KEY_CHO(T, "bagnold2", "interface_edges", interface_edges, edge_choices,
             "viscosity of an edge the interface cuts: series (the two phases in series at the "
             "grains' share of its box, cut from the reconstructed interface) or mean (the mixture "
@@ -76,7 +77,7 @@ static const struct key bagnold2_keys[] = {
 };
 #undef T
 
-/* Table 1 of seeds/001 */
+/* Table 1 of Barker & Rauter (2018) */
 static void defaults(void *block)
 {
     struct bagnold2_params *b = block;
@@ -482,7 +483,7 @@ static const char *const bagnold2_files[] = {"growth.csv", NULL};
 
 const struct scene scene_bagnold2 = {
     .name = "bagnold2",
-    .title = "granular layer under air, two phases (seeds/001 sec. 2-3)",
+    .title = "granular layer under air, two phases (Barker & Rauter 2018, sec. 2-3)",
     .keys = &bagnold2_block,
     .modules = bagnold2_modules,
     .check = check,

@@ -1,6 +1,6 @@
 /* Scene "bedload": a Newtonian fluid driven by a pressure gradient over a
  * granular bed in a closed channel (walls at z = 0 and z = D, periodic along
- * the flow x), the mixed-fluid model of seeds/002 eq. 13 with the bed held
+ * the flow x), the mixed-fluid model of Chauchat & Medale (2010), eq. 13, with the bed held
  * flat (physics/bed.h); cases/bedload.ini.  The driving pressure gradient is
  * the body force: -dp/dx = physics.density * physics.gravity * sin(tilt)
  * (tilt = pi/2 as in bingham_channel), so the weight of the grains in the
@@ -35,7 +35,8 @@ static const struct key bedload_keys[] = {
 };
 #undef T
 
-/* Set A of the refdata (the sedFoam tutorial's parameters) */
+/* Set A: the parameters of SedFoam's bed-load tutorial for the solution of
+ * Ouriemi, Aussillous & Guazzelli (2009) */
 static void defaults(void *block) { bedload_defaults(block); }
 
 SCENE_PARAMS(bedload_block, "bedload", struct bedload_params, bedload_keys, defaults)

@@ -1,5 +1,5 @@
-/* Scene "cylinder": granular flow past a cylinder (seeds/000 sec. 4.2,
- * CASES.md scene 5; cases/cylinder.ini), driven by the dimensionless body
+/* Scene "cylinder": granular flow past a cylinder (Chauchat &
+ * Medale 2014, sec. 4.2; cases/cylinder.ini), driven by the dimensionless body
  * force F = rho phi g L_x / p_ext and continued in F over steady solves.
  *
  * The case holds the obstacle (one circle in the x-z plane), the confining

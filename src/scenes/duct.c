@@ -1,5 +1,5 @@
 /* Scene "duct": the bed-load flow of the bedload scene in a square duct
- * (seeds/002 sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
+ * (Chauchat & Medale 2010, sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
  * fluid driven by a pressure gradient along the periodic x over a flat
  * granular bed, the mixed-fluid model (physics/bed.h) or the two-fluid
  * model (physics/bed_two_fluid.h, its Newton step of the pair solved on the
@@ -18,7 +18,7 @@
  * half's), the mean velocity against the plane channel's (the friction of
  * the side walls), and the mid-plane's bed top.
  *
- * The circular duct (seeds/002 sec. 4.2, cases/duct_circular.ini) is the
+ * The circular duct (Chauchat & Medale 2010, sec. 4.2; cases/duct_circular.ini) is the
  * same box with the wall an embedded circle of the obstacle module
  * ([obstacle], plane yz, invert): the faces weigh in the flow rate by
  * their open share, and the area is the circle's, sampled. */

@@ -1,5 +1,5 @@
-/* Scene "heap": surface flow on a heap between rough side walls (seeds/000
- * sec. 4.1; cases/heap.ini), its diagnostics (heap.h) and the tilt search
+/* Scene "heap": surface flow on a heap between rough side walls (Chauchat
+ * & Medale 2014, sec. 4.1; cases/heap.ini), its diagnostics (heap.h) and the tilt search
  * that finds the tilt of a given flow rate (tilt_search.h). */
 #include <math.h>
 #include <omp.h>
