@@ -61,7 +61,8 @@ TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
 HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs FORCE
+.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs \
+        case-keys docs FORCE
 
 all: $(BUILD)/muflow
 
@@ -124,6 +125,13 @@ test: deps
 
 clean:
 	rm -rf $(BUILD) out
+
+# docs/case_keys.md is generated from the key tables (src/config/case.c and
+# each scene's key block); the case tests check that it is current.
+case-keys: $(BUILD)/muflow
+	$(BUILD)/muflow --list=markdown > docs/case_keys.md.tmp
+	mv docs/case_keys.md.tmp docs/case_keys.md
+docs: case-keys
 
 # ---- install ------------------------------------------------------------------
 # The command, the library, its headers (include/ as PREFIX/include/muflow/,

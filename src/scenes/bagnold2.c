@@ -54,12 +54,15 @@ static const struct choice start_choices[] = {
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
     KEY_DBL(T, "bagnold2", "interface_height", interface_height,
-            "height h0 of the flat grains/fluid interface above the base (below domain.lz)",
+            KEY_HELP("height h0 of the flat grains/fluid interface above the base (below "
+                     "domain.lz)",
+                     "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, "density rho_f of the fluid above",
-            KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the fluid above", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the (Newtonian) fluid above", KEY_GT0),
+            KEY_HELP("viscosity eta_f of the (Newtonian) fluid above", "pressure time", NULL),
+            KEY_GT0),
     KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
             "mixture viscosity of a cell holding both: weighted (Barker & Rauter 2018, eq. 14) "
             "or harmonic (eq. 15)"),
@@ -70,9 +73,16 @@ static const struct key bagnold2_keys[] = {
     KEY_CHO(T, "bagnold2", "start", start, start_choices,
             "initial velocity: rest, or exact (the steady solution of eqs. 6-11 on the faces)"),
     KEY_DBL(T, "bagnold2", "perturbation", perturbation,
-            "largest velocity of a divergence-free perturbation (a pseudo-random stream "
-            "function in the grains) added to the initial state, relative to the exact top "
-            "velocity; 0: none",
+            KEY_HELP("largest velocity of a divergence-free perturbation (a pseudo-random stream "
+                     "function in the grains) added to the initial state, relative to the exact "
+                     "top velocity; 0: none",
+                     NULL,
+                     "Largest velocity of a divergence-free perturbation added to the initial "
+                     "state, relative to the exact top velocity: a pseudo-random stream function "
+                     "on the x-z nodes (the same on any number of threads) times sin^2(pi z / h0) "
+                     "in the grains, 0 in the air, so every wavelength of the grid is seeded; a "
+                     "transient run records its amplitude (`growth.csv`) and growth rate "
+                     "(`growth_rate`); `0`: none"),
             KEY_GE0),
 };
 #undef T
@@ -90,7 +100,18 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-SCENE_PARAMS(bagnold2_block, "bagnold2", struct bagnold2_params, bagnold2_keys, defaults)
+SCENE_PARAMS(bagnold2_block, "bagnold2",
+             "A granular layer under a Newtonian fluid (Barker & Rauter 2018, sec. 2-3; "
+             "`cases/bagnold2.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` their bulk density phi rho_s.  A transient run writes "
+             "`growth.csv` (every step: t, the largest departure of the grains' velocity and of "
+             "their pressure from the mean along x) and adds `growth_rate` (1/s, the "
+             "least-squares slope of ln A over the second half of the record before A reaches 1% "
+             "of the exact top velocity), `growth_rate_pressure`, `growth_fit_r2`, "
+             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary.  A run with "
+             "`perturbation > 0` writes no checkpoint and cannot be continued (the fit needs the "
+             "record from the perturbed state).",
+             struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
 
