@@ -108,9 +108,9 @@ SCENE_PARAMS(bagnold2_block, "bagnold2",
              "their pressure from the mean along x) and adds `growth_rate` (1/s, the "
              "least-squares slope of ln A over the second half of the record before A reaches 1% "
              "of the exact top velocity), `growth_rate_pressure`, `growth_fit_r2`, "
-             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary.  A run with "
-             "`perturbation > 0` writes no checkpoint and cannot be continued (the fit needs the "
-             "record from the perturbed state).",
+             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary.  A transient "
+             "run with `perturbation > 0` cannot be continued from its checkpoint (the fit needs "
+             "the record from the perturbed state).",
              struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
