@@ -21,7 +21,8 @@ cheap ones are run:
   /usr/bin/python3 tools/SCRIPT ARGS   the script exists; run when its run
       folder was written by a command run before it
 
-The runs happen in order in a scratch folder holding `cases`, `tools` and
+Every picture `![...](path)` and every linked case file `(cases/...)` must
+exist in REPO.  The runs happen in order in a scratch folder holding `cases`, `tools` and
 `build/muflow` (links to REPO's and MUFLOW), so `out/...` lands there.  A line
 of any other form in a code block is an error: the README would show a
 command this check does not know.  Exit status 0, or 1 with the failures.
@@ -75,12 +76,16 @@ def is_command(line):
 def main():
     repo, muflow = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     with open(os.path.join(repo, "README.md")) as f:
-        lines = code_lines(f.read())
+        readme = f.read()
+    lines = code_lines(readme)
     with open(os.path.join(repo, "Makefile")) as f:
         makefile = f.read()
     listed = subprocess.run([muflow, "--list"], capture_output=True, text=True, check=True).stdout
     keys = set(re.findall(r"^  (\w+\.\w+) = ", listed, re.M))
     failures, ran, checked = [], 0, 0
+    for path in re.findall(r"!\[[^]]*\]\(([^)]+)\)", readme) + re.findall(r"\((cases/[^)]+)\)", readme):
+        if not os.path.isfile(os.path.join(repo, path)):
+            failures.append("no file " + path)
     scratch = tempfile.mkdtemp(prefix="muflow_readme_")
     try:
         os.makedirs(os.path.join(scratch, "build"))
