@@ -61,7 +61,8 @@ TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
 HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs FORCE
+.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs \
+        case-keys docs FORCE
 
 all: $(BUILD)/muflow
 
@@ -124,6 +125,13 @@ test: deps
 
 clean:
 	rm -rf $(BUILD) out
+
+# docs/case_keys.md is generated from the key tables (src/config/case.c and
+# each scene's key block); the case tests check that it is current.
+case-keys: $(BUILD)/muflow
+	$(BUILD)/muflow --list=markdown > docs/case_keys.md.tmp
+	mv docs/case_keys.md.tmp docs/case_keys.md
+docs: case-keys
 
 # ---- install ------------------------------------------------------------------
 # The command, the library, its headers (include/ as PREFIX/include/muflow/,
@@ -301,7 +309,7 @@ bench-amg: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_amg.py $(BUILD)/muflow $(BENCH_OUT) --repeats $(AMG_REPEATS)
 
-# The duct studies (seeds/002 sec. 4): cases/duct_square.ini and
+# The duct studies (Chauchat & Medale 2010, sec. 4): cases/duct_square.ini and
 # cases/duct_circular.ini, both models, on the half cross-section meshes
 # 10 x 20, 20 x 40, 40 x 80 (the paper's square meshes) and 80 x 160.  At
 # 80 x 160 the mixed model starts from the 40 x 80 solution
@@ -457,7 +465,7 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 	  --repeats $(COLLAPSE_GERRIS_REPEATS)
 
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
-# time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
+# time from the exact solution plus a perturbation, Barker & Rauter (2018), sec. 3.1 (Table
 # 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
 # (Table 2, 28.5 degrees, jop and barker_gray, three grids): illposed_table.md,
 # illposed_runs.csv, illposed_growth.png into $(BENCH_OUT)/illposed.  About

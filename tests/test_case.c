@@ -402,7 +402,7 @@ static void test_overrides(void **state)
     assert_int_equal(c.scene, scene_find("bagnold"));
 
     /* the Barker & Gray curve's derived values, from the final keys (the
-     * refdata's BG2017_glass set: I_1^N 0.0039718, A_minus 15642) */
+     * BG2017_glass set of Barker & Gray 2017: I_1^N 0.0039718, A_minus 15642) */
     char *ovs_bg[] = {"rheology.curve=barker_gray", "rheology.mu_s=0.342",
                       "rheology.delta_mu=0.215", "rheology.i0=0.069"};
     assert_int_equal(case_load(&c, path, 4, ovs_bg, err, sizeof(err)), 0);
@@ -779,6 +779,34 @@ static void test_key_help(void **state)
     }
 }
 
+/* docs/case_keys.md is what the key tables generate (muflow --list=markdown,
+ * `make case-keys`), byte for byte: it cannot drift from the tables. */
+static void test_docs_generated(void **state)
+{
+    (void)state;
+    size_t n_doc;
+    char *doc = test_read_file("../docs/case_keys.md", &n_doc);
+    char *gen = NULL;
+    size_t n_gen = 0;
+    FILE *f = open_memstream(&gen, &n_gen);
+    assert_non_null(f);
+    case_write_key_markdown(f);
+    assert_int_equal(fclose(f), 0);
+    size_t i = 0;
+    while (i < n_doc && i < n_gen && doc[i] == gen[i])
+        i++;
+    if (i < n_doc || i < n_gen) {
+        size_t line = 1;
+        for (size_t j = 0; j < i; j++)
+            line += gen[j] == '\n';
+        print_error("docs/case_keys.md differs from the key tables from line %zu on: run "
+                    "`make case-keys`\n", line);
+    }
+    assert_true(i == n_doc && i == n_gen);
+    free(gen);
+    free(doc);
+}
+
 /* docs/case_keys.md names every key the tables have, each in its section's
  * table, and no key they do not have. */
 static void test_docs_name_every_key(void **state)
@@ -936,8 +964,9 @@ static void test_list_command(void **state)
             if (!def[0])
                 snprintf(def, sizeof def, "(not set)");
             key_allowed_text(k, allowed, sizeof allowed);
-            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name,
-                     def, allowed, k->help);
+            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s%s%s%s\n", k->section,
+                     k->name, def, allowed, k->help, k->units ? " (" : "",
+                     k->units ? k->units : "", k->units ? ")" : "");
             if (!strstr(out, want))
                 print_error("--list lacks \"%s\"\n", want);
             assert_non_null(strstr(out, want));
@@ -1193,6 +1222,7 @@ void group_case(struct test_tally *t)
         cmocka_unit_test_setup_teardown(test_duplicates, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_number_text),
         cmocka_unit_test(test_key_help),
+        cmocka_unit_test(test_docs_generated),
         cmocka_unit_test(test_docs_name_every_key),
         cmocka_unit_test(test_list_command),
         cmocka_unit_test_setup_teardown(test_file_errors, tmp_setup, tmp_teardown),

@@ -537,7 +537,7 @@ static void test_granular_cylinder_band(void **state)
     test_run_dir_remove(&dir);
 }
 
-/* The seed's two findings on the granular cylinder (seeds/000 sec. 4.2,
+/* The paper's two findings on the granular cylinder (Chauchat & Medale 2014, sec. 4.2,
  * fig. 12), on the coarse grid D/2 at lambda 1e-2 (four solves from rest,
  * 18-40 steps each):
  * - the drag is linear in the confining pressure: F_D / p_ext at p_ext 10
@@ -586,7 +586,7 @@ static double long_box_drag(const char *ends, double *u_mean)
     return fd;
 }
 
-/* The confining pressure imposed on open faces (the seed's set-up: the
+/* The confining pressure imposed on open faces (the paper's set-up: the
  * grains enter at the top and leave at the bottom, p = p_ext on both): in
  * a box long enough for the flow to develop between the body and the ends
  * the open box and the periodic one are two models of the same infinite

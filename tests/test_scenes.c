@@ -1,4 +1,4 @@
-/* Whole scenes against their analytic profiles (seeds/000 sec. 3, app. A-B)
+/* Whole scenes against their analytic profiles (Chauchat & Medale 2014, sec. 3, app. A-B)
  * and the extremes of the inclined plane; run through the library. */
 #define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
 #include <math.h>

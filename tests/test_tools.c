@@ -1,8 +1,8 @@
 /* The tools around the solver, driven as a user would drive them, through the
  * shell: muflow --version, the test runner's command line, `make install`
  * with a pkg-config build of a small program against the installed library,
- * tools/muflow_plot.py on real runs, and README's package and library lists
- * against the Makefile.  The runner works in tests/
+ * tools/muflow_plot.py on real runs, README's package and library lists
+ * against the Makefile, and README's commands as a user types them.  The runner works in tests/
  * (test_main.c), so the repository is "..". */
 #define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
 #include <limits.h>
@@ -451,6 +451,21 @@ static void test_readme_packages(void **state)
     free(readme);
 }
 
+/* Every command of README's code blocks: the make targets exist, the case
+ * files exist, every override is a key muflow --list knows, and the cheap
+ * ones run as written, in order, from a scratch folder
+ * (tests/readme_commands.py). */
+static void test_readme_commands(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 128];
+    muflow_bin(bin, sizeof bin);
+    snprintf(cmd, sizeof cmd, PYTHON " readme_commands.py .. '%s'", bin);
+    char *out = sh_ok(cmd);
+    printf("    %s", out);
+    free(out);
+}
+
 void group_tools(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -460,6 +475,7 @@ void group_tools(struct test_tally *t)
         cmocka_unit_test(test_install),
         cmocka_unit_test(test_plot),
         cmocka_unit_test(test_readme_packages),
+        cmocka_unit_test(test_readme_commands),
     };
     RUN_GROUP(t, "tools", tests);
 }

@@ -1,5 +1,5 @@
 /* The two-phase module on the granular layer under air (scene bagnold2,
- * seeds/001 eqs. 6-11) with the interface held flat, steady, on the seed's
+ * Barker & Rauter 2018, eqs. 6-11) with the interface held flat, steady, on the paper's
  * grid 50 x 100.  Tolerances from the measured errors (cases/bagnold2.ini
  * as shipped, edges cut by the interface in series): grains err_rms
  * 7.17e-6 m/s (0.016% of the top velocity 0.0451 m/s), air 4.68e-5 m/s
@@ -257,7 +257,7 @@ static struct growth_fit illposed_run(const char *const *extra, int nextra, int 
     return f;
 }
 
-/* seeds/001 sec. 3.1: at 32 degrees with Table 1 (the case's jop curve;
+/* Barker & Rauter (2018), sec. 3.1: at 32 degrees with Table 1 (the case's jop curve;
  * tan 32 = 0.625 below mu_d = 0.643, I = 3.72 above the well-posed band's
  * I_2^N = 0.846) the uniform flow is unstable, and the finer grid grows
  * faster.  Measured (dt 1e-4): 72 1/s on 12 x 40, 111 on 16 x 64; 10 x 20
@@ -274,7 +274,7 @@ static void test_illposed_table1(void **state)
     assert_true(f.rate > 1.2 * c.rate && f.r2 > 0.9);
 }
 
-/* seeds/001 sec. 3.2: at 28.5 degrees with Table 2 the jop curve grows
+/* Barker & Rauter (2018), sec. 3.2: at 28.5 degrees with Table 2 the jop curve grows
  * (I = 0.99 above I_2^N = 0.280) and the Barker & Gray curve (alpha 1.9,
  * mu_inf 0.05; I = 0.405 below its regularised bound 16.99) decays.
  * Measured on 12 x 40: jop 85 1/s, barker_gray -83 1/s.  Bounds: jop

@@ -1,7 +1,7 @@
 /* muflow CASE [section.key=value ...]
  * muflow --restart DIR [section.key=value ...]
  * muflow --version
- * muflow --list
+ * muflow --list [=markdown]
  * Runs a case file (an INI file under cases/) with command-line overrides of
  * any key, or continues the run whose checkpoint is DIR/checkpoint.h5.
  * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
@@ -109,6 +109,7 @@ static void usage(FILE *f)
                "       muflow --version\n"
                "       muflow --list     (the scenes and every case key: default, allowed\n"
                "                          values, meaning)\n"
+               "       muflow --list=markdown   (the same in full: docs/case_keys.md)\n"
                "  runs the case to a steady state (solver.mode = steady) or to\n"
                "  solver.end_time (transient); any case key can be overridden, e.g.\n"
                "  muflow cases/bagnold.ini physics.tilt=0.45 domain.nz=80\n"
@@ -236,6 +237,10 @@ int main(int argc, char **argv)
         printf("muflow %s: the scenes and every case key (docs/case_keys.md has more)\n\n",
                MUFLOW_VERSION);
         case_write_key_list(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--list=markdown") == 0) {
+        case_write_key_markdown(stdout);
         return 0;
     }
     static struct muflow_case cs;

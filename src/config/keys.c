@@ -58,18 +58,26 @@ void key_allowed_text(const struct key *k, char *out, size_t outlen)
     snprintf(out, outlen, "?");
 }
 
+void key_default_text(const void *base, const struct key *k, char *out, size_t outlen)
+{
+    if (k->default_text)
+        snprintf(out, outlen, "%s", k->default_text);
+    else
+        key_text(base, k, out, outlen);
+}
+
 void key_write_help(const void *base, const struct key *k, FILE *out)
 {
     char def[600], allowed[600];
-    if (k->default_text)
-        snprintf(def, sizeof def, "%s", k->default_text);
-    else
-        key_text(base, k, def, sizeof def);
+    key_default_text(base, k, def, sizeof def);
     if (!def[0])
         snprintf(def, sizeof def, "(not set)");
     key_allowed_text(k, allowed, sizeof allowed);
-    fprintf(out, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name, def, allowed,
+    fprintf(out, "  %s.%s = %s  (%s)\n      %s", k->section, k->name, def, allowed,
             k->help ? k->help : "");
+    if (k->units)
+        fprintf(out, " (%s)", k->units);
+    fputc('\n', out);
 }
 
 static int in_range(const struct key *k, double v)

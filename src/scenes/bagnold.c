@@ -1,5 +1,7 @@
 /* Scene "bagnold": steady flow of a granular layer of height H down a rough
- * plane tilted by alpha (seeds/000 sec. 3.2, app. B; cases/bagnold.ini).
+ * plane tilted by alpha (Chauchat & Medale 2014,
+ * "A three-dimensional numerical model for dense granular flows based on the
+ * mu(I) rheology", sec. 3.2, app. B; cases/bagnold.ini).
  * Periodic along the flow, no slip at the base, flat stress-free surface.
  *
  * Exact solution (eqs. 18-19, 30-32): mu(I) = tan(alpha) everywhere, so
@@ -26,9 +28,16 @@ struct bagnold_params {
 #define T struct bagnold_params
 static const struct key bagnold_keys[] = {
     KEY_DBL(T, "bagnold", "perturbation", perturbation,
-            "largest velocity of a divergence-free 3D perturbation of the state at rest (the "
-            "curl of a pseudo-random vector potential times sin^2(pi z / H)), relative to the "
-            "exact surface velocity; 0: none",
+            KEY_HELP("largest velocity of a divergence-free 3D perturbation of the state at rest "
+                     "(the curl of a pseudo-random vector potential times sin^2(pi z / H)), "
+                     "relative to the exact surface velocity; 0: none",
+                     NULL,
+                     "Largest face velocity of a divergence-free 3D perturbation of the initial "
+                     "state at rest, relative to the exact surface velocity u(H): the discrete "
+                     "curl of a vector potential on the edges (a pseudo-random deviate per edge, "
+                     "the same on any number of threads, times sin^2(pi z / H)), so div u = 0 "
+                     "cell by cell to round-off and w = 0 on the base and the surface. Needs "
+                     "periodic x and y and a tilt that flows; `0`: none (rest)"),
             KEY_RANGE(0.0, 1.0, 1, 1)),
 };
 #undef T
@@ -39,7 +48,9 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-SCENE_PARAMS(bagnold_block, "bagnold", struct bagnold_params, bagnold_keys, defaults)
+SCENE_PARAMS(bagnold_block, "bagnold",
+             "The granular layer down an incline (`cases/bagnold.ini`, `cases/bagnold3d.ini`).",
+             struct bagnold_params, bagnold_keys, defaults)
 
 static double bagnold_u(const struct muflow_case *cs, double z)
 {

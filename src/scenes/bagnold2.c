@@ -1,10 +1,11 @@
 /* Scene "bagnold2": a granular layer of height h0 under a Newtonian fluid
  * (air) in a square domain L x L, periodic along the flow, no slip at the
- * base, inclined by zeta (seeds/001 sec. 2-3; cases/bagnold2.ini).  The two
+ * base, inclined by zeta (Barker & Rauter 2018, "Two-fluid
+ * regularised mu(I)-rheology with OpenFOAM", sec. 2-3; cases/bagnold2.ini).  The two
  * phases are the two_phase module's mixture (physics/two_phase.h); the
  * interface is flat and held, so the steady state is the exact solution.
  *
- * Exact solution (seeds/001 eqs. 6-11, written from their derivation; the
+ * Exact solution (Barker & Rauter 2018, eqs. 6-11, written from their derivation; the
  * printed constants have sign slips): mu(I) = tan(zeta) in the grains, so
  * I = I_zeta, with the pressure P(z) = g cos(zeta) [rho_g (h0 - z) +
  * rho_f (L - h0)] (rho_g = phi rho_s the grains' bulk density):
@@ -15,7 +16,7 @@
  *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
  *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
  * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the seed's open top (`open`: p = 0, du/dz = 0, flow through it
+ * The top is the paper's open top (`open`: p = 0, du/dz = 0, flow through it
  * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
  * which for this flat, unidirectional state is the same. */
 #include <math.h>
@@ -53,15 +54,18 @@ static const struct choice start_choices[] = {
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
     KEY_DBL(T, "bagnold2", "interface_height", interface_height,
-            "height h0 of the flat grains/fluid interface above the base (below domain.lz)",
+            KEY_HELP("height h0 of the flat grains/fluid interface above the base (below "
+                     "domain.lz)",
+                     "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, "density rho_f of the fluid above",
-            KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the fluid above", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the (Newtonian) fluid above", KEY_GT0),
+            KEY_HELP("viscosity eta_f of the (Newtonian) fluid above", "pressure time", NULL),
+            KEY_GT0),
     KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
-            "mixture viscosity of a cell holding both: weighted (seeds/001 eq. 14) or harmonic "
-            "(eq. 15)"),
+            "mixture viscosity of a cell holding both: weighted (Barker & Rauter 2018, eq. 14) "
+            "or harmonic (eq. 15)"),
     KEY_CHO(T, "bagnold2", "interface_edges", interface_edges, edge_choices,
             "viscosity of an edge the interface cuts: series (the two phases in series at the "
             "grains' share of its box, cut from the reconstructed interface) or mean (the mixture "
@@ -69,14 +73,21 @@ static const struct key bagnold2_keys[] = {
     KEY_CHO(T, "bagnold2", "start", start, start_choices,
             "initial velocity: rest, or exact (the steady solution of eqs. 6-11 on the faces)"),
     KEY_DBL(T, "bagnold2", "perturbation", perturbation,
-            "largest velocity of a divergence-free perturbation (a pseudo-random stream "
-            "function in the grains) added to the initial state, relative to the exact top "
-            "velocity; 0: none",
+            KEY_HELP("largest velocity of a divergence-free perturbation (a pseudo-random stream "
+                     "function in the grains) added to the initial state, relative to the exact "
+                     "top velocity; 0: none",
+                     NULL,
+                     "Largest velocity of a divergence-free perturbation added to the initial "
+                     "state, relative to the exact top velocity: a pseudo-random stream function "
+                     "on the x-z nodes (the same on any number of threads) times sin^2(pi z / h0) "
+                     "in the grains, 0 in the air, so every wavelength of the grid is seeded; a "
+                     "transient run records its amplitude (`growth.csv`) and growth rate "
+                     "(`growth_rate`); `0`: none"),
             KEY_GE0),
 };
 #undef T
 
-/* Table 1 of seeds/001 */
+/* Table 1 of Barker & Rauter (2018) */
 static void defaults(void *block)
 {
     struct bagnold2_params *b = block;
@@ -89,7 +100,18 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-SCENE_PARAMS(bagnold2_block, "bagnold2", struct bagnold2_params, bagnold2_keys, defaults)
+SCENE_PARAMS(bagnold2_block, "bagnold2",
+             "A granular layer under a Newtonian fluid (Barker & Rauter 2018, sec. 2-3; "
+             "`cases/bagnold2.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` their bulk density phi rho_s.  A transient run writes "
+             "`growth.csv` (every step: t, the largest departure of the grains' velocity and of "
+             "their pressure from the mean along x) and adds `growth_rate` (1/s, the "
+             "least-squares slope of ln A over the second half of the record before A reaches 1% "
+             "of the exact top velocity), `growth_rate_pressure`, `growth_fit_r2`, "
+             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary.  A transient "
+             "run with `perturbation > 0` cannot be continued from its checkpoint (the fit needs "
+             "the record from the perturbed state).",
+             struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
 
@@ -482,7 +504,7 @@ static const char *const bagnold2_files[] = {"growth.csv", NULL};
 
 const struct scene scene_bagnold2 = {
     .name = "bagnold2",
-    .title = "granular layer under air, two phases (seeds/001 sec. 2-3)",
+    .title = "granular layer under air, two phases (Barker & Rauter 2018, sec. 2-3)",
     .keys = &bagnold2_block,
     .modules = bagnold2_modules,
     .check = check,

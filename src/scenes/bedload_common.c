@@ -18,7 +18,7 @@ void bedload_defaults(struct bedload_params *b)
     b->mu_s = 0.32;
     b->gravity = 9.81;
     b->model = BEDLOAD_MIXED;
-    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in the seed's test */
+    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in Chauchat & Medale (2010), sec. 3.2 */
     b->kozeny = 180.0;
 }
 

@@ -1,5 +1,5 @@
 /* Scene "bingham_cavity": the Bingham lid-driven square cavity in Stokes
- * flow (seeds/002 sec. 3.1.2; cases/bingham_cavity.ini), compared with the
+ * flow (Chauchat & Medale 2010, sec. 3.1.2; cases/bingham_cavity.ini), compared with the
  * published data of Vola et al. (2003) named by case.reference: the
  * vertical mid-line profile (err_midline) and the largest stream function
  * psi_max (the headline). */

@@ -44,23 +44,28 @@ struct collapse_params {
 #define T struct collapse_params
 static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "half_width", half_width,
-            "half-width R0 of the column (the axis at x = 0; below domain.lx)", KEY_GT0),
-    KEY_DBL(T, "collapse", "height", height, "height H0 of the column (below domain.lz)",
+            KEY_HELP("half-width R0 of the column (the axis at x = 0; below domain.lx)",
+                     "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "collapse", "fluid_density", fluid_density, "density rho_f of the light phase",
-            KEY_GT0),
+    KEY_DBL(T, "collapse", "height", height,
+            KEY_HELP("height H0 of the column (below domain.lz)", "length", NULL), KEY_GT0),
+    KEY_DBL(T, "collapse", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the light phase", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "collapse", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the (Newtonian) light phase", KEY_GT0),
+            KEY_HELP("viscosity eta_f of the (Newtonian) light phase", "pressure time", NULL),
+            KEY_GT0),
     KEY_BOOL(T, "collapse", "viscosity_clip", viscosity_clip,
              "clip the granular viscosity to [rho d sqrt(g d), eta_max] before mixing (the "
              "published runs)"),
-    KEY_DBL(T, "collapse", "eta_max", eta_max, "upper bound of the viscosity clip", KEY_GT0),
+    KEY_DBL(T, "collapse", "eta_max", eta_max,
+            KEY_HELP("upper bound of the viscosity clip", "pressure time", NULL), KEY_GT0),
     KEY_DBL(T, "collapse", "rest_energy", rest_energy,
             "the run ends (finished, at rest) when the kinetic energy falls below this "
             "fraction of its peak; 0: only at solver.end_time",
             KEY_RANGE(0.0, 1.0, 1, 0)),
     KEY_DBL(T, "collapse", "profile_interval", profile_interval,
-            "time between the surface profiles h(x) of surface.csv", KEY_GT0),
+            KEY_HELP("time between the surface profiles h(x) of surface.csv", "time", NULL),
+            KEY_GT0),
     KEY_DBL(T, "collapse", "vof_cfl", vof_cfl,
             "largest sweep CFL number of the VOF transport that the time step allows "
             "(0: the VOF does not bound the step, the transport's sub-steps alone keep "
@@ -90,7 +95,17 @@ static void defaults(void *block)
     c->fluid_weight = 0;
 }
 
-SCENE_PARAMS(collapse_block, "collapse", struct collapse_params, collapse_keys, defaults)
+SCENE_PARAMS(collapse_block, "collapse",
+             "A rectangular column of grains released on a rough base under a light phase, half "
+             "the column with the symmetry plane at x = 0 (Lagree, Staron & Popinet 2011; "
+             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` their density; the scene needs `solver.mode = transient`, "
+             "`boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, `zhi = surface` or `open`, "
+             "periodic y and `domain.ny = 1`.  It writes `collapse.csv` (every step: t, x_front, "
+             "h_axis, kinetic energy, grains' volume, extremes of T) and `surface.csv` (h(x) at "
+             "the profile times and at the end); with `case.reference` it compares x_front and "
+             "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
+             struct collapse_params, collapse_keys, defaults)
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {

@@ -1,5 +1,5 @@
-/* Scene "cylinder": granular flow past a cylinder (seeds/000 sec. 4.2,
- * CASES.md scene 5; cases/cylinder.ini), driven by the dimensionless body
+/* Scene "cylinder": granular flow past a cylinder (Chauchat &
+ * Medale 2014, sec. 4.2; cases/cylinder.ini), driven by the dimensionless body
  * force F = rho phi g L_x / p_ext and continued in F over steady solves.
  *
  * The case holds the obstacle (one circle in the x-z plane), the confining
@@ -53,8 +53,10 @@ static const struct key cylinder_keys[] = {
             "ends on the last steady state",
             KEY_GT0),
     KEY_DBL(T, "cylinder", "velocity_end", velocity_end,
-            "after the continuation in F, continue in the mean velocity U up to this, F solved "
-            "for (0: none); needs cylinder.forcing_end > cylinder.forcing and a periodic box",
+            KEY_HELP("after the continuation in F, continue in the mean velocity U up to this, F "
+                     "solved for (0: none); needs cylinder.forcing_end > cylinder.forcing and a "
+                     "periodic box",
+                     "velocity", NULL),
             KEY_GE0),
     KEY_DBL(T, "cylinder", "velocity_ratio", velocity_ratio,
             "the continuation's factor in U (a failed U is retried at the factor's square root, "
@@ -79,7 +81,24 @@ static void cylinder_defaults(void *block)
     c->velocity_stages = 100.0;
 }
 
-SCENE_PARAMS(cylinder_block, "cylinder", struct cylinder_params, cylinder_keys, cylinder_defaults)
+SCENE_PARAMS(cylinder_block, "cylinder",
+             "Granular flow past a cylinder (Chauchat & Medale 2014, sec. 4.2; "
+             "`cases/cylinder.ini`).  The case needs one circle in `obstacle.shapes` (plane "
+             "x-z), `rheology.law = mui`, `solver.mode = steady`, `physics.confining_pressure` "
+             "p_ext > 0, `physics.tilt = 0` (the flow along -z) and `boundary.zlo = zhi` periodic "
+             "or open.  The scene sets `physics.gravity` from F = rho phi g L_x / p_ext (rho phi "
+             "= `physics.density`; L_x the whole box across: twice `domain.lx` when x = 0 is a "
+             "slip face through the circle's centre).  With `forcing_end > forcing` the run is a "
+             "continuation in F over steady solves, each F after the first starting from the "
+             "secant through the two steady states before it; a failed F is retried at half the "
+             "step down to `min_step`, below which the run ends on the last steady state "
+             "(`forcing_failed` in the summary).  With `velocity_end > 0` it goes on in the mean "
+             "velocity U, F an unknown of the coupled step.  `cylinder.csv` has a row per solve; "
+             "the summary has `forcing`, `flow_rate`, `froude`, `drag` (control volume), "
+             "`drag_surface`, `drag_over_pressure` and `drag_coefficient_mean_velocity` of the "
+             "final state.  A continuation cannot be combined with `output.checkpoint_every` or "
+             "`--restart`.",
+             struct cylinder_params, cylinder_keys, cylinder_defaults)
 
 /* ---- geometry and forcing ------------------------------------------------- */
 

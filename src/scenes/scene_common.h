@@ -21,11 +21,14 @@ static inline double shear_per_sqrt_p(const struct rheology *r)
     }
 
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block
- * NAME (parse, check, write back; case.c), the compile-time check that TYPE
- * fits the case's scene block, and params(cs), the block of a loaded case. */
-#define SCENE_PARAMS(NAME, SECTION, TYPE, KEYS, DEFAULTS)                                \
+ * NAME (parse, check, write back; case.c) with INTRO, the section's
+ * description in docs/case_keys.md (Markdown), the compile-time check that
+ * TYPE fits the case's scene block, and params(cs), the block of a loaded
+ * case. */
+#define SCENE_PARAMS(NAME, SECTION, INTRO, TYPE, KEYS, DEFAULTS)                         \
     static const struct key_block NAME = {                                              \
         .section = SECTION,                                                              \
+        .intro = INTRO,                                                                  \
         .keys = KEYS,                                                                    \
         .nkeys = (int)(sizeof KEYS / sizeof KEYS[0]),                                    \
         .size = sizeof(TYPE),                                                            \
