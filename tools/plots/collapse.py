@@ -26,31 +26,26 @@ def plot(run, out, units):
     grid = fig.add_gridspec(2, 2, height_ratios=[1, 1.1])
     ax_x, ax_h = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1])
     ax_s = fig.add_subplot(grid[1, :])
-    missing = []
-    for ax, col, dataset, symbol in ((ax_x, "x_front", "x_front", "x$_f$"),
-                                     (ax_h, "h_axis", "h_axis", "h(0, t)")):
+    drawn = 0
+    for ax, col, symbol in ((ax_x, "x_front", "x$_f$"), (ax_h, "h_axis", "h(0, t)")):
         ax.plot(s["t"], s[col], "-", label="muflow")
-        if ref:
-            rt, rv = reference_curve(ref, dataset, a)
-            if rt.size:
-                ax.plot(rt, rv, "ko", ms=6, mfc="none", label="Lagree et al. 2011 (Basilisk)")
-            else:
-                missing.append(dataset)
+        rt, rv = reference_curve(ref, col, a) if ref else ([], [])
+        if len(rt):
+            ax.plot(rt, rv, "ko", ms=6, mfc="none", label="Lagree et al. 2011 (Basilisk)")
+            drawn += 1
         ax.set_xlabel(units.label("t", "time"))
         ax.set_ylabel(units.label(symbol, "length"))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     ax_x.set_title("front position", fontsize=10)
     ax_h.set_title("height on the axis", fontsize=10)
-    if missing:
-        print("%s has no %s at a = %.4g: muflow alone" % (ref, " or ".join(missing), a))
 
     _surfaces(run, ax_s, units, a)
     fig.suptitle("%s, a = H$_0$/R$_0$ = %.3g: against Lagree, Staron & Popinet (2011)\n%s" % (
         run.name, a, figure.headline_text(run, ("x_front", "x_front_err_max", "h_axis",
                                                 "h_axis_err_max", "mass_error"))), fontsize=10)
     return figure.save(fig, out, "compare.png", "against Lagree et al. 2011, %s" % (
-        os.path.basename(ref) if ref else "no reference file"))
+        os.path.basename(ref)) if drawn else "no reference x_f(t) at a = %.4g: muflow alone" % a)
 
 
 def _surfaces(run, ax, units, a):

@@ -179,4 +179,4 @@ def _map(run, out, name, units, s, t, e1, e2, d1, d2, symbol, kind, title):
     ax.set_ylabel(units.label(NAMES[d2], "length"))
     title = textwrap.fill(title, int(fig.get_figwidth() * 11))
     ax.set_title(title + ("\n(" + "; ".join(notes) + ")" if notes else ""), fontsize=10)
-    return figure.save(fig, out, "field_%s.png" % name)
+    return figure.save(fig, out, "field_%s.png" % name, crop=True)

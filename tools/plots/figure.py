@@ -27,14 +27,14 @@ def new(w, h):
 
 
 def map_axes(width, height):
-    """(figure, axes, colour bar axes, its orientation) for a map of a width x height box: the
-    axes have the box's aspect and the figure fits around them (margins in
-    inches), the colour bar at the right of a tall or square box, below a
-    wide one."""
+    """(figure, axes, colour bar axes, its orientation) for a map of a
+    width x height box: the axes have the box's aspect and the figure fits
+    around them (margins in inches), the colour bar at the right of a tall
+    or square box, below a wide one."""
     w, h = map_size(width, height)
     wide = h < 0.6 * w
     left, top = 0.9, 0.95
-    right, bottom = (0.35, 1.55) if wide else (1.35, 0.6)
+    right, bottom = (0.35, 1.35) if wide else (1.35, 0.6)
     spare = max(0.0, 5.0 - (left + w + right))  # room for the title of a narrow box
     left, right = left + spare / 2, right + spare / 2
     fw, fh = left + w + right, bottom + h + top
@@ -47,10 +47,11 @@ def map_axes(width, height):
     return fig, ax, cax, "horizontal" if wide else "vertical"
 
 
-def save(fig, out, name, note=None):
-    """Writes out/name; says what it shows when note is given."""
+def save(fig, out, name, note=None, crop=False):
+    """Writes out/name (crop: to what is drawn, a map's margins being
+    generous); says what it shows when note is given."""
     path = os.path.join(out, name)
-    fig.savefig(path, dpi=DPI)
+    fig.savefig(path, dpi=DPI, **({"bbox_inches": "tight", "pad_inches": 0.1} if crop else {}))
     plt.close(fig)
     print("wrote %s%s" % (path, " (%s)" % note if note else ""))
     return path

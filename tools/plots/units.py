@@ -9,8 +9,7 @@ labels then read "z / d", or the bare symbol where the scene has no named
 scale."""
 
 SI = {"length": "m", "velocity": "m/s", "time": "s", "pressure": "Pa", "rate": "1/s",
-      "viscosity": "Pa s", "flow_rate_2d": "m$^2$/s", "flow_rate_3d": "m$^3$/s",
-      "force": "N/m", "none": ""}
+      "viscosity": "Pa s", "none": ""}
 
 
 def _scaled(length, velocity, time, pressure, rate, viscosity):
@@ -60,9 +59,6 @@ class Units:
         if " - " in symbol or " + " in symbol:
             symbol = "(%s)" % symbol
         return "%s / %s" % (symbol, u)
-
-    def name(self):
-        return "SI units" if self.si else "dimensionless"
 
 
 # the kind of quantity each field-file dataset holds
