@@ -26,6 +26,13 @@
  *   max_dt      the largest time step its stages allow at the current state
  *               (a transient step is the smallest of these, the CFL limit
  *               and solver.dt; INFINITY: none)
+ *   save        puts what it keeps between steps beyond its fields (a
+ *               record of the run, a counter) into the checkpoint
+ *               (io/module_record.h): a continued run goes on as if it had
+ *               not stopped; 0, or -1 with the cause in the record
+ *   load        reads that back when a run continues from a checkpoint,
+ *               after the fields and the loop state, and brings what it
+ *               derives from them up to date; 0, or -1 with the cause
  *   destroy     frees its state */
 #ifndef MUFLOW_MARCH_MODULE_H
 #define MUFLOW_MARCH_MODULE_H
@@ -33,6 +40,7 @@
 #include <stddef.h>
 
 struct march_state;
+struct module_record;
 
 struct module {
     const char *name;
@@ -44,6 +52,8 @@ struct module {
     int (*transport)(struct march_state *st, void *state, double dt);
     void (*end_step)(struct march_state *st, void *state, double dt);
     double (*max_dt)(const struct march_state *st, void *state);
+    int (*save)(const struct march_state *st, void *state, struct module_record *rec);
+    int (*load)(struct march_state *st, void *state, struct module_record *rec);
     void (*destroy)(void *state);
 };
 

@@ -46,6 +46,9 @@ struct scene_drive {
     march_observer_fn observe;
     void *observe_ctx;
     int verbose;                   /* progress lines wanted */
+    int restarted;                 /* the march continues from a checkpoint (its
+                                      loop state is the checkpoint's): go on with
+                                      it, do not start it afresh */
     const char *dir;               /* the output folder, NULL when the run writes
                                       no files (a driver's own record goes there) */
     union {                        /* the driver's own results, for results() */

@@ -364,6 +364,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     ctx.linear_unconverged = st.linear_unconverged;
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
                                 .verbose = opt->write_output && !work.quiet,
+                                .restarted = opt->restart_from != NULL,
                                 .dir = opt->write_output ? work.output_dir : NULL};
     if (sc->drive)
         sc->drive(&drive);
@@ -384,6 +385,10 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         profile_errors(&pr, &st, &res->errors);
     if (sc->results)
         sc->results(&st, &drive, res);
+    /* a run that cannot continue from its checkpoint says so when
+     * interrupted, and what to do instead, never "resume with" */
+    if (why && !res->stop_note[0])
+        snprintf(res->stop_note, sizeof res->stop_note, "at step %ld: %s", st.step, why);
     if (obstacle_active(&work))
         obstacle_results(&st, res);
     if (opt->write_output) {
