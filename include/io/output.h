@@ -65,8 +65,9 @@ int output_make_dir(const char *dir, char *err, size_t errlen);
 /* For a fresh run (not a restart) into a folder that may hold an earlier
  * run's output: removes the files a run writes there -- fields_<step>.h5
  * (six digits or more), fields.xdmf, history.csv, profile.csv, summary.ini,
- * checkpoint.h5, the names in extra (the scene's own files, scene.h:
- * files; NULL-terminated, or NULL), and each of these names with .tmp
+ * checkpoint.h5, the names in extra (NULL-terminated, or NULL: a run
+ * passes every scene's and module's own files, scene_output_files in
+ * scenes/scene.h), and each of these names with .tmp
  * appended -- and nothing else (other files, folders of those names).
  * Returns the number of files removed (0 when dir does not exist), or -1
  * with the cause in err. */

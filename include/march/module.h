@@ -33,7 +33,11 @@
  *   load        reads that back when a run continues from a checkpoint,
  *               after the fields and the loop state, and brings what it
  *               derives from them up to date; 0, or -1 with the cause
- *   destroy     frees its state */
+ *   destroy     frees its state
+ *
+ * files: the names of the output files it writes into the output folder
+ * (NULL-terminated, or NULL), which a fresh run removes with every other
+ * run file of an earlier run there (io/output.h). */
 #ifndef MUFLOW_MARCH_MODULE_H
 #define MUFLOW_MARCH_MODULE_H
 
@@ -55,6 +59,7 @@ struct module {
     int (*save)(const struct march_state *st, void *state, struct module_record *rec);
     int (*load)(struct march_state *st, void *state, struct module_record *rec);
     void (*destroy)(void *state);
+    const char *const *files;
 };
 
 #define MODULES_MAX 8

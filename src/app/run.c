@@ -262,9 +262,16 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         return RUN_OK;
     if (output_make_dir(cs->output_dir, err, errlen) != 0)
         goto fail;
-    /* a fresh run starts from a folder without an earlier run's files; a
-     * continued run keeps them (its series and history go on from them) */
-    if (!opt->restart_from && output_remove_run_files(cs->output_dir, case_scene(cs)->files, err, errlen) < 0)
+    /* a fresh run starts from a folder without an earlier run's files,
+     * whichever scene wrote them; a continued run keeps them (its series
+     * and history go on from them) */
+    const char *names[SCENE_OUTPUT_FILES_MAX];
+    if (!opt->restart_from &&
+        scene_output_files(names, SCENE_OUTPUT_FILES_MAX, opt->modules) < 0) {
+        snprintf(err, errlen, "more than %d names of output files", SCENE_OUTPUT_FILES_MAX - 1);
+        goto fail;
+    }
+    if (!opt->restart_from && output_remove_run_files(cs->output_dir, names, err, errlen) < 0)
         goto fail;
     const char *ename = scene_error_name(case_scene(cs));
     if ((opt->restart_from
