@@ -110,6 +110,11 @@ print-deb-pkgs:
 $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
+# examples/minimal.c, the library's smallest program (the tools tests build
+# it against the installed library with pkg-config, as its comment says)
+$(BUILD)/minimal: $(BUILD)/obj/examples/minimal.o $(BUILD)/libmuflow.a
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
+
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) -lcmocka
 

@@ -178,6 +178,7 @@ static int observe(void *vctx, const struct march_state *st)
 
 void run_result_from(const struct march_state *st, struct run_result *res)
 {
+    res->scene = case_scene(st->cs);
     res->status = st->status;
     res->steps = st->step;
     res->rejected_steps = st->rejected;
@@ -354,6 +355,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
      * tilt search), and the summary then records what it found */
     struct muflow_case work = *cs;
     const struct scene *sc = case_scene(&work);
+    res->scene = sc;
     const char *why = sc->not_restartable ? sc->not_restartable(&work) : NULL;
     if (why && opt->restart_from) {
         snprintf(err, errlen, "%s", why);
