@@ -3,7 +3,8 @@
  * - continued from a checkpoint, it ends as the uninterrupted run: the
  *   same [result] (but wall_seconds) and the same scene files (but their
  *   wall-time columns), bit for bit; a case that cannot continue (the
- *   heap's tilt search) is refused and says why;
+ *   heap's tilt search) is refused and says why, and so is a collapse from
+ *   a checkpoint without its record (an earlier muflow's);
  * - its summary.ini is an INI file a strict reader takes (no key twice in
  *   a section: Python's configparser, strict);
  * - run_result_value returns every number of its [result] section, and
@@ -17,6 +18,7 @@
 #define _GNU_SOURCE /* F_SETPIPE_SZ; mkdtemp, popen, kill */
 #include <dirent.h>
 #include <fcntl.h>
+#include <hdf5.h>
 #include <limits.h>
 #include <math.h>
 #include <signal.h>
@@ -438,6 +440,42 @@ static void test_summary_force_names(void **state)
     }
 }
 
+/* A checkpoint without the modules' state (as an earlier muflow wrote
+ * them): bagnold2's steady run goes on (its density from today's T), the
+ * collapse, whose record covers the run from the start, is refused and
+ * says why. */
+static void test_checkpoint_without_module_state(void **state)
+{
+    (void)state;
+    shipped_runs();
+    const char *tags[] = {"bagnold2", "collapse"};
+    for (int m = 0; m < 2; m++) {
+        const struct runs *w = runs_of(tags[m]);
+        char ck[200], old[200], cmd[512], err[1024];
+        snprintf(ck, sizeof ck, "%s/%s", w->b, CHECKPOINT_NAME);
+        snprintf(old, sizeof old, "%s/earlier.h5", w->dir);
+        snprintf(cmd, sizeof cmd, "cp '%s' '%s'", ck, old);
+        assert_int_equal(system(cmd), 0);
+        hid_t f = H5Fopen(old, H5F_ACC_RDWR, H5P_DEFAULT);
+        assert_true(f >= 0);
+        assert_true(H5Ldelete(f, "modules", H5P_DEFAULT) >= 0);
+        H5Fclose(f);
+        struct muflow_case cs;
+        assert_int_equal(checkpoint_load_case(old, 0, NULL, &cs, err, sizeof err), 0);
+        struct run_options opt = {.write_output = 0, .restart_from = old};
+        struct run_result r;
+        int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+        print_message("%s from a checkpoint without its modules' state: %s\n", tags[m],
+                      rc == RUN_OK ? run_status_name(r.status) : err);
+        if (m == 0) {
+            assert_int_equal(rc, RUN_OK);
+        } else {
+            assert_int_equal(rc, RUN_ERR_SETUP);
+            assert_non_null(strstr(err, "no state of the physics module collapse"));
+        }
+    }
+}
+
 /* The names of every file a run writes: after any case's run, removing
  * them leaves its folder empty but for a file of the user's. */
 static void test_run_files_cover_every_case(void **state)
@@ -671,6 +709,7 @@ void group_cases(struct test_tally *t)
         cmocka_unit_test(test_summary_strict_ini),
         cmocka_unit_test(test_result_values),
         cmocka_unit_test(test_summary_force_names),
+        cmocka_unit_test(test_checkpoint_without_module_state),
         cmocka_unit_test(test_run_files_cover_every_case),
         cmocka_unit_test(test_one_scene_after_another),
         cmocka_unit_test(test_cli_collapse_resumes),

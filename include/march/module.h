@@ -32,7 +32,9 @@
  *               not stopped; 0, or -1 with the cause in the record
  *   load        reads that back when a run continues from a checkpoint,
  *               after the fields and the loop state, and brings what it
- *               derives from them up to date; 0, or -1 with the cause
+ *               derives from them up to date; 0, or -1 with the cause.
+ *               rec is NULL for a checkpoint that holds none (written by
+ *               an earlier muflow): 0 to go on without it, -1 to refuse
  *   destroy     frees its state
  *
  * files: the names of the output files it writes into the output folder

@@ -190,12 +190,16 @@ static int modules_load(hid_t file, struct march_state *st, char *err, size_t er
         struct module_record rec = {.group = -1, .err = ""};
         if (top < 0)
             top = group_at(file, MODULES_GROUP, 0);
-        if (top < 0 || (rec.group = group_at(top, m->name, 0)) < 0) {
-            snprintf(err, errlen, "it holds no state of the physics module %s (written by an "
-                                  "earlier muflow, which could not continue this case)",
-                     m->name);
-            rc = -1;
-            break;
+        if (top >= 0)
+            rec.group = group_at(top, m->name, 0);
+        /* a checkpoint of an earlier muflow holds none: the module goes on
+         * without (load with NULL) or refuses */
+        if (rec.group < 0) {
+            if ((rc = m->load(st, st->module_state[i], NULL)) != 0)
+                snprintf(err, errlen, "it holds no state of the physics module %s (written by "
+                                      "an earlier muflow, which could not continue this case)",
+                         m->name);
+            continue;
         }
         if ((rc = m->load(st, st->module_state[i], &rec)) != 0)
             snprintf(err, errlen, "module %s: %s", m->name, rec.err[0] ? rec.err : "failed");

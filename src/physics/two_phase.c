@@ -362,6 +362,9 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
     struct two_phase *tp = state;
     if (!tp->configured)
         return 0;
+    char err[256];
+    if (!rec) /* an earlier checkpoint: the density of today's T */
+        return two_phase_tracer_changed(st, err, sizeof err);
     long size = (long)st->g.size;
     double steps, stale;
     if (module_record_get(rec, "transport_steps", &steps, 1) != 0 ||
@@ -374,7 +377,6 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
         if (module_record_get(rec, rho_names[c], st->rho_face[c], size) != 0 ||
             (!tp->edges_stale && module_record_get(rec, edge_names[c], tp->edge_t[c], size) != 0))
             return -1;
-    char err[256];
     if (march_density_changed(st, 0, err, sizeof err) != 0)
         return module_record_fail(rec, "%s", err);
     return 0;

@@ -255,9 +255,12 @@ static int record_save(const struct march_state *st, void *state, struct module_
 
 static int record_load(struct march_state *st, void *state, struct module_record *rec)
 {
-    (void)st;
     struct growth_record *r = state;
     double last;
+    /* an earlier checkpoint: a growth study's record starts at its initial
+     * state; any other run's covers the steps it runs */
+    if (!rec)
+        return st->cs->mode == MODE_TRANSIENT && params(st->cs)->perturbation > 0.0 ? -1 : 0;
     long n = module_record_count(rec, "t");
     if (n < 0 || module_record_get(rec, "last_step", &last, 1) != 0)
         return -1;

@@ -238,6 +238,8 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
     (void)st;
     struct record *r = state;
     double scalars[SCALARS];
+    if (!rec) /* the record covers the run from the initial column */
+        return -1;
     if (module_record_get(rec, "scalars", scalars, SCALARS) != 0)
         return -1;
     if ((int)scalars[SC_NX] != r->nx)
