@@ -185,8 +185,8 @@ def main():
                    "steps": int(s.get("steps", 0)), "wall_s": float(s.get("wall_seconds", 0))}
             if s.get("status") == "steady":
                 U = float(s["mean_velocity"])
-                FD = -float(s["lift_force_control_volume"])
-                FDs = -float(s["lift_force"])
+                FD = float(s["drag_force_control_volume"])  # along the flow, -z
+                FDs = float(s["drag_force"])
                 row.update(Q=U * LX_WHOLE, U=U, Fr=U / math.sqrt(g * D), Fr_eff=U / math.sqrt(g * (D + d)),
                            F_D=FD, F_D_surface=FDs, F_D_over_p=FD / p,
                            C_D=FD / (0.5 * RHO_PHI * U * U) if U > 0 else float("nan"))

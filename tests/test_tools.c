@@ -1,9 +1,10 @@
 /* The tools around the solver, driven as a user would drive them, through the
  * shell: muflow --version, the test runner's command line, `make install`
- * with a pkg-config build of a small program against the installed library,
- * tools/muflow_plot.py on real runs (every case file's), tools/collapse_movie.py
- * on a run of another scene, README's package and library lists against the
- * Makefile, and README's commands as a user types them.  The runner works in tests/
+ * with pkg-config builds of a small program and of examples/minimal.c against
+ * the installed library, tools/muflow_plot.py on real runs (every case
+ * file's), tools/collapse_movie.py on a run of another scene, README's
+ * package and library lists against the Makefile, and README's commands as
+ * a user types them.  The runner works in tests/
  * (test_main.c), so the repository is "..". */
 #define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
 #include <dirent.h>
@@ -298,6 +299,31 @@ static void test_install(void **state)
     assert_non_null(strstr(out, "-fopenmp"));
     assert_non_null(strstr(out, "-lmuflow"));
     assert_non_null(strstr(out, "\nbagnold 2 1 40\n")); /* cases/bagnold.ini's grid */
+    free(out);
+
+    /* examples/minimal.c, the documented example, built the way its comment
+     * says: its status, steps and err_rms are the installed command's
+     * summary.ini lines for the same case and overrides (its comment's
+     * numbers, bagnold at H/10: 15 steps, err_rms 1.935774e-03) */
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && export PKG_CONFIG_PATH='%s/usr/local/lib/pkgconfig' && "
+             "${CC:-cc} -std=c11 -Wall -Wextra -Werror '%s/examples/minimal.c' -o minimal "
+             "$(pkg-config --define-variable=prefix='%s/usr/local' --cflags --libs muflow) "
+             "&& ./minimal '%s/cases/bagnold.ini' domain.nz=10 && "
+             "'%s/usr/local/bin/muflow' '%s/cases/bagnold.ini' domain.nz=10 output.quiet=on "
+             "output.fields=off output.dir=cli >/dev/null && "
+             "grep -E '^(status|steps|err_rms) = ' cli/summary.ini",
+             tmp, dest, root, dest, root, dest, root);
+    out = sh_ok(cmd);
+    print_message("%s", out);
+    const char *want = "status = steady\nsteps = 15\nerr_rms = 1.935774e-03\n";
+    assert_true(strncmp(out, want, strlen(want)) == 0);        /* the example */
+    assert_string_equal(out + strlen(want), want);             /* the command's summary */
+    free(out);
+    /* and its usage line and status without a case */
+    snprintf(cmd, sizeof cmd, "cd '%s' && ./minimal", tmp);
+    assert_int_equal(sh(cmd, &out), 2);
+    assert_non_null(strstr(out, "usage: minimal CASE.ini"));
     free(out);
 
     /* make uninstall leaves none of the files */

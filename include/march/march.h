@@ -145,6 +145,10 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
  * take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
 
+/* The physics modules a case's own keys add to any scene's (the obstacle,
+ * [obstacle] shapes), NULL-terminated. */
+extern const struct module *const march_case_modules[];
+
 /* The state of module m in this march, or NULL when it is not switched on
  * (a scene's setup configures its modules through it). */
 void *march_module_state(const struct march_state *st, const struct module *m);

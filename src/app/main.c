@@ -189,7 +189,7 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     if (r->scene_line[0])
         printf("%s: %s\n", cs->name, r->scene_line);
     printf("output: %s\n", cs->output_dir);
-    if (r->signal && r->stop_note[0])
+    if (r->signal && !r->restartable) /* stop_note: why not, and what to do instead */
         printf("muflow: interrupted by %s %s\n", interrupt_name(r->signal), r->stop_note);
     else if (r->signal)
         printf("muflow: interrupted by %s at step %ld%s; resume with: muflow --restart %s\n",

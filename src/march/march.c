@@ -468,14 +468,15 @@ int march_create(struct march_state *st, const struct muflow_case *cs, char *err
     return march_create_with(st, cs, NULL, err, errlen);
 }
 
+/* the case's obstacles are a module of every scene */
+const struct module *const march_case_modules[] = {&obstacle_module, NULL};
+
 /* The scene's modules, then the extra ones. */
 static int add_modules(struct march_state *st, const struct module *const *extra, char *err,
                        size_t errlen)
 {
-    /* the case's obstacles are a module of every scene */
-    static const struct module *const obstacle[] = {&obstacle_module, NULL};
     const struct module *const *lists[3] = {case_scene(st->cs)->modules, extra,
-                                            obstacle_active(st->cs) ? obstacle : NULL};
+                                            obstacle_active(st->cs) ? march_case_modules : NULL};
     for (int l = 0; l < 3; l++)
         for (const struct module *const *m = lists[l]; m && *m; m++) {
             if (st->nmodules == MODULES_MAX) {

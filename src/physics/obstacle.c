@@ -334,10 +334,13 @@ static void end_step(struct march_state *st, void *state, double dt)
     embedded_zero(&ob->e, st->vel);
 }
 
+static const char *const obstacle_files[] = {"obstacle_surface.csv", NULL}; /* obstacle_write */
+
 const struct module obstacle_module = {
     .name = "obstacle",
     .create = create,
     .residual = residual,
     .end_step = end_step,
     .destroy = destroy,
+    .files = obstacle_files,
 };

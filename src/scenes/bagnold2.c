@@ -25,6 +25,7 @@
 #include <string.h>
 #include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
+#include "io/module_record.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/bagnold2.h"
@@ -259,9 +260,63 @@ static void record_destroy(void *state)
     free(r);
 }
 
+/* The record in the checkpoint: a continued run's growth.csv and growth
+ * fit are the uninterrupted run's. */
+static int record_save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    const struct growth_record *r = state;
+    double last = (double)r->last_step;
+    if (module_record_put(rec, "last_step", &last, 1) != 0 ||
+        module_record_put(rec, "t", r->t, r->n) != 0 ||
+        module_record_put(rec, "amplitude_velocity", r->au, r->n) != 0 ||
+        module_record_put(rec, "amplitude_pressure", r->ap, r->n) != 0)
+        return -1;
+    return 0;
+}
+
+static int record_load(struct march_state *st, void *state, struct module_record *rec)
+{
+    struct growth_record *r = state;
+    double last;
+    /* an earlier checkpoint: a growth study's record starts at its initial
+     * state; any other run's covers the steps it runs */
+    if (!rec)
+        return st->cs->mode == MODE_TRANSIENT && params(st->cs)->perturbation > 0.0 ? -1 : 0;
+    long n = module_record_count(rec, "t");
+    if (n < 0 || module_record_get(rec, "last_step", &last, 1) != 0)
+        return -1;
+    long cap = n > 0 ? n : 1;
+    double *t = malloc((size_t)cap * sizeof *t), *au = malloc((size_t)cap * sizeof *au),
+           *ap = malloc((size_t)cap * sizeof *ap);
+    int rc = t && au && ap ? 0 : module_record_fail(rec, "out of memory for the growth record");
+    if (rc == 0 && (module_record_get(rec, "t", t, n) != 0 ||
+                    module_record_get(rec, "amplitude_velocity", au, n) != 0 ||
+                    module_record_get(rec, "amplitude_pressure", ap, n) != 0))
+        rc = -1;
+    if (rc != 0) {
+        free(t);
+        free(au);
+        free(ap);
+        return -1;
+    }
+    free(r->t);
+    free(r->au);
+    free(r->ap);
+    r->t = t;
+    r->au = au;
+    r->ap = ap;
+    r->n = n;
+    r->cap = cap;
+    r->last_step = (long)last;
+    return 0;
+}
+
 static const struct module growth_module = {
     .name = "bagnold2_growth",
     .create = record_create,
+    .save = record_save,
+    .load = record_load,
     .destroy = record_destroy,
 };
 
@@ -365,17 +420,6 @@ static int drive(struct scene_drive *d)
                  "out of memory for the growth record at step %ld", st->step);
     }
     return 0;
-}
-
-static const char *not_restartable(const struct muflow_case *cs)
-{
-    /* a growth study's record (and its fit) starts from the perturbed
-     * state; any other run's growth.csv covers the steps it ran */
-    return cs->mode == MODE_TRANSIENT && params(cs)->perturbation > 0.0
-               ? "a transient bagnold2 run with bagnold2.perturbation > 0 measures the "
-                 "perturbation's growth (growth.csv, growth_rate) from its initial state: it "
-                 "cannot continue from a checkpoint"
-               : NULL;
 }
 
 void bagnold2_growth_window(const double *t, const double *au, long n, double a_sat,
@@ -515,7 +559,6 @@ const struct scene scene_bagnold2 = {
     .headline_name = "u_top",
     .errors = errors,
     .drive = drive,
-    .not_restartable = not_restartable,
     .results = results,
     .write = write,
     .files = bagnold2_files,

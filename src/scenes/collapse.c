@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/reference.h"
+#include "io/module_record.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
@@ -194,13 +195,6 @@ static void end_step(struct march_state *st, void *state, double dt)
         st->p_dyn[p] -= s;
 }
 
-static const struct module collapse_module = {
-    .name = "collapse",
-    .create = create,
-    .end_step = end_step,
-    .destroy = destroy,
-};
-
 static int grow(void **a, long *cap, long need, size_t each)
 {
     if (need <= *cap)
@@ -215,6 +209,101 @@ static int grow(void **a, long *cap, long need, size_t each)
     *cap = c;
     return 0;
 }
+
+/* The record in the checkpoint: a continued run's collapse.csv,
+ * surface.csv and results are the uninterrupted run's.  One array per
+ * measure of the samples, the profiles' times and heights, and the
+ * scalars that decide the next sample and profile and the rest. */
+#define SAMPLE_FIELDS 7
+static const char *const sample_names[SAMPLE_FIELDS] = {
+    "t", "x_front", "h_axis", "kinetic_energy", "grains_volume", "tracer_min", "tracer_max"};
+static double *sample_field(struct collapse_sample *s, int f)
+{
+    double *const at[SAMPLE_FIELDS] = {&s->t,      &s->x_front, &s->h_axis, &s->kinetic,
+                                       &s->volume, &s->t_min,   &s->t_max};
+    return at[f];
+}
+enum { SC_LAST_STEP, SC_PEAK, SC_PEAK_TIME, SC_VOLUME0, SC_NEXT_PROFILE, SC_NX, SCALARS };
+
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double scalars[SCALARS] = {(double)r->last_step, r->peak, r->peak_time, r->volume0,
+                               r->next_profile, r->nx};
+    double *v = malloc((size_t)(r->n > 0 ? r->n : 1) * sizeof *v);
+    if (!v)
+        return module_record_fail(rec, "out of memory for the record");
+    int rc = module_record_put(rec, "scalars", scalars, SCALARS);
+    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+        for (long m = 0; m < r->n; m++)
+            v[m] = *sample_field(&r->s[m], f);
+        rc = module_record_put(rec, sample_names[f], v, r->n);
+    }
+    free(v);
+    if (rc == 0)
+        rc = module_record_put(rec, "profile_times", r->ptime, r->np);
+    if (rc == 0)
+        rc = module_record_put(rec, "profile_heights", r->ph, r->np * r->nx);
+    return rc;
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double scalars[SCALARS];
+    if (!rec) /* the record covers the run from the initial column */
+        return -1;
+    if (module_record_get(rec, "scalars", scalars, SCALARS) != 0)
+        return -1;
+    if ((int)scalars[SC_NX] != r->nx)
+        return module_record_fail(rec, "its profiles have %d columns, the grid %d",
+                                  (int)scalars[SC_NX], r->nx);
+    long n = module_record_count(rec, "t"), np = module_record_count(rec, "profile_times");
+    if (n < 0 || np < 0)
+        return -1;
+    long cap = r->cap, pc = r->pcap, hc = r->pcap;
+    double *v = malloc((size_t)(n > 0 ? n : 1) * sizeof *v);
+    if (!v || grow((void **)&r->s, &cap, n, sizeof *r->s) != 0 ||
+        grow((void **)&r->ptime, &pc, np, sizeof(double)) != 0 ||
+        grow((void **)&r->ph, &hc, np, (size_t)r->nx * sizeof(double)) != 0) {
+        free(v);
+        return module_record_fail(rec, "out of memory for the record");
+    }
+    r->cap = cap;
+    r->pcap = pc;
+    int rc = 0;
+    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+        rc = module_record_get(rec, sample_names[f], v, n);
+        for (long m = 0; rc == 0 && m < n; m++)
+            *sample_field(&r->s[m], f) = v[m];
+    }
+    free(v);
+    if (rc == 0)
+        rc = module_record_get(rec, "profile_times", r->ptime, np);
+    if (rc == 0)
+        rc = module_record_get(rec, "profile_heights", r->ph, np * r->nx);
+    if (rc != 0)
+        return -1;
+    r->n = n;
+    r->np = np;
+    r->last_step = (long)scalars[SC_LAST_STEP];
+    r->peak = scalars[SC_PEAK];
+    r->peak_time = scalars[SC_PEAK_TIME];
+    r->volume0 = scalars[SC_VOLUME0];
+    r->next_profile = scalars[SC_NEXT_PROFILE];
+    return 0;
+}
+
+static const struct module collapse_module = {
+    .name = "collapse",
+    .create = create,
+    .end_step = end_step,
+    .save = save,
+    .load = load,
+    .destroy = destroy,
+};
 
 /* Adds the state's sample (once per step) and a profile when one is due. */
 static int record_state(struct record *r, const struct march_state *st)
@@ -300,13 +389,6 @@ static int drive(struct scene_drive *d)
                  r->peak_time);
     }
     return 0;
-}
-
-static const char *not_restartable(const struct muflow_case *cs)
-{
-    (void)cs;
-    return "the collapse's record (collapse.csv, surface.csv) covers the whole run from the "
-           "initial column: it cannot continue from a checkpoint";
 }
 
 /* ---- results and files ---- */
@@ -486,7 +568,6 @@ const struct scene scene_collapse = {
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,
-    .not_restartable = not_restartable,
     .results = results,
     .write = write,
     .files = collapse_files,

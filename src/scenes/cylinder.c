@@ -292,12 +292,15 @@ static enum run_status solve(struct scene_drive *d, double F, double U, int fres
     d->cs->gravity = gravity_of(d->cs, F);
     row->g = d->cs->gravity;
     char err[256];
-    if (march_reforce(st, err, sizeof err) != 0) {
+    /* the single solve of a run continued from its checkpoint goes on from
+     * the checkpoint's step (its case holds this gravity already) */
+    int resume = fresh && d->restarted;
+    if (!resume && march_reforce(st, err, sizeof err) != 0) {
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message, "F = %g: %.200s", F, err);
         return st->status;
     }
-    if (flow_rate_restart(st, d->cs->gravity, U, err, sizeof err) != 0) {
+    if (!resume && flow_rate_restart(st, d->cs->gravity, U, err, sizeof err) != 0) {
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message, "U = %g: %.200s", U, err);
         return st->status;
@@ -388,7 +391,7 @@ static int drive(struct scene_drive *d)
         return 0;
     }
     int n = 0;
-    double t0 = omp_get_wtime();
+    double t0 = omp_get_wtime() - st->wall_seconds; /* a restart's: the checkpoint's on */
     enum run_status s = solve(d, p->forcing, 0.0, 1, 1.0, &rows[n++]);
     run->solves = 1;
     run->steps = st->step;
