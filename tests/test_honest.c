@@ -415,6 +415,56 @@ static void test_linear_cap_told(void **state)
     remove_tree(dir);
 }
 
+/* A steady march whose velocity grows by orders of magnitude (bagnold2
+ * below mu_s at 4 x 100, lambda 1e-8 by stages from 1e-6: the stiffer
+ * plug of the last stage raises the residual to 45 with the film still
+ * right, then the velocity from the film's 0.0105 m/s to 700 m/s, the
+ * residual never past 80: it used to end "unsteady: the residual stalls"
+ * after 294 steps) ends diverged at once, names the step and the velocity,
+ * and keeps (and checkpoints) the state before: its velocity within 1000
+ * times the film's. */
+static void test_velocity_blowup_diverges(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "vblowup");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs;
+    char *ov[] = {"domain.nx=4", "physics.tilt=0.2", "rheology.lambda=1e-8",
+                  "solver.continuation=100", "output.quiet=on", "output.fields=off", od};
+    load(&cs, CASES_DIR "bagnold2.ini", 7, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+    omp_set_num_threads(threads);
+    assert_int_equal(rc, RUN_OK);
+    print_message("bagnold2 tilt 0.2, lambda 1e-8 by stages: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_non_null(strstr(r.message, "blows up at step"));
+    assert_non_null(strstr(r.message, "max |u|"));
+    assert_true(r.steps < 200);
+    assert_int_equal(r.checkpointed, 1);
+    /* the checkpoint holds the kept state: finite, within the bound */
+    char path[300];
+    snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
+    int n[3] = {4, 1, 100};
+    size_t size = (size_t)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
+    double *u = malloc(size * sizeof *u), umax = 0.0;
+    assert_non_null(u);
+    assert_int_equal(checkpoint_read_dataset(path, "velocity_x", n, u, err, sizeof err), 0);
+    for (size_t p = 0; p < size; p++) {
+        assert_true(isfinite(u[p]));
+        umax = fmax(umax, fabs(u[p]));
+    }
+    free(u);
+    print_message("kept state: max |u| %.3e\n", umax);
+    assert_true(umax > 0.0 && umax <= 1e3 * 0.0105348);
+    remove_tree(dir);
+}
+
 /* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
  * its first step: end_time 1 would take ~1e11 steps) stops the run at once
  * with the step, the time and the reason, keeping the state before. */
@@ -448,6 +498,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_readme_restart_commands),
         cmocka_unit_test(test_blowup_stops_early),
         cmocka_unit_test(test_dt_collapse_stops),
+        cmocka_unit_test(test_velocity_blowup_diverges),
         cmocka_unit_test(test_memory_estimate),
         cmocka_unit_test(test_warning_not_quiet),
         cmocka_unit_test(test_linear_cap_told),

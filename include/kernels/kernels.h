@@ -141,6 +141,11 @@ void kernel_stress_divergence(const struct grid *g, const struct box act[3],
 void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
                              const double *const A_cell[3], const double *const A_edge[3],
                              double *const v[3], double *out[3]);
+/* The same with every velocity's size taken as at least v_floor: the terms'
+ * size when each velocity carries an absolute error of that scale. */
+void kernel_stress_magnitude_at(const struct grid *g, const struct box act[3],
+                                const double *const A_cell[3], const double *const A_edge[3],
+                                double *const v[3], double v_floor, double *out[3]);
 
 /* max over the unknowns of max(|r| - eps_factor * (|m| + |f|), 0): the part
  * of a residual r that its round-off cannot explain. */

@@ -81,6 +81,7 @@ struct march_state {
     double residual_excess;     /* the same beyond the round-off of its terms: what the
                                    steady criterion tests */
     double divergence;          /* max |div u| h / max |u| */
+    double velocity_max;        /* max |u| of the evaluated state */
     double residual_rms;        /* root mean square of the residual / force scale */
     double residual0;
     double force_ref;           /* what residuals are relative to: rho g, or without
@@ -100,6 +101,10 @@ struct march_state {
      * step % MARCH_RECENT (NAN: not reached since the problem began) */
     double recent_residual[MARCH_RECENT];
     double peak_residual;       /* the largest of them since the problem began */
+    /* the largest max |u| of the accepted states whose residual was within
+     * ten times max(1, residual0) (the weight, or the start's): the velocity
+     * scale a blow-up is measured against (march.c) */
+    double sane_velocity;
     /* the mean acceleration each time the pseudo-time doubled (newest
      * first): whether an acceleration is sustained or decaying */
     double mark_time;

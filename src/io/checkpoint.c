@@ -50,6 +50,7 @@ static const struct {
     {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1, 0},
     {"recent_residual", offsetof(struct march_state, recent_residual), S_DOUBLE, 1, MARCH_RECENT},
     {"peak_residual", offsetof(struct march_state, peak_residual), S_DOUBLE, 1, 0},
+    {"sane_velocity", offsetof(struct march_state, sane_velocity), S_DOUBLE, 1, 0},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 

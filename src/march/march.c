@@ -69,16 +69,42 @@
  * (march_run) */
 #define DT_BLIND 0.1
 #define ROUNDOFF_SHARE 10.0
+/* A steady march is done at the round-off of its velocities when it makes
+ * no progress for ROUNDOFF_STALL_STEPS steps (as stalled() judges it) and
+ * its residual is within what velocities carrying the field's round-off,
+ * eps max |u| each, leave (stage_residual_velocity_roundoff).  The solves
+ * leave that much in a stiff region: a plug of viscosity mu p / lambda turns
+ * it into a residual the plain measure (its terms at their own velocities)
+ * calls real, and which no step removes.  The stagnation guards against a
+ * Newton iteration still converging inside that bound (the heap at 35 x 50
+ * is within it at a state 2.5e-7 max |u| off the solution). */
+#define ROUNDOFF_STALL_STEPS 20
 /* Transient mode has no rejections: a state whose residual (relative to
  * rho g, or without gravity to the first residual) exceeds BLOWUP times its
- * start is blowing up, and a CFL step below DT_COLLAPSE times the case's
- * dt (or end time, if smaller) has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
- * unstable explicit advection): the residual grows about 8-fold every 10
- * steps from the start, passes 1e3 at step 33 (t = 11.0, max |u| below the
- * lid speed) and 1e20 at step 260, where dt was 1e-10 and the run went on
- * for 2095 steps (48 s) to a non-finite state, keeping one with psi_max
- * 4.5e74 as "the last finite state". */
+ * start is blowing up.  In either mode a state blows up when its residual
+ * is beyond SANE_RESIDUAL times max(1, its start) and its largest velocity
+ * beyond BLOWUP times the largest of the sane states, those whose residual
+ * stayed within that bound (sane_velocity).  A steady march's rejections
+ * bound the growth of one step (REJECT_GROWTH), not of many, and its
+ * residual may climb far and recover (the channel's coupled first step
+ * reached 7e13 times its start, steady in 204 steps all the same), so the
+ * residual alone judges transient runs only.  It missed a steady march
+ * whose velocity grew 7e4-fold: bagnold2 below mu_s (tilt 0.2, 4 x 100,
+ * lambda 1e-8 by stages from 1e-6), where the last stage's stiffer plug
+ * raised the residual from 0.17 to 14 (step 67, max |u| still the film's
+ * 0.0105 m/s) and then the velocity to 23 m/s at step 91 and 700 m/s, the
+ * residual never past 80; it ended "unsteady: the residual stalls".  A
+ * physical acceleration (a layer above atan(mu_s + dmu)) keeps its residual
+ * within the weight: its velocity is the scale.  A CFL step below
+ * DT_COLLAPSE times the case's dt (or end time, if smaller) has stopped the
+ * clock.  Measured on the Newtonian cavity at cfl 2 (an unstable explicit
+ * advection): the residual grows about 8-fold every 10 steps from the start,
+ * passes 1e3 at step 33 (t = 11.0, max |u| below the lid speed) and 1e20 at
+ * step 260, where dt was 1e-10 and the run went on for 2095 steps (48 s) to
+ * a non-finite state, keeping one with psi_max 4.5e74 as "the last finite
+ * state". */
 #define BLOWUP 1e3
+#define SANE_RESIDUAL 10.0
 #define DT_COLLAPSE 1e-8
 
 const char *run_status_name(enum run_status s)
@@ -736,6 +762,7 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
      * solve from the previous tilt: 150-250 steps instead of 15-40 from rest) */
     st->rejected = 0;
     forget_progress(st);
+    st->sane_velocity = 0.0; /* a new forcing: a new velocity scale */
     st->mark_time = 0.0;
     st->marks = 0;
     st->dt_scale = 1.0;
@@ -859,12 +886,13 @@ static void mark_doubling(struct march_state *st)
  * pseudo-time of as many unreduced steps, and none over the last STALL_STEPS
  * steps themselves: no residual since 10% below the one STALL_STEPS steps
  * ago (the residual st->residual is the current step's, not yet recorded). */
-static int stalled(const struct march_state *st)
+static int stalled_over(const struct march_state *st, long steps)
 {
-    return st->step - st->best_step > STALL_STEPS &&
-           st->time - st->best_time >= STALL_STEPS * choose_dt(st) &&
-           fell_over(st, STALL_STEPS) != 1;
+    return st->step - st->best_step > steps && st->time - st->best_time >= steps * choose_dt(st) &&
+           fell_over(st, steps) != 1;
 }
+
+static int stalled(const struct march_state *st) { return stalled_over(st, STALL_STEPS); }
 
 /* acc (now) and the marks have one sign, the last doubling lost less than
  * ACC_DECAY and no more than the one before, and acc kept 90% of the last
@@ -913,10 +941,43 @@ static void next_stages(struct march_state *st)
     }
 }
 
+/* A residual within SANE_RESIDUAL times max(1, the start's): forces at most
+ * ten times the weight (or the start's) in every face. */
+static int sane(const struct march_state *st)
+{
+    return st->residual <= SANE_RESIDUAL * fmax(1.0, st->residual0);
+}
+
+/* The component and the position of the largest |residual| (where a stall
+ * sits). */
+static void residual_peak(const struct march_state *st, int *comp, double at[3])
+{
+    const struct grid *g = &st->g;
+    double peak = -1.0;
+    *comp = 0;
+    at[0] = at[1] = at[2] = 0.0;
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &st->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    double r = fabs(st->res[c][grid_idx(g, i, j, k)]);
+                    if (!(r > peak))
+                        continue;
+                    const int idx[3] = {i, j, k};
+                    peak = r;
+                    *comp = c;
+                    for (int d = 0; d < 3; d++)
+                        at[d] = d == c ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
+                }
+    }
+}
+
 /* Sets status and message when the run must end with the current state. */
 static void check_end(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
+    double excess;
     if (cs->mode == MODE_STEADY && isfinite(st->residual))
         mark_doubling(st);
     if (!isfinite(st->residual) || !isfinite(st->divergence)) {
@@ -937,6 +998,17 @@ static void check_end(struct march_state *st)
                  "the state blows up at step %ld, t = %.6g: residual %.3e, over %g times its "
                  "start (an unstable time step? solver.cfl, solver.dt); the state of step %ld "
                  "is kept", bad, t, r, BLOWUP, st->step);
+    } else if (st->step > 0 && st->sane_velocity > 0.0 &&
+               st->velocity_max > BLOWUP * st->sane_velocity && !sane(st)) {
+        long bad = st->step;
+        double t = st->time, u = st->velocity_max, r = st->residual;
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the state blows up at step %ld, t = %.6g: max |u| %.3e, over %g times %.3e, "
+                 "the largest while the residual stayed within %g max(1, its start) (now "
+                 "%.3e); the state of step %ld is kept", bad, t, u, BLOWUP, st->sane_velocity,
+                 SANE_RESIDUAL, r, st->step);
     } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
                cfl_dt(st) < DT_COLLAPSE * fmin(cs->dt, cs->end_time)) {
         /* the CFL limit, not the last step to end_time, which may be short */
@@ -958,6 +1030,14 @@ static void check_end(struct march_state *st)
         else
             snprintf(st->message, sizeof st->message, "residual %.3e <= tolerance %.1e",
                      st->residual, cs->tolerance);
+    } else if (cs->mode == MODE_STEADY && !continuing(st) && st->divergence <= cs->tolerance &&
+               stalled_over(st, ROUNDOFF_STALL_STEPS) &&
+               (excess = stage_residual_velocity_roundoff(st)) <= cs->tolerance) {
+        st->status = STATUS_STEADY;
+        snprintf(st->message, sizeof st->message,
+                 "residual %.3e stalls at the round-off its velocities carry: beyond it %.1e <= "
+                 "tolerance %.1e (no 10%% progress in %ld steps)",
+                 st->residual, excess, cs->tolerance, st->step - st->best_step);
     } else if (cs->mode == MODE_TRANSIENT && cs->steady_tolerance > 0.0 && st->step > 0 &&
                st->residual_excess <= cs->steady_tolerance &&
                st->divergence <= cs->steady_tolerance) {
@@ -978,11 +1058,17 @@ static void check_end(struct march_state *st)
     } else if (cs->mode == MODE_STEADY && stalled(st)) {
         double acc = march_mean_acceleration(st);
         if (fabs(acc) <= 0.1 * st->residual * march_force_scale(st) / cs->density) {
+            int c;
+            double at[3];
+            residual_peak(st, &c, at);
+            excess = stage_residual_velocity_roundoff(st);
             st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
                      "no steady state: the residual stalls at %.3e (no 10%% progress in %ld "
-                     "steps, pseudo-time %.3g)",
-                     st->residual, st->step - st->best_step, st->time - st->best_time);
+                     "steps, pseudo-time %.3g), %.1e beyond the round-off its velocities carry, "
+                     "largest in the %c-momentum at (%.3g, %.3g, %.3g)",
+                     st->residual, st->step - st->best_step, st->time - st->best_time, excess,
+                     "xyz"[c], at[0], at[1], at[2]);
         } else if (acceleration_sustained(st, acc)) {
             st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
@@ -1081,6 +1167,8 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         }
         st->recent_residual[st->step % MARCH_RECENT] = st->residual;
         st->peak_residual = fmax(st->peak_residual, st->residual);
+        if (sane(st))
+            st->sane_velocity = fmax(st->sane_velocity, st->velocity_max);
         /* Picard steps that make no 10% progress in PICARD_STALL steps: the
          * tangent takes over before the residual has fallen newton_below-fold */
         if (cs->mode == MODE_STEADY && cs->newton && cs->newton_below < 1.0 &&

@@ -6,19 +6,28 @@
  * interface is flat and held, so the steady state is the exact solution.
  *
  * Exact solution (Barker & Rauter 2018, eqs. 6-11, written from their derivation; the
- * printed constants have sign slips): mu(I) = tan(zeta) in the grains, so
- * I = I_zeta, with the pressure P(z) = g cos(zeta) [rho_g (h0 - z) +
- * rho_f (L - h0)] (rho_g = phi rho_s the grains' bulk density):
- *   grains  du/dz = (I_zeta / d) sqrt(P / rho_s), so with
- *           p(z) = rho_g (h0 - z) + rho_f (L - h0) (P = g cos(zeta) p)
- *           u(z) = (2 I_zeta / (3 d rho_g)) sqrt(g cos(zeta) / rho_s)
- *                  [p(0)^(3/2) - p(z)^(3/2)];
- *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
- *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
- * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the paper's open top (`open`: p = 0, du/dz = 0, flow through it
- * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
- * which for this flat, unidirectional state is the same. */
+ * printed constants have sign slips).  A flow uniform along x has the
+ * weight of what lies above as its stresses, the top carrying none:
+ *   tau(z) = g sin(zeta) q(z),  P(z) = g cos(zeta) q(z),
+ *   q(z) = rho_g (h0 - z) + rho_f (L - h0)   (z < h0),  rho_f (L - z)  (z > h0),
+ * rho_g = phi rho_s the grains' bulk density.  In the grains |tau| / P =
+ * |tan(zeta)| = mu(I), so I = I_zeta = mu^-1(|tan(zeta)|) is uniform, and
+ *   du/dz = sign(zeta) (I_zeta / d) sqrt(P / rho_s), u(0) = 0:
+ *   u(z) = sign(zeta) (2 I_zeta / (3 d rho_g)) sqrt(g cos(zeta) / rho_s)
+ *          [q(0)^(3/2) - q(z)^(3/2)]                               (z < h0);
+ * the fluid, eta_f du/dz = tau = rho_f g sin(zeta) (L - z), continuous at h0:
+ *   u(z) = u(h0) + (rho_f g sin(zeta) / (2 eta_f)) [(L - h0)^2 - (L - z)^2].
+ * Below the yield angle (|tan(zeta)| <= mu_s with the jop curve) the grains
+ * carry their load at rest, I_zeta = 0: u = 0 in the grains and the fluid is
+ * a film driven by gravity over a static no-slip bed.  A negative tilt is
+ * the mirror image (u -> -u).  None exists (NaN, exact_missing says why)
+ * where the friction cannot balance the weight (|tan(zeta)| >= mu_s +
+ * delta_mu with the jop curve: the layer accelerates), where a confining
+ * pressure makes the friction vary with depth in flowing grains, where
+ * walls across y or an obstacle make the flow non-uniform.  The top is the
+ * paper's open top (`open`: p = 0, du/dz = 0, flow through it allowed) or
+ * the flat stress-free `surface` (p = 0, du/dz = 0, w = 0), which for this
+ * flat, unidirectional state is the same. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +36,7 @@
 #include "diagnostics/profile.h"
 #include "io/module_record.h"
 #include "io/output.h"
+#include "physics/obstacle.h"
 #include "physics/two_phase.h"
 #include "scenes/bagnold2.h"
 #include "scenes/perturbation.h"
@@ -109,12 +119,13 @@ SCENE_PARAMS(bagnold2_block, "bagnold2",
              "their pressure from the mean along x) and adds `growth_rate` (1/s, the "
              "least-squares slope of ln A over the second half of the record before A reaches 1% "
              "of the exact top velocity), `growth_rate_pressure`, `growth_fit_r2`, "
-             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary.  A transient "
-             "run with `perturbation > 0` cannot be continued from its checkpoint (the fit needs "
-             "the record from the perturbed state).",
+             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary (its record "
+             "is in the checkpoint: a growth study continues with `--restart`).  Where the scene "
+             "has no exact solution the summary's `no_exact_solution` says why.",
              struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
+static const char *exact_missing(const struct muflow_case *cs, char *why, size_t len);
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
@@ -141,44 +152,80 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                  c->density, rg);
         return 1;
     }
-    double top = bagnold2_u(c, c->len[2]);
-    if ((b->start == START_EXACT || b->perturbation > 0.0) && !(isfinite(top) && top > 0.0)) {
+    char why[256];
+    if ((b->start == START_EXACT || b->perturbation > 0.0) && exact_missing(c, why, sizeof why)) {
         snprintf(msg, msglen,
-                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the uniform flow of "
-                 "eqs. (6)-(11), which physics.tilt = %.17g (tan %.6g) does not have with this "
-                 "rheology.curve (jop: tan between rheology.mu_s and mu_s + delta_mu)",
-                 c->tilt, tan(c->tilt));
+                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the exact steady "
+                 "solution of eqs. (6)-(11), which this case does not have: %s", why);
+        return 1;
+    }
+    if (b->perturbation > 0.0 && !(bagnold2_u(c, c->len[2]) != 0.0)) {
+        snprintf(msg, msglen,
+                 "bagnold2.perturbation > 0 is relative to the exact top velocity, which is 0 at "
+                 "physics.tilt = %.17g and physics.gravity = %.17g (nothing moves)",
+                 c->tilt, c->gravity);
         return 1;
     }
     return 0;
 }
 
-static double bagnold2_u(const struct muflow_case *cs, double z)
+/* Why the case has no exact steady solution, or NULL when it has one: a
+ * short reason returned (the summary's), the full one into why (the
+ * terminal's). */
+static const char *exact_missing(const struct muflow_case *cs, char *why, size_t len)
 {
     const struct rheology *r = &cs->rheo;
-    const struct bagnold2_params *b = params(cs);
-    double ta = tan(cs->tilt);
-    double iz;
-    if (r->curve == CURVE_JOP) {
-        if (ta <= r->mu_s)
-            return 0.0;
-        if (ta >= r->mu_s + r->delta_mu)
-            return NAN;
-        iz = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
-    } else {
-        /* any curve: the I at which it reaches tan(alpha), as in bagnold */
-        iz = rheology_i_of_mu(r, ta);
+    double ta = fabs(tan(cs->tilt));
+    for (int s = 0; s < 2; s++) {
+        enum bc_kind k = cs->bc.face[1][s];
+        if (k != BC_PERIODIC && k != BC_SLIP && k != BC_SURFACE) {
+            snprintf(why, len, "boundary.%s = %s holds the flow across y: it is not uniform",
+                     s ? "yhi" : "ylo", bc_kind_name(k));
+            return "the flow varies across y (boundary.ylo, yhi)";
+        }
     }
+    if (obstacle_active(cs)) {
+        snprintf(why, len, "obstacle.shapes puts a body in the flow: it is not uniform");
+        return "a body in the flow (obstacle.shapes)";
+    }
+    double iz = rheology_i_of_mu(r, ta);
+    if (!isfinite(iz)) {
+        snprintf(why, len,
+                 "|tan(physics.tilt)| = %.6g is at or above rheology.mu_s + delta_mu = %.6g: "
+                 "the friction cannot hold the weight, the layer accelerates without end",
+                 ta, r->mu_s + r->delta_mu);
+        return "|tan(physics.tilt)| >= mu_s + delta_mu: the layer accelerates";
+    }
+    if (iz > 0.0 && cs->confining_pressure > 0.0) {
+        snprintf(why, len,
+                 "physics.confining_pressure = %.6g > 0 in flowing grains: the friction "
+                 "varies with depth",
+                 cs->confining_pressure);
+        return "physics.confining_pressure > 0 in flowing grains";
+    }
+    return NULL;
+}
+
+static double bagnold2_u(const struct muflow_case *cs, double z)
+{
+    char why[256];
+    if (exact_missing(cs, why, sizeof why))
+        return NAN;
+    const struct rheology *r = &cs->rheo;
+    const struct bagnold2_params *b = params(cs);
+    /* the I at which the curve reaches |tan(zeta)| (0 below mu_s: at rest) */
+    double iz = rheology_i_of_mu(r, fabs(tan(cs->tilt)));
+    double sign = cs->tilt < 0.0 ? -1.0 : 1.0;
     double L = cs->len[2], h0 = b->interface_height, rf = b->fluid_density;
     double rs = r->grain_density, rg = r->phi * rs, d = r->grain_diameter;
     double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);
-    /* du/dz = (I / d) sqrt(p / rho_s), p = gc (rg (h0 - z) + rf (L - h0)) */
-    double k = (iz / d) * sqrt(gc / rs) * 2.0 / (3.0 * rg);
+    /* du/dz = (I / d) sqrt(P / rho_s), P = gc (rg (h0 - z) + rf (L - h0)) */
+    double k = sign * (iz / d) * sqrt(gc / rs) * 2.0 / (3.0 * rg);
     double zz = fmin(z, h0);
     double P0 = rg * h0 + rf * (L - h0), Pz = rg * (h0 - zz) + rf * (L - h0);
-    double u = k * (P0 * sqrt(P0) - Pz * sqrt(Pz));
+    double u = iz > 0.0 ? k * (P0 * sqrt(P0) - Pz * sqrt(Pz)) : 0.0;
     if (z > h0)
-        u += (rf * gs / b->fluid_viscosity) * ((L * z - 0.5 * z * z) - (L * h0 - 0.5 * h0 * h0));
+        u += (rf * gs / (2.0 * b->fluid_viscosity)) * ((L - h0) * (L - h0) - (L - z) * (L - z));
     return u;
 }
 
@@ -224,7 +271,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
      * not chosen */
     if (b->perturbation > 0.0)
         perturbation_add(st, PERTURB_XZ, b->interface_height,
-                         b->perturbation * bagnold2_u(st->cs, st->cs->len[2]));
+                         b->perturbation * fabs(bagnold2_u(st->cs, st->cs->len[2])));
     return two_phase_tracer_changed(st, err, errlen);
 }
 
@@ -520,10 +567,23 @@ static void results(const struct march_state *st, const struct scene_drive *d,
         run_result_add(res, "amplitude_start", "%.6e", r->au[0]);
         run_result_add(res, "amplitude_end", "%.6e", r->au[r->n - 1]);
     }
-    snprintf(res->scene_line, sizeof res->scene_line,
-             "grains err_rms %.3e (%.3f%% of u_top), air err_rms %.3e (%.3f%%), u_interface "
-             "%.6g (exact %.6g)",
-             rg, 100.0 * rg / top, ra, 100.0 * ra / top, ui, ui_exact);
+    char why[256];
+    const char *missing = exact_missing(cs, why, sizeof why);
+    if (missing) {
+        /* the reason beside the NaN of every error */
+        run_result_add(res, "no_exact_solution", "%s", missing);
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "no exact solution: %.250s; u_interface %.6g", why, ui);
+    } else if (top != 0.0) {
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "grains err_rms %.3e (%.3f%% of |u_top|), air err_rms %.3e (%.3f%%), u_interface "
+                 "%.6g (exact %.6g)",
+                 rg, 100.0 * rg / fabs(top), ra, 100.0 * ra / fabs(top), ui, ui_exact);
+    } else {
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "grains err_rms %.3e, air err_rms %.3e (exact: at rest), u_interface %.6g", rg,
+                 ra, ui);
+    }
     profile_free(&pr);
 }
 
