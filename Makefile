@@ -27,11 +27,11 @@ ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
              -I/usr/include/hypre
 LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
-# the executables' GOMP_parallel (src/solvers/gomp_inline.c) is the one the
+# the executables' GOMP_parallel (src/platform/gomp_inline.c) is the one the
 # libraries opened later bind to: CHOLMOD's regions run inline on one thread
 # (fftw3_omp's reference to it exports it too; this does not rely on that)
 LDLIBS += -Wl,--export-dynamic-symbol=GOMP_parallel
-# and so is its SuiteSparse_time (src/solvers/suitesparse_clock.c, taken from
+# and so is its SuiteSparse_time (src/platform/suitesparse_clock.c, taken from
 # the archive though nothing in muflow calls it): CHOLMOD's clock, stopped
 LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSparse_time
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
@@ -41,9 +41,9 @@ LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSpar
 # types.  ompi-c is only in the Cflags' packages.
 MULTIARCH := $(shell $(CC) -print-multiarch)
 HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
-# SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse.c opens
-# them with the first sparse factorisation: they and their BLAS were over half
-# of the loader's relocations); their sonames come from the -dev package.
+# SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse_open.c
+# opens them with the first sparse factorisation: they and their BLAS were over
+# half of the loader's relocations); their sonames come from the -dev package.
 soname = $(shell objdump -p $(shell $(CC) -print-file-name=$(1)) 2>/dev/null | awk '/SONAME/ {print $$2}')
 CHOLMOD_LIB := $(call soname,libcholmod.so)
 UMFPACK_LIB := $(call soname,libumfpack.so)
@@ -97,9 +97,10 @@ $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
 $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_HYPRE_LIB='"$(HYPRE_LIB)"')
 # Debian's serial OpenBLAS, which blas.c opens before the libraries that use
 # a BLAS (the alternatives may point libblas.so.3 to a threaded build)
-$(BUILD)/obj/src/solvers/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
-$(BUILD)/obj/src/solvers/suitesparse.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
-                                                   $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
+$(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
+# the SuiteSparse libraries suitesparse_open.c opens (CHOLMOD_LIB, UMFPACK_LIB above)
+$(BUILD)/obj/src/platform/suitesparse_open.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
+                                                         $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
 
 print-version:
 	@echo '$(VERSION)'
