@@ -266,6 +266,17 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
+# Threads on a busy machine: every case file (the long ones bounded: see the
+# script) at the default 2 threads, on 1 thread and on 2 passive threads,
+# alternating, THREADS_REPEATS times each, on the idle machine and beside two
+# processes that keep both cores busy; $(BENCH_OUT)/threads_busy.md.  About
+# 15 minutes on 2 cores.
+THREADS_REPEATS ?= 3
+.PHONY: bench-threads
+bench-threads: deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	/usr/bin/python3 bench/threads_busy.py $(BUILD)/muflow $(BENCH_OUT) --repeats $(THREADS_REPEATS)
+
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et
 # al. (2003) for their Bn = 0, 1, 10, 100, 1000, and the yielded regions at
 # Bn = 2, 5, 20 (muflow's convention), as PNG plots and CSV tables in

@@ -212,14 +212,15 @@ static void print_warning(void *ctx, const char *line)
     fprintf(stderr, "muflow: warning: %s\n", line);
 }
 
-/* The waiting policy and the huge pages matter only to a run whose kernels
- * open parallel regions (kernels.h: kernel_parallel); a thin profile grid
- * runs on one thread in little memory and is spared the second program
- * start (about 15 ms of a 30 ms run, bench/analysis.md). */
+/* The waiting policy and the huge pages matter only to a run that opens
+ * parallel regions on two threads or more: any grid of PARALLEL_REGION_MIN
+ * slots (kernels.h), where a solver may, even if the kernels do not (the
+ * column collapse's 2D grid, 24,300 slots: its projection's multigrid).  A
+ * thin profile grid opens none and is spared the second program start. */
 static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
-    if (slots >= KERNEL_PARALLEL_MIN)
+    if (slots >= PARALLEL_REGION_MIN)
         runtime_defaults(argv);
 }
 

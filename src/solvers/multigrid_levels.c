@@ -2,6 +2,7 @@
  * halves, the levels' arrays, and the face coefficients, mass and mixed
  * terms copied to level 0 and coarsened to the others
  * (multigrid_internal.h). */
+#include "kernels/kernels.h"
 #include "solvers/multigrid_internal.h"
 
 #include <math.h>
@@ -10,7 +11,7 @@
 
 /* Smaller levels run on one thread: fork/join costs more than their loops
  * (docs/numerics/threads-and-platform.md). */
-#define PAR_CELLS 4096
+#define PAR_CELLS PARALLEL_REGION_MIN
 #define ANISO_CELLS 4096 /* above this, coarsen anisotropically rather than stop */
 
 /* ---- hierarchy ------------------------------------------------------------------ */
