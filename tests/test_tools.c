@@ -304,6 +304,38 @@ static void test_install(void **state)
     free(sh_ok(cmd));
     snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
     free(sh_ok(cmd));
+
+    /* the same build installed with another PREFIX, then the first again:
+     * each muflow.pc names the PREFIX (and LIBDIR) of its own make command */
+    static const struct {
+        const char *prefix, *libdir, *want_prefix, *want_libdir;
+    } again[] = {
+        {"/opt/muflow", "", "prefix=/opt/muflow\n", "libdir=${prefix}/lib\n"},
+        {"/opt/muflow", "/opt/lib64", "prefix=/opt/muflow\n", "libdir=/opt/lib64\n"},
+        {"/usr/local", "", "prefix=/usr/local\n", "libdir=${prefix}/lib\n"},
+    };
+    for (size_t m = 0; m < sizeof again / sizeof again[0]; m++) {
+        char libdir[64] = "", pcdir[300];
+        if (again[m].libdir[0])
+            snprintf(libdir, sizeof libdir, "LIBDIR=%s", again[m].libdir);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s install", root, build, dest, again[m].prefix, libdir);
+        free(sh_ok(cmd));
+        snprintf(pcdir, sizeof pcdir, "%s%s%s/pkgconfig/muflow.pc", dest,
+                 again[m].libdir[0] ? "" : again[m].prefix,
+                 again[m].libdir[0] ? again[m].libdir : "/lib");
+        pc = test_read_file(pcdir, NULL);
+        print_message("PREFIX=%s %s: %s", again[m].prefix, libdir, pc);
+        assert_non_null(strstr(pc, again[m].want_prefix));
+        assert_non_null(strstr(pc, again[m].want_libdir));
+        free(pc);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s uninstall", root, build, dest, again[m].prefix,
+                 libdir);
+        free(sh_ok(cmd));
+    }
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
+    free(sh_ok(cmd));
     remove_tree(tmp);
 }
 
