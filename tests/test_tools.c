@@ -168,6 +168,42 @@ static void test_version(void **state)
     free(version);
 }
 
+/* An unknown option is named, with the usage, exit status 2 (it was taken
+ * for a case file: "cannot open"); the options without arguments refuse
+ * one (it was ignored); without an extra argument they still work. */
+static void test_options(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 64];
+    muflow_bin(bin, sizeof bin);
+    static const struct {
+        const char *args, *want;
+    } bad[] = {
+        {"--foo", "muflow: unknown option --foo\n"},
+        {"-x cases/bagnold.ini", "muflow: unknown option -x\n"},
+        {"--version extra", "muflow: --version takes no arguments (got 'extra')\n"},
+        {"--list extra more", "muflow: --list takes no arguments (got 'extra' ...)\n"},
+        {"--help extra", "muflow: --help takes no arguments (got 'extra')\n"},
+        {"-h extra", "muflow: -h takes no arguments (got 'extra')\n"},
+    };
+    for (size_t m = 0; m < sizeof bad / sizeof bad[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s", bin, bad[m].args);
+        char *out;
+        int rc = sh(cmd, &out);
+        print_message("muflow %s: exit %d: %s", bad[m].args, rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, bad[m].want, strlen(bad[m].want)) == 0);
+        assert_non_null(strstr(out, "\nusage: muflow CASE.ini"));
+        assert_null(strstr(out, "cannot open"));
+        free(out);
+    }
+    static const char *const good[] = {"--version", "--list", "--help", "-h"};
+    for (size_t m = 0; m < sizeof good / sizeof good[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s >/dev/null", bin, good[m]);
+        free(sh_ok(cmd));
+    }
+}
+
 /* ---------------------------------------------------------------------- */
 /* the test runner's command line */
 
@@ -487,6 +523,7 @@ void group_tools(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
+        cmocka_unit_test(test_options),
         cmocka_unit_test(test_runner_unknown_group),
         cmocka_unit_test(test_runner_any_folder),
         cmocka_unit_test(test_install),
