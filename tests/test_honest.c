@@ -404,6 +404,29 @@ static void test_size_before_geometry(void **state)
     assert_int_not_equal(access("/tmp/muflow_honest_never", F_OK), 0);
 }
 
+/* An output folder that cannot be made names the key (it said "cannot
+ * create output folder /proc/x"): exit 2, one line. */
+static void test_output_dir_named(void **state)
+{
+    (void)state;
+    char bin[4096], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    static const char *const want[][2] = {
+        {"/proc/x", "muflow: output.dir = /proc/x: cannot create the folder: "},
+        {"/proc/x/y", "muflow: output.dir = /proc/x/y: cannot create the folder /proc/x: "},
+        {"/dev/null", "muflow: output.dir = /dev/null: not a folder"},
+    };
+    for (size_t m = 0; m < sizeof want / sizeof want[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.dir=%s 2>&1", bin,
+                 want[m][0]);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("exit %d: %s", rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, want[m][1], strlen(want[m][1])) == 0);
+        assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1);
+    }
+}
+
 /* A restart with another thread count warns on stderr even when quiet (a
  * restart inherits the checkpoint's output.quiet). */
 static void test_warning_not_quiet(void **state)
@@ -502,6 +525,7 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_dt_collapse_stops),
         cmocka_unit_test(test_memory_estimate),
         cmocka_unit_test(test_size_before_geometry),
+        cmocka_unit_test(test_output_dir_named),
         cmocka_unit_test(test_warning_not_quiet),
         cmocka_unit_test(test_linear_cap_told),
     };
