@@ -182,7 +182,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     if (mid[0])
         run_result_add(res, "midline_reference_note", "%s", mid);
     if (psi[0] || mid[0])
-        snprintf(res->scene_line, sizeof res->scene_line, "%s%s%s%s%s",
+        snprintf(res->scene_line, sizeof res->scene_line, "%s%.130s%s%s%.130s",
                  psi[0] ? "no psi_max reference: " : "", psi, psi[0] && mid[0] ? "; " : "",
                  mid[0] ? "no mid-line reference: " : "", mid);
 }
