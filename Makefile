@@ -151,7 +151,15 @@ INCLUDEDIR ?= $(PREFIX)/include
 PCDIR      ?= $(LIBDIR)/pkgconfig
 PUBLIC_HEADERS = $(wildcard include/*/*.h)
 
-$(BUILD)/muflow.pc: Makefile $(BUILD)/version
+# muflow.pc names the PREFIX, LIBDIR and INCLUDEDIR of this make invocation:
+# rebuilt when one of them changes ($(BUILD)/install-dirs holds them, as
+# $(BUILD)/version holds the version)
+INSTALL_DIRS = prefix=$(PREFIX) libdir=$(LIBDIR) includedir=$(INCLUDEDIR)
+$(BUILD)/install-dirs: FORCE
+	@mkdir -p $(dir $@)
+	@printf '%s\n' '$(INSTALL_DIRS)' | cmp -s - $@ || printf '%s\n' '$(INSTALL_DIRS)' > $@
+
+$(BUILD)/muflow.pc: Makefile $(BUILD)/version $(BUILD)/install-dirs
 	@mkdir -p $(dir $@)
 	@{ echo 'prefix=$(PREFIX)'; \
 	   echo 'libdir=$(if $(filter $(PREFIX)/%,$(LIBDIR)),$${prefix}/$(patsubst $(PREFIX)/%,%,$(LIBDIR)),$(LIBDIR))'; \

@@ -352,6 +352,81 @@ static void test_memory_estimate(void **state)
     remove_tree(dir);
 }
 
+/* Every size check comes before the work the grid costs: the body's
+ * geometry on the grid ran first (a plane of flags and a queue, 5 bytes a
+ * cell, twice), so the cylinder benchmark at 40000 x 8000 cells worked
+ * 50-60 s and grew to 1.5 GB before the memory estimate refused it, and
+ * the circular duct at 20000 x 40000 33 s and 790 MB before the cell
+ * count's cap did.  Two checks, neither a timing:
+ * - case_load refuses the first from the case alone, before march_create
+ *   (it accepted the case: the estimate lived in march_create only);
+ * - from the command line, under an address space of 1 GB, far below what
+ *   the geometry needs and far above what muflow's start needs, both are
+ *   refused with the size message (exit 2), not "out of memory checking
+ *   the shapes": no allocation of the grid's size came before the check. */
+static void test_size_before_geometry(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char err[1024];
+    char *big[] = {"domain.nx=40000", "domain.nz=8000"};
+    setenv("MUFLOW_AVAILABLE_MEMORY", "16000000000", 1); /* any machine: 16 GB */
+    int rc = case_load(&cs, "../cases/cylinder_benchmark.ini", 2, big, err, sizeof err);
+    unsetenv("MUFLOW_AVAILABLE_MEMORY");
+    print_message("case_load: %d: %s\n", rc, err);
+    assert_int_equal(rc, 2);
+    assert_true(strncmp(err, "override domain.nx=40000, override domain.nz=8000: domain.nx x "
+                             "domain.ny x domain.nz = 40000 x 1 x 8000: the run needs about ",
+                        120) == 0);
+    assert_non_null(strstr(err, "more than the 16.0 GB of memory available"));
+
+    char bin[4096], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    static const struct {
+        const char *args, *want;
+    } runs[] = {
+        {"../cases/cylinder_benchmark.ini domain.nx=40000 domain.nz=8000",
+         "domain.nx x domain.ny x domain.nz = 40000 x 1 x 8000: the run needs about "},
+        {"../cases/duct_circular.ini domain.ny=20000 domain.nz=40000",
+         "domain.nx * domain.ny * domain.nz = 1 * 20000 * 40000 = 800000000 cells: must be <= "
+         "500000000"},
+    };
+    for (size_t m = 0; m < sizeof runs / sizeof runs[0]; m++) {
+        snprintf(cmd, sizeof cmd,
+                 "ulimit -v 1000000 && '%s' %s output.dir=/tmp/muflow_honest_never 2>&1", bin,
+                 runs[m].args);
+        rc = shell(cmd, out, sizeof out);
+        print_message("1 GB of address space: exit %d: %s", rc, out);
+        assert_int_equal(rc, 2);
+        assert_non_null(strstr(out, runs[m].want));
+        assert_null(strstr(out, "out of memory"));
+    }
+    assert_int_not_equal(access("/tmp/muflow_honest_never", F_OK), 0);
+}
+
+/* An output folder that cannot be made names the key (it said "cannot
+ * create output folder /proc/x"): exit 2, one line. */
+static void test_output_dir_named(void **state)
+{
+    (void)state;
+    char bin[4096], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    static const char *const want[][2] = {
+        {"/proc/x", "muflow: output.dir = /proc/x: cannot create the folder: "},
+        {"/proc/x/y", "muflow: output.dir = /proc/x/y: cannot create the folder /proc/x: "},
+        {"/dev/null", "muflow: output.dir = /dev/null: not a folder"},
+    };
+    for (size_t m = 0; m < sizeof want / sizeof want[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.dir=%s 2>&1", bin,
+                 want[m][0]);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("exit %d: %s", rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, want[m][1], strlen(want[m][1])) == 0);
+        assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1);
+    }
+}
+
 /* A restart with another thread count warns on stderr even when quiet (a
  * restart inherits the checkpoint's output.quiet). */
 static void test_warning_not_quiet(void **state)
@@ -500,6 +575,8 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_dt_collapse_stops),
         cmocka_unit_test(test_velocity_blowup_diverges),
         cmocka_unit_test(test_memory_estimate),
+        cmocka_unit_test(test_size_before_geometry),
+        cmocka_unit_test(test_output_dir_named),
         cmocka_unit_test(test_warning_not_quiet),
         cmocka_unit_test(test_linear_cap_told),
     };

@@ -171,6 +171,42 @@ static void test_version(void **state)
     free(version);
 }
 
+/* An unknown option is named, with the usage, exit status 2 (it was taken
+ * for a case file: "cannot open"); the options without arguments refuse
+ * one (it was ignored); without an extra argument they still work. */
+static void test_options(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 64];
+    muflow_bin(bin, sizeof bin);
+    static const struct {
+        const char *args, *want;
+    } bad[] = {
+        {"--foo", "muflow: unknown option --foo\n"},
+        {"-x cases/bagnold.ini", "muflow: unknown option -x\n"},
+        {"--version extra", "muflow: --version takes no arguments (got 'extra')\n"},
+        {"--list extra more", "muflow: --list takes no arguments (got 'extra' ...)\n"},
+        {"--help extra", "muflow: --help takes no arguments (got 'extra')\n"},
+        {"-h extra", "muflow: -h takes no arguments (got 'extra')\n"},
+    };
+    for (size_t m = 0; m < sizeof bad / sizeof bad[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s", bin, bad[m].args);
+        char *out;
+        int rc = sh(cmd, &out);
+        print_message("muflow %s: exit %d: %s", bad[m].args, rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, bad[m].want, strlen(bad[m].want)) == 0);
+        assert_non_null(strstr(out, "\nusage: muflow CASE.ini"));
+        assert_null(strstr(out, "cannot open"));
+        free(out);
+    }
+    static const char *const good[] = {"--version", "--list", "--help", "-h"};
+    for (size_t m = 0; m < sizeof good / sizeof good[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s >/dev/null", bin, good[m]);
+        free(sh_ok(cmd));
+    }
+}
+
 /* ---------------------------------------------------------------------- */
 /* the test runner's command line */
 
@@ -330,6 +366,38 @@ static void test_install(void **state)
     snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
                               "PREFIX=/usr/local uninstall", root, build, dest);
     free(sh_ok(cmd));
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
+    free(sh_ok(cmd));
+
+    /* the same build installed with another PREFIX, then the first again:
+     * each muflow.pc names the PREFIX (and LIBDIR) of its own make command */
+    static const struct {
+        const char *prefix, *libdir, *want_prefix, *want_libdir;
+    } again[] = {
+        {"/opt/muflow", "", "prefix=/opt/muflow\n", "libdir=${prefix}/lib\n"},
+        {"/opt/muflow", "/opt/lib64", "prefix=/opt/muflow\n", "libdir=/opt/lib64\n"},
+        {"/usr/local", "", "prefix=/usr/local\n", "libdir=${prefix}/lib\n"},
+    };
+    for (size_t m = 0; m < sizeof again / sizeof again[0]; m++) {
+        char libdir[64] = "", pcdir[300];
+        if (again[m].libdir[0])
+            snprintf(libdir, sizeof libdir, "LIBDIR=%s", again[m].libdir);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s install", root, build, dest, again[m].prefix, libdir);
+        free(sh_ok(cmd));
+        snprintf(pcdir, sizeof pcdir, "%s%s%s/pkgconfig/muflow.pc", dest,
+                 again[m].libdir[0] ? "" : again[m].prefix,
+                 again[m].libdir[0] ? again[m].libdir : "/lib");
+        pc = test_read_file(pcdir, NULL);
+        print_message("PREFIX=%s %s: %s", again[m].prefix, libdir, pc);
+        assert_non_null(strstr(pc, again[m].want_prefix));
+        assert_non_null(strstr(pc, again[m].want_libdir));
+        free(pc);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s uninstall", root, build, dest, again[m].prefix,
+                 libdir);
+        free(sh_ok(cmd));
+    }
     snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
     free(sh_ok(cmd));
     remove_tree(tmp);
@@ -671,6 +739,7 @@ void group_tools(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
+        cmocka_unit_test(test_options),
         cmocka_unit_test(test_runner_unknown_group),
         cmocka_unit_test(test_runner_any_folder),
         cmocka_unit_test(test_install),

@@ -101,6 +101,15 @@ const char *key_parse(void *base, const struct key *k, const char *value, char *
  * as the shortest text that reads back to the same value. */
 void key_text(const void *base, const struct key *k, char *val, size_t len);
 
+/* The shortest text that reads back as exactly v, the form case files and
+ * summaries write numbers in (key_text), for messages:
+ * snprintf(msg, len, "... = %s", num_text(v).s).  The array lives to the end
+ * of the full expression that calls num_text (C11 6.2.4p8). */
+struct num_text {
+    char s[32];
+};
+struct num_text num_text(double v);
+
 /* "must be ..." for a number key. */
 void key_range_text(const struct key *k, char *out, size_t outlen);
 

@@ -178,6 +178,15 @@ const char *run_status_name(enum run_status s);
  * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
 double march_available_memory(void);
 
+/* The same refusal from the case alone, before any field or geometry (its
+ * grid and bands, the preconditioner auto would choose, a body bounded from
+ * above): 1 with one line in msg naming the grid keys when the run needs
+ * more than march_available_memory, else 0 (also when that is unknown).
+ * Where auto's choice depends on hypre's library, which this does not open,
+ * the smaller of the two estimates counts (march_create's check has the
+ * library's answer). */
+int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen);
+
 /* What residuals are relative to (rho g, or the first residual), and the
  * smallest cell size of the directions with more than one cell. */
 double march_force_scale(const struct march_state *st);

@@ -43,8 +43,8 @@ extern const struct choice bedload_model_choices[];
  * literal), for the members of struct bedload_params (T). */
 #define BEDLOAD_KEYS(T, SEC)                                                                    \
     KEY_DBL(T, SEC, "bed_height", bed_height,                                                   \
-            KEY_HELP("height h_p of the flat granular bed above the lower wall (inside (0, "    \
-                     "domain.lz))",                                                             \
+            KEY_HELP("height h_p of the flat granular bed above the lower wall: the bed and the "  \
+                     "fluid above it each at least a cell, domain.lz / domain.nz",                \
                      "length", NULL),                                                           \
             KEY_GT0),                                                                           \
     KEY_DBL(T, SEC, "phi", phi, "volume fraction phi0 of the grains in the bed",                \

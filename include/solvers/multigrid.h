@@ -94,6 +94,13 @@ void multigrid_default_options(struct multigrid_options *o);
 int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
                      const struct multigrid_options *opt, char *err, size_t errlen);
 
+/* Bytes multigrid_create allocates for g with the options (NULL: the
+ * defaults) and the coarsest level's factor, without creating anything:
+ * the levels' coefficients, cells and transfer weights, the work arrays
+ * and the coarsest level's factor (nested dissection of a 2D or 3D
+ * Laplacian, bounded by cells (4 log2 cells + 10) entries). */
+double multigrid_memory_estimate(const struct grid *g, const struct multigrid_options *opt);
+
 /* Copies the face coefficients a[0..2] (>= 0 and finite on every face read),
  * coarsens them and factorises the coarsest level.  May be called again with
  * new coefficients (a new density field): the level arrays are reused, only

@@ -233,6 +233,8 @@ void mg_set_err(char *err, size_t errlen, const char *fmt, ...)
 /* The levels of grid g (mg's options and conditions set) with their arrays,
  * the prolongation tables and the line smoother's factors.  Returns 0, or
  * -1 out of memory (mg_level_free releases what was allocated). */
+/* Which directions the level below g halves (halve[d] = 1); 0 when none. */
+int mg_choose_halving(const struct grid *g, long coarse_cells, int full, int halve[3]);
 int mg_build_levels(struct multigrid *mg, const struct grid *g);
 void mg_level_free(struct level *lv, int owns_xb);
 /* The mass term of every level (mass NULL: none). */

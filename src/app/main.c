@@ -224,11 +224,46 @@ static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
         runtime_defaults(argv);
 }
 
+/* The options without arguments; "-h" is "--help". */
+static int is_bare_option(const char *arg)
+{
+    return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0 ||
+           strcmp(arg, "--version") == 0 || strcmp(arg, "--list") == 0 ||
+           strcmp(arg, "--list=markdown") == 0;
+}
+
+/* An argument the command line cannot take: 2 after one line and the usage
+ * on stderr, or 0.  A first argument that starts with '-' is an option (a
+ * case file named so is given as ./-name.ini). */
+static int refuse_arguments(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *first = argv[1];
+    if (first[0] == '-' && !is_bare_option(first) && strcmp(first, "--restart") != 0) {
+        fprintf(stderr, "muflow: unknown option %s\n", first);
+        usage(stderr);
+        return 2;
+    }
+    if (is_bare_option(first) && argc > 2) {
+        fprintf(stderr, "muflow: %s takes no arguments (got '%s'%s)\n", first, argv[2],
+                argc > 3 ? " ..." : "");
+        usage(stderr);
+        return 2;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? 2 : 0;
+    int refused = refuse_arguments(argc, argv);
+    if (refused)
+        return refused;
+    if (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+        usage(stdout);
+        return 0;
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("muflow %s\n", MUFLOW_VERSION);

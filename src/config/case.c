@@ -11,6 +11,7 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "config/case.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -23,6 +24,7 @@
 #include "solvers/viscous_gmg.h"
 #include "grid/grid.h"
 #include "grid/shapes.h"
+#include "march/march.h"
 #include "scenes/scene.h"
 
 #define HALF_PI 1.57079632679489661923
@@ -192,16 +194,19 @@ static const struct key keys[] = {
     STR("obstacle", "shapes", obstacle.shapes,
         KEY_HELP("solid bodies as a union of shapes in the plane's coordinates (A, B), extruded "
                  "along the third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by "
-                 "';' (empty: none); each must reach into the box, and a channel's inflow and "
-                 "outlet stay joined by fluid",
+                 "';' (empty: none); each must reach into the box and span a cell each way, a "
+                 "channel's inflow and outlet stay joined by fluid, and the fluid is one region "
+                 "or regions that each reach a surface or open face",
                  "length",
                  "Solid bodies inside the box, a union of shapes in the plane's coordinates (A, "
                  "B), extruded along the third direction: `circle A B R` (centre, radius) and "
                  "`rectangle A0 B0 A1 B1` (two opposite corners), joined by `;`; empty: none. "
-                 "Refused: a shape that does not reach into the box, shapes that leave no cell "
-                 "centre in the fluid, and a body that closes the channel (no path of fluid "
-                 "cells between an inflow face and the opposite face, or between two open faces "
-                 "of one direction)")),
+                 "Refused: a shape that does not reach into the box or spans less than a cell "
+                 "along either direction of its plane, shapes that leave no cell centre in the "
+                 "fluid, a body that closes the channel (no path of fluid cells between an "
+                 "inflow face and the opposite face, or between two open faces of one "
+                 "direction), and a body that splits the fluid into regions one of which "
+                 "reaches no `surface` or `open` face (its pressure would be undetermined)")),
     CHO("obstacle", "plane", obstacle.plane, plane_choices,
         "the grid directions of the shapes' coordinates A and B"),
     BOOL("obstacle", "invert", obstacle.invert,
@@ -742,6 +747,9 @@ struct ctx {
     int key_line[NKEYS + SCENE_KEYS_MAX];
     const char *key_value[NKEYS + SCENE_KEYS_MAX];
     int section_line[NSECTIONS + 1];
+    /* the override that set each key last (its "section.key=value"), NULL
+     * for the file's keys and the defaults: a check's message blames it */
+    const char *origin[NKEYS + SCENE_KEYS_MAX];
 };
 
 /* One warning line (control characters replaced), when a callback is set. */
@@ -769,6 +777,63 @@ static void fail(struct ctx *x, const char *fmt, ...)
     va_start(ap, fmt);
     ini_format_line(x->err, x->errlen, fmt, ap);
     va_end(ap);
+}
+
+static int key_slot(const struct muflow_case *c, const struct key *k);
+
+/* 1 when text names the key section.name as a whole word ("domain.nx", not
+ * "domain.nx_band" nor "xdomain.nx"). */
+static int names_key(const char *text, const char *section, const char *name)
+{
+    char full[160];
+    if (snprintf(full, sizeof full, "%s.%s", section, name) >= (int)sizeof full)
+        return 0;
+    size_t n = strlen(full);
+    for (const char *p = strstr(text, full); p; p = strstr(p + 1, full)) {
+        unsigned char before = p == text ? ' ' : (unsigned char)p[-1], after = (unsigned char)p[n];
+        if (!(isalnum(before) || before == '_' || before == '.') &&
+            !(isalnum(after) || after == '_'))
+            return 1;
+    }
+    return 0;
+}
+
+struct blame {
+    const struct ctx *x;
+    const char *text;       /* the check's message */
+    char *out;              /* "override a=1, override b=2" */
+    size_t len, used;
+};
+
+static int blame_key(void *vctx, const struct key *k)
+{
+    struct blame *b = vctx;
+    int slot = key_slot(b->x->c, k);
+    const char *arg = slot >= 0 ? b->x->origin[slot] : NULL;
+    if (!arg || !names_key(b->text, k->section, k->name) || b->used >= b->len)
+        return 0;
+    char sh[SHOWN_MAX + 4];
+    b->used += (size_t)snprintf(b->out + b->used, b->len - b->used, "%soverride %s",
+                                b->used ? ", " : "", shown(arg, sh));
+    return 0;
+}
+
+/* A check of the loaded case failed: one line, the message after what set
+ * the keys it names: the overrides among them ("override a=1, override
+ * b=2: ..."), else the file (its keys or the defaults). */
+static void refuse(struct ctx *x, const char *fmt, ...)
+{
+    if (x->failed)
+        return;
+    char text[1024], who[1024], b[SHOWN_MAX + 4];
+    va_list ap;
+    va_start(ap, fmt);
+    ini_format_line(text, sizeof text, fmt, ap);
+    va_end(ap);
+    struct blame bl = {x, text, who, sizeof who, 0};
+    who[0] = '\0';
+    each_key(x->c, blame_key, &bl);
+    fail(x, "%s: %s", bl.used ? who : shown(x->where, b), text);
 }
 
 /* One assignment section.name = value, from the file (arg == NULL) or from
@@ -817,6 +882,9 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
     }
     if (base == (void *)x->c)
         x->set[k - keys] = 1;
+    int slot = key_slot(x->c, k);
+    if (slot >= 0)
+        x->origin[slot] = arg;
     return 1;
 }
 
@@ -919,23 +987,111 @@ static int inflow_face(const struct boundary *bc)
     return -1;
 }
 
-/* The shapes against the box: each reaches into it, some fluid is left,
- * and a flow through the box (an inflow face, or open faces at both ends of
- * a direction) finds a path of fluid cells from one end to the other.
- * Returns 0, or 1 after fail(). */
-static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *where)
+/* The smallest cell of direction d: its band's, or l / n. */
+static double finest_cell(const struct muflow_case *c, int d)
+{
+    struct grid_axis ax;
+    char why[300];
+    double h = c->len[d] / c->n[d];
+    if (case_axis(c, d, &ax, why, sizeof why) > 0) {
+        for (int i = 0; i < ax.n; i++)
+            h = fmin(h, ax.hc[i + 1]);
+        grid_axis_free(&ax);
+    }
+    return h;
+}
+
+/* " (obstacle.invert = off: the fluid outside the shapes)" */
+static const char *invert_text(const struct muflow_case *c)
+{
+    return c->obstacle.invert ? "obstacle.invert = on (the fluid inside the shapes)"
+                              : "obstacle.invert = off (the fluid outside the shapes)";
+}
+
+/* The fluid the shapes leave on the grid: one region, or regions that each
+ * reach a surface or open face, where the pressure is fixed.  The pressure
+ * solves take one free level for the whole fluid; regions closed off from
+ * those faces each have their own, and a region whose edge is partly the
+ * box's walls gets a hydrostatic problem without a solution under a body
+ * force (the circular duct outside its circle: two corners closed off by
+ * walls, the hydrostatic solve stopped at a relative residual of 4).  Two
+ * discs of fluid inside the body, away from the walls, ran (their problems
+ * each have one); they are refused with the rest, the rule being the
+ * regions, not the forces.  One region alone is solved up to its level.
+ * Returns 0, or 1 after refuse(). */
+static int check_regions(struct ctx *x, const struct shape_set *set)
+{
+    const struct muflow_case *c = x->c;
+    static const char axis[3] = {'x', 'y', 'z'};
+    int periodic[3], fixed[3][2], nfixed = 0;
+    char faces[160] = "";
+    size_t used = 0;
+    for (int d = 0; d < 3; d++) {
+        periodic[d] = c->bc.face[d][0] == BC_PERIODIC;
+        for (int side = 0; side < 2; side++) {
+            enum bc_kind k = c->bc.face[d][side];
+            fixed[d][side] = k == BC_SURFACE || k == BC_OPEN;
+            if (fixed[d][side] && used < sizeof faces)
+                used += (size_t)snprintf(faces + used, sizeof faces - used, "%sboundary.%c%s = %s",
+                                         nfixed++ ? ", " : "", axis[d], side ? "hi" : "lo",
+                                         bc_choices[k].name);
+        }
+    }
+    int regions, floating;
+    if (shapes_regions(set, c->n, c->len, periodic, fixed, &regions, &floating) != 0) {
+        refuse(x, "obstacle.shapes: out of memory checking the shapes against the box");
+        return 1;
+    }
+    if (regions < 2 || floating == 0)
+        return 0;
+    refuse(x, "obstacle.shapes = '%.200s' with %s: the body splits the fluid into %d regions on "
+              "this grid, %d of them closed off from every surface or open face of the box, "
+              "where the pressure is fixed%s%s%s: their pressures have no common level, which the "
+              "pressure solves cannot take; the fluid must be one region, or each region must "
+              "reach a surface or open face",
+           c->obstacle.shapes, invert_text(c), regions, floating, nfixed ? " (" : "", faces,
+           nfixed ? ")" : "");
+    return 1;
+}
+
+/* The shapes against the box: each reaches into it and spans a cell of
+ * the plane at least, some fluid is left, a flow through the box (an
+ * inflow face, or open faces at both ends of a direction) finds a path of
+ * fluid cells from one end to the other, and the fluid's pressure is fixed
+ * (check_regions).  Geometry on the plane's grid: after every size check.
+ * Returns 0, or 1 after refuse(). */
+static int check_shapes_fit(struct ctx *x, struct shape_set *set)
 {
     struct muflow_case *c = x->c;
     static const char axis[3] = {'x', 'y', 'z'};
+    static const char *const len_key[3] = {"lx", "ly", "lz"}, *const n_key[3] = {"nx", "ny", "nz"};
     shapes_set_plane(set, c->obstacle.plane, c->obstacle.invert);
     const char *plane = plane_choices[c->obstacle.plane].name;
     int a = set->plane_a, b = set->plane_b;
     int out = shapes_outside_box(set, c->len);
     if (out >= 0) {
-        fail(x, "%s: obstacle.shapes = '%.200s': shape %d lies wholly outside the box, whose "
-                "plane %s spans [0, %.10g] x [0, %.10g] (a body must reach into the box)",
-             where, c->obstacle.shapes, out + 1, plane, c->len[a], c->len[b]);
+        refuse(x, "obstacle.shapes = '%.200s': shape %d lies wholly outside the box, whose "
+                  "plane %s spans [0, %s] x [0, %s] (a body must reach into the box)",
+               c->obstacle.shapes, out + 1, plane, num_text(c->len[a]).s, num_text(c->len[b]).s);
         return 1;
+    }
+    /* a body thinner than a cell is not seen, or seen as a cell's staircase */
+    for (int i = 0; i < set->n; i++) {
+        const struct shape *sh = &set->s[i];
+        const int dir[2] = {a, b};
+        for (int k = 0; k < 2; k++) {
+            int d = dir[k];
+            double span = sh->kind == SHAPE_CIRCLE ? 2.0 * sh->v[2] : sh->v[2 + k] - sh->v[k];
+            double h = finest_cell(c, d);
+            if (span < h) {
+                refuse(x, "obstacle.shapes = '%.200s': shape %d spans %s along %c, thinner than a "
+                          "cell (domain.%s / domain.%s = %s): a body must span at least one cell "
+                          "along each direction of its plane (raise domain.%s)",
+                       c->obstacle.shapes, i + 1, num_text(span).s, axis[d], len_key[d], n_key[d],
+                       num_text(h).s, n_key[d]);
+                return 1;
+            }
+        }
     }
     int flow = -1;
     for (int d = 0; d < 3 && flow < 0; d++)
@@ -946,23 +1102,24 @@ static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *wh
     int fluid = shapes_connect(set, c->n, c->len, extrusion);
     int joined = flow >= 0 ? shapes_connect(set, c->n, c->len, flow) : 1;
     if (fluid < 0 || joined < 0) {
-        fail(x, "%s: obstacle.shapes: out of memory checking the shapes against the box", where);
+        refuse(x, "obstacle.shapes: out of memory checking the shapes against the box");
         return 1;
     }
     if (!fluid) {
-        fail(x, "%s: obstacle.shapes = '%.200s'%s: no cell centre of the grid lies in the fluid",
-             where, c->obstacle.shapes, c->obstacle.invert ? " with obstacle.invert = on" : "");
+        refuse(x, "obstacle.shapes = '%.200s' with %s: no cell centre of the grid lies in the "
+                  "fluid",
+               c->obstacle.shapes, invert_text(c));
         return 1;
     }
     if (!joined) {
-        fail(x, "%s: obstacle.shapes = '%.200s': the body closes the channel between "
-                "boundary.%clo = %s and boundary.%chi = %s (no path of fluid cells joins them on "
-                "this grid)",
-             where, c->obstacle.shapes, axis[flow], bc_choices[c->bc.face[flow][0]].name,
-             axis[flow], bc_choices[c->bc.face[flow][1]].name);
+        refuse(x, "obstacle.shapes = '%.200s' with %s: the body closes the channel between "
+                  "boundary.%clo = %s and boundary.%chi = %s (no path of fluid cells joins them on "
+                  "this grid)",
+               c->obstacle.shapes, invert_text(c), axis[flow], bc_choices[c->bc.face[flow][0]].name,
+               axis[flow], bc_choices[c->bc.face[flow][1]].name);
         return 1;
     }
-    return 0;
+    return check_regions(x, set);
 }
 
 const char *case_coupled_gmres_refusal(const struct muflow_case *c)
@@ -1000,7 +1157,7 @@ int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *ms
  * the FFT and geometric-multigrid pressures, the Fourier and Cholesky
  * preconditioners, advection and the volume of fluid assume one size per
  * direction).  Returns 0, or 1 after fail(). */
-static int check_bands(struct ctx *x, const char *where)
+static int check_bands(struct ctx *x)
 {
     struct muflow_case *c = x->c;
     static const char axis[3] = {'x', 'y', 'z'};
@@ -1012,22 +1169,22 @@ static int check_bands(struct ctx *x, const char *where)
         if (r == 0)
             continue;
         if (r < 0 && !why[0]) {
-            fail(x, "%s: domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
+            refuse(x, "domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
                     "separated by ';' (empty: a uniform direction)",
-                 where, axis[d], c->band[d], GRID_BANDS_MAX);
+                 axis[d], c->band[d], GRID_BANDS_MAX);
             return 1;
         }
         if (r > 0)
             grid_axis_free(&ax);
         if (c->n[d] < 2) {
-            fail(x, "%s: domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
+            refuse(x, "domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
                     "stretched)",
-                 where, axis[d], n_key[d]);
+                 axis[d], n_key[d]);
             return 1;
         }
         if (r < 0) {
-            fail(x, "%s: domain.%c_band = '%.100s' with domain.%s = %.10g, domain.%s = %d: %s",
-                 where, axis[d], c->band[d], len_key[d], c->len[d], n_key[d], c->n[d], why);
+            refuse(x, "domain.%c_band = '%.100s' with domain.%s = %s, domain.%s = %d: %s",
+                 axis[d], c->band[d], len_key[d], num_text(c->len[d]).s, n_key[d], c->n[d], why);
             return 1;
         }
         const char *need = NULL;
@@ -1044,31 +1201,41 @@ static int check_bands(struct ctx *x, const char *where)
             need = "solver.preconditioner = auto or lu (the others assume one cell size per "
                    "direction)";
         if (need) {
-            fail(x, "%s: domain.%c_band = '%.100s' needs %s", where, axis[d], c->band[d], need);
+            refuse(x, "domain.%c_band = '%.100s' needs %s", axis[d], c->band[d], need);
             return 1;
         }
     }
     return 0;
 }
 
+/* The checks that need every key, in the order of their cost: the keys
+ * against each other, then the size of the run (the cell count, the memory
+ * the run needs, from the case alone), and only then the body's geometry on
+ * the grid, which costs as much as the grid (a case far beyond the machine's
+ * memory went through a minute and 1.5 GB of it before being refused). */
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
-    char b[SHOWN_MAX + 4];
-    const char *where = shown(x->where, b);
     static const char axis[3] = {'x', 'y', 'z'};
 
     if (!x->set[key_index("rheology", "grain_density")])
         c->rheo.grain_density = 1.0 / c->rheo.phi; /* phi in (0, 1]: finite */
 
+    double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
+    if (cells > MAX_CELLS) {
+        refuse(x, "domain.nx * domain.ny * domain.nz = %d * %d * %d = %.0f cells: must be <= %.0f",
+               c->n[0], c->n[1], c->n[2], cells, MAX_CELLS);
+        return;
+    }
+
     for (int d = 0; d < 3; d++) {
         int lo = c->bc.face[d][0] == BC_PERIODIC, hi = c->bc.face[d][1] == BC_PERIODIC;
         if (lo != hi) {
-            fail(x,
-                 "%s: boundary.%clo = %s, boundary.%chi = %s: periodic must be on both faces of "
-                 "%c or on neither",
-                 where, axis[d], bc_choices[c->bc.face[d][0]].name, axis[d],
-                 bc_choices[c->bc.face[d][1]].name, axis[d]);
+            refuse(x,
+                   "boundary.%clo = %s, boundary.%chi = %s: periodic must be on both faces of "
+                   "%c or on neither",
+                   axis[d], bc_choices[c->bc.face[d][0]].name, axis[d],
+                   bc_choices[c->bc.face[d][1]].name, axis[d]);
             return;
         }
     }
@@ -1076,9 +1243,9 @@ static void finish(struct ctx *x)
     for (int d = 0; d < 3; d++)
         for (int side = 0; side < 2; side++)
             if (c->bc.face[d][side] == BC_LID && c->bc.lid_direction == d) {
-                fail(x, "%s: boundary.%c%s = lid, boundary.lid_direction = %c: a lid moves in its "
-                        "own plane, the direction must differ from %c",
-                     where, axis[d], side ? "hi" : "lo", axis[d], axis[d]);
+                refuse(x, "boundary.%c%s = lid, boundary.lid_direction = %c: a lid moves in its "
+                          "own plane, the direction must differ from %c",
+                       axis[d], side ? "hi" : "lo", axis[d], axis[d]);
                 return;
             }
 
@@ -1086,9 +1253,9 @@ static void finish(struct ctx *x)
     for (int d = 0; d < 3; d++)
         for (int side = 0; side < 2; side++)
             if (c->bc.face[d][side] == BC_OPEN && c->n[d] < 2) {
-                fail(x, "%s: boundary.%c%s = open with domain.n%c = %d: an open face needs at "
-                        "least 2 cells along %c",
-                     where, axis[d], side ? "hi" : "lo", axis[d], c->n[d], axis[d]);
+                refuse(x, "boundary.%c%s = open with domain.n%c = %d: an open face needs at "
+                          "least 2 cells along %c",
+                       axis[d], side ? "hi" : "lo", axis[d], c->n[d], axis[d]);
                 return;
             }
 
@@ -1097,9 +1264,9 @@ static void finish(struct ctx *x)
      * fights the open face's pressure condition (measured: a channel that
      * converges without it stalls at residual 0.4) */
     if (c->augmentation > 0.0 && bc_has_open(&c->bc)) {
-        fail(x, "%s: solver.augmentation = %.17g with an open face: the grad-div augmentation "
-                "is not supported with open boundaries (set solver.augmentation = 0)",
-             where, c->augmentation);
+        refuse(x, "solver.augmentation = %s with an open face: the grad-div augmentation "
+                  "is not supported with open boundaries (set solver.augmentation = 0)",
+               num_text(c->augmentation).s);
         return;
     }
 
@@ -1112,7 +1279,7 @@ static void finish(struct ctx *x)
                                                     "is solved with the velocity)"
                                                   : NULL;
         if (why) {
-            fail(x, "%s: solver.coupled = on %s", where, why);
+            refuse(x, "solver.coupled = on %s", why);
             return;
         }
         why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c)
@@ -1121,7 +1288,7 @@ static void finish(struct ctx *x)
                     "set solver.preconditioner = lu or amg"
                   : NULL;
         if (why) {
-            fail(x, "%s: solver.coupled = on %s", where, why);
+            refuse(x, "solver.coupled = on %s", why);
             return;
         }
     }
@@ -1130,7 +1297,7 @@ static void finish(struct ctx *x)
     if (c->preconditioner == PRECOND_GMG) {
         const char *why = viscous_gmg_refusal(c->n, &c->bc);
         if (why) {
-            fail(x, "%s: %s", where, why);
+            refuse(x, "%s", why);
             return;
         }
     }
@@ -1138,25 +1305,24 @@ static void finish(struct ctx *x)
     /* an inflow's volume must leave somewhere: through an open face */
     int inflow = inflow_face(&c->bc);
     if (inflow >= 0 && !bc_has_open(&c->bc) && c->bc.inflow_velocity != 0.0) {
-        fail(x, "%s: boundary.%c%s = inflow with boundary.inflow_velocity = %.17g and no open "
-                "face: the inflowing volume has no way out (set an outlet face to open)",
-             where, axis[inflow / 2], inflow % 2 ? "hi" : "lo", c->bc.inflow_velocity);
+        refuse(x, "boundary.%c%s = inflow with boundary.inflow_velocity = %s and no open "
+                  "face: the inflowing volume has no way out (set an outlet face to open)",
+               axis[inflow / 2], inflow % 2 ? "hi" : "lo", num_text(c->bc.inflow_velocity).s);
         return;
     }
 
-    if (check_bands(x, where) != 0)
+    if (check_bands(x) != 0)
         return;
 
-    /* the shapes are read here so that a bad one stops the case at load */
+    /* the shapes are read here so that a bad one stops the case at load
+     * (their fit to the grid is checked last) */
+    struct shape_set set;
     {
-        struct shape_set set;
         char why[300];
         if (shapes_parse(&set, c->obstacle.shapes, why, sizeof why) != 0) {
-            fail(x, "%s: obstacle.shapes = '%.200s': %s", where, c->obstacle.shapes, why);
+            refuse(x, "obstacle.shapes = '%.200s': %s", c->obstacle.shapes, why);
             return;
         }
-        if (set.n > 0 && check_shapes_fit(x, &set, where) != 0)
-            return;
     }
 
     const struct scene *sc = case_scene(c);
@@ -1164,40 +1330,32 @@ static void finish(struct ctx *x)
     char msg[512];
     if ((sc->check && sc->check(c, msg, sizeof msg) != 0) ||
         (kb && kb->check && kb->check(c, c->scene_params.bytes, msg, sizeof msg) != 0)) {
-        fail(x, "%s: %s", where, msg);
-        return;
-    }
-
-    double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
-    if (cells > MAX_CELLS) {
-        fail(x, "%s: domain nx*ny*nz = %d*%d*%d = %.17g cells: must be <= %.17g", where, c->n[0],
-             c->n[1], c->n[2], cells, MAX_CELLS);
+        refuse(x, "%s", msg);
         return;
     }
 
     if (c->dt_max < c->dt) {
-        fail(x, "%s: solver.dt_max = %.17g < solver.dt = %.17g: dt_max must be >= dt", where,
-             c->dt_max, c->dt);
+        refuse(x, "solver.dt_max = %s < solver.dt = %s: dt_max must be >= dt",
+               num_text(c->dt_max).s, num_text(c->dt).s);
         return;
     }
 
     if (c->rheo.law == LAW_NEWTONIAN && !(c->rheo.viscosity > 0)) {
-        fail(x, "%s: rheology.law = newtonian needs rheology.viscosity > 0", where);
+        refuse(x, "rheology.law = newtonian needs rheology.viscosity > 0");
         return;
     }
     if (c->rheo.law == LAW_BINGHAM &&
         !(c->rheo.plastic_viscosity > 0 || c->rheo.yield_stress > 0)) {
-        fail(x,
-             "%s: rheology.law = bingham needs rheology.plastic_viscosity > 0 or "
-             "rheology.yield_stress > 0",
-             where);
+        refuse(x,
+               "rheology.law = bingham needs rheology.plastic_viscosity > 0 or "
+               "rheology.yield_stress > 0");
         return;
     }
 
     /* the curve's derived values (I_1^N, A_minus), once, from the final keys */
     if (c->rheo.law == LAW_MUI) {
         if (rheology_curve_setup(&c->rheo, msg, sizeof msg) != 0) {
-            fail(x, "%s: %s", where, msg);
+            refuse(x, "%s", msg);
             return;
         }
     } else {
@@ -1211,7 +1369,7 @@ static void finish(struct ctx *x)
         snprintf(dir, sizeof(dir), "out/%s", c->name);
         const char *why = key_parse(c, &keys[key_index("output", "dir")], dir, m, sizeof(m));
         if (why)
-            fail(x, "%s: default output.dir = %s: %s; set output.dir", where, shown(dir, b2), why);
+            refuse(x, "default output.dir = %s: %s; set output.dir", shown(dir, b2), why);
     }
     if (x->failed)
         return;
@@ -1222,28 +1380,38 @@ static void finish(struct ctx *x)
         c->bc.face[2][0] == BC_PERIODIC) {
         char names[512];
         if (x->keys_given == 0)
-            fail(x,
-                 "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
-                 "periodic on every face, which muflow cannot solve; a case needs at least one "
-                 "direction whose faces are wall, slip, surface, lid, open or inflow (boundary.*) and, to be "
-                 "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
-                 "complete examples, muflow --list lists every key",
-                 where, c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
+            refuse(x,
+                   "the case sets no key: no case.scene and the default %d x %d x %d box, "
+                   "periodic on every face, which muflow cannot solve; a case needs at least one "
+                   "direction whose faces are wall, slip, surface, lid, open or inflow "
+                   "(boundary.*) and, to be compared with a solution, a scene (case.scene = "
+                   "%s): the files in cases/ are complete examples, muflow --list lists every "
+                   "key",
+                   c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
         else
-            fail(x,
-                 "%s: every boundary face is periodic: muflow needs at least one direction "
-                 "whose faces are wall, slip, surface, lid, open or inflow (boundary.xlo/xhi, ylo/yhi or "
-                 "zlo/zhi); the implicit viscous solve works along it",
-                 where);
+            refuse(x,
+                   "every boundary face is periodic: muflow needs at least one direction "
+                   "whose faces are wall, slip, surface, lid, open or inflow (boundary.xlo and "
+                   "boundary.xhi, boundary.ylo and boundary.yhi, or boundary.zlo and "
+                   "boundary.zhi); the implicit viscous solve works along it");
         return;
     }
     if (c->line_direction >= 0 && c->bc.face[c->line_direction][0] == BC_PERIODIC) {
-        fail(x,
-             "%s: solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
-             "non-periodic direction (auto chooses one)",
-             where, axis[c->line_direction], axis[c->line_direction]);
+        refuse(x,
+               "solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
+               "non-periodic direction (auto chooses one)",
+               axis[c->line_direction], axis[c->line_direction]);
         return;
     }
+
+    /* the size of the run, from the case alone */
+    if (march_memory_check(c, msg, sizeof msg) != 0) {
+        refuse(x, "%s", msg);
+        return;
+    }
+
+    if (set.n > 0)
+        check_shapes_fit(x, &set);
 }
 
 /* c->name: base name of path without directory and a trailing ".ini". */
@@ -1277,13 +1445,12 @@ static void resolve_reference(struct ctx *x, const char *path)
     else
         snprintf(joined, sizeof joined, "%s", c->reference);
     if (!realpath(joined, real)) {
-        fail(x, "%s: case.reference = %s: %s", shown(x->where, b), shown(joined, b2),
-             strerror(errno));
+        refuse(x, "case.reference = %s: %s", shown(joined, b2), strerror(errno));
         return;
     }
     if (strlen(real) >= sizeof(c->reference)) {
-        fail(x, "%s: case.reference: path longer than %zu characters", shown(x->where, b),
-             sizeof(c->reference) - 1);
+        refuse(x, "case.reference = %s: the path is longer than %zu characters", shown(joined, b),
+               sizeof(c->reference) - 1);
         return;
     }
     memcpy(c->reference, real, strlen(real) + 1); /* fits: checked above */

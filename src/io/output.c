@@ -17,7 +17,8 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
 {
     char path[600];
     if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path) {
-        snprintf(err, errlen, "output.dir is too long");
+        snprintf(err, errlen, "output.dir = %.100s...: longer than %zu characters", dir,
+                 sizeof path - 1);
         return -1;
     }
     for (char *s = path + 1;; s++) {
@@ -26,7 +27,12 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
             char keep = *s;
             *s = '\0';
             if (mkdir(path, 0777) != 0 && errno != EEXIST) {
-                snprintf(err, errlen, "cannot create output folder %s: %s", path, strerror(errno));
+                if (end)
+                    snprintf(err, errlen, "output.dir = %s: cannot create the folder: %s", dir,
+                             strerror(errno));
+                else
+                    snprintf(err, errlen, "output.dir = %s: cannot create the folder %s: %s", dir,
+                             path, strerror(errno));
                 return -1;
             }
             *s = keep;
@@ -36,7 +42,7 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
     }
     struct stat sb;
     if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-        snprintf(err, errlen, "output folder %s is not a folder", dir);
+        snprintf(err, errlen, "output.dir = %s: not a folder (a file of that name exists)", dir);
         return -1;
     }
     return 0;
@@ -72,7 +78,7 @@ int output_remove_run_files(const char *dir, const char *const *extra, char *err
     if (!d) {
         if (errno == ENOENT)
             return 0;
-        snprintf(err, errlen, "cannot read output folder %s: %s", dir, strerror(errno));
+        snprintf(err, errlen, "output.dir = %s: cannot read the folder: %s", dir, strerror(errno));
         return -1;
     }
     int removed = 0;

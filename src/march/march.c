@@ -223,9 +223,18 @@ double march_picard_reference(const struct march_state *st)
     return fmax(r0, st->peak_residual);
 }
 
-static enum viscous_precond choose_preconditioner(const struct march_state *st)
+/* Whether auto may choose hypre's AMG: amg 1 or 0 as given, -1 the
+ * library's answer (it is opened to find out). */
+static int amg_allowed(int amg)
 {
-    const struct muflow_case *cs = st->cs;
+    return amg >= 0 ? amg : amg_allowed(amg);
+}
+
+/* The implicit solve's preconditioner for the case on g (amg: see
+ * amg_allowed). */
+static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, const struct grid *g,
+                                                  int amg)
+{
     switch (cs->preconditioner) {
     case PRECOND_LINE: return VISCOUS_LINE;
     case PRECOND_CHOLESKY: return VISCOUS_CHOLESKY;
@@ -250,17 +259,17 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
         obstacle_shapes(cs, &set);
         in_plane[set.plane_a] = in_plane[set.plane_b] = 1;
     }
-    bc_periodic_flags(&st->bc, periodic);
+    bc_periodic_flags(&cs->bc, periodic);
     for (int d = 0; d < 3; d++)
-        varying += st->g.n[d] > 2 && (!periodic[d] || in_plane[d]);
-    long unknowns = 3L * (long)grid_cells(&st->g);
+        varying += g->n[d] > 2 && (!periodic[d] || in_plane[d]);
+    long unknowns = 3L * (long)grid_cells(g);
     if (varying < 2)
         return VISCOUS_LINE;
     /* measured on 2D cross-sections only: a grid that varies in three
      * directions keeps the LU (or the line blocks beyond its size) */
     int wide = 0;
     for (int d = 0; d < 3; d++)
-        wide += st->g.n[d] > 2;
+        wide += g->n[d] > 2;
     /* a flow along the one-cell periodic direction of a cross-section that
      * the implicit step solves (the scene says so): the geometric multigrid
      * of the implicit step, whose cycle has the tangent's cross term
@@ -277,8 +286,8 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     const struct scene *sc = case_scene(cs);
     if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton &&
         cs->mode == MODE_STEADY && wide == 2 && !(cs->augmentation > 0.0) &&
-        !obstacle_active(cs) && !grid_stretched(&st->g) &&
-        !viscous_gmg_refusal(st->g.n, &st->bc))
+        !obstacle_active(cs) && !grid_stretched(g) &&
+        !viscous_gmg_refusal(g->n, &cs->bc))
         return VISCOUS_GMG;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
@@ -297,15 +306,14 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * the circular duct at 40 x 80 failed the Cholesky from step 1 (683
      * fallbacks to the line blocks, unsteady after 586 steps; the LU steady
      * in 381) */
-    int lu = wide != 2 || bc_passes_flow(&st->bc) || obstacle_active(cs);
+    int lu = wide != 2 || bc_passes_flow(&cs->bc) || obstacle_active(cs);
     enum viscous_precond kind = cs->newton && lu ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
-    if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
+    if (sparse_direct_probes_for(g, periodic, reach) > sparse_direct_max_probes())
         return VISCOUS_LINE;
     /* the AMG has no fill: it serves beyond the factorisation's limit too;
      * without hypre's library (opened here, as the AMG would) the LU or the
      * line blocks as before */
-    char why[256];
     /* a transient step lags the viscosity (the tangent is for steady
      * solves), where the AMG was not measured: the LU as before */
     /* with a body too: the circular duct at 80 x 160 from rest (38,400
@@ -318,13 +326,13 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
                        ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS
                        : AMG_MIN_UNKNOWNS;
     if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
-        unknowns > amg_min && amg_hypre_available(why, sizeof why))
+        unknowns > amg_min && amg_allowed(amg))
         return VISCOUS_AMG;
     /* beyond the factorisation's limit a 2D cross-section takes the AMG
      * (measured above: the line blocks do not converge there) */
     if (unknowns > (kind == VISCOUS_CHOLESKY && wide == 2 ? CHOLESKY_2D_MAX_UNKNOWNS
                                                           : FACTOR_MAX_UNKNOWNS))
-        return wide == 2 && !(cs->augmentation > 0.0) && amg_hypre_available(why, sizeof why)
+        return wide == 2 && !(cs->augmentation > 0.0) && amg_allowed(amg)
                    ? VISCOUS_AMG
                    : VISCOUS_LINE;
     return kind;
@@ -403,13 +411,16 @@ static enum poisson_bc projection_bc(enum bc_kind k)
  * the peak RSS of the smallest run, bagnold 2 x 1 x 40, is 20 MB. */
 #define BASE_BYTES 20e6
 
-/* Bytes the march will allocate on st->g with the preconditioner kind: the
- * registry's fields (saved copies included) and the optional ones of this
- * case, the pressure solver's two arrays, the viscous solver's work and the
- * sparse factorisation when chosen.  Modules' own fields are not known
- * before they are created.  Measured against the peak RSS: bagnold
+/* Bytes the march will allocate on g with the preconditioner kind, from
+ * the case alone: the registry's fields (saved copies included) and the
+ * optional ones of this case, the pressure solver's two arrays, the viscous
+ * solver's work, the sparse factorisation when chosen, and a body's share
+ * bounded from above (obstacle_memory_bound).  Other modules' own fields
+ * are not known before they are created.  Measured against the peak RSS: bagnold
  * 100 x 100 x 50 (line blocks) 353 MB, estimate 367 MB; cavity 128 x 128
- * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB. */
+ * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB; with a
+ * body, the cylinder benchmark at 1760 x 328 (line blocks) 1,399 MB,
+ * estimate 1,680 MB (940 MB before the body counted). */
 /* The kinds that factorise no sparse matrix of the operator (the line
  * blocks' bands and the multigrid's coarsest level aside). */
 static int without_factors(enum viscous_precond kind)
@@ -417,10 +428,9 @@ static int without_factors(enum viscous_precond kind)
     return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG;
 }
 
-static double memory_estimate(const struct march_state *st, enum viscous_precond kind)
+static double memory_estimate(const struct muflow_case *cs, const struct grid *g,
+                              enum viscous_precond kind)
 {
-    const struct grid *g = &st->g;
-    const struct muflow_case *cs = st->cs;
     double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
     for (size_t m = 0; m < NSPECS; m++)
         if (spec_wanted(cs, &march_specs[m]))
@@ -432,6 +442,8 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
         arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
                    viscous_memory_estimate(g, kind);
+    if (obstacle_active(cs))
+        bytes += obstacle_memory_bound(cs, g);
     int dims = 0;
     for (int d = 0; d < 3; d++)
         dims += g->n[d] > 1;
@@ -487,6 +499,76 @@ static void format_bytes(char *out, size_t len, double b)
         snprintf(out, len, "%.1f GB", b / 1e9);
     else
         snprintf(out, len, "%.0f MB", b / 1e6);
+}
+
+/* The preconditioner and the estimate of the case on g (amg: see
+ * amg_allowed).  Auto's coupled LU that does not fit in avail gives way to
+ * the coupled GMRES where that is allowed and fits (the cavity at 256 x 256:
+ * 653 MB against the LU's 1,693 MB, 1.3x its time). */
+static double plan(const struct muflow_case *cs, const struct grid *g, int amg, double avail,
+                   enum viscous_precond *kind)
+{
+    *kind = choose_preconditioner(cs, g, amg);
+    double bytes = memory_estimate(cs, g, *kind);
+    if (cs->coupled && cs->preconditioner == PRECOND_AUTO && *kind == VISCOUS_LU &&
+        avail > 0.0 && bytes > avail && !case_coupled_gmres_refusal(cs)) {
+        double gmres = memory_estimate(cs, g, VISCOUS_AMG);
+        if (gmres <= avail && amg_allowed(amg)) {
+            *kind = VISCOUS_AMG;
+            bytes = gmres;
+        }
+    }
+    return bytes;
+}
+
+/* The refusal of a run that needs more than avail: one line naming the
+ * grid keys. */
+static void refusal(char *err, size_t errlen, const struct grid *g, enum viscous_precond kind,
+                    double need, double avail)
+{
+    char needs[32], have[32];
+    format_bytes(needs, sizeof needs, need);
+    format_bytes(have, sizeof have, avail);
+    snprintf(err, errlen,
+             "%s = %d x %d x %d: the run needs about %s "
+             "(fields, solver work%s), more than the %s of memory available on this machine",
+             grid_stretched(g) ? "the cells with the domain's bands (domain.x_band, "
+                                 "domain.y_band, domain.z_band)"
+                               : "domain.nx x domain.ny x domain.nz",
+             g->n[0], g->n[1], g->n[2], needs, without_factors(kind) ? "" : ", sparse factorisation",
+             have);
+}
+
+int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    double avail = march_available_memory();
+    struct grid g;
+    if (!(avail > 0.0) || grid_init(&g, cs->n, cs->len) != 0)
+        return 0; /* nothing known, or a grid march_create refuses itself */
+    struct grid_axis axes[3];
+    int built[3] = {0, 0, 0}, ok = 1;
+    for (int d = 0; d < 3; d++) {
+        char why[300];
+        int r = case_axis(cs, d, &axes[d], why, sizeof why);
+        built[d] = r > 0;
+        ok &= r >= 0 && (r == 0 || grid_set_axis(&g, d, &axes[d]) == 0);
+    }
+    int refused = 0;
+    if (ok) {
+        /* without opening hypre's library: the smaller of the two choices */
+        enum viscous_precond with, without;
+        double need_with = plan(cs, &g, 1, avail, &with);
+        double need_without = plan(cs, &g, 0, avail, &without);
+        double need = fmin(need_with, need_without);
+        if (need > avail) {
+            refusal(msg, msglen, &g, need_with <= need_without ? with : without, need, avail);
+            refused = 1;
+        }
+    }
+    for (int d = 0; d < 3; d++)
+        if (built[d])
+            grid_axis_free(&axes[d]);
+    return refused;
 }
 
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
@@ -565,34 +647,13 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     bc_unknown_boxes(g, &st->bc, st->act);
     /* refuse before allocating what the machine does not have: a grid inside
      * the key limits (1000 x 1000 x 500) grew past 6.4 GB in a minute
-     * without a word */
-    enum viscous_precond kind = st->precond = choose_preconditioner(st);
-    st->memory_estimate = memory_estimate(st, kind);
+     * without a word (case_load refuses it first, from the case alone) */
+    enum viscous_precond kind;
     double avail = march_available_memory();
-    /* auto's coupled LU that does not fit gives way to the coupled GMRES
-     * where that is allowed and fits (the cavity at 256 x 256: 653 MB
-     * against the LU's 1,693 MB, 1.3x its time) */
-    if (cs->coupled && cs->preconditioner == PRECOND_AUTO && kind == VISCOUS_LU &&
-        avail > 0.0 && st->memory_estimate > avail && !case_coupled_gmres_refusal(cs)) {
-        char why[256];
-        double gmres = memory_estimate(st, VISCOUS_AMG);
-        if (gmres <= avail && amg_hypre_available(why, sizeof why)) {
-            kind = st->precond = VISCOUS_AMG;
-            st->memory_estimate = gmres;
-        }
-    }
+    st->memory_estimate = plan(cs, g, -1, avail, &kind);
+    st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
-        char need[32], have[32];
-        format_bytes(need, sizeof need, st->memory_estimate);
-        format_bytes(have, sizeof have, avail);
-        snprintf(err, errlen,
-                 "%s = %d x %d x %d: the run needs about %s "
-                 "(fields, solver work%s), more than the %s of memory available on this machine",
-                 grid_stretched(g) ? "the cells with the domain's bands"
-                                   : "domain.nx x domain.ny x domain.nz",
-                 g->n[0], g->n[1], g->n[2], need,
-                 without_factors(kind) ? "" : ", sparse factorisation",
-                 have);
+        refusal(err, errlen, g, kind, st->memory_estimate, avail);
         march_destroy(st);
         return -1;
     }
@@ -657,7 +718,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
                                   sparse_direct_probes_for(g, periodic, 2) <=
                                       sparse_direct_max_probes() &&
-                                  !(avail > 0.0 && memory_estimate(st, VISCOUS_LU) > avail));
+                                  !(avail > 0.0 && memory_estimate(cs, g, VISCOUS_LU) > avail));
     st->dt = cs->dt;
     forget_progress(st);
     st->dt_scale = 1.0;

@@ -82,17 +82,18 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     if (!(params(c)->perturbation > 0.0))
         return 0;
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC) {
-        snprintf(msg, msglen, "bagnold.perturbation > 0 needs boundary.xlo and ylo = periodic "
-                              "(the perturbation wraps along x and y)");
+        snprintf(msg, msglen, "bagnold.perturbation > 0 needs boundary.xlo, boundary.xhi, "
+                              "boundary.ylo and boundary.yhi = periodic (the perturbation wraps "
+                              "along x and y)");
         return 1;
     }
     double top = bagnold_u(c, c->len[2]);
     if (!(isfinite(top) && top > 0.0)) {
         snprintf(msg, msglen,
                  "bagnold.perturbation > 0 is relative to the exact surface velocity, which "
-                 "physics.tilt = %.17g (tan %.6g) does not have with this rheology.curve (jop: "
-                 "tan between rheology.mu_s and mu_s + delta_mu)",
-                 c->tilt, tan(c->tilt));
+                 "physics.tilt = %s (tan %.6g) does not have with this rheology.curve (jop: "
+                 "tan between rheology.mu_s and rheology.mu_s + rheology.delta_mu)",
+                 num_text(c->tilt).s, tan(c->tilt));
         return 1;
     }
     return 0;

@@ -65,8 +65,8 @@ static const struct choice start_choices[] = {
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
     KEY_DBL(T, "bagnold2", "interface_height", interface_height,
-            KEY_HELP("height h0 of the flat grains/fluid interface above the base (below "
-                     "domain.lz)",
+            KEY_HELP("height h0 of the flat grains/fluid interface above the base: the grains "
+                     "and the fluid above them each at least a cell, domain.lz / domain.nz",
                      "length", NULL),
             KEY_GT0),
     KEY_DBL(T, "bagnold2", "fluid_density", fluid_density,
@@ -136,20 +136,26 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
         (c->bc.face[2][1] != BC_SURFACE && c->bc.face[2][1] != BC_OPEN)) {
-        snprintf(msg, msglen, "case.scene = bagnold2 needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = surface or open");
+        snprintf(msg, msglen, "case.scene = bagnold2 needs boundary.xlo = boundary.xhi = periodic, "
+                              "boundary.zlo = wall and boundary.zhi = surface or open");
         return 1;
     }
-    if (!(b->interface_height < c->len[2])) {
-        snprintf(msg, msglen, "bagnold2.interface_height = %.17g: must be below domain.lz = %.17g",
-                 b->interface_height, c->len[2]);
+    /* the grains and the fluid above them each at least a cell thick (a
+     * ninth of a cell was accepted and ran as a cell of mixture) */
+    double lz = c->len[2], dz = lz / c->n[2];
+    if (!scene_layer_fits(b->interface_height, lz, dz)) {
+        snprintf(msg, msglen, "bagnold2.interface_height = %s: the grains and the fluid above "
+                              "them must each be at least a cell thick (domain.lz / domain.nz = "
+                              "%s / %d = %.6g): bagnold2.interface_height must be in [%.6g, %.6g]",
+                 num_text(b->interface_height).s, num_text(lz).s, c->n[2], dz, dz, lz - dz);
         return 1;
     }
     double rg = c->rheo.phi * c->rheo.grain_density;
     if (fabs(c->density - rg) > 1e-12 * rg) {
-        snprintf(msg, msglen, "physics.density = %.17g: the grains' bulk density must be "
-                              "rheology.phi * rheology.grain_density = %.17g",
-                 c->density, rg);
+        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
+                              "rheology.phi * rheology.grain_density = %s * %s = %.10g",
+                 num_text(c->density).s, num_text(c->rheo.phi).s,
+                 num_text(c->rheo.grain_density).s, rg);
         return 1;
     }
     char why[256];
@@ -162,8 +168,8 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     if (b->perturbation > 0.0 && !(bagnold2_u(c, c->len[2]) != 0.0)) {
         snprintf(msg, msglen,
                  "bagnold2.perturbation > 0 is relative to the exact top velocity, which is 0 at "
-                 "physics.tilt = %.17g and physics.gravity = %.17g (nothing moves)",
-                 c->tilt, c->gravity);
+                 "physics.tilt = %s and physics.gravity = %s (nothing moves)",
+                 num_text(c->tilt).s, num_text(c->gravity).s);
         return 1;
     }
     return 0;

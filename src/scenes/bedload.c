@@ -81,8 +81,8 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
         c->bc.face[2][1] != BC_WALL) {
-        snprintf(msg, msglen, "case.scene = bedload needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = wall");
+        snprintf(msg, msglen, "case.scene = bedload needs boundary.xlo = boundary.xhi = periodic, "
+                              "boundary.zlo = wall and boundary.zhi = wall");
         return 1;
     }
     if (b->model == BEDLOAD_TWO_FLUID && c->bc.face[1][0] != BC_PERIODIC) {

@@ -45,11 +45,15 @@ struct collapse_params {
 #define T struct collapse_params
 static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "half_width", half_width,
-            KEY_HELP("half-width R0 of the column (the axis at x = 0; below domain.lx)",
+            KEY_HELP("half-width R0 of the column (the axis at x = 0): at least a cell, "
+                     "domain.lx / domain.nx, and below domain.lx",
                      "length", NULL),
             KEY_GT0),
     KEY_DBL(T, "collapse", "height", height,
-            KEY_HELP("height H0 of the column (below domain.lz)", "length", NULL), KEY_GT0),
+            KEY_HELP("height H0 of the column: at least a cell, domain.lz / domain.nz, and "
+                     "below domain.lz",
+                     "length", NULL),
+            KEY_GT0),
     KEY_DBL(T, "collapse", "fluid_density", fluid_density,
             KEY_HELP("density rho_f of the light phase", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "collapse", "fluid_viscosity", fluid_viscosity,
@@ -124,15 +128,28 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN) ||
         b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
         snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
-                              "xhi not periodic, zlo = wall, zhi = surface or open, periodic y "
-                              "and domain.ny = 1");
+                              "boundary.xhi not periodic, boundary.zlo = wall, boundary.zhi = "
+                              "surface or open, boundary.ylo = boundary.yhi = periodic and "
+                              "domain.ny = 1");
         return 1;
     }
-    if (!(p->half_width < c->len[0]) || !(p->height < c->len[2])) {
-        snprintf(msg, msglen, "collapse.half_width = %.17g, collapse.height = %.17g: the "
-                              "column must fit inside domain.lx = %.17g and domain.lz = %.17g",
-                 p->half_width, p->height, c->len[0], c->len[2]);
-        return 1;
+    /* the column inside the box, and at least a cell across each way (a
+     * thinner one is a fraction of a cell's mixture: it ends "finished"
+     * with x_front 0) */
+    static const char *const name[2] = {"half_width", "height"}, *const len_key[2] = {"lx", "lz"},
+                             *const n_key[2] = {"nx", "nz"};
+    const double size[2] = {p->half_width, p->height};
+    for (int k = 0; k < 2; k++) {
+        int d = 2 * k; /* x, z */
+        double h = c->len[d] / c->n[d];
+        if (!(scene_at_least_a_cell(size[k], h) && size[k] < c->len[d])) {
+            snprintf(msg, msglen, "collapse.%s = %s: must be in [%.6g, %s): at least a cell "
+                                  "(domain.%s / domain.%s = %s / %d = %.6g) and inside "
+                                  "domain.%s = %s",
+                     name[k], num_text(size[k]).s, h, num_text(c->len[d]).s, len_key[k], n_key[k],
+                     num_text(c->len[d]).s, c->n[d], h, len_key[k], num_text(c->len[d]).s);
+            return 1;
+        }
     }
     return 0;
 }

@@ -150,42 +150,44 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     if (!(c->confining_pressure > 0.0)) {
-        snprintf(msg, msglen, "physics.confining_pressure = %g: case.scene = cylinder needs a "
+        snprintf(msg, msglen, "physics.confining_pressure = %s: case.scene = cylinder needs a "
                               "confining pressure p_ext > 0 (F = rho phi g L_x / p_ext)",
-                 c->confining_pressure);
+                 num_text(c->confining_pressure).s);
         return 1;
     }
     if (c->tilt != 0.0) {
-        snprintf(msg, msglen, "physics.tilt = %g: case.scene = cylinder drives the flow along -z "
-                              "(tilt 0)",
-                 c->tilt);
+        snprintf(msg, msglen, "physics.tilt = %s: case.scene = cylinder drives the flow along -z "
+                              "(physics.tilt = 0)",
+                 num_text(c->tilt).s);
         return 1;
     }
     /* the flow along z: periodic, or in at the top and out at the bottom
      * through open faces, where the pressure is p_ext */
     enum bc_kind zlo = c->bc.face[2][0], zhi = c->bc.face[2][1];
     if (!bc_through_flow(&c->bc, 2)) {
-        snprintf(msg, msglen, "boundary.zlo = %s, zhi = %s: case.scene = cylinder needs "
-                              "boundary.zlo = zhi = periodic or open (the flow along z)",
+        snprintf(msg, msglen, "boundary.zlo = %s, boundary.zhi = %s: case.scene = cylinder "
+                              "needs boundary.zlo = boundary.zhi = periodic or open (the flow "
+                              "along z)",
                  bc_kind_name(zlo), bc_kind_name(zhi));
         return 1;
     }
     const struct cylinder_params *p = params(c);
     if (p->velocity_end > 0.0 && !(p->forcing_end > p->forcing)) {
-        snprintf(msg, msglen, "cylinder.velocity_end = %g needs cylinder.forcing_end > "
+        snprintf(msg, msglen, "cylinder.velocity_end = %s needs cylinder.forcing_end > "
                               "cylinder.forcing: the continuation in U starts from the last two "
                               "steady states in F",
-                 p->velocity_end);
+                 num_text(p->velocity_end).s);
         return 1;
     }
     if (p->velocity_end > 0.0 && !(p->velocity_ratio > 1.0)) {
-        snprintf(msg, msglen, "cylinder.velocity_ratio = %g must be > 1", p->velocity_ratio);
+        snprintf(msg, msglen, "cylinder.velocity_ratio = %s must be > 1",
+                 num_text(p->velocity_ratio).s);
         return 1;
     }
     const char *why = p->velocity_end > 0.0 ? flow_rate_refusal(c) : NULL;
     if (why) {
-        snprintf(msg, msglen, "cylinder.velocity_end = %g (U held, F solved for) %s",
-                 p->velocity_end, why);
+        snprintf(msg, msglen, "cylinder.velocity_end = %s (U held, F solved for) %s",
+                 num_text(p->velocity_end).s, why);
         return 1;
     }
     if (p->forcing_end > p->forcing && c->checkpoint_every > 0) {
@@ -508,8 +510,8 @@ static int drive(struct scene_drive *d)
         else if (U_last < p->velocity_end * (1.0 - 1e-9))
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g): the continuation stopped at its limit of "
-                     "%d solves short of cylinder.velocity_end = %g",
-                     U_last, F_last, MAX_ROWS, p->velocity_end);
+                     "%d solves short of cylinder.velocity_end = %s",
+                     U_last, F_last, MAX_ROWS, num_text(p->velocity_end).s);
         else
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", U_last,
@@ -518,14 +520,14 @@ static int drive(struct scene_drive *d)
         if (isfinite(run->failed_F))
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g, the continuation's end: no steady state at F = %.6g "
-                     "within cylinder.min_step = %g of it (the limit of steady flow, or of the "
+                     "within cylinder.min_step = %s of it (the limit of steady flow, or of the "
                      "march)",
-                     F_last, run->failed_F, p->min_step);
+                     F_last, run->failed_F, num_text(p->min_step).s);
         else if (F_last < p->forcing_end - eps)
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g: the continuation stopped at its limit of %d solves "
-                     "short of cylinder.forcing_end = %g",
-                     F_last, MAX_ROWS, p->forcing_end);
+                     "short of cylinder.forcing_end = %s",
+                     F_last, MAX_ROWS, num_text(p->forcing_end).s);
         else
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g after %d solves from F = %.6g", F_last,

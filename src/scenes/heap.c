@@ -169,9 +169,9 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (h->flow_rate > 0.0) {
         if (!(h->tilt_min < h->tilt_max)) {
-            snprintf(msg, msglen, "heap.tilt_min = %.17g, heap.tilt_max = %.17g: the bracket needs "
-                                  "tilt_min < tilt_max",
-                     h->tilt_min, h->tilt_max);
+            snprintf(msg, msglen, "heap.tilt_min = %s, heap.tilt_max = %s: the bracket needs "
+                                  "heap.tilt_min < heap.tilt_max",
+                     num_text(h->tilt_min).s, num_text(h->tilt_max).s);
             return 1;
         }
         if (c->mode != MODE_STEADY || c->checkpoint_every > 0) {

@@ -94,6 +94,45 @@ static int check_options(const struct multigrid_options *o, char *err, size_t er
     return 0;
 }
 
+double multigrid_memory_estimate(const struct grid *g, const struct multigrid_options *opt)
+{
+    struct multigrid_options o;
+    if (opt)
+        o = *opt;
+    else
+        multigrid_default_options(&o);
+    /* the levels as multigrid_create builds them */
+    struct grid lev[MAX_LEVELS];
+    lev[0] = *g;
+    int nlev = 1;
+    while (nlev < MAX_LEVELS) {
+        int halve[3], n[3];
+        if (mg_choose_halving(&lev[nlev - 1], o.coarse_cells, o.full_coarsening, halve) == 0)
+            break;
+        for (int d = 0; d < 3; d++)
+            n[d] = halve[d] ? lev[nlev - 1].n[d] / 2 : lev[nlev - 1].n[d];
+        if (grid_init(&lev[nlev], n, lev[nlev - 1].len) != 0)
+            break;
+        nlev++;
+    }
+    int lines = 0;
+    for (int d = 0; d < 3; d++)
+        lines += o.smoother == MG_SMOOTH_LINES && g->n[d] > 1;
+    double bytes = 0.0;
+    for (int l = 0; l < nlev; l++) {
+        double points = (double)lev[l].size;
+        /* a[3] and r; x and b below the finest; the prolongation's weights
+         * above the coarsest; the line factors on all but the coarsest */
+        double arrays = 4.0 + (l > 0 ? 2.0 : 0.0) + (l < nlev - 1 ? 3.0 + 2.0 * lines : 0.0);
+        bytes += (arrays * sizeof(double) + 1.0) * points; /* and live */
+    }
+    bytes += 5.0 * (double)g->size * sizeof(double); /* the Krylov work arrays */
+    double coarse = (double)grid_cells(&lev[nlev - 1]);
+    bytes += (double)lev[nlev - 1].size * (sizeof(ptrdiff_t) + 2.0 * sizeof(int) + 1.0);
+    bytes += coarse * (4.0 * log2(coarse + 1.0) + 10.0) * (sizeof(double) + sizeof(int));
+    return bytes;
+}
+
 int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
                      const struct multigrid_options *opt, char *err, size_t errlen)
 {

@@ -24,7 +24,7 @@
  * line smoother takes the anisotropy, and halving one direction of two
  * leaves a W-cycle's second level half as large as the first, visited
  * twice.  Returns how many were chosen. */
-static int choose_halving(const struct grid *g, long coarse_cells, int full, int halve[3])
+int mg_choose_halving(const struct grid *g, long coarse_cells, int full, int halve[3])
 {
     long cells = (long)grid_cells(g);
     halve[0] = halve[1] = halve[2] = 0;
@@ -69,7 +69,7 @@ void mg_level_free(struct level *lv, int owns_xb)
         field_free(lv->x);
 }
 
-/* The levels' grids: each halves what choose_halving says of the one above,
+/* The levels' grids: each halves what mg_choose_halving says of the one above,
  * down to the options' coarse_cells (or MAX_LEVELS). */
 static void plan_levels(struct multigrid *mg, const struct grid *g)
 {
@@ -78,7 +78,7 @@ static void plan_levels(struct multigrid *mg, const struct grid *g)
     while (mg->nlev < MAX_LEVELS) {
         const struct grid *gf = &mg->lev[mg->nlev - 1].g;
         int halve[3];
-        if (choose_halving(gf, mg->opt.coarse_cells, mg->opt.full_coarsening, halve) == 0)
+        if (mg_choose_halving(gf, mg->opt.coarse_cells, mg->opt.full_coarsening, halve) == 0)
             break;
         int n[3];
         for (int d = 0; d < 3; d++)
