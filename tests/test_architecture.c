@@ -7,12 +7,11 @@
  * - the variable-coefficient path (a face density that is not uniform) gives
  *   the same flow as the uniform one when the density is in fact uniform,
  *   through the multigrid projection instead of the FFT one. */
-#define _POSIX_C_SOURCE 200809L /* mkdtemp, open_memstream */
+#define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <hdf5.h>
 #include "app/run.h"
 #include "io/checkpoint.h"
 #include "io/fields_h5.h"
@@ -21,15 +20,6 @@
 #include "test_main.h"
 
 #define COUETTE "../cases/couette.ini"
-
-static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
-{
-    char err[512];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
 
 /* Couette-Poiseuille at nz = 10, 20, 40: steady, second order (the parabola
  * meets the wall condition ghost = -interior, an O(h^2) approximation; the
@@ -45,10 +35,8 @@ static void test_couette_scene(void **state)
         snprintf(o, sizeof o, "domain.nz=%d", nz[m]);
         char *ov[] = {o};
         struct muflow_case cs;
-        load(&cs, COUETTE, 1, ov);
         struct run_result r;
-        char e[512];
-        assert_int_equal(run_case(&cs, 0, &r, e, sizeof e), 0);
+        test_run_case(COUETTE, 1, ov, &cs, &r);
         print_message("couette nz %d: %s in %ld steps, err_rms %.3e, u_mid %.6f (exact %.6f)\n",
                       nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
                       r.errors.headline, r.errors.headline_exact);
@@ -108,25 +96,6 @@ static const struct module tracer_module = {
 };
 static const struct module *const extra_modules[] = {&tracer_module, NULL};
 
-static double *read_dataset(const char *path, const char *name, size_t *n)
-{
-    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    assert_true(f >= 0);
-    hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
-    if (d < 0)
-        print_error("%s has no dataset %s\n", path, name);
-    assert_true(d >= 0);
-    hid_t sp = H5Dget_space(d);
-    *n = (size_t)H5Sget_simple_extent_npoints(sp);
-    double *a = malloc(*n * sizeof(double));
-    assert_non_null(a);
-    assert_true(H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, a) >= 0);
-    H5Sclose(sp);
-    H5Dclose(d);
-    H5Fclose(f);
-    return a;
-}
-
 static void run_couette(const char *dir, const char *steps, const char *restart_from,
                         struct run_result *r)
 {
@@ -144,7 +113,7 @@ static void run_couette(const char *dir, const char *steps, const char *restart_
             print_error("%s\n", err);
         assert_int_equal(rc, 0);
     } else {
-        load(&cs, COUETTE, 6, ov);
+        test_load_case(&cs, COUETTE, 6, ov);
     }
     struct run_options opt = {.write_output = 1, .restart_from = restart_from,
                               .modules = extra_modules};
@@ -157,8 +126,8 @@ static void run_couette(const char *dir, const char *steps, const char *restart_
 static void test_module_field_restart(void **state)
 {
     (void)state;
-    char base[] = "/tmp/muflow_arch_XXXXXX";
-    assert_non_null(mkdtemp(base));
+    char base[64];
+    test_tmp_make(base, sizeof base, "arch");
     char a[600], b[600], c[600], ck[700], fa[700], fb[700];
     snprintf(a, sizeof a, "%s/first", base);
     snprintf(b, sizeof b, "%s/continued", base);
@@ -169,7 +138,7 @@ static void test_module_field_restart(void **state)
     assert_true(r.checkpointed);
     snprintf(ck, sizeof ck, "%s/%s", a, CHECKPOINT_NAME);
     size_t n;
-    double *stored = read_dataset(ck, "tracer", &n); /* the module's field is in it */
+    double *stored = test_h5_file_dataset(ck, "tracer", &n); /* the module's field is in it */
     double sum = 0.0;
     for (size_t i = 0; i < n; i++)
         sum += stored[i];
@@ -185,7 +154,8 @@ static void test_module_field_restart(void **state)
     snprintf(fb, sizeof fb, "%s/%s", b, name);
     snprintf(fa, sizeof fa, "%s/%s", c, name);
     size_t nb, nc;
-    double *tb = read_dataset(fb, "tracer", &nb), *tc = read_dataset(fa, "tracer", &nc);
+    double *tb = test_h5_file_dataset(fb, "tracer", &nb);
+    double *tc = test_h5_file_dataset(fa, "tracer", &nc);
     assert_int_equal(nb, nc);
     double most = 0.0;
     for (size_t i = 0; i < nb; i++) {
@@ -196,36 +166,23 @@ static void test_module_field_restart(void **state)
                   "bit (max %.6g)\n", most);
     free(tb);
     free(tc);
-    char cmd[700];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", base);
-    assert_int_equal(system(cmd), 0);
+    test_tmp_remove(base);
 }
 
 /* A module that makes the density "variable" without changing its value:
  * the multigrid projection and the face-density mass term must give the
  * uniform path's flow (to the solvers' tolerances). */
-static int variable_create(struct march_state *st, void **state, char *err, size_t errlen)
-{
-    (void)state;
-    return march_density_changed(st, 0, err, errlen);
-}
-static const struct module variable_density = {.name = "variable", .create = variable_create};
-static const struct module *const variable_modules[] = {&variable_density, NULL};
-
 static void test_variable_coefficients(void **state)
 {
     (void)state;
     char *ov[] = {"domain.nx=8", "domain.nz=16", "solver.mode=transient", "solver.end_time=0.05",
                   "solver.dt=0.005", "physics.advection=on"};
     struct muflow_case cs;
-    load(&cs, COUETTE, 6, ov);
+    test_load_case(&cs, COUETTE, 6, ov);
     struct march_state u, v;
     char err[512];
     assert_int_equal(march_create(&u, &cs, err, sizeof err), 0);
-    int rc = march_create_with(&v, &cs, variable_modules, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_march_create(&v, &cs, test_variable_density);
     assert_true(u.density_uniform && !v.density_uniform);
     /* a perturbation that is not a steady flow: w varies along x */
     for (struct march_state *s = &u; s; s = s == &u ? &v : NULL)
@@ -234,12 +191,7 @@ static void test_variable_coefficients(void **state)
                 s->vel[2][grid_idx(&s->g, i, 0, k)] = 0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
     assert_int_equal(march_run(&u, NULL, NULL), STATUS_FINISHED);
     assert_int_equal(march_run(&v, NULL, NULL), STATUS_FINISHED);
-    double diff = 0.0, size = 0.0;
-    for (int c = 0; c < 3; c++)
-        for (size_t p = 0; p < u.g.size; p++) {
-            diff = fmax(diff, fabs(u.vel[c][p] - v.vel[c][p]));
-            size = fmax(size, fabs(u.vel[c][p]));
-        }
+    double size, diff = test_velocity_difference(&u, &v, &size);
     print_message("uniform density by the FFT and by the multigrid path: max |du| %.2e of %.3f\n",
                   diff, size);
     /* the multigrid-CG projection is solved to a relative residual of 1e-12 */
@@ -261,7 +213,7 @@ static void test_scene_section(void **state)
     assert_non_null(strstr(err, "unknown section heap"));
     assert_non_null(strstr(err, "case.scene = heap"));
     char *ok[] = {"heap.flow_rate=14.9", "heap.max_solves=7"};
-    load(&cs, "../cases/heap.ini", 2, ok);
+    test_load_case(&cs, "../cases/heap.ini", 2, ok);
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);

@@ -24,9 +24,7 @@
 static void run(int nov, char **ov, struct run_result *r, double *dz)
 {
     struct muflow_case cs;
-    char err[512];
-    assert_int_equal(case_load(&cs, CASE, nov, ov, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 0, r, err, sizeof err), 0);
+    test_run_case(CASE, nov, ov, &cs, r);
     *dz = cs.len[2] / cs.n[2];
     print_message("bedload: %s in %ld steps, err_rms %.4e, mobile layer %.7g (exact %.7g), "
                   "flow rate %.6g (exact %.6g)\n",
@@ -201,19 +199,11 @@ static void test_bad_input(void **state)
     };
     test_bad_overrides(CASE, bad, sizeof bad / sizeof bad[0]);
     /* the two-fluid model solves the plane flow only */
-    struct muflow_case cs;
-    char err[512];
     char *ov[] = {"bedload.model=two_fluid", "boundary.ylo=wall", "boundary.yhi=wall"};
-    assert_int_equal(case_load(&cs, CASE, 3, ov, err, sizeof err), 2);
-    print_message("%s\n", err);
-    assert_non_null(strstr(err, "bedload.model = two_fluid"));
-    assert_null(strchr(err, '\n'));
+    test_case_refused(CASE, 3, ov, "bedload.model = two_fluid");
     /* and the steady state only */
     char *ot[] = {"bedload.model=two_fluid", "solver.mode=transient", "solver.end_time=1"};
-    assert_int_equal(case_load(&cs, CASE, 3, ot, err, sizeof err), 2);
-    print_message("%s\n", err);
-    assert_non_null(strstr(err, "bedload.model = two_fluid"));
-    assert_null(strchr(err, '\n'));
+    test_case_refused(CASE, 3, ot, "bedload.model = two_fluid");
 }
 
 void group_bedload(struct test_tally *t)

@@ -1,6 +1,5 @@
 /* Bingham scenes: plane Poiseuille flow against its analytic plug profile,
  * the lid-driven cavity against published curves (cases/data). */
-#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -75,16 +74,21 @@ static void test_channel_lambda_and_regularisations(void **state)
         assert_true(channel_error(regs[m], 40, "1e-4") < 5e-3);
 }
 
-static void cavity(double bn_vola, struct run_result *r, struct muflow_case *cs)
+/* The cavity at Vola's Bn on n x n cells (max_steps 0: the case's), steady. */
+static void cavity(double bn_vola, int n, long max_steps, struct run_result *r,
+                   struct muflow_case *cs)
 {
-    char o1[64];
-    snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", bn_vola / sqrt(2.0));
-    char *ov[] = {"domain.nx=32", "domain.nz=32", o1};
-    test_run_case(CASES_DIR "bingham_cavity.ini", 3, ov, cs, r);
-    print_message("cavity 32x32 Bn(Vola) %-5g %s in %3ld steps: psi_max %.5f (Vola %.5f), "
-                  "err_midline %.4f\n",
-                  bn_vola, run_status_name(r->status), r->steps, r->errors.headline,
-                  r->errors.headline_exact, r->errors.err_rms);
+    char o[4][64];
+    snprintf(o[0], sizeof o[0], "domain.nx=%d", n);
+    snprintf(o[1], sizeof o[1], "domain.nz=%d", n);
+    snprintf(o[2], sizeof o[2], "rheology.yield_stress=%.17g", bn_vola / sqrt(2.0));
+    snprintf(o[3], sizeof o[3], "solver.max_steps=%ld", max_steps);
+    char *ov[] = {o[0], o[1], o[2], o[3]};
+    test_run_case(CASES_DIR "bingham_cavity.ini", max_steps ? 4 : 3, ov, cs, r);
+    print_message("cavity %dx%d Bn(Vola) %-5g %s in %3ld steps: residual %.3e, psi_max %.5f "
+                  "(Vola %.5f), err_midline %.4f\n",
+                  n, n, bn_vola, run_status_name(r->status), r->steps, r->residual,
+                  r->errors.headline, r->errors.headline_exact, r->errors.err_rms);
     assert_int_equal(r->status, STATUS_STEADY);
 }
 
@@ -100,7 +104,7 @@ static void test_cavity_against_vola(void **state)
     for (int m = 0; m < 3; m++) {
         struct muflow_case cs;
         struct run_result r;
-        cavity(bn[m], &r, &cs);
+        cavity(bn[m], 32, 0, &r, &cs);
         double ref = r.errors.headline_exact;
         if (bn[m] == 0.0) {
             assert_true(isnan(ref));
@@ -128,7 +132,7 @@ static void test_cavity_bn100(void **state)
     (void)state;
     struct muflow_case cs;
     struct run_result r;
-    cavity(100.0, &r, &cs);
+    cavity(100.0, 32, 0, &r, &cs);
     struct curve al;
     char err[256];
     assert_int_equal(reference_curve(cs.reference, "psi_max_al", 100.0, &al, err, sizeof err), 0);
@@ -149,15 +153,9 @@ static void test_cavity_bn100(void **state)
 static void test_cavity_bn1000_converges(void **state)
 {
     (void)state;
-    char o1[64];
-    snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", 1000.0 / sqrt(2.0));
-    char *ov[] = {"domain.nx=32", "domain.nz=32", o1, "solver.max_steps=300"};
     struct muflow_case cs;
     struct run_result r;
-    test_run_case(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
-    print_message("cavity 32x32 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
-                  run_status_name(r.status), r.steps, r.residual, r.errors.headline);
-    assert_int_equal(r.status, STATUS_STEADY);
+    cavity(1000.0, 32, 300, &r, &cs);
     assert_true(r.residual <= cs.tolerance);
     assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.0182);
 }
@@ -172,16 +170,9 @@ static void test_cavity_bn1000_converges(void **state)
 static void test_cavity_bn1000_64_enters_newton(void **state)
 {
     (void)state;
-    char o1[64];
-    snprintf(o1, sizeof o1, "rheology.yield_stress=%.17g", 1000.0 / sqrt(2.0));
-    char *ov[] = {"domain.nx=64", "domain.nz=64", o1, "solver.max_steps=120"};
     struct muflow_case cs;
     struct run_result r;
-    test_run_case(CASES_DIR "bingham_cavity.ini", 4, ov, &cs, &r);
-    print_message("cavity 64x64 Bn(Vola) 1000 %s in %ld steps: residual %.3e, psi_max %.3e\n",
-                  run_status_name(r.status), r.steps, r.residual, r.errors.headline);
-    assert_int_equal(r.status, STATUS_STEADY);
-    assert_true(r.steps <= 120);
+    cavity(1000.0, 64, 120, &r, &cs); /* steady: within max_steps = 120 */
 }
 
 /* solver.coupled: the cavity's velocity and pressure from one saddle-point
@@ -243,35 +234,27 @@ static void test_cavity_coupled(void **state)
 static void test_cavity_summary_keys(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/muflow_cavity_XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    char o1[600];
-    snprintf(o1, sizeof o1, "output.dir=%s", dir);
-    char *ov[] = {"domain.nx=16", "domain.nz=16", "rheology.yield_stress=0.70710678118654752", o1,
-                  "output.quiet=on"};
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "cavity");
+    char *ov[] = {"domain.nx=16", "domain.nz=16", "rheology.yield_stress=0.70710678118654752",
+                  dir.output, "output.quiet=on"};
     struct muflow_case cs;
     struct run_result r;
-    char err[512];
-    assert_int_equal(case_load(&cs, CASES_DIR "bingham_cavity.ini", 5, ov, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 1, &r, err, sizeof err), 0);
+    test_load_case(&cs, CASES_DIR "bingham_cavity.ini", 5, ov);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_STEADY);
-    char path[700], line[256];
-    snprintf(path, sizeof path, "%s/summary.ini", dir);
-    FILE *f = fopen(path, "r");
-    assert_non_null(f);
+    char *result = test_summary_result(dir.dir);
     int midline = 0, psi = 0, rms = 0;
-    while (fgets(line, sizeof line, f) && strncmp(line, "[case]", 6) != 0) {
+    for (char *line = strtok(result, "\n"); line; line = strtok(NULL, "\n")) {
         midline += strncmp(line, "err_midline = ", 14) == 0;
         psi += strncmp(line, "psi_max = ", 10) == 0;
         rms += strncmp(line, "err_rms = ", 10) == 0;
     }
-    fclose(f);
+    free(result);
     assert_int_equal(midline, 1);
     assert_int_equal(psi, 1);
     assert_int_equal(rms, 0);
-    char cmd[700];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    test_run_dir_remove(&dir);
 }
 
 void group_bingham(struct test_tally *t)

@@ -206,12 +206,8 @@ static void channel_case(struct muflow_case *cs, int nz, const char *extra)
                   "physics.advection=on", "rheology.law=newtonian", "rheology.viscosity=1",
                   "solver.mode=steady", "solver.tolerance=1e-13", "solver.max_steps=5000",
                   (char *)(extra ? extra : "")};
-    char err[512];
     int nov = (int)(sizeof ov / sizeof ov[0]) - (extra ? 0 : 1);
-    int rc = case_load(cs, "/dev/null", nov, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_load_case(cs, "/dev/null", nov, ov);
 }
 
 struct channel_errors {
@@ -289,11 +285,7 @@ static void channel_run(int nz, const struct module *const *extra, const char *k
                         struct channel_errors *e, struct muflow_case *cs, struct march_state *st)
 {
     channel_case(cs, nz, key);
-    char err[512];
-    int rc = march_create_with(st, cs, extra, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_march_create(st, cs, extra);
     enum run_status s = march_run(st, NULL, NULL);
     channel_measure(st, e);
     print_message("channel nz %d%s%s%s: %s in %ld steps; |u - discrete| %.1e, |w| %.1e, dp/dx %.1e, "
@@ -330,27 +322,6 @@ static void test_poiseuille_channel(void **state)
     assert_true(order > 1.9 && order < 2.1);
 }
 
-/* The multigrid projection with Dirichlet faces: a module declares the
- * density variable (its value unchanged), so the projection goes to the
- * multigrid-preconditioned CG; the flow must be the FFT's. */
-static int variable_create(struct march_state *st, void **state, char *err, size_t errlen)
-{
-    (void)state;
-    return march_density_changed(st, 0, err, errlen);
-}
-static const struct module variable_density = {.name = "variable", .create = variable_create};
-static const struct module *const variable_modules[] = {&variable_density, NULL};
-
-/* max |u - v| over the three components */
-static double velocity_difference(const struct march_state *a, const struct march_state *b)
-{
-    double diff = 0.0;
-    for (int c = 0; c < 3; c++)
-        for (size_t p = 0; p < a->g.size; p++)
-            diff = fmax(diff, fabs(a->vel[c][p] - b->vel[c][p]));
-    return diff;
-}
-
 /* The solvers that read the boundary kinds give one flow: the projection
  * by the FFT and by the multigrid (Dirichlet faces both), the implicit step
  * preconditioned by the probed LU (auto here), the line blocks and the
@@ -367,18 +338,21 @@ static void test_channel_solvers(void **state)
     struct march_state a, b;
     channel_run(8, no_modules, NULL, &e, &ca, &a);
     assert_int_equal(a.precond, VISCOUS_LU);
-    channel_run(8, variable_modules, NULL, &f, &cb, &b);
+    /* the multigrid projection with Dirichlet faces: the density declared
+     * variable (its value unchanged), so the projection goes to the
+     * multigrid-preconditioned CG; the flow must be the FFT's */
+    channel_run(8, test_variable_density, NULL, &f, &cb, &b);
     assert_true(a.density_uniform && !b.density_uniform);
     assert_true(f.u_discrete < CHANNEL_TOL && f.dpdx < CHANNEL_TOL && f.outlet_p < CHANNEL_TOL);
     assert_true(f.divergence < DIV_TOL);
-    double diff = velocity_difference(&a, &b);
+    double diff = test_velocity_difference(&a, &b, NULL);
     print_message("channel by the FFT and by the multigrid projection: max |du| %.2e\n", diff);
     assert_true(diff < CHANNEL_TOL);
     march_destroy(&b);
     for (int m = 0; m < 3; m++) {
         channel_run(8, no_modules, keys[m], &f, &cb, &b);
         assert_true(f.u_discrete < CHANNEL_TOL && f.outlet_p < CHANNEL_TOL);
-        diff = velocity_difference(&a, &b);
+        diff = test_velocity_difference(&a, &b, NULL);
         print_message("channel, %s against lu: max |du| %.2e\n", keys[m], diff);
         assert_true(diff < CHANNEL_TOL);
         march_destroy(&b);
@@ -401,13 +375,8 @@ static void chute_run(int nz, const char *ends, const char *law, const char *cou
     char *ov[] = {o[0], o[1], o[2], o[3], "solver.max_steps=400", (char *)coupled, (char *)law,
                   "rheology.viscosity=10"};
     int nov = law ? 8 : 6;
-    char err[512];
-    int rc = case_load(cs, "../cases/chute.ini", nov, ov, err, sizeof err);
-    if (rc == 0)
-        rc = march_create(st, cs, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_load_case(cs, "../cases/chute.ini", nov, ov);
+    test_march_create(st, cs, NULL);
     enum run_status s = march_run(st, NULL, NULL);
     print_message("chute %s, nz %d, ends %s, %s: %s in %ld steps\n", law ? law : "mu(I)", nz,
                   ends, coupled, run_status_name(s), st->step);
@@ -515,10 +484,7 @@ static void collapse_top(const char *top, struct top_trace *tr, struct run_resul
     char *ov[] = {"domain.nx=80", "domain.nz=24", "solver.end_time=1", o};
     struct muflow_case cs;
     char err[512];
-    int rc = case_load(&cs, "../cases/collapse.ini", 4, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_load_case(&cs, "../cases/collapse.ini", 4, ov);
     memset(tr, 0, sizeof *tr);
     struct run_options opt = {.write_output = 0, .hook = top_hook, .hook_ctx = tr};
     assert_int_equal(run_case_opts(&cs, &opt, r, err, sizeof err), 0);
@@ -565,12 +531,7 @@ static void bagnold2_top(const char *top, struct run_result *r)
     snprintf(o, sizeof o, "boundary.zhi=%s", top);
     char *ov[] = {"domain.nx=4", "domain.nz=50", o};
     struct muflow_case cs;
-    char err[512];
-    int rc = case_load(&cs, "../cases/bagnold2.ini", 3, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    assert_int_equal(run_case(&cs, 0, r, err, sizeof err), 0);
+    test_run_case("../cases/bagnold2.ini", 3, ov, &cs, r);
     print_message("bagnold2 4 x 50, top %s: %s in %ld steps, err_rms %.6e, divergence %.1e\n", top,
                   run_status_name(r->status), r->steps, r->errors.err_rms,
                   r->divergence);

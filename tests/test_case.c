@@ -1080,16 +1080,8 @@ static void test_docs_key_order(void **state)
 static void test_list_command(void **state)
 {
     (void)state;
-    FILE *p = popen("../build/muflow --list", "r");
-    assert_non_null(p);
-    size_t cap = 1 << 16, len = 0;
-    char *out = malloc(cap);
-    assert_non_null(out);
-    size_t got;
-    while ((got = fread(out + len, 1, cap - 1 - len, p)) > 0)
-        len += got;
-    out[len] = '\0';
-    assert_int_equal(pclose(p), 0);
+    char *out;
+    assert_int_equal(test_sh("../build/muflow --list", &out), 0);
     for (int sc = 0; sc < scene_count(); sc++) {
         char line[256];
         snprintf(line, sizeof line, "  %-16s %s\n", scene_at(sc)->name, scene_at(sc)->title);

@@ -15,9 +15,8 @@
  * the first one's files, and the command line's interruption: the resume
  * line for a run that can continue (the collapse), what to do instead for
  * one that cannot (the heap's search, the cylinder's continuation). */
-#define _GNU_SOURCE /* F_SETPIPE_SZ; mkdtemp, popen, kill */
+#define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include <dirent.h>
-#include <fcntl.h>
 #include <hdf5.h>
 #include <limits.h>
 #include <math.h>
@@ -25,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include "app/run.h"
@@ -141,8 +139,9 @@ static void shipped_runs(void)
     for (int i = 0; i < NSHIPPED; i++) {
         const struct shipped *s = &shipped[i];
         struct runs *w = &runs[i];
-        snprintf(w->dir, sizeof w->dir, "/tmp/muflow_cases_%.20s_XXXXXX", s->tag);
-        assert_non_null(mkdtemp(w->dir));
+        char tag[32];
+        snprintf(tag, sizeof tag, "cases_%.20s", s->tag);
+        test_tmp_make(w->dir, sizeof w->dir, tag);
         snprintf(w->a, sizeof w->a, "%.63s/a", w->dir);
         snprintf(w->b, sizeof w->b, "%.63s/b", w->dir);
         char end[64], stop[64];
@@ -181,63 +180,6 @@ static int teardown(void **state)
             return -1;
     }
     return 0;
-}
-
-/* ---------------------------------------------------------------------- */
-/* file helpers */
-
-static char *read_in(const char *dir, const char *name)
-{
-    char path[256];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    return test_read_file(path, NULL);
-}
-
-/* summary.ini's [result] section but its wall_seconds line. */
-static char *result_section(const char *dir)
-{
-    char *s = read_in(dir, "summary.ini");
-    char *start = strstr(s, "[result]\n");
-    assert_non_null(start);
-    char *end = strstr(start, "\n\n");
-    assert_non_null(end);
-    end[1] = '\0';
-    char *w = strstr(start, "\nwall_seconds = ");
-    assert_non_null(w);
-    char *eol = strchr(w + 1, '\n');
-    memmove(w, eol, strlen(eol) + 1);
-    char *out = strdup(start);
-    free(s);
-    return out;
-}
-
-/* A CSV with the columns whose header starts with "wall" emptied (the
- * wall time of the process that wrote the row). */
-static char *without_wall(char *csv)
-{
-    int wall[64] = {0}, col = 0, row0 = 1;
-    char *out = malloc(strlen(csv) + 1), *o = out;
-    assert_non_null(out);
-    for (char *p = csv; *p;) {
-        size_t len = strcspn(p, ",\n");
-        if (row0 && col < 64)
-            wall[col] = strncmp(p, "wall", 4) == 0;
-        if (row0 || col >= 64 || !wall[col]) {
-            memcpy(o, p, len);
-            o += len;
-        }
-        p += len;
-        if (*p == ',') {
-            *o++ = *p++;
-            col++;
-        } else if (*p == '\n') {
-            *o++ = *p++;
-            col = 0;
-            row0 = 0;
-        }
-    }
-    *o = '\0';
-    return out;
 }
 
 /* ---------------------------------------------------------------------- */
@@ -301,7 +243,7 @@ static void test_continued_as_uninterrupted(void **state)
             assert_false(w->ra.restartable);
             continue;
         }
-        char *x = result_section(w->a), *y = result_section(w->b);
+        char *x = test_summary_result(w->a), *y = test_summary_result(w->b);
         if (strcmp(x, y) != 0)
             print_error("%s: the continued run's [result]\n%s\nthe uninterrupted one's\n%s\n",
                         s->tag, y, x);
@@ -314,13 +256,11 @@ static void test_continued_as_uninterrupted(void **state)
             snprintf(path, sizeof path, "%s/%s", w->a, *f);
             if (access(path, F_OK) != 0)
                 continue; /* not written by this run (growth.csv of a steady one) */
-            char *ca = read_in(w->a, *f), *cb = read_in(w->b, *f);
-            char *fa = without_wall(ca), *fb = without_wall(cb);
+            char *fa = test_read_csv_without_wall(w->a, *f);
+            char *fb = test_read_csv_without_wall(w->b, *f);
             if (strcmp(fa, fb) != 0)
                 print_error("%s: %s differs after the continuation\n", s->tag, *f);
             assert_string_equal(fa, fb);
-            free(ca);
-            free(cb);
             free(fa);
             free(fb);
         }
@@ -343,14 +283,11 @@ static void test_summary_strict_ini(void **state)
                         "c.read(sys.argv[1])\n"
                         "print(len(c[\"result\"]), len(c[\"case\"]))' '%s/summary.ini' 2>&1",
                  runs[i].a);
-        FILE *p = popen(cmd, "r");
-        assert_non_null(p);
-        char out[2048];
-        size_t n = fread(out, 1, sizeof out - 1, p);
-        out[n] = '\0';
-        int rc = pclose(p);
+        char *out;
+        int rc = test_sh(cmd, &out);
         print_message("%s: summary.ini: %s", shipped[i].tag, out);
         assert_int_equal(rc, 0);
+        free(out);
     }
 }
 
@@ -361,7 +298,7 @@ static void test_result_values(void **state)
     (void)state;
     shipped_runs();
     for (int i = 0; i < NSHIPPED; i++) {
-        char *s = read_in(runs[i].a, "summary.ini");
+        char *s = test_read_in(runs[i].a, "summary.ini");
         char *line = strstr(s, "[result]\n");
         assert_non_null(line);
         int lines = 0;
@@ -394,13 +331,14 @@ static void test_result_values(void **state)
     assert_true(run_result_value(&runs[0].ra, "steps") == (double)runs[0].ra.steps);
 }
 
-static const struct runs *runs_of(const char *tag)
+/* The index of the shipped case tag. */
+static int shipped_index(const char *tag)
 {
-    for (int i = 0; i < NSHIPPED; i++)
-        if (strcmp(shipped[i].tag, tag) == 0)
-            return &runs[i];
-    fail();
-    return NULL;
+    int i = 0;
+    while (i < NSHIPPED && strcmp(shipped[i].tag, tag) != 0)
+        i++;
+    assert_true(i < NSHIPPED);
+    return i;
 }
 
 /* The forces are named for what they hold: drag_force along the flow
@@ -412,7 +350,7 @@ static void test_summary_force_names(void **state)
 {
     (void)state;
     shipped_runs();
-    const struct run_result *c = &runs_of("cylinder")->ra;
+    const struct run_result *c = &runs[shipped_index("cylinder")].ra;
     assert_int_equal(c->status, STATUS_STEADY);
     double drag = run_result_value(c, "drag_force");
     print_message("cylinder: drag_force %.10g (drag_surface %.10g), control volume %.10g (drag "
@@ -425,12 +363,13 @@ static void test_summary_force_names(void **state)
     assert_true(run_result_value(c, "drag_force_control_volume") == run_result_value(c, "drag"));
     assert_true(run_result_value(c, "lift_force") == 0.0);
     assert_true(run_result_value(c, "lift_force_control_volume") == 0.0);
-    const struct run_result *b = &runs_of("cylinder_benchmark")->ra; /* the flow along +x */
+    /* the flow along +x */
+    const struct run_result *b = &runs[shipped_index("cylinder_benchmark")].ra;
     assert_true(run_result_value(b, "drag_force") > 0.0);
     assert_true(run_result_value(b, "drag_coefficient") > 0.0);
     const char *ducts[] = {"duct_circular", "duct_circular_two_fluid"};
     for (int m = 0; m < 2; m++) {
-        const struct run_result *d = &runs_of(ducts[m])->ra;
+        const struct run_result *d = &runs[shipped_index(ducts[m])].ra;
         for (int i = 0; i < d->nvalues; i++)
             if (strstr(d->values[i].key, "force"))
                 print_error("%s: %s = %s\n", ducts[m], d->values[i].key, d->values[i].text);
@@ -450,7 +389,7 @@ static void test_checkpoint_without_module_state(void **state)
     shipped_runs();
     const char *tags[] = {"bagnold2", "collapse"};
     for (int m = 0; m < 2; m++) {
-        const struct runs *w = runs_of(tags[m]);
+        const struct runs *w = &runs[shipped_index(tags[m])];
         char ck[200], old[200], cmd[512], err[1024];
         snprintf(ck, sizeof ck, "%s/%s", w->b, CHECKPOINT_NAME);
         snprintf(old, sizeof old, "%s/earlier.h5", w->dir);
@@ -516,12 +455,11 @@ static void test_run_files_cover_every_case(void **state)
  * is left (duct_circular's midplane.csv and obstacle_surface.csv under a
  * collapse, the collapse's collapse.csv and surface.csv under bagnold),
  * a file of the user's is. */
-static void one_after_another(const struct shipped *a, const struct shipped *b,
-                              const char *const gone[])
+static void one_after_another(const char *a_tag, const char *b_tag, const char *const gone[])
 {
+    const struct shipped *a = &shipped[shipped_index(a_tag)], *b = &shipped[shipped_index(b_tag)];
     char dir[64];
-    snprintf(dir, sizeof dir, "/tmp/muflow_cases_after_XXXXXX");
-    assert_non_null(mkdtemp(dir));
+    test_tmp_make(dir, sizeof dir, "cases_after");
     struct muflow_case cs;
     struct run_result r;
     load(a, dir, "solver.max_steps=3", &cs);
@@ -545,18 +483,7 @@ static void one_after_another(const struct shipped *a, const struct shipped *b,
     }
     snprintf(path, sizeof path, "%s/notes.txt", dir);
     assert_int_equal(access(path, F_OK), 0);
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-static const struct shipped *shipped_tag(const char *tag)
-{
-    for (int i = 0; i < NSHIPPED; i++)
-        if (strcmp(shipped[i].tag, tag) == 0)
-            return &shipped[i];
-    fail();
-    return NULL;
+    test_tmp_remove(dir);
 }
 
 static void test_one_scene_after_another(void **state)
@@ -565,65 +492,21 @@ static void test_one_scene_after_another(void **state)
     const char *const duct[] = {"midplane.csv", "obstacle_surface.csv", NULL};
     const char *const collapse[] = {"collapse.csv", "surface.csv", NULL};
     const char *const heap[] = {"heap.csv", NULL};
-    one_after_another(shipped_tag("duct_circular"), shipped_tag("collapse"), duct);
-    one_after_another(shipped_tag("collapse"), shipped_tag("bagnold"), collapse);
-    one_after_another(shipped_tag("heap"), shipped_tag("bedload"), heap);
+    one_after_another("duct_circular", "collapse", duct);
+    one_after_another("collapse", "bagnold", collapse);
+    one_after_another("heap", "bedload", heap);
 }
 
 /* ---------------------------------------------------------------------- */
 /* the command line, interrupted */
 
-static void muflow_bin(char *out, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
-    assert_true(n > 0);
-    out[n] = '\0';
-    strcpy(strrchr(out, '/'), "/muflow"); /* the binary of this build */
-}
-
-/* Runs muflow with args (NULL-terminated), reading its stdout through a
- * one-page pipe; once a line containing `when` has been read, sends SIGINT
- * (when NULL: none).  Returns the exit status; the output in out. */
+/* muflow with args, SIGINT once a line containing `when` has been read
+ * (NULL: none); its exit status, its stdout in out. */
 static int run_cli(char *const args[], const char *when, char *out, size_t len)
 {
-    int fd[2];
-    assert_int_equal(pipe(fd), 0);
-    assert_true(fcntl(fd[0], F_SETPIPE_SZ, 4096) >= 0); /* the child stays close behind */
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        dup2(fd[1], 1);
-        close(fd[0]);
-        close(fd[1]);
-        execv(args[0], args);
-        _exit(127);
-    }
-    close(fd[1]);
-    FILE *f = fdopen(fd[0], "r");
-    assert_non_null(f);
-    setvbuf(f, NULL, _IONBF, 0);
-    char line[512];
-    size_t used = 0;
-    int sent = 0;
-    out[0] = '\0';
-    while (fgets(line, sizeof line, f)) {
-        size_t l = strlen(line);
-        if (used + l < len) {
-            memcpy(out + used, line, l + 1);
-            used += l;
-        }
-        if (when && !sent && strstr(line, when)) {
-            kill(pid, SIGINT);
-            sent = 1;
-        }
-    }
-    fclose(f);
-    int status;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    assert_true(!when || sent);
-    assert_true(WIFEXITED(status));
-    return WEXITSTATUS(status);
+    int st = test_cli(args, when, when ? SIGINT : 0, out, len);
+    assert_true(WIFEXITED(st));
+    return WEXITSTATUS(st);
 }
 
 /* The collapse, interrupted: "resume with: muflow --restart DIR", and that
@@ -632,9 +515,8 @@ static void test_cli_collapse_resumes(void **state)
 {
     (void)state;
     char bin[PATH_MAX], dir[64], oa[128], ob[128], out[1 << 16];
-    muflow_bin(bin, sizeof bin);
-    snprintf(dir, sizeof dir, "/tmp/muflow_cases_cli_XXXXXX");
-    assert_non_null(mkdtemp(dir));
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "cases_cli");
     snprintf(oa, sizeof oa, "output.dir=%s/a", dir);
     snprintf(ob, sizeof ob, "output.dir=%s/b", dir);
     char *a[] = {bin, CASES_DIR "collapse.ini", "domain.nx=40", "domain.nz=12",
@@ -654,15 +536,29 @@ static void test_cli_collapse_resumes(void **state)
     assert_non_null(strstr(out, "finished after 150 steps"));
     const char *files[] = {"collapse.csv", "surface.csv"};
     for (int m = 0; m < 2; m++) {
-        char *x = read_in(oa + strlen("output.dir="), files[m]);
-        char *y = read_in(ob + strlen("output.dir="), files[m]);
+        char *x = test_read_in(oa + strlen("output.dir="), files[m]);
+        char *y = test_read_in(ob + strlen("output.dir="), files[m]);
         assert_string_equal(x, y);
         free(x);
         free(y);
     }
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    test_tmp_remove(dir);
+}
+
+/* muflow with args, interrupted once a line containing `when` has been
+ * read: exit status 3, no resume line (--restart would refuse it), the
+ * interruption during `during` and what to do instead (`instead`). */
+static void interrupted_without_resume(char *const args[], const char *when, const char *during,
+                                       const char *instead)
+{
+    char out[1 << 16], said[128];
+    assert_int_equal(run_cli(args, when, out, sizeof out), 3);
+    const char *why = strstr(out, "muflow: interrupted");
+    print_message("%s", why ? why : out);
+    assert_null(strstr(out, "resume with"));
+    snprintf(said, sizeof said, "muflow: interrupted by SIGINT during %s", during);
+    assert_non_null(strstr(out, said));
+    assert_non_null(strstr(out, instead));
 }
 
 /* The heap's tilt search and the cylinder's continuation, interrupted: no
@@ -671,18 +567,12 @@ static void test_cli_search_interrupted(void **state)
 {
     (void)state;
     char bin[PATH_MAX], dir[64], od[128], out[1 << 16];
-    muflow_bin(bin, sizeof bin);
-    snprintf(dir, sizeof dir, "/tmp/muflow_cases_cli_XXXXXX");
-    assert_non_null(mkdtemp(dir));
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "cases_cli");
     snprintf(od, sizeof od, "output.dir=%s/heap", dir);
     char *heap[] = {bin, CASES_DIR "heap.ini", "domain.ny=14", "domain.nz=20",
                     "solver.progress_interval=0", od, NULL};
-    assert_int_equal(run_cli(heap, "step      3 ", out, sizeof out), 3);
-    print_message("%s", strstr(out, "muflow: interrupted") ? strstr(out, "muflow: interrupted")
-                                                          : out);
-    assert_null(strstr(out, "resume with"));
-    assert_non_null(strstr(out, "muflow: interrupted by SIGINT during the tilt search"));
-    assert_non_null(strstr(out, "can start a new search"));
+    interrupted_without_resume(heap, "step      3 ", "the tilt search", "can start a new search");
     char *rh[] = {bin, "--restart", od + strlen("output.dir="), NULL};
     assert_int_equal(run_cli(rh, NULL, out, sizeof out), 2);
 
@@ -690,15 +580,8 @@ static void test_cli_search_interrupted(void **state)
     char *cyl[] = {bin, CASES_DIR "cylinder.ini", "domain.nx=20", "domain.nz=60",
                    "rheology.lambda=1e-2", "solver.continuation=1", "cylinder.forcing_end=1.4",
                    "solver.progress_interval=0", od, NULL};
-    assert_int_equal(run_cli(cyl, "cylinder: F 1 ", out, sizeof out), 3);
-    print_message("%s", strstr(out, "muflow: interrupted") ? strstr(out, "muflow: interrupted")
-                                                          : out);
-    assert_null(strstr(out, "resume with"));
-    assert_non_null(strstr(out, "muflow: interrupted by SIGINT during the continuation"));
-    assert_non_null(strstr(out, "solver.initial_state"));
-    char cmd[128];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    interrupted_without_resume(cyl, "cylinder: F 1 ", "the continuation", "solver.initial_state");
+    test_tmp_remove(dir);
 }
 
 void group_cases(struct test_tally *t)

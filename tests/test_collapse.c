@@ -3,7 +3,6 @@
  * t = 4: the front x_f(t) against the Basilisk reference of
  * cases/data/lagree2011_collapse.csv at t = 0..4, the grains' volume to
  * round-off and 0 <= T <= 1; then the rest criterion, and bad input. */
-#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -99,15 +98,6 @@ static double trace_at(const struct trace *tr, double t)
     return NAN;
 }
 
-static void load(struct muflow_case *cs, int n, char *ov[])
-{
-    char err[512];
-    int rc = case_load(cs, CASE, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
 /* a = 0.5 on 16 cells per H0 to t = 4 with the overrides extra: the
  * largest |x_f - reference| over t <= 2 and over all five times, and the
  * trace; the grains' volume and T's bounds asserted. */
@@ -118,7 +108,7 @@ static void front_run(int nextra, char *extra[], double *early, double *worst,
     for (int m = 0; m < nextra; m++)
         ov[4 + m] = extra[m];
     struct muflow_case cs;
-    load(&cs, 4 + nextra, ov);
+    test_load_case(&cs, CASE, 4 + nextra, ov);
     struct run_options opt = {.write_output = 0, .hook = hook, .hook_ctx = tr};
     struct run_result r;
     char err[512];
@@ -256,10 +246,8 @@ static void test_comes_to_rest(void **state)
     char *ov[] = {"domain.nx=40", "domain.nz=12", "domain.ly=0.125", "solver.end_time=30",
                   "collapse.rest_energy=1e-2"};
     struct muflow_case cs;
-    load(&cs, 5, ov);
     struct run_result r;
-    char err[512];
-    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    test_run_case(CASE, 5, ov, &cs, &r);
     print_message("collapse 8/H0: %s at t = %.3f: %s\n", run_status_name(r.status), r.time,
                   r.message);
     assert_int_equal(r.status, STATUS_FINISHED);
@@ -283,10 +271,8 @@ static void test_pressure_solves(void **state)
     (void)state;
     char *ov[] = {"solver.end_time=0.1"};
     struct muflow_case cs;
-    load(&cs, 1, ov);
     struct run_result r;
-    char err[512];
-    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    test_run_case(CASE, 1, ov, &cs, &r);
     print_message("collapse 32/H0, 10 steps: %ld multigrid-CG iterations, %ld unconverged\n",
                   r.pressure_iterations, r.pressure_unconverged);
     assert_int_equal(r.steps, 10);
@@ -333,14 +319,14 @@ static void watch_hook(void *vctx, const struct march_state *st)
 static void test_record_while_running(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/muflow_collapse_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    test_tmp_make(dir, sizeof dir, "collapse");
     char odir[600];
     snprintf(odir, sizeof odir, "output.dir=%s/run", dir);
     char *ov[] = {"domain.nx=40", "domain.nz=12", "domain.ly=0.125", "solver.end_time=0.3",
                   "solver.progress_interval=0", "output.quiet=on", "output.fields=off", odir};
     struct muflow_case cs;
-    load(&cs, 8, ov);
+    test_load_case(&cs, CASE, 8, ov);
     char run_dir[600];
     snprintf(run_dir, sizeof run_dir, "%s/run", dir);
     struct watch w = {.dir = run_dir};
@@ -356,9 +342,7 @@ static void test_record_while_running(void **state)
     assert_int_equal(w.final_rows, 0);
     assert_int_equal(count_lines(run_dir, "collapse.csv", NULL) - 1, r.steps + 1);
     assert_true(count_lines(run_dir, "surface.csv", ",1,") == 40);
-    char cmd[700];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    assert_int_equal(system(cmd), 0);
+    test_tmp_remove(dir);
 }
 
 static void test_bad_input(void **state)
@@ -400,7 +384,7 @@ static void test_transport_failure(void **state)
     (void)state;
     char *ov[] = {"domain.nx=40", "domain.nz=12", "domain.ly=0.125", "collapse.rest_energy=0"};
     struct muflow_case cs;
-    load(&cs, 4, ov);
+    test_load_case(&cs, CASE, 4, ov);
     const struct module *const extra[] = {&failing_module, NULL};
     struct run_options opt = {.write_output = 0, .modules = extra};
     struct run_result r;

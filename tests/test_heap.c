@@ -10,15 +10,6 @@
 
 #define HEAP_CASE "../cases/heap.ini"
 
-static void load(struct muflow_case *cs, int n, char *ov[])
-{
-    char err[512];
-    int rc = case_load(cs, HEAP_CASE, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
 /* Q* = 40.2 on 14 x 20 cells (dy = 5 d, dz = 2.5 d).
  * - The search must meet its own criterion: |Q* / 40.2 - 1| <= 1e-3.
  * - The tilt must lie where a steady flow exists, tan between mu_s and
@@ -40,10 +31,8 @@ static void test_search_coarse(void **state)
     (void)state;
     char *ov[] = {"domain.ny=14", "domain.nz=20"};
     struct muflow_case cs;
-    load(&cs, 2, ov);
     struct run_result r;
-    char err[512];
-    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    test_run_case(HEAP_CASE, 2, ov, &cs, &r);
     /* the scene's summary lines (heap.c: results) */
     double tilt = run_result_value(&r, "tilt"), q = run_result_value(&r, "flow_rate");
     double depth_mid = run_result_value(&r, "depth_mid");
@@ -72,7 +61,7 @@ static void test_layer_shape(void **state)
     (void)state;
     char *ov[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0", "physics.tilt=0.405"};
     struct muflow_case cs;
-    load(&cs, 4, ov);
+    test_load_case(&cs, HEAP_CASE, 4, ov);
     struct march_state st;
     char err[512];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
@@ -111,10 +100,8 @@ static void test_not_bracketed(void **state)
     char *ov[] = {"domain.ny=14", "domain.nz=20", "heap.tilt_min=0.38", "heap.tilt_max=0.39",
                   "heap.flow_rate=90.1"};
     struct muflow_case cs;
-    load(&cs, 5, ov);
     struct run_result r;
-    char err[512];
-    assert_int_equal(run_case(&cs, 0, &r, err, sizeof err), 0);
+    test_run_case(HEAP_CASE, 5, ov, &cs, &r);
     print_message("heap not bracketed: %s: %s\n", run_status_name(r.status), r.message);
     assert_int_not_equal(r.status, STATUS_STEADY);
     assert_true(run_result_value(&r, "solves") == 2);
@@ -125,9 +112,7 @@ static void test_not_bracketed(void **state)
 static void test_bad_input(void **state)
 {
     (void)state;
-    struct {
-        const char *override, *named;
-    } bad[] = {
+    static const char *const bad[][2] = {
         {"boundary.yhi=wall", "boundary.yhi"},
         {"boundary.zhi=wall", "boundary.zhi"},
         {"heap.tilt_min=0.45", "heap.tilt_min"},
@@ -135,15 +120,7 @@ static void test_bad_input(void **state)
         {"heap.depth_fraction=1.5", "heap.depth_fraction"},
         {"heap.max_solves=1", "heap.max_solves"},
     };
-    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        char *ov[] = {(char *)bad[i].override};
-        struct muflow_case cs;
-        char err[512] = "";
-        int rc = case_load(&cs, HEAP_CASE, 1, ov, err, sizeof err);
-        print_message("%-26s -> %s\n", bad[i].override, err);
-        assert_int_equal(rc, 2);
-        assert_non_null(strstr(err, bad[i].named));
-    }
+    test_bad_overrides(HEAP_CASE, bad, sizeof bad / sizeof bad[0]);
 }
 
 void group_heap(struct test_tally *t)

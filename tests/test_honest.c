@@ -2,12 +2,11 @@
  * the automatic preconditioner works on every grid, a run that misses its
  * goal can be continued, a blow-up stops at once with a sane state, memory is
  * estimated before it is allocated, warnings are not hidden by quiet. */
-#define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
+#define _POSIX_C_SOURCE 200809L /* setenv */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 #include "scenes/scene.h"
 #include "march/march.h"
@@ -18,27 +17,18 @@
 
 #define CASES_DIR "../cases/"
 
-static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
-{
-    char err[512];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
 /* On one thread: the thin profile grids run faster there (about 200 parallel
  * regions a step for a few hundred cells), and the machine is shared. */
-static void run(const struct muflow_case *cs, struct run_result *r)
+static void run_one_thread(const struct muflow_case *cs, int write_output, struct run_result *r)
 {
-    char err[512];
+    char err[1024];
     int threads = omp_get_max_threads();
     omp_set_num_threads(1);
-    int rc = run_case(cs, 0, r, err, sizeof err);
+    int rc = run_case(cs, write_output, r, err, sizeof err);
     omp_set_num_threads(threads);
-    if (rc != 0)
+    if (rc != RUN_OK)
         print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    assert_int_equal(rc, RUN_OK);
 }
 
 /* From a small pseudo-time step the march follows the physical start-up of
@@ -50,9 +40,9 @@ static void test_startup_is_not_a_stall(void **state)
     (void)state;
     struct muflow_case cs;
     char *ov[] = {"domain.nz=10", "solver.dt=0.003"};
-    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 2, ov);
     struct run_result r;
-    run(&cs, &r);
+    run_one_thread(&cs, 0, &r);
     print_message("bagnold H/10 from dt 0.003: %s after %ld steps: %s\n",
                   run_status_name(r.status), r.steps, r.message);
     assert_int_equal(r.status, STATUS_STEADY);
@@ -72,11 +62,11 @@ static void test_climbing_start_is_not_a_stall(void **state)
     char *ov[] = {"domain.ny=60", "domain.nz=120", "output.fields=off",
                   "solver.newton_below=1e-3"};
     struct muflow_case cs, cd;
-    load(&cs, CASES_DIR "duct_square.ini", 4, ov);
-    load(&cd, CASES_DIR "duct_square.ini", 3, ov);
+    test_load_case(&cs, CASES_DIR "duct_square.ini", 4, ov);
+    test_load_case(&cd, CASES_DIR "duct_square.ini", 3, ov);
     struct run_result r, d;
-    run(&cs, &r);
-    run(&cd, &d);
+    run_one_thread(&cs, 0, &r);
+    run_one_thread(&cd, 0, &d);
     print_message("square duct 60 x 120, newton_below 1e-3: %s after %ld steps: %s; "
                   "the case's newton_below: %ld steps\n",
                   run_status_name(r.status), r.steps, r.message, d.steps);
@@ -96,9 +86,9 @@ static void test_cut_steps_are_not_a_stall(void **state)
     struct muflow_case cs;
     char *ov[] = {"domain.ny=240", "rheology.lambda=1e-8",
                   "rheology.regularisation=papanastasiou"};
-    load(&cs, CASES_DIR "chute.ini", 3, ov);
+    test_load_case(&cs, CASES_DIR "chute.ini", 3, ov);
     struct run_result r;
-    run(&cs, &r);
+    run_one_thread(&cs, 0, &r);
     print_message("papanastasiou chute b/240, lambda 1e-8: %s after %ld steps: %s\n",
                   run_status_name(r.status), r.steps, r.message);
     assert_int_equal(r.status, STATUS_STEADY);
@@ -113,9 +103,9 @@ static void test_true_acceleration_still_said(void **state)
     (void)state;
     struct muflow_case cs;
     char *ov[] = {"domain.nz=10", "physics.tilt=0.6"};
-    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 2, ov);
     struct run_result r;
-    run(&cs, &r);
+    run_one_thread(&cs, 0, &r);
     print_message("bagnold tilt 0.6: %s after %ld steps: %s\n", run_status_name(r.status),
                   r.steps, r.message);
     assert_int_equal(r.status, STATUS_UNSTEADY);
@@ -135,17 +125,13 @@ static void test_auto_preconditioner(void **state)
     for (int m = 0; m < 2; m++) {
         struct muflow_case cs;
         char *ov[] = {(char *)sizes[m][0], (char *)sizes[m][1], "domain.nz=10"};
-        load(&cs, CASES_DIR "bagnold.ini", 3, ov);
+        test_load_case(&cs, CASES_DIR "bagnold.ini", 3, ov);
         struct march_state st;
-        char err[512];
-        int rc = march_create(&st, &cs, err, sizeof err);
-        if (rc != 0)
-            print_error("%s\n", err);
-        assert_int_equal(rc, 0);
+        test_march_create(&st, &cs, NULL);
         assert_int_equal(st.precond, VISCOUS_LINE);
         march_destroy(&st);
         struct run_result r;
-        run(&cs, &r);
+        run_one_thread(&cs, 0, &r);
         print_message("bagnold %s %s nz=10: %s after %ld steps, err_rms %.4e\n", sizes[m][0],
                       sizes[m][1], run_status_name(r.status), r.steps, r.errors.err_rms);
         assert_int_equal(r.status, STATUS_STEADY);
@@ -154,7 +140,7 @@ static void test_auto_preconditioner(void **state)
     }
     struct muflow_case cs;
     char *ov[] = {"domain.nx=16", "domain.nz=16"};
-    load(&cs, CASES_DIR "bingham_cavity.ini", 2, ov);
+    test_load_case(&cs, CASES_DIR "bingham_cavity.ini", 2, ov);
     struct march_state st;
     char err[512];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
@@ -162,60 +148,24 @@ static void test_auto_preconditioner(void **state)
     march_destroy(&st);
 }
 
-/* A fresh temporary folder under /tmp (the caller removes it). */
-static void make_tmp(char *dir, size_t len, const char *tag)
-{
-    snprintf(dir, len, "/tmp/muflow_honest_%s_XXXXXX", tag);
-    assert_non_null(mkdtemp(dir));
-}
-
-static void remove_tree(const char *dir)
-{
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-/* The muflow binary beside this test binary. */
-static void muflow_bin(char *out, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
-    assert_true(n > 0);
-    out[n] = '\0';
-    strcpy(strrchr(out, '/'), "/muflow");
-}
-
-/* Runs a shell command, its stdout into out; returns the exit status. */
-static int shell(const char *cmd, char *out, size_t len)
-{
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t n = fread(out, 1, len - 1, p);
-    out[n] = '\0';
-    int st = pclose(p);
-    assert_true(WIFEXITED(st));
-    return WEXITSTATUS(st);
-}
-
 /* A steady run that stops at max_steps leaves a checkpoint, and continuing
  * from it with a larger max_steps ends where the uninterrupted run does. */
 static void test_max_steps_checkpoint(void **state)
 {
     (void)state;
-    char dir[128], od[200], err[512];
-    make_tmp(dir, sizeof dir, "maxsteps");
-    snprintf(od, sizeof od, "output.dir=%s", dir);
+    char err[1024];
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "honest_maxsteps");
     struct muflow_case cs, cc;
-    char *ov[] = {"solver.max_steps=5", "output.quiet=on", od};
-    load(&cs, CASES_DIR "bagnold.ini", 3, ov);
+    char *ov[] = {"solver.max_steps=5", "output.quiet=on", dir.output};
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 3, ov);
     struct run_result r;
-    struct run_options opt = {.write_output = 1};
-    assert_int_equal(run_case_opts(&cs, &opt, &r, err, sizeof err), RUN_OK);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_UNSTEADY);
     assert_int_equal(r.steps, 5);
     assert_true(r.checkpointed);
     char ck[300];
-    snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
+    snprintf(ck, sizeof ck, "%s/%s", dir.dir, CHECKPOINT_NAME);
     char *ov2[] = {"solver.max_steps=100"};
     int lrc = checkpoint_load_case(ck, 1, ov2, &cc, err, sizeof err);
     if (lrc != 0)
@@ -228,7 +178,7 @@ static void test_max_steps_checkpoint(void **state)
     assert_int_equal(r.status, STATUS_STEADY);
     assert_int_equal(r.steps, 15);
     assert_true(fabs(r.errors.err_rms - 1.2807e-4) < 5e-9);
-    remove_tree(dir);
+    test_run_dir_remove(&dir);
 }
 
 /* The README's commands: a run, then `muflow --restart DIR` and
@@ -236,23 +186,25 @@ static void test_max_steps_checkpoint(void **state)
 static void test_readme_restart_commands(void **state)
 {
     (void)state;
-    char bin[4096], dir[128], cmd[5000], out[1 << 14];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "readme");
+    char bin[4096], dir[128], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "honest_readme");
     snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini output.dir=%s", bin, dir);
-    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    assert_int_equal(test_sh(cmd, &out), 0);
     assert_non_null(strstr(out, "steady after 15 steps"));
+    free(out);
     const char *extra[] = {"", " solver.max_steps=20000"};
     for (int m = 0; m < 2; m++) {
         snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 '%s' --restart %s%s", bin, dir, extra[m]);
-        int rc = shell(cmd, out, sizeof out);
+        int rc = test_sh(cmd, &out);
         print_message("muflow --restart DIR%s: exit %d\n", extra[m], rc);
         assert_int_equal(rc, 0);
         assert_non_null(strstr(out, "continuing from"));
         assert_non_null(strstr(out, "steady after 15 steps"));
         assert_non_null(strstr(out, "err_rms 1.2807e-04"));
+        free(out);
     }
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 /* An unstable explicit advection (cfl 2, Newtonian cavity at 32 x 32): the
@@ -262,22 +214,16 @@ static void test_readme_restart_commands(void **state)
 static void test_blowup_stops_early(void **state)
 {
     (void)state;
-    char dir[128], od[200], err[512];
-    make_tmp(dir, sizeof dir, "blowup");
-    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "honest_blowup");
     struct muflow_case cs;
     char *ov[] = {"domain.nx=32", "domain.nz=32", "rheology.law=newtonian",
                   "rheology.viscosity=1e-5", "physics.advection=on", "solver.mode=transient",
                   "solver.end_time=20", "solver.cfl=2", "solver.dt=1", "output.quiet=on",
-                  "output.fields=off", od};
-    load(&cs, CASES_DIR "bingham_cavity.ini", 12, ov);
+                  "output.fields=off", dir.output};
+    test_load_case(&cs, CASES_DIR "bingham_cavity.ini", 12, ov);
     struct run_result r;
-    struct run_options opt = {.write_output = 1};
-    int threads = omp_get_max_threads();
-    omp_set_num_threads(1);
-    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
-    omp_set_num_threads(threads);
-    assert_int_equal(rc, RUN_OK);
+    run_one_thread(&cs, 1, &r);
     print_message("cavity cfl 2: %s after %ld steps, t = %g, psi_max %.4g: %s\n",
                   run_status_name(r.status), r.steps, r.time, r.errors.headline, r.message);
     assert_int_equal(r.status, STATUS_DIVERGED);
@@ -286,9 +232,7 @@ static void test_blowup_stops_early(void **state)
     assert_non_null(strstr(r.message, ", t = "));
     assert_true(r.residual <= 1e3);
     assert_true(r.errors.headline > 0.0 && r.errors.headline < 0.2); /* Vola Bn 0: 0.0996 */
-    char path[300];
-    snprintf(path, sizeof path, "%s/history.csv", dir);
-    char *h = test_read_file(path, NULL);
+    char *h = test_read_in(dir.dir, "history.csv");
     long last = -1, rows = 0;
     for (char *line = strchr(h, '\n'); line && line[1]; line = strchr(line + 1, '\n')) {
         long step = strtol(line + 1, NULL, 10);
@@ -299,7 +243,7 @@ static void test_blowup_stops_early(void **state)
     free(h);
     assert_int_equal(last, r.steps);
     assert_int_equal(rows, r.steps + 1);
-    remove_tree(dir);
+    test_run_dir_remove(&dir);
 }
 
 /* The memory estimate: refused before allocating when it exceeds what is
@@ -308,21 +252,18 @@ static void test_blowup_stops_early(void **state)
 static void test_memory_estimate(void **state)
 {
     (void)state;
-    char bin[4096], dir[128], cmd[5000], out[1 << 14];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "memory");
+    char bin[4096], dir[128], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "honest_memory");
     /* 100 MB available, a 100 x 100 x 50 grid needs about 370 MB */
     snprintf(cmd, sizeof cmd,
              "MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini domain.nx=100 "
              "domain.ny=100 domain.nz=50 output.dir=%s/run 2>&1",
              bin, dir);
-    int rc = shell(cmd, out, sizeof out);
-    print_message("refused: exit %d: %s", rc, out);
-    assert_int_equal(rc, 2);
-    assert_non_null(strstr(out, "domain.nx x domain.ny x domain.nz = 100 x 100 x 50"));
+    out = test_sh_refused(cmd, "domain.nx x domain.ny x domain.nz = 100 x 100 x 50");
     assert_non_null(strstr(out, "needs about"));
     assert_non_null(strstr(out, "100 MB of memory available"));
-    assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1); /* one line */
+    free(out);
     char run_dir[200];
     snprintf(run_dir, sizeof run_dir, "%s/run", dir);
     assert_int_not_equal(access(run_dir, F_OK), 0); /* nothing written */
@@ -335,21 +276,19 @@ static void test_memory_estimate(void **state)
              "domain.nx=128 domain.nz=128 "
              "output.dir=%s/run 2>&1",
              bin, dir);
-    rc = shell(cmd, out, sizeof out);
-    print_message("coupled, refused: exit %d: %s", rc, out);
-    assert_int_equal(rc, 2);
-    assert_non_null(strstr(out, "needs about"));
+    free(test_sh_refused(cmd, "needs about"));
     assert_int_not_equal(access(run_dir, F_OK), 0);
     /* fits: the estimate is in the header line */
     snprintf(cmd, sizeof cmd,
              "OMP_NUM_THREADS=1 MUFLOW_AVAILABLE_MEMORY=100000000 '%s' ../cases/bagnold.ini "
              "domain.nz=10 output.dir=%s/run",
              bin, dir);
-    assert_int_equal(shell(cmd, out, sizeof out), 0);
+    assert_int_equal(test_sh(cmd, &out), 0);
     const char *m = strstr(out, "memory ~");
     assert_non_null(m);
     assert_true(m < strchr(out, '\n'));
-    remove_tree(dir);
+    free(out);
+    test_tmp_remove(dir);
 }
 
 /* Every size check comes before the work the grid costs: the body's
@@ -380,8 +319,8 @@ static void test_size_before_geometry(void **state)
                         120) == 0);
     assert_non_null(strstr(err, "more than the 16.0 GB of memory available"));
 
-    char bin[4096], cmd[5000], out[1 << 14];
-    muflow_bin(bin, sizeof bin);
+    char bin[4096], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
     static const struct {
         const char *args, *want;
     } runs[] = {
@@ -395,11 +334,9 @@ static void test_size_before_geometry(void **state)
         snprintf(cmd, sizeof cmd,
                  "ulimit -v 1000000 && '%s' %s output.dir=/tmp/muflow_honest_never 2>&1", bin,
                  runs[m].args);
-        rc = shell(cmd, out, sizeof out);
-        print_message("1 GB of address space: exit %d: %s", rc, out);
-        assert_int_equal(rc, 2);
-        assert_non_null(strstr(out, runs[m].want));
+        out = test_sh_refused(cmd, runs[m].want);
         assert_null(strstr(out, "out of memory"));
+        free(out);
     }
     assert_int_not_equal(access("/tmp/muflow_honest_never", F_OK), 0);
 }
@@ -409,8 +346,8 @@ static void test_size_before_geometry(void **state)
 static void test_output_dir_named(void **state)
 {
     (void)state;
-    char bin[4096], cmd[5000], out[1 << 14];
-    muflow_bin(bin, sizeof bin);
+    char bin[4096], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
     static const char *const want[][2] = {
         {"/proc/x", "muflow: output.dir = /proc/x: cannot create the folder: "},
         {"/proc/x/y", "muflow: output.dir = /proc/x/y: cannot create the folder /proc/x: "},
@@ -419,11 +356,9 @@ static void test_output_dir_named(void **state)
     for (size_t m = 0; m < sizeof want / sizeof want[0]; m++) {
         snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.dir=%s 2>&1", bin,
                  want[m][0]);
-        int rc = shell(cmd, out, sizeof out);
-        print_message("exit %d: %s", rc, out);
-        assert_int_equal(rc, 2);
+        out = test_sh_refused(cmd, want[m][1]);
         assert_true(strncmp(out, want[m][1], strlen(want[m][1])) == 0);
-        assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1);
+        free(out);
     }
 }
 
@@ -432,20 +367,21 @@ static void test_output_dir_named(void **state)
 static void test_warning_not_quiet(void **state)
 {
     (void)state;
-    char bin[4096], dir[128], cmd[5000], out[1 << 14];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "warn");
+    char bin[4096], dir[128], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "honest_warn");
     snprintf(cmd, sizeof cmd,
              "OMP_NUM_THREADS=1 '%s' ../cases/bagnold.ini domain.nz=10 solver.max_steps=3 "
              "output.quiet=on output.dir=%s 2>&1",
              bin, dir);
-    assert_int_equal(shell(cmd, out, sizeof out), 3); /* max_steps: unsteady */
+    assert_int_equal(test_sh(cmd, NULL), 3); /* max_steps: unsteady */
     snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=2 '%s' --restart %s solver.max_steps=100 2>&1 >/dev/null", bin, dir);
-    int rc = shell(cmd, out, sizeof out);
+    int rc = test_sh(cmd, &out);
     print_message("restart on 2 threads, quiet: exit %d, stderr: %s", rc, out);
     assert_int_equal(rc, 0);
     assert_non_null(strstr(out, "warning: the checkpoint was written with 1 threads, this run has 2"));
-    remove_tree(dir);
+    free(out);
+    test_tmp_remove(dir);
 }
 
 /* An implicit solve stopped at solver.max_linear_iterations is taken (the
@@ -457,9 +393,9 @@ static void test_warning_not_quiet(void **state)
 static void test_linear_cap_told(void **state)
 {
     (void)state;
-    char bin[4096], dir[128], cmd[5000], out[1 << 14], path[256];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "linear");
+    char bin[4096], dir[128], cmd[5000], *out;
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "honest_linear");
     for (int capped = 1; capped >= 0; capped--) {
         snprintf(cmd, sizeof cmd,
                  "OMP_NUM_THREADS=1 '%s' ../cases/collapse.ini domain.nx=40 domain.nz=12 "
@@ -467,12 +403,10 @@ static void test_linear_cap_told(void **state)
                  "output.dir=%s 2>&1 >/dev/null",
                  bin, capped ? "solver.preconditioner=line solver.max_linear_iterations=2" : "",
                  dir);
-        int rc = shell(cmd, out, sizeof out);
+        int rc = test_sh(cmd, &out);
         print_message("%s: exit %d, stderr: %s\n", capped ? "capped" : "default", rc, out);
         assert_int_equal(rc, 0);
-        snprintf(path, sizeof path, "%s/summary.ini", dir);
-        char *sum = test_read_file(path, NULL);
-        assert_non_null(sum);
+        char *sum = test_read_in(dir, "summary.ini");
         const char *k = strstr(sum, "\nlinear_unconverged = ");
         assert_non_null(k);
         long n = strtol(k + strlen("\nlinear_unconverged = "), NULL, 10);
@@ -486,8 +420,9 @@ static void test_linear_cap_told(void **state)
             assert_null(strstr(out, "implicit viscous solve stopped"));
         }
         free(sum);
+        free(out);
     }
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 /* A steady march whose velocity grows by orders of magnitude (bagnold2
@@ -501,20 +436,15 @@ static void test_linear_cap_told(void **state)
 static void test_velocity_blowup_diverges(void **state)
 {
     (void)state;
-    char dir[128], od[200], err[512];
-    make_tmp(dir, sizeof dir, "vblowup");
-    snprintf(od, sizeof od, "output.dir=%s", dir);
+    char err[512];
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "honest_vblowup");
     struct muflow_case cs;
     char *ov[] = {"domain.nx=4", "physics.tilt=0.2", "rheology.lambda=1e-8",
-                  "solver.continuation=100", "output.quiet=on", "output.fields=off", od};
-    load(&cs, CASES_DIR "bagnold2.ini", 7, ov);
+                  "solver.continuation=100", "output.quiet=on", "output.fields=off", dir.output};
+    test_load_case(&cs, CASES_DIR "bagnold2.ini", 7, ov);
     struct run_result r;
-    struct run_options opt = {.write_output = 1};
-    int threads = omp_get_max_threads();
-    omp_set_num_threads(1);
-    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
-    omp_set_num_threads(threads);
-    assert_int_equal(rc, RUN_OK);
+    run_one_thread(&cs, 1, &r);
     print_message("bagnold2 tilt 0.2, lambda 1e-8 by stages: %s after %ld steps: %s\n",
                   run_status_name(r.status), r.steps, r.message);
     assert_int_equal(r.status, STATUS_DIVERGED);
@@ -524,7 +454,7 @@ static void test_velocity_blowup_diverges(void **state)
     assert_int_equal(r.checkpointed, 1);
     /* the checkpoint holds the kept state: finite, within the bound */
     char path[300];
-    snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
+    snprintf(path, sizeof path, "%s/%s", dir.dir, CHECKPOINT_NAME);
     int n[3] = {4, 1, 100};
     size_t size = (size_t)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
     double *u = malloc(size * sizeof *u), umax = 0.0;
@@ -537,7 +467,7 @@ static void test_velocity_blowup_diverges(void **state)
     free(u);
     print_message("kept state: max |u| %.3e\n", umax);
     assert_true(umax > 0.0 && umax <= 1e3 * 0.0105348);
-    remove_tree(dir);
+    test_run_dir_remove(&dir);
 }
 
 /* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
@@ -550,9 +480,9 @@ static void test_dt_collapse_stops(void **state)
     char *ov[] = {"domain.nz=10", "rheology.law=newtonian", "physics.advection=on",
                   "solver.mode=transient", "solver.end_time=1", "solver.dt=0.1",
                   "physics.gravity=1e12"};
-    load(&cs, CASES_DIR "bagnold.ini", 7, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 7, ov);
     struct run_result r;
-    run(&cs, &r);
+    run_one_thread(&cs, 0, &r);
     print_message("g = 1e12: %s after %ld steps, t = %g: %s\n", run_status_name(r.status),
                   r.steps, r.time, r.message);
     assert_int_equal(r.status, STATUS_DIVERGED);

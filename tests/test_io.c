@@ -9,7 +9,7 @@
  * binary, thread count and FFTW plans (FFTW_ESTIMATE plans the same ones in
  * every process; the checkpoint also carries FFTW's wisdom) give the same
  * floating-point operations in the same order. */
-#define _GNU_SOURCE /* F_SETPIPE_SZ */
+#define _GNU_SOURCE /* popen, symlink */
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -43,95 +43,6 @@ static const char *const fields_cell_scalar_names[FIELDS_CELL_SCALARS] = {
 #define CASES_DIR "../cases/"
 
 /* ---------------------------------------------------------------------- */
-/* helpers */
-
-static void make_tmp(char *dir, size_t len, const char *tag)
-{
-    snprintf(dir, len, "/tmp/muflow_io_%s_XXXXXX", tag);
-    assert_non_null(mkdtemp(dir));
-}
-
-static void remove_tree(const char *dir)
-{
-    char cmd[700];
-    assert_true(strncmp(dir, "/tmp/muflow_io_", 15) == 0); /* never anything else */
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
-{
-    char err[1024];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
-static int file_exists(const char *path)
-{
-    struct stat sb;
-    return stat(path, &sb) == 0;
-}
-
-/* A dataset of doubles read with the HDF5 library; rank and dims returned. */
-static double *read_doubles(hid_t file, const char *name, int *rank, hsize_t dims[4])
-{
-    hid_t set = H5Dopen2(file, name, H5P_DEFAULT);
-    if (set < 0)
-        print_error("dataset %s missing\n", name);
-    assert_true(set >= 0);
-    hid_t space = H5Dget_space(set);
-    *rank = H5Sget_simple_extent_ndims(space);
-    assert_true(*rank >= 1 && *rank <= 4);
-    H5Sget_simple_extent_dims(space, dims, NULL);
-    size_t n = (size_t)H5Sget_simple_extent_npoints(space);
-    double *buf = malloc((n ? n : 1) * sizeof(double));
-    assert_non_null(buf);
-    assert_true(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
-    H5Sclose(space);
-    H5Dclose(set);
-    return buf;
-}
-
-static void read_attr(hid_t file, const char *name, hid_t type, void *out)
-{
-    hid_t at = H5Aopen(file, name, H5P_DEFAULT);
-    if (at < 0)
-        print_error("attribute %s missing\n", name);
-    assert_true(at >= 0);
-    assert_true(H5Aread(at, type, out) >= 0);
-    H5Aclose(at);
-}
-
-static void read_attr_text(hid_t file, const char *name, char *out, size_t len)
-{
-    hid_t at = H5Aopen(file, name, H5P_DEFAULT);
-    if (at < 0)
-        print_error("attribute %s missing\n", name);
-    assert_true(at >= 0);
-    hid_t type = H5Aget_type(at);
-    size_t size = H5Tget_size(type);
-    assert_true(size < len);
-    hid_t mem = H5Tcopy(H5T_C_S1);
-    H5Tset_size(mem, size + 1);
-    assert_true(H5Aread(at, mem, out) >= 0);
-    out[size] = '\0';
-    H5Tclose(mem);
-    H5Tclose(type);
-    H5Aclose(at);
-}
-
-static hid_t open_h5(const char *path)
-{
-    hid_t f = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (f < 0)
-        print_error("cannot open %s\n", path);
-    assert_true(f >= 0);
-    return f;
-}
-
-/* ---------------------------------------------------------------------- */
 /* 1. field files hold exactly the fields in memory */
 
 struct key_check {
@@ -144,7 +55,7 @@ static int check_key(void *vctx, const char *section, const char *key, const cha
     struct key_check *k = vctx;
     char name[128], text[1024];
     snprintf(name, sizeof name, "%s.%s", section, key);
-    read_attr_text(k->file, name, text, sizeof text);
+    test_h5_attr_text(k->file, name, text, sizeof text);
     if (strcmp(text, value) != 0)
         print_error("attribute %s = '%s', case has '%s'\n", name, text, value);
     assert_string_equal(text, value);
@@ -164,16 +75,16 @@ static void check_fields_file(const char *dir, const struct march_state *st)
     char name[64], path[700];
     fields_h5_name(st->step, name, sizeof name);
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    hid_t file = open_h5(path);
+    hid_t file = test_h5_open(path);
 
     int n[3];
     double len[3], h[3], time;
     long step;
-    read_attr(file, "n", H5T_NATIVE_INT, n);
-    read_attr(file, "len", H5T_NATIVE_DOUBLE, len);
-    read_attr(file, "h", H5T_NATIVE_DOUBLE, h);
-    read_attr(file, "step", H5T_NATIVE_LONG, &step);
-    read_attr(file, "time", H5T_NATIVE_DOUBLE, &time);
+    test_h5_attr(file, "n", H5T_NATIVE_INT, n);
+    test_h5_attr(file, "len", H5T_NATIVE_DOUBLE, len);
+    test_h5_attr(file, "h", H5T_NATIVE_DOUBLE, h);
+    test_h5_attr(file, "step", H5T_NATIVE_LONG, &step);
+    test_h5_attr(file, "time", H5T_NATIVE_DOUBLE, &time);
     for (int d = 0; d < 3; d++) {
         assert_int_equal(n[d], g->n[d]);
         assert_true(len[d] == g->len[d] && h[d] == g->h[d]);
@@ -189,7 +100,7 @@ static void check_fields_file(const char *dir, const struct march_state *st)
     for (int c = 0; c < 3; c++) {
         int rank;
         hsize_t dims[4];
-        double *a = read_doubles(file, comp[c], &rank, dims);
+        double *a = test_h5_dataset(file, comp[c], NULL, &rank, dims);
         int hi[3] = {g->n[0], g->n[1], g->n[2]};
         hi[c] += periodic(st, c) ? 0 : 1;
         assert_int_equal(rank, 3);
@@ -206,7 +117,7 @@ static void check_fields_file(const char *dir, const struct march_state *st)
     for (int f = 0; f < FIELDS_CELL_SCALARS; f++) {
         int rank;
         hsize_t dims[4];
-        double *a = read_doubles(file, fields_cell_scalar_names[f], &rank, dims);
+        double *a = test_h5_dataset(file, fields_cell_scalar_names[f], NULL, &rank, dims);
         assert_int_equal(rank, 3);
         assert_true(dims[0] == (hsize_t)g->n[2] && dims[1] == (hsize_t)g->n[1] &&
                     dims[2] == (hsize_t)g->n[0]);
@@ -226,7 +137,7 @@ static void check_fields_file(const char *dir, const struct march_state *st)
     /* cell velocity: mean of the two faces, periodic wrap at the high end */
     int rank;
     hsize_t dims[4];
-    double *a = read_doubles(file, FIELDS_CELL_VECTOR, &rank, dims);
+    double *a = test_h5_dataset(file, FIELDS_CELL_VECTOR, NULL, &rank, dims);
     assert_int_equal(rank, 4);
     assert_true(dims[3] == 3);
     size_t m = 0;
@@ -250,20 +161,20 @@ static void check_fields_file(const char *dir, const struct march_state *st)
 static void fields_of(const char *file, int n, char *ov[])
 {
     struct muflow_case cs;
-    load(&cs, file, n, ov);
+    test_load_case(&cs, file, n, ov);
     struct march_state st;
     char err[1024], dir[64];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
     march_run(&st, NULL, NULL);
     assert_int_equal(st.status, STATUS_STEADY);
-    make_tmp(dir, sizeof dir, "fields");
+    test_tmp_make(dir, sizeof dir, "io_fields");
     int rc = fields_h5_write(dir, &st, err, sizeof err);
     if (rc != 0)
         print_error("%s\n", err);
     assert_int_equal(rc, 0);
     check_fields_file(dir, &st);
     march_destroy(&st);
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 static void test_fields_match_memory(void **state)
@@ -329,10 +240,10 @@ static int check_xdmf(const char *dir, long *steps, int max)
         char h5[700], set[128];
         snprintf(h5, sizeof h5, "%s/%.*s", dir, (int)(colon - ref), ref);
         snprintf(set, sizeof set, "%.*s", (int)(end - colon - 2), colon + 2);
-        hid_t file = open_h5(h5);
+        hid_t file = test_h5_open(h5);
         int rank;
         hsize_t dims[4];
-        double *a = read_doubles(file, set, &rank, dims);
+        double *a = test_h5_dataset(file, set, NULL, &rank, dims);
         free(a);
         assert_int_equal(rank, wrank);
         for (int d = 0; d < rank; d++)
@@ -343,7 +254,7 @@ static int check_xdmf(const char *dir, long *steps, int max)
             grid--;
         double t, tf;
         assert_int_equal(sscanf(grid, "<Time Value=\"%lf\"", &t), 1);
-        read_attr(file, "time", H5T_NATIVE_DOUBLE, &tf);
+        test_h5_attr(file, "time", H5T_NATIVE_DOUBLE, &tf);
         assert_true(t == tf);
         H5Fclose(file);
         refs++;
@@ -353,29 +264,19 @@ static int check_xdmf(const char *dir, long *steps, int max)
     return grids;
 }
 
-static void run_out(const struct muflow_case *cs, struct run_result *r)
-{
-    char err[1024];
-    struct run_options opt = {.write_output = 1};
-    int rc = run_case_opts(cs, &opt, r, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, RUN_OK);
-}
-
 static void test_xdmf_series(void **state)
 {
     (void)state;
     char dir[64], o[700];
-    make_tmp(dir, sizeof dir, "xdmf");
+    test_tmp_make(dir, sizeof dir, "io_xdmf");
     /* by steps: 0, 20, 40 and the end (bagnold H/10 from dt 0.1: 53 steps) */
     snprintf(o, sizeof o, "output.dir=%s/steps", dir);
     char *ov1[] = {"domain.nz=10", "solver.dt=0.1", "output.fields_every=20", "output.quiet=on",
                    o};
     struct muflow_case cs;
-    load(&cs, CASES_DIR "bagnold.ini", 5, ov1);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 5, ov1);
     struct run_result r;
-    run_out(&cs, &r);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_STEADY);
     long steps[64];
     snprintf(o, sizeof o, "%s/steps", dir);
@@ -391,8 +292,8 @@ static void test_xdmf_series(void **state)
     snprintf(o, sizeof o, "output.dir=%s/time", dir);
     char *ov2[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
                    "solver.end_time=0.05", "output.fields_interval=0.02", "output.quiet=on", o};
-    load(&cs, CASES_DIR "bagnold.ini", 7, ov2);
-    run_out(&cs, &r);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 7, ov2);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_FINISHED);
     snprintf(o, sizeof o, "%s/time", dir);
     n = check_xdmf(o, steps, 64);
@@ -404,11 +305,11 @@ static void test_xdmf_series(void **state)
     /* output.fields = off: none */
     snprintf(o, sizeof o, "output.dir=%s/none", dir);
     char *ov3[] = {"domain.nz=10", "output.fields=off", "output.quiet=on", o};
-    load(&cs, CASES_DIR "bagnold.ini", 4, ov3);
-    run_out(&cs, &r);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 4, ov3);
+    test_run_loaded(&cs, 1, &r);
     snprintf(o, sizeof o, "%s/none/fields.xdmf", dir);
-    assert_false(file_exists(o));
-    remove_tree(dir);
+    assert_false(test_file_exists(o));
+    test_tmp_remove(dir);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -429,102 +330,10 @@ static void raise_at(void *vctx, const struct march_state *st)
     }
 }
 
-/* The [result] lines of a summary without wall_seconds. */
-static char *result_of(const char *dir)
-{
-    char path[700];
-    snprintf(path, sizeof path, "%s/summary.ini", dir);
-    char *text = test_read_file(path, NULL), *out = calloc(strlen(text) + 1, 1);
-    assert_non_null(out);
-    char *start = strstr(text, "[result]");
-    assert_non_null(start);
-    char *end = strstr(start + 1, "\n\n");
-    for (char *line = start; line && (!end || line < end);) {
-        char *nl = strchr(line, '\n');
-        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
-        if (strncmp(line, "wall_seconds", 12) != 0)
-            strncat(out, line, len);
-        line = nl ? nl + 1 : NULL;
-    }
-    free(text);
-    return out;
-}
-
-/* history.csv without its wall_seconds column (the third). */
-static char *history_of(const char *dir)
-{
-    char path[700];
-    snprintf(path, sizeof path, "%s/history.csv", dir);
-    char *text = test_read_file(path, NULL), *out = calloc(strlen(text) + 1, 1);
-    assert_non_null(out);
-    char *o = out;
-    for (char *line = text; *line;) {
-        char *nl = strchr(line, '\n');
-        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
-        char *c1 = memchr(line, ',', len);
-        char *c2 = c1 ? memchr(c1 + 1, ',', len - (size_t)(c1 + 1 - line)) : NULL;
-        char *c3 = c2 ? memchr(c2 + 1, ',', len - (size_t)(c2 + 1 - line)) : NULL;
-        assert_non_null(c3);
-        memcpy(o, line, (size_t)(c2 - line));
-        o += c2 - line;
-        memcpy(o, c3, len - (size_t)(c3 - line));
-        o += len - (size_t)(c3 - line);
-        line += len;
-    }
-    *o = '\0';
-    free(text);
-    return out;
-}
-
-/* Every dataset of the final field files of a and b, bit for bit (tol 0), or
- * within a relative tolerance. */
-static void same_fields(const char *a, const char *b, long step, double tol)
-{
-    char name[64], pa[800], pb[800];
-    fields_h5_name(step, name, sizeof name);
-    snprintf(pa, sizeof pa, "%s/%s", a, name);
-    snprintf(pb, sizeof pb, "%s/%s", b, name);
-    hid_t fa = open_h5(pa), fb = open_h5(pb);
-    const char *sets[3 + FIELDS_CELL_SCALARS + 1] = {"u", "v", "w"};
-    for (int f = 0; f < FIELDS_CELL_SCALARS; f++)
-        sets[3 + f] = fields_cell_scalar_names[f];
-    sets[3 + FIELDS_CELL_SCALARS] = FIELDS_CELL_VECTOR;
-    for (size_t s = 0; s < sizeof sets / sizeof sets[0]; s++) {
-        int ra, rb;
-        hsize_t da[4], db[4];
-        double *x = read_doubles(fa, sets[s], &ra, da), *y = read_doubles(fb, sets[s], &rb, db);
-        assert_int_equal(ra, rb);
-        size_t n = 1;
-        for (int d = 0; d < ra; d++) {
-            assert_true(da[d] == db[d]);
-            n *= da[d];
-        }
-        if (tol == 0.0) {
-            if (memcmp(x, y, n * sizeof(double)) != 0)
-                print_error("%s: %s differs from the uninterrupted run\n", pb, sets[s]);
-            assert_memory_equal(x, y, n * sizeof(double));
-        } else {
-            double scale = 0.0;
-            for (size_t m = 0; m < n; m++)
-                scale = fmax(scale, fabs(x[m]));
-            for (size_t m = 0; m < n; m++)
-                assert_true(fabs(x[m] - y[m]) <= tol * scale);
-        }
-        free(x);
-        free(y);
-    }
-    double ta, tb;
-    read_attr(fa, "time", H5T_NATIVE_DOUBLE, &ta);
-    read_attr(fb, "time", H5T_NATIVE_DOUBLE, &tb);
-    assert_true(ta == tb);
-    H5Fclose(fa);
-    H5Fclose(fb);
-}
-
 /* Each step once, in order, 0 .. last. */
 static void history_continuous(const char *dir, long last)
 {
-    char *h = history_of(dir);
+    char *h = test_read_csv_without_wall(dir, "history.csv");
     long expect = 0;
     for (char *line = strchr(h, '\n') + 1; *line; line = strchr(line, '\n') + 1) {
         assert_int_equal(strtol(line, NULL, 10), expect);
@@ -537,7 +346,7 @@ static void history_continuous(const char *dir, long last)
 static void interrupt_and_continue(const char *file, int n, char **ov, long stop, int tag)
 {
     char dir[64], oa[700], ob[700], err[1024];
-    make_tmp(dir, sizeof dir, "restart");
+    test_tmp_make(dir, sizeof dir, "io_restart");
     snprintf(oa, sizeof oa, "output.dir=%s/a", dir);
     snprintf(ob, sizeof ob, "output.dir=%s/b", dir);
     char *all[16];
@@ -549,9 +358,9 @@ static void interrupt_and_continue(const char *file, int n, char **ov, long stop
     /* a: uninterrupted */
     struct muflow_case ca, cb, cc;
     all[n + 1] = oa;
-    load(&ca, file, n + 2, all);
+    test_load_case(&ca, file, n + 2, all);
     struct run_result ra, rb, rc;
-    run_out(&ca, &ra);
+    test_run_loaded(&ca, 1, &ra);
     print_message("%s: uninterrupted %s after %ld steps\n", ca.name, run_status_name(ra.status),
                   ra.steps);
     assert_true(ra.status == STATUS_STEADY || ra.status == STATUS_FINISHED);
@@ -560,7 +369,7 @@ static void interrupt_and_continue(const char *file, int n, char **ov, long stop
     /* b: SIGINT at step `stop`, written to checkpoint, then continued */
     all[n + 1] = ob;
     all[n + 2] = tag ? "output.checkpoint_every=5" : "output.fields_every=7";
-    load(&cb, file, n + 3, all);
+    test_load_case(&cb, file, n + 3, all);
     struct stop_at s = {stop, SIGINT, 0};
     struct run_options opt = {.write_output = 1, .hook = raise_at, .hook_ctx = &s};
     assert_int_equal(run_case_opts(&cb, &opt, &rb, err, sizeof err), RUN_OK);
@@ -572,7 +381,7 @@ static void interrupt_and_continue(const char *file, int n, char **ov, long stop
     char want[128];
     snprintf(want, sizeof want, "interrupted by SIGINT at step %ld", stop);
     assert_string_equal(rb.message, want);
-    char *res = result_of(ob + strlen("output.dir="));
+    char *res = test_summary_result(ob + strlen("output.dir="));
     assert_non_null(strstr(res, "status = stopped"));
     free(res);
 
@@ -595,18 +404,18 @@ static void interrupt_and_continue(const char *file, int n, char **ov, long stop
     assert_int_equal(rc.steps, ra.steps);
 
     const char *da = oa + strlen("output.dir="), *db = ob + strlen("output.dir=");
-    same_fields(da, db, ra.steps, 0.0);
-    char *x = result_of(da), *y = result_of(db);
+    test_same_fields(da, db, ra.steps);
+    char *x = test_summary_result(da), *y = test_summary_result(db);
     assert_string_equal(x, y);
     free(x);
     free(y);
-    x = history_of(da);
-    y = history_of(db);
+    x = test_read_csv_without_wall(da, "history.csv");
+    y = test_read_csv_without_wall(db, "history.csv");
     assert_string_equal(x, y);
     free(x);
     free(y);
     history_continuous(db, ra.steps);
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 static void test_interrupt_restart_bagnold(void **state)
@@ -647,73 +456,19 @@ static void test_interrupt_restart_no_gravity(void **state)
 /* ---------------------------------------------------------------------- */
 /* 4. the command line: SIGTERM, SIGKILL after periodic checkpoints, --restart */
 
-static void muflow_bin(char *out, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
-    assert_true(n > 0);
-    out[n] = '\0';
-    strcpy(strrchr(out, '/'), "/muflow"); /* the binary of this build */
-}
-
-/* Runs muflow with args (NULL-terminated) and its stdout through a one-page
- * pipe; once a line containing `when` has been read, sends sig (0: none) and
- * reads on to the end.  Returns the wait status; the output in out. */
-static int run_cli(char *const args[], const char *when, int sig, char *out, size_t len)
-{
-    int fd[2];
-    assert_int_equal(pipe(fd), 0);
-    /* the child blocks ~40 lines ahead of us */
-    assert_true(fcntl(fd[0], F_SETPIPE_SZ, 4096) >= 0);
-    fflush(NULL);
-    pid_t pid = fork();
-    assert_true(pid >= 0);
-    if (pid == 0) {
-        dup2(fd[1], 1);
-        close(fd[0]);
-        close(fd[1]);
-        execv(args[0], args);
-        _exit(127);
-    }
-    close(fd[1]);
-    FILE *f = fdopen(fd[0], "r");
-    assert_non_null(f);
-    setvbuf(f, NULL, _IONBF, 0); /* read no further ahead than the lines we look at */
-    char line[512];
-    size_t used = 0;
-    int sent = 0;
-    out[0] = '\0';
-    while (fgets(line, sizeof line, f)) {
-        size_t l = strlen(line);
-        if (used + l < len) {
-            memcpy(out + used, line, l + 1);
-            used += l;
-        }
-        if (sig && !sent && strstr(line, when)) {
-            kill(pid, sig);
-            sent = 1;
-        }
-    }
-    fclose(f);
-    int status;
-    assert_int_equal(waitpid(pid, &status, 0), pid);
-    if (sig)
-        assert_true(sent);
-    return status;
-}
-
 static void test_cli_signals(void **state)
 {
     (void)state;
     char bin[PATH_MAX], dir[64], oa[700], ob[700], oc[700], out[1 << 16];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "cli");
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "io_cli");
     snprintf(oa, sizeof oa, "output.dir=%s/a", dir);
     snprintf(ob, sizeof ob, "output.dir=%s/b", dir);
     snprintf(oc, sizeof oc, "output.dir=%s/c", dir);
     const char *da = oa + 11, *db = ob + 11, *dc = oc + 11;
     char *a[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.03",
                  "solver.progress_interval=0", "output.checkpoint_every=25", oa, NULL};
-    int st = run_cli(a, NULL, 0, out, sizeof out);
+    int st = test_cli(a, NULL, 0, out, sizeof out);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
     long steps = 0;
     assert_non_null(strstr(out, "steady after"));
@@ -724,16 +479,16 @@ static void test_cli_signals(void **state)
     /* SIGTERM at step 60 or a little later: exit status 3, a checkpoint */
     char *b[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.03",
                  "solver.progress_interval=0", "output.checkpoint_every=25", ob, NULL};
-    st = run_cli(b, "step     60 ", SIGTERM, out, sizeof out);
+    st = test_cli(b, "step     60 ", SIGTERM, out, sizeof out);
     assert_true(WIFEXITED(st));
     assert_int_equal(WEXITSTATUS(st), 3);
     assert_non_null(strstr(out, "interrupted by SIGTERM at step"));
     assert_non_null(strstr(out, "resume with: muflow --restart"));
     char ck[800];
     snprintf(ck, sizeof ck, "%s/%s", db, CHECKPOINT_NAME);
-    assert_true(file_exists(ck));
+    assert_true(test_file_exists(ck));
     char *rb[] = {bin, "--restart", (char *)db, NULL};
-    st = run_cli(rb, NULL, 0, out, sizeof out);
+    st = test_cli(rb, NULL, 0, out, sizeof out);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
     assert_non_null(strstr(out, "continuing from"));
 
@@ -741,10 +496,10 @@ static void test_cli_signals(void **state)
      * checkpoint (step 50 or later) and the rows of history.csv.tmp up to it */
     char *c[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.dt=0.03",
                  "solver.progress_interval=0", "output.checkpoint_every=25", oc, NULL};
-    st = run_cli(c, "step     70 ", SIGKILL, out, sizeof out);
+    st = test_cli(c, "step     70 ", SIGKILL, out, sizeof out);
     assert_true(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
     char *rc[] = {bin, "--restart", (char *)dc, NULL};
-    st = run_cli(rc, NULL, 0, out, sizeof out);
+    st = test_cli(rc, NULL, 0, out, sizeof out);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 0);
     const char *at = strstr(out, "continuing from");
     assert_non_null(at);
@@ -755,17 +510,17 @@ static void test_cli_signals(void **state)
     /* The reference run a is a separate process: with FFTW_ESTIMATE it plans
      * the same transforms as b and c (README "Reproducibility"), so the
      * fields match bit for bit, and so does the summary. */
-    char *x = result_of(da);
+    char *x = test_summary_result(da);
     for (int m = 0; m < 2; m++) {
         const char *d = m ? dc : db;
-        char *y = result_of(d);
+        char *y = test_summary_result(d);
         assert_string_equal(x, y);
         free(y);
-        same_fields(da, d, steps, 0.0);
+        test_same_fields(da, d, steps);
         history_continuous(d, steps);
     }
     free(x);
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -774,18 +529,18 @@ static void test_cli_signals(void **state)
 static void test_checkpoint_write_fails(void **state)
 {
     (void)state;
-    if (!file_exists("/dev/full")) {
+    if (!test_file_exists("/dev/full")) {
         print_message("no /dev/full here\n");
         skip();
     }
     char bin[PATH_MAX], dir[64], od[700], out[1 << 16];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(dir, sizeof dir, "full");
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "io_full");
     snprintf(od, sizeof od, "output.dir=%s", dir);
     /* a transient run stopped by max_steps leaves a checkpoint of step 10 */
     char *a[] = {bin, CASES_DIR "bagnold.ini", "domain.nz=10", "solver.mode=transient",
                  "solver.dt=0.01", "solver.end_time=1", "solver.max_steps=10", od, NULL};
-    int st = run_cli(a, NULL, 0, out, sizeof out);
+    int st = test_cli(a, NULL, 0, out, sizeof out);
     assert_true(WIFEXITED(st) && WEXITSTATUS(st) == 3);
     char ck[800], tmp[820];
     snprintf(ck, sizeof ck, "%s/%s", dir, CHECKPOINT_NAME);
@@ -805,7 +560,7 @@ static void test_checkpoint_write_fails(void **state)
     dup2(efd, 2);
     char *b[] = {bin, "--restart", dir, "solver.max_steps=30", "output.checkpoint_every=5",
                  NULL};
-    st = run_cli(b, NULL, 0, out, sizeof out);
+    st = test_cli(b, NULL, 0, out, sizeof out);
     dup2(saved, 2);
     close(saved);
     close(efd);
@@ -815,7 +570,7 @@ static void test_checkpoint_write_fails(void **state)
     assert_non_null(strstr(msg, "checkpoint"));
     assert_non_null(strstr(msg, "No space left on device"));
     /* the run stopped at the failed checkpoint, step 15, and says so */
-    char *res = result_of(dir);
+    char *res = test_summary_result(dir);
     assert_non_null(strstr(res, "status = stopped"));
     assert_non_null(strstr(res, "output failed at step 15"));
     free(res);
@@ -824,7 +579,7 @@ static void test_checkpoint_write_fails(void **state)
     assert_int_equal(sb.st_size, size);
     char *after = test_read_file(ck, NULL);
     assert_memory_equal(before, after, (size_t)size);
-    assert_false(file_exists(tmp));
+    assert_false(test_file_exists(tmp));
     free(before);
     free(after);
     free(msg);
@@ -832,7 +587,7 @@ static void test_checkpoint_write_fails(void **state)
     /* a folder that is a regular file: the cause is named, nothing written */
     struct muflow_case cs;
     char *ov[] = {"domain.nz=10"};
-    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state ms;
     char err[1024], notdir[800];
     assert_int_equal(march_create(&ms, &cs, err, sizeof err), 0);
@@ -843,7 +598,7 @@ static void test_checkpoint_write_fails(void **state)
     print_message("%s\n", err);
     assert_non_null(strstr(err, "Not a directory"));
     march_destroy(&ms);
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -853,7 +608,7 @@ static void test_restart_bad_checkpoint(void **state)
 {
     (void)state;
     char dir[64], path[700], err[1024];
-    make_tmp(dir, sizeof dir, "bad");
+    test_tmp_make(dir, sizeof dir, "io_bad");
     struct muflow_case cs;
     snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
     assert_int_equal(checkpoint_load_case(path, 0, NULL, &cs, err, sizeof err), 2);
@@ -871,9 +626,9 @@ static void test_restart_bad_checkpoint(void **state)
     snprintf(od, sizeof od, "output.dir=%s", dir);
     char *ov[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
                   "solver.max_steps=3", "output.quiet=on", od};
-    load(&cs, CASES_DIR "bagnold.ini", 6, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 6, ov);
     struct run_result r;
-    run_out(&cs, &r);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_STOPPED);
     char *bad[] = {"domain.nz=12"};
     assert_int_equal(checkpoint_load_case(path, 1, bad, &cs, err, sizeof err), 0);
@@ -885,7 +640,7 @@ static void test_restart_bad_checkpoint(void **state)
     char *typo[] = {"solver.max_step=4"};
     assert_int_equal(checkpoint_load_case(path, 1, typo, &cs, err, sizeof err), 2);
     assert_non_null(strstr(err, "override solver.max_step=4"));
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -917,22 +672,22 @@ static void test_remove_run_files(void **state)
 {
     (void)state;
     char dir[64], od[700], err[1024], path[800];
-    make_tmp(dir, sizeof dir, "stale");
+    test_tmp_make(dir, sizeof dir, "io_stale");
     /* an earlier run: stopped by max_steps, field files every 5 steps and a checkpoint */
     snprintf(od, sizeof od, "output.dir=%s", dir);
     char *ov[] = {"domain.nz=10", "solver.mode=transient", "solver.dt=0.01",
                   "solver.max_steps=10", "output.fields_every=5", "output.quiet=on", od};
     struct muflow_case cs;
-    load(&cs, CASES_DIR "bagnold.ini", 7, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 7, ov);
     struct run_result r;
-    run_out(&cs, &r);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_STOPPED);
     const char *written[] = {"fields_000000.h5", "fields_000005.h5", "fields_000010.h5",
                              "fields.xdmf", "history.csv", "profile.csv", "summary.ini",
                              CHECKPOINT_NAME};
     for (size_t m = 0; m < sizeof written / sizeof written[0]; m++) {
         snprintf(path, sizeof path, "%s/%s", dir, written[m]);
-        assert_true(file_exists(path));
+        assert_true(test_file_exists(path));
     }
     /* what a killed run or the heap scene leaves, and a long step number */
     const char *more[] = {"heap.csv", "heap.csv.tmp", "fields_000015.h5.tmp",
@@ -966,9 +721,9 @@ static void test_remove_run_files(void **state)
                                "fields_abc.h5\nhistory.csv~\nnotes.txt\nplots\n"
                                "summary.ini.orig\nxfields_000001.h5\n");
     snprintf(path, sizeof path, "%s/plots/summary.ini", dir); /* not recursive */
-    assert_true(file_exists(path));
+    assert_true(test_file_exists(path));
     snprintf(path, sizeof path, "%s/fields_000002.h5/inside", dir);
-    assert_true(file_exists(path));
+    assert_true(test_file_exists(path));
     assert_int_equal(output_remove_run_files(dir, scene_files, err, sizeof err), 0); /* again: nothing */
 
     /* a folder that does not exist yet: nothing to do */
@@ -979,7 +734,7 @@ static void test_remove_run_files(void **state)
     assert_int_equal(output_remove_run_files(path, scene_files, err, sizeof err), -1);
     print_message("%s\n", err);
     assert_non_null(strstr(err, "Not a directory"));
-    remove_tree(dir);
+    test_tmp_remove(dir);
 }
 
 void group_io(struct test_tally *t)

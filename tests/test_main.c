@@ -4,78 +4,14 @@
  * The tests read their files relative to tests/ (../cases, fuzz/corpus), so
  * the runner first moves there: it stays when started in tests/, else it
  * looks for the repository from its own executable's folder upwards. */
-#define _DEFAULT_SOURCE /* readlink, mkdtemp */
-#include <errno.h>
+#define _DEFAULT_SOURCE /* readlink */
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
-#include "app/run.h"
-#include "config/case.h"
 #include "test_main.h"
-
-void test_bad_overrides(const char *case_path, const char *const bad[][2], size_t n)
-{
-    for (size_t i = 0; i < n; i++) {
-        struct muflow_case cs;
-        char err[512];
-        char *ov[] = {(char *)bad[i][0]};
-        assert_int_equal(case_load(&cs, case_path, 1, ov, err, sizeof err), 2);
-        print_message("%s\n", err);
-        assert_non_null(strstr(err, bad[i][1]));
-        assert_null(strchr(err, '\n'));
-    }
-}
-
-void test_run_dir_make(struct test_run_dir *d, const char *name)
-{
-    snprintf(d->dir, sizeof d->dir, "/tmp/muflow_%.20s_XXXXXX", name);
-    assert_non_null(mkdtemp(d->dir));
-    snprintf(d->output, sizeof d->output, "output.dir=%s", d->dir);
-    snprintf(d->initial_state, sizeof d->initial_state, "solver.initial_state=%s", d->dir);
-}
-
-void test_run_dir_remove(const struct test_run_dir *d)
-{
-    char cmd[96];
-    snprintf(cmd, sizeof cmd, "rm -rf %s", d->dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-void test_run_case(const char *file, int n, char *ov[], struct muflow_case *cs,
-                   struct run_result *r)
-{
-    char err[512];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    rc = run_case(cs, 0, r, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
-char *test_read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        print_error("cannot open %s: %s\n", path, strerror(errno));
-    assert_non_null(f);
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *s = malloc((size_t)n + 1);
-    assert_non_null(s);
-    assert_int_equal(fread(s, 1, (size_t)n, f), (size_t)n);
-    s[n] = '\0';
-    fclose(f);
-    if (len)
-        *len = (size_t)n;
-    return s;
-}
 
 static const struct {
     const char *name;

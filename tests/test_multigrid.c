@@ -20,18 +20,9 @@
 #include "solvers/gmres.h"
 #include "solvers/poisson.h"
 #include "test_main.h"
+#include "test_poisson_kinds.h"
 
 static const double pi = 3.14159265358979323846;
-
-enum kind { K_P = 0, K_NN, K_DD, K_ND, K_DN, NKIND };
-static const enum poisson_bc kind_bc[NKIND][2] = {
-    [K_P] = {POISSON_PERIODIC, POISSON_PERIODIC},
-    [K_NN] = {POISSON_NEUMANN, POISSON_NEUMANN},
-    [K_DD] = {POISSON_DIRICHLET, POISSON_DIRICHLET},
-    [K_ND] = {POISSON_NEUMANN, POISSON_DIRICHLET},
-    [K_DN] = {POISSON_DIRICHLET, POISSON_NEUMANN},
-};
-static const char *const kind_name[NKIND] = {"P", "NN", "DD", "ND", "DN"};
 
 /* ---- a problem: grid, conditions, coefficients, fields ------------------------- */
 
@@ -46,9 +37,8 @@ static void prob_init(struct prob *p, const int n[3], const double len[3], const
 {
     memset(p, 0, sizeof(*p));
     assert_int_equal(grid_init(&p->g, n, len), 0);
+    make_bc(k, p->bc);
     for (int d = 0; d < 3; d++) {
-        p->bc[d][0] = kind_bc[k[d]][0];
-        p->bc[d][1] = kind_bc[k[d]][1];
         p->a[d] = field_alloc(&p->g);
         assert_non_null(p->a[d]);
         for (size_t m = 0; m < p->g.size; m++)
@@ -79,14 +69,6 @@ static void prob_setup(struct prob *p)
         fail_msg("multigrid_create: %s", err);
     if (multigrid_set_coefficients(p->mg, p->a, err, sizeof(err)) != 0)
         fail_msg("multigrid_set_coefficients: %s", err);
-}
-
-static int is_singular(const enum poisson_bc bc[3][2])
-{
-    for (int d = 0; d < 3; d++)
-        if (bc[d][0] == POISSON_DIRICHLET || bc[d][1] == POISSON_DIRICHLET)
-            return 0;
-    return 1;
 }
 
 /* The operator written independently of the solver, from the problem statement:
@@ -464,41 +446,40 @@ static void test_discrete_all_kinds(void **state)
     double worst = 0.0;
     int worst_cycles = 0;
     for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++)
-        for (int kx = 0; kx < NKIND; kx++)
-            for (int ky = 0; ky < NKIND; ky++)
-                for (int kz = 0; kz < NKIND; kz++) {
-                    const enum kind k[3] = {kx, ky, kz};
-                    struct prob p;
-                    prob_init(&p, sizes[s], len, k);
-                    for (int d = 0; d < 3; d++)
-                        for (size_t m = 0; m < p.g.size; m++) {
-                            double u = rand_pm1(&seed);
-                            p.a[d][m] = rand_pm1(&seed) < -0.9 ? 0.0 : pow(10.0, 2.0 * u);
-                        }
-                    for (size_t m = 0; m < p.g.size; m++)
-                        p.rhs[m] = rand_pm1(&seed);
-                    prob_setup(&p);
-                    struct multigrid_stats st;
-                    for (int use_pcg = 1; use_pcg <= 1; use_pcg++) {
-                        memset(p.phi, 0, p.g.size * sizeof(double));
-                        int rc = use_pcg ? multigrid_pcg(p.mg, p.rhs, p.phi, 1e-10, 200, &st)
-                                         : multigrid_solve(p.mg, p.rhs, p.phi, 1e-10, 200, &st);
-                        /* blocked faces may cut off a region: the residual there
-                         * can stall at its incompatible part, which the
-                         * independent check below would also see; so no such
-                         * region may exist for the check to pass */
-                        double r = discrete_residual(&p);
-                        if (!(r < 1e-8) || rc != 0)
-                            fail_msg("%s: residual %.3e (rc %d, %d cycles) for %s,%s,%s on "
-                                     "%dx%dx%d",
-                                     use_pcg ? "pcg" : "cycles", r, rc, st.cycles, kind_name[kx],
-                                     kind_name[ky], kind_name[kz], p.g.n[0], p.g.n[1], p.g.n[2]);
-                        worst = fmax(worst, r);
-                        if (st.cycles > worst_cycles)
-                            worst_cycles = st.cycles;
-                    }
-                    prob_free(&p);
+        for (int t = 0; t < NTRIPLES; t++) {
+            enum kind k[3];
+            kind_triple(t, k);
+            struct prob p;
+            prob_init(&p, sizes[s], len, k);
+            for (int d = 0; d < 3; d++)
+                for (size_t m = 0; m < p.g.size; m++) {
+                    double u = rand_pm1(&seed);
+                    p.a[d][m] = rand_pm1(&seed) < -0.9 ? 0.0 : pow(10.0, 2.0 * u);
                 }
+            for (size_t m = 0; m < p.g.size; m++)
+                p.rhs[m] = rand_pm1(&seed);
+            prob_setup(&p);
+            struct multigrid_stats st;
+            for (int use_pcg = 1; use_pcg <= 1; use_pcg++) {
+                memset(p.phi, 0, p.g.size * sizeof(double));
+                int rc = use_pcg ? multigrid_pcg(p.mg, p.rhs, p.phi, 1e-10, 200, &st)
+                                 : multigrid_solve(p.mg, p.rhs, p.phi, 1e-10, 200, &st);
+                /* blocked faces may cut off a region: the residual there
+                 * can stall at its incompatible part, which the
+                 * independent check below would also see; so no such
+                 * region may exist for the check to pass */
+                double r = discrete_residual(&p);
+                if (!(r < 1e-8) || rc != 0)
+                    fail_msg("%s: residual %.3e (rc %d, %d cycles) for %s,%s,%s on "
+                             "%dx%dx%d",
+                             use_pcg ? "pcg" : "cycles", r, rc, st.cycles, kind_name[k[0]],
+                             kind_name[k[1]], kind_name[k[2]], p.g.n[0], p.g.n[1], p.g.n[2]);
+                worst = fmax(worst, r);
+                if (st.cycles > worst_cycles)
+                    worst_cycles = st.cycles;
+            }
+            prob_free(&p);
+        }
     printf("    125 condition triples x 5 grids, PCG: worst residual %.1e, "
            "most iterations %d\n",
            worst, worst_cycles);
@@ -517,38 +498,37 @@ static void test_fft_agreement(void **state)
     unsigned long long seed = 7;
     double worst = 0.0;
     for (size_t s = 0; s < sizeof(sizes) / sizeof(sizes[0]); s++)
-        for (int kx = 0; kx < NKIND; kx++)
-            for (int ky = 0; ky < NKIND; ky++)
-                for (int kz = 0; kz < NKIND; kz++) {
-                    const enum kind k[3] = {kx, ky, kz};
-                    struct prob p;
-                    prob_init(&p, sizes[s], len, k);
-                    for (size_t m = 0; m < p.g.size; m++)
-                        p.rhs[m] = rand_pm1(&seed);
-                    prob_setup(&p);
-                    struct multigrid_stats st;
-                    assert_int_equal(multigrid_pcg(p.mg, p.rhs, p.phi, 1e-13, 100, &st), 0);
-                    struct poisson_fft *ps = NULL;
-                    char err[256] = "";
-                    if (poisson_fft_create(&ps, &p.g, p.bc, err, sizeof(err)) != 0)
-                        fail_msg("poisson_fft_create: %s", err);
-                    poisson_fft_solve(ps, p.rhs, p.ex);
-                    poisson_fft_destroy(ps);
-                    double dmax = 0.0, fmax_ = 0.0;
-                    for (int i = 0; i < p.g.n[0]; i++)
-                        for (int j = 0; j < p.g.n[1]; j++)
-                            for (int l = 0; l < p.g.n[2]; l++) {
-                                ptrdiff_t m = grid_idx(&p.g, i, j, l);
-                                dmax = fmax(dmax, fabs(p.phi[m] - p.ex[m]));
-                                fmax_ = fmax(fmax_, fabs(p.ex[m]));
-                            }
-                    double rel = dmax / fmax_;
-                    if (!(rel < 1e-9))
-                        fail_msg("mg vs fft %.3e for %s,%s,%s on %dx%dx%d", rel, kind_name[kx],
-                                 kind_name[ky], kind_name[kz], p.g.n[0], p.g.n[1], p.g.n[2]);
-                    worst = fmax(worst, rel);
-                    prob_free(&p);
-                }
+        for (int t = 0; t < NTRIPLES; t++) {
+            enum kind k[3];
+            kind_triple(t, k);
+            struct prob p;
+            prob_init(&p, sizes[s], len, k);
+            for (size_t m = 0; m < p.g.size; m++)
+                p.rhs[m] = rand_pm1(&seed);
+            prob_setup(&p);
+            struct multigrid_stats st;
+            assert_int_equal(multigrid_pcg(p.mg, p.rhs, p.phi, 1e-13, 100, &st), 0);
+            struct poisson_fft *ps = NULL;
+            char err[256] = "";
+            if (poisson_fft_create(&ps, &p.g, p.bc, err, sizeof(err)) != 0)
+                fail_msg("poisson_fft_create: %s", err);
+            poisson_fft_solve(ps, p.rhs, p.ex);
+            poisson_fft_destroy(ps);
+            double dmax = 0.0, fmax_ = 0.0;
+            for (int i = 0; i < p.g.n[0]; i++)
+                for (int j = 0; j < p.g.n[1]; j++)
+                    for (int l = 0; l < p.g.n[2]; l++) {
+                        ptrdiff_t m = grid_idx(&p.g, i, j, l);
+                        dmax = fmax(dmax, fabs(p.phi[m] - p.ex[m]));
+                        fmax_ = fmax(fmax_, fabs(p.ex[m]));
+                    }
+            double rel = dmax / fmax_;
+            if (!(rel < 1e-9))
+                fail_msg("mg vs fft %.3e for %s,%s,%s on %dx%dx%d", rel, kind_name[k[0]],
+                         kind_name[k[1]], kind_name[k[2]], p.g.n[0], p.g.n[1], p.g.n[2]);
+            worst = fmax(worst, rel);
+            prob_free(&p);
+        }
     printf("    a = 1, 125 condition triples x 2 grids: max |mg - fft| / max |fft| = %.1e\n",
            worst);
 }

@@ -68,7 +68,7 @@ static void test_modules_refused(void **state)
     char *ov[] = {"obstacle.shapes=circle 1 0.5 0.2", "output.quiet=on"};
     struct muflow_case cs;
     char err[512];
-    assert_int_equal(case_load(&cs, "../cases/collapse.ini", 2, ov, err, sizeof err), 0);
+    test_load_case(&cs, "../cases/collapse.ini", 2, ov);
     struct march_state st;
     assert_int_equal(march_create(&st, &cs, err, sizeof err), -1);
     print_message("%s\n", err);
@@ -132,16 +132,9 @@ static void pipe_run_grid(int n, const char *boundary, int band, struct pipe_err
     /* the bands last: a uniform grid leaves them out */
     int nov = (int)(sizeof ov / sizeof ov[0]) - (band ? 0 : 2);
     struct muflow_case cs;
-    char err[512];
-    int rc = case_load(&cs, "/dev/null", nov, ov, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_load_case(&cs, "/dev/null", nov, ov);
     struct march_state st;
-    rc = march_create(&st, &cs, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_march_create(&st, &cs, NULL);
     enum run_status s = march_run(&st, NULL, NULL);
     assert_int_equal(s, STATUS_STEADY);
     const struct grid *g = &st.g;
@@ -248,15 +241,9 @@ static void test_cylinder_coarse(void **state)
                   "solver.preconditioner=cholesky", "solver.preconditioner_reuse=1000000",
                   "output.quiet=on"};
     struct muflow_case cs;
-    char err[512];
-    int rc = case_load(&cs, "../cases/cylinder_benchmark.ini", (int)(sizeof ov / sizeof ov[0]), ov,
-                       err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
     struct run_result res;
-    rc = run_case(&cs, 0, &res, err, sizeof err);
-    assert_int_equal(rc, 0);
+    test_run_case("../cases/cylinder_benchmark.ini", (int)(sizeof ov / sizeof ov[0]), ov, &cs,
+                  &res);
     assert_int_equal(res.status, STATUS_STEADY);
     double cd = run_result_value(&res, "drag_coefficient");
     double cdv = run_result_value(&res, "drag_coefficient_control_volume");
@@ -278,15 +265,7 @@ static void test_cylinder_coarse(void **state)
 static void run_checked(const char *file, int n, char **ov, struct run_result *res)
 {
     struct muflow_case cs;
-    char err[512];
-    int rc = case_load(&cs, file, n, ov, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    rc = run_case(&cs, 0, res, err, sizeof err);
-    if (rc)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
+    test_run_case(file, n, ov, &cs, res);
 }
 
 /* Newtonian, viscosity 1, gravity-driven along z (periodic) past a circle
@@ -343,12 +322,11 @@ static void coarse_cylinder_state(struct test_run_dir *dir, const char *name)
 {
     test_run_dir_make(dir, name);
     struct muflow_case cs;
-    char err[512];
     struct run_result r;
     char *ov[] = {"rheology.lambda=1e-2", "solver.continuation=1", "domain.nx=20",
                   "domain.nz=60", "output.fields=off", "output.quiet=on", dir->output};
-    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 7, ov, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 1, &r, err, sizeof err), 0);
+    test_load_case(&cs, CASES_DIR "cylinder.ini", 7, ov);
+    test_run_loaded(&cs, 1, &r);
     assert_int_equal(r.status, STATUS_STEADY);
 }
 
@@ -507,10 +485,9 @@ static void test_granular_cylinder_band(void **state)
                     "output.fields=off", "output.quiet=on", dir.output};
     char *uniform[] = {"rheology.lambda=1e-2", "solver.continuation=1", "output.quiet=on"};
     struct muflow_case cs;
-    char err[512];
     struct run_result rb, ru, rs;
-    assert_int_equal(case_load(&cs, CASES_DIR "cylinder.ini", 9, band, err, sizeof err), 0);
-    assert_int_equal(run_case(&cs, 1, &rb, err, sizeof err), 0);
+    test_load_case(&cs, CASES_DIR "cylinder.ini", 9, band);
+    test_run_loaded(&cs, 1, &rb);
     run_checked(CASES_DIR "cylinder.ini", 3, uniform, &ru);
     assert_int_equal(rb.status, STATUS_STEADY);
     assert_int_equal(ru.status, STATUS_STEADY);

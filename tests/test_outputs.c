@@ -3,7 +3,6 @@
  * solution, or published reference data as for the Bingham cavity), and
  * profile.csv's comparison column holds no value the data do not have.
  * Small runs only (16 x 16 cavity, bagnold at nz = 10). */
-#define _DEFAULT_SOURCE /* mkdtemp */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,50 +13,18 @@
 #define CAVITY "../cases/bingham_cavity.ini"
 #define VOLA "../cases/data/vola2003_cavity.csv"
 
-/* Runs build/muflow with args into a fresh folder; returns its stdout (the
- * caller frees) and the folder in dir. */
-static char *run_muflow(const char *args, char *dir, size_t dirlen)
+/* Runs build/muflow with args into a fresh folder: its stdout in *out (the
+ * caller frees), the folder in dir. */
+static void run_muflow(const char *args, char *dir, size_t dirlen, char **out)
 {
-    snprintf(dir, dirlen, "/tmp/muflow_outputs_XXXXXX");
-    assert_non_null(mkdtemp(dir));
+    test_tmp_make(dir, dirlen, "outputs");
     char cmd[2048];
     snprintf(cmd, sizeof cmd,
              "../build/muflow %s output.dir=%s output.fields=off output.quiet=on", args, dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t cap = 1 << 14, len = 0, got;
-    char *out = malloc(cap);
-    assert_non_null(out);
-    while ((got = fread(out + len, 1, cap - 1 - len, p)) > 0)
-        len += got;
-    out[len] = '\0';
-    int rc = pclose(p);
+    int rc = test_sh(cmd, out);
     if (rc != 0)
-        print_error("%s: status %d\n%s", cmd, rc, out);
+        print_error("%s: status %d\n%s", cmd, rc, *out);
     assert_int_equal(rc, 0);
-    return out;
-}
-
-static char *read_in(const char *dir, const char *name)
-{
-    char path[600];
-    snprintf(path, sizeof path, "%s/%s", dir, name);
-    return test_read_file(path, NULL);
-}
-
-static void remove_dir(const char *dir)
-{
-    char cmd[700];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-/* The [result] section of a summary (up to the case keys). */
-static void cut_result(char *summary)
-{
-    char *keys = strstr(summary, "\n; muflow case");
-    assert_non_null(keys);
-    *keys = '\0';
 }
 
 /* The line of text that contains what. */
@@ -79,9 +46,9 @@ static void test_cavity_reference_names(void **state)
 {
     (void)state;
     char dir[64];
-    char *out = run_muflow(CAVITY " domain.nx=16 domain.nz=16 "
-                           "rheology.yield_stress=0.70710678118654752",
-                           dir, sizeof dir);
+    char *out;
+    run_muflow(CAVITY " domain.nx=16 domain.nz=16 rheology.yield_stress=0.70710678118654752", dir,
+               sizeof dir, &out);
     print_message("%s", out);
     const char *line = line_with(out, "psi_max");
     char *nl = strchr(line, '\n');
@@ -93,8 +60,7 @@ static void test_cavity_reference_names(void **state)
     assert_null(strstr(line, "exact"));
     free(out);
 
-    char *summary = read_in(dir, "summary.ini");
-    cut_result(summary);
+    char *summary = test_summary_result(dir);
     assert_non_null(strstr(summary, "\nerr_midline = "));
     assert_non_null(strstr(summary, "\npsi_max = "));
     assert_non_null(strstr(summary, "\npsi_max_reference = 0.0898"));
@@ -108,7 +74,7 @@ static void test_cavity_reference_names(void **state)
     char err[256];
     assert_int_equal(reference_curve(VOLA, "midline", 1.0, &mid, err, sizeof err), 0);
     assert_true(mid.n > 10);
-    char *csv = read_in(dir, "profile.csv");
+    char *csv = test_read_in(dir, "profile.csv");
     assert_int_equal(strncmp(csv, "z,u,pressure,shear_rate,inertial_number,viscosity,u_reference\n",
                              62), 0);
     int rows = 0, inside = 0;
@@ -136,10 +102,10 @@ static void test_cavity_reference_names(void **state)
     free(csv);
     curve_free(&mid);
     /* and so does the history's error column */
-    char *hist = read_in(dir, "history.csv");
+    char *hist = test_read_in(dir, "history.csv");
     assert_non_null(strstr(hist, ",rejected_steps,err_midline\n"));
     free(hist);
-    remove_dir(dir);
+    test_tmp_remove(dir);
 }
 
 /* yield_stress = 1 is Vola's Bn = 1.414, for which the data have no
@@ -149,8 +115,9 @@ static void test_cavity_no_reference_profile(void **state)
 {
     (void)state;
     char dir[64];
-    char *out = run_muflow(CAVITY " domain.nx=16 domain.nz=16 rheology.yield_stress=1", dir,
-                           sizeof dir);
+    char *out;
+    run_muflow(CAVITY " domain.nx=16 domain.nz=16 rheology.yield_stress=1", dir, sizeof dir,
+               &out);
     print_message("%s", out);
     const char *line = line_with(out, "psi_max");
     assert_non_null(strstr(line, "no reference profile for these parameters (Bn = 1.41421"));
@@ -160,8 +127,7 @@ static void test_cavity_no_reference_profile(void **state)
     /* why, on the terminal and in the summary: the same words */
     const char *why = line_with(out, "bingham_cavity: no mid-line reference: ");
     assert_non_null(strstr(why, "Bn 1.41421 has no profile in the data (Bn 0, 1, 10, 100, 1000)"));
-    char *summary = read_in(dir, "summary.ini");
-    cut_result(summary);
+    char *summary = test_summary_result(dir);
     assert_non_null(strstr(summary, "\nerr_midline = nan\n"));
     assert_non_null(strstr(summary, "\npsi_max_reference = 0.08"));
     assert_non_null(strstr(summary, "\nmidline_reference_note = Bn 1.41421 has no profile in the "
@@ -170,7 +136,7 @@ static void test_cavity_no_reference_profile(void **state)
     assert_null(strstr(summary, "err_rms_paper"));
     free(summary);
     free(out);
-    char *csv = read_in(dir, "profile.csv");
+    char *csv = test_read_in(dir, "profile.csv");
     int values = 0;
     for (const char *p = strchr(csv, '\n'); p; p = strchr(p + 1, '\n'))
         values += p[1] != '\0';
@@ -181,7 +147,7 @@ static void test_cavity_no_reference_profile(void **state)
         assert_int_equal(strncmp(last, "nan", 3), 0); /* no data: no value */
     }
     free(csv);
-    remove_dir(dir);
+    test_tmp_remove(dir);
 }
 
 /* Where the published data do not cover the parameters the reference is
@@ -204,7 +170,8 @@ static void test_cavity_outside_data(void **state)
         char dir[64], args[160], note[200];
         snprintf(args, sizeof args, CAVITY " domain.nx=16 domain.nz=16 rheology.yield_stress=%s",
                  outside[m].yield);
-        char *out = run_muflow(args, dir, sizeof dir);
+        char *out;
+        run_muflow(args, dir, sizeof dir, &out);
         print_message("%s", out);
         assert_null(strstr(out, "(reference "));
         const char *headline = line_with(out, "psi_max ");
@@ -214,8 +181,7 @@ static void test_cavity_outside_data(void **state)
                                     "not extrapolated)", outside[m].bn);
         const char *why = line_with(out, "bingham_cavity: no psi_max reference: ");
         assert_non_null(strstr(why, note));
-        char *summary = read_in(dir, "summary.ini");
-        cut_result(summary);
+        char *summary = test_summary_result(dir);
         assert_non_null(strstr(summary, "\npsi_max_reference = nan\n"));
         char want[300];
         snprintf(want, sizeof want, "\npsi_max_reference_note = %s\n", note);
@@ -229,7 +195,7 @@ static void test_cavity_outside_data(void **state)
         }
         free(summary);
         free(out);
-        remove_dir(dir);
+        test_tmp_remove(dir);
     }
 }
 
@@ -239,24 +205,24 @@ static void test_exact_scene_names(void **state)
 {
     (void)state;
     char dir[64];
-    char *out = run_muflow("../cases/bagnold.ini domain.nz=10", dir, sizeof dir);
+    char *out;
+    run_muflow("../cases/bagnold.ini domain.nz=10", dir, sizeof dir, &out);
     const char *line = line_with(out, "u_surface");
     assert_int_equal(strncmp(line, "bagnold: err_rms ", 17), 0);
     assert_non_null(strstr(line, "err_rms_paper "));
     assert_non_null(strstr(line, "(exact 1.59"));
     free(out);
-    char *summary = read_in(dir, "summary.ini");
-    cut_result(summary);
+    char *summary = test_summary_result(dir);
     assert_non_null(strstr(summary, "\nerr_rms = "));
     assert_non_null(strstr(summary, "\nerr_rms_paper = "));
     assert_non_null(strstr(summary, "\nu_surface_exact = 1.59"));
     assert_null(strstr(summary, "reference"));
     free(summary);
-    char *csv = read_in(dir, "profile.csv");
+    char *csv = test_read_in(dir, "profile.csv");
     assert_int_equal(strncmp(csv, "z,u,pressure,shear_rate,inertial_number,viscosity,u_exact\n",
                              58), 0);
     free(csv);
-    remove_dir(dir);
+    test_tmp_remove(dir);
 }
 
 void group_outputs(struct test_tally *t)

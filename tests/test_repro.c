@@ -17,121 +17,14 @@
  * or runs one thread, and with malloc's huge pages (GLIBC_TUNABLES) unless the
  * user set that (src/app/main.c); libgomp's OMP_DISPLAY_ENV=verbose prints
  * the spin count each image uses, one block per image. */
-#define _POSIX_C_SOURCE 200809L
-#include <hdf5.h>
+#define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
-#include "io/fields_h5.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"
-
-static void muflow_bin(char *out, size_t len)
-{
-    ssize_t n = readlink("/proc/self/exe", out, len - sizeof "/muflow");
-    assert_true(n > 0);
-    out[n] = '\0';
-    strcpy(strrchr(out, '/'), "/muflow"); /* the binary of this build */
-}
-
-/* Runs `sh -c cmd` and returns its stdout and stderr (caller frees) and, in
- * *status, its exit status. */
-static char *run_sh(const char *cmd, int *status)
-{
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    size_t cap = 1 << 16, used = 0;
-    char *out = malloc(cap);
-    assert_non_null(out);
-    size_t got;
-    while ((got = fread(out + used, 1, cap - 1 - used, p)) > 0) {
-        used += got;
-        if (used + 1 == cap) {
-            cap *= 2;
-            out = realloc(out, cap);
-            assert_non_null(out);
-        }
-    }
-    out[used] = '\0';
-    int st = pclose(p);
-    *status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-    return out;
-}
-
-/* The [result] section of dir/summary.ini without its wall_seconds line. */
-static char *result_of(const char *dir)
-{
-    char path[700];
-    snprintf(path, sizeof path, "%s/summary.ini", dir);
-    char *text = test_read_file(path, NULL);
-    char *start = strstr(text, "[result]");
-    assert_non_null(start);
-    char *end = strstr(start, "\n\n");
-    if (end)
-        end[1] = '\0';
-    char *out = calloc(strlen(start) + 1, 1);
-    assert_non_null(out);
-    for (char *line = start; *line;) {
-        char *nl = strchr(line, '\n');
-        size_t len = nl ? (size_t)(nl - line + 1) : strlen(line);
-        if (strncmp(line, "wall_seconds", 12) != 0)
-            strncat(out, line, len);
-        line += len;
-    }
-    free(text);
-    return out;
-}
-
-/* One dataset of doubles, all of it; its number of values in *n. */
-static double *read_set(hid_t file, const char *name, size_t *n)
-{
-    hid_t set = H5Dopen2(file, name, H5P_DEFAULT);
-    if (set < 0)
-        print_error("dataset %s missing\n", name);
-    assert_true(set >= 0);
-    hid_t space = H5Dget_space(set);
-    *n = (size_t)H5Sget_simple_extent_npoints(space);
-    double *buf = malloc((*n ? *n : 1) * sizeof(double));
-    assert_non_null(buf);
-    assert_true(H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) >= 0);
-    H5Sclose(space);
-    H5Dclose(set);
-    return buf;
-}
-
-/* Every dataset of the field file of `step` in a and b, bit for bit. */
-static void same_field_bits(const char *a, const char *b, long step)
-{
-    char name[64], pa[800], pb[800];
-    fields_h5_name(step, name, sizeof name);
-    snprintf(pa, sizeof pa, "%s/%s", a, name);
-    snprintf(pb, sizeof pb, "%s/%s", b, name);
-    hid_t fa = H5Fopen(pa, H5F_ACC_RDONLY, H5P_DEFAULT);
-    hid_t fb = H5Fopen(pb, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (fa < 0 || fb < 0)
-        print_error("cannot open %s or %s\n", pa, pb);
-    assert_true(fa >= 0 && fb >= 0);
-    /* every dataset of a single-phase field file (README, "Field files") */
-    static const char *const sets[] = {"u", "v", "w", "pressure", "pressure_regularised",
-                                       "shear_rate", "inertial_number", "viscosity",
-                                       "velocity"};
-    for (size_t s = 0; s < sizeof sets / sizeof sets[0]; s++) {
-        size_t na, nb;
-        double *x = read_set(fa, sets[s], &na), *y = read_set(fb, sets[s], &nb);
-        assert_true(na == nb && na > 0);
-        if (memcmp(x, y, na * sizeof(double)) != 0)
-            print_error("%s: dataset %s differs between the two processes\n", name, sets[s]);
-        assert_memory_equal(x, y, na * sizeof(double));
-        free(x);
-        free(y);
-    }
-    H5Fclose(fa);
-    H5Fclose(fb);
-}
 
 /* The step count of a summary's [result]. */
 static long steps_of(const char *result)
@@ -145,28 +38,26 @@ static long steps_of(const char *result)
 static void two_processes(const char *threads, const char *ovr, int expect_status)
 {
     char bin[PATH_MAX], dir[64], cmd[2 * PATH_MAX + 1024], out[2][700];
-    muflow_bin(bin, sizeof bin);
-    snprintf(dir, sizeof dir, "/tmp/muflow_repro_XXXXXX");
-    assert_non_null(mkdtemp(dir));
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "repro");
     for (int m = 0; m < 2; m++) {
         snprintf(out[m], sizeof out[m], "%s/%c", dir, 'a' + m);
         snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=%s '%s' %s output.dir='%s' output.quiet=on 2>&1",
                  threads, bin, ovr, out[m]);
-        int st;
-        char *text = run_sh(cmd, &st);
+        char *text;
+        int st = test_sh(cmd, &text);
         if (st != expect_status)
             print_error("%s\n-> status %d\n%s\n", cmd, st, text);
         assert_int_equal(st, expect_status);
         free(text);
     }
-    char *ra = result_of(out[0]), *rb = result_of(out[1]);
+    char *ra = test_summary_result(out[0]), *rb = test_summary_result(out[1]);
     print_message("%s threads, %s:\n%s", threads, ovr, ra);
     assert_string_equal(ra, rb);
-    same_field_bits(out[0], out[1], steps_of(ra));
+    test_same_fields(out[0], out[1], steps_of(ra));
     free(ra);
     free(rb);
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    test_tmp_remove(dir);
 }
 
 /* bagnold as shipped: 2 x 1 x 40, steady after 15 steps. */
@@ -222,9 +113,9 @@ static void test_wait_policy(void **state)
 {
     (void)state;
     char bin[PATH_MAX], cmd[PATH_MAX + 512];
-    muflow_bin(bin, sizeof bin);
-    char dir[] = "/tmp/muflow_policy_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    test_muflow_bin(bin, sizeof bin);
+    char dir[64];
+    test_tmp_make(dir, sizeof dir, "policy");
     struct {
         const char *env;
         long spin;  /* expected spin count of the image that runs, -1: any above 0 */
@@ -249,8 +140,9 @@ static void test_wait_policy(void **state)
                  "../cases/bagnold.ini %s solver.max_steps=1 output.fields=off output.quiet=on "
                  "output.dir=%s 2>&1",
                  cases[c].env, bin, cases[c].grid, dir);
-        int st, blocks;
-        char *text = run_sh(cmd, &st);
+        int blocks;
+        char *text;
+        int st = test_sh(cmd, &text);
         long spin = last_spincount(text, &blocks);
         print_message("%s %s: GOMP_SPINCOUNT %ld, %d image(s)\n", cases[c].env, cases[c].grid,
                       spin, blocks);
@@ -263,8 +155,7 @@ static void test_wait_policy(void **state)
             assert_true(spin > 0);
         free(text);
     }
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
+    test_tmp_remove(dir);
 }
 
 void group_repro(struct test_tally *t)

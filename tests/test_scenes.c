@@ -1,36 +1,15 @@
 /* Whole scenes against their analytic profiles (Chauchat & Medale 2014, sec. 3, app. A-B)
  * and the extremes of the inclined plane; run through the library. */
-#define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 #include "scenes/scene.h"
 #include "march/march.h"
 #include "app/run.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"
-
-static void load(struct muflow_case *cs, const char *file, int n, char *ov[])
-{
-    char err[512];
-    int rc = case_load(cs, file, n, ov, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
-
-static void run(const struct muflow_case *cs, struct run_result *r)
-{
-    char err[512];
-    int rc = run_case(cs, 0, r, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-}
 
 /* bagnold at every resolution of the paper's Table 1, from rest. */
 static void test_bagnold_table1(void **state)
@@ -43,9 +22,8 @@ static void test_bagnold_table1(void **state)
         char o1[64];
         snprintf(o1, sizeof o1, "domain.nz=%d", nz[m]);
         char *ov[] = {o1};
-        load(&cs, CASES_DIR "bagnold.ini", 1, ov);
         struct run_result r;
-        run(&cs, &r);
+        test_run_case(CASES_DIR "bagnold.ini", 1, ov, &cs, &r);
         print_message("bagnold H/%-3d %s in %3ld steps: err_rms %.3e err_max %.3e u_surface "
                       "%.5f (exact %.5f)\n",
                       nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
@@ -85,9 +63,8 @@ static void test_bagnold_barker_gray(void **state)
         char o1[64];
         snprintf(o1, sizeof o1, "domain.nz=%d", nz[m]);
         char *ov[] = {o1, "rheology.curve=barker_gray"};
-        load(&cs, CASES_DIR "bagnold.ini", 2, ov);
         struct run_result r;
-        run(&cs, &r);
+        test_run_case(CASES_DIR "bagnold.ini", 2, ov, &cs, &r);
         print_message("bagnold barker_gray H/%-3d %s in %3ld steps: err_rms %.3e u_surface "
                       "%.6f (exact %.6f)\n",
                       nz[m], run_status_name(r.status), r.steps, r.errors.err_rms,
@@ -103,11 +80,11 @@ static void test_bagnold_barker_gray(void **state)
 
     struct muflow_case cs;
     char *ov[] = {"physics.tilt=0.36", "rheology.curve=barker_gray"};
-    load(&cs, CASES_DIR "bagnold.ini", 2, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 2, ov);
     double ia = rheology_i_of_mu(&cs.rheo, tan(0.36));
     assert_true(ia > 0.0 && ia < cs.rheo.i1n); /* the low branch */
     struct run_result r;
-    run(&cs, &r);
+    test_run_loaded(&cs, 0, &r);
     print_message("bagnold barker_gray tilt 0.36 (I_a %.3e, I_1^N %.4g): %s in %ld steps, "
                   "u_surface %.6f (exact %.6f), err_rms %.3e\n",
                   ia, cs.rheo.i1n, run_status_name(r.status), r.steps, r.errors.headline,
@@ -127,8 +104,7 @@ static void chute_run(const char *reg, int ny, const char *lambda, struct run_re
     snprintf(o2, sizeof o2, "rheology.regularisation=%s", reg);
     snprintf(o3, sizeof o3, "rheology.lambda=%s", lambda);
     char *ov[] = {o1, o2, o3};
-    load(&cs, CASES_DIR "chute.ini", 3, ov);
-    run(&cs, r);
+    test_run_case(CASES_DIR "chute.ini", 3, ov, &cs, r);
     print_message("chute %-13s b/%-3d lambda %-5s %s in %3ld steps: err_rms %.3e u_plug %.5f "
                   "(exact %.5f)\n",
                   reg, ny, lambda, run_status_name(r->status), r->steps, r->errors.err_rms,
@@ -190,7 +166,7 @@ static void test_bagnold_below_threshold(void **state)
     (void)state;
     struct muflow_case cs;
     char *ov[] = {"physics.tilt=0.36"};
-    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state st;
     char err[256];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
@@ -271,14 +247,13 @@ static void test_bagnold_3d_from_perturbation(void **state)
     (void)state;
     struct muflow_case c1;
     char *o1[] = {"domain.nz=16"};
-    load(&c1, CASES_DIR "bagnold.ini", 1, o1);
     struct run_result r1;
-    run(&c1, &r1);
+    test_run_case(CASES_DIR "bagnold.ini", 1, o1, &c1, &r1);
     assert_int_equal(r1.status, STATUS_STEADY);
 
     struct muflow_case cs;
     char *ov[] = {"domain.nx=8", "domain.ny=8", "domain.nz=16", "domain.lx=7", "domain.ly=7"};
-    load(&cs, CASES_DIR "bagnold3d.ini", 5, ov);
+    test_load_case(&cs, CASES_DIR "bagnold3d.ini", 5, ov);
     struct march_state st;
     char err[256];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
@@ -328,9 +303,8 @@ static void test_bagnold_above_threshold(void **state)
     (void)state;
     struct muflow_case cs;
     char *ov[] = {"physics.tilt=0.6"};
-    load(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct run_result r;
-    run(&cs, &r);
+    test_run_case(CASES_DIR "bagnold.ini", 1, ov, &cs, &r);
     print_message("tilt 0.6: %s after %ld steps: %s\n", run_status_name(r.status), r.steps,
                   r.message);
     assert_int_equal(r.status, STATUS_UNSTEADY);
@@ -352,7 +326,7 @@ static double startup_error(const char *dt)
     char *ov[] = {"rheology.law=newtonian", "rheology.viscosity=1", "case.scene=none",
                   "domain.lz=1", "domain.nz=64",  "domain.lx=0.03125",
                   "physics.tilt=0.5", "solver.mode=transient", "solver.end_time=0.1", o1};
-    load(&cs, CASES_DIR "bagnold.ini", 10, ov);
+    test_load_case(&cs, CASES_DIR "bagnold.ini", 10, ov);
     struct march_state st;
     char err[256];
     assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
@@ -382,24 +356,8 @@ static void test_transient_startup(void **state)
     assert_true(e1 / e2 > 1.7 && e1 / e2 < 2.3);
 }
 
-/* The command line: bad input is refused with exit status 2, one line naming
- * the key, and nothing written. */
-static int run_cli(const char *args, char *line, size_t len)
-{
-    char cmd[1200];
-    snprintf(cmd, sizeof cmd, "../build/muflow %s 2>&1 >/dev/null", args);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    line[0] = '\0';
-    if (!fgets(line, (int)len, p))
-        line[0] = '\0';
-    char rest[256];
-    int extra = fgets(rest, sizeof rest, p) != NULL;
-    int st = pclose(p);
-    assert_false(extra); /* one line */
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-}
-
+/* The command line: bad input is refused with exit status 2, one line on
+ * stderr naming the key, and nothing written. */
 static void test_cli_bad_input(void **state)
 {
     (void)state;
@@ -417,70 +375,55 @@ static void test_cli_bad_input(void **state)
          "rheology.mu_s = 2, rheology.delta_mu = 0.26, rheology.i0 = 0.279"},
         {CASES_DIR "missing.ini", "missing.ini"},
     };
-    char dir[] = "/tmp/muflow_cli_XXXXXX";
-    assert_non_null(mkdtemp(dir));
+    char dir[64];
+    test_tmp_make(dir, sizeof dir, "cli");
     for (size_t m = 0; m < sizeof bad / sizeof bad[0]; m++) {
-        char args[1024], line[512], out[256];
+        char cmd[1024], out[256];
         snprintf(out, sizeof out, "%s/out", dir);
-        snprintf(args, sizeof args, "%s output.dir=%s", bad[m].args, out);
-        int rc = run_cli(args, line, sizeof line);
-        print_message("%-45s -> %d: %s", bad[m].args, rc, line);
-        assert_int_equal(rc, 2);
-        assert_non_null(strstr(line, bad[m].names));
-        FILE *f = fopen(out, "r");
-        assert_null(f); /* nothing written */
+        snprintf(cmd, sizeof cmd, "../build/muflow %s output.dir=%s 2>&1 >/dev/null", bad[m].args,
+                 out);
+        free(test_sh_refused(cmd, bad[m].names));
+        assert_false(test_file_exists(out)); /* nothing written */
     }
-    rmdir(dir);
+    test_tmp_remove(dir);
 }
 
 /* A whole run from the command line: progress, final line, output files. */
 static void test_cli_run_outputs(void **state)
 {
     (void)state;
-    char dir[] = "/tmp/muflow_run_XXXXXX";
-    assert_non_null(mkdtemp(dir));
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "../build/muflow " CASES_DIR "bagnold.ini output.fields=off output.dir=%s/b", dir);
-    FILE *p = popen(cmd, "r");
-    assert_non_null(p);
-    char line[1024];
+    char dir[64], cmd[1024], *out, sub[128];
+    test_tmp_make(dir, sizeof dir, "run");
+    snprintf(sub, sizeof sub, "%s/b", dir);
+    snprintf(cmd, sizeof cmd,
+             "../build/muflow " CASES_DIR "bagnold.ini output.fields=off output.dir=%s", sub);
+    assert_int_equal(test_sh(cmd, &out), 0);
     int progress = 0, final = 0, errline = 0;
-    while (fgets(line, sizeof line, p)) {
+    for (char *line = strtok(out, "\n"); line; line = strtok(NULL, "\n")) {
         progress += strstr(line, "step ") && strstr(line, "residual") ? 1 : 0;
         final += strstr(line, "steady after") && strstr(line, "wall") ? 1 : 0;
         errline += strstr(line, "err_rms") && strstr(line, "u_surface") ? 1 : 0;
     }
-    assert_int_equal(pclose(p), 0);
+    free(out);
     assert_true(progress >= 1 && final == 1 && errline >= 1);
     static const char *files[] = {"summary.ini", "profile.csv", "history.csv"};
-    static const char *first[] = {NULL, "z,u,pressure,shear_rate,inertial_number,viscosity,u_exact",
+    static const char *first[] = {NULL,
+                                  "z,u,pressure,shear_rate,inertial_number,viscosity,u_exact\n",
                                   "step,time,wall_seconds,dt,residual"};
     for (int m = 0; m < 3; m++) {
-        char path[1200];
-        snprintf(path, sizeof path, "%s/b/%s", dir, files[m]);
-        FILE *f = fopen(path, "r");
-        assert_non_null(f);
-        char head[256] = "";
-        assert_non_null(fgets(head, sizeof head, f));
+        char *text = test_read_in(sub, files[m]);
         if (first[m])
-            assert_int_equal(strncmp(head, first[m], strlen(first[m])), 0);
+            assert_int_equal(strncmp(text, first[m], strlen(first[m])), 0);
         if (m == 0) { /* summary: the [result] keys */
-            char text[8192];
-            size_t n = fread(text, 1, sizeof text - 1, f);
-            text[n] = '\0';
             static const char *keys[] = {"status = steady", "steps = ", "time = ",
                                          "wall_seconds = ", "residual = ", "err_rms = ",
                                          "err_max = ", "err_rms_paper = ", "u_surface = "};
             for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++)
                 assert_non_null(strstr(text, keys[k]));
         }
-        fclose(f);
-        remove(path);
+        free(text);
     }
-    char sub[700];
-    snprintf(sub, sizeof sub, "%s/b", dir);
-    rmdir(sub);
-    rmdir(dir);
+    test_tmp_remove(dir);
 }
 
 void group_scenes(struct test_tally *t)

@@ -6,14 +6,12 @@
  * package and library lists against the Makefile, and README's commands as
  * a user types them.  The runner works in tests/
  * (test_main.c), so the repository is "..". */
-#define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
+#define _DEFAULT_SOURCE /* readlink, realpath */
 #include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 #include "test_main.h"
 
@@ -22,37 +20,16 @@
 /* ---------------------------------------------------------------------- */
 /* helpers */
 
-/* Runs cmd with sh, stdout and stderr into a malloc'd string (*out);
- * returns the exit status (-1 when it did not exit). */
+/* test_sh of cmd with its stderr in *out too. */
 static int sh(const char *cmd, char **out)
 {
     size_t flen = strlen(cmd) + sizeof "() 2>&1";
     char *full = malloc(flen);
     assert_non_null(full);
     snprintf(full, flen, "(%s) 2>&1", cmd);
-    fflush(NULL);
-    FILE *p = popen(full, "r");
+    int rc = test_sh(full, out);
     free(full);
-    assert_non_null(p);
-    size_t used = 0, cap = 4096;
-    char *buf = malloc(cap);
-    assert_non_null(buf);
-    size_t n;
-    while ((n = fread(buf + used, 1, cap - used - 1, p)) > 0) {
-        used += n;
-        if (cap - used < 2) {
-            cap *= 2;
-            buf = realloc(buf, cap);
-            assert_non_null(buf);
-        }
-    }
-    buf[used] = '\0';
-    int st = pclose(p);
-    if (out)
-        *out = buf;
-    else
-        free(buf);
-    return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+    return rc;
 }
 
 /* sh() that must exit 0; prints the command and its output otherwise. */
@@ -66,26 +43,6 @@ static char *sh_ok(const char *cmd)
     return out;
 }
 
-static void make_tmp(char *dir, size_t len, const char *tag)
-{
-    snprintf(dir, len, "/tmp/muflow_tools_%s_XXXXXX", tag);
-    assert_non_null(mkdtemp(dir));
-}
-
-static void remove_tree(const char *dir)
-{
-    char cmd[700];
-    assert_true(strncmp(dir, "/tmp/muflow_tools_", 18) == 0); /* never anything else */
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    assert_int_equal(system(cmd), 0);
-}
-
-static int file_exists(const char *path)
-{
-    struct stat sb;
-    return stat(path, &sb) == 0;
-}
-
 /* This executable's folder (the build folder) and path. */
 static void self_paths(char *exe, size_t len, char *dir, size_t dlen)
 {
@@ -96,36 +53,22 @@ static void self_paths(char *exe, size_t len, char *dir, size_t dlen)
     *strrchr(dir, '/') = '\0';
 }
 
-/* The muflow binary of this build. */
-static void muflow_bin(char *out, size_t len)
-{
-    char exe[PATH_MAX];
-    self_paths(exe, sizeof exe, out, len);
-    assert_true(strlen(out) + sizeof "/muflow" <= len);
-    strcat(out, "/muflow");
-}
-
 /* The value text of key in the [result] section of dir/summary.ini. */
 static void summary_value(const char *dir, const char *key, char *out, size_t len)
 {
-    char path[700];
-    snprintf(path, sizeof path, "%s/summary.ini", dir);
-    char *text = test_read_file(path, NULL);
-    char *res = strstr(text, "[result]\n");
-    assert_non_null(res);
-    char *end = strstr(res + 1, "\n[");
+    char *res = test_summary_result(dir);
     char want[128];
     snprintf(want, sizeof want, "\n%s = ", key);
     char *at = strstr(res, want);
-    if (!at || (end && at > end))
-        print_error("no %s in [result] of %s\n", key, path);
-    assert_true(at && (!end || at < end));
+    if (!at)
+        print_error("no %s in [result] of %s/summary.ini\n", key, dir);
+    assert_non_null(at);
     at += strlen(want);
     size_t n = strcspn(at, "\n");
     assert_true(n < len);
     memcpy(out, at, n);
     out[n] = '\0';
-    free(text);
+    free(res);
 }
 
 /* A PNG file of a plausible size. */
@@ -133,7 +76,7 @@ static void check_png(const char *dir, const char *name)
 {
     char path[700];
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    if (!file_exists(path))
+    if (!test_file_exists(path))
         print_error("%s missing\n", path);
     size_t n;
     char *data = test_read_file(path, &n);
@@ -149,7 +92,7 @@ static void test_version(void **state)
 {
     (void)state;
     char bin[PATH_MAX], cmd[PATH_MAX + 64];
-    muflow_bin(bin, sizeof bin);
+    test_muflow_bin(bin, sizeof bin);
     snprintf(cmd, sizeof cmd, "'%s' --version", bin);
     char *out = sh_ok(cmd);
     /* the Makefile's VERSION, the one definition */
@@ -178,7 +121,7 @@ static void test_options(void **state)
 {
     (void)state;
     char bin[PATH_MAX], cmd[PATH_MAX + 64];
-    muflow_bin(bin, sizeof bin);
+    test_muflow_bin(bin, sizeof bin);
     static const struct {
         const char *args, *want;
     } bad[] = {
@@ -280,7 +223,7 @@ static void test_install(void **state)
     /* BUILD of this executable, relative to the repository when inside it */
     size_t rl = strlen(root);
     const char *build = strncmp(bdir, root, rl) == 0 && bdir[rl] == '/' ? bdir + rl + 1 : bdir;
-    make_tmp(tmp, sizeof tmp, "install");
+    test_tmp_make(tmp, sizeof tmp, "tools_install");
     char dest[128];
     snprintf(dest, sizeof dest, "%s/stage", tmp);
 
@@ -293,9 +236,9 @@ static void test_install(void **state)
     for (size_t f = 0; f < sizeof files / sizeof files[0]; f++) {
         char path[700];
         snprintf(path, sizeof path, "%s/usr/local/%s", dest, files[f]);
-        if (!file_exists(path))
+        if (!test_file_exists(path))
             print_error("%s not installed\n", path);
-        assert_true(file_exists(path));
+        assert_true(test_file_exists(path));
     }
     /* every header of include/ */
     snprintf(cmd, sizeof cmd, "cd '%s/include' && for h in */*.h; do "
@@ -400,7 +343,7 @@ static void test_install(void **state)
     }
     snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
     free(sh_ok(cmd));
-    remove_tree(tmp);
+    test_tmp_remove(tmp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -419,8 +362,8 @@ static void test_plot(void **state)
                            "python3-matplotlib python3-h5py\n");
     assert_true(python_ready());
     char bin[PATH_MAX], tmp[64], cmd[4096], bag[128], none[128], png[160];
-    muflow_bin(bin, sizeof bin);
-    make_tmp(tmp, sizeof tmp, "plot");
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(tmp, sizeof tmp, "tools_plot");
     snprintf(bag, sizeof bag, "%s/bagnold", tmp);
     snprintf(none, sizeof none, "%s/none", tmp);
 
@@ -468,7 +411,7 @@ static void test_plot(void **state)
     assert_non_null(strstr(out, "it has: inertial_number, pressure, "));
     assert_non_null(strstr(out, " velocity, viscosity"));
     assert_null(strstr(out, "Traceback"));
-    assert_false(file_exists(png));
+    assert_false(test_file_exists(png));
     free(out);
 
     /* no scene (no profile.csv, no error, no headline) and no field files,
@@ -490,15 +433,15 @@ static void test_plot(void **state)
     assert_non_null(strstr(out, "no fields_*.h5"));
     check_png(png, "history.png");
     snprintf(want, sizeof want, "%s/compare.png", png);
-    assert_false(file_exists(want));
+    assert_false(test_file_exists(want));
     snprintf(want, sizeof want, "%s/field_viscosity.png", png);
-    assert_false(file_exists(want));
+    assert_false(test_file_exists(want));
     free(out);
 
     /* a folder without muflow output: exit status 1 */
     snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'", png);
     assert_int_equal(sh(cmd, NULL), 1);
-    remove_tree(tmp);
+    test_tmp_remove(tmp);
 }
 
 /* Every case file of cases/ on a small grid or a short time (a second or
@@ -574,7 +517,7 @@ static void test_plot_cases(void **state)
     (void)state;
     assert_true(python_ready());
     char bin[PATH_MAX], tmp[64], cmd[4096], dir[256], path[512];
-    muflow_bin(bin, sizeof bin);
+    test_muflow_bin(bin, sizeof bin);
     /* every case file has its small run here */
     DIR *d = opendir("../cases");
     assert_non_null(d);
@@ -595,7 +538,7 @@ static void test_plot_cases(void **state)
     closedir(d);
     assert_int_equal(files, SMALL_CASES);
 
-    make_tmp(tmp, sizeof tmp, "cases");
+    test_tmp_make(tmp, sizeof tmp, "tools_cases");
     for (size_t c = 0; c < SMALL_CASES; c++) {
         assert_true(snprintf(cmd, sizeof cmd, "'%s' ../cases/%s.ini %s output.quiet=on "
                                               "output.dir='%s/runs/%s'",
@@ -656,7 +599,7 @@ static void test_plot_cases(void **state)
     assert_non_null(strstr(movie, "not a column collapse (case.scene = bagnold)"));
     assert_int_equal(strchr(movie, '\n') - movie + 1, (long)strlen(movie)); /* one line */
     free(movie);
-    remove_tree(tmp);
+    test_tmp_remove(tmp);
 }
 
 /* ---------------------------------------------------------------------- */
@@ -728,7 +671,7 @@ static void test_readme_commands(void **state)
 {
     (void)state;
     char bin[PATH_MAX], cmd[PATH_MAX + 128];
-    muflow_bin(bin, sizeof bin);
+    test_muflow_bin(bin, sizeof bin);
     snprintf(cmd, sizeof cmd, PYTHON " readme_commands.py .. '%s'", bin);
     char *out = sh_ok(cmd);
     printf("    %s", out);

@@ -998,13 +998,6 @@ static void test_saddle_point_cause(void **state)
     saddle_point_destroy(sp);
 }
 
-/* defined below, beside the heap runs of the AMG tests */
-/* in [0, 1): the same numbers as (rand_pm1 + 1) / 2, exactly */
-static double rand_unit(unsigned long long *s)
-{
-    return 0.5 * (rand_pm1(s) + 1.0);
-}
-
 /* kernel_flow_block, the operator's column of a cross-section's flow
  * component (GMRES's operator when that component is solved alone),
  * against viscous_apply for v = (u, 0, 0): random viscosities, tangent
@@ -1265,12 +1258,7 @@ static void heap_state(const char *precond, const char *reuse, struct march_stat
 /* The largest |u_b - u_a| relative to the largest |u_a|. */
 static double velocity_difference(const struct march_state *a, const struct march_state *b)
 {
-    double diff = 0.0, top = 0.0;
-    for (int c = 0; c < 3; c++)
-        for (size_t p = 0; p < a->g.size; p++) {
-            diff = fmax(diff, fabs(a->vel[c][p] - b->vel[c][p]));
-            top = fmax(top, fabs(a->vel[c][p]));
-        }
+    double top, diff = test_velocity_difference(a, b, &top);
     return diff / top;
 }
 
