@@ -18,7 +18,7 @@ enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE };
 
 struct scene;
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
-                     PRECOND_FOURIER, PRECOND_GMG };
+                     PRECOND_FOURIER, PRECOND_GMG, PRECOND_MULTIGRID };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
 

@@ -58,7 +58,7 @@ static const struct choice advection_choices[] = {
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
     {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER},
-    {"gmg", PRECOND_GMG}, {NULL, 0}};
+    {"gmg", PRECOND_GMG}, {"multigrid", PRECOND_MULTIGRID}, {NULL, 0}};
 
 /* Enum fields are written and read as int through memcpy. */
 _Static_assert(sizeof(enum bc_kind) == sizeof(int), "enum size");

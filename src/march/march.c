@@ -207,6 +207,7 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     case PRECOND_AMG: return VISCOUS_AMG;
     case PRECOND_FOURIER: return VISCOUS_FOURIER;
     case PRECOND_GMG: return VISCOUS_GMG;
+    case PRECOND_MULTIGRID: return VISCOUS_MG;
     case PRECOND_AUTO: break;
     }
     /* the coupled step probes and factorises its own matrix: the viscous
@@ -388,7 +389,8 @@ static enum poisson_bc projection_bc(enum bc_kind k)
  * blocks' bands and the multigrid's coarsest level aside). */
 static int without_factors(enum viscous_precond kind)
 {
-    return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG;
+    return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG ||
+           kind == VISCOUS_MG;
 }
 
 static double memory_estimate(const struct march_state *st, enum viscous_precond kind)
@@ -590,7 +592,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
      * one with it (the heap at 140 x 200: 58 steps instead of the diagonal
      * tangent's 460; docs/design.md, "The Cholesky of the diagonal tangent") */
     st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY ||
-                        kind == VISCOUS_GMG ||
+                        kind == VISCOUS_GMG || kind == VISCOUS_MG ||
                         cs->coupled) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {
