@@ -27,11 +27,11 @@ ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
              -I/usr/include/hypre
 LDLIBS  = -lfftw3_omp $(shell pkg-config --libs $(PC_PKGS) 2>/dev/null) -lm
-# the executables' GOMP_parallel (src/solvers/gomp_inline.c) is the one the
+# the executables' GOMP_parallel (src/platform/gomp_inline.c) is the one the
 # libraries opened later bind to: CHOLMOD's regions run inline on one thread
 # (fftw3_omp's reference to it exports it too; this does not rely on that)
 LDLIBS += -Wl,--export-dynamic-symbol=GOMP_parallel
-# and so is its SuiteSparse_time (src/solvers/suitesparse_clock.c, taken from
+# and so is its SuiteSparse_time (src/platform/suitesparse_clock.c, taken from
 # the archive though nothing in muflow calls it): CHOLMOD's clock, stopped
 LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSparse_time
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
@@ -41,9 +41,9 @@ LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSpar
 # types.  ompi-c is only in the Cflags' packages.
 MULTIARCH := $(shell $(CC) -print-multiarch)
 HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
-# SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse.c opens
-# them with the first sparse factorisation: they and their BLAS were over half
-# of the loader's relocations); their sonames come from the -dev package.
+# SuiteSparse's CHOLMOD and UMFPACK are not linked either (suitesparse_open.c
+# opens them with the first sparse factorisation: they and their BLAS were over
+# half of the loader's relocations); their sonames come from the -dev package.
 soname = $(shell objdump -p $(shell $(CC) -print-file-name=$(1)) 2>/dev/null | awk '/SONAME/ {print $$2}')
 CHOLMOD_LIB := $(call soname,libcholmod.so)
 UMFPACK_LIB := $(call soname,libumfpack.so)
@@ -61,7 +61,8 @@ TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
 HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
-.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs FORCE
+.PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs \
+        case-keys docs FORCE
 
 all: $(BUILD)/muflow
 
@@ -96,9 +97,10 @@ $(BUILD)/obj/src/app/main.o: ALL_CFLAGS += -DMUFLOW_VERSION='"$(VERSION)"'
 $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_HYPRE_LIB='"$(HYPRE_LIB)"')
 # Debian's serial OpenBLAS, which blas.c opens before the libraries that use
 # a BLAS (the alternatives may point libblas.so.3 to a threaded build)
-$(BUILD)/obj/src/solvers/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
-$(BUILD)/obj/src/solvers/suitesparse.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
-                                                   $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
+$(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
+# the SuiteSparse libraries suitesparse_open.c opens (CHOLMOD_LIB, UMFPACK_LIB above)
+$(BUILD)/obj/src/platform/suitesparse_open.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
+                                                         $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
 
 print-version:
 	@echo '$(VERSION)'
@@ -108,6 +110,11 @@ print-deb-pkgs:
 	@echo '$(DEB_PKGS)'
 
 $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
+
+# examples/minimal.c, the library's smallest program (the tools tests build
+# it against the installed library with pkg-config, as its comment says)
+$(BUILD)/minimal: $(BUILD)/obj/examples/minimal.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
@@ -125,6 +132,13 @@ test: deps
 clean:
 	rm -rf $(BUILD) out
 
+# docs/case_keys.md is generated from the key tables (src/config/case.c and
+# each scene's key block); the case tests check that it is current.
+case-keys: $(BUILD)/muflow
+	$(BUILD)/muflow --list=markdown > docs/case_keys.md.tmp
+	mv docs/case_keys.md.tmp docs/case_keys.md
+docs: case-keys
+
 # ---- install ------------------------------------------------------------------
 # The command, the library, its headers (include/ as PREFIX/include/muflow/,
 # so `#include "config/case.h"` as in the tree) and muflow.pc:
@@ -137,7 +151,15 @@ INCLUDEDIR ?= $(PREFIX)/include
 PCDIR      ?= $(LIBDIR)/pkgconfig
 PUBLIC_HEADERS = $(wildcard include/*/*.h)
 
-$(BUILD)/muflow.pc: Makefile $(BUILD)/version
+# muflow.pc names the PREFIX, LIBDIR and INCLUDEDIR of this make invocation:
+# rebuilt when one of them changes ($(BUILD)/install-dirs holds them, as
+# $(BUILD)/version holds the version)
+INSTALL_DIRS = prefix=$(PREFIX) libdir=$(LIBDIR) includedir=$(INCLUDEDIR)
+$(BUILD)/install-dirs: FORCE
+	@mkdir -p $(dir $@)
+	@printf '%s\n' '$(INSTALL_DIRS)' | cmp -s - $@ || printf '%s\n' '$(INSTALL_DIRS)' > $@
+
+$(BUILD)/muflow.pc: Makefile $(BUILD)/version $(BUILD)/install-dirs
 	@mkdir -p $(dir $@)
 	@{ echo 'prefix=$(PREFIX)'; \
 	   echo 'libdir=$(if $(filter $(PREFIX)/%,$(LIBDIR)),$${prefix}/$(patsubst $(PREFIX)/%,%,$(LIBDIR)),$(LIBDIR))'; \
@@ -171,7 +193,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle stretched scenes bingham
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle stretched scenes bingham cases
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a
@@ -252,6 +274,17 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
+# Threads on a busy machine: every case file (the long ones bounded: see the
+# script) at the default 2 threads, on 1 thread and on 2 passive threads,
+# alternating, THREADS_REPEATS times each, on the idle machine and beside two
+# processes that keep both cores busy; $(BENCH_OUT)/threads_busy.md.  About
+# 15 minutes on 2 cores.
+THREADS_REPEATS ?= 3
+.PHONY: bench-threads
+bench-threads: deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	/usr/bin/python3 bench/threads_busy.py $(BUILD)/muflow $(BENCH_OUT) --repeats $(THREADS_REPEATS)
+
 # The Bingham cavity study: psi_max and the mid-line profile against Vola et
 # al. (2003) for their Bn = 0, 1, 10, 100, 1000, and the yielded regions at
 # Bn = 2, 5, 20 (muflow's convention), as PNG plots and CSV tables in
@@ -301,7 +334,7 @@ bench-amg: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_amg.py $(BUILD)/muflow $(BENCH_OUT) --repeats $(AMG_REPEATS)
 
-# The duct studies (seeds/002 sec. 4): cases/duct_square.ini and
+# The duct studies (Chauchat & Medale 2010, sec. 4): cases/duct_square.ini and
 # cases/duct_circular.ini, both models, on the half cross-section meshes
 # 10 x 20, 20 x 40, 40 x 80 (the paper's square meshes) and 80 x 160.  At
 # 80 x 160 the mixed model starts from the 40 x 80 solution
@@ -457,7 +490,7 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 	  --repeats $(COLLAPSE_GERRIS_REPEATS)
 
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
-# time from the exact solution plus a perturbation, seeds/001 sec. 3.1 (Table
+# time from the exact solution plus a perturbation, Barker & Rauter (2018), sec. 3.1 (Table
 # 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
 # (Table 2, 28.5 degrees, jop and barker_gray, three grids): illposed_table.md,
 # illposed_runs.csv, illposed_growth.png into $(BENCH_OUT)/illposed.  About

@@ -8,7 +8,7 @@ OMP_NUM_THREADS, 2 in `make bench`), steady from rest with the interface
 held flat, on 25 x 50, 50 x 100 and 100 x 200 cells, for each edge
 treatment (`bagnold2.interface_edges`: series, mean) and mixture law
 (weighted, harmonic); then the transient from rest to t = 10 s on
-50 x 100 (steps of 1e-2 s), the seed's run, and from rest to the steady
+50 x 100 (steps of 1e-2 s), the paper's run, and from rest to the steady
 mode's criterion (solver.steady_tolerance).  Writes OUTDIR/bagnold2_runs.csv, bagnold2_table.md
 (errors in the grains and in the air, observed orders, mass error, steps,
 wall time; the transient's time to the steady state) and
@@ -84,7 +84,7 @@ def main():
                          "u_interface": float(s["u_interface"]),
                          "u_interface_exact": float(s["u_interface_exact"]),
                          "mass_error": float(s["mass_error"])})
-    top = 0.0450736  # the exact top velocity, seeds/001 eq. (9)
+    top = 0.0450736  # the exact top velocity, Barker & Rauter (2018), eq. (9)
     with open(os.path.join(outdir, "bagnold2_runs.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(runs[0].keys()))
         w.writeheader()
@@ -104,8 +104,8 @@ def main():
         elif reached is not None and abs(float(r["err_rms"]) - final) > STEADY_BAND * top:
             reached = None
 
-    md = ["Steady from rest, the interface held flat (`cases/bagnold2.ini`, seeds/001 "
-          "Table 1), errors against eqs. (6)-(11) in m/s; u_top = %.7f m/s; order: "
+    md = ["Steady from rest, the interface held flat (`cases/bagnold2.ini`, Barker & Rauter "
+          "2018, Table 1), errors against eqs. (6)-(11) in m/s; u_top = %.7f m/s; order: "
           "observed between a grid and the next finer one." % top, ""]
     md.append("| edges | mixture | grid | status | steps | wall s | grains err_rms (order) | "
               "air err_rms (order) | air err_rms / u_top | u_interface (exact) | mass_error |")

@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""Bed load beside the Newton FEM's Table 2 (seeds/002).
+"""Bed load beside the Newton FEM's Table 2 (Chauchat & Medale 2010).
 
 usage: bedload_study.py MUFLOW OUTDIR [section.key=value ...]
 
-Runs cases/bedload.ini (set A of the refdata, bercovier) through the
+Runs cases/bedload.ini (set A, bercovier) through the
 muflow command (the caller's OMP_NUM_THREADS, 2 in `make bench`) with the
 mixed-fluid model at lambda 1e-6 and 1e-7 and the two-fluid model at
 lambda 1e-6, on the FEM's grids along the depth (12 x 1 x 80 and
@@ -24,7 +24,7 @@ from summary_ini import summary
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "bedload.ini")
 REPEATS = 5
-# seeds/002 Table 2: (model, lambda, FEM grid) -> (iterations, CPU s on 8 processes)
+# Chauchat & Medale (2010), Table 2: (model, lambda, FEM grid) -> (iterations, CPU s on 8 processes)
 FEM = {("mixed", 1e-6, 80): (269, 438.0), ("mixed", 1e-6, 160): (54, 473.0),
        ("mixed", 1e-7, 80): (253, 453.0), ("mixed", 1e-7, 160): (75, 589.0),
        ("two_fluid", 1e-6, 80): (1943, 5682.0), ("two_fluid", 1e-6, 160): (206, 5476.0)}
@@ -58,9 +58,10 @@ def main():
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
-    md = ["The plane bed-load flow (`cases/bedload.ini`, set A of the refdata, bercovier), "
+    md = ["The plane bed-load flow (`cases/bedload.ini`, set A, bercovier), "
           "steady from rest to a relative residual of 1e-10, beside the Newton FEM of "
-          "seeds/002 Table 2 (its grids 12 x 1 x 80 and 24 x 1 x 160 quadratic elements; "
+          "Chauchat & Medale (2010), Table 2 (its grids 12 x 1 x 80 and 24 x 1 x 160 quadratic "
+          "elements; "
           "muflow 2 x 1 x nz cells, the same profile, since the flow is uniform along x and "
           "y).  muflow: wall seconds of the march, median of %d runs on 2 threads; the FEM: "
           "CPU seconds on 8 processes, its iterations.  err_rms: the mixture (mixed) or "

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""The granular cylinder's continuation in the forcing (seeds/000 sec. 4.2,
-fig. 12): steady solves of cases/cylinder.ini along F for several confining
+"""The granular cylinder's continuation in the forcing (Chauchat &
+Medale 2014, sec. 4.2, fig. 12): steady solves of cases/cylinder.ini along F for several confining
 pressures.
 
 usage: cylinder_granular.py MUFLOW OUTDIR [--pressures 5,10,20]
@@ -8,7 +8,7 @@ usage: cylinder_granular.py MUFLOW OUTDIR [--pressures 5,10,20]
                             [--grid 40x120] [--start RUNDIR] [--min-step 0.0125]
                             [--plot] [--csv RUN/cylinder.csv,...]
 
-F = rho phi g L_x / p_ext (L_x = 20 D, the seed's whole box; the case holds
+F = rho phi g L_x / p_ext (L_x = 20 D, the paper's whole box; the case holds
 half of it) sets the gravity: physics.gravity = F p_ext / (rho phi L_x),
 which scene cylinder computes from cylinder.forcing (its own continuation,
 cylinder.forcing_end, does one pressure in one run; this driver adds the
@@ -46,7 +46,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from summary_ini import summary  # noqa: E402
 
 CASE = "cases/cylinder.ini"
-LX_WHOLE = 20.0  # the seed's box across, in D
+LX_WHOLE = 20.0  # the paper's box across, in D
 RHO_PHI = 1.0    # physics.density of the case
 D, d = 1.0, 0.1
 
@@ -185,8 +185,8 @@ def main():
                    "steps": int(s.get("steps", 0)), "wall_s": float(s.get("wall_seconds", 0))}
             if s.get("status") == "steady":
                 U = float(s["mean_velocity"])
-                FD = -float(s["lift_force_control_volume"])
-                FDs = -float(s["lift_force"])
+                FD = float(s["drag_force_control_volume"])  # along the flow, -z
+                FDs = float(s["drag_force"])
                 row.update(Q=U * LX_WHOLE, U=U, Fr=U / math.sqrt(g * D), Fr_eff=U / math.sqrt(g * (D + d)),
                            F_D=FD, F_D_surface=FDs, F_D_over_p=FD / p,
                            C_D=FD / (0.5 * RHO_PHI * U * U) if U > 0 else float("nan"))

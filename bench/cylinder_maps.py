@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Field maps of a granular cylinder run (seeds/000 sec. 4.2, figs. 13, 14
+"""Field maps of a granular cylinder run (Chauchat & Medale 2014, sec. 4.2, figs. 13, 14
 and 16): the velocity magnitude, the regularised pressure and the
 viscosity (log colours) around the body, from the run's last field file.
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Duct study (seeds/002 sec. 4, figs. 10-15): mesh study, plots.
+"""Duct study (Chauchat & Medale 2010, sec. 4, figs. 10-15): mesh study, plots.
 
 usage: duct_study.py MUFLOW OUTDIR [--meshes 20x40,40x80,80x160] [--reuse]
                      [--model mixed|two_fluid] [--case cases/duct_circular.ini]

@@ -6,7 +6,7 @@ usage: illposed_study.py MUFLOW OUTDIR [NAME ...]
 Runs cases/bagnold2.ini in time from the exact steady solution plus a
 divergence-free perturbation of 1e-3 of the top velocity
 (bagnold2.start = exact, bagnold2.perturbation = 1e-3) for the cases of
-seeds/001 sec. 3.1-3.2 and writes OUTDIR/illposed_table.md (growth rate of
+Barker & Rauter (2018), sec. 3.1-3.2 and writes OUTDIR/illposed_table.md (growth rate of
 the velocity and pressure amplitudes over the scene's window, per case,
 grid and time step), illposed_runs.csv and illposed_growth.png (ln A(t)).
 A run whose summary.ini exists in its folder is not run again; NAME ...

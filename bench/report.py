@@ -544,9 +544,10 @@ if hs:
 
 # ---------------------------------------------------------------------------
 for name, title, png in [
-        ("bagnold2_table.md", "Granular layer under air (bagnold2) against seeds/001 eqs. (6)-(11)",
+        ("bagnold2_table.md",
+         "Granular layer under air (bagnold2) against Barker & Rauter (2018), eqs. (6)-(11)",
          "bagnold2_profile.png"),
-        ("bedload_table.md", "Bed load beside the Newton FEM (seeds/002 Table 2)", None),
+        ("bedload_table.md", "Bed load beside the Newton FEM (Chauchat & Medale 2010, Table 2)", None),
         ("collapse_gerris.md", "Column collapse beside Gerris (last `make bench-collapse-gerris`)",
          None),
         ("amg_table.md", "Preconditioners of the implicit step on whole steady solves "

@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include "kernels/rheology.h"
 #include "rheology_inline.h"
+#include "config/keys.h" /* num_text: numbers in messages as case files write them */
 
 double rheology_pressure(const struct rheology *r, double p, double *dpreg_dp)
 {
@@ -137,10 +138,10 @@ int rheology_curve_setup(struct rheology *r, char *msg, size_t msglen)
         return 0;
     if (!(r->alpha > 0.0 && r->alpha < 2.0)) {
         snprintf(msg, msglen,
-                 "rheology.curve = barker_gray: rheology.alpha = %.17g must be in (0, 2): the "
+                 "rheology.curve = barker_gray: rheology.alpha = %s must be in (0, 2): the "
                  "low-I branch has nu = mu^2 / (2 alpha) and is well posed near I = 0 only for "
                  "alpha < 2",
-                 r->alpha);
+                 num_text(r->alpha).s);
         return 1;
     }
     double mu_2 = r->mu_s + r->delta_mu;
@@ -166,20 +167,22 @@ int rheology_curve_setup(struct rheology *r, char *msg, size_t msglen)
     }
     if (!found && !(hi > lo)) {
         snprintf(msg, msglen,
-                 "rheology.curve = barker_gray: the mu(I) curve of rheology.mu_s = %.6g, "
-                 "rheology.delta_mu = %.6g, rheology.i0 = %.6g has no well-posed I_1^N: the "
+                 "rheology.curve = barker_gray: the mu(I) curve of rheology.mu_s = %s, "
+                 "rheology.delta_mu = %s, rheology.i0 = %s has no well-posed I_1^N: the "
                  "bracket [%.3g, I(mu = tan((atan mu_s + atan mu_2) / 2))] is empty%s",
-                 r->mu_s, r->delta_mu, r->i0, RHEOLOGY_I1N_LOW,
+                 num_text(r->mu_s).s, num_text(r->delta_mu).s, num_text(r->i0).s,
+                 RHEOLOGY_I1N_LOW,
                  r->delta_mu > 0.0 ? ""
                                    : " (delta_mu = 0: a constant mu is ill posed everywhere)");
         return 1;
     }
     if (!found) {
         snprintf(msg, msglen,
-                 "rheology.curve = barker_gray: the mu(I) curve of rheology.mu_s = %.6g, "
-                 "rheology.delta_mu = %.6g, rheology.i0 = %.6g has C(I) >= 0 (ill posed) "
+                 "rheology.curve = barker_gray: the mu(I) curve of rheology.mu_s = %s, "
+                 "rheology.delta_mu = %s, rheology.i0 = %s has C(I) >= 0 (ill posed) "
                  "throughout [%.3g, %.6g], so there is no well-posed I_1^N to regularise from",
-                 r->mu_s, r->delta_mu, r->i0, RHEOLOGY_I1N_LOW, hi);
+                 num_text(r->mu_s).s, num_text(r->delta_mu).s, num_text(r->i0).s,
+                 RHEOLOGY_I1N_LOW, hi);
         return 1;
     }
 
@@ -219,8 +222,8 @@ int rheology_curve_setup(struct rheology *r, char *msg, size_t msglen)
     if (!isfinite(r->a_minus)) {
         snprintf(msg, msglen,
                  "rheology.curve = barker_gray: A_minus = I_1^N exp(alpha / mu(I_1^N)^2) "
-                 "overflows for rheology.alpha = %.6g and mu(I_1^N = %.6g) = %.6g",
-                 r->alpha, root, mu);
+                 "overflows for rheology.alpha = %s and mu(I_1^N = %.6g) = %.6g",
+                 num_text(r->alpha).s, root, mu);
         return 1;
     }
     return 0;

@@ -21,10 +21,14 @@ struct stress_dir {
     double ihb;       /* 1 / h_b */
 };
 
+/* A velocity's size in the magnitude sum: at least vf, the round-off scale
+ * of the velocities (0: their own sizes). */
+#define M(x) fmax(fabs(x), vf)
+
 static inline __attribute__((always_inline)) void
 stress_row(const double *restrict Aa, const double *restrict va, ptrdiff_t oa, double iha,
            const struct stress_dir *d1, const struct stress_dir *d2, double *restrict res,
-           ptrdiff_t p0, int k0, int k1, const int magnitude)
+           ptrdiff_t p0, int k0, int k1, const int magnitude, const double vf)
 {
     const double *restrict Ae1 = d1->Ae, *restrict vb1 = d1->vb;
     const double *restrict Ae2 = d2->Ae, *restrict vb2 = d2->vb;
@@ -34,18 +38,18 @@ stress_row(const double *restrict Aa, const double *restrict va, ptrdiff_t oa, d
     if (magnitude) {
         for (int k = k0; k < k1; k++) {
             ptrdiff_t p = p0 + k;
-            double f = (fabs(Aa[p]) * 2.0 * (fabs(va[p + oa]) + fabs(va[p])) +
-                        fabs(Aa[p - oa]) * 2.0 * (fabs(va[p]) + fabs(va[p - oa]))) * iha2;
+            double f = (fabs(Aa[p]) * 2.0 * (M(va[p + oa]) + M(va[p])) +
+                        fabs(Aa[p - oa]) * 2.0 * (M(va[p]) + M(va[p - oa]))) * iha2;
             ptrdiff_t e = p + ob1;
-            f += fabs(Ae1[p]) * ((fabs(va[p]) + fabs(va[p - ob1])) * ihb1 +
-                                 (fabs(vb1[p]) + fabs(vb1[p - oa])) * iha) * ihb1 +
-                 fabs(Ae1[e]) * ((fabs(va[e]) + fabs(va[e - ob1])) * ihb1 +
-                                 (fabs(vb1[e]) + fabs(vb1[e - oa])) * iha) * ihb1;
+            f += fabs(Ae1[p]) * ((M(va[p]) + M(va[p - ob1])) * ihb1 +
+                                 (M(vb1[p]) + M(vb1[p - oa])) * iha) * ihb1 +
+                 fabs(Ae1[e]) * ((M(va[e]) + M(va[e - ob1])) * ihb1 +
+                                 (M(vb1[e]) + M(vb1[e - oa])) * iha) * ihb1;
             e = p + ob2;
-            f += fabs(Ae2[p]) * ((fabs(va[p]) + fabs(va[p - ob2])) * ihb2 +
-                                 (fabs(vb2[p]) + fabs(vb2[p - oa])) * iha) * ihb2 +
-                 fabs(Ae2[e]) * ((fabs(va[e]) + fabs(va[e - ob2])) * ihb2 +
-                                 (fabs(vb2[e]) + fabs(vb2[e - oa])) * iha) * ihb2;
+            f += fabs(Ae2[p]) * ((M(va[p]) + M(va[p - ob2])) * ihb2 +
+                                 (M(vb2[p]) + M(vb2[p - oa])) * iha) * ihb2 +
+                 fabs(Ae2[e]) * ((M(va[e]) + M(va[e - ob2])) * ihb2 +
+                                 (M(vb2[e]) + M(vb2[e - oa])) * iha) * ihb2;
             res[p] = f;
         }
         return;
@@ -74,7 +78,7 @@ stress_row(const double *restrict Aa, const double *restrict va, ptrdiff_t oa, d
 static inline __attribute__((always_inline)) void
 stress_loop(const struct grid *g, const struct box act[3], const double *const A_cell[3],
             const double *const A_edge[3], double *const v[3], double *out[3],
-            const int magnitude, const int only)
+            const int magnitude, const double vf, const int only)
 {
     const ptrdiff_t *o = g->stride;
     const int par = kernel_parallel(g);
@@ -101,7 +105,7 @@ stress_loop(const struct grid *g, const struct box act[3], const double *const A
                 }
                 for (int k = -1; k < klo; k++)
                     res[p0 + k] = 0.0;
-                stress_row(Aa, va, oa, iha, &d1, &d2, res, p0, klo, khi, magnitude);
+                stress_row(Aa, va, oa, iha, &d1, &d2, res, p0, klo, khi, magnitude, vf);
                 for (int k = khi; k < kend; k++)
                     res[p0 + k] = 0.0;
             }
@@ -117,7 +121,7 @@ stress_loop(const struct grid *g, const struct box act[3], const double *const A
 static void stress_loop_stretched(const struct grid *g, const struct box act[3],
                                   const double *const A_cell[3], const double *const A_edge[3],
                                   double *const v[3], double *out[3], const int magnitude,
-                                  const int only)
+                                  const double vf, const int only)
 {
     const ptrdiff_t *o = g->stride;
     for (int a = 0; a < 3; a++) {
@@ -140,8 +144,8 @@ static void stress_loop_stretched(const struct grid *g, const struct box act[3],
                     double hfa = grid_hf(g, a, ia);
                     double f;
                     if (magnitude)
-                        f = (fabs(Aa[p]) * 2.0 * (fabs(va[p + oa]) + fabs(va[p])) / hp +
-                             fabs(Aa[p - oa]) * 2.0 * (fabs(va[p]) + fabs(va[p - oa])) / hm) / hfa;
+                        f = (fabs(Aa[p]) * 2.0 * (M(va[p + oa]) + M(va[p])) / hp +
+                             fabs(Aa[p - oa]) * 2.0 * (M(va[p]) + M(va[p - oa])) / hm) / hfa;
                     else
                         f = (Aa[p] * 2.0 * (va[p + oa] - va[p]) / hp -
                              Aa[p - oa] * 2.0 * (va[p] - va[p - oa]) / hm) / hfa;
@@ -154,10 +158,10 @@ static void stress_loop_stretched(const struct grid *g, const struct box act[3],
                         ptrdiff_t e = p + ob;
                         double s1, s0;
                         if (magnitude) {
-                            s1 = fabs(Ae[e]) * ((fabs(va[e]) + fabs(va[e - ob])) / hb1 +
-                                                (fabs(vb[e]) + fabs(vb[e - oa])) / hfa);
-                            s0 = fabs(Ae[p]) * ((fabs(va[p]) + fabs(va[p - ob])) / hb0 +
-                                                (fabs(vb[p]) + fabs(vb[p - oa])) / hfa);
+                            s1 = fabs(Ae[e]) * ((M(va[e]) + M(va[e - ob])) / hb1 +
+                                                (M(vb[e]) + M(vb[e - oa])) / hfa);
+                            s0 = fabs(Ae[p]) * ((M(va[p]) + M(va[p - ob])) / hb0 +
+                                                (M(vb[p]) + M(vb[p - oa])) / hfa);
                             f += (s1 + s0) / grid_hc(g, b, jb);
                         } else {
                             s1 = Ae[e] * ((va[e] - va[e - ob]) / hb1 + (vb[e] - vb[e - oa]) / hfa);
@@ -175,21 +179,28 @@ void kernel_stress_divergence(const struct grid *g, const struct box act[3],
                               double *const v[3], double *out[3])
 {
     if (grid_stretched(g)) {
-        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, -1);
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, 0.0, -1);
         return;
     }
-    stress_loop(g, act, A_cell, A_edge, v, out, 0, -1);
+    stress_loop(g, act, A_cell, A_edge, v, out, 0, 0.0, -1);
 }
 
 void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
                              const double *const A_cell[3], const double *const A_edge[3],
                              double *const v[3], double *out[3])
 {
+    kernel_stress_magnitude_at(g, act, A_cell, A_edge, v, 0.0, out);
+}
+
+void kernel_stress_magnitude_at(const struct grid *g, const struct box act[3],
+                                const double *const A_cell[3], const double *const A_edge[3],
+                                double *const v[3], double v_floor, double *out[3])
+{
     if (grid_stretched(g)) {
-        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 1, -1);
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 1, v_floor, -1);
         return;
     }
-    stress_loop(g, act, A_cell, A_edge, v, out, 1, -1);
+    stress_loop(g, act, A_cell, A_edge, v, out, 1, v_floor, -1);
 }
 
 void kernel_stress_component(const struct grid *g, const struct box act[3], int c,
@@ -197,8 +208,8 @@ void kernel_stress_component(const struct grid *g, const struct box act[3], int 
                              double *const v[3], double *out[3])
 {
     if (grid_stretched(g)) {
-        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, c);
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, 0.0, c);
         return;
     }
-    stress_loop(g, act, A_cell, A_edge, v, out, 0, c);
+    stress_loop(g, act, A_cell, A_edge, v, out, 0, 0.0, c);
 }

@@ -45,7 +45,7 @@ static void test_set_a(void **state)
     char *o40[] = {"domain.nz=40", "output.fields=off"};
     run(2, o20, &r20, &dz20);
     run(2, o40, &r40, &dz40);
-    /* the exact values of the refdata (set A): delta = 0.186149 D */
+    /* Ouriemi et al.'s (2009) exact mobile layer for set A: delta = 0.186149 D */
     assert_true(fabs(run_result_value(&r20, "mobile_layer_exact") / (0.186149 * 0.065) - 1.0) <
                 1e-5);
     assert_true(fabs(r20.errors.headline_exact - 0.0567236) < 2e-6); /* table max 0.0567236 */
@@ -77,7 +77,7 @@ static void test_set_b(void **state)
                   "bedload.mu_s=0.24"};
     run((int)(sizeof ov / sizeof ov[0]), ov, &r, &dz);
     double me = run_result_value(&r, "mobile_layer_exact");
-    assert_true(fabs(me / (0.140482 * 0.06) - 1.0) < 1e-5); /* refdata set B */
+    assert_true(fabs(me / (0.140482 * 0.06) - 1.0) < 1e-5); /* set B (SedFoam's test) */
     assert_true(r.errors.err_rms <= 4e-4);
     assert_true(fabs(run_result_value(&r, "mobile_layer") - me) <= 0.25 * dz);
 }

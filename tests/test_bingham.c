@@ -89,7 +89,10 @@ static void cavity(double bn_vola, struct run_result *r, struct muflow_case *cs)
 }
 
 /* psi_max within 3% of Vola et al.'s fig. 2a and the mid-line within 0.02 RMS
- * of their fig. 3, at a resolution that keeps the suite fast. */
+ * of their fig. 3, at a resolution that keeps the suite fast.  Fig. 2a
+ * starts at Bn 0.1: at Bn = 0 there is no reference psi_max (it is not
+ * extrapolated), and psi_max is held against the augmented-Lagrangian
+ * solver's value at Bn 0 (the data's psi_max_al, 128 x 128) instead. */
 static void test_cavity_against_vola(void **state)
 {
     (void)state;
@@ -98,8 +101,18 @@ static void test_cavity_against_vola(void **state)
         struct muflow_case cs;
         struct run_result r;
         cavity(bn[m], &r, &cs);
-        assert_true(fabs(r.errors.headline - r.errors.headline_exact) <=
-                    0.03 * r.errors.headline_exact);
+        double ref = r.errors.headline_exact;
+        if (bn[m] == 0.0) {
+            assert_true(isnan(ref));
+            struct curve al;
+            char err[256];
+            assert_int_equal(reference_curve(cs.reference, "psi_max_al", 0.0, &al, err, sizeof err),
+                             0);
+            assert_int_equal(al.n, 1);
+            ref = al.y[0];
+            curve_free(&al);
+        }
+        assert_true(fabs(r.errors.headline - ref) <= 0.03 * ref);
         assert_true(r.errors.err_rms <= 0.02);
     }
 }

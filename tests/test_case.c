@@ -402,7 +402,7 @@ static void test_overrides(void **state)
     assert_int_equal(c.scene, scene_find("bagnold"));
 
     /* the Barker & Gray curve's derived values, from the final keys (the
-     * refdata's BG2017_glass set: I_1^N 0.0039718, A_minus 15642) */
+     * BG2017_glass set of Barker & Gray 2017: I_1^N 0.0039718, A_minus 15642) */
     char *ovs_bg[] = {"rheology.curve=barker_gray", "rheology.mu_s=0.342",
                       "rheology.delta_mu=0.215", "rheology.i0=0.069"};
     assert_int_equal(case_load(&c, path, 4, ovs_bg, err, sizeof(err)), 0);
@@ -468,7 +468,8 @@ static const struct bad bad_cases[] = {
     {"[boundary]\nzlo = wall\n", NULL, {"boundary.zlo", "boundary.zhi", "periodic"}},
     {NULL, "boundary.yhi=slip", {"boundary.ylo", "boundary.yhi"}},
     {"[solver]\ndt = 0.1\ndt_max = 0.01\n", NULL, {"solver.dt_max", "solver.dt"}},
-    {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL, {"domain", "nx*ny*nz"}},
+    {"[domain]\nnx = 1000\nny = 1000\nnz = 1000\n", NULL,
+     {"domain.nx * domain.ny * domain.nz = 1000 * 1000 * 1000", "must be <= 500000000"}},
     /* stretched directions: three numbers, inside the box, finer than the far
      * cells, and only with the coupled steady step */
     {"[domain]\nnx = 8\nx_band = 0.2 0.5\n", NULL, {"domain.x_band = '0.2 0.5'", "triples 'lo hi h'"}},
@@ -552,6 +553,153 @@ static void test_errors(void **state)
             remove(path);
             t->nfiles--;
         }
+    }
+}
+
+/* A check that needs several keys names what set them: the command line's
+ * overrides among the keys its message names ("override a=1: ..."), else
+ * the file; values as the case files write them (the shortest text that
+ * reads back, never 0.00089999999999999998 for 0.0009). */
+static void test_check_origin(void **state)
+{
+    struct tmp *t = *state;
+    struct muflow_case c;
+    char err[1024];
+    /* an override: it is named, the case file is not */
+    char *wide[] = {"collapse.half_width=10"};
+    assert_int_equal(case_load(&c, "../cases/collapse.ini", 1, wide, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_true(strncmp(err, "override collapse.half_width=10: collapse.half_width = 10", 57) == 0);
+    assert_null(strstr(err, "cases/collapse.ini"));
+    /* the same value from a file: the file is named */
+    const char *path = put(t, "wide.ini",
+                           "[case]\nscene = collapse\n[domain]\nlx = 5\nlz = 1.5\nnx = 160\n"
+                           "nz = 48\n[boundary]\nxlo = slip\nxhi = wall\nzlo = wall\n"
+                           "zhi = surface\n[rheology]\nlaw = mui\n[solver]\nmode = transient\n"
+                           "[collapse]\nhalf_width = 10\n");
+    assert_int_equal(case_load(&c, path, 0, NULL, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_true(strncmp(err, path, strlen(path)) == 0);
+    assert_non_null(strstr(err, ": collapse.half_width = 10: "));
+    assert_null(strstr(err, "override"));
+    /* every override among the keys named, in the keys' order */
+    char *dt[] = {"solver.dt=0.0009", "solver.dt_max=0.0001", "solver.tolerance=1e-9"};
+    assert_int_equal(case_load(&c, "../cases/bagnold.ini", 3, dt, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_string_equal(err, "override solver.dt=0.0009, override solver.dt_max=0.0001: "
+                             "solver.dt_max = 0.0001 < solver.dt = 0.0009: dt_max must be >= dt");
+    /* bed load with a gravity the friction cannot hold: physics.gravity
+     * is blamed (the condition's every key and value is named), not the
+     * bed's friction coefficient of the file */
+    char *g[] = {"physics.gravity=1e6"};
+    assert_int_equal(case_load(&c, "../cases/bedload.ini", 1, g, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_true(strncmp(err, "override physics.gravity=1e6: ", 30) == 0);
+    assert_non_null(strstr(err, "physics.gravity = 1e+06"));
+    assert_non_null(strstr(err, "bedload.mu_s = 0.32"));
+    assert_null(strstr(err, "0.32000000000000001"));
+    /* no value in 17 digits: the memory refusal's keys, the cells' count */
+    char *big[] = {"domain.ny=20000", "domain.nz=40000"};
+    assert_int_equal(case_load(&c, "../cases/duct_circular.ini", 2, big, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_string_equal(err, "override domain.ny=20000, override domain.nz=40000: domain.nx * "
+                             "domain.ny * domain.nz = 1 * 20000 * 40000 = 800000000 cells: must "
+                             "be <= 500000000");
+}
+
+/* A length the scene needs resolved thinner than a cell is refused, naming
+ * the key, its value, the cell size and the allowed range (a column of
+ * 0.001 ran to "finished" with x_front 0, a grain layer of a ninth of a
+ * cell was accepted), and a body thinner than a cell too. */
+static void test_thinner_than_a_cell(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *file, *ov, *want[3];
+    } thin[] = {
+        {"../cases/collapse.ini", "collapse.height=0.001",
+         {"override collapse.height=0.001: collapse.height = 0.001: must be in [0.03125, 1.5)",
+          "domain.lz / domain.nz = 1.5 / 48 = 0.03125"}},
+        {"../cases/collapse.ini", "collapse.half_width=0.01",
+         {"collapse.half_width = 0.01: must be in [0.03125, 5)"}},
+        {"../cases/bagnold2.ini", "bagnold2.interface_height=1e-6",
+         {"override bagnold2.interface_height=1e-6: bagnold2.interface_height = 1e-06",
+          "(domain.lz / domain.nz = 0.0009 / 100 = 9e-06)", "must be in [9e-06, 0.000891]"}},
+        {"../cases/bagnold2.ini", "bagnold2.interface_height=0.000895",
+         {"must be in [9e-06, 0.000891]"}},
+        {"../cases/bedload.ini", "bedload.bed_height=0.001",
+         {"bedload.bed_height = 0.001", "0.065 / 40 = 0.001625", "[0.001625, 0.063375]"}},
+        {"../cases/duct_square.ini", "duct.bed_height=0.064",
+         {"duct.bed_height = 0.064", "[0.001625, 0.063375]"}},
+        {"../cases/cylinder_benchmark.ini", "obstacle.shapes=circle 0.2 0.2 0.004",
+         {"shape 1 spans 0.008 along x, thinner than a cell (domain.lx / domain.nx = 0.01)"}},
+    };
+    for (size_t m = 0; m < sizeof thin / sizeof thin[0]; m++) {
+        struct muflow_case c;
+        char err[1024];
+        char *ov[] = {(char *)thin[m].ov};
+        assert_int_equal(case_load(&c, thin[m].file, 1, ov, err, sizeof err), 2);
+        print_message("%s\n", err);
+        for (int k = 0; k < 3 && thin[m].want[k]; k++) {
+            if (!strstr(err, thin[m].want[k]))
+                print_error("lacks \"%s\"\n", thin[m].want[k]);
+            assert_non_null(strstr(err, thin[m].want[k]));
+        }
+    }
+    /* one cell is enough (the bound the message prints is accepted) */
+    static const char *const one_cell[][2] = {
+        {"../cases/collapse.ini", "collapse.height=0.03125"},
+        {"../cases/bagnold2.ini", "bagnold2.interface_height=9e-6"},
+        {"../cases/bedload.ini", "bedload.bed_height=0.063375"},
+    };
+    for (size_t m = 0; m < sizeof one_cell / sizeof one_cell[0]; m++) {
+        struct muflow_case c;
+        char err[1024];
+        char *ov[] = {(char *)one_cell[m][1], "bedload.mu_s=10"};
+        int rc = case_load(&c, one_cell[m][0], m == 2 ? 2 : 1, ov, err, sizeof err);
+        if (rc != 0 && strstr(err, "cell"))
+            print_error("%s: %s\n", one_cell[m][1], err);
+        assert_false(rc != 0 && strstr(err, "cell"));
+    }
+}
+
+/* The fluid the body leaves must be one region, or regions that each
+ * reach a face where the pressure is fixed: the circular duct with
+ * obstacle.invert = off keeps two corners outside the circle, closed off by
+ * walls (it ran to "hydrostatic pressure solve: relative residual 4.00e+00
+ * after 10 multigrid-CG iterations"); refused at load, naming
+ * obstacle.invert.  Two discs of fluid in a channel whose open end is away
+ * from both likewise; one disc alone loads (it is solved up to its
+ * pressure's level), and so do the shipped cases with bodies. */
+static void test_enclosed_fluid(void **state)
+{
+    (void)state;
+    struct muflow_case c;
+    char err[1024];
+    char *off[] = {"obstacle.invert=off"};
+    assert_int_equal(case_load(&c, "../cases/duct_circular.ini", 1, off, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_true(strncmp(err, "override obstacle.invert=off: ", 30) == 0);
+    assert_non_null(strstr(err, "obstacle.invert = off"));
+    assert_non_null(strstr(err, "splits the fluid into 2 regions"));
+    char *two[] = {"obstacle.invert=on", "boundary.xlo=wall",
+                   "obstacle.shapes=circle 0.2 0.2 0.05; circle 1 0.2 0.05"};
+    assert_int_equal(case_load(&c, "../cases/cylinder_benchmark.ini", 3, two, err, sizeof err), 2);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "obstacle.invert = on"));
+    assert_non_null(strstr(err, "2 regions on this grid, 2 of them closed off"));
+    assert_non_null(strstr(err, "(boundary.xhi = open)"));
+    int rc = case_load(&c, "../cases/cylinder_benchmark.ini", 2, two, err, sizeof err);
+    if (rc)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    static const char *const fine[] = {"../cases/duct_circular.ini", "../cases/duct_square.ini",
+                                       "../cases/cylinder.ini", "../cases/cylinder_benchmark.ini"};
+    for (size_t m = 0; m < sizeof fine / sizeof fine[0]; m++) {
+        rc = case_load(&c, fine[m], 0, NULL, err, sizeof err);
+        if (rc)
+            print_error("%s: %s\n", fine[m], err);
+        assert_int_equal(rc, 0);
     }
 }
 
@@ -779,6 +927,34 @@ static void test_key_help(void **state)
     }
 }
 
+/* docs/case_keys.md is what the key tables generate (muflow --list=markdown,
+ * `make case-keys`), byte for byte: it cannot drift from the tables. */
+static void test_docs_generated(void **state)
+{
+    (void)state;
+    size_t n_doc;
+    char *doc = test_read_file("../docs/case_keys.md", &n_doc);
+    char *gen = NULL;
+    size_t n_gen = 0;
+    FILE *f = open_memstream(&gen, &n_gen);
+    assert_non_null(f);
+    case_write_key_markdown(f);
+    assert_int_equal(fclose(f), 0);
+    size_t i = 0;
+    while (i < n_doc && i < n_gen && doc[i] == gen[i])
+        i++;
+    if (i < n_doc || i < n_gen) {
+        size_t line = 1;
+        for (size_t j = 0; j < i; j++)
+            line += gen[j] == '\n';
+        print_error("docs/case_keys.md differs from the key tables from line %zu on: run "
+                    "`make case-keys`\n", line);
+    }
+    assert_true(i == n_doc && i == n_gen);
+    free(gen);
+    free(doc);
+}
+
 /* docs/case_keys.md names every key the tables have, each in its section's
  * table, and no key they do not have. */
 static void test_docs_name_every_key(void **state)
@@ -936,8 +1112,9 @@ static void test_list_command(void **state)
             if (!def[0])
                 snprintf(def, sizeof def, "(not set)");
             key_allowed_text(k, allowed, sizeof allowed);
-            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name,
-                     def, allowed, k->help);
+            snprintf(want, sizeof want, "  %s.%s = %s  (%s)\n      %s%s%s%s\n", k->section,
+                     k->name, def, allowed, k->help, k->units ? " (" : "",
+                     k->units ? k->units : "", k->units ? ")" : "");
             if (!strstr(out, want))
                 print_error("--list lacks \"%s\"\n", want);
             assert_non_null(strstr(out, want));
@@ -1190,9 +1367,13 @@ void group_case(struct test_tally *t)
         cmocka_unit_test_setup_teardown(test_overrides, tmp_setup, tmp_teardown),
         cmocka_unit_test_setup_teardown(test_errors, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_decimal_forms),
+        cmocka_unit_test_setup_teardown(test_check_origin, tmp_setup, tmp_teardown),
+        cmocka_unit_test(test_thinner_than_a_cell),
+        cmocka_unit_test(test_enclosed_fluid),
         cmocka_unit_test_setup_teardown(test_duplicates, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_number_text),
         cmocka_unit_test(test_key_help),
+        cmocka_unit_test(test_docs_generated),
         cmocka_unit_test(test_docs_name_every_key),
         cmocka_unit_test(test_list_command),
         cmocka_unit_test_setup_teardown(test_file_errors, tmp_setup, tmp_teardown),

@@ -352,6 +352,81 @@ static void test_memory_estimate(void **state)
     remove_tree(dir);
 }
 
+/* Every size check comes before the work the grid costs: the body's
+ * geometry on the grid ran first (a plane of flags and a queue, 5 bytes a
+ * cell, twice), so the cylinder benchmark at 40000 x 8000 cells worked
+ * 50-60 s and grew to 1.5 GB before the memory estimate refused it, and
+ * the circular duct at 20000 x 40000 33 s and 790 MB before the cell
+ * count's cap did.  Two checks, neither a timing:
+ * - case_load refuses the first from the case alone, before march_create
+ *   (it accepted the case: the estimate lived in march_create only);
+ * - from the command line, under an address space of 1 GB, far below what
+ *   the geometry needs and far above what muflow's start needs, both are
+ *   refused with the size message (exit 2), not "out of memory checking
+ *   the shapes": no allocation of the grid's size came before the check. */
+static void test_size_before_geometry(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    char err[1024];
+    char *big[] = {"domain.nx=40000", "domain.nz=8000"};
+    setenv("MUFLOW_AVAILABLE_MEMORY", "16000000000", 1); /* any machine: 16 GB */
+    int rc = case_load(&cs, "../cases/cylinder_benchmark.ini", 2, big, err, sizeof err);
+    unsetenv("MUFLOW_AVAILABLE_MEMORY");
+    print_message("case_load: %d: %s\n", rc, err);
+    assert_int_equal(rc, 2);
+    assert_true(strncmp(err, "override domain.nx=40000, override domain.nz=8000: domain.nx x "
+                             "domain.ny x domain.nz = 40000 x 1 x 8000: the run needs about ",
+                        120) == 0);
+    assert_non_null(strstr(err, "more than the 16.0 GB of memory available"));
+
+    char bin[4096], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    static const struct {
+        const char *args, *want;
+    } runs[] = {
+        {"../cases/cylinder_benchmark.ini domain.nx=40000 domain.nz=8000",
+         "domain.nx x domain.ny x domain.nz = 40000 x 1 x 8000: the run needs about "},
+        {"../cases/duct_circular.ini domain.ny=20000 domain.nz=40000",
+         "domain.nx * domain.ny * domain.nz = 1 * 20000 * 40000 = 800000000 cells: must be <= "
+         "500000000"},
+    };
+    for (size_t m = 0; m < sizeof runs / sizeof runs[0]; m++) {
+        snprintf(cmd, sizeof cmd,
+                 "ulimit -v 1000000 && '%s' %s output.dir=/tmp/muflow_honest_never 2>&1", bin,
+                 runs[m].args);
+        rc = shell(cmd, out, sizeof out);
+        print_message("1 GB of address space: exit %d: %s", rc, out);
+        assert_int_equal(rc, 2);
+        assert_non_null(strstr(out, runs[m].want));
+        assert_null(strstr(out, "out of memory"));
+    }
+    assert_int_not_equal(access("/tmp/muflow_honest_never", F_OK), 0);
+}
+
+/* An output folder that cannot be made names the key (it said "cannot
+ * create output folder /proc/x"): exit 2, one line. */
+static void test_output_dir_named(void **state)
+{
+    (void)state;
+    char bin[4096], cmd[5000], out[1 << 14];
+    muflow_bin(bin, sizeof bin);
+    static const char *const want[][2] = {
+        {"/proc/x", "muflow: output.dir = /proc/x: cannot create the folder: "},
+        {"/proc/x/y", "muflow: output.dir = /proc/x/y: cannot create the folder /proc/x: "},
+        {"/dev/null", "muflow: output.dir = /dev/null: not a folder"},
+    };
+    for (size_t m = 0; m < sizeof want / sizeof want[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' ../cases/bagnold.ini domain.nz=10 output.dir=%s 2>&1", bin,
+                 want[m][0]);
+        int rc = shell(cmd, out, sizeof out);
+        print_message("exit %d: %s", rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, want[m][1], strlen(want[m][1])) == 0);
+        assert_ptr_equal(strchr(out, '\n'), out + strlen(out) - 1);
+    }
+}
+
 /* A restart with another thread count warns on stderr even when quiet (a
  * restart inherits the checkpoint's output.quiet). */
 static void test_warning_not_quiet(void **state)
@@ -415,6 +490,56 @@ static void test_linear_cap_told(void **state)
     remove_tree(dir);
 }
 
+/* A steady march whose velocity grows by orders of magnitude (bagnold2
+ * below mu_s at 4 x 100, lambda 1e-8 by stages from 1e-6: the stiffer
+ * plug of the last stage raises the residual to 45 with the film still
+ * right, then the velocity from the film's 0.0105 m/s to 700 m/s, the
+ * residual never past 80: it used to end "unsteady: the residual stalls"
+ * after 294 steps) ends diverged at once, names the step and the velocity,
+ * and keeps (and checkpoints) the state before: its velocity within 1000
+ * times the film's. */
+static void test_velocity_blowup_diverges(void **state)
+{
+    (void)state;
+    char dir[128], od[200], err[512];
+    make_tmp(dir, sizeof dir, "vblowup");
+    snprintf(od, sizeof od, "output.dir=%s", dir);
+    struct muflow_case cs;
+    char *ov[] = {"domain.nx=4", "physics.tilt=0.2", "rheology.lambda=1e-8",
+                  "solver.continuation=100", "output.quiet=on", "output.fields=off", od};
+    load(&cs, CASES_DIR "bagnold2.ini", 7, ov);
+    struct run_result r;
+    struct run_options opt = {.write_output = 1};
+    int threads = omp_get_max_threads();
+    omp_set_num_threads(1);
+    int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
+    omp_set_num_threads(threads);
+    assert_int_equal(rc, RUN_OK);
+    print_message("bagnold2 tilt 0.2, lambda 1e-8 by stages: %s after %ld steps: %s\n",
+                  run_status_name(r.status), r.steps, r.message);
+    assert_int_equal(r.status, STATUS_DIVERGED);
+    assert_non_null(strstr(r.message, "blows up at step"));
+    assert_non_null(strstr(r.message, "max |u|"));
+    assert_true(r.steps < 200);
+    assert_int_equal(r.checkpointed, 1);
+    /* the checkpoint holds the kept state: finite, within the bound */
+    char path[300];
+    snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
+    int n[3] = {4, 1, 100};
+    size_t size = (size_t)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
+    double *u = malloc(size * sizeof *u), umax = 0.0;
+    assert_non_null(u);
+    assert_int_equal(checkpoint_read_dataset(path, "velocity_x", n, u, err, sizeof err), 0);
+    for (size_t p = 0; p < size; p++) {
+        assert_true(isfinite(u[p]));
+        umax = fmax(umax, fabs(u[p]));
+    }
+    free(u);
+    print_message("kept state: max |u| %.3e\n", umax);
+    assert_true(umax > 0.0 && umax <= 1e3 * 0.0105348);
+    remove_tree(dir);
+}
+
 /* A CFL step that collapses (a layer under g = 1e12 reaches |u| ~ 4e10 in
  * its first step: end_time 1 would take ~1e11 steps) stops the run at once
  * with the step, the time and the reason, keeping the state before. */
@@ -448,7 +573,10 @@ void group_honest(struct test_tally *t)
         cmocka_unit_test(test_readme_restart_commands),
         cmocka_unit_test(test_blowup_stops_early),
         cmocka_unit_test(test_dt_collapse_stops),
+        cmocka_unit_test(test_velocity_blowup_diverges),
         cmocka_unit_test(test_memory_estimate),
+        cmocka_unit_test(test_size_before_geometry),
+        cmocka_unit_test(test_output_dir_named),
         cmocka_unit_test(test_warning_not_quiet),
         cmocka_unit_test(test_linear_cap_told),
     };

@@ -105,6 +105,7 @@ static const struct {
     {"duct", group_duct},
     {"obstacle", group_obstacle},
     {"stretched", group_stretched},
+    {"cases", group_cases},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

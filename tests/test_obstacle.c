@@ -323,13 +323,13 @@ static void test_symmetric_half(void **state)
     remove(path);
     assert_int_equal(rw.status, STATUS_STEADY);
     assert_int_equal(rh.status, STATUS_STEADY);
-    double fw = run_result_value(&rw, "lift_force"), fh = run_result_value(&rh, "lift_force");
-    double cw = run_result_value(&rw, "lift_force_control_volume");
-    double ch = run_result_value(&rh, "lift_force_control_volume");
-    double xw = run_result_value(&rw, "drag_force"), xh = run_result_value(&rh, "drag_force");
+    double fw = run_result_value(&rw, "drag_force"), fh = run_result_value(&rh, "drag_force");
+    double cw = run_result_value(&rw, "drag_force_control_volume");
+    double ch = run_result_value(&rh, "drag_force_control_volume");
+    double xw = run_result_value(&rw, "lift_force"), xh = run_result_value(&rh, "lift_force");
     print_message("whole box: force along the flow %.10g (control volume %.10g), across %.3g; "
                   "half box: %.10g (%.10g), across %g\n", fw, cw, xw, fh, ch, xh);
-    assert_true(fw < 0.0 && cw < 0.0);
+    assert_true(fw > 0.0 && cw > 0.0); /* along the flow, downstream */
     assert_true(fabs(fh / fw - 1.0) < 1e-9);
     assert_true(fabs(ch / cw - 1.0) < 1e-9);
     assert_true(xh == 0.0);
@@ -357,26 +357,28 @@ static void coarse_cylinder_state(struct test_run_dir *dir, const char *name)
  * (measured); a last step that lands 100 times below the tolerance 1e-8
  * from above it is no linear contraction.  The drag along the flow by the
  * surface integral (the discrete surface's fluxes) and by the control
- * volume: -58.280 and -58.259, 0.04 % apart (0.24 % at D/2), asserted
- * within 1 %: the body's discrete momentum balance, granular viscosity
- * and Newton march included (the reconstructed traction's -59.86 is
- * 2.7 % off, 13 % at D/2). */
+ * volume (drag_force, drag_force_control_volume, positive downstream):
+ * 58.280 and 58.259, 0.04 % apart (0.24 % at D/2), asserted within 1 %:
+ * the body's discrete momentum balance, granular viscosity and Newton
+ * march included (the reconstructed traction's 59.86 is 2.7 % off, 13 %
+ * at D/2). */
 static void test_granular_cylinder_newton(void **state)
 {
     (void)state;
     char *ov[] = {"rheology.lambda=1e-2", "solver.continuation=1", "output.quiet=on"};
     struct run_result r;
     run_checked(CASES_DIR "cylinder.ini", 3, ov, &r);
-    double fs = run_result_value(&r, "lift_force");
-    double fc = run_result_value(&r, "lift_force_control_volume");
+    double fs = run_result_value(&r, "drag_force");
+    double fc = run_result_value(&r, "drag_force_control_volume");
     print_message("granular cylinder D/4, lambda 1e-2: %s in %ld steps, residual %.3e; drag "
                   "along the flow %.4f (surface), %.4f (control volume)\n",
                   run_status_name(r.status), r.steps, r.residual, fs, fc);
     assert_int_equal(r.status, STATUS_STEADY);
     assert_true(r.residual < 1e-10);
-    assert_true(fs < 0.0 && fc < 0.0);
+    assert_true(fs > 0.0 && fc > 0.0);
     assert_true(fabs(fs / fc - 1.0) < 0.01);
-    assert_true(run_result_value(&r, "drag_force") == 0.0);
+    assert_true(run_result_value(&r, "lift_force") == 0.0); /* across: the symmetry plane's */
+    assert_true(run_result_value(&r, "drag_surface") == fs); /* the scene's name for it */
 
     /* The same grid from the D/2 steady state interpolated
      * (solver.initial_state): the pressure's level is the pin's (p_dyn = 0
@@ -474,7 +476,7 @@ static double granular_drag(double p, double F, double *u_mean)
     assert_int_equal(r.status, STATUS_STEADY);
     assert_true(fabs(run_result_value(&r, "forcing") / F - 1.0) < 1e-12);
     *u_mean = run_result_value(&r, "mean_velocity");
-    double fd = -run_result_value(&r, "lift_force_control_volume");
+    double fd = run_result_value(&r, "drag_force_control_volume");
     assert_true(run_result_value(&r, "drag") == fd);
     print_message("granular cylinder D/2, lambda 1e-2, p_ext %g, F %g: %ld steps, U %.6g, "
                   "F_D %.6g, F_D / p_ext %.6g\n", p, F, r.steps, *u_mean, fd, fd / p);
@@ -537,7 +539,7 @@ static void test_granular_cylinder_band(void **state)
     test_run_dir_remove(&dir);
 }
 
-/* The seed's two findings on the granular cylinder (seeds/000 sec. 4.2,
+/* The paper's two findings on the granular cylinder (Chauchat & Medale 2014, sec. 4.2,
  * fig. 12), on the coarse grid D/2 at lambda 1e-2 (four solves from rest,
  * 18-40 steps each):
  * - the drag is linear in the confining pressure: F_D / p_ext at p_ext 10
@@ -586,7 +588,7 @@ static double long_box_drag(const char *ends, double *u_mean)
     return fd;
 }
 
-/* The confining pressure imposed on open faces (the seed's set-up: the
+/* The confining pressure imposed on open faces (the paper's set-up: the
  * grains enter at the top and leave at the bottom, p = p_ext on both): in
  * a box long enough for the flow to develop between the body and the ends
  * the open box and the periodic one are two models of the same infinite

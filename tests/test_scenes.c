@@ -1,4 +1,4 @@
-/* Whole scenes against their analytic profiles (seeds/000 sec. 3, app. A-B)
+/* Whole scenes against their analytic profiles (Chauchat & Medale 2014, sec. 3, app. A-B)
  * and the extremes of the inclined plane; run through the library. */
 #define _POSIX_C_SOURCE 200809L /* popen, mkdtemp */
 #include <math.h>
@@ -203,6 +203,31 @@ static void test_bagnold_below_threshold(void **state)
     assert_true(umax <= 1.05 * creep);
     assert_true(umax < 100.0 * cs.rheo.lambda);
     march_destroy(&st);
+}
+
+/* A negative tilt is the mirror image of the positive one: the exact
+ * profile changes sign (it was 0 at every negative tilt, err_rms 3.0 at
+ * -0.45), and the run ends on the mirrored state with the same errors. */
+static void test_bagnold_negative_tilt(void **state)
+{
+    (void)state;
+    double err[2], top[2], exact[2];
+    for (int s = 0; s < 2; s++) {
+        struct muflow_case cs;
+        struct run_result r;
+        char *ov[] = {s ? "physics.tilt=-0.45" : "physics.tilt=0.45", "domain.nz=20"};
+        test_run_case(CASES_DIR "bagnold.ini", 2, ov, &cs, &r);
+        assert_int_equal(r.status, STATUS_STEADY);
+        err[s] = r.errors.err_rms;
+        top[s] = r.errors.headline;
+        exact[s] = r.errors.headline_exact;
+    }
+    print_message("tilt +-0.45: err_rms %.6e / %.6e, u_surface %.6f / %.6f (exact %.6f / %.6f)\n",
+                  err[0], err[1], top[0], top[1], exact[0], exact[1]);
+    assert_true(exact[0] > 0.0);
+    assert_true(fabs(exact[0] + exact[1]) <= 1e-12 * exact[0]);
+    assert_true(fabs(top[0] + top[1]) <= 1e-9 * exact[0]);
+    assert_true(fabs(err[0] - err[1]) <= 1e-9 * exact[0]);
 }
 
 /* The largest departure of a velocity component from its mean over the
@@ -467,6 +492,7 @@ void group_scenes(struct test_tally *t)
         cmocka_unit_test(test_chute_lambda_1e8),
         cmocka_unit_test(test_bagnold_barker_gray),
         cmocka_unit_test(test_bagnold_below_threshold),
+        cmocka_unit_test(test_bagnold_negative_tilt),
         cmocka_unit_test(test_bagnold_above_threshold),
         cmocka_unit_test(test_bagnold_3d_from_perturbation),
         cmocka_unit_test(test_transient_startup),

@@ -1,10 +1,13 @@
 /* The tools around the solver, driven as a user would drive them, through the
  * shell: muflow --version, the test runner's command line, `make install`
- * with a pkg-config build of a small program against the installed library,
- * tools/muflow_plot.py on real runs, and README's package and library lists
- * against the Makefile.  The runner works in tests/
+ * with pkg-config builds of a small program and of examples/minimal.c against
+ * the installed library, tools/muflow_plot.py on real runs (every case
+ * file's), tools/collapse_movie.py on a run of another scene, README's
+ * package and library lists against the Makefile, and README's commands as
+ * a user types them.  The runner works in tests/
  * (test_main.c), so the repository is "..". */
 #define _DEFAULT_SOURCE /* mkdtemp, readlink, realpath */
+#include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -168,6 +171,42 @@ static void test_version(void **state)
     free(version);
 }
 
+/* An unknown option is named, with the usage, exit status 2 (it was taken
+ * for a case file: "cannot open"); the options without arguments refuse
+ * one (it was ignored); without an extra argument they still work. */
+static void test_options(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 64];
+    muflow_bin(bin, sizeof bin);
+    static const struct {
+        const char *args, *want;
+    } bad[] = {
+        {"--foo", "muflow: unknown option --foo\n"},
+        {"-x cases/bagnold.ini", "muflow: unknown option -x\n"},
+        {"--version extra", "muflow: --version takes no arguments (got 'extra')\n"},
+        {"--list extra more", "muflow: --list takes no arguments (got 'extra' ...)\n"},
+        {"--help extra", "muflow: --help takes no arguments (got 'extra')\n"},
+        {"-h extra", "muflow: -h takes no arguments (got 'extra')\n"},
+    };
+    for (size_t m = 0; m < sizeof bad / sizeof bad[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s", bin, bad[m].args);
+        char *out;
+        int rc = sh(cmd, &out);
+        print_message("muflow %s: exit %d: %s", bad[m].args, rc, out);
+        assert_int_equal(rc, 2);
+        assert_true(strncmp(out, bad[m].want, strlen(bad[m].want)) == 0);
+        assert_non_null(strstr(out, "\nusage: muflow CASE.ini"));
+        assert_null(strstr(out, "cannot open"));
+        free(out);
+    }
+    static const char *const good[] = {"--version", "--list", "--help", "-h"};
+    for (size_t m = 0; m < sizeof good / sizeof good[0]; m++) {
+        snprintf(cmd, sizeof cmd, "'%s' %s >/dev/null", bin, good[m]);
+        free(sh_ok(cmd));
+    }
+}
+
 /* ---------------------------------------------------------------------- */
 /* the test runner's command line */
 
@@ -298,10 +337,67 @@ static void test_install(void **state)
     assert_non_null(strstr(out, "\nbagnold 2 1 40\n")); /* cases/bagnold.ini's grid */
     free(out);
 
+    /* examples/minimal.c, the documented example, built the way its comment
+     * says: its status, steps and err_rms are the installed command's
+     * summary.ini lines for the same case and overrides (its comment's
+     * numbers, bagnold at H/10: 15 steps, err_rms 1.935774e-03) */
+    snprintf(cmd, sizeof cmd,
+             "cd '%s' && export PKG_CONFIG_PATH='%s/usr/local/lib/pkgconfig' && "
+             "${CC:-cc} -std=c11 -Wall -Wextra -Werror '%s/examples/minimal.c' -o minimal "
+             "$(pkg-config --define-variable=prefix='%s/usr/local' --cflags --libs muflow) "
+             "&& ./minimal '%s/cases/bagnold.ini' domain.nz=10 && "
+             "'%s/usr/local/bin/muflow' '%s/cases/bagnold.ini' domain.nz=10 output.quiet=on "
+             "output.fields=off output.dir=cli >/dev/null && "
+             "grep -E '^(status|steps|err_rms) = ' cli/summary.ini",
+             tmp, dest, root, dest, root, dest, root);
+    out = sh_ok(cmd);
+    print_message("%s", out);
+    const char *want = "status = steady\nsteps = 15\nerr_rms = 1.935774e-03\n";
+    assert_true(strncmp(out, want, strlen(want)) == 0);        /* the example */
+    assert_string_equal(out + strlen(want), want);             /* the command's summary */
+    free(out);
+    /* and its usage line and status without a case */
+    snprintf(cmd, sizeof cmd, "cd '%s' && ./minimal", tmp);
+    assert_int_equal(sh(cmd, &out), 2);
+    assert_non_null(strstr(out, "usage: minimal CASE.ini"));
+    free(out);
+
     /* make uninstall leaves none of the files */
     snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
                               "PREFIX=/usr/local uninstall", root, build, dest);
     free(sh_ok(cmd));
+    snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
+    free(sh_ok(cmd));
+
+    /* the same build installed with another PREFIX, then the first again:
+     * each muflow.pc names the PREFIX (and LIBDIR) of its own make command */
+    static const struct {
+        const char *prefix, *libdir, *want_prefix, *want_libdir;
+    } again[] = {
+        {"/opt/muflow", "", "prefix=/opt/muflow\n", "libdir=${prefix}/lib\n"},
+        {"/opt/muflow", "/opt/lib64", "prefix=/opt/muflow\n", "libdir=/opt/lib64\n"},
+        {"/usr/local", "", "prefix=/usr/local\n", "libdir=${prefix}/lib\n"},
+    };
+    for (size_t m = 0; m < sizeof again / sizeof again[0]; m++) {
+        char libdir[64] = "", pcdir[300];
+        if (again[m].libdir[0])
+            snprintf(libdir, sizeof libdir, "LIBDIR=%s", again[m].libdir);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s install", root, build, dest, again[m].prefix, libdir);
+        free(sh_ok(cmd));
+        snprintf(pcdir, sizeof pcdir, "%s%s%s/pkgconfig/muflow.pc", dest,
+                 again[m].libdir[0] ? "" : again[m].prefix,
+                 again[m].libdir[0] ? again[m].libdir : "/lib");
+        pc = test_read_file(pcdir, NULL);
+        print_message("PREFIX=%s %s: %s", again[m].prefix, libdir, pc);
+        assert_non_null(strstr(pc, again[m].want_prefix));
+        assert_non_null(strstr(pc, again[m].want_libdir));
+        free(pc);
+        snprintf(cmd, sizeof cmd, "make -s --no-print-directory -C '%s' BUILD='%s' DESTDIR='%s' "
+                                  "PREFIX=%s %s uninstall", root, build, dest, again[m].prefix,
+                 libdir);
+        free(sh_ok(cmd));
+    }
     snprintf(cmd, sizeof cmd, "test -z \"$(find '%s' -type f)\"", dest);
     free(sh_ok(cmd));
     remove_tree(tmp);
@@ -350,15 +446,30 @@ static void test_plot(void **state)
     assert_non_null(strstr(out, want));
     assert_non_null(strstr(out, "status = steady\n")); /* the values themselves */
     free(out);
-    check_png(bag, "profile.png");
+    check_png(bag, "compare.png");
     check_png(bag, "history.png");
-    check_png(bag, "field.png");
-    /* another cell field (log colours: eta spans decades) into another folder */
+    check_png(bag, "field_velocity.png");
+    /* other cell fields (log colours: eta spans decades) into another folder,
+     * one by its alias */
     snprintf(png, sizeof png, "%s/viscosity", tmp);
-    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --field viscosity --out '%s'",
-             bag, png);
+    snprintf(cmd, sizeof cmd,
+             PYTHON " ../tools/muflow_plot.py '%s' --field viscosity --field p --out '%s'", bag,
+             png);
     free(sh_ok(cmd));
-    check_png(png, "field.png");
+    check_png(png, "field_viscosity.png");
+    check_png(png, "field_pressure.png");
+    /* a field the files do not have: exit 2, the ones they have listed, nothing drawn */
+    snprintf(png, sizeof png, "%s/nosuch", tmp);
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s' --field tracer --out '%s'",
+             bag, png);
+    assert_int_equal(sh(cmd, &out), 2);
+    print_message("%s", out);
+    assert_non_null(strstr(out, "no field 'tracer'"));
+    assert_non_null(strstr(out, "it has: inertial_number, pressure, "));
+    assert_non_null(strstr(out, " velocity, viscosity"));
+    assert_null(strstr(out, "Traceback"));
+    assert_false(file_exists(png));
+    free(out);
 
     /* no scene (no profile.csv, no error, no headline) and no field files,
      * plots into --out: only the history, and no failure */
@@ -375,18 +486,176 @@ static void test_plot(void **state)
     snprintf(want, sizeof want, "steps = %s\n", v);
     assert_non_null(strstr(out, want));
     assert_null(strstr(out, "err_rms"));
-    assert_non_null(strstr(out, "no profile.csv"));
+    assert_non_null(strstr(out, "scene 'none' has no comparison"));
     assert_non_null(strstr(out, "no fields_*.h5"));
     check_png(png, "history.png");
-    snprintf(want, sizeof want, "%s/profile.png", png);
+    snprintf(want, sizeof want, "%s/compare.png", png);
     assert_false(file_exists(want));
-    snprintf(want, sizeof want, "%s/field.png", png);
+    snprintf(want, sizeof want, "%s/field_viscosity.png", png);
     assert_false(file_exists(want));
     free(out);
 
     /* a folder without muflow output: exit status 1 */
     snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'", png);
     assert_int_equal(sh(cmd, NULL), 1);
+    remove_tree(tmp);
+}
+
+/* Every case file of cases/ on a small grid or a short time (a second or
+ * two each), then tools/muflow_plot.py on all the runs in one process: exit
+ * 0, each run's compare.png (the scene against its reference, the reference
+ * named on the line that writes it), history.png (a transient's without a
+ * residual), field_velocity.png, the axes in SI units exactly for the SI
+ * cases, no [result] key printed twice; and tools/collapse_movie.py on a run
+ * that is not a collapse: exit 2 and one line. */
+static const struct {
+    const char *name, *overrides;
+    const char *against; /* what the "wrote .../compare.png (...)" line names */
+    int si;              /* the case is in SI units */
+} small_cases[] = {
+    {"bagnold", "domain.nz=10", "against Bagnold's profile (Chauchat & Medale 2014", 0},
+    {"bagnold2", "domain.nx=4 domain.nz=20", "(Barker & Rauter 2018", 1},
+    {"bagnold3d",
+     "domain.nx=4 domain.ny=4 domain.nz=8 domain.lx=3.5 domain.ly=3.5 output.fields=on",
+     "against Bagnold's profile", 0},
+    {"bedload", "domain.nz=20", "(Ouriemi, Aussillous & Guazzelli 2009)", 1},
+    {"bingham_cavity", "domain.nx=16 domain.nz=16", "against Vola et al. 2003, vola2003_cavity.csv",
+     0},
+    {"bingham_channel", "domain.nz=20", "against the Bingham plug-flow profile", 0},
+    {"chute", "domain.ny=20", "(Chauchat & Medale 2014, eq. 27)", 0},
+    {"collapse", "domain.nx=40 domain.nz=12 solver.end_time=1",
+     "against Lagree et al. 2011, lagree2011_collapse.csv", 0},
+    {"couette", "", "against u = U z/H + G z (H - z) / (2 mu)", 0},
+    {"cylinder", "domain.nx=10 domain.nz=30 cylinder.forcing=1.2",
+     "no published drag: muflow alone", 0},
+    {"cylinder_benchmark", "domain.nx=44 domain.nz=9 solver.end_time=1",
+     "against Schaefer & Turek (1996), test 2D-1", 0},
+    {"duct_circular", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
+    {"duct_square", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
+    {"heap", "domain.ny=14 domain.nz=20", "no experimental profiles: muflow alone", 0},
+};
+#define SMALL_CASES (sizeof small_cases / sizeof small_cases[0])
+
+/* The part of the plot tool's output about run dir (from its "== dir (" line
+ * to the next run's), copied. */
+static char *run_block(const char *out, const char *dir)
+{
+    char head[300];
+    snprintf(head, sizeof head, "== %s (", dir);
+    const char *at = strstr(out, head);
+    if (!at)
+        print_error("muflow_plot.py said nothing about %s\n", dir);
+    assert_non_null(at);
+    char *s = strdup(at);
+    assert_non_null(s);
+    char *end = strstr(s + 1, "\n== ");
+    if (end)
+        end[1] = '\0';
+    return s;
+}
+
+/* Fails when two lines of block start with the same "key = ". */
+static void keys_once(const char *block, const char *name)
+{
+    for (const char *l = block; *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : l + strlen(l)) {
+        size_t k = strspn(l, "abcdefghijklmnopqrstuvwxyz0123456789_");
+        if (k == 0 || strncmp(l + k, " = ", 3) != 0)
+            continue;
+        for (const char *m = strchr(l, '\n'); m; m = strchr(m + 1, '\n'))
+            if (strncmp(m + 1, l, k + 3) == 0) {
+                print_error("%s: muflow_plot.py printed %.*s twice\n", name, (int)k, l);
+                fail();
+            }
+    }
+}
+
+static void test_plot_cases(void **state)
+{
+    (void)state;
+    assert_true(python_ready());
+    char bin[PATH_MAX], tmp[64], cmd[4096], dir[256], path[512];
+    muflow_bin(bin, sizeof bin);
+    /* every case file has its small run here */
+    DIR *d = opendir("../cases");
+    assert_non_null(d);
+    size_t files = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        size_t n = strlen(e->d_name);
+        if (n < 5 || strcmp(e->d_name + n - 4, ".ini") != 0)
+            continue;
+        files++;
+        size_t c = 0;
+        while (c < SMALL_CASES && !(strlen(small_cases[c].name) == n - 4 &&
+                                    strncmp(small_cases[c].name, e->d_name, n - 4) == 0))
+            c++;
+        if (c == SMALL_CASES)
+            print_error("cases/%s has no small run in test_plot_cases\n", e->d_name);
+        assert_true(c < SMALL_CASES);
+    }
+    closedir(d);
+    assert_int_equal(files, SMALL_CASES);
+
+    make_tmp(tmp, sizeof tmp, "cases");
+    for (size_t c = 0; c < SMALL_CASES; c++) {
+        assert_true(snprintf(cmd, sizeof cmd, "'%s' ../cases/%s.ini %s output.quiet=on "
+                                              "output.dir='%s/runs/%s'",
+                             bin, small_cases[c].name, small_cases[c].overrides, tmp,
+                             small_cases[c].name) < (int)sizeof cmd);
+        free(sh_ok(cmd));
+    }
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/muflow_plot.py '%s'/runs/* --out '%s/png'", tmp,
+             tmp);
+    char *out; /* sh, not sh_ok: gcc 12 takes run_block's pointers for ones into sh_ok's frame */
+    int rc = sh(cmd, &out);
+    print_message("%s", out);
+    assert_int_equal(rc, 0);
+    assert_null(strstr(out, "Traceback"));
+    for (size_t c = 0; c < SMALL_CASES; c++) {
+        const char *name = small_cases[c].name;
+        snprintf(dir, sizeof dir, "%s/runs/%s", tmp, name);
+        char *block = run_block(out, dir);
+        snprintf(dir, sizeof dir, "%s/png/%s", tmp, name);
+        check_png(dir, "compare.png");
+        check_png(dir, "history.png");
+        check_png(dir, "field_velocity.png");
+        snprintf(path, sizeof path, "%s/compare.png (", dir);
+        const char *line = strstr(block, path);
+        assert_non_null(line);
+        const char *what = strstr(line, small_cases[c].against);
+        if (!what || what > strchr(line, '\n'))
+            print_error("%s: compare.png not %s\n", name, small_cases[c].against);
+        assert_true(what && what < strchr(line, '\n'));
+        /* a transient history: the time step, no residual */
+        snprintf(path, sizeof path, "%s/history.png (", dir);
+        const char *hist = strstr(block, path);
+        assert_non_null(hist);
+        int transient = !strcmp(name, "collapse") || !strcmp(name, "cylinder_benchmark");
+        if (transient) {
+            assert_true(strncmp(hist + strlen(path), "dt", 2) == 0);
+            assert_null(strstr(hist, "residual"));
+        } else {
+            assert_true(strncmp(hist + strlen(path), "residual", 8) == 0);
+        }
+        if (!strcmp(name, "collapse"))
+            assert_non_null(strstr(hist, "(dt, kinetic energy against t)"));
+        int si = strstr(block, "\naxes in SI units\n") != NULL;
+        if (si != small_cases[c].si)
+            print_error("%s: axes %sin SI units\n", name, si ? "" : "not ");
+        assert_int_equal(si, small_cases[c].si);
+        keys_once(block, name);
+        free(block);
+    }
+    free(out);
+
+    /* the collapse's pictures of another scene's run: one line, exit 2 */
+    snprintf(cmd, sizeof cmd, PYTHON " ../tools/collapse_movie.py '%s/runs/bagnold'", tmp);
+    char *movie;
+    assert_int_equal(sh(cmd, &movie), 2);
+    print_message("%s", movie);
+    assert_true(strncmp(movie, "collapse_movie: ", 16) == 0);
+    assert_non_null(strstr(movie, "not a column collapse (case.scene = bagnold)"));
+    assert_int_equal(strchr(movie, '\n') - movie + 1, (long)strlen(movie)); /* one line */
+    free(movie);
     remove_tree(tmp);
 }
 
@@ -451,15 +720,33 @@ static void test_readme_packages(void **state)
     free(readme);
 }
 
+/* Every command of README's code blocks: the make targets exist, the case
+ * files exist, every override is a key muflow --list knows, and the cheap
+ * ones run as written, in order, from a scratch folder
+ * (tests/readme_commands.py). */
+static void test_readme_commands(void **state)
+{
+    (void)state;
+    char bin[PATH_MAX], cmd[PATH_MAX + 128];
+    muflow_bin(bin, sizeof bin);
+    snprintf(cmd, sizeof cmd, PYTHON " readme_commands.py .. '%s'", bin);
+    char *out = sh_ok(cmd);
+    printf("    %s", out);
+    free(out);
+}
+
 void group_tools(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_version),
+        cmocka_unit_test(test_options),
         cmocka_unit_test(test_runner_unknown_group),
         cmocka_unit_test(test_runner_any_folder),
         cmocka_unit_test(test_install),
         cmocka_unit_test(test_plot),
+        cmocka_unit_test(test_plot_cases),
         cmocka_unit_test(test_readme_packages),
+        cmocka_unit_test(test_readme_commands),
     };
     RUN_GROUP(t, "tools", tests);
 }

@@ -11,8 +11,8 @@
 #include "test_main.h"
 #include "solvers/viscous.h"
 #include "solvers/amg_hypre.h"
-#include "solvers/blas.h"
-#include "solvers/gomp_inline.h"
+#include "platform/blas.h"
+#include "platform/gomp_inline.h"
 #include "solvers/suitesparse.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_point.h"
@@ -553,7 +553,7 @@ static void test_one_thread_section(void **state)
     long inlined = gomp_inline_count() - before;
     print_message("CHOLMOD's supernodal factorisation: %ld parallel regions run inline\n", inlined);
     assert_true(inlined > 0);
-    /* CHOLMOD's clock is the program's, stopped (src/solvers/suitesparse_clock.c):
+    /* CHOLMOD's clock is the program's, stopped (src/platform/suitesparse_clock.c):
      * it counts its BLAS calls and times them at 0.  With libsuitesparseconfig's
      * clock the times are the sum of its calls' clock differences, not 0
      * (7.4e-4 s over 1,240 calls, measured without the Makefile's export) */

@@ -48,8 +48,9 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
 int run_case(const struct muflow_case *cs, int write_output, struct run_result *res, char *err,
              size_t errlen);
 
-/* The result fields a finished march determines: status, steps, time, wall
- * seconds, residual, divergence and message (not the scene errors). */
+/* The result fields a finished march determines: the scene, status, steps,
+ * time, wall seconds, residual, divergence and message (not the scene
+ * errors). */
 void run_result_from(const struct march_state *st, struct run_result *res);
 
 /* Exit status of the command for a run's status. */

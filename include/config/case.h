@@ -159,6 +159,15 @@ const struct key *case_key_at(int i); /* NULL out of range */
  * the key tables. */
 void case_write_key_list(FILE *out);
 
+/* The Markdown text before a core section's table in docs/case_keys.md (the
+ * key table's section intros), or NULL. */
+const char *case_section_intro(const char *section);
+
+/* muflow --list=markdown: docs/case_keys.md, every section and key with its
+ * meaning, allowed values, default and units, all from the key tables and
+ * the scene registry (src/config/key_doc.c); `make case-keys` writes it. */
+void case_write_key_markdown(FILE *out);
+
 /* The spacing of direction d from domain.<d>_band, domain.growth, the far
  * size l / n and the periodicity: 1 with ax built (grid_axis_free frees it),
  * 0 for a uniform direction (the key empty), -1 with msg when the key is

@@ -17,7 +17,9 @@ struct choice {
     int value;
 };
 
-/* Range of a number: lo/hi with inclusive flags; +-HUGE_VAL for none. */
+/* Range of a number: lo/hi with inclusive flags; +-HUGE_VAL for none.
+ * help, units and doc are what muflow --list and docs/case_keys.md (muflow
+ * --list=markdown) print: the tables are the only description of a key. */
 struct key {
     const char *section;
     const char *name;
@@ -31,6 +33,11 @@ struct key {
     const char *help;             /* one line: what the key means (muflow --list) */
     const char *default_text;     /* the default as --list shows it when it is not
                                      the defaults' value (1/phi, out/<case name>) */
+    const char *units;            /* "length", "rad", ...; NULL: dimensionless */
+    const char *doc;              /* the full meaning in docs/case_keys.md (one
+                                     Markdown paragraph, no line breaks); NULL: help.
+                                     Consecutive keys of the same doc, units, allowed
+                                     values and default share one row there. */
 };
 
 #define KEY_NONE_LO (-HUGE_VAL)
@@ -41,20 +48,33 @@ struct key {
 #define KEY_RANGE(lo, hi, li, hi_) (lo), (hi), (li), (hi_)
 #define KEY_NORANGE 0.0, 0.0, 0, 0
 
-/* Table entries for the members m of struct T, each with its help line h.
+/* A help argument h of the macros below: either a plain string, or
+ * KEY_HELP(help, units, doc), which also sets the key's units and doc
+ * (either may be NULL).  Its expansion has commas, so it is deferred by one
+ * scan (KEY_EMPTY): a macro that hands h on to one of the macros below (the
+ * tables' own shorthands) still sees it as one argument. */
+#define KEY_EMPTY()
+#define KEY_HELP(h_, u_, d_) KEY_HELP_ KEY_EMPTY()(h_, u_, d_)
+#define KEY_HELP_(h_, u_, d_) h_, .units = u_, .doc = d_
+
+/* Table entries for the members m of struct T, each with its help h.
  * (the range, four numbers, comes last: macros hand it on as several arguments) */
 #define KEY_DBL(T, s, n, m, h, ...) \
-    {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
-#define KEY_DBLT(T, s, n, m, t, h, ...) \
-    {s, n, K_DOUBLE, offsetof(T, m), __VA_ARGS__, NULL, t, 0, h, NULL}
-#define KEY_INT(T, s, n, m, h, ...) {s, n, K_INT, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
+    {.section = s, .name = n, .type = K_DOUBLE, .off = offsetof(T, m), __VA_ARGS__, .help = h}
+#define KEY_DBLT(T, s, n, m, t, h, ...)                                                      \
+    {.section = s, .name = n, .type = K_DOUBLE, .off = offsetof(T, m), __VA_ARGS__,          \
+     .range_text = t, .help = h}
+#define KEY_INT(T, s, n, m, h, ...) \
+    {.section = s, .name = n, .type = K_INT, .off = offsetof(T, m), __VA_ARGS__, .help = h}
 #define KEY_LNG(T, s, n, m, h, ...) \
-    {s, n, K_LONG, offsetof(T, m), __VA_ARGS__, NULL, NULL, 0, h, NULL}
-#define KEY_BOOL(T, s, n, m, h) {s, n, K_BOOL, offsetof(T, m), KEY_NORANGE, NULL, NULL, 0, h, NULL}
+    {.section = s, .name = n, .type = K_LONG, .off = offsetof(T, m), __VA_ARGS__, .help = h}
+#define KEY_BOOL(T, s, n, m, h) \
+    {.section = s, .name = n, .type = K_BOOL, .off = offsetof(T, m), .help = h}
 #define KEY_CHO(T, s, n, m, ch, h) \
-    {s, n, K_CHOICE, offsetof(T, m), KEY_NORANGE, ch, NULL, 0, h, NULL}
-#define KEY_STR(T, s, n, m, h) \
-    {s, n, K_STRING, offsetof(T, m), KEY_NORANGE, NULL, NULL, sizeof(((T *)0)->m), h, NULL}
+    {.section = s, .name = n, .type = K_CHOICE, .off = offsetof(T, m), .choices = ch, .help = h}
+#define KEY_STR(T, s, n, m, h)                                                               \
+    {.section = s, .name = n, .type = K_STRING, .off = offsetof(T, m),                       \
+     .size = sizeof(((T *)0)->m), .help = h}
 
 /* The case keys of a scene or physics module: one INI section, its keys
  * (offsets into the block), the block's size, its defaults, and a check
@@ -63,6 +83,8 @@ struct key {
 struct muflow_case;
 struct key_block {
     const char *section;
+    const char *intro;            /* Markdown before the section's table in
+                                     docs/case_keys.md: what the section is for */
     const struct key *keys;
     int nkeys;
     size_t size;
@@ -79,6 +101,15 @@ const char *key_parse(void *base, const struct key *k, const char *value, char *
  * as the shortest text that reads back to the same value. */
 void key_text(const void *base, const struct key *k, char *val, size_t len);
 
+/* The shortest text that reads back as exactly v, the form case files and
+ * summaries write numbers in (key_text), for messages:
+ * snprintf(msg, len, "... = %s", num_text(v).s).  The array lives to the end
+ * of the full expression that calls num_text (C11 6.2.4p8). */
+struct num_text {
+    char s[32];
+};
+struct num_text num_text(double v);
+
 /* "must be ..." for a number key. */
 void key_range_text(const struct key *k, char *out, size_t outlen);
 
@@ -87,8 +118,12 @@ void key_range_text(const struct key *k, char *out, size_t outlen);
 void key_allowed_text(const struct key *k, char *out, size_t outlen);
 
 /* Writes one key for muflow --list: "section.key = default  (allowed)" and
- * its help on the next line; the default read from base (a block holding
- * the defaults), or the key's default_text. */
+ * its help (with its units) on the next line; the default read from base (a
+ * block holding the defaults), or the key's default_text. */
 void key_write_help(const void *base, const struct key *k, FILE *out);
+
+/* The default as --list and docs/case_keys.md show it: default_text, or the
+ * value in base; "" for an unset string. */
+void key_default_text(const void *base, const struct key *k, char *out, size_t outlen);
 
 #endif

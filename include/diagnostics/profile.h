@@ -27,7 +27,7 @@ struct scene_errors {
                               RMS difference from the reference curve at its points
                               (err_midline) */
     double err_max;        /* max |u - u_ex| */
-    double err_rms_paper;  /* sqrt(sum (u - u_ex)^2) / N, the seeds' form */
+    double err_rms_paper;  /* sqrt(sum (u - u_ex)^2) / N, the papers' form */
     double headline, headline_exact;
 };
 

@@ -52,6 +52,17 @@ int shapes_outside_box(const struct shape_set *set, const double len[3]);
  * case describes, before any grid or decomposition exists. */
 int shapes_connect(const struct shape_set *set, const int n[3], const double len[3], int axis);
 
+/* The fluid regions a pressure sees on a grid of n cells over the box len:
+ * the plane's cells joined through the faces whose centre lies in the fluid
+ * (those the body leaves open), across the periodic directions
+ * (periodic[d]) too; a cell is part of one when its centre or a face it
+ * shares with another cell lies in the fluid.  fixed[d][side] flags the box's faces where the
+ * pressure is fixed (a surface or an open face).  Sets *regions (how many)
+ * and *floating (how many reach no fixed face).  Returns 0, or -1 (out of
+ * memory).  Works on the box the case describes, before any grid exists. */
+int shapes_regions(const struct shape_set *set, const int n[3], const double len[3],
+                   const int periodic[3], const int fixed[3][2], int *regions, int *floating);
+
 /* Signed distance from point x (grid coordinates x, y, z) to the surface of
  * the union, positive in the fluid. */
 double shape_distance(const struct shape_set *set, const double x[3]);

@@ -7,6 +7,10 @@
  *   - every field the registry marks FIELD_CHECKPOINT (march/fields.h: the
  *     velocity, the dynamic pressure, a module's tracer), whole arrays with
  *     their ghost layers, in the memory layout of grid.h;
+ *   - what each physics module keeps between steps beyond its fields (its
+ *     save hook, march/module.h; group modules/<name>): a scene's record of
+ *     the run (the collapse's x_front(t) and profiles, bagnold2's growth),
+ *     the two phases' face densities and the VOF's sweep order;
  *   - the schedule of field files (field_series.h);
  *   - FFTW's wisdom: the transform algorithms FFTW_MEASURE chose, so the
  *     restarted run plans the same ones and rounds the same way.

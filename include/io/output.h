@@ -16,7 +16,13 @@ struct result_value {
 };
 #define RESULT_VALUES_MAX 24
 
+struct scene;
+
+/* What a run returns (run_case_opts, app/run.h): a plain value, nothing to
+ * free; its texts are arrays inside it. */
 struct run_result {
+    const struct scene *scene; /* the run's scene (static): names the error and
+                                  headline lines of [result] */
     enum run_status status;
     long steps;
     long rejected_steps; /* steady mode: steps retried with a smaller pseudo-time step */
@@ -45,7 +51,16 @@ struct run_result {
  * RESULT_VALUES_MAX). */
 void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
-/* The value of a summary line as a number (NaN when absent or not a number). */
+/* The lines of summary.ini's [result] section, in its order: calls
+ * line(ctx, key, text, value) with the text the summary writes and the value
+ * as a number (exact for the run's own numbers: steps, time, err_rms, the
+ * headline, ...; a scene line's text read as a number; NaN for a text:
+ * status, message). */
+typedef void (*result_line_fn)(void *ctx, const char *key, const char *text, double value);
+void run_result_lines(const struct run_result *r, result_line_fn line, void *ctx);
+/* The value of the [result] line key (any of run_result_lines': err_rms,
+ * err_max, the headline and its exact value, steps, time, a scene's line),
+ * NaN when there is none or it is a text. */
 double run_result_value(const struct run_result *r, const char *key);
 
 /* A file written under a temporary name and renamed when complete. */
@@ -65,8 +80,9 @@ int output_make_dir(const char *dir, char *err, size_t errlen);
 /* For a fresh run (not a restart) into a folder that may hold an earlier
  * run's output: removes the files a run writes there -- fields_<step>.h5
  * (six digits or more), fields.xdmf, history.csv, profile.csv, summary.ini,
- * checkpoint.h5, the names in extra (the scene's own files, scene.h:
- * files; NULL-terminated, or NULL), and each of these names with .tmp
+ * checkpoint.h5, the names in extra (NULL-terminated, or NULL: a run
+ * passes every scene's and module's own files, scene_output_files in
+ * scenes/scene.h), and each of these names with .tmp
  * appended -- and nothing else (other files, folders of those names).
  * Returns the number of files removed (0 when dir does not exist), or -1
  * with the cause in err. */

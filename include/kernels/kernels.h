@@ -30,6 +30,13 @@
  * 2 x 1 x 40: under 2,000 slots); bench/analysis.md, section 7. */
 #define KERNEL_PARALLEL_MIN 32768
 
+/* Fewer array slots than this and no parallel region of muflow runs on more
+ * than one thread: the kernels' KERNEL_PARALLEL_MIN, the multigrid's levels
+ * (a level of fewer cells runs on one thread), FFTW's threads (65,536 cells).
+ * Above it some solver does (the projection's multigrid on a 2D grid well
+ * below KERNEL_PARALLEL_MIN), and the waiting policy matters (app/main.c). */
+#define PARALLEL_REGION_MIN 4096
+
 static inline int kernel_parallel(const struct grid *g)
 {
     return g->size >= KERNEL_PARALLEL_MIN;
@@ -146,6 +153,11 @@ void kernel_stress_component(const struct grid *g, const struct box act[3], int 
 void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
                              const double *const A_cell[3], const double *const A_edge[3],
                              double *const v[3], double *out[3]);
+/* The same with every velocity's size taken as at least v_floor: the terms'
+ * size when each velocity carries an absolute error of that scale. */
+void kernel_stress_magnitude_at(const struct grid *g, const struct box act[3],
+                                const double *const A_cell[3], const double *const A_edge[3],
+                                double *const v[3], double v_floor, double *out[3]);
 
 /* max over the unknowns of max(|r| - eps_factor * (|m| + |f|), 0): the part
  * of a residual r that its round-off cannot explain. */

@@ -102,8 +102,8 @@ double rheology_i_of_mu(const struct rheology *r, double mu);
 double rheology_well_posedness(const struct rheology *r, enum rheology_curve curve, double I);
 
 /* Bracket of I_1^N, [RHEOLOGY_I1N_LOW, the I where the jop curve's mu is
- * tan((atan mu_s + atan mu_2) / 2)], as in the public implementation the
- * refdata item 6 follows. */
+ * tan((atan mu_s + atan mu_2) / 2)], as in the public implementation of
+ * Barker & Gray (2017). */
 #define RHEOLOGY_I1N_LOW 1e-9
 
 /* Derived values of the curve, once per case: for barker_gray, I_1^N (the

@@ -81,6 +81,7 @@ struct march_state {
     double residual_excess;     /* the same beyond the round-off of its terms: what the
                                    steady criterion tests */
     double divergence;          /* max |div u| h / max |u| */
+    double velocity_max;        /* max |u| of the evaluated state */
     double residual_rms;        /* root mean square of the residual / force scale */
     double residual0;
     double force_ref;           /* what residuals are relative to: rho g, or without
@@ -100,6 +101,10 @@ struct march_state {
      * step % MARCH_RECENT (NAN: not reached since the problem began) */
     double recent_residual[MARCH_RECENT];
     double peak_residual;       /* the largest of them since the problem began */
+    /* the largest max |u| of the accepted states whose residual was within
+     * ten times max(1, residual0) (the weight, or the start's): the velocity
+     * scale a blow-up is measured against (march.c) */
+    double sane_velocity;
     /* the mean acceleration each time the pseudo-time doubled (newest
      * first): whether an acceleration is sustained or decaying */
     double mark_time;
@@ -145,6 +150,10 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
  * take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
 
+/* The physics modules a case's own keys add to any scene's (the obstacle,
+ * [obstacle] shapes), NULL-terminated. */
+extern const struct module *const march_case_modules[];
+
 /* The state of module m in this march, or NULL when it is not switched on
  * (a scene's setup configures its modules through it). */
 void *march_module_state(const struct march_state *st, const struct module *m);
@@ -168,6 +177,15 @@ const char *run_status_name(enum run_status s);
  * MUFLOW_AVAILABLE_MEMORY (bytes) replaces it (tests).  0 when unknown.
  * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
 double march_available_memory(void);
+
+/* The same refusal from the case alone, before any field or geometry (its
+ * grid and bands, the preconditioner auto would choose, a body bounded from
+ * above): 1 with one line in msg naming the grid keys when the run needs
+ * more than march_available_memory, else 0 (also when that is unknown).
+ * Where auto's choice depends on hypre's library, which this does not open,
+ * the smaller of the two estimates counts (march_create's check has the
+ * library's answer). */
+int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen);
 
 /* What residuals are relative to (rho g, or the first residual), and the
  * smallest cell size of the directions with more than one cell. */

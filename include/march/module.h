@@ -26,13 +26,27 @@
  *   max_dt      the largest time step its stages allow at the current state
  *               (a transient step is the smallest of these, the CFL limit
  *               and solver.dt; INFINITY: none)
- *   destroy     frees its state */
+ *   save        puts what it keeps between steps beyond its fields (a
+ *               record of the run, a counter) into the checkpoint
+ *               (io/module_record.h): a continued run goes on as if it had
+ *               not stopped; 0, or -1 with the cause in the record
+ *   load        reads that back when a run continues from a checkpoint,
+ *               after the fields and the loop state, and brings what it
+ *               derives from them up to date; 0, or -1 with the cause.
+ *               rec is NULL for a checkpoint that holds none (written by
+ *               an earlier muflow): 0 to go on without it, -1 to refuse
+ *   destroy     frees its state
+ *
+ * files: the names of the output files it writes into the output folder
+ * (NULL-terminated, or NULL), which a fresh run removes with every other
+ * run file of an earlier run there (io/output.h). */
 #ifndef MUFLOW_MARCH_MODULE_H
 #define MUFLOW_MARCH_MODULE_H
 
 #include <stddef.h>
 
 struct march_state;
+struct module_record;
 
 struct module {
     const char *name;
@@ -44,7 +58,10 @@ struct module {
     int (*transport)(struct march_state *st, void *state, double dt);
     void (*end_step)(struct march_state *st, void *state, double dt);
     double (*max_dt)(const struct march_state *st, void *state);
+    int (*save)(const struct march_state *st, void *state, struct module_record *rec);
+    int (*load)(struct march_state *st, void *state, struct module_record *rec);
     void (*destroy)(void *state);
+    const char *const *files;
 };
 
 #define MODULES_MAX 8

@@ -36,6 +36,12 @@ int step_advance(struct march_state *st, double dt);
 /* The stages (each in its own file). */
 void stage_properties(struct march_state *st);
 void stage_residual(struct march_state *st);
+/* The residual of the evaluated state beyond the round-off it has when every
+ * velocity carries an absolute error of the field's round-off (its terms'
+ * sizes with each velocity taken as max |u|), relative to the force scale:
+ * what a stiff region (a plug, eta ~ mu p / lambda) keeps of the solves'
+ * round-off.  Overwrites st->delta (scratch after the residual stage). */
+double stage_residual_velocity_roundoff(struct march_state *st);
 int stage_implicit(struct march_state *st, double dt);
 /* solver.coupled: the steady step's velocity and pressure increments from
  * one saddle-point system (stage_coupled.c), in place of the implicit

@@ -1,5 +1,5 @@
 /* A granular bed under a Newtonian fluid in the mixed-fluid form of the
- * two-phase model (seeds/002 eq. 13; Ouriemi, Aussillous & Guazzelli 2009):
+ * two-phase model (Chauchat & Medale 2010, eq. 13; Ouriemi, Aussillous & Guazzelli 2009):
  * a physics module (march/module.h) that sets, in the properties stage,
  * every viscosity and its Newton tangent (cells and edges) from one mixture
  * velocity:

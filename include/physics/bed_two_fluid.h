@@ -1,5 +1,5 @@
 /* A granular bed under a Newtonian fluid in the two-fluid form of the
- * two-phase model (seeds/002 eqs. 5-12; Ouriemi, Aussillous & Guazzelli
+ * two-phase model (Chauchat & Medale 2010, eqs. 5-12; Ouriemi, Aussillous & Guazzelli
  * 2009): a physics module (march/module.h) that holds the particle velocity
  * u^p beside the march's mixture velocity u^m = eps u^f + phi u^p and solves
  * the two coupled steady equations, in the bed (phi = phi0, eps = 1 - phi0)
@@ -11,7 +11,7 @@
  * top cuts a control volume, as in bed.h), and the Coulomb stress
  * tau^p = mu_s p_p f(|D(u^p)|) gamma(u^p), f the case's regularised 1/|D|
  * and p_p = phi0 (rho_p - rho_f) g (h_p - z) the buoyant weight of the
- * grains above.  The particle equation is the seed's (particle momentum
+ * grains above.  The particle equation is the paper's (particle momentum
  * with the generalised buoyancy phi div sigma^f) less phi times the fluid
  * one; the march's residual is their sum, the mixture equation with the
  * particle stress taken on u^p:

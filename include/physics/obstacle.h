@@ -29,6 +29,14 @@ int obstacle_active(const struct muflow_case *cs);
  * the shapes parse). */
 void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set);
 
+/* Bytes the body adds to a run on g, bounded from above from the case
+ * alone (no geometry is computed): its arrays, its held nodes (at most
+ * every node), its cut links (at most two per shape and grid line of the
+ * plane: each shape is convex) and the variable-coefficient projection a
+ * body implies (two multigrid pressure solvers while the hydrostatic split
+ * runs beside the projection's). */
+double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g);
+
 /* Position of node (i, j, k) of velocity component c (c = -1: the cell
  * centre), the box's low corner at the origin. */
 void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3]);

@@ -66,7 +66,15 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
  * unit area across the flow.  NaN without a force along that component. */
 double obstacle_mean_velocity(const struct march_state *st);
 
-/* The summary lines (drag_coefficient, lift_coefficient, pressure_drop, ...). */
+/* The summary lines of a body in a flow: drag_force along the flow
+ * (positive downstream: the inflow's direction, else the body force's),
+ * lift_force across it in the plane (positive along the grid's axis), each
+ * by the surface integral, the reconstructed traction (_reconstructed) and
+ * the control volume (_control_volume); the coefficients, pressure_drop
+ * (a flow along the plane's first direction) and mean_velocity.  With the
+ * flow along the extrusion, or none, the forces are named by their axes
+ * (force_x, force_x_control_volume, ...).  A wall around the fluid
+ * (obstacle.invert) has none of these lines. */
 void obstacle_results(const struct march_state *st, struct run_result *res);
 
 /* obstacle_surface.csv in dir: per sample, its angle, position, p, the

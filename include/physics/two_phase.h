@@ -1,10 +1,10 @@
 /* Two phases, grains and a Newtonian fluid, told apart by a volume fraction
  * T (1 grains, 0 fluid): a physics module (march/module.h) for the scenes of
- * seeds/001 (a granular layer under air) and the column collapse.
+ * Barker & Rauter 2018 (a granular layer under air) and the column collapse.
  *
  * It registers T (checkpointed, restored on a rejected step, written to the
  * field files as "tracer") and, in the properties stage, makes the mixture:
- *   density    rho = T rho_g + (1 - T) rho_f  (seeds/001 eq. 13), rho_g the
+ *   density    rho = T rho_g + (1 - T) rho_f  (Barker & Rauter 2018, eq. 13), rho_g the
  *              bulk density of the grains (physics.density); on a face the
  *              mean of its two cells; the mass term and the projection take
  *              it through march_density_changed;

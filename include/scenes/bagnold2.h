@@ -21,7 +21,7 @@ void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap);
  * velocity amplitudes au): t1 the first time au exceeds a_sat, or its own
  * start au[0] if larger (the last sample when it never does), t0 halfway
  * from the first sample to t1; the first half is the initial transient, in
- * which the seed's damped modes decay. */
+ * which the damped modes decay. */
 void bagnold2_growth_window(const double *t, const double *au, long n, double a_sat,
                             double *t0, double *t1);
 

@@ -4,7 +4,8 @@
  * physical checks, the exact plane solution of Ouriemi, Aussillous &
  * Guazzelli (2009) and the measured top of the fixed bed.
  *
- * Exact solution (as written in the refdata item 4): y = z / D,
+ * Exact solution (Ouriemi, Aussillous & Guazzelli 2009, "Sediment dynamics.
+ * Part 1. Bed-load transport by laminar shearing flows"): y = z / D,
  * u = U0 u*(y), U0 = (rho_p - rho_f) g D^2 / eta_f,
  * G = (dp/dx) / ((rho_p - rho_f) g), h = h_p / D, eta = 1 + 5 phi0 / 2,
  * A = G + mu_s phi0 (bed load needs A > 0),
@@ -42,22 +43,31 @@ extern const struct choice bedload_model_choices[];
  * literal), for the members of struct bedload_params (T). */
 #define BEDLOAD_KEYS(T, SEC)                                                                    \
     KEY_DBL(T, SEC, "bed_height", bed_height,                                                   \
-            "height h_p of the flat granular bed above the lower wall (inside (0, domain.lz))", \
+            KEY_HELP("height h_p of the flat granular bed above the lower wall: the bed and the "  \
+                     "fluid above it each at least a cell, domain.lz / domain.nz",                \
+                     "length", NULL),                                                           \
             KEY_GT0),                                                                           \
     KEY_DBL(T, SEC, "phi", phi, "volume fraction phi0 of the grains in the bed",                \
             KEY_RANGE(0.0, 1.0, 0, 0)),                                                         \
     KEY_DBL(T, SEC, "particle_density", particle_density,                                       \
-            "density rho_p of the grains (above fluid_density)", KEY_GT0),                      \
-    KEY_DBL(T, SEC, "fluid_density", fluid_density, "density rho_f of the fluid", KEY_GT0),     \
+            KEY_HELP("density rho_p of the grains (above fluid_density)", "mass/length^3",      \
+                     NULL),                                                                     \
+            KEY_GT0),                                                                           \
+    KEY_DBL(T, SEC, "fluid_density", fluid_density,                                             \
+            KEY_HELP("density rho_f of the fluid", "mass/length^3", NULL), KEY_GT0),            \
     KEY_DBL(T, SEC, "fluid_viscosity", fluid_viscosity,                                         \
-            "viscosity eta_f of the fluid (the bed's is eta_f (1 + 5 phi / 2))", KEY_GT0),      \
+            KEY_HELP("viscosity eta_f of the fluid (the bed's is eta_f (1 + 5 phi / 2))",       \
+                     "pressure time", NULL),                                                    \
+            KEY_GT0),                                                                           \
     KEY_DBL(T, SEC, "mu_s", mu_s,                                                               \
             "Coulomb friction coefficient of the bed (yield stress mu_s p_p)", KEY_GT0),        \
     KEY_DBL(T, SEC, "gravity", gravity,                                                         \
-            "gravity g in the grains' buoyant weight p_p = phi (rho_p - rho_f) g (h_p - z)",    \
+            KEY_HELP("gravity g in the grains' buoyant weight p_p = phi (rho_p - rho_f) g (h_p " \
+                     "- z)",                                                                    \
+                     "length/time^2", NULL),                                                    \
             KEY_GT0)
 
-/* Set A of the refdata (the sedFoam tutorial's parameters), the mixed model,
+/* Set A (the parameters of SedFoam's bed-load tutorial), the mixed model,
  * d = 0.065 / 30 and k_CK = 180. */
 void bedload_defaults(struct bedload_params *b);
 

@@ -46,6 +46,9 @@ struct scene_drive {
     march_observer_fn observe;
     void *observe_ctx;
     int verbose;                   /* progress lines wanted */
+    int restarted;                 /* the march continues from a checkpoint (its
+                                      loop state is the checkpoint's): go on with
+                                      it, do not start it afresh */
     const char *dir;               /* the output folder, NULL when the run writes
                                       no files (a driver's own record goes there) */
     union {                        /* the driver's own results, for results() */
@@ -127,5 +130,13 @@ const struct scene *scene_at(int index);
 int scene_find(const char *name);
 /* The scene choices of case.scene ({name, index} ..., {NULL, 0}). */
 const struct choice *scene_choices(void);
+/* Every name of an output file that a scene or a physics module of muflow
+ * writes besides the run's own (summary.ini, ...): each scene's files, its
+ * modules' files, those of march_case_modules and of extra (a program's
+ * own modules, NULL-terminated, or NULL); each once, NULL-terminated, into
+ * names (room for max).  Returns their count, or -1 when max is too small.
+ * A fresh run removes them all from its folder (io/output.h). */
+#define SCENE_OUTPUT_FILES_MAX 64
+int scene_output_files(const char **names, int max, const struct module *const *extra);
 
 #endif

@@ -19,7 +19,7 @@
  * poisson_fft_solve.  (A fluid region that obstacles cut off from the rest is
  * solved up to a constant of its own and its rhs is not made compatible.)
  *
- * Method (docs/design.md, "Multigrid", has the measurements): a hierarchy of
+ * Method (docs/numerics/multigrid.md has the measurements): a hierarchy of
  * local boxes halved in every direction that is even and not much coarser
  * than the finest spacing (directions of one cell are never coarsened), red-
  * black Gauss-Seidel smoothing, operator-dependent (flux-continuous)
@@ -48,7 +48,7 @@ enum multigrid_prolong {
 };
 enum multigrid_average {
     MG_AVERAGE_HARMONIC = 0, /* series resistance of three fine faces along the normal,
-                                arithmetic across (measured worse: design.md) */
+                                arithmetic across (measured worse: docs/numerics/multigrid.md) */
     MG_AVERAGE_ARITHMETIC    /* arithmetic mean of the fine faces the coarse face covers
                                 (the default) */
 };
@@ -93,6 +93,13 @@ void multigrid_default_options(struct multigrid_options *o);
  * argument or out of memory.  The coefficients must be set before a solve. */
 int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
                      const struct multigrid_options *opt, char *err, size_t errlen);
+
+/* Bytes multigrid_create allocates for g with the options (NULL: the
+ * defaults) and the coarsest level's factor, without creating anything:
+ * the levels' coefficients, cells and transfer weights, the work arrays
+ * and the coarsest level's factor (nested dissection of a 2D or 3D
+ * Laplacian, bounded by cells (4 log2 cells + 10) entries). */
+double multigrid_memory_estimate(const struct grid *g, const struct multigrid_options *opt);
 
 /* Copies the face coefficients a[0..2] (>= 0 and finite on every face read),
  * coarsens them and factorises the coarsest level.  May be called again with
@@ -169,11 +176,12 @@ int multigrid_solve(struct multigrid *mg, const double *rhs, double *phi, double
                     int max_cycles, struct multigrid_stats *stats);
 
 /* The same problem by conjugate gradients preconditioned with one cycle per
- * iteration (the robust choice at large coefficient jumps, see design.md).
- * It also returns 1 early, unconverged, with the iterate of its least
- * residual, when the residual has grown 100-fold above that (round-off: a
- * restart from phi recovers); and 0 at once when phi's true residual is
- * within 1e3 rtol and below its own rounding (stats->roundoff). */
+ * iteration (the robust choice at large coefficient jumps:
+ * docs/numerics/multigrid.md).  It also returns 1 early, unconverged, with
+ * the iterate of its least residual, when the residual has grown 100-fold
+ * above that (round-off: a restart from phi recovers); and 0 at once when
+ * phi's true residual is within 1e3 rtol and below its own rounding
+ * (stats->roundoff). */
 int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double rtol, int max_iter,
                   struct multigrid_stats *stats);
 

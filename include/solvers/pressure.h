@@ -25,6 +25,10 @@ void pressure_destroy(struct pressure_solver *ps);
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen);
 
+/* Bytes a solver on g takes once it has a variable coefficient (its
+ * multigrid and right-hand side), without creating one. */
+double pressure_variable_memory_estimate(const struct grid *g);
+
 /* 1 while the coefficient's factorisation is due; pressure_finish does it
  * (0, or -1 with the cause: out of memory, a failed factorisation).
  * pressure_direct: 1 when that factorisation is the whole grid's (a 2D grid

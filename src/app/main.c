@@ -1,7 +1,7 @@
 /* muflow CASE [section.key=value ...]
  * muflow --restart DIR [section.key=value ...]
  * muflow --version
- * muflow --list
+ * muflow --list [=markdown]
  * Runs a case file (an INI file under cases/) with command-line overrides of
  * any key, or continues the run whose checkpoint is DIR/checkpoint.h5.
  * Exit status: 0 steady or finished, 1 diverged, 2 bad input or setup
@@ -109,6 +109,7 @@ static void usage(FILE *f)
                "       muflow --version\n"
                "       muflow --list     (the scenes and every case key: default, allowed\n"
                "                          values, meaning)\n"
+               "       muflow --list=markdown   (the same in full: docs/case_keys.md)\n"
                "  runs the case to a steady state (solver.mode = steady) or to\n"
                "  solver.end_time (transient); any case key can be overridden, e.g.\n"
                "  muflow cases/bagnold.ini physics.tilt=0.45 domain.nz=80\n"
@@ -188,7 +189,7 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     if (r->scene_line[0])
         printf("%s: %s\n", cs->name, r->scene_line);
     printf("output: %s\n", cs->output_dir);
-    if (r->signal && r->stop_note[0])
+    if (r->signal && !r->restartable) /* stop_note: why not, and what to do instead */
         printf("muflow: interrupted by %s %s\n", interrupt_name(r->signal), r->stop_note);
     else if (r->signal)
         printf("muflow: interrupted by %s at step %ld%s; resume with: muflow --restart %s\n",
@@ -211,22 +212,58 @@ static void print_warning(void *ctx, const char *line)
     fprintf(stderr, "muflow: warning: %s\n", line);
 }
 
-/* The waiting policy and the huge pages matter only to a run whose kernels
- * open parallel regions (kernels.h: kernel_parallel); a thin profile grid
- * runs on one thread in little memory and is spared the second program
- * start (about 15 ms of a 30 ms run, bench/analysis.md). */
+/* The waiting policy and the huge pages matter only to a run that opens
+ * parallel regions on two threads or more: any grid of PARALLEL_REGION_MIN
+ * slots (kernels.h), where a solver may, even if the kernels do not (the
+ * column collapse's 2D grid, 24,300 slots: its projection's multigrid).  A
+ * thin profile grid opens none and is spared the second program start. */
 static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
-    if (slots >= KERNEL_PARALLEL_MIN)
+    if (slots >= PARALLEL_REGION_MIN)
         runtime_defaults(argv);
+}
+
+/* The options without arguments; "-h" is "--help". */
+static int is_bare_option(const char *arg)
+{
+    return strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0 ||
+           strcmp(arg, "--version") == 0 || strcmp(arg, "--list") == 0 ||
+           strcmp(arg, "--list=markdown") == 0;
+}
+
+/* An argument the command line cannot take: 2 after one line and the usage
+ * on stderr, or 0.  A first argument that starts with '-' is an option (a
+ * case file named so is given as ./-name.ini). */
+static int refuse_arguments(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *first = argv[1];
+    if (first[0] == '-' && !is_bare_option(first) && strcmp(first, "--restart") != 0) {
+        fprintf(stderr, "muflow: unknown option %s\n", first);
+        usage(stderr);
+        return 2;
+    }
+    if (is_bare_option(first) && argc > 2) {
+        fprintf(stderr, "muflow: %s takes no arguments (got '%s'%s)\n", first, argv[2],
+                argc > 3 ? " ..." : "");
+        usage(stderr);
+        return 2;
+    }
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
-        usage(argc < 2 ? stderr : stdout);
-        return argc < 2 ? 2 : 0;
+    int refused = refuse_arguments(argc, argv);
+    if (refused)
+        return refused;
+    if (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+        usage(stdout);
+        return 0;
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("muflow %s\n", MUFLOW_VERSION);
@@ -236,6 +273,10 @@ int main(int argc, char **argv)
         printf("muflow %s: the scenes and every case key (docs/case_keys.md has more)\n\n",
                MUFLOW_VERSION);
         case_write_key_list(stdout);
+        return 0;
+    }
+    if (strcmp(argv[1], "--list=markdown") == 0) {
+        case_write_key_markdown(stdout);
         return 0;
     }
     static struct muflow_case cs;

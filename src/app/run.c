@@ -178,6 +178,7 @@ static int observe(void *vctx, const struct march_state *st)
 
 void run_result_from(const struct march_state *st, struct run_result *res)
 {
+    res->scene = case_scene(st->cs);
     res->status = st->status;
     res->steps = st->step;
     res->rejected_steps = st->rejected;
@@ -262,9 +263,16 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         return RUN_OK;
     if (output_make_dir(cs->output_dir, err, errlen) != 0)
         goto fail;
-    /* a fresh run starts from a folder without an earlier run's files; a
-     * continued run keeps them (its series and history go on from them) */
-    if (!opt->restart_from && output_remove_run_files(cs->output_dir, case_scene(cs)->files, err, errlen) < 0)
+    /* a fresh run starts from a folder without an earlier run's files,
+     * whichever scene wrote them; a continued run keeps them (its series
+     * and history go on from them) */
+    const char *names[SCENE_OUTPUT_FILES_MAX];
+    if (!opt->restart_from &&
+        scene_output_files(names, SCENE_OUTPUT_FILES_MAX, opt->modules) < 0) {
+        snprintf(err, errlen, "more than %d names of output files", SCENE_OUTPUT_FILES_MAX - 1);
+        goto fail;
+    }
+    if (!opt->restart_from && output_remove_run_files(cs->output_dir, names, err, errlen) < 0)
         goto fail;
     const char *ename = scene_error_name(case_scene(cs));
     if ((opt->restart_from
@@ -347,6 +355,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
      * tilt search), and the summary then records what it found */
     struct muflow_case work = *cs;
     const struct scene *sc = case_scene(&work);
+    res->scene = sc;
     const char *why = sc->not_restartable ? sc->not_restartable(&work) : NULL;
     if (why && opt->restart_from) {
         snprintf(err, errlen, "%s", why);
@@ -364,6 +373,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     ctx.linear_unconverged = st.linear_unconverged;
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
                                 .verbose = opt->write_output && !work.quiet,
+                                .restarted = opt->restart_from != NULL,
                                 .dir = opt->write_output ? work.output_dir : NULL};
     if (sc->drive)
         sc->drive(&drive);
@@ -384,6 +394,10 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         profile_errors(&pr, &st, &res->errors);
     if (sc->results)
         sc->results(&st, &drive, res);
+    /* a run that cannot continue from its checkpoint says so when
+     * interrupted, and what to do instead, never "resume with" */
+    if (why && !res->stop_note[0])
+        snprintf(res->stop_note, sizeof res->stop_note, "at step %ld: %s", st.step, why);
     if (obstacle_active(&work))
         obstacle_results(&st, res);
     if (opt->write_output) {

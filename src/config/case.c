@@ -11,6 +11,7 @@
 #define _XOPEN_SOURCE 700 /* realpath */
 #include "config/case.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
@@ -23,6 +24,7 @@
 #include "solvers/viscous_gmg.h"
 #include "grid/grid.h"
 #include "grid/shapes.h"
+#include "march/march.h"
 #include "scenes/scene.h"
 
 #define HALF_PI 1.57079632679489661923
@@ -85,56 +87,126 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
 #define FACE_HELP(f) f " face: wall (no slip), slip (free slip), surface (flat stress-free free " \
                      "surface, p = 0), lid (moving no-slip wall), open (outflow / open top, "   \
                      "p = 0), inflow (prescribed velocity), periodic (on both faces)"
+#define FACE_DOC                                                                                   \
+    "Condition on the low / high face of each direction: `wall` no slip; `slip` free slip (zero "   \
+    "normal velocity and shear stress); `surface` a flat stress-free free surface (as `slip`, and " \
+    "the hydrostatic pressure is 0 on it); `lid` a no-slip wall moving in its own plane; `open` "   \
+    "an open boundary, outflow or open top (p = 0, zero normal gradient of every velocity "         \
+    "component, mass leaves or enters); `inflow` a prescribed velocity (`inflow_velocity` times "   \
+    "`inflow_profile` along the normal, 0 across; needs an `open` face for the volume to leave "    \
+    "by); `periodic` on both faces of a direction or on neither"
+#define FACE(n, m, f) CHO("boundary", n, m, bc_choices, KEY_HELP(FACE_HELP(f), NULL, FACE_DOC))
+#define BOX_DOC "Box size along x, y, z; the box is [0, lx] x [0, ly] x [0, lz]"
+#define CELLS_DOC "Number of cells along x, y, z; their product at most 500000000"
+#define BAND_DOC                                                                                   \
+    "`lo hi h`: the direction stretched, with cells of about h in [lo, hi], growing by `growth` "   \
+    "from cell to cell outside up to l/n, then l/n to the ends; several bands `lo hi h; lo hi h` " \
+    "(at most 8, increasing, not overlapping) have the cells between two of them grow from both; " \
+    "the number of cells follows (printed in the run's header); empty: uniform. Only with "        \
+    "`solver.mode = steady`, `solver.coupled = on`, `physics.advection = off`, no open or inflow "  \
+    "face, `solver.preconditioner` auto or lu, and the scenes `none` and `cylinder`"
+#define PRECOND_DOC                                                                                \
+    "Preconditioner of the implicit viscous solve. `line`: probed line blocks, exact for flows "   \
+    "uniform across the lines. `cholesky`: probed sparse Cholesky of the symmetric operator (for " \
+    "a steady Newton solve, of the diagonal tangent, preconditioning BiCGStab on the full "          \
+    "tangent). `lu`: probed sparse LU of the full Newton tangent. `fourier`: for grids periodic in " \
+    "the two directions across the lines, the line blocks of every plane Fourier mode, the three "  \
+    "components coupled, from the operator averaged over the periodic planes; exact for a flow "   \
+    "that varies only along the lines, whatever its viscosity contrast. `amg`: hypre's BoomerAMG " \
+    "on the probed full tangent inside GMRES(20), one hierarchy per run of velocity components "     \
+    "the matrix does not couple; fails with the augmentation; a GMRES that fails on a fresh "        \
+    "hierarchy gives way to `lu` for the rest of the run where that fits (4e5 unknowns), with a "   \
+    "warning. `gmg`: matrix-free geometric multigrid (zebra line Gauss-Seidel, W(1,1)) of each "   \
+    "velocity component along a periodic direction, inside GMRES(20); needs a periodic direction " \
+    "and every periodic direction one cell across (a cross-section: the heap, the ducts); not "     \
+    "with `coupled`; a failed GMRES gives way to `lu` as above. `auto`, for grids varying in two "  \
+    "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
+    "cross-section's periodic direction (the heap, the square duct's mixed model) without "        \
+    "augmentation, body or band; else `amg` on a steady 2D cross-section with Newton, no "          \
+    "augmentation and more than 1e4 unknowns (5e4 where `cholesky` would serve, or with a body); " \
+    "else `cholesky` on a 2D cross-section without open or inflow faces or a body up to 1e6 "       \
+    "unknowns; else `lu` (`cholesky` without Newton) up to 4e5 unknowns; beyond them `amg` on a "   \
+    "2D cross-section without augmentation; `line` otherwise, and for grids varying in one "        \
+    "direction. Without hypre's library, as if there were no `amg`. With `coupled`: `lu`, or "      \
+    "`amg` where only its GMRES fits in memory"
 
 /* The core keys, in the order case_write_ini writes them; the scene's own
- * section goes between [solver] and [output].  The help lines follow the
- * meaning column of docs/case_keys.md (muflow --list prints them). */
+ * section goes between [solver] and [output].  muflow --list prints their
+ * help lines, muflow --list=markdown (docs/case_keys.md) their docs. */
 static const struct key keys[] = {
     CHO("case", "scene", scene, scene_choice_table,
-        "the flow problem: its exact or reference solution, profile and headline value "
-        "(the scenes above)"),
-    STR("case", "reference", reference,
-        "published data to compare with (CSV rows dataset,parameter,coord,value), a path "
-        "relative to the case file's folder"),
+        KEY_HELP("the flow problem: its exact or reference solution, profile and headline value "
+                 "(the scenes above)",
+                 NULL,
+                 "The flow problem: its set-up, its exact or reference solution, its profile "
+                 "and headline value, and its own section of keys (the scenes above)")),
+    STR("case", "reference",
+        reference,
+        KEY_HELP("published data to compare with (CSV rows dataset,parameter,coord,value), a path "
+                 "relative to the case file's folder",
+                 NULL,
+                 "Published data to compare with (CSV rows `dataset,parameter,coord,value`), a "
+                 "path relative to the case file's folder; the file must exist; stored as an "
+                 "absolute path")),
 
-    DBL("domain", "lx", len[0], GT0, "box size along x (length)"),
-    DBL("domain", "ly", len[1], GT0, "box size along y (length)"),
-    DBL("domain", "lz", len[2], GT0, "box size along z (length)"),
+    DBL("domain", "lx", len[0], GT0, KEY_HELP("box size along x", "length", BOX_DOC)),
+    DBL("domain", "ly", len[1], GT0, KEY_HELP("box size along y", "length", BOX_DOC)),
+    DBL("domain", "lz", len[2], GT0, KEY_HELP("box size along z", "length", BOX_DOC)),
     INT("domain", "nx", n[0], RANGE(1, 100000000, 1, 1),
-        "cells along x (nx*ny*nz at most 500000000)"),
+        KEY_HELP("cells along x (nx*ny*nz at most 500000000)", NULL, CELLS_DOC)),
     INT("domain", "ny", n[1], RANGE(1, 100000000, 1, 1),
-        "cells along y (nx*ny*nz at most 500000000)"),
+        KEY_HELP("cells along y (nx*ny*nz at most 500000000)", NULL, CELLS_DOC)),
     INT("domain", "nz", n[2], RANGE(1, 100000000, 1, 1),
-        "cells along z (nx*ny*nz at most 500000000)"),
+        KEY_HELP("cells along z (nx*ny*nz at most 500000000)", NULL, CELLS_DOC)),
     STR("domain", "x_band", band[0],
-        "'lo hi h': x refined to cells of about h in [lo, hi], growing by domain.growth from "
-        "cell to cell outside up to lx / nx (empty: uniform lx / nx); the count follows; "
-        "several bands 'lo hi h; lo hi h' (at most 8, increasing)"),
-    STR("domain", "y_band", band[1], "'lo hi h': y refined in [lo, hi], as domain.x_band"),
-    STR("domain", "z_band", band[2], "'lo hi h': z refined in [lo, hi], as domain.x_band"),
+        KEY_HELP("'lo hi h': x refined to cells of about h in [lo, hi], growing by domain.growth "
+                 "from cell to cell outside up to lx / nx (empty: uniform lx / nx); the count "
+                 "follows; several bands 'lo hi h; lo hi h' (at most 8, increasing)",
+                 "length", BAND_DOC)),
+    STR("domain", "y_band", band[1],
+        KEY_HELP("'lo hi h': y refined in [lo, hi], as domain.x_band", "length", BAND_DOC)),
+    STR("domain", "z_band", band[2],
+        KEY_HELP("'lo hi h': z refined in [lo, hi], as domain.x_band", "length", BAND_DOC)),
     DBL("domain", "growth", growth, RANGE(1, 1.5, 0, 1),
-        "size ratio of neighbouring cells outside a band, in (1, 1.5]"),
+        "size ratio of neighbouring cells outside a band"),
 
-    CHO("boundary", "xlo", bc.face[0][0], bc_choices, FACE_HELP("low x")),
-    CHO("boundary", "xhi", bc.face[0][1], bc_choices, FACE_HELP("high x")),
-    CHO("boundary", "ylo", bc.face[1][0], bc_choices, FACE_HELP("low y")),
-    CHO("boundary", "yhi", bc.face[1][1], bc_choices, FACE_HELP("high y")),
-    CHO("boundary", "zlo", bc.face[2][0], bc_choices, FACE_HELP("low z")),
-    CHO("boundary", "zhi", bc.face[2][1], bc_choices, FACE_HELP("high z")),
+    FACE("xlo", bc.face[0][0], "low x"),
+    FACE("xhi", bc.face[0][1], "high x"),
+    FACE("ylo", bc.face[1][0], "low y"),
+    FACE("yhi", bc.face[1][1], "high y"),
+    FACE("zlo", bc.face[2][0], "low z"),
+    FACE("zhi", bc.face[2][1], "high z"),
     DBL("boundary", "lid_velocity", bc.lid_velocity, RANGE(NONE_LO, NONE_HI, 0, 0),
-        "speed of every lid face (velocity)"),
+        KEY_HELP("speed of every lid face", "velocity", NULL)),
     CHO("boundary", "lid_direction", bc.lid_direction, axis_choices,
         "velocity component a lid drives (in the lid's plane)"),
     DBL("boundary", "inflow_velocity", bc.inflow_velocity, RANGE(NONE_LO, NONE_HI, 0, 0),
-        "normal speed into the domain on every inflow face (the peak of a parabola) (velocity)"),
+        KEY_HELP("normal speed into the domain on every inflow face (the peak of a parabola)",
+                 "velocity", NULL)),
     CHO("boundary", "inflow_profile", bc.inflow_profile, profile_choices,
-        "inflow profile across the face: uniform, or parabolic 4 s (L - s) / L^2 in each "
-        "non-periodic direction of the face"),
+        KEY_HELP("inflow profile across the face: uniform, or parabolic 4 s (L - s) / L^2 in each "
+                 "non-periodic direction of the face",
+                 NULL,
+                 "Profile across an `inflow` face: `uniform`, or `parabolic` 4 s (L - s) / L^2 "
+                 "across each non-periodic direction of the face (their product in 3D), 0 on the "
+                 "edges and 1 in the middle")),
 
     STR("obstacle", "shapes", obstacle.shapes,
-        "solid bodies as a union of shapes in the plane's coordinates (A, B), extruded along the "
-        "third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by ';' (empty: none); "
-        "each must reach into the box, and a channel's inflow and outlet stay joined by fluid"),
+        KEY_HELP("solid bodies as a union of shapes in the plane's coordinates (A, B), extruded "
+                 "along the third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by "
+                 "';' (empty: none); each must reach into the box and span a cell each way, a "
+                 "channel's inflow and outlet stay joined by fluid, and the fluid is one region "
+                 "or regions that each reach a surface or open face",
+                 "length",
+                 "Solid bodies inside the box, a union of shapes in the plane's coordinates (A, "
+                 "B), extruded along the third direction: `circle A B R` (centre, radius) and "
+                 "`rectangle A0 B0 A1 B1` (two opposite corners), joined by `;`; empty: none. "
+                 "Refused: a shape that does not reach into the box or spans less than a cell "
+                 "along either direction of its plane, shapes that leave no cell centre in the "
+                 "fluid, a body that closes the channel (no path of fluid cells between an "
+                 "inflow face and the opposite face, or between two open faces of one "
+                 "direction), and a body that splits the fluid into regions one of which "
+                 "reaches no `surface` or `open` face (its pressure would be undetermined)")),
     CHO("obstacle", "plane", obstacle.plane, plane_choices,
         "the grid directions of the shapes' coordinates A and B"),
     BOOL("obstacle", "invert", obstacle.invert,
@@ -145,28 +217,50 @@ static const struct key keys[] = {
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
          "must be in [-pi/2, pi/2] (radians)",
-         "tilt alpha of gravity: g = gravity (sin alpha, 0, -cos alpha) (rad)"),
-    DBL("physics", "gravity", gravity, GE0, "magnitude g of gravity (length/time^2)"),
+         KEY_HELP("tilt alpha of gravity: g = gravity (sin alpha, 0, -cos alpha)", "rad", NULL)),
+    DBL("physics", "gravity", gravity, GE0,
+        KEY_HELP("magnitude g of gravity", "length/time^2", NULL)),
     DBL("physics", "density", density, GT0,
-        "bulk density (phi rho_s) in the momentum equation (mass/length^3)"),
+        KEY_HELP("bulk density (phi rho_s) in the momentum equation", "mass/length^3", NULL)),
     DBL("physics", "confining_pressure", confining_pressure, GE0,
-        "pressure added to the pressure that enters the rheology"),
+        KEY_HELP("pressure added to the pressure that enters the rheology", "pressure", NULL)),
     BOOL("physics", "advection", advection, "explicit advection of momentum (off: Stokes-like)"),
     CHO("physics", "advection_scheme", advection_scheme, advection_choices,
-        "form of the advection term: centred (second order, energy-neutral), upwind (first "
-        "order, donor cell) or vanleer (upwind, second order with van Leer's limiter)"),
+        KEY_HELP("form of the advection term: centred (second order, energy-neutral), upwind "
+                 "(first order, donor cell) or vanleer (upwind, second order with van Leer's "
+                 "limiter)",
+                 NULL,
+                 "Form of the advection term: `centred` (conservative, second order, "
+                 "energy-neutral), `upwind` (conservative donor cell, first order) or `vanleer` "
+                 "(upwind, second order with van Leer's limiter). Under the forward-Euler step the "
+                 "centred form adds energy where no viscosity damps it, such as a granular free "
+                 "surface, where the pressure and so the mu(I) viscosity vanish")),
 
     CHO("rheology", "law", rheo.law, law_choices, "viscosity law: mu(I), Bingham or Newtonian"),
     CHO("rheology", "regularisation", rheo.reg, reg_choices,
-        "form of the regularised yield term (include/kernels/rheology.h)"),
+        KEY_HELP("form of the regularised yield term (include/kernels/rheology.h)", NULL,
+                 "Form of the regularised viscosity (Chauchat & Medale 2014, eqs. 9-12), with "
+                 "D0 = I_0 sqrt(p / rho_s) / d: `simple` mu_s p / (|D| + lambda) + delta_mu p / "
+                 "(D0 + |D| + lambda); `bercovier` mu_s p / sqrt(|D|^2 + lambda^2) + the same "
+                 "second term; `papanastasiou` mu_s p (1 - exp(-|D| / lambda)) / |D| + the same; "
+                 "`mc` (mu_s + delta_mu |D| / (D0 + |D|)) p / sqrt(|D|^2 + lambda^2). Bingham: "
+                 "the same forms of the yield term with tau_0 for mu_s p, plus the plastic "
+                 "viscosity (`include/kernels/rheology.h`)")),
     DBL("rheology", "lambda", rheo.lambda, RANGE(0, 1, 0, 1),
-        "regularisation parameter, a shear rate (also of the pressure regularisation) (1/time)"),
+        KEY_HELP("regularisation parameter, a shear rate (also of the pressure regularisation)",
+                 "1/time", NULL)),
     DBL("rheology", "mu_s", rheo.mu_s, GE0, "static friction coefficient mu_s (mu(I))"),
     DBL("rheology", "delta_mu", rheo.delta_mu, GE0, "friction increase mu_2 - mu_s (mu(I))"),
     DBL("rheology", "i0", rheo.i0, GT0, "reference inertial number I_0 (mu(I))"),
     CHO("rheology", "curve", rheo.curve, curve_choices,
-        "friction curve of mu(I): jop (mu_s + delta_mu I/(I0 + I)) or barker_gray (partially "
-        "regularised, well posed below I_1^N; include/kernels/rheology.h)"),
+        KEY_HELP("friction curve of mu(I): jop (mu_s + delta_mu I/(I0 + I)) or barker_gray "
+                 "(partially regularised, well posed below I_1^N; include/kernels/rheology.h)",
+                 NULL,
+                 "Friction curve of mu(I): `jop` (Jop, Forterre & Pouliquen 2006, mu_s + delta_mu "
+                 "I / (I_0 + I)) or `barker_gray` (the partially regularised curve of Barker & "
+                 "Gray 2017: sqrt(alpha / ln(A_minus / I)) for I <= I_1^N, (mu_s I_0 + mu_2 I + "
+                 "mu_inf I^2) / (I_0 + I) above, mu_2 = mu_s + delta_mu; "
+                 "`include/kernels/rheology.h`)")),
     DBLT("rheology", "alpha", rheo.alpha, RANGE(0, 2, 0, 0),
          "must be in (0, 2): the barker_gray low-I branch is well posed only for alpha < 2",
          "barker_gray: alpha of the low-I branch mu = sqrt(alpha / ln(A_minus / I)), well posed "
@@ -174,95 +268,218 @@ static const struct key keys[] = {
     DBL("rheology", "mu_inf", rheo.mu_inf, GE0,
         "barker_gray: mu_inf of the high-I branch (mu_s I0 + mu_2 I + mu_inf I^2) / (I0 + I)"),
     DBL("rheology", "phi", rheo.phi, RANGE(0, 1, 0, 1), "solid volume fraction phi"),
-    DBL("rheology", "grain_diameter", rheo.grain_diameter, GT0, "grain diameter d (length)"),
-    {"rheology", "grain_density", K_DOUBLE, offsetof(T, rheo.grain_density), GT0, NULL, NULL, 0,
-     "grain density rho_s; 1/phi after the file and all overrides unless given (mass/length^3)",
-     "1/phi"},
+    DBL("rheology", "grain_diameter", rheo.grain_diameter, GT0,
+        KEY_HELP("grain diameter d", "length", NULL)),
+    {.section = "rheology",
+     .name = "grain_density",
+     .type = K_DOUBLE,
+     .off = offsetof(T, rheo.grain_density),
+     GT0,
+     .help = "grain density rho_s; 1/phi after the file and all overrides unless given",
+     .default_text = "1/phi",
+     .units = "mass/length^3",
+     .doc = "Grain density rho_s; unless given, 1/phi, computed after the file and all "
+            "overrides (so changing `phi` changes it)"},
     BOOL("rheology", "pressure_regularisation", rheo.pressure_regularisation,
          "the pressure in mu(I) is (p + sqrt(p^2 + lambda^2)) / 2 (off: max(p, 0))"),
     DBL("rheology", "yield_stress", rheo.yield_stress, GE0,
-        "Bingham yield stress tau_0, in simple shear (pressure)"),
+        KEY_HELP("Bingham yield stress tau_0, in simple shear", "pressure",
+                 "Bingham yield stress tau_0 in simple shear: the material yields where "
+                 "sqrt(tau:tau / 2) >= tau_0 (sqrt(2) times smaller than a tau_0 written "
+                 "with sqrt(D:D), as by Vola et al. 2003)")),
     DBL("rheology", "plastic_viscosity", rheo.plastic_viscosity, GE0,
-        "Bingham plastic viscosity (pressure time)"),
-    DBL("rheology", "viscosity", rheo.viscosity, GT0, "Newtonian viscosity (pressure time)"),
+        KEY_HELP("Bingham plastic viscosity", "pressure time", NULL)),
+    DBL("rheology", "viscosity", rheo.viscosity, GT0,
+        KEY_HELP("Newtonian viscosity", "pressure time", NULL)),
 
     CHO("solver", "mode", mode, mode_choices,
         "steady: pseudo-time march to a steady state; transient: march to solver.end_time"),
     DBL("solver", "tolerance", tolerance, RANGE(0, 1, 0, 0),
         "steady: stop when the relative residual falls below this"),
     LNG("solver", "max_steps", max_steps, RANGE(1, 1e9, 1, 1), "largest number of time steps"),
-    DBL("solver", "end_time", end_time, GT0, "transient: time to reach"),
+    DBL("solver", "end_time", end_time, GT0, KEY_HELP("transient: time to reach", "time", NULL)),
     DBL("solver", "steady_tolerance", steady_tolerance, RANGE(0, 1, 1, 0),
         "transient: stop at a steady state once the relative residual and divergence fall "
         "below this, as the steady mode's tolerance (0: run to end_time)"),
     DBL("solver", "dt", dt, GT0,
-        "steady: initial pseudo-time step; transient: upper bound of the step"),
-    DBL("solver", "dt_max", dt_max, GT0, "steady: cap of the growing pseudo-time step (>= dt)"),
+        KEY_HELP("steady: initial pseudo-time step; transient: upper bound of the step", "time",
+                 NULL)),
+    DBL("solver", "dt_max", dt_max, GT0,
+        KEY_HELP("steady: cap of the growing pseudo-time step (>= dt)", "time", NULL)),
     DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1), "advective CFL number (with physics.advection)"),
     BOOL("solver", "newton", newton,
-         "consistent tangent viscosity in steady mode (off: Picard, lagged viscosity; a "
-         "transient step always lags it)"),
+         KEY_HELP("consistent tangent viscosity in steady mode (off: Picard, lagged viscosity; a "
+                  "transient step always lags it)",
+                  NULL,
+                  "Steady mode: the consistent tangent of the viscosity (Newton); `off`: Picard, "
+                  "the viscosity lagged. A transient (time-accurate) step always lags the "
+                  "viscosity: the tangent's linearly implicit step overshoots on the friction "
+                  "plateau")),
     DBL("solver", "continuation", continuation, RANGE(1, 1e12, 1, 1),
         "steady: solve with rheology.lambda times this first, then lower lambda 10-fold each "
         "time the residual has fallen 1000-fold, to rheology.lambda (1: off)"),
     DBL("solver", "newton_below", newton_below, RANGE(0, 1, 0, 1),
-        "the tangent is used once the residual has fallen below this times the first residual "
-        "or the largest since, if larger (Picard before; 1: from the start)"),
+        KEY_HELP("the tangent is used once the residual has fallen below this times the first "
+                 "residual or the largest since, if larger (Picard before; 1: from the start)",
+                 NULL,
+                 "Use the tangent only once the residual has fallen below this times the first "
+                 "residual, or the largest residual since if that is larger; Picard steps before, "
+                 "and Picard steps that stall hand over below its square root; `1`: the tangent "
+                 "from the start")),
     BOOL("solver", "coupled", coupled,
-         "steady: each step solves velocity and pressure together (the saddle-point system "
-         "of the step by the sparse LU, or with solver.preconditioner = amg by GMRES with the "
-         "AMG of the velocity block and a least-squares commutator for the pressure, which "
-         "falls back to the LU if it fails) instead of the implicit step and the projection; for "
-         "flows whose pressure the projection's pseudo-time march does not converge (around "
-         "a body, the cavity without augmentation, through open faces)"),
+         KEY_HELP("steady: each step solves velocity and pressure together (the saddle-point "
+                  "system of the step by the sparse LU, or with solver.preconditioner = amg by "
+                  "GMRES with the AMG of the velocity block and a least-squares commutator for "
+                  "the pressure, which falls back to the LU if it fails) instead of the implicit "
+                  "step and the projection; for flows whose pressure the projection's pseudo-time "
+                  "march does not converge (around a body, the cavity without augmentation, "
+                  "through open faces)",
+                  NULL,
+                  "Steady mode: each step solves the velocity and pressure increments from one "
+                  "saddle-point system (the step's probed operator with the pressure gradient and "
+                  "the divergence) by UMFPACK's sparse LU (`src/march/stage_coupled.c`), instead "
+                  "of the implicit step and the projection; with `preconditioner = amg` by GMRES "
+                  "with BoomerAMG on the velocity block and a least-squares commutator for the "
+                  "pressure (`src/solvers/saddle_krylov.c`), which gives way to the LU for the "
+                  "rest of the run if it fails (refused on mu(I) and with open faces). For flows "
+                  "whose pressure the projection's pseudo-time march does not converge: a flow "
+                  "around a body, the Bingham cavity without `augmentation`, a flow through open "
+                  "faces (each open face's balance is a row of the system). Needs `mode = "
+                  "steady`, `augmentation = 0` and a scene without physics modules (bodies "
+                  "allowed)")),
     STR("solver", "initial_state", initial_state,
-        "a checkpoint (a run folder or its checkpoint.h5) of the same box on any grid: its "
-        "velocity, pressure and modules' fields, interpolated to this grid, start the run "
-        "instead of the scene's state (a steady solve from a coarser mesh's solution); empty: "
-        "the scene's"),
+        KEY_HELP("a checkpoint (a run folder or its checkpoint.h5) of the same box on any grid: "
+                 "its velocity, pressure and modules' fields, interpolated to this grid, start "
+                 "the run instead of the scene's state (a steady solve from a coarser mesh's "
+                 "solution); empty: the scene's",
+                 NULL,
+                 "A checkpoint (a run folder or its `checkpoint.h5`) of the same box on any "
+                 "uniform grid: its velocity, dynamic pressure and modules' fields, interpolated "
+                 "trilinearly to this grid, start the run at step 0 instead of the scene's "
+                 "initial state (grid sequencing); another box is refused; empty: the scene's "
+                 "start")),
     CHO("solver", "preconditioner", preconditioner, precond_choices,
-        "of the implicit solve: line blocks, sparse Cholesky (of the symmetric operator; with "
-        "newton, of the diagonal tangent, preconditioning BiCGStab on the full tangent) or LU, "
-        "AMG, or fourier (the line blocks of every plane Fourier mode, for periodic directions "
-        "across the lines), or gmg (geometric multigrid of the velocity components along "
-        "periodic directions inside GMRES, matrix-free: flows along a periodic direction such "
-        "as the heap and the ducts) (auto, for grids varying in two or more directions: gmg for "
-        "the steady newton solves of the heap and the square duct's mixed model without "
-        "augmentation, a body or a band, else amg on a steady "
-        "2D cross-section with newton, no augmentation and over 1e4 unknowns (5e4 where cholesky "
-        "would serve or with a body), else cholesky on "
-        "a 2D cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
-        "unknowns, beyond them amg on a 2D cross-section without augmentation; line otherwise; "
-        "with solver.coupled lu, or amg where only its GMRES fits in memory)"),
+        KEY_HELP("of the implicit solve: line blocks, sparse Cholesky (of the symmetric operator; "
+                 "with newton, of the diagonal tangent, preconditioning BiCGStab on the full "
+                 "tangent) or LU, AMG, or fourier (the line blocks of every plane Fourier mode, "
+                 "for periodic directions across the lines), or gmg (geometric multigrid of the "
+                 "velocity components along periodic directions inside GMRES, matrix-free: flows "
+                 "along a periodic direction such as the heap and the ducts) (auto, for grids "
+                 "varying in two or more directions: gmg for the steady newton solves of the heap "
+                 "and the square duct's mixed model without augmentation, a body or a band, else "
+                 "amg on a steady 2D cross-section with newton, no augmentation and over 1e4 "
+                 "unknowns (5e4 where cholesky would serve or with a body), else cholesky on a 2D "
+                 "cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
+                 "unknowns, beyond them amg on a 2D cross-section without augmentation; line "
+                 "otherwise; with solver.coupled lu, or amg where only its GMRES fits in memory)",
+                 NULL, PRECOND_DOC)),
     DBL("solver", "augmentation", augmentation, GE0,
-        "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: off)"),
+        KEY_HELP("kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (0: "
+                 "off)",
+                 NULL,
+                 "kappa of the augmented-Lagrangian term -grad(r div u), r = kappa max(eta) (one "
+                 "value over the grid, so that a stiff plug beside a yielded layer cannot stall "
+                 "the pressure), with the matching Uzawa pressure update; the steady residual is "
+                 "that of the unaugmented problem; lets the pressure converge at large "
+                 "pseudo-time steps in 2D flows; `0`: off")),
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
         "relative tolerance of the implicit viscous solve"),
     BOOL("solver", "inexact_newton", inexact_newton,
-         "steady Newton steps solved with amg, cholesky or gmg: the linear tolerance follows "
-         "the residual's last decrease (Eisenstat-Walker), down to linear_tolerance"),
+         KEY_HELP("steady Newton steps solved with amg, cholesky or gmg: the linear tolerance "
+                  "follows the residual's last decrease (Eisenstat-Walker), down to "
+                  "linear_tolerance",
+                  NULL,
+                  "Steady Newton steps solved with `amg`, `cholesky` or `gmg`: the linear "
+                  "tolerance follows the residual's last decrease (Eisenstat and Walker's forcing "
+                  "term, gamma 0.9, exponent 2), at most 0.1 (0.01 with `gmg`) and the relative "
+                  "residual, at least `linear_tolerance`; the LU solves exactly whatever the "
+                  "tolerance; `off`: every solve to `linear_tolerance`")),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
-        "a cholesky, lu, fourier or amg preconditioner serves up to this many further steps while "
-        "the Krylov iterations stay within twice its first solve's plus 2 (0: one every step)"),
+        KEY_HELP("a cholesky, lu, fourier or amg preconditioner serves up to this many further "
+                 "steps while the Krylov iterations stay within twice its first solve's plus 2 (0: "
+                 "one every step)",
+                 NULL,
+                 "A `cholesky`, `lu`, `fourier` or `amg` preconditioner (its factors, probes or "
+                 "hierarchy) serves up to this many further steps while the Krylov iterations stay "
+                 "within twice those of its first solve plus 2 (a failed solve builds a new one); "
+                 "the solution is the same to `linear_tolerance`, only the iterations change. "
+                 "Pays where the operator changes little from step to step; `0`: a new one every "
+                 "step")),
     CHO("solver", "line_direction", line_direction, dir_choices,
         "direction of the preconditioner lines, a non-periodic one (auto: chosen by the solver)"),
     DBL("solver", "progress_interval", progress_interval, GE0,
-        "wall-clock seconds between progress lines (0: every step)"),
+        KEY_HELP("wall-clock seconds between progress lines (0: every step)", "s", NULL)),
 
-    {"output", "dir", K_STRING, offsetof(T, output_dir), KEY_NORANGE, NULL, NULL,
-     sizeof(((T *)0)->output_dir), "output folder", "out/<case name>"},
+    {.section = "output",
+     .name = "dir",
+     .type = K_STRING,
+     .off = offsetof(T, output_dir),
+     .size = sizeof(((T *)0)->output_dir),
+     .help = "output folder",
+     .default_text = "out/<case name>",
+     .doc = "Output folder; without control characters, and without `;` at the start or after "
+            "a blank (it would start a comment)"},
     BOOL("output", "quiet", quiet, "no progress lines"),
-    BOOL("output", "fields", fields, "write HDF5 field files (fields_<step>.h5) and fields.xdmf"),
+    BOOL("output", "fields", fields,
+         KEY_HELP("write HDF5 field files (fields_<step>.h5) and fields.xdmf", NULL,
+                  "Write HDF5 field files (`fields_NNNNNN.h5`) and `fields.xdmf`")),
     LNG("output", "fields_every", fields_every, RANGE(0, 1e9, 1, 1),
-        "a field file every this many steps, also step 0 (0: none by step count)"),
+        KEY_HELP("a field file every this many steps, also step 0 (0: none by step count)",
+                 "steps", NULL)),
     DBL("output", "fields_interval", fields_interval, GE0,
-        "a field file each time t passes a multiple of this, also t = 0 (0: none by time)"),
+        KEY_HELP("a field file each time t passes a multiple of this, also t = 0 (0: none by time)",
+                 "time", NULL)),
     LNG("output", "checkpoint_every", checkpoint_every, RANGE(0, 1e9, 1, 1),
-        "a checkpoint every this many steps (0: only when the run is stopped)"),
+        KEY_HELP("a checkpoint every this many steps (0: only when the run is stopped)", "steps",
+                 "A checkpoint (`checkpoint.h5`, replacing the previous one) every this many "
+                 "steps; `0`: only at the end of the run")),
 };
+#undef FACE
 #define NKEYS ((int)(sizeof(keys) / sizeof(keys[0])))
+
+/* What each core section is for, before its table in docs/case_keys.md. */
+static const struct {
+    const char *section, *intro;
+} section_intros[] = {
+    {"domain", "The box and its grid, uniform unless a band stretches a direction."},
+    {"boundary",
+     "`periodic` must be on both faces of a direction or on neither, and at least one direction "
+     "must not be periodic (the implicit solve works along it). An `inflow` face (with "
+     "`inflow_velocity` not 0) needs an `open` face for its volume to leave by; an `open` face "
+     "needs at least 2 cells along its direction and `solver.augmentation = 0`."},
+    {"obstacle",
+     "Solid bodies in the flow. A case with shapes runs the projection through the multigrid "
+     "solver (the faces the body closes take the coefficient 0, the cut cells' faces their open "
+     "share) and writes `drag_coefficient`, `lift_coefficient`, `pressure_drop` and the forces "
+     "(with the control-volume cross-check) to the summary, and `obstacle_surface.csv` (the "
+     "stresses around the body against the angle). A case whose scene transports a tracer (the "
+     "collapse) cannot have shapes."},
+    {"physics", "Gravity, the density and the terms of the momentum equation."},
+    {"rheology",
+     "The viscosity law. `law = bingham` needs `plastic_viscosity > 0` or `yield_stress > 0`; "
+     "`law = newtonian` needs `viscosity > 0`. With `law = mui` and `curve = barker_gray`, I_1^N "
+     "(the lower root of the well-posedness function C(I) of the `jop` curve with these `mu_s`, "
+     "`delta_mu`, `i0`) and A_minus = I_1^N exp(alpha / mu(I_1^N)^2) are computed when the case "
+     "is loaded; parameters whose `jop` curve is ill posed throughout the bracket are refused, "
+     "naming `rheology.mu_s`, `rheology.delta_mu` and `rheology.i0`."},
+    {"solver",
+     "The march: steady (a pseudo-time march to the steady state) or transient (to `end_time`), "
+     "and the solvers of its steps."},
+    {"output",
+     "Whatever the schedule, a field file of the final state is written at the end of every run "
+     "(unless `fields = off`), and a checkpoint. The run's `summary.ini` repeats every key with "
+     "the value used, in the order of these tables; reading it back gives the same case."},
+};
+
+const char *case_section_intro(const char *section)
+{
+    for (size_t i = 0; i < sizeof section_intros / sizeof section_intros[0]; i++)
+        if (strcmp(section_intros[i].section, section) == 0)
+            return section_intros[i].intro;
+    return NULL;
+}
 
 static const char *const sections[] = {"case", "domain", "boundary", "obstacle", "physics",
                                        "rheology", "solver", "output"};
@@ -302,7 +519,7 @@ void case_defaults(struct muflow_case *c)
     c->rheo.delta_mu = 0.26;
     c->rheo.i0 = 0.279;
     c->rheo.curve = CURVE_JOP;
-    c->rheo.alpha = 1.9;  /* Barker & Gray (2017), as in the refdata item 6 */
+    c->rheo.alpha = 1.9;  /* Barker & Gray (2017), partially regularised mu(I) */
     c->rheo.mu_inf = 0.05;
     c->rheo.phi = 0.6;
     c->rheo.grain_diameter = 1.0;
@@ -530,6 +747,9 @@ struct ctx {
     int key_line[NKEYS + SCENE_KEYS_MAX];
     const char *key_value[NKEYS + SCENE_KEYS_MAX];
     int section_line[NSECTIONS + 1];
+    /* the override that set each key last (its "section.key=value"), NULL
+     * for the file's keys and the defaults: a check's message blames it */
+    const char *origin[NKEYS + SCENE_KEYS_MAX];
 };
 
 /* One warning line (control characters replaced), when a callback is set. */
@@ -557,6 +777,63 @@ static void fail(struct ctx *x, const char *fmt, ...)
     va_start(ap, fmt);
     ini_format_line(x->err, x->errlen, fmt, ap);
     va_end(ap);
+}
+
+static int key_slot(const struct muflow_case *c, const struct key *k);
+
+/* 1 when text names the key section.name as a whole word ("domain.nx", not
+ * "domain.nx_band" nor "xdomain.nx"). */
+static int names_key(const char *text, const char *section, const char *name)
+{
+    char full[160];
+    if (snprintf(full, sizeof full, "%s.%s", section, name) >= (int)sizeof full)
+        return 0;
+    size_t n = strlen(full);
+    for (const char *p = strstr(text, full); p; p = strstr(p + 1, full)) {
+        unsigned char before = p == text ? ' ' : (unsigned char)p[-1], after = (unsigned char)p[n];
+        if (!(isalnum(before) || before == '_' || before == '.') &&
+            !(isalnum(after) || after == '_'))
+            return 1;
+    }
+    return 0;
+}
+
+struct blame {
+    const struct ctx *x;
+    const char *text;       /* the check's message */
+    char *out;              /* "override a=1, override b=2" */
+    size_t len, used;
+};
+
+static int blame_key(void *vctx, const struct key *k)
+{
+    struct blame *b = vctx;
+    int slot = key_slot(b->x->c, k);
+    const char *arg = slot >= 0 ? b->x->origin[slot] : NULL;
+    if (!arg || !names_key(b->text, k->section, k->name) || b->used >= b->len)
+        return 0;
+    char sh[SHOWN_MAX + 4];
+    b->used += (size_t)snprintf(b->out + b->used, b->len - b->used, "%soverride %s",
+                                b->used ? ", " : "", shown(arg, sh));
+    return 0;
+}
+
+/* A check of the loaded case failed: one line, the message after what set
+ * the keys it names: the overrides among them ("override a=1, override
+ * b=2: ..."), else the file (its keys or the defaults). */
+static void refuse(struct ctx *x, const char *fmt, ...)
+{
+    if (x->failed)
+        return;
+    char text[1024], who[1024], b[SHOWN_MAX + 4];
+    va_list ap;
+    va_start(ap, fmt);
+    ini_format_line(text, sizeof text, fmt, ap);
+    va_end(ap);
+    struct blame bl = {x, text, who, sizeof who, 0};
+    who[0] = '\0';
+    each_key(x->c, blame_key, &bl);
+    fail(x, "%s: %s", bl.used ? who : shown(x->where, b), text);
 }
 
 /* One assignment section.name = value, from the file (arg == NULL) or from
@@ -605,6 +882,9 @@ static int assign(struct ctx *x, const char *section, const char *name, const ch
     }
     if (base == (void *)x->c)
         x->set[k - keys] = 1;
+    int slot = key_slot(x->c, k);
+    if (slot >= 0)
+        x->origin[slot] = arg;
     return 1;
 }
 
@@ -707,23 +987,111 @@ static int inflow_face(const struct boundary *bc)
     return -1;
 }
 
-/* The shapes against the box: each reaches into it, some fluid is left,
- * and a flow through the box (an inflow face, or open faces at both ends of
- * a direction) finds a path of fluid cells from one end to the other.
- * Returns 0, or 1 after fail(). */
-static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *where)
+/* The smallest cell of direction d: its band's, or l / n. */
+static double finest_cell(const struct muflow_case *c, int d)
+{
+    struct grid_axis ax;
+    char why[300];
+    double h = c->len[d] / c->n[d];
+    if (case_axis(c, d, &ax, why, sizeof why) > 0) {
+        for (int i = 0; i < ax.n; i++)
+            h = fmin(h, ax.hc[i + 1]);
+        grid_axis_free(&ax);
+    }
+    return h;
+}
+
+/* " (obstacle.invert = off: the fluid outside the shapes)" */
+static const char *invert_text(const struct muflow_case *c)
+{
+    return c->obstacle.invert ? "obstacle.invert = on (the fluid inside the shapes)"
+                              : "obstacle.invert = off (the fluid outside the shapes)";
+}
+
+/* The fluid the shapes leave on the grid: one region, or regions that each
+ * reach a surface or open face, where the pressure is fixed.  The pressure
+ * solves take one free level for the whole fluid; regions closed off from
+ * those faces each have their own, and a region whose edge is partly the
+ * box's walls gets a hydrostatic problem without a solution under a body
+ * force (the circular duct outside its circle: two corners closed off by
+ * walls, the hydrostatic solve stopped at a relative residual of 4).  Two
+ * discs of fluid inside the body, away from the walls, ran (their problems
+ * each have one); they are refused with the rest, the rule being the
+ * regions, not the forces.  One region alone is solved up to its level.
+ * Returns 0, or 1 after refuse(). */
+static int check_regions(struct ctx *x, const struct shape_set *set)
+{
+    const struct muflow_case *c = x->c;
+    static const char axis[3] = {'x', 'y', 'z'};
+    int periodic[3], fixed[3][2], nfixed = 0;
+    char faces[160] = "";
+    size_t used = 0;
+    for (int d = 0; d < 3; d++) {
+        periodic[d] = c->bc.face[d][0] == BC_PERIODIC;
+        for (int side = 0; side < 2; side++) {
+            enum bc_kind k = c->bc.face[d][side];
+            fixed[d][side] = k == BC_SURFACE || k == BC_OPEN;
+            if (fixed[d][side] && used < sizeof faces)
+                used += (size_t)snprintf(faces + used, sizeof faces - used, "%sboundary.%c%s = %s",
+                                         nfixed++ ? ", " : "", axis[d], side ? "hi" : "lo",
+                                         bc_choices[k].name);
+        }
+    }
+    int regions, floating;
+    if (shapes_regions(set, c->n, c->len, periodic, fixed, &regions, &floating) != 0) {
+        refuse(x, "obstacle.shapes: out of memory checking the shapes against the box");
+        return 1;
+    }
+    if (regions < 2 || floating == 0)
+        return 0;
+    refuse(x, "obstacle.shapes = '%.200s' with %s: the body splits the fluid into %d regions on "
+              "this grid, %d of them closed off from every surface or open face of the box, "
+              "where the pressure is fixed%s%s%s: their pressures have no common level, which the "
+              "pressure solves cannot take; the fluid must be one region, or each region must "
+              "reach a surface or open face",
+           c->obstacle.shapes, invert_text(c), regions, floating, nfixed ? " (" : "", faces,
+           nfixed ? ")" : "");
+    return 1;
+}
+
+/* The shapes against the box: each reaches into it and spans a cell of
+ * the plane at least, some fluid is left, a flow through the box (an
+ * inflow face, or open faces at both ends of a direction) finds a path of
+ * fluid cells from one end to the other, and the fluid's pressure is fixed
+ * (check_regions).  Geometry on the plane's grid: after every size check.
+ * Returns 0, or 1 after refuse(). */
+static int check_shapes_fit(struct ctx *x, struct shape_set *set)
 {
     struct muflow_case *c = x->c;
     static const char axis[3] = {'x', 'y', 'z'};
+    static const char *const len_key[3] = {"lx", "ly", "lz"}, *const n_key[3] = {"nx", "ny", "nz"};
     shapes_set_plane(set, c->obstacle.plane, c->obstacle.invert);
     const char *plane = plane_choices[c->obstacle.plane].name;
     int a = set->plane_a, b = set->plane_b;
     int out = shapes_outside_box(set, c->len);
     if (out >= 0) {
-        fail(x, "%s: obstacle.shapes = '%.200s': shape %d lies wholly outside the box, whose "
-                "plane %s spans [0, %.10g] x [0, %.10g] (a body must reach into the box)",
-             where, c->obstacle.shapes, out + 1, plane, c->len[a], c->len[b]);
+        refuse(x, "obstacle.shapes = '%.200s': shape %d lies wholly outside the box, whose "
+                  "plane %s spans [0, %s] x [0, %s] (a body must reach into the box)",
+               c->obstacle.shapes, out + 1, plane, num_text(c->len[a]).s, num_text(c->len[b]).s);
         return 1;
+    }
+    /* a body thinner than a cell is not seen, or seen as a cell's staircase */
+    for (int i = 0; i < set->n; i++) {
+        const struct shape *sh = &set->s[i];
+        const int dir[2] = {a, b};
+        for (int k = 0; k < 2; k++) {
+            int d = dir[k];
+            double span = sh->kind == SHAPE_CIRCLE ? 2.0 * sh->v[2] : sh->v[2 + k] - sh->v[k];
+            double h = finest_cell(c, d);
+            if (span < h) {
+                refuse(x, "obstacle.shapes = '%.200s': shape %d spans %s along %c, thinner than a "
+                          "cell (domain.%s / domain.%s = %s): a body must span at least one cell "
+                          "along each direction of its plane (raise domain.%s)",
+                       c->obstacle.shapes, i + 1, num_text(span).s, axis[d], len_key[d], n_key[d],
+                       num_text(h).s, n_key[d]);
+                return 1;
+            }
+        }
     }
     int flow = -1;
     for (int d = 0; d < 3 && flow < 0; d++)
@@ -734,23 +1102,24 @@ static int check_shapes_fit(struct ctx *x, struct shape_set *set, const char *wh
     int fluid = shapes_connect(set, c->n, c->len, extrusion);
     int joined = flow >= 0 ? shapes_connect(set, c->n, c->len, flow) : 1;
     if (fluid < 0 || joined < 0) {
-        fail(x, "%s: obstacle.shapes: out of memory checking the shapes against the box", where);
+        refuse(x, "obstacle.shapes: out of memory checking the shapes against the box");
         return 1;
     }
     if (!fluid) {
-        fail(x, "%s: obstacle.shapes = '%.200s'%s: no cell centre of the grid lies in the fluid",
-             where, c->obstacle.shapes, c->obstacle.invert ? " with obstacle.invert = on" : "");
+        refuse(x, "obstacle.shapes = '%.200s' with %s: no cell centre of the grid lies in the "
+                  "fluid",
+               c->obstacle.shapes, invert_text(c));
         return 1;
     }
     if (!joined) {
-        fail(x, "%s: obstacle.shapes = '%.200s': the body closes the channel between "
-                "boundary.%clo = %s and boundary.%chi = %s (no path of fluid cells joins them on "
-                "this grid)",
-             where, c->obstacle.shapes, axis[flow], bc_choices[c->bc.face[flow][0]].name,
-             axis[flow], bc_choices[c->bc.face[flow][1]].name);
+        refuse(x, "obstacle.shapes = '%.200s' with %s: the body closes the channel between "
+                  "boundary.%clo = %s and boundary.%chi = %s (no path of fluid cells joins them on "
+                  "this grid)",
+               c->obstacle.shapes, invert_text(c), axis[flow], bc_choices[c->bc.face[flow][0]].name,
+               axis[flow], bc_choices[c->bc.face[flow][1]].name);
         return 1;
     }
-    return 0;
+    return check_regions(x, set);
 }
 
 const char *case_coupled_gmres_refusal(const struct muflow_case *c)
@@ -788,7 +1157,7 @@ int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *ms
  * the FFT and geometric-multigrid pressures, the Fourier and Cholesky
  * preconditioners, advection and the volume of fluid assume one size per
  * direction).  Returns 0, or 1 after fail(). */
-static int check_bands(struct ctx *x, const char *where)
+static int check_bands(struct ctx *x)
 {
     struct muflow_case *c = x->c;
     static const char axis[3] = {'x', 'y', 'z'};
@@ -800,22 +1169,22 @@ static int check_bands(struct ctx *x, const char *where)
         if (r == 0)
             continue;
         if (r < 0 && !why[0]) {
-            fail(x, "%s: domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
+            refuse(x, "domain.%c_band = '%.100s': must be one to %d triples 'lo hi h' "
                     "separated by ';' (empty: a uniform direction)",
-                 where, axis[d], c->band[d], GRID_BANDS_MAX);
+                 axis[d], c->band[d], GRID_BANDS_MAX);
             return 1;
         }
         if (r > 0)
             grid_axis_free(&ax);
         if (c->n[d] < 2) {
-            fail(x, "%s: domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
+            refuse(x, "domain.%c_band needs domain.%s >= 2 (a direction of one cell is not "
                     "stretched)",
-                 where, axis[d], n_key[d]);
+                 axis[d], n_key[d]);
             return 1;
         }
         if (r < 0) {
-            fail(x, "%s: domain.%c_band = '%.100s' with domain.%s = %.10g, domain.%s = %d: %s",
-                 where, axis[d], c->band[d], len_key[d], c->len[d], n_key[d], c->n[d], why);
+            refuse(x, "domain.%c_band = '%.100s' with domain.%s = %s, domain.%s = %d: %s",
+                 axis[d], c->band[d], len_key[d], num_text(c->len[d]).s, n_key[d], c->n[d], why);
             return 1;
         }
         const char *need = NULL;
@@ -832,31 +1201,41 @@ static int check_bands(struct ctx *x, const char *where)
             need = "solver.preconditioner = auto or lu (the others assume one cell size per "
                    "direction)";
         if (need) {
-            fail(x, "%s: domain.%c_band = '%.100s' needs %s", where, axis[d], c->band[d], need);
+            refuse(x, "domain.%c_band = '%.100s' needs %s", axis[d], c->band[d], need);
             return 1;
         }
     }
     return 0;
 }
 
+/* The checks that need every key, in the order of their cost: the keys
+ * against each other, then the size of the run (the cell count, the memory
+ * the run needs, from the case alone), and only then the body's geometry on
+ * the grid, which costs as much as the grid (a case far beyond the machine's
+ * memory went through a minute and 1.5 GB of it before being refused). */
 static void finish(struct ctx *x)
 {
     struct muflow_case *c = x->c;
-    char b[SHOWN_MAX + 4];
-    const char *where = shown(x->where, b);
     static const char axis[3] = {'x', 'y', 'z'};
 
     if (!x->set[key_index("rheology", "grain_density")])
         c->rheo.grain_density = 1.0 / c->rheo.phi; /* phi in (0, 1]: finite */
 
+    double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
+    if (cells > MAX_CELLS) {
+        refuse(x, "domain.nx * domain.ny * domain.nz = %d * %d * %d = %.0f cells: must be <= %.0f",
+               c->n[0], c->n[1], c->n[2], cells, MAX_CELLS);
+        return;
+    }
+
     for (int d = 0; d < 3; d++) {
         int lo = c->bc.face[d][0] == BC_PERIODIC, hi = c->bc.face[d][1] == BC_PERIODIC;
         if (lo != hi) {
-            fail(x,
-                 "%s: boundary.%clo = %s, boundary.%chi = %s: periodic must be on both faces of "
-                 "%c or on neither",
-                 where, axis[d], bc_choices[c->bc.face[d][0]].name, axis[d],
-                 bc_choices[c->bc.face[d][1]].name, axis[d]);
+            refuse(x,
+                   "boundary.%clo = %s, boundary.%chi = %s: periodic must be on both faces of "
+                   "%c or on neither",
+                   axis[d], bc_choices[c->bc.face[d][0]].name, axis[d],
+                   bc_choices[c->bc.face[d][1]].name, axis[d]);
             return;
         }
     }
@@ -864,9 +1243,9 @@ static void finish(struct ctx *x)
     for (int d = 0; d < 3; d++)
         for (int side = 0; side < 2; side++)
             if (c->bc.face[d][side] == BC_LID && c->bc.lid_direction == d) {
-                fail(x, "%s: boundary.%c%s = lid, boundary.lid_direction = %c: a lid moves in its "
-                        "own plane, the direction must differ from %c",
-                     where, axis[d], side ? "hi" : "lo", axis[d], axis[d]);
+                refuse(x, "boundary.%c%s = lid, boundary.lid_direction = %c: a lid moves in its "
+                          "own plane, the direction must differ from %c",
+                       axis[d], side ? "hi" : "lo", axis[d], axis[d]);
                 return;
             }
 
@@ -874,9 +1253,9 @@ static void finish(struct ctx *x)
     for (int d = 0; d < 3; d++)
         for (int side = 0; side < 2; side++)
             if (c->bc.face[d][side] == BC_OPEN && c->n[d] < 2) {
-                fail(x, "%s: boundary.%c%s = open with domain.n%c = %d: an open face needs at "
-                        "least 2 cells along %c",
-                     where, axis[d], side ? "hi" : "lo", axis[d], c->n[d], axis[d]);
+                refuse(x, "boundary.%c%s = open with domain.n%c = %d: an open face needs at "
+                          "least 2 cells along %c",
+                       axis[d], side ? "hi" : "lo", axis[d], c->n[d], axis[d]);
                 return;
             }
 
@@ -885,9 +1264,9 @@ static void finish(struct ctx *x)
      * fights the open face's pressure condition (measured: a channel that
      * converges without it stalls at residual 0.4) */
     if (c->augmentation > 0.0 && bc_has_open(&c->bc)) {
-        fail(x, "%s: solver.augmentation = %.17g with an open face: the grad-div augmentation "
-                "is not supported with open boundaries (set solver.augmentation = 0)",
-             where, c->augmentation);
+        refuse(x, "solver.augmentation = %s with an open face: the grad-div augmentation "
+                  "is not supported with open boundaries (set solver.augmentation = 0)",
+               num_text(c->augmentation).s);
         return;
     }
 
@@ -900,7 +1279,7 @@ static void finish(struct ctx *x)
                                                     "is solved with the velocity)"
                                                   : NULL;
         if (why) {
-            fail(x, "%s: solver.coupled = on %s", where, why);
+            refuse(x, "solver.coupled = on %s", why);
             return;
         }
         why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c)
@@ -909,7 +1288,7 @@ static void finish(struct ctx *x)
                     "set solver.preconditioner = lu or amg"
                   : NULL;
         if (why) {
-            fail(x, "%s: solver.coupled = on %s", where, why);
+            refuse(x, "solver.coupled = on %s", why);
             return;
         }
     }
@@ -918,7 +1297,7 @@ static void finish(struct ctx *x)
     if (c->preconditioner == PRECOND_GMG) {
         const char *why = viscous_gmg_refusal(c->n, &c->bc);
         if (why) {
-            fail(x, "%s: %s", where, why);
+            refuse(x, "%s", why);
             return;
         }
     }
@@ -926,25 +1305,24 @@ static void finish(struct ctx *x)
     /* an inflow's volume must leave somewhere: through an open face */
     int inflow = inflow_face(&c->bc);
     if (inflow >= 0 && !bc_has_open(&c->bc) && c->bc.inflow_velocity != 0.0) {
-        fail(x, "%s: boundary.%c%s = inflow with boundary.inflow_velocity = %.17g and no open "
-                "face: the inflowing volume has no way out (set an outlet face to open)",
-             where, axis[inflow / 2], inflow % 2 ? "hi" : "lo", c->bc.inflow_velocity);
+        refuse(x, "boundary.%c%s = inflow with boundary.inflow_velocity = %s and no open "
+                  "face: the inflowing volume has no way out (set an outlet face to open)",
+               axis[inflow / 2], inflow % 2 ? "hi" : "lo", num_text(c->bc.inflow_velocity).s);
         return;
     }
 
-    if (check_bands(x, where) != 0)
+    if (check_bands(x) != 0)
         return;
 
-    /* the shapes are read here so that a bad one stops the case at load */
+    /* the shapes are read here so that a bad one stops the case at load
+     * (their fit to the grid is checked last) */
+    struct shape_set set;
     {
-        struct shape_set set;
         char why[300];
         if (shapes_parse(&set, c->obstacle.shapes, why, sizeof why) != 0) {
-            fail(x, "%s: obstacle.shapes = '%.200s': %s", where, c->obstacle.shapes, why);
+            refuse(x, "obstacle.shapes = '%.200s': %s", c->obstacle.shapes, why);
             return;
         }
-        if (set.n > 0 && check_shapes_fit(x, &set, where) != 0)
-            return;
     }
 
     const struct scene *sc = case_scene(c);
@@ -952,40 +1330,32 @@ static void finish(struct ctx *x)
     char msg[512];
     if ((sc->check && sc->check(c, msg, sizeof msg) != 0) ||
         (kb && kb->check && kb->check(c, c->scene_params.bytes, msg, sizeof msg) != 0)) {
-        fail(x, "%s: %s", where, msg);
-        return;
-    }
-
-    double cells = (double)c->n[0] * (double)c->n[1] * (double)c->n[2];
-    if (cells > MAX_CELLS) {
-        fail(x, "%s: domain nx*ny*nz = %d*%d*%d = %.17g cells: must be <= %.17g", where, c->n[0],
-             c->n[1], c->n[2], cells, MAX_CELLS);
+        refuse(x, "%s", msg);
         return;
     }
 
     if (c->dt_max < c->dt) {
-        fail(x, "%s: solver.dt_max = %.17g < solver.dt = %.17g: dt_max must be >= dt", where,
-             c->dt_max, c->dt);
+        refuse(x, "solver.dt_max = %s < solver.dt = %s: dt_max must be >= dt",
+               num_text(c->dt_max).s, num_text(c->dt).s);
         return;
     }
 
     if (c->rheo.law == LAW_NEWTONIAN && !(c->rheo.viscosity > 0)) {
-        fail(x, "%s: rheology.law = newtonian needs rheology.viscosity > 0", where);
+        refuse(x, "rheology.law = newtonian needs rheology.viscosity > 0");
         return;
     }
     if (c->rheo.law == LAW_BINGHAM &&
         !(c->rheo.plastic_viscosity > 0 || c->rheo.yield_stress > 0)) {
-        fail(x,
-             "%s: rheology.law = bingham needs rheology.plastic_viscosity > 0 or "
-             "rheology.yield_stress > 0",
-             where);
+        refuse(x,
+               "rheology.law = bingham needs rheology.plastic_viscosity > 0 or "
+               "rheology.yield_stress > 0");
         return;
     }
 
     /* the curve's derived values (I_1^N, A_minus), once, from the final keys */
     if (c->rheo.law == LAW_MUI) {
         if (rheology_curve_setup(&c->rheo, msg, sizeof msg) != 0) {
-            fail(x, "%s: %s", where, msg);
+            refuse(x, "%s", msg);
             return;
         }
     } else {
@@ -999,7 +1369,7 @@ static void finish(struct ctx *x)
         snprintf(dir, sizeof(dir), "out/%s", c->name);
         const char *why = key_parse(c, &keys[key_index("output", "dir")], dir, m, sizeof(m));
         if (why)
-            fail(x, "%s: default output.dir = %s: %s; set output.dir", where, shown(dir, b2), why);
+            refuse(x, "default output.dir = %s: %s; set output.dir", shown(dir, b2), why);
     }
     if (x->failed)
         return;
@@ -1010,28 +1380,38 @@ static void finish(struct ctx *x)
         c->bc.face[2][0] == BC_PERIODIC) {
         char names[512];
         if (x->keys_given == 0)
-            fail(x,
-                 "%s: the case sets no key: no case.scene and the default %d x %d x %d box, "
-                 "periodic on every face, which muflow cannot solve; a case needs at least one "
-                 "direction whose faces are wall, slip, surface, lid, open or inflow (boundary.*) and, to be "
-                 "compared with a solution, a scene (case.scene = %s): the files in cases/ are "
-                 "complete examples, muflow --list lists every key",
-                 where, c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
+            refuse(x,
+                   "the case sets no key: no case.scene and the default %d x %d x %d box, "
+                   "periodic on every face, which muflow cannot solve; a case needs at least one "
+                   "direction whose faces are wall, slip, surface, lid, open or inflow "
+                   "(boundary.*) and, to be compared with a solution, a scene (case.scene = "
+                   "%s): the files in cases/ are complete examples, muflow --list lists every "
+                   "key",
+                   c->n[0], c->n[1], c->n[2], scene_names(names, sizeof names));
         else
-            fail(x,
-                 "%s: every boundary face is periodic: muflow needs at least one direction "
-                 "whose faces are wall, slip, surface, lid, open or inflow (boundary.xlo/xhi, ylo/yhi or "
-                 "zlo/zhi); the implicit viscous solve works along it",
-                 where);
+            refuse(x,
+                   "every boundary face is periodic: muflow needs at least one direction "
+                   "whose faces are wall, slip, surface, lid, open or inflow (boundary.xlo and "
+                   "boundary.xhi, boundary.ylo and boundary.yhi, or boundary.zlo and "
+                   "boundary.zhi); the implicit viscous solve works along it");
         return;
     }
     if (c->line_direction >= 0 && c->bc.face[c->line_direction][0] == BC_PERIODIC) {
-        fail(x,
-             "%s: solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
-             "non-periodic direction (auto chooses one)",
-             where, axis[c->line_direction], axis[c->line_direction]);
+        refuse(x,
+               "solver.line_direction = %c: %c is periodic; the preconditioner lines need a "
+               "non-periodic direction (auto chooses one)",
+               axis[c->line_direction], axis[c->line_direction]);
         return;
     }
+
+    /* the size of the run, from the case alone */
+    if (march_memory_check(c, msg, sizeof msg) != 0) {
+        refuse(x, "%s", msg);
+        return;
+    }
+
+    if (set.n > 0)
+        check_shapes_fit(x, &set);
 }
 
 /* c->name: base name of path without directory and a trailing ".ini". */
@@ -1065,13 +1445,12 @@ static void resolve_reference(struct ctx *x, const char *path)
     else
         snprintf(joined, sizeof joined, "%s", c->reference);
     if (!realpath(joined, real)) {
-        fail(x, "%s: case.reference = %s: %s", shown(x->where, b), shown(joined, b2),
-             strerror(errno));
+        refuse(x, "case.reference = %s: %s", shown(joined, b2), strerror(errno));
         return;
     }
     if (strlen(real) >= sizeof(c->reference)) {
-        fail(x, "%s: case.reference: path longer than %zu characters", shown(x->where, b),
-             sizeof(c->reference) - 1);
+        refuse(x, "case.reference = %s: the path is longer than %zu characters", shown(joined, b),
+               sizeof(c->reference) - 1);
         return;
     }
     memcpy(c->reference, real, strlen(real) + 1); /* fits: checked above */

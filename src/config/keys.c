@@ -6,15 +6,34 @@
 #include <string.h>
 #include "config/ini.h"
 
+static void format_double(double v, char *out, size_t outlen);
+
+struct num_text num_text(double v)
+{
+    struct num_text t;
+    format_double(v, t.s, sizeof t.s);
+    return t;
+}
+
+/* A bound of a number key: integers in full (100000000, not 1e+08). */
+static struct num_text bound_text(const struct key *k, double v)
+{
+    struct num_text t;
+    if (k->type == K_DOUBLE)
+        return num_text(v);
+    snprintf(t.s, sizeof t.s, "%.0f", v);
+    return t;
+}
+
 void key_range_text(const struct key *k, char *out, size_t outlen)
 {
     if (k->range_text)
         snprintf(out, outlen, "%s", k->range_text);
     else if (k->hi == HUGE_VAL)
-        snprintf(out, outlen, "must be %s %.17g", k->lo_incl ? ">=" : ">", k->lo);
+        snprintf(out, outlen, "must be %s %s", k->lo_incl ? ">=" : ">", bound_text(k, k->lo).s);
     else
-        snprintf(out, outlen, "must be in %c%.17g, %.17g%c", k->lo_incl ? '[' : '(', k->lo,
-                 k->hi, k->hi_incl ? ']' : ')');
+        snprintf(out, outlen, "must be in %c%s, %s%c", k->lo_incl ? '[' : '(',
+                 bound_text(k, k->lo).s, bound_text(k, k->hi).s, k->hi_incl ? ']' : ')');
 }
 
 void key_allowed_text(const struct key *k, char *out, size_t outlen)
@@ -58,18 +77,26 @@ void key_allowed_text(const struct key *k, char *out, size_t outlen)
     snprintf(out, outlen, "?");
 }
 
+void key_default_text(const void *base, const struct key *k, char *out, size_t outlen)
+{
+    if (k->default_text)
+        snprintf(out, outlen, "%s", k->default_text);
+    else
+        key_text(base, k, out, outlen);
+}
+
 void key_write_help(const void *base, const struct key *k, FILE *out)
 {
     char def[600], allowed[600];
-    if (k->default_text)
-        snprintf(def, sizeof def, "%s", k->default_text);
-    else
-        key_text(base, k, def, sizeof def);
+    key_default_text(base, k, def, sizeof def);
     if (!def[0])
         snprintf(def, sizeof def, "(not set)");
     key_allowed_text(k, allowed, sizeof allowed);
-    fprintf(out, "  %s.%s = %s  (%s)\n      %s\n", k->section, k->name, def, allowed,
+    fprintf(out, "  %s.%s = %s  (%s)\n      %s", k->section, k->name, def, allowed,
             k->help ? k->help : "");
+    if (k->units)
+        fprintf(out, " (%s)", k->units);
+    fputc('\n', out);
 }
 
 static int in_range(const struct key *k, double v)

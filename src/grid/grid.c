@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "config/keys.h" /* num_text: numbers in messages as case files write them */
 
 #define FIELD_ALIGN 64
 
@@ -185,16 +186,18 @@ int grid_axis_build_bands(struct grid_axis *ax, double len, double h_far,
         if (!(len > 0.0) || !(h_far > 0.0) || !(lo >= 0.0) || !(hi <= len) || !(lo < hi) ||
             !(h_band > 0.0) || !(h_band <= h_far) || !(growth > 1.0)) {
             snprintf(msg, msglen,
-                     "the band [%.17g, %.17g] must lie in [0, %.17g] with lo < hi, its cell size "
-                     "%.17g in (0, %.17g] (the far cell size) and the growth %.17g above 1",
-                     lo, hi, len, h_band, h_far, growth);
+                     "the band [%s, %s] must lie in [0, %s] with lo < hi, its cell size "
+                     "%s in (0, %.6g] (the far cell size) and the growth %s above 1",
+                     num_text(lo).s, num_text(hi).s, num_text(len).s, num_text(h_band).s, h_far,
+                     num_text(growth).s);
             return -1;
         }
         if (i > 0 && !(lo >= band[i - 1].hi)) {
             snprintf(msg, msglen,
-                     "the bands must be in increasing order without overlap: [%.17g, %.17g] "
-                     "after [%.17g, %.17g]",
-                     lo, hi, band[i - 1].lo, band[i - 1].hi);
+                     "the bands must be in increasing order without overlap: [%s, %s] "
+                     "after [%s, %s]",
+                     num_text(lo).s, num_text(hi).s, num_text(band[i - 1].lo).s,
+                     num_text(band[i - 1].hi).s);
             return -1;
         }
     }

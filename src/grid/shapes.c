@@ -227,3 +227,85 @@ int shapes_connect(const struct shape_set *set, const int n[3], const double len
     free(queue);
     return joined;
 }
+
+/* 1 when the centre of the face of cell (i, j) on side (-1 low, +1 high)
+ * along the plane's direction k (0: a, 1: b) lies in the fluid. */
+static int face_open(const struct shape_set *set, const double h[2], int i, int j, int k,
+                     int side)
+{
+    double x[3] = {0.0, 0.0, 0.0};
+    x[set->plane_a] = (k == 0 ? i + (side > 0) : i + 0.5) * h[0];
+    x[set->plane_b] = (k == 1 ? j + (side > 0) : j + 0.5) * h[1];
+    return shape_distance(set, x) > 0.0;
+}
+
+int shapes_regions(const struct shape_set *set, const int n[3], const double len[3],
+                   const int periodic[3], const int fixed[3][2], int *regions, int *floating)
+{
+    const int a = set->plane_a, b = set->plane_b, e = 3 - a - b;
+    const int na = n[a], nb = n[b], dir[2] = {a, b}, ncell[2] = {na, nb};
+    const double h[2] = {len[a] / na, len[b] / nb};
+    size_t cells = (size_t)na * (size_t)nb;
+    unsigned char *seen = calloc(cells, 1);
+    int *queue = malloc(cells * sizeof *queue);
+    if (!seen || !queue) {
+        free(seen);
+        free(queue);
+        return -1;
+    }
+    *regions = *floating = 0;
+    for (size_t start = 0; start < cells; start++) {
+        int i0 = (int)(start / (size_t)nb), j0 = (int)(start % (size_t)nb);
+        if (seen[start])
+            continue;
+        double xc[3] = {0.0, 0.0, 0.0};
+        xc[a] = (i0 + 0.5) * h[0];
+        xc[b] = (j0 + 0.5) * h[1];
+        int live = shape_distance(set, xc) > 0.0;
+        for (int k = 0; k < 2 && !live; k++)
+            for (int side = -1; side <= 1 && !live; side += 2) {
+                int at = (k == 0 ? i0 : j0) + side, nk = k == 0 ? na : nb;
+                live = (periodic[dir[k]] || (at >= 0 && at < nk)) &&
+                       face_open(set, h, i0, j0, k, side);
+            }
+        if (!live)
+            continue;
+        /* breadth-first through the open faces */
+        size_t head = 0, tail = 0;
+        int held = 0;
+        seen[start] = 1;
+        queue[tail++] = (int)start;
+        while (head < tail) {
+            int p = queue[head++], i = p / nb, j = p % nb;
+            xc[a] = (i + 0.5) * h[0];
+            xc[b] = (j + 0.5) * h[1];
+            /* the extrusion's faces lie at the cell's centre in the plane */
+            if (shape_distance(set, xc) > 0.0 && (fixed[e][0] || fixed[e][1]))
+                held = 1;
+            for (int k = 0; k < 2; k++)
+                for (int side = -1; side <= 1; side += 2) {
+                    if (!face_open(set, h, i, j, k, side))
+                        continue;
+                    int idx[2] = {i, j};
+                    idx[k] += side;
+                    if (idx[k] < 0 || idx[k] >= ncell[k]) {
+                        if (!periodic[dir[k]]) {
+                            held |= fixed[dir[k]][side > 0];
+                            continue;
+                        }
+                        idx[k] = (idx[k] + ncell[k]) % ncell[k];
+                    }
+                    size_t q = (size_t)idx[0] * nb + idx[1];
+                    if (!seen[q]) {
+                        seen[q] = 1;
+                        queue[tail++] = (int)q;
+                    }
+                }
+        }
+        ++*regions;
+        *floating += !held;
+    }
+    free(seen);
+    free(queue);
+    return 0;
+}

@@ -3,12 +3,15 @@
 
 #include <errno.h>
 #include <fftw3.h>
+#include <stdarg.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "io/fields_h5.h"
 #include "io/h5io.h"
+#include "io/module_record.h"
+#include "march/module.h"
 
 /* The loop state of march_state a restart must recover (march.h). */
 enum stype { S_DOUBLE, S_LONG, S_INT };
@@ -47,6 +50,7 @@ static const struct {
     {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1, 0},
     {"recent_residual", offsetof(struct march_state, recent_residual), S_DOUBLE, 1, MARCH_RECENT},
     {"peak_residual", offsetof(struct march_state, peak_residual), S_DOUBLE, 1, 0},
+    {"sane_velocity", offsetof(struct march_state, sane_velocity), S_DOUBLE, 1, 0},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 
@@ -98,6 +102,115 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
     return 0;
 }
 
+/* ---- what the modules keep between steps (module_record.h) ---- */
+
+struct module_record {
+    hid_t group;
+    char err[512];
+};
+
+int module_record_fail(struct module_record *r, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+int module_record_put(struct module_record *r, const char *name, const double *v, long n)
+{
+    hsize_t dim = (hsize_t)(n > 0 ? n : 0);
+    return h5io_write(r->group, name, H5T_NATIVE_DOUBLE, 1, &dim, v, r->err, sizeof r->err);
+}
+
+long module_record_count(struct module_record *r, const char *name)
+{
+    hsize_t dim;
+    if (H5Lexists(r->group, name, H5P_DEFAULT) <= 0) {
+        snprintf(r->err, sizeof r->err, "no dataset %s", name);
+        return -1;
+    }
+    return h5io_dims(r->group, name, 1, &dim, r->err, sizeof r->err) == 1 ? (long)dim : -1;
+}
+
+int module_record_get(struct module_record *r, const char *name, double *v, long n)
+{
+    hsize_t dim = (hsize_t)(n > 0 ? n : 0);
+    return h5io_read(r->group, name, H5T_NATIVE_DOUBLE, 1, &dim, v, r->err, sizeof r->err);
+}
+
+#define MODULES_GROUP "modules"
+
+/* Group name under loc: created (create 1) or opened; -1 when it cannot be
+ * (opening: it is not there). */
+static hid_t group_at(hid_t loc, const char *name, int create)
+{
+    if (create)
+        return H5Gcreate2(loc, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    return H5Lexists(loc, name, H5P_DEFAULT) > 0 ? H5Gopen2(loc, name, H5P_DEFAULT) : -1;
+}
+
+/* Each module's save hook, with its group modules/<name>. */
+static int modules_save(hid_t file, const struct march_state *st, char *err, size_t errlen)
+{
+    hid_t top = -1;
+    int rc = 0;
+    for (int i = 0; rc == 0 && i < st->nmodules; i++) {
+        const struct module *m = st->modules[i];
+        if (!m->save)
+            continue;
+        if (top < 0 && (top = group_at(file, MODULES_GROUP, 1)) < 0) {
+            h5io_error(err, errlen, "cannot create the group " MODULES_GROUP);
+            return -1;
+        }
+        struct module_record rec = {.group = group_at(top, m->name, 1), .err = ""};
+        if (rec.group < 0) {
+            h5io_error(err, errlen, "cannot create a module's group");
+            rc = -1;
+            break;
+        }
+        if ((rc = m->save(st, st->module_state[i], &rec)) != 0)
+            snprintf(err, errlen, "module %s: %s", m->name, rec.err[0] ? rec.err : "failed");
+        H5Gclose(rec.group);
+    }
+    if (top >= 0)
+        H5Gclose(top);
+    return rc;
+}
+
+/* Each module's load hook, with the group its save filled. */
+static int modules_load(hid_t file, struct march_state *st, char *err, size_t errlen)
+{
+    hid_t top = -1;
+    int rc = 0;
+    for (int i = 0; rc == 0 && i < st->nmodules; i++) {
+        const struct module *m = st->modules[i];
+        if (!m->load)
+            continue;
+        struct module_record rec = {.group = -1, .err = ""};
+        if (top < 0)
+            top = group_at(file, MODULES_GROUP, 0);
+        if (top >= 0)
+            rec.group = group_at(top, m->name, 0);
+        /* a checkpoint of an earlier muflow holds none: the module goes on
+         * without (load with NULL) or refuses */
+        if (rec.group < 0) {
+            if ((rc = m->load(st, st->module_state[i], NULL)) != 0)
+                snprintf(err, errlen, "it holds no state of the physics module %s (written by "
+                                      "an earlier muflow, which could not continue this case)",
+                         m->name);
+            continue;
+        }
+        if ((rc = m->load(st, st->module_state[i], &rec)) != 0)
+            snprintf(err, errlen, "module %s: %s", m->name, rec.err[0] ? rec.err : "failed");
+        H5Gclose(rec.group);
+    }
+    if (top >= 0)
+        H5Gclose(top);
+    return rc;
+}
+
 static int write_wisdom(hid_t file, char *err, size_t errlen)
 {
     /* the wisdom's header names the threaded planner: a run that made no
@@ -132,7 +245,8 @@ static int write_contents(hid_t file, const struct march_state *st, const struct
                             state_count(m), (const char *)st + loop_state[m].off, err,
                             errlen) != 0)
             return -1;
-    if (each_dataset(file, st, 0, err, errlen) != 0)
+    if (each_dataset(file, st, 0, err, errlen) != 0 ||
+        modules_save(file, st, err, errlen) != 0)
         return -1;
     hsize_t n = (hsize_t)fs->count;
     if (h5io_attr_write(file, "fields_count", H5T_NATIVE_INT, 1, &fs->count, err, errlen) != 0 ||
@@ -325,7 +439,8 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
             h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), state_count(m),
                            (char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
-    if (each_dataset(file, st, 1, err, errlen) != 0)
+    if (each_dataset(file, st, 1, err, errlen) != 0 ||
+        modules_load(file, st, err, errlen) != 0)
         return -1;
     int count;
     double next_time;

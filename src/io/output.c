@@ -17,7 +17,8 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
 {
     char path[600];
     if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path) {
-        snprintf(err, errlen, "output.dir is too long");
+        snprintf(err, errlen, "output.dir = %.100s...: longer than %zu characters", dir,
+                 sizeof path - 1);
         return -1;
     }
     for (char *s = path + 1;; s++) {
@@ -26,7 +27,12 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
             char keep = *s;
             *s = '\0';
             if (mkdir(path, 0777) != 0 && errno != EEXIST) {
-                snprintf(err, errlen, "cannot create output folder %s: %s", path, strerror(errno));
+                if (end)
+                    snprintf(err, errlen, "output.dir = %s: cannot create the folder: %s", dir,
+                             strerror(errno));
+                else
+                    snprintf(err, errlen, "output.dir = %s: cannot create the folder %s: %s", dir,
+                             path, strerror(errno));
                 return -1;
             }
             *s = keep;
@@ -36,7 +42,7 @@ int output_make_dir(const char *dir, char *err, size_t errlen)
     }
     struct stat sb;
     if (stat(dir, &sb) != 0 || !S_ISDIR(sb.st_mode)) {
-        snprintf(err, errlen, "output folder %s is not a folder", dir);
+        snprintf(err, errlen, "output.dir = %s: not a folder (a file of that name exists)", dir);
         return -1;
     }
     return 0;
@@ -72,7 +78,7 @@ int output_remove_run_files(const char *dir, const char *const *extra, char *err
     if (!d) {
         if (errno == ENOENT)
             return 0;
-        snprintf(err, errlen, "cannot read output folder %s: %s", dir, strerror(errno));
+        snprintf(err, errlen, "output.dir = %s: cannot read the folder: %s", dir, strerror(errno));
         return -1;
     }
     int removed = 0;
@@ -245,15 +251,75 @@ void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
     va_end(ap);
 }
 
+/* A number's line: its text as the summary writes it, its value exact. */
+#define NUMBER_LINE(key, fmt, v)                                                   \
+    do {                                                                           \
+        snprintf(text, sizeof text, fmt, v);                                       \
+        line(ctx, key, text, (double)(v));                                         \
+    } while (0)
+
+void run_result_lines(const struct run_result *r, result_line_fn line, void *ctx)
+{
+    char text[64], key[96];
+    line(ctx, "status", run_status_name(r->status), NAN);
+    line(ctx, "message", r->message, NAN);
+    NUMBER_LINE("steps", "%ld", r->steps);
+    NUMBER_LINE("rejected_steps", "%ld", r->rejected_steps);
+    NUMBER_LINE("pressure_iterations", "%ld", r->pressure_iterations);
+    NUMBER_LINE("pressure_unconverged", "%ld", r->pressure_unconverged);
+    NUMBER_LINE("linear_unconverged", "%ld", r->linear_unconverged);
+    NUMBER_LINE("preconditioner_fallbacks", "%ld", r->preconditioner_fallbacks);
+    NUMBER_LINE("time", "%.10g", r->time);
+    NUMBER_LINE("wall_seconds", "%.6g", r->wall_seconds);
+    NUMBER_LINE("residual", "%.6e", r->residual);
+    NUMBER_LINE("divergence", "%.6e", r->divergence);
+    const struct scene *sc = r->scene;
+    if (sc && sc->headline_name) {
+        /* err_midline and psi_max_reference for the cavity: its comparison
+         * is a published curve, not an exact solution, and it has no
+         * per-layer err_rms_paper */
+        NUMBER_LINE(scene_error_name(sc), "%.6e", r->errors.err_rms);
+        NUMBER_LINE("err_max", "%.6e", r->errors.err_max);
+        if (!sc->no_err_rms_paper)
+            NUMBER_LINE("err_rms_paper", "%.6e", r->errors.err_rms_paper);
+        NUMBER_LINE(sc->headline_name, "%.10g", r->errors.headline);
+        snprintf(key, sizeof key, "%s_%s", sc->headline_name, scene_solution_name(sc));
+        NUMBER_LINE(key, "%.10g", r->errors.headline_exact);
+    }
+    for (int i = 0; i < r->nvalues; i++) {
+        char *end;
+        double v = strtod(r->values[i].text, &end);
+        line(ctx, r->values[i].key, r->values[i].text, end != r->values[i].text ? v : NAN);
+    }
+}
+
+struct value_search {
+    const char *key;
+    double value;
+    int found;
+};
+
+static void take_value(void *vctx, const char *key, const char *text, double value)
+{
+    (void)text;
+    struct value_search *s = vctx;
+    if (!s->found && strcmp(key, s->key) == 0) {
+        s->value = value;
+        s->found = 1;
+    }
+}
+
 double run_result_value(const struct run_result *r, const char *key)
 {
-    for (int i = 0; i < r->nvalues; i++)
-        if (strcmp(r->values[i].key, key) == 0) {
-            char *end;
-            double v = strtod(r->values[i].text, &end);
-            return end != r->values[i].text ? v : NAN;
-        }
-    return NAN;
+    struct value_search s = {key, NAN, 0};
+    run_result_lines(r, take_value, &s);
+    return s.value;
+}
+
+static void print_line(void *vctx, const char *key, const char *text, double value)
+{
+    (void)value;
+    fprintf(vctx, "%s = %s\n", key, text);
 }
 
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
@@ -264,33 +330,7 @@ int output_summary(const char *dir, const struct muflow_case *cs, const struct r
     if (!f)
         return -1;
     fprintf(f, "; muflow run summary: the result, then every case key as used\n[result]\n");
-    fprintf(f, "status = %s\n", run_status_name(r->status));
-    fprintf(f, "message = %s\n", r->message);
-    fprintf(f, "steps = %ld\n", r->steps);
-    fprintf(f, "rejected_steps = %ld\n", r->rejected_steps);
-    fprintf(f, "pressure_iterations = %ld\n", r->pressure_iterations);
-    fprintf(f, "pressure_unconverged = %ld\n", r->pressure_unconverged);
-    fprintf(f, "linear_unconverged = %ld\n", r->linear_unconverged);
-    fprintf(f, "preconditioner_fallbacks = %ld\n", r->preconditioner_fallbacks);
-    fprintf(f, "time = %.10g\n", r->time);
-    fprintf(f, "wall_seconds = %.6g\n", r->wall_seconds);
-    fprintf(f, "residual = %.6e\n", r->residual);
-    fprintf(f, "divergence = %.6e\n", r->divergence);
-    const struct scene *sc = case_scene(cs);
-    const char *hname = sc->headline_name;
-    if (hname) {
-        /* err_midline and psi_max_reference for the cavity: its comparison
-         * is a published curve, not an exact solution, and it has no
-         * per-layer err_rms_paper */
-        fprintf(f, "%s = %.6e\n", scene_error_name(sc), r->errors.err_rms);
-        fprintf(f, "err_max = %.6e\n", r->errors.err_max);
-        if (!sc->no_err_rms_paper)
-            fprintf(f, "err_rms_paper = %.6e\n", r->errors.err_rms_paper);
-        fprintf(f, "%s = %.10g\n", hname, r->errors.headline);
-        fprintf(f, "%s_%s = %.10g\n", hname, scene_solution_name(sc), r->errors.headline_exact);
-    }
-    for (int i = 0; i < r->nvalues; i++)
-        fprintf(f, "%s = %s\n", r->values[i].key, r->values[i].text);
+    run_result_lines(r, print_line, f);
     fprintf(f, "\n");
     case_write_ini(cs, f);
     return close_rename(f, tmp, path, err, errlen);

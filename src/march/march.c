@@ -69,16 +69,42 @@
  * (march_run) */
 #define DT_BLIND 0.1
 #define ROUNDOFF_SHARE 10.0
+/* A steady march is done at the round-off of its velocities when it makes
+ * no progress for ROUNDOFF_STALL_STEPS steps (as stalled() judges it) and
+ * its residual is within what velocities carrying the field's round-off,
+ * eps max |u| each, leave (stage_residual_velocity_roundoff).  The solves
+ * leave that much in a stiff region: a plug of viscosity mu p / lambda turns
+ * it into a residual the plain measure (its terms at their own velocities)
+ * calls real, and which no step removes.  The stagnation guards against a
+ * Newton iteration still converging inside that bound (the heap at 35 x 50
+ * is within it at a state 2.5e-7 max |u| off the solution). */
+#define ROUNDOFF_STALL_STEPS 20
 /* Transient mode has no rejections: a state whose residual (relative to
  * rho g, or without gravity to the first residual) exceeds BLOWUP times its
- * start is blowing up, and a CFL step below DT_COLLAPSE times the case's
- * dt (or end time, if smaller) has stopped the clock.  Measured on the Newtonian cavity at cfl 2 (an
- * unstable explicit advection): the residual grows about 8-fold every 10
- * steps from the start, passes 1e3 at step 33 (t = 11.0, max |u| below the
- * lid speed) and 1e20 at step 260, where dt was 1e-10 and the run went on
- * for 2095 steps (48 s) to a non-finite state, keeping one with psi_max
- * 4.5e74 as "the last finite state". */
+ * start is blowing up.  In either mode a state blows up when its residual
+ * is beyond SANE_RESIDUAL times max(1, its start) and its largest velocity
+ * beyond BLOWUP times the largest of the sane states, those whose residual
+ * stayed within that bound (sane_velocity).  A steady march's rejections
+ * bound the growth of one step (REJECT_GROWTH), not of many, and its
+ * residual may climb far and recover (the channel's coupled first step
+ * reached 7e13 times its start, steady in 204 steps all the same), so the
+ * residual alone judges transient runs only.  It missed a steady march
+ * whose velocity grew 7e4-fold: bagnold2 below mu_s (tilt 0.2, 4 x 100,
+ * lambda 1e-8 by stages from 1e-6), where the last stage's stiffer plug
+ * raised the residual from 0.17 to 14 (step 67, max |u| still the film's
+ * 0.0105 m/s) and then the velocity to 23 m/s at step 91 and 700 m/s, the
+ * residual never past 80; it ended "unsteady: the residual stalls".  A
+ * physical acceleration (a layer above atan(mu_s + dmu)) keeps its residual
+ * within the weight: its velocity is the scale.  A CFL step below
+ * DT_COLLAPSE times the case's dt (or end time, if smaller) has stopped the
+ * clock.  Measured on the Newtonian cavity at cfl 2 (an unstable explicit
+ * advection): the residual grows about 8-fold every 10 steps from the start,
+ * passes 1e3 at step 33 (t = 11.0, max |u| below the lid speed) and 1e20 at
+ * step 260, where dt was 1e-10 and the run went on for 2095 steps (48 s) to
+ * a non-finite state, keeping one with psi_max 4.5e74 as "the last finite
+ * state". */
 #define BLOWUP 1e3
+#define SANE_RESIDUAL 10.0
 #define DT_COLLAPSE 1e-8
 
 const char *run_status_name(enum run_status s)
@@ -197,9 +223,18 @@ double march_picard_reference(const struct march_state *st)
     return fmax(r0, st->peak_residual);
 }
 
-static enum viscous_precond choose_preconditioner(const struct march_state *st)
+/* Whether auto may choose hypre's AMG: amg 1 or 0 as given, -1 the
+ * library's answer (it is opened to find out). */
+static int amg_allowed(int amg)
 {
-    const struct muflow_case *cs = st->cs;
+    return amg >= 0 ? amg : amg_allowed(amg);
+}
+
+/* The implicit solve's preconditioner for the case on g (amg: see
+ * amg_allowed). */
+static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, const struct grid *g,
+                                                  int amg)
+{
     switch (cs->preconditioner) {
     case PRECOND_LINE: return VISCOUS_LINE;
     case PRECOND_CHOLESKY: return VISCOUS_CHOLESKY;
@@ -225,17 +260,17 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
         obstacle_shapes(cs, &set);
         in_plane[set.plane_a] = in_plane[set.plane_b] = 1;
     }
-    bc_periodic_flags(&st->bc, periodic);
+    bc_periodic_flags(&cs->bc, periodic);
     for (int d = 0; d < 3; d++)
-        varying += st->g.n[d] > 2 && (!periodic[d] || in_plane[d]);
-    long unknowns = 3L * (long)grid_cells(&st->g);
+        varying += g->n[d] > 2 && (!periodic[d] || in_plane[d]);
+    long unknowns = 3L * (long)grid_cells(g);
     if (varying < 2)
         return VISCOUS_LINE;
     /* measured on 2D cross-sections only: a grid that varies in three
      * directions keeps the LU (or the line blocks beyond its size) */
     int wide = 0;
     for (int d = 0; d < 3; d++)
-        wide += st->g.n[d] > 2;
+        wide += g->n[d] > 2;
     /* a flow along the one-cell periodic direction of a cross-section that
      * the implicit step solves (the scene says so): the geometric multigrid
      * of the implicit step, whose cycle has the tangent's cross term
@@ -252,8 +287,8 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
     const struct scene *sc = case_scene(cs);
     if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton &&
         cs->mode == MODE_STEADY && wide == 2 && !(cs->augmentation > 0.0) &&
-        !obstacle_active(cs) && !grid_stretched(&st->g) &&
-        !viscous_gmg_refusal(st->g.n, &st->bc))
+        !obstacle_active(cs) && !grid_stretched(g) &&
+        !viscous_gmg_refusal(g->n, &cs->bc))
         return VISCOUS_GMG;
     /* in a flow that varies in two directions the strain components couple
      * through |D|: Newton needs the full tangent, which is not symmetric
@@ -272,15 +307,14 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
      * the circular duct at 40 x 80 failed the Cholesky from step 1 (683
      * fallbacks to the line blocks, unsteady after 586 steps; the LU steady
      * in 381) */
-    int lu = wide != 2 || bc_passes_flow(&st->bc) || obstacle_active(cs);
+    int lu = wide != 2 || bc_passes_flow(&cs->bc) || obstacle_active(cs);
     enum viscous_precond kind = cs->newton && lu ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
-    if (sparse_direct_probes_for(&st->g, periodic, reach) > sparse_direct_max_probes())
+    if (sparse_direct_probes_for(g, periodic, reach) > sparse_direct_max_probes())
         return VISCOUS_LINE;
     /* the AMG has no fill: it serves beyond the factorisation's limit too;
      * without hypre's library (opened here, as the AMG would) the LU or the
      * line blocks as before */
-    char why[256];
     /* a transient step lags the viscosity (the tangent is for steady
      * solves), where the AMG was not measured: the LU as before */
     /* with a body too: the circular duct at 80 x 160 from rest (38,400
@@ -293,13 +327,13 @@ static enum viscous_precond choose_preconditioner(const struct march_state *st)
                        ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS
                        : AMG_MIN_UNKNOWNS;
     if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
-        unknowns > amg_min && amg_hypre_available(why, sizeof why))
+        unknowns > amg_min && amg_allowed(amg))
         return VISCOUS_AMG;
     /* beyond the factorisation's limit a 2D cross-section takes the AMG
      * (measured above: the line blocks do not converge there) */
     if (unknowns > (kind == VISCOUS_CHOLESKY && wide == 2 ? CHOLESKY_2D_MAX_UNKNOWNS
                                                           : FACTOR_MAX_UNKNOWNS))
-        return wide == 2 && !(cs->augmentation > 0.0) && amg_hypre_available(why, sizeof why)
+        return wide == 2 && !(cs->augmentation > 0.0) && amg_allowed(amg)
                    ? VISCOUS_AMG
                    : VISCOUS_LINE;
     return kind;
@@ -378,13 +412,16 @@ static enum poisson_bc projection_bc(enum bc_kind k)
  * the peak RSS of the smallest run, bagnold 2 x 1 x 40, is 20 MB. */
 #define BASE_BYTES 20e6
 
-/* Bytes the march will allocate on st->g with the preconditioner kind: the
- * registry's fields (saved copies included) and the optional ones of this
- * case, the pressure solver's two arrays, the viscous solver's work and the
- * sparse factorisation when chosen.  Modules' own fields are not known
- * before they are created.  Measured against the peak RSS: bagnold
+/* Bytes the march will allocate on g with the preconditioner kind, from
+ * the case alone: the registry's fields (saved copies included) and the
+ * optional ones of this case, the pressure solver's two arrays, the viscous
+ * solver's work, the sparse factorisation when chosen, and a body's share
+ * bounded from above (obstacle_memory_bound).  Other modules' own fields
+ * are not known before they are created.  Measured against the peak RSS: bagnold
  * 100 x 100 x 50 (line blocks) 353 MB, estimate 367 MB; cavity 128 x 128
- * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB. */
+ * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB; with a
+ * body, the cylinder benchmark at 1760 x 328 (line blocks) 1,399 MB,
+ * estimate 1,680 MB (940 MB before the body counted). */
 /* The kinds that factorise no sparse matrix of the operator (the line
  * blocks' bands and the multigrid's coarsest level aside). */
 static int without_factors(enum viscous_precond kind)
@@ -393,10 +430,9 @@ static int without_factors(enum viscous_precond kind)
            kind == VISCOUS_MG;
 }
 
-static double memory_estimate(const struct march_state *st, enum viscous_precond kind)
+static double memory_estimate(const struct muflow_case *cs, const struct grid *g,
+                              enum viscous_precond kind)
 {
-    const struct grid *g = &st->g;
-    const struct muflow_case *cs = st->cs;
     double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
     for (size_t m = 0; m < NSPECS; m++)
         if (spec_wanted(cs, &march_specs[m]))
@@ -408,6 +444,8 @@ static double memory_estimate(const struct march_state *st, enum viscous_precond
         arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
                    viscous_memory_estimate(g, kind);
+    if (obstacle_active(cs))
+        bytes += obstacle_memory_bound(cs, g);
     int dims = 0;
     for (int d = 0; d < 3; d++)
         dims += g->n[d] > 1;
@@ -465,19 +503,90 @@ static void format_bytes(char *out, size_t len, double b)
         snprintf(out, len, "%.0f MB", b / 1e6);
 }
 
+/* The preconditioner and the estimate of the case on g (amg: see
+ * amg_allowed).  Auto's coupled LU that does not fit in avail gives way to
+ * the coupled GMRES where that is allowed and fits (the cavity at 256 x 256:
+ * 653 MB against the LU's 1,693 MB, 1.3x its time). */
+static double plan(const struct muflow_case *cs, const struct grid *g, int amg, double avail,
+                   enum viscous_precond *kind)
+{
+    *kind = choose_preconditioner(cs, g, amg);
+    double bytes = memory_estimate(cs, g, *kind);
+    if (cs->coupled && cs->preconditioner == PRECOND_AUTO && *kind == VISCOUS_LU &&
+        avail > 0.0 && bytes > avail && !case_coupled_gmres_refusal(cs)) {
+        double gmres = memory_estimate(cs, g, VISCOUS_AMG);
+        if (gmres <= avail && amg_allowed(amg)) {
+            *kind = VISCOUS_AMG;
+            bytes = gmres;
+        }
+    }
+    return bytes;
+}
+
+/* The refusal of a run that needs more than avail: one line naming the
+ * grid keys. */
+static void refusal(char *err, size_t errlen, const struct grid *g, enum viscous_precond kind,
+                    double need, double avail)
+{
+    char needs[32], have[32];
+    format_bytes(needs, sizeof needs, need);
+    format_bytes(have, sizeof have, avail);
+    snprintf(err, errlen,
+             "%s = %d x %d x %d: the run needs about %s "
+             "(fields, solver work%s), more than the %s of memory available on this machine",
+             grid_stretched(g) ? "the cells with the domain's bands (domain.x_band, "
+                                 "domain.y_band, domain.z_band)"
+                               : "domain.nx x domain.ny x domain.nz",
+             g->n[0], g->n[1], g->n[2], needs, without_factors(kind) ? "" : ", sparse factorisation",
+             have);
+}
+
+int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    double avail = march_available_memory();
+    struct grid g;
+    if (!(avail > 0.0) || grid_init(&g, cs->n, cs->len) != 0)
+        return 0; /* nothing known, or a grid march_create refuses itself */
+    struct grid_axis axes[3];
+    int built[3] = {0, 0, 0}, ok = 1;
+    for (int d = 0; d < 3; d++) {
+        char why[300];
+        int r = case_axis(cs, d, &axes[d], why, sizeof why);
+        built[d] = r > 0;
+        ok &= r >= 0 && (r == 0 || grid_set_axis(&g, d, &axes[d]) == 0);
+    }
+    int refused = 0;
+    if (ok) {
+        /* without opening hypre's library: the smaller of the two choices */
+        enum viscous_precond with, without;
+        double need_with = plan(cs, &g, 1, avail, &with);
+        double need_without = plan(cs, &g, 0, avail, &without);
+        double need = fmin(need_with, need_without);
+        if (need > avail) {
+            refusal(msg, msglen, &g, need_with <= need_without ? with : without, need, avail);
+            refused = 1;
+        }
+    }
+    for (int d = 0; d < 3; d++)
+        if (built[d])
+            grid_axis_free(&axes[d]);
+    return refused;
+}
+
 int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
 {
     return march_create_with(st, cs, NULL, err, errlen);
 }
 
+/* the case's obstacles are a module of every scene */
+const struct module *const march_case_modules[] = {&obstacle_module, NULL};
+
 /* The scene's modules, then the extra ones. */
 static int add_modules(struct march_state *st, const struct module *const *extra, char *err,
                        size_t errlen)
 {
-    /* the case's obstacles are a module of every scene */
-    static const struct module *const obstacle[] = {&obstacle_module, NULL};
     const struct module *const *lists[3] = {case_scene(st->cs)->modules, extra,
-                                            obstacle_active(st->cs) ? obstacle : NULL};
+                                            obstacle_active(st->cs) ? march_case_modules : NULL};
     for (int l = 0; l < 3; l++)
         for (const struct module *const *m = lists[l]; m && *m; m++) {
             if (st->nmodules == MODULES_MAX) {
@@ -540,34 +649,13 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     bc_unknown_boxes(g, &st->bc, st->act);
     /* refuse before allocating what the machine does not have: a grid inside
      * the key limits (1000 x 1000 x 500) grew past 6.4 GB in a minute
-     * without a word */
-    enum viscous_precond kind = st->precond = choose_preconditioner(st);
-    st->memory_estimate = memory_estimate(st, kind);
+     * without a word (case_load refuses it first, from the case alone) */
+    enum viscous_precond kind;
     double avail = march_available_memory();
-    /* auto's coupled LU that does not fit gives way to the coupled GMRES
-     * where that is allowed and fits (the cavity at 256 x 256: 653 MB
-     * against the LU's 1,693 MB, 1.3x its time) */
-    if (cs->coupled && cs->preconditioner == PRECOND_AUTO && kind == VISCOUS_LU &&
-        avail > 0.0 && st->memory_estimate > avail && !case_coupled_gmres_refusal(cs)) {
-        char why[256];
-        double gmres = memory_estimate(st, VISCOUS_AMG);
-        if (gmres <= avail && amg_hypre_available(why, sizeof why)) {
-            kind = st->precond = VISCOUS_AMG;
-            st->memory_estimate = gmres;
-        }
-    }
+    st->memory_estimate = plan(cs, g, -1, avail, &kind);
+    st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
-        char need[32], have[32];
-        format_bytes(need, sizeof need, st->memory_estimate);
-        format_bytes(have, sizeof have, avail);
-        snprintf(err, errlen,
-                 "%s = %d x %d x %d: the run needs about %s "
-                 "(fields, solver work%s), more than the %s of memory available on this machine",
-                 grid_stretched(g) ? "the cells with the domain's bands"
-                                   : "domain.nx x domain.ny x domain.nz",
-                 g->n[0], g->n[1], g->n[2], need,
-                 without_factors(kind) ? "" : ", sparse factorisation",
-                 have);
+        refusal(err, errlen, g, kind, st->memory_estimate, avail);
         march_destroy(st);
         return -1;
     }
@@ -632,7 +720,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
                                   sparse_direct_probes_for(g, periodic, 2) <=
                                       sparse_direct_max_probes() &&
-                                  !(avail > 0.0 && memory_estimate(st, VISCOUS_LU) > avail));
+                                  !(avail > 0.0 && memory_estimate(cs, g, VISCOUS_LU) > avail));
     st->dt = cs->dt;
     forget_progress(st);
     st->dt_scale = 1.0;
@@ -737,6 +825,7 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
      * solve from the previous tilt: 150-250 steps instead of 15-40 from rest) */
     st->rejected = 0;
     forget_progress(st);
+    st->sane_velocity = 0.0; /* a new forcing: a new velocity scale */
     st->mark_time = 0.0;
     st->marks = 0;
     st->dt_scale = 1.0;
@@ -860,12 +949,13 @@ static void mark_doubling(struct march_state *st)
  * pseudo-time of as many unreduced steps, and none over the last STALL_STEPS
  * steps themselves: no residual since 10% below the one STALL_STEPS steps
  * ago (the residual st->residual is the current step's, not yet recorded). */
-static int stalled(const struct march_state *st)
+static int stalled_over(const struct march_state *st, long steps)
 {
-    return st->step - st->best_step > STALL_STEPS &&
-           st->time - st->best_time >= STALL_STEPS * choose_dt(st) &&
-           fell_over(st, STALL_STEPS) != 1;
+    return st->step - st->best_step > steps && st->time - st->best_time >= steps * choose_dt(st) &&
+           fell_over(st, steps) != 1;
 }
+
+static int stalled(const struct march_state *st) { return stalled_over(st, STALL_STEPS); }
 
 /* acc (now) and the marks have one sign, the last doubling lost less than
  * ACC_DECAY and no more than the one before, and acc kept 90% of the last
@@ -914,10 +1004,43 @@ static void next_stages(struct march_state *st)
     }
 }
 
+/* A residual within SANE_RESIDUAL times max(1, the start's): forces at most
+ * ten times the weight (or the start's) in every face. */
+static int sane(const struct march_state *st)
+{
+    return st->residual <= SANE_RESIDUAL * fmax(1.0, st->residual0);
+}
+
+/* The component and the position of the largest |residual| (where a stall
+ * sits). */
+static void residual_peak(const struct march_state *st, int *comp, double at[3])
+{
+    const struct grid *g = &st->g;
+    double peak = -1.0;
+    *comp = 0;
+    at[0] = at[1] = at[2] = 0.0;
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &st->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    double r = fabs(st->res[c][grid_idx(g, i, j, k)]);
+                    if (!(r > peak))
+                        continue;
+                    const int idx[3] = {i, j, k};
+                    peak = r;
+                    *comp = c;
+                    for (int d = 0; d < 3; d++)
+                        at[d] = d == c ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
+                }
+    }
+}
+
 /* Sets status and message when the run must end with the current state. */
 static void check_end(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
+    double excess;
     if (cs->mode == MODE_STEADY && isfinite(st->residual))
         mark_doubling(st);
     if (!isfinite(st->residual) || !isfinite(st->divergence)) {
@@ -938,6 +1061,17 @@ static void check_end(struct march_state *st)
                  "the state blows up at step %ld, t = %.6g: residual %.3e, over %g times its "
                  "start (an unstable time step? solver.cfl, solver.dt); the state of step %ld "
                  "is kept", bad, t, r, BLOWUP, st->step);
+    } else if (st->step > 0 && st->sane_velocity > 0.0 &&
+               st->velocity_max > BLOWUP * st->sane_velocity && !sane(st)) {
+        long bad = st->step;
+        double t = st->time, u = st->velocity_max, r = st->residual;
+        restore_good(st);
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the state blows up at step %ld, t = %.6g: max |u| %.3e, over %g times %.3e, "
+                 "the largest while the residual stayed within %g max(1, its start) (now "
+                 "%.3e); the state of step %ld is kept", bad, t, u, BLOWUP, st->sane_velocity,
+                 SANE_RESIDUAL, r, st->step);
     } else if (cs->mode == MODE_TRANSIENT && st->step > 0 &&
                cfl_dt(st) < DT_COLLAPSE * fmin(cs->dt, cs->end_time)) {
         /* the CFL limit, not the last step to end_time, which may be short */
@@ -959,6 +1093,14 @@ static void check_end(struct march_state *st)
         else
             snprintf(st->message, sizeof st->message, "residual %.3e <= tolerance %.1e",
                      st->residual, cs->tolerance);
+    } else if (cs->mode == MODE_STEADY && !continuing(st) && st->divergence <= cs->tolerance &&
+               stalled_over(st, ROUNDOFF_STALL_STEPS) &&
+               (excess = stage_residual_velocity_roundoff(st)) <= cs->tolerance) {
+        st->status = STATUS_STEADY;
+        snprintf(st->message, sizeof st->message,
+                 "residual %.3e stalls at the round-off its velocities carry: beyond it %.1e <= "
+                 "tolerance %.1e (no 10%% progress in %ld steps)",
+                 st->residual, excess, cs->tolerance, st->step - st->best_step);
     } else if (cs->mode == MODE_TRANSIENT && cs->steady_tolerance > 0.0 && st->step > 0 &&
                st->residual_excess <= cs->steady_tolerance &&
                st->divergence <= cs->steady_tolerance) {
@@ -979,11 +1121,17 @@ static void check_end(struct march_state *st)
     } else if (cs->mode == MODE_STEADY && stalled(st)) {
         double acc = march_mean_acceleration(st);
         if (fabs(acc) <= 0.1 * st->residual * march_force_scale(st) / cs->density) {
+            int c;
+            double at[3];
+            residual_peak(st, &c, at);
+            excess = stage_residual_velocity_roundoff(st);
             st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
                      "no steady state: the residual stalls at %.3e (no 10%% progress in %ld "
-                     "steps, pseudo-time %.3g)",
-                     st->residual, st->step - st->best_step, st->time - st->best_time);
+                     "steps, pseudo-time %.3g), %.1e beyond the round-off its velocities carry, "
+                     "largest in the %c-momentum at (%.3g, %.3g, %.3g)",
+                     st->residual, st->step - st->best_step, st->time - st->best_time, excess,
+                     "xyz"[c], at[0], at[1], at[2]);
         } else if (acceleration_sustained(st, acc)) {
             st->status = STATUS_UNSTEADY;
             snprintf(st->message, sizeof st->message,
@@ -1082,6 +1230,8 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
         }
         st->recent_residual[st->step % MARCH_RECENT] = st->residual;
         st->peak_residual = fmax(st->peak_residual, st->residual);
+        if (sane(st))
+            st->sane_velocity = fmax(st->sane_velocity, st->velocity_max);
         /* Picard steps that make no 10% progress in PICARD_STALL steps: the
          * tangent takes over before the residual has fallen newton_below-fold */
         if (cs->mode == MODE_STEADY && cs->newton && cs->newton_below < 1.0 &&

@@ -73,7 +73,27 @@ void stage_residual(struct march_state *st)
             st->residual_excess = fmax(st->residual_excess, x / scale);
         }
     stage_divergence(st, st->vel, st->div);
-    double umax = kernel_max_abs(g, st->act, st->vel);
+    double umax = st->velocity_max = kernel_max_abs(g, st->act, st->vel);
     double dmax = kernel_max_abs_cells(g, st->div);
     st->divergence = umax > 0.0 ? dmax * march_min_spacing(g) / umax : dmax;
+}
+
+double stage_residual_velocity_roundoff(struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    double umax = kernel_max_abs(g, st->act, st->vel);
+    /* st->delta is the magnitude's scratch here as in stage_residual */
+    kernel_stress_magnitude_at(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
+                               umax, st->delta);
+    double x = kernel_residual_excess(g, st->act, st->res, st->delta, st->force, ROUNDOFF_EPS) /
+               march_force_scale(st);
+    /* a module's own equations keep their measure */
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->residual_max) {
+            double xm = 0.0;
+            st->modules[m]->residual_max(st, st->module_state[m], &xm);
+            x = fmax(x, xm / march_force_scale(st));
+        }
+    return x;
 }

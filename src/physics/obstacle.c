@@ -7,6 +7,7 @@
 #include <string.h>
 #include "kernels/embedded.h"
 #include "march/step.h"
+#include "solvers/pressure.h"
 
 /* A link cut closer than this share of h to its fluid node is taken as cut
  * there: the correction (1 - theta) / theta grows without bound as the
@@ -136,6 +137,27 @@ void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set)
     if (shapes_parse(set, cs->obstacle.shapes, msg, sizeof msg) != 0)
         set->n = 0; /* not reached: the case's check parsed them */
     shapes_set_plane(set, cs->obstacle.plane, cs->obstacle.invert);
+}
+
+double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g)
+{
+    struct shape_set set;
+    obstacle_shapes(cs, &set);
+    double points = (double)g->size;
+    /* the faces' open shares, the cut flags and the work field (build_shares);
+     * each component's held slots and saved values (build_component) */
+    double bytes = 5.0 * points * sizeof(double) + 3.0 * points * (sizeof(ptrdiff_t) + sizeof(double));
+    /* the links: the distance changes sign at most twice per shape along a
+     * line of the plane (none along the extrusion); the array grows by
+     * doubling (twice the count, the old one beside the new as it moves) */
+    double lines = 0.0;
+    for (int c = 0; c < 3; c++)
+        lines += points / g->ext[set.plane_a] + points / g->ext[set.plane_b];
+    bytes += 3.0 * 2.0 * set.n * lines * sizeof(struct embedded_link);
+    /* march_density_changed: beta and the faces' mass, the cut coefficient
+     * while it is set; the projection's multigrid and the hydrostatic split's */
+    bytes += 9.0 * points * sizeof(double) + 2.0 * pressure_variable_memory_estimate(g);
+    return bytes;
 }
 
 void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3])
@@ -334,10 +356,13 @@ static void end_step(struct march_state *st, void *state, double dt)
     embedded_zero(&ob->e, st->vel);
 }
 
+static const char *const obstacle_files[] = {"obstacle_surface.csv", NULL}; /* obstacle_write */
+
 const struct module obstacle_module = {
     .name = "obstacle",
     .create = create,
     .residual = residual,
     .end_step = end_step,
     .destroy = destroy,
+    .files = obstacle_files,
 };

@@ -499,44 +499,90 @@ double obstacle_mean_velocity(const struct march_state *st)
     return copysign(1.0, f[a]) * kernel_component_mean(&st->g, &st->act[a], a, st->vel[a]);
 }
 
+/* The flow's direction: an inflow face's (into the box), else the
+ * component the body force drives; *sense is +1 or -1 along it.  -1 when
+ * neither drives a flow. */
+static int flow_direction(const struct march_state *st, double *sense)
+{
+    const struct boundary *bc = &st->bc;
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++)
+            if (bc->face[d][side] == BC_INFLOW) {
+                *sense = (side ? -1.0 : 1.0) * (bc->inflow_velocity < 0.0 ? -1.0 : 1.0);
+                return d;
+            }
+    double f[3];
+    body_force_vector(st->cs, f);
+    int a = march_driven_component(st);
+    *sense = f[a] < 0.0 ? -1.0 : 1.0;
+    return f[a] != 0.0 ? a : -1;
+}
+
 void obstacle_results(const struct march_state *st, struct run_result *res)
 {
+    /* a wall around the fluid (obstacle.invert: a duct) is no body in a
+     * flow: no drag or lift, front, back or box around it (its forces in
+     * the plane of a flow along the duct are zeros, not measurements); the
+     * scene measures the flow inside */
+    if (st->cs->obstacle.invert)
+        return;
     struct obstacle_forces f;
     int rc = obstacle_forces(st, &f);
-    double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
-    run_result_add(res, "drag_force", "%.10g", f.surface[0]);
-    run_result_add(res, "lift_force", "%.10g", f.surface[1]);
-    run_result_add(res, "drag_force_pressure", "%.10g", f.pressure_part[0]);
-    run_result_add(res, "drag_force_reconstructed", "%.10g", f.reconstructed[0]);
-    run_result_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[1]);
-    run_result_add(res, "drag_force_pressure_reconstructed", "%.10g", f.reconstructed_pressure[0]);
-    /* a wall around the fluid (obstacle.invert: a duct) has no front, back
-     * or box around it: those keys would be zeros, not measurements */
-    int body = !st->cs->obstacle.invert;
-    if (body) {
-        run_result_add(res, "drag_force_control_volume", "%.10g", f.control_volume[0]);
-        run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[1]);
+    struct shape_set set;
+    obstacle_shapes(st->cs, &set);
+    /* drag along the flow (positive downstream), lift across it in the
+     * plane (positive along the grid's axis): the flow along the plane's a
+     * (k = 0) or b (k = 1); a flow along the extrusion, or none, has
+     * neither, and the forces are named by their axes */
+    double sense;
+    int dir = flow_direction(st, &sense);
+    int k = dir == set.plane_a ? 0 : dir == set.plane_b ? 1 : -1;
+    if (k >= 0) {
+        int along = k, across = 1 - k;
+        double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
+        run_result_add(res, "drag_force", "%.10g", sense * f.surface[along]);
+        run_result_add(res, "lift_force", "%.10g", f.surface[across]);
+        run_result_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
+        run_result_add(res, "drag_force_reconstructed", "%.10g", sense * f.reconstructed[along]);
+        run_result_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[across]);
+        run_result_add(res, "drag_force_pressure_reconstructed", "%.10g",
+                       sense * f.reconstructed_pressure[along]);
+        run_result_add(res, "drag_force_control_volume", "%.10g", sense * f.control_volume[along]);
+        run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[across]);
+        if (q > 0.0) {
+            run_result_add(res, "drag_coefficient", "%.10g", sense * f.surface[along] / q);
+            run_result_add(res, "lift_coefficient", "%.10g", f.surface[across] / q);
+            run_result_add(res, "drag_coefficient_control_volume", "%.10g",
+                           sense * f.control_volume[along] / q);
+            run_result_add(res, "lift_coefficient_control_volume", "%.10g",
+                           f.control_volume[across] / q);
+            run_result_add(res, "drag_coefficient_reconstructed", "%.10g",
+                           sense * f.reconstructed[along] / q);
+            run_result_add(res, "lift_coefficient_reconstructed", "%.10g",
+                           f.reconstructed[across] / q);
+        }
+        /* the front and back points lie along a */
+        if (k == 0 && !f.mirror[0])
+            run_result_add(res, "pressure_drop", "%.10g", sense * f.front_back);
+    } else {
+        const int axis[2] = {set.plane_a, set.plane_b};
+        for (int c = 0; c < 2; c++) {
+            char key[40];
+            snprintf(key, sizeof key, "force_%c", "xyz"[axis[c]]);
+            run_result_add(res, key, "%.10g", f.surface[c]);
+            snprintf(key, sizeof key, "force_%c_control_volume", "xyz"[axis[c]]);
+            run_result_add(res, key, "%.10g", f.control_volume[c]);
+        }
     }
-    if (q > 0.0) {
-        run_result_add(res, "drag_coefficient", "%.10g", f.surface[0] / q);
-        run_result_add(res, "lift_coefficient", "%.10g", f.surface[1] / q);
-        run_result_add(res, "drag_coefficient_control_volume", "%.10g", f.control_volume[0] / q);
-        run_result_add(res, "lift_coefficient_control_volume", "%.10g", f.control_volume[1] / q);
-        run_result_add(res, "drag_coefficient_reconstructed", "%.10g", f.reconstructed[0] / q);
-        run_result_add(res, "lift_coefficient_reconstructed", "%.10g", f.reconstructed[1] / q);
-    }
-    if (body && !f.mirror[0])
-        run_result_add(res, "pressure_drop", "%.10g", f.front_back);
     double u_mean = obstacle_mean_velocity(st);
     if (isfinite(u_mean))
         run_result_add(res, "mean_velocity", "%.10g", u_mean);
     if (rc == -2)
         run_result_add(res, "obstacle_warning", "%s",
-                       "out of memory for the body's discrete force: drag and lift are 0");
+                       "no memory for the discrete force: drag and lift are 0");
     else if (rc != 0)
         run_result_add(res, "obstacle_warning", "%s",
-                       "a surface sample's interpolation reached into the body (too few cells "
-                       "across it): the reconstructed forces miss those samples");
+                       "samples reached into the body (too few cells across): reconstructed forces incomplete");
 }
 
 struct csv_ctx {

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "io/module_record.h"
 #include "kernels/vof.h"
 #include "physics/two_phase.h"
 #include "physics/vof_transport.h"
@@ -330,11 +331,64 @@ static double max_dt(const struct march_state *st, void *state)
     return c > 0.0 ? fmin(tp->p.step_cfl, VOF_CFL_MAX) / c : INFINITY;
 }
 
+/* What the step takes from earlier steps beyond T: the density of the
+ * faces and the edges' shares, both from T as it was when it last moved by
+ * more than TRACER_UNCHANGED (so not always today's T), and the parity of
+ * the transport's steps, which orders its sweeps.  A continued run takes
+ * them from the checkpoint, not from T: it goes on bit for bit. */
+static const char *const rho_names[3] = {"face_density_x", "face_density_y", "face_density_z"};
+static const char *const edge_names[3] = {"edge_fraction_x", "edge_fraction_y",
+                                          "edge_fraction_z"};
+
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    const struct two_phase *tp = state;
+    if (!tp->configured)
+        return 0;
+    long size = (long)st->g.size;
+    double steps = tp->vt_ready ? (double)tp->vt.steps : 0.0, stale = tp->edges_stale;
+    if (module_record_put(rec, "transport_steps", &steps, 1) != 0 ||
+        module_record_put(rec, "edges_stale", &stale, 1) != 0)
+        return -1;
+    for (int c = 0; c < 3; c++)
+        if (module_record_put(rec, rho_names[c], st->rho_face[c], size) != 0 ||
+            (!tp->edges_stale && module_record_put(rec, edge_names[c], tp->edge_t[c], size) != 0))
+            return -1;
+    return 0;
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    struct two_phase *tp = state;
+    if (!tp->configured)
+        return 0;
+    char err[256];
+    if (!rec) /* an earlier checkpoint: the density of today's T */
+        return two_phase_tracer_changed(st, err, sizeof err);
+    long size = (long)st->g.size;
+    double steps, stale;
+    if (module_record_get(rec, "transport_steps", &steps, 1) != 0 ||
+        module_record_get(rec, "edges_stale", &stale, 1) != 0)
+        return -1;
+    if (tp->vt_ready)
+        tp->vt.steps = (long)steps;
+    tp->edges_stale = stale != 0.0;
+    for (int c = 0; c < 3; c++)
+        if (module_record_get(rec, rho_names[c], st->rho_face[c], size) != 0 ||
+            (!tp->edges_stale && module_record_get(rec, edge_names[c], tp->edge_t[c], size) != 0))
+            return -1;
+    if (march_density_changed(st, 0, err, sizeof err) != 0)
+        return module_record_fail(rec, "%s", err);
+    return 0;
+}
+
 const struct module two_phase_module = {
     .name = "two_phase",
     .create = create,
     .properties = properties,
     .transport = transport,
     .max_dt = max_dt,
+    .save = save,
+    .load = load,
     .destroy = destroy,
 };

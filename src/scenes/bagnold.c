@@ -1,5 +1,7 @@
 /* Scene "bagnold": steady flow of a granular layer of height H down a rough
- * plane tilted by alpha (seeds/000 sec. 3.2, app. B; cases/bagnold.ini).
+ * plane tilted by alpha (Chauchat & Medale 2014,
+ * "A three-dimensional numerical model for dense granular flows based on the
+ * mu(I) rheology", sec. 3.2, app. B; cases/bagnold.ini).
  * Periodic along the flow, no slip at the base, flat stress-free surface.
  *
  * Exact solution (eqs. 18-19, 30-32): mu(I) = tan(alpha) everywhere, so
@@ -26,9 +28,16 @@ struct bagnold_params {
 #define T struct bagnold_params
 static const struct key bagnold_keys[] = {
     KEY_DBL(T, "bagnold", "perturbation", perturbation,
-            "largest velocity of a divergence-free 3D perturbation of the state at rest (the "
-            "curl of a pseudo-random vector potential times sin^2(pi z / H)), relative to the "
-            "exact surface velocity; 0: none",
+            KEY_HELP("largest velocity of a divergence-free 3D perturbation of the state at rest "
+                     "(the curl of a pseudo-random vector potential times sin^2(pi z / H)), "
+                     "relative to the exact surface velocity; 0: none",
+                     NULL,
+                     "Largest face velocity of a divergence-free 3D perturbation of the initial "
+                     "state at rest, relative to the exact surface velocity u(H): the discrete "
+                     "curl of a vector potential on the edges (a pseudo-random deviate per edge, "
+                     "the same on any number of threads, times sin^2(pi z / H)), so div u = 0 "
+                     "cell by cell to round-off and w = 0 on the base and the surface. Needs "
+                     "periodic x and y and a tilt that flows; `0`: none (rest)"),
             KEY_RANGE(0.0, 1.0, 1, 1)),
 };
 #undef T
@@ -39,12 +48,15 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-SCENE_PARAMS(bagnold_block, "bagnold", struct bagnold_params, bagnold_keys, defaults)
+SCENE_PARAMS(bagnold_block, "bagnold",
+             "The granular layer down an incline (`cases/bagnold.ini`, `cases/bagnold3d.ini`).",
+             struct bagnold_params, bagnold_keys, defaults)
 
 static double bagnold_u(const struct muflow_case *cs, double z)
 {
     const struct rheology *r = &cs->rheo;
-    double ta = tan(cs->tilt);
+    /* a negative tilt is the mirror image: |tan| sets I, the sign the flow */
+    double ta = fabs(tan(cs->tilt));
     double ia;
     if (r->curve == CURVE_JOP) {
         if (ta <= r->mu_s)
@@ -59,7 +71,8 @@ static double bagnold_u(const struct muflow_case *cs, double z)
     double H = cs->len[2];
     double k = cs->density * cs->gravity * cos(cs->tilt);
     double depth = H - z;
-    return (2.0 / 3.0) * ia * shear_per_sqrt_p(r) * sqrt(k) * (H * sqrt(H) - depth * sqrt(depth));
+    return copysign(1.0, cs->tilt) * (2.0 / 3.0) * ia * shear_per_sqrt_p(r) * sqrt(k) *
+           (H * sqrt(H) - depth * sqrt(depth));
 }
 
 POINTWISE_PROFILE(exact_profile, bagnold_u)
@@ -71,17 +84,18 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     if (!(params(c)->perturbation > 0.0))
         return 0;
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC) {
-        snprintf(msg, msglen, "bagnold.perturbation > 0 needs boundary.xlo and ylo = periodic "
-                              "(the perturbation wraps along x and y)");
+        snprintf(msg, msglen, "bagnold.perturbation > 0 needs boundary.xlo, boundary.xhi, "
+                              "boundary.ylo and boundary.yhi = periodic (the perturbation wraps "
+                              "along x and y)");
         return 1;
     }
     double top = bagnold_u(c, c->len[2]);
-    if (!(isfinite(top) && top > 0.0)) {
+    if (!(isfinite(top) && top != 0.0)) {
         snprintf(msg, msglen,
                  "bagnold.perturbation > 0 is relative to the exact surface velocity, which "
-                 "physics.tilt = %.17g (tan %.6g) does not have with this rheology.curve (jop: "
-                 "tan between rheology.mu_s and mu_s + delta_mu)",
-                 c->tilt, tan(c->tilt));
+                 "physics.tilt = %s (tan %.6g) does not have with this rheology.curve (jop: "
+                 "tan between rheology.mu_s and rheology.mu_s + rheology.delta_mu)",
+                 num_text(c->tilt).s, tan(c->tilt));
         return 1;
     }
     return 0;

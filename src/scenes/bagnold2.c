@@ -1,30 +1,42 @@
 /* Scene "bagnold2": a granular layer of height h0 under a Newtonian fluid
  * (air) in a square domain L x L, periodic along the flow, no slip at the
- * base, inclined by zeta (seeds/001 sec. 2-3; cases/bagnold2.ini).  The two
+ * base, inclined by zeta (Barker & Rauter 2018, "Two-fluid
+ * regularised mu(I)-rheology with OpenFOAM", sec. 2-3; cases/bagnold2.ini).  The two
  * phases are the two_phase module's mixture (physics/two_phase.h); the
  * interface is flat and held, so the steady state is the exact solution.
  *
- * Exact solution (seeds/001 eqs. 6-11, written from their derivation; the
- * printed constants have sign slips): mu(I) = tan(zeta) in the grains, so
- * I = I_zeta, with the pressure P(z) = g cos(zeta) [rho_g (h0 - z) +
- * rho_f (L - h0)] (rho_g = phi rho_s the grains' bulk density):
- *   grains  du/dz = (I_zeta / d) sqrt(P / rho_s), so with
- *           p(z) = rho_g (h0 - z) + rho_f (L - h0) (P = g cos(zeta) p)
- *           u(z) = (2 I_zeta / (3 d rho_g)) sqrt(g cos(zeta) / rho_s)
- *                  [p(0)^(3/2) - p(z)^(3/2)];
- *   fluid   u(z) = u(h0) + (rho_f g sin(zeta) / eta_f)
- *                  [(L z - z^2 / 2) - (L h0 - h0^2 / 2)],
- * the fluid's shear stress rho_f g sin(zeta) (L - z) vanishing at the top.
- * The top is the seed's open top (`open`: p = 0, du/dz = 0, flow through it
- * allowed) or the flat stress-free `surface` (p = 0, du/dz = 0, w = 0),
- * which for this flat, unidirectional state is the same. */
+ * Exact solution (Barker & Rauter 2018, eqs. 6-11, written from their derivation; the
+ * printed constants have sign slips).  A flow uniform along x has the
+ * weight of what lies above as its stresses, the top carrying none:
+ *   tau(z) = g sin(zeta) q(z),  P(z) = g cos(zeta) q(z),
+ *   q(z) = rho_g (h0 - z) + rho_f (L - h0)   (z < h0),  rho_f (L - z)  (z > h0),
+ * rho_g = phi rho_s the grains' bulk density.  In the grains |tau| / P =
+ * |tan(zeta)| = mu(I), so I = I_zeta = mu^-1(|tan(zeta)|) is uniform, and
+ *   du/dz = sign(zeta) (I_zeta / d) sqrt(P / rho_s), u(0) = 0:
+ *   u(z) = sign(zeta) (2 I_zeta / (3 d rho_g)) sqrt(g cos(zeta) / rho_s)
+ *          [q(0)^(3/2) - q(z)^(3/2)]                               (z < h0);
+ * the fluid, eta_f du/dz = tau = rho_f g sin(zeta) (L - z), continuous at h0:
+ *   u(z) = u(h0) + (rho_f g sin(zeta) / (2 eta_f)) [(L - h0)^2 - (L - z)^2].
+ * Below the yield angle (|tan(zeta)| <= mu_s with the jop curve) the grains
+ * carry their load at rest, I_zeta = 0: u = 0 in the grains and the fluid is
+ * a film driven by gravity over a static no-slip bed.  A negative tilt is
+ * the mirror image (u -> -u).  None exists (NaN, exact_missing says why)
+ * where the friction cannot balance the weight (|tan(zeta)| >= mu_s +
+ * delta_mu with the jop curve: the layer accelerates), where a confining
+ * pressure makes the friction vary with depth in flowing grains, where
+ * walls across y or an obstacle make the flow non-uniform.  The top is the
+ * paper's open top (`open`: p = 0, du/dz = 0, flow through it allowed) or
+ * the flat stress-free `surface` (p = 0, du/dz = 0, w = 0), which for this
+ * flat, unidirectional state is the same. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
+#include "io/module_record.h"
 #include "io/output.h"
+#include "physics/obstacle.h"
 #include "physics/two_phase.h"
 #include "scenes/bagnold2.h"
 #include "scenes/perturbation.h"
@@ -53,15 +65,18 @@ static const struct choice start_choices[] = {
 #define T struct bagnold2_params
 static const struct key bagnold2_keys[] = {
     KEY_DBL(T, "bagnold2", "interface_height", interface_height,
-            "height h0 of the flat grains/fluid interface above the base (below domain.lz)",
+            KEY_HELP("height h0 of the flat grains/fluid interface above the base: the grains "
+                     "and the fluid above them each at least a cell, domain.lz / domain.nz",
+                     "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density, "density rho_f of the fluid above",
-            KEY_GT0),
+    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the fluid above", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the (Newtonian) fluid above", KEY_GT0),
+            KEY_HELP("viscosity eta_f of the (Newtonian) fluid above", "pressure time", NULL),
+            KEY_GT0),
     KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
-            "mixture viscosity of a cell holding both: weighted (seeds/001 eq. 14) or harmonic "
-            "(eq. 15)"),
+            "mixture viscosity of a cell holding both: weighted (Barker & Rauter 2018, eq. 14) "
+            "or harmonic (eq. 15)"),
     KEY_CHO(T, "bagnold2", "interface_edges", interface_edges, edge_choices,
             "viscosity of an edge the interface cuts: series (the two phases in series at the "
             "grains' share of its box, cut from the reconstructed interface) or mean (the mixture "
@@ -69,14 +84,21 @@ static const struct key bagnold2_keys[] = {
     KEY_CHO(T, "bagnold2", "start", start, start_choices,
             "initial velocity: rest, or exact (the steady solution of eqs. 6-11 on the faces)"),
     KEY_DBL(T, "bagnold2", "perturbation", perturbation,
-            "largest velocity of a divergence-free perturbation (a pseudo-random stream "
-            "function in the grains) added to the initial state, relative to the exact top "
-            "velocity; 0: none",
+            KEY_HELP("largest velocity of a divergence-free perturbation (a pseudo-random stream "
+                     "function in the grains) added to the initial state, relative to the exact "
+                     "top velocity; 0: none",
+                     NULL,
+                     "Largest velocity of a divergence-free perturbation added to the initial "
+                     "state, relative to the exact top velocity: a pseudo-random stream function "
+                     "on the x-z nodes (the same on any number of threads) times sin^2(pi z / h0) "
+                     "in the grains, 0 in the air, so every wavelength of the grid is seeded; a "
+                     "transient run records its amplitude (`growth.csv`) and growth rate "
+                     "(`growth_rate`); `0`: none"),
             KEY_GE0),
 };
 #undef T
 
-/* Table 1 of seeds/001 */
+/* Table 1 of Barker & Rauter (2018) */
 static void defaults(void *block)
 {
     struct bagnold2_params *b = block;
@@ -89,9 +111,21 @@ static void defaults(void *block)
     b->perturbation = 0.0;
 }
 
-SCENE_PARAMS(bagnold2_block, "bagnold2", struct bagnold2_params, bagnold2_keys, defaults)
+SCENE_PARAMS(bagnold2_block, "bagnold2",
+             "A granular layer under a Newtonian fluid (Barker & Rauter 2018, sec. 2-3; "
+             "`cases/bagnold2.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` their bulk density phi rho_s.  A transient run writes "
+             "`growth.csv` (every step: t, the largest departure of the grains' velocity and of "
+             "their pressure from the mean along x) and adds `growth_rate` (1/s, the "
+             "least-squares slope of ln A over the second half of the record before A reaches 1% "
+             "of the exact top velocity), `growth_rate_pressure`, `growth_fit_r2`, "
+             "`growth_window`, `amplitude_start` and `amplitude_end` to the summary (its record "
+             "is in the checkpoint: a growth study continues with `--restart`).  Where the scene "
+             "has no exact solution the summary's `no_exact_solution` says why.",
+             struct bagnold2_params, bagnold2_keys, defaults)
 
 static double bagnold2_u(const struct muflow_case *cs, double z);
+static const char *exact_missing(const struct muflow_case *cs, char *why, size_t len);
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
@@ -102,60 +136,102 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
         (c->bc.face[2][1] != BC_SURFACE && c->bc.face[2][1] != BC_OPEN)) {
-        snprintf(msg, msglen, "case.scene = bagnold2 needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = surface or open");
+        snprintf(msg, msglen, "case.scene = bagnold2 needs boundary.xlo = boundary.xhi = periodic, "
+                              "boundary.zlo = wall and boundary.zhi = surface or open");
         return 1;
     }
-    if (!(b->interface_height < c->len[2])) {
-        snprintf(msg, msglen, "bagnold2.interface_height = %.17g: must be below domain.lz = %.17g",
-                 b->interface_height, c->len[2]);
+    /* the grains and the fluid above them each at least a cell thick (a
+     * ninth of a cell was accepted and ran as a cell of mixture) */
+    double lz = c->len[2], dz = lz / c->n[2];
+    if (!scene_layer_fits(b->interface_height, lz, dz)) {
+        snprintf(msg, msglen, "bagnold2.interface_height = %s: the grains and the fluid above "
+                              "them must each be at least a cell thick (domain.lz / domain.nz = "
+                              "%s / %d = %.6g): bagnold2.interface_height must be in [%.6g, %.6g]",
+                 num_text(b->interface_height).s, num_text(lz).s, c->n[2], dz, dz, lz - dz);
         return 1;
     }
     double rg = c->rheo.phi * c->rheo.grain_density;
     if (fabs(c->density - rg) > 1e-12 * rg) {
-        snprintf(msg, msglen, "physics.density = %.17g: the grains' bulk density must be "
-                              "rheology.phi * rheology.grain_density = %.17g",
-                 c->density, rg);
+        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
+                              "rheology.phi * rheology.grain_density = %s * %s = %.10g",
+                 num_text(c->density).s, num_text(c->rheo.phi).s,
+                 num_text(c->rheo.grain_density).s, rg);
         return 1;
     }
-    double top = bagnold2_u(c, c->len[2]);
-    if ((b->start == START_EXACT || b->perturbation > 0.0) && !(isfinite(top) && top > 0.0)) {
+    char why[256];
+    if ((b->start == START_EXACT || b->perturbation > 0.0) && exact_missing(c, why, sizeof why)) {
         snprintf(msg, msglen,
-                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the uniform flow of "
-                 "eqs. (6)-(11), which physics.tilt = %.17g (tan %.6g) does not have with this "
-                 "rheology.curve (jop: tan between rheology.mu_s and mu_s + delta_mu)",
-                 c->tilt, tan(c->tilt));
+                 "bagnold2.start = exact or bagnold2.perturbation > 0 needs the exact steady "
+                 "solution of eqs. (6)-(11), which this case does not have: %s", why);
+        return 1;
+    }
+    if (b->perturbation > 0.0 && !(bagnold2_u(c, c->len[2]) != 0.0)) {
+        snprintf(msg, msglen,
+                 "bagnold2.perturbation > 0 is relative to the exact top velocity, which is 0 at "
+                 "physics.tilt = %s and physics.gravity = %s (nothing moves)",
+                 num_text(c->tilt).s, num_text(c->gravity).s);
         return 1;
     }
     return 0;
 }
 
-static double bagnold2_u(const struct muflow_case *cs, double z)
+/* Why the case has no exact steady solution, or NULL when it has one: a
+ * short reason returned (the summary's), the full one into why (the
+ * terminal's). */
+static const char *exact_missing(const struct muflow_case *cs, char *why, size_t len)
 {
     const struct rheology *r = &cs->rheo;
-    const struct bagnold2_params *b = params(cs);
-    double ta = tan(cs->tilt);
-    double iz;
-    if (r->curve == CURVE_JOP) {
-        if (ta <= r->mu_s)
-            return 0.0;
-        if (ta >= r->mu_s + r->delta_mu)
-            return NAN;
-        iz = r->i0 * (ta - r->mu_s) / (r->mu_s + r->delta_mu - ta);
-    } else {
-        /* any curve: the I at which it reaches tan(alpha), as in bagnold */
-        iz = rheology_i_of_mu(r, ta);
+    double ta = fabs(tan(cs->tilt));
+    for (int s = 0; s < 2; s++) {
+        enum bc_kind k = cs->bc.face[1][s];
+        if (k != BC_PERIODIC && k != BC_SLIP && k != BC_SURFACE) {
+            snprintf(why, len, "boundary.%s = %s holds the flow across y: it is not uniform",
+                     s ? "yhi" : "ylo", bc_kind_name(k));
+            return "the flow varies across y (boundary.ylo, yhi)";
+        }
     }
+    if (obstacle_active(cs)) {
+        snprintf(why, len, "obstacle.shapes puts a body in the flow: it is not uniform");
+        return "a body in the flow (obstacle.shapes)";
+    }
+    double iz = rheology_i_of_mu(r, ta);
+    if (!isfinite(iz)) {
+        snprintf(why, len,
+                 "|tan(physics.tilt)| = %.6g is at or above rheology.mu_s + delta_mu = %.6g: "
+                 "the friction cannot hold the weight, the layer accelerates without end",
+                 ta, r->mu_s + r->delta_mu);
+        return "|tan(physics.tilt)| >= mu_s + delta_mu: the layer accelerates";
+    }
+    if (iz > 0.0 && cs->confining_pressure > 0.0) {
+        snprintf(why, len,
+                 "physics.confining_pressure = %.6g > 0 in flowing grains: the friction "
+                 "varies with depth",
+                 cs->confining_pressure);
+        return "physics.confining_pressure > 0 in flowing grains";
+    }
+    return NULL;
+}
+
+static double bagnold2_u(const struct muflow_case *cs, double z)
+{
+    char why[256];
+    if (exact_missing(cs, why, sizeof why))
+        return NAN;
+    const struct rheology *r = &cs->rheo;
+    const struct bagnold2_params *b = params(cs);
+    /* the I at which the curve reaches |tan(zeta)| (0 below mu_s: at rest) */
+    double iz = rheology_i_of_mu(r, fabs(tan(cs->tilt)));
+    double sign = cs->tilt < 0.0 ? -1.0 : 1.0;
     double L = cs->len[2], h0 = b->interface_height, rf = b->fluid_density;
     double rs = r->grain_density, rg = r->phi * rs, d = r->grain_diameter;
     double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);
-    /* du/dz = (I / d) sqrt(p / rho_s), p = gc (rg (h0 - z) + rf (L - h0)) */
-    double k = (iz / d) * sqrt(gc / rs) * 2.0 / (3.0 * rg);
+    /* du/dz = (I / d) sqrt(P / rho_s), P = gc (rg (h0 - z) + rf (L - h0)) */
+    double k = sign * (iz / d) * sqrt(gc / rs) * 2.0 / (3.0 * rg);
     double zz = fmin(z, h0);
     double P0 = rg * h0 + rf * (L - h0), Pz = rg * (h0 - zz) + rf * (L - h0);
-    double u = k * (P0 * sqrt(P0) - Pz * sqrt(Pz));
+    double u = iz > 0.0 ? k * (P0 * sqrt(P0) - Pz * sqrt(Pz)) : 0.0;
     if (z > h0)
-        u += (rf * gs / b->fluid_viscosity) * ((L * z - 0.5 * z * z) - (L * h0 - 0.5 * h0 * h0));
+        u += (rf * gs / (2.0 * b->fluid_viscosity)) * ((L - h0) * (L - h0) - (L - z) * (L - z));
     return u;
 }
 
@@ -201,7 +277,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
      * not chosen */
     if (b->perturbation > 0.0)
         perturbation_add(st, PERTURB_XZ, b->interface_height,
-                         b->perturbation * bagnold2_u(st->cs, st->cs->len[2]));
+                         b->perturbation * fabs(bagnold2_u(st->cs, st->cs->len[2])));
     return two_phase_tracer_changed(st, err, errlen);
 }
 
@@ -237,9 +313,63 @@ static void record_destroy(void *state)
     free(r);
 }
 
+/* The record in the checkpoint: a continued run's growth.csv and growth
+ * fit are the uninterrupted run's. */
+static int record_save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    const struct growth_record *r = state;
+    double last = (double)r->last_step;
+    if (module_record_put(rec, "last_step", &last, 1) != 0 ||
+        module_record_put(rec, "t", r->t, r->n) != 0 ||
+        module_record_put(rec, "amplitude_velocity", r->au, r->n) != 0 ||
+        module_record_put(rec, "amplitude_pressure", r->ap, r->n) != 0)
+        return -1;
+    return 0;
+}
+
+static int record_load(struct march_state *st, void *state, struct module_record *rec)
+{
+    struct growth_record *r = state;
+    double last;
+    /* an earlier checkpoint: a growth study's record starts at its initial
+     * state; any other run's covers the steps it runs */
+    if (!rec)
+        return st->cs->mode == MODE_TRANSIENT && params(st->cs)->perturbation > 0.0 ? -1 : 0;
+    long n = module_record_count(rec, "t");
+    if (n < 0 || module_record_get(rec, "last_step", &last, 1) != 0)
+        return -1;
+    long cap = n > 0 ? n : 1;
+    double *t = malloc((size_t)cap * sizeof *t), *au = malloc((size_t)cap * sizeof *au),
+           *ap = malloc((size_t)cap * sizeof *ap);
+    int rc = t && au && ap ? 0 : module_record_fail(rec, "out of memory for the growth record");
+    if (rc == 0 && (module_record_get(rec, "t", t, n) != 0 ||
+                    module_record_get(rec, "amplitude_velocity", au, n) != 0 ||
+                    module_record_get(rec, "amplitude_pressure", ap, n) != 0))
+        rc = -1;
+    if (rc != 0) {
+        free(t);
+        free(au);
+        free(ap);
+        return -1;
+    }
+    free(r->t);
+    free(r->au);
+    free(r->ap);
+    r->t = t;
+    r->au = au;
+    r->ap = ap;
+    r->n = n;
+    r->cap = cap;
+    r->last_step = (long)last;
+    return 0;
+}
+
 static const struct module growth_module = {
     .name = "bagnold2_growth",
     .create = record_create,
+    .save = record_save,
+    .load = record_load,
     .destroy = record_destroy,
 };
 
@@ -345,17 +475,6 @@ static int drive(struct scene_drive *d)
     return 0;
 }
 
-static const char *not_restartable(const struct muflow_case *cs)
-{
-    /* a growth study's record (and its fit) starts from the perturbed
-     * state; any other run's growth.csv covers the steps it ran */
-    return cs->mode == MODE_TRANSIENT && params(cs)->perturbation > 0.0
-               ? "a transient bagnold2 run with bagnold2.perturbation > 0 measures the "
-                 "perturbation's growth (growth.csv, growth_rate) from its initial state: it "
-                 "cannot continue from a checkpoint"
-               : NULL;
-}
-
 void bagnold2_growth_window(const double *t, const double *au, long n, double a_sat,
                             double *t0, double *t1)
 {
@@ -454,10 +573,23 @@ static void results(const struct march_state *st, const struct scene_drive *d,
         run_result_add(res, "amplitude_start", "%.6e", r->au[0]);
         run_result_add(res, "amplitude_end", "%.6e", r->au[r->n - 1]);
     }
-    snprintf(res->scene_line, sizeof res->scene_line,
-             "grains err_rms %.3e (%.3f%% of u_top), air err_rms %.3e (%.3f%%), u_interface "
-             "%.6g (exact %.6g)",
-             rg, 100.0 * rg / top, ra, 100.0 * ra / top, ui, ui_exact);
+    char why[256];
+    const char *missing = exact_missing(cs, why, sizeof why);
+    if (missing) {
+        /* the reason beside the NaN of every error */
+        run_result_add(res, "no_exact_solution", "%s", missing);
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "no exact solution: %.250s; u_interface %.6g", why, ui);
+    } else if (top != 0.0) {
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "grains err_rms %.3e (%.3f%% of |u_top|), air err_rms %.3e (%.3f%%), u_interface "
+                 "%.6g (exact %.6g)",
+                 rg, 100.0 * rg / fabs(top), ra, 100.0 * ra / fabs(top), ui, ui_exact);
+    } else {
+        snprintf(res->scene_line, sizeof res->scene_line,
+                 "grains err_rms %.3e, air err_rms %.3e (exact: at rest), u_interface %.6g", rg,
+                 ra, ui);
+    }
     profile_free(&pr);
 }
 
@@ -482,7 +614,7 @@ static const char *const bagnold2_files[] = {"growth.csv", NULL};
 
 const struct scene scene_bagnold2 = {
     .name = "bagnold2",
-    .title = "granular layer under air, two phases (seeds/001 sec. 2-3)",
+    .title = "granular layer under air, two phases (Barker & Rauter 2018, sec. 2-3)",
     .keys = &bagnold2_block,
     .modules = bagnold2_modules,
     .check = check,
@@ -493,7 +625,6 @@ const struct scene scene_bagnold2 = {
     .headline_name = "u_top",
     .errors = errors,
     .drive = drive,
-    .not_restartable = not_restartable,
     .results = results,
     .write = write,
     .files = bagnold2_files,

@@ -1,6 +1,6 @@
 /* Scene "bedload": a Newtonian fluid driven by a pressure gradient over a
  * granular bed in a closed channel (walls at z = 0 and z = D, periodic along
- * the flow x), the mixed-fluid model of seeds/002 eq. 13 with the bed held
+ * the flow x), the mixed-fluid model of Chauchat & Medale (2010), eq. 13, with the bed held
  * flat (physics/bed.h); cases/bedload.ini.  The driving pressure gradient is
  * the body force: -dp/dx = physics.density * physics.gravity * sin(tilt)
  * (tilt = pi/2 as in bingham_channel), so the weight of the grains in the
@@ -25,20 +25,37 @@
 static const struct key bedload_keys[] = {
     BEDLOAD_KEYS(T, "bedload"),
     KEY_CHO(T, "bedload", "model", model, bedload_model_choices,
-            "mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle velocities "
-            "coupled by Darcy drag (eq. 12)"),
+            KEY_HELP("mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle "
+                     "velocities coupled by Darcy drag (eq. 12)",
+                     NULL,
+                     "`mixed`: one mixture velocity, the bed's viscosity plus the Coulomb "
+                     "friction (Chauchat & Medale 2010, eq. 13; `src/physics/bed.c`); "
+                     "`two_fluid`: the mixture velocity u^m and the particle velocity u^p, "
+                     "coupled by the Darcy drag (eq. 12; `src/physics/bed_two_fluid.c`; "
+                     "plane flow only, periodic x and y, `solver.mode = steady`)")),
     KEY_DBL(T, "bedload", "grain_diameter", grain_diameter,
-            "grain diameter d in the bed's permeability K (two_fluid)", KEY_GT0),
+            KEY_HELP("grain diameter d in the bed's permeability K (two_fluid)", "length", NULL),
+            KEY_GT0),
     KEY_DBL(T, "bedload", "kozeny", kozeny,
             "Carman-Kozeny constant k_CK of K = eps^3 d^2 / (k_CK (1 - eps)^2) (two_fluid)",
             KEY_GT0),
 };
 #undef T
 
-/* Set A of the refdata (the sedFoam tutorial's parameters) */
+/* Set A: the parameters of SedFoam's bed-load tutorial for the solution of
+ * Ouriemi, Aussillous & Guazzelli (2009) */
 static void defaults(void *block) { bedload_defaults(block); }
 
-SCENE_PARAMS(bedload_block, "bedload", struct bedload_params, bedload_keys, defaults)
+SCENE_PARAMS(bedload_block, "bedload",
+             "A Newtonian fluid over a granular bed in a closed channel (Ouriemi, Aussillous & "
+             "Guazzelli 2009; `cases/bedload.ini`).  The bed module sets every viscosity: "
+             "`rheology.law` must be `newtonian` (a placeholder, its `viscosity` unused), and "
+             "`rheology.regularisation` and `lambda` regularise the bed friction's 1/|D|.  The "
+             "driving pressure gradient is the body force, -dp/dx = `physics.density` "
+             "`physics.gravity` sin(`physics.tilt`) (tilt = pi/2).  A case without bed load (A = "
+             "G + mu_s phi <= 0, or the mobile layer outside (0, h_p]) is refused.  The defaults "
+             "are set A of SedFoam's bed-load tutorial, in SI units.",
+             struct bedload_params, bedload_keys, defaults)
 
 static struct bedload_exact exact_of(const struct muflow_case *cs)
 {
@@ -64,8 +81,8 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[2][0] != BC_WALL ||
         c->bc.face[2][1] != BC_WALL) {
-        snprintf(msg, msglen, "case.scene = bedload needs periodic x, boundary.zlo = wall and "
-                              "boundary.zhi = wall");
+        snprintf(msg, msglen, "case.scene = bedload needs boundary.xlo = boundary.xhi = periodic, "
+                              "boundary.zlo = wall and boundary.zhi = wall");
         return 1;
     }
     if (b->model == BEDLOAD_TWO_FLUID && c->bc.face[1][0] != BC_PERIODIC) {

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include "physics/bed_two_fluid.h"
 #include "scenes/bedload.h"
+#include "scene_common.h"
 
 const struct choice bedload_model_choices[] = {
     {"mixed", BEDLOAD_MIXED}, {"two_fluid", BEDLOAD_TWO_FLUID}, {NULL, 0}};
@@ -18,7 +19,7 @@ void bedload_defaults(struct bedload_params *b)
     b->mu_s = 0.32;
     b->gravity = 9.81;
     b->model = BEDLOAD_MIXED;
-    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in the seed's test */
+    b->grain_diameter = 0.065 / 30.0; /* D / d = 30 as in Chauchat & Medale (2010), sec. 3.2 */
     b->kozeny = 180.0;
 }
 
@@ -96,36 +97,55 @@ int bedload_check_params(const struct muflow_case *c, const struct bedload_param
         snprintf(msg, msglen, "%s.model = two_fluid needs domain.nz >= 3", section);
         return 1;
     }
-    if (!(b->bed_height < c->len[2])) {
-        snprintf(msg, msglen, "%s.bed_height = %.17g: must be inside the channel, below "
-                              "domain.lz = %.17g",
-                 section, b->bed_height, c->len[2]);
+    /* the bed and the fluid above it are layers of the grid: each at least
+     * a cell thick (a thinner one is a fraction of a cell's mixture) */
+    double lz = c->len[2], dz = lz / c->n[2];
+    if (!scene_layer_fits(b->bed_height, lz, dz)) {
+        snprintf(msg, msglen, "%s.bed_height = %s: the bed and the fluid above it must each be "
+                              "at least a cell thick (domain.lz / domain.nz = %s / %d = %.6g): "
+                              "%s.bed_height must be in [%.6g, %.6g]",
+                 section, num_text(b->bed_height).s, num_text(lz).s, c->n[2], dz, section, dz,
+                 lz - dz);
         return 1;
     }
     if (!(b->particle_density > b->fluid_density)) {
-        snprintf(msg, msglen, "%s.particle_density = %.17g: must exceed "
-                              "%s.fluid_density = %.17g (a bed that does not sink)",
-                 section, b->particle_density, section, b->fluid_density);
+        snprintf(msg, msglen, "%s.particle_density = %s: must exceed "
+                              "%s.fluid_density = %s (a bed that does not sink)",
+                 section, num_text(b->particle_density).s, section,
+                 num_text(b->fluid_density).s);
         return 1;
     }
     struct bedload_exact x = bedload_exact_of(c, b);
+    double drive = c->density * c->gravity * sin(c->tilt);
     if (!(x.G < 0.0)) {
-        snprintf(msg, msglen, "physics.tilt = %.17g: the pressure gradient must drive the flow "
-                              "along +x (physics.density * gravity * sin(tilt) > 0; G = %.6g)",
-                 c->tilt, x.G);
+        snprintf(msg, msglen, "physics.density * physics.gravity * sin(physics.tilt) = %s * %s * "
+                              "sin(%s) = %s: must be > 0 (the pressure gradient that drives the "
+                              "flow along +x)",
+                 num_text(c->density).s, num_text(c->gravity).s, num_text(c->tilt).s,
+                 num_text(drive).s);
         return 1;
     }
+    /* every key in G and A, with its value: any of them can be the one to change */
+    char keys[600];
+    snprintf(keys, sizeof keys, "physics.density = %s, physics.gravity = %s, physics.tilt = %s, "
+                                "%s.particle_density = %s, %s.fluid_density = %s, "
+                                "%s.gravity = %s, %s.mu_s = %s, %s.phi = %s",
+             num_text(c->density).s, num_text(c->gravity).s, num_text(c->tilt).s, section,
+             num_text(b->particle_density).s, section, num_text(b->fluid_density).s, section,
+             num_text(b->gravity).s, section, num_text(b->mu_s).s, section, num_text(b->phi).s);
     if (!(x.A > 0.0)) {
-        snprintf(msg, msglen, "%s.mu_s = %.17g: no bed load, A = G + mu_s phi = %.6g <= 0 "
-                              "(G = %.6g: the friction cannot hold the bed against the pressure "
-                              "gradient)",
-                 section, b->mu_s, x.A, x.G);
+        snprintf(msg, msglen, "no bed load: the friction cannot hold the bed against the "
+                              "pressure gradient, A = G + mu_s phi = %.6g <= 0 with G = "
+                              "-rho g sin(tilt) / ((rho_p - rho_f) g_p) = %.6g (%s)",
+                 x.A, x.G, keys);
         return 1;
     }
     if (!(x.delta > 0.0 && x.delta <= x.h)) {
-        snprintf(msg, msglen, "%s.bed_height = %.17g: no bed load for these parameters, the "
-                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g]",
-                 section, b->bed_height, x.delta, x.h);
+        snprintf(msg, msglen, "%s.bed_height = %s: no bed load for these parameters, the "
+                              "mobile layer delta = %.6g D is outside (0, h_p / D = %.6g] "
+                              "(D = domain.lz = %s; delta follows from G = %.6g and A = %.6g: %s)",
+                 section, num_text(b->bed_height).s, x.delta, x.h, num_text(lz).s, x.G, x.A,
+                 keys);
         return 1;
     }
     return 0;

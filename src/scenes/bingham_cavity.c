@@ -1,5 +1,5 @@
 /* Scene "bingham_cavity": the Bingham lid-driven square cavity in Stokes
- * flow (seeds/002 sec. 3.1.2; cases/bingham_cavity.ini), compared with the
+ * flow (Chauchat & Medale 2010, sec. 3.1.2; cases/bingham_cavity.ini), compared with the
  * published data of Vola et al. (2003) named by case.reference: the
  * vertical mid-line profile (err_midline) and the largest stream function
  * psi_max (the headline). */
@@ -9,6 +9,7 @@
 #include <string.h>
 #include "diagnostics/profile.h"
 #include "diagnostics/reference.h"
+#include "io/output.h"
 #include "scenes/bingham_cavity.h"
 #include "scenes/scene.h"
 
@@ -54,6 +55,52 @@ static void reference_parameters(const struct muflow_case *cs, char *out, size_t
              cavity_reference_bn(cs));
 }
 
+/* The reference psi_max at bn: the published curve between its first and
+ * last point, NaN outside them (its ends are the data's: extrapolated past
+ * Vola's last Bn, 982, the curve turned negative, which a largest |psi|
+ * cannot be) and without data. */
+static double psi_max_at(const struct curve *psi, double bn)
+{
+    return psi->n > 1 && bn >= psi->x[0] && bn <= psi->x[psi->n - 1] ? curve_at(psi, bn) : NAN;
+}
+
+/* Why the case has no reference where it has none, for the summary (psi,
+ * mid: each "" when that reference exists): the data's range of psi_max,
+ * and the Bn of its mid-line profiles. */
+static void missing_reference(const struct muflow_case *cs, char *psi_note, char *mid_note,
+                              size_t len)
+{
+    psi_note[0] = mid_note[0] = '\0';
+    if (!cs->reference[0])
+        return;
+    char err[256];
+    double bn = cavity_reference_bn(cs);
+    struct curve psi = {0}, mid = {0}, all = {0};
+    if (reference_curve(cs->reference, "psi_max", NAN, &psi, err, sizeof err) == 0 &&
+        isnan(psi_max_at(&psi, bn))) {
+        if (psi.n > 1)
+            snprintf(psi_note, len, "Bn %.6g outside the data's %.6g to %.6g (Vola's convention; "
+                                    "not extrapolated)",
+                     bn, psi.x[0], psi.x[psi.n - 1]);
+        else
+            snprintf(psi_note, len, "the data hold no psi_max curve");
+    }
+    if (reference_curve(cs->reference, "midline", bn, &mid, err, sizeof err) == 0 && mid.n < 2 &&
+        reference_curve(cs->reference, "midline", NAN, &all, err, sizeof err) == 0) {
+        /* the profiles' Bn, once each (the rows come sorted by Bn) */
+        size_t used = (size_t)snprintf(mid_note, len, "Bn %.6g has no profile in the data (Bn", bn);
+        for (int i = 0; i < all.n && used < len; i++)
+            if (i == 0 || all.x[i] != all.x[i - 1])
+                used += (size_t)snprintf(mid_note + used, len - used, "%s %.6g", i ? "," : "",
+                                         all.x[i]);
+        if (used < len)
+            snprintf(mid_note + used, len - used, ")");
+    }
+    curve_free(&psi);
+    curve_free(&mid);
+    curve_free(&all);
+}
+
 /* Largest |psi| with u = d psi / dz, w = -d psi / dx and psi = 0 on the base:
  * integrated up every x-face column (mean over y). */
 static double stream_function_max(const struct march_state *st)
@@ -88,8 +135,8 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     char err[256];
     double bn = cavity_reference_bn(cs);
     struct curve psi = {0}, mid = {0};
-    if (reference_curve(cs->reference, "psi_max", NAN, &psi, err, sizeof err) == 0 && psi.n > 1)
-        e->headline_exact = curve_at(&psi, bn);
+    if (reference_curve(cs->reference, "psi_max", NAN, &psi, err, sizeof err) == 0)
+        e->headline_exact = psi_max_at(&psi, bn);
     curve_free(&psi);
     if (reference_curve(cs->reference, "midline", bn, &mid, err, sizeof err) != 0 || mid.n < 2) {
         curve_free(&mid);
@@ -121,6 +168,25 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     curve_free(&mid);
 }
 
+/* Where the published data do not cover the case: the reason, on the
+ * terminal (the scene's line) and in the summary (psi_max_reference_note,
+ * midline_reference_note). */
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    char psi[256], mid[256]; /* the summary keeps what fits its values */
+    missing_reference(st->cs, psi, mid, sizeof psi);
+    if (psi[0])
+        run_result_add(res, "psi_max_reference_note", "%s", psi);
+    if (mid[0])
+        run_result_add(res, "midline_reference_note", "%s", mid);
+    if (psi[0] || mid[0])
+        snprintf(res->scene_line, sizeof res->scene_line, "%s%.130s%s%s%.130s",
+                 psi[0] ? "no psi_max reference: " : "", psi, psi[0] && mid[0] ? "; " : "",
+                 mid[0] ? "no mid-line reference: " : "", mid);
+}
+
 const struct scene scene_bingham_cavity = {
     .name = "bingham_cavity",
     .title = "Bingham lid-driven cavity against Vola et al. (2003)",
@@ -134,4 +200,5 @@ const struct scene scene_bingham_cavity = {
     .no_err_rms_paper = 1,
     .reference_parameters = reference_parameters,
     .errors = errors,
+    .results = results,
 };

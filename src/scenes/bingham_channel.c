@@ -1,6 +1,6 @@
 /* Scene "bingham_channel": plane Poiseuille flow of a Bingham fluid between
- * walls at z = 0 and H, driven by the body force G along x (seeds/002 sec.
- * 3.1.1; cases/bingham_channel.ini).
+ * walls at z = 0 and H, driven by the body force G along x (Chauchat &
+ * Medale 2010, sec. 3.1.1; cases/bingham_channel.ini).
  *
  * Exact solution: |tau| = G |Y| with Y = z - H/2, plug where G |Y| < tau_0,
  * i.e. |Y| < y0 = tau_0 / G, and outside it

@@ -1,6 +1,6 @@
 /* Scene "chute": vertical chute flow between rough plates at y = 0 and b,
- * periodic along the flow, under a confining pressure (seeds/000 sec. 3.1,
- * app. A; cases/chute.ini).
+ * periodic along the flow, under a confining pressure (Chauchat &
+ * Medale 2014, sec. 3.1, app. A; cases/chute.ini).
  *
  * Exact solution (eqs. 17, 20-27): shear stress k |y - b/2| (k = rho g),
  * pressure p constant, plug where k |Y| < mu_s p.  With A = (mu_s + dmu) p,

@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/reference.h"
+#include "io/module_record.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
@@ -44,23 +45,32 @@ struct collapse_params {
 #define T struct collapse_params
 static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "half_width", half_width,
-            "half-width R0 of the column (the axis at x = 0; below domain.lx)", KEY_GT0),
-    KEY_DBL(T, "collapse", "height", height, "height H0 of the column (below domain.lz)",
+            KEY_HELP("half-width R0 of the column (the axis at x = 0): at least a cell, "
+                     "domain.lx / domain.nx, and below domain.lx",
+                     "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "collapse", "fluid_density", fluid_density, "density rho_f of the light phase",
+    KEY_DBL(T, "collapse", "height", height,
+            KEY_HELP("height H0 of the column: at least a cell, domain.lz / domain.nz, and "
+                     "below domain.lz",
+                     "length", NULL),
             KEY_GT0),
+    KEY_DBL(T, "collapse", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the light phase", "mass/length^3", NULL), KEY_GT0),
     KEY_DBL(T, "collapse", "fluid_viscosity", fluid_viscosity,
-            "viscosity eta_f of the (Newtonian) light phase", KEY_GT0),
+            KEY_HELP("viscosity eta_f of the (Newtonian) light phase", "pressure time", NULL),
+            KEY_GT0),
     KEY_BOOL(T, "collapse", "viscosity_clip", viscosity_clip,
              "clip the granular viscosity to [rho d sqrt(g d), eta_max] before mixing (the "
              "published runs)"),
-    KEY_DBL(T, "collapse", "eta_max", eta_max, "upper bound of the viscosity clip", KEY_GT0),
+    KEY_DBL(T, "collapse", "eta_max", eta_max,
+            KEY_HELP("upper bound of the viscosity clip", "pressure time", NULL), KEY_GT0),
     KEY_DBL(T, "collapse", "rest_energy", rest_energy,
             "the run ends (finished, at rest) when the kinetic energy falls below this "
             "fraction of its peak; 0: only at solver.end_time",
             KEY_RANGE(0.0, 1.0, 1, 0)),
     KEY_DBL(T, "collapse", "profile_interval", profile_interval,
-            "time between the surface profiles h(x) of surface.csv", KEY_GT0),
+            KEY_HELP("time between the surface profiles h(x) of surface.csv", "time", NULL),
+            KEY_GT0),
     KEY_DBL(T, "collapse", "vof_cfl", vof_cfl,
             "largest sweep CFL number of the VOF transport that the time step allows "
             "(0: the VOF does not bound the step, the transport's sub-steps alone keep "
@@ -90,7 +100,17 @@ static void defaults(void *block)
     c->fluid_weight = 0;
 }
 
-SCENE_PARAMS(collapse_block, "collapse", struct collapse_params, collapse_keys, defaults)
+SCENE_PARAMS(collapse_block, "collapse",
+             "A rectangular column of grains released on a rough base under a light phase, half "
+             "the column with the symmetry plane at x = 0 (Lagree, Staron & Popinet 2011; "
+             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` their density; the scene needs `solver.mode = transient`, "
+             "`boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, `zhi = surface` or `open`, "
+             "periodic y and `domain.ny = 1`.  It writes `collapse.csv` (every step: t, x_front, "
+             "h_axis, kinetic energy, grains' volume, extremes of T) and `surface.csv` (h(x) at "
+             "the profile times and at the end); with `case.reference` it compares x_front and "
+             "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
+             struct collapse_params, collapse_keys, defaults)
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
@@ -108,15 +128,28 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN) ||
         b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
         snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
-                              "xhi not periodic, zlo = wall, zhi = surface or open, periodic y "
-                              "and domain.ny = 1");
+                              "boundary.xhi not periodic, boundary.zlo = wall, boundary.zhi = "
+                              "surface or open, boundary.ylo = boundary.yhi = periodic and "
+                              "domain.ny = 1");
         return 1;
     }
-    if (!(p->half_width < c->len[0]) || !(p->height < c->len[2])) {
-        snprintf(msg, msglen, "collapse.half_width = %.17g, collapse.height = %.17g: the "
-                              "column must fit inside domain.lx = %.17g and domain.lz = %.17g",
-                 p->half_width, p->height, c->len[0], c->len[2]);
-        return 1;
+    /* the column inside the box, and at least a cell across each way (a
+     * thinner one is a fraction of a cell's mixture: it ends "finished"
+     * with x_front 0) */
+    static const char *const name[2] = {"half_width", "height"}, *const len_key[2] = {"lx", "lz"},
+                             *const n_key[2] = {"nx", "nz"};
+    const double size[2] = {p->half_width, p->height};
+    for (int k = 0; k < 2; k++) {
+        int d = 2 * k; /* x, z */
+        double h = c->len[d] / c->n[d];
+        if (!(scene_at_least_a_cell(size[k], h) && size[k] < c->len[d])) {
+            snprintf(msg, msglen, "collapse.%s = %s: must be in [%.6g, %s): at least a cell "
+                                  "(domain.%s / domain.%s = %s / %d = %.6g) and inside "
+                                  "domain.%s = %s",
+                     name[k], num_text(size[k]).s, h, num_text(c->len[d]).s, len_key[k], n_key[k],
+                     num_text(c->len[d]).s, c->n[d], h, len_key[k], num_text(c->len[d]).s);
+            return 1;
+        }
     }
     return 0;
 }
@@ -179,13 +212,6 @@ static void end_step(struct march_state *st, void *state, double dt)
         st->p_dyn[p] -= s;
 }
 
-static const struct module collapse_module = {
-    .name = "collapse",
-    .create = create,
-    .end_step = end_step,
-    .destroy = destroy,
-};
-
 static int grow(void **a, long *cap, long need, size_t each)
 {
     if (need <= *cap)
@@ -200,6 +226,101 @@ static int grow(void **a, long *cap, long need, size_t each)
     *cap = c;
     return 0;
 }
+
+/* The record in the checkpoint: a continued run's collapse.csv,
+ * surface.csv and results are the uninterrupted run's.  One array per
+ * measure of the samples, the profiles' times and heights, and the
+ * scalars that decide the next sample and profile and the rest. */
+#define SAMPLE_FIELDS 7
+static const char *const sample_names[SAMPLE_FIELDS] = {
+    "t", "x_front", "h_axis", "kinetic_energy", "grains_volume", "tracer_min", "tracer_max"};
+static double *sample_field(struct collapse_sample *s, int f)
+{
+    double *const at[SAMPLE_FIELDS] = {&s->t,      &s->x_front, &s->h_axis, &s->kinetic,
+                                       &s->volume, &s->t_min,   &s->t_max};
+    return at[f];
+}
+enum { SC_LAST_STEP, SC_PEAK, SC_PEAK_TIME, SC_VOLUME0, SC_NEXT_PROFILE, SC_NX, SCALARS };
+
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double scalars[SCALARS] = {(double)r->last_step, r->peak, r->peak_time, r->volume0,
+                               r->next_profile, r->nx};
+    double *v = malloc((size_t)(r->n > 0 ? r->n : 1) * sizeof *v);
+    if (!v)
+        return module_record_fail(rec, "out of memory for the record");
+    int rc = module_record_put(rec, "scalars", scalars, SCALARS);
+    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+        for (long m = 0; m < r->n; m++)
+            v[m] = *sample_field(&r->s[m], f);
+        rc = module_record_put(rec, sample_names[f], v, r->n);
+    }
+    free(v);
+    if (rc == 0)
+        rc = module_record_put(rec, "profile_times", r->ptime, r->np);
+    if (rc == 0)
+        rc = module_record_put(rec, "profile_heights", r->ph, r->np * r->nx);
+    return rc;
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double scalars[SCALARS];
+    if (!rec) /* the record covers the run from the initial column */
+        return -1;
+    if (module_record_get(rec, "scalars", scalars, SCALARS) != 0)
+        return -1;
+    if ((int)scalars[SC_NX] != r->nx)
+        return module_record_fail(rec, "its profiles have %d columns, the grid %d",
+                                  (int)scalars[SC_NX], r->nx);
+    long n = module_record_count(rec, "t"), np = module_record_count(rec, "profile_times");
+    if (n < 0 || np < 0)
+        return -1;
+    long cap = r->cap, pc = r->pcap, hc = r->pcap;
+    double *v = malloc((size_t)(n > 0 ? n : 1) * sizeof *v);
+    if (!v || grow((void **)&r->s, &cap, n, sizeof *r->s) != 0 ||
+        grow((void **)&r->ptime, &pc, np, sizeof(double)) != 0 ||
+        grow((void **)&r->ph, &hc, np, (size_t)r->nx * sizeof(double)) != 0) {
+        free(v);
+        return module_record_fail(rec, "out of memory for the record");
+    }
+    r->cap = cap;
+    r->pcap = pc;
+    int rc = 0;
+    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+        rc = module_record_get(rec, sample_names[f], v, n);
+        for (long m = 0; rc == 0 && m < n; m++)
+            *sample_field(&r->s[m], f) = v[m];
+    }
+    free(v);
+    if (rc == 0)
+        rc = module_record_get(rec, "profile_times", r->ptime, np);
+    if (rc == 0)
+        rc = module_record_get(rec, "profile_heights", r->ph, np * r->nx);
+    if (rc != 0)
+        return -1;
+    r->n = n;
+    r->np = np;
+    r->last_step = (long)scalars[SC_LAST_STEP];
+    r->peak = scalars[SC_PEAK];
+    r->peak_time = scalars[SC_PEAK_TIME];
+    r->volume0 = scalars[SC_VOLUME0];
+    r->next_profile = scalars[SC_NEXT_PROFILE];
+    return 0;
+}
+
+static const struct module collapse_module = {
+    .name = "collapse",
+    .create = create,
+    .end_step = end_step,
+    .save = save,
+    .load = load,
+    .destroy = destroy,
+};
 
 /* Adds the state's sample (once per step) and a profile when one is due. */
 static int record_state(struct record *r, const struct march_state *st)
@@ -285,13 +406,6 @@ static int drive(struct scene_drive *d)
                  r->peak_time);
     }
     return 0;
-}
-
-static const char *not_restartable(const struct muflow_case *cs)
-{
-    (void)cs;
-    return "the collapse's record (collapse.csv, surface.csv) covers the whole run from the "
-           "initial column: it cannot continue from a checkpoint";
 }
 
 /* ---- results and files ---- */
@@ -471,7 +585,6 @@ const struct scene scene_collapse = {
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,
-    .not_restartable = not_restartable,
     .results = results,
     .write = write,
     .files = collapse_files,

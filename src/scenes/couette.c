@@ -29,7 +29,8 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     if (c->bc.face[2][0] != BC_WALL || c->bc.face[2][1] != BC_LID || c->bc.lid_direction != 0 ||
         c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC) {
         snprintf(msg, msglen, "case.scene = couette needs boundary.zlo = wall, boundary.zhi = lid, "
-                              "boundary.lid_direction = x and periodic x and y");
+                              "boundary.lid_direction = x and boundary.xlo, boundary.xhi, "
+                              "boundary.ylo, boundary.yhi = periodic");
         return 1;
     }
     return 0;

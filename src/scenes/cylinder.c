@@ -1,5 +1,5 @@
-/* Scene "cylinder": granular flow past a cylinder (seeds/000 sec. 4.2,
- * CASES.md scene 5; cases/cylinder.ini), driven by the dimensionless body
+/* Scene "cylinder": granular flow past a cylinder (Chauchat &
+ * Medale 2014, sec. 4.2; cases/cylinder.ini), driven by the dimensionless body
  * force F = rho phi g L_x / p_ext and continued in F over steady solves.
  *
  * The case holds the obstacle (one circle in the x-z plane), the confining
@@ -53,8 +53,10 @@ static const struct key cylinder_keys[] = {
             "ends on the last steady state",
             KEY_GT0),
     KEY_DBL(T, "cylinder", "velocity_end", velocity_end,
-            "after the continuation in F, continue in the mean velocity U up to this, F solved "
-            "for (0: none); needs cylinder.forcing_end > cylinder.forcing and a periodic box",
+            KEY_HELP("after the continuation in F, continue in the mean velocity U up to this, F "
+                     "solved for (0: none); needs cylinder.forcing_end > cylinder.forcing and a "
+                     "periodic box",
+                     "velocity", NULL),
             KEY_GE0),
     KEY_DBL(T, "cylinder", "velocity_ratio", velocity_ratio,
             "the continuation's factor in U (a failed U is retried at the factor's square root, "
@@ -79,7 +81,24 @@ static void cylinder_defaults(void *block)
     c->velocity_stages = 100.0;
 }
 
-SCENE_PARAMS(cylinder_block, "cylinder", struct cylinder_params, cylinder_keys, cylinder_defaults)
+SCENE_PARAMS(cylinder_block, "cylinder",
+             "Granular flow past a cylinder (Chauchat & Medale 2014, sec. 4.2; "
+             "`cases/cylinder.ini`).  The case needs one circle in `obstacle.shapes` (plane "
+             "x-z), `rheology.law = mui`, `solver.mode = steady`, `physics.confining_pressure` "
+             "p_ext > 0, `physics.tilt = 0` (the flow along -z) and `boundary.zlo = zhi` periodic "
+             "or open.  The scene sets `physics.gravity` from F = rho phi g L_x / p_ext (rho phi "
+             "= `physics.density`; L_x the whole box across: twice `domain.lx` when x = 0 is a "
+             "slip face through the circle's centre).  With `forcing_end > forcing` the run is a "
+             "continuation in F over steady solves, each F after the first starting from the "
+             "secant through the two steady states before it; a failed F is retried at half the "
+             "step down to `min_step`, below which the run ends on the last steady state "
+             "(`forcing_failed` in the summary).  With `velocity_end > 0` it goes on in the mean "
+             "velocity U, F an unknown of the coupled step.  `cylinder.csv` has a row per solve; "
+             "the summary has `forcing`, `flow_rate`, `froude`, `drag` (control volume), "
+             "`drag_surface`, `drag_over_pressure` and `drag_coefficient_mean_velocity` of the "
+             "final state.  A continuation cannot be combined with `output.checkpoint_every` or "
+             "`--restart`.",
+             struct cylinder_params, cylinder_keys, cylinder_defaults)
 
 /* ---- geometry and forcing ------------------------------------------------- */
 
@@ -131,42 +150,44 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     if (!(c->confining_pressure > 0.0)) {
-        snprintf(msg, msglen, "physics.confining_pressure = %g: case.scene = cylinder needs a "
+        snprintf(msg, msglen, "physics.confining_pressure = %s: case.scene = cylinder needs a "
                               "confining pressure p_ext > 0 (F = rho phi g L_x / p_ext)",
-                 c->confining_pressure);
+                 num_text(c->confining_pressure).s);
         return 1;
     }
     if (c->tilt != 0.0) {
-        snprintf(msg, msglen, "physics.tilt = %g: case.scene = cylinder drives the flow along -z "
-                              "(tilt 0)",
-                 c->tilt);
+        snprintf(msg, msglen, "physics.tilt = %s: case.scene = cylinder drives the flow along -z "
+                              "(physics.tilt = 0)",
+                 num_text(c->tilt).s);
         return 1;
     }
     /* the flow along z: periodic, or in at the top and out at the bottom
      * through open faces, where the pressure is p_ext */
     enum bc_kind zlo = c->bc.face[2][0], zhi = c->bc.face[2][1];
     if (!bc_through_flow(&c->bc, 2)) {
-        snprintf(msg, msglen, "boundary.zlo = %s, zhi = %s: case.scene = cylinder needs "
-                              "boundary.zlo = zhi = periodic or open (the flow along z)",
+        snprintf(msg, msglen, "boundary.zlo = %s, boundary.zhi = %s: case.scene = cylinder "
+                              "needs boundary.zlo = boundary.zhi = periodic or open (the flow "
+                              "along z)",
                  bc_kind_name(zlo), bc_kind_name(zhi));
         return 1;
     }
     const struct cylinder_params *p = params(c);
     if (p->velocity_end > 0.0 && !(p->forcing_end > p->forcing)) {
-        snprintf(msg, msglen, "cylinder.velocity_end = %g needs cylinder.forcing_end > "
+        snprintf(msg, msglen, "cylinder.velocity_end = %s needs cylinder.forcing_end > "
                               "cylinder.forcing: the continuation in U starts from the last two "
                               "steady states in F",
-                 p->velocity_end);
+                 num_text(p->velocity_end).s);
         return 1;
     }
     if (p->velocity_end > 0.0 && !(p->velocity_ratio > 1.0)) {
-        snprintf(msg, msglen, "cylinder.velocity_ratio = %g must be > 1", p->velocity_ratio);
+        snprintf(msg, msglen, "cylinder.velocity_ratio = %s must be > 1",
+                 num_text(p->velocity_ratio).s);
         return 1;
     }
     const char *why = p->velocity_end > 0.0 ? flow_rate_refusal(c) : NULL;
     if (why) {
-        snprintf(msg, msglen, "cylinder.velocity_end = %g (U held, F solved for) %s",
-                 p->velocity_end, why);
+        snprintf(msg, msglen, "cylinder.velocity_end = %s (U held, F solved for) %s",
+                 num_text(p->velocity_end).s, why);
         return 1;
     }
     if (p->forcing_end > p->forcing && c->checkpoint_every > 0) {
@@ -273,12 +294,15 @@ static enum run_status solve(struct scene_drive *d, double F, double U, int fres
     d->cs->gravity = gravity_of(d->cs, F);
     row->g = d->cs->gravity;
     char err[256];
-    if (march_reforce(st, err, sizeof err) != 0) {
+    /* the single solve of a run continued from its checkpoint goes on from
+     * the checkpoint's step (its case holds this gravity already) */
+    int resume = fresh && d->restarted;
+    if (!resume && march_reforce(st, err, sizeof err) != 0) {
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message, "F = %g: %.200s", F, err);
         return st->status;
     }
-    if (flow_rate_restart(st, d->cs->gravity, U, err, sizeof err) != 0) {
+    if (!resume && flow_rate_restart(st, d->cs->gravity, U, err, sizeof err) != 0) {
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message, "U = %g: %.200s", U, err);
         return st->status;
@@ -369,7 +393,7 @@ static int drive(struct scene_drive *d)
         return 0;
     }
     int n = 0;
-    double t0 = omp_get_wtime();
+    double t0 = omp_get_wtime() - st->wall_seconds; /* a restart's: the checkpoint's on */
     enum run_status s = solve(d, p->forcing, 0.0, 1, 1.0, &rows[n++]);
     run->solves = 1;
     run->steps = st->step;
@@ -486,8 +510,8 @@ static int drive(struct scene_drive *d)
         else if (U_last < p->velocity_end * (1.0 - 1e-9))
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g): the continuation stopped at its limit of "
-                     "%d solves short of cylinder.velocity_end = %g",
-                     U_last, F_last, MAX_ROWS, p->velocity_end);
+                     "%d solves short of cylinder.velocity_end = %s",
+                     U_last, F_last, MAX_ROWS, num_text(p->velocity_end).s);
         else
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", U_last,
@@ -496,14 +520,14 @@ static int drive(struct scene_drive *d)
         if (isfinite(run->failed_F))
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g, the continuation's end: no steady state at F = %.6g "
-                     "within cylinder.min_step = %g of it (the limit of steady flow, or of the "
+                     "within cylinder.min_step = %s of it (the limit of steady flow, or of the "
                      "march)",
-                     F_last, run->failed_F, p->min_step);
+                     F_last, run->failed_F, num_text(p->min_step).s);
         else if (F_last < p->forcing_end - eps)
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g: the continuation stopped at its limit of %d solves "
-                     "short of cylinder.forcing_end = %g",
-                     F_last, MAX_ROWS, p->forcing_end);
+                     "short of cylinder.forcing_end = %s",
+                     F_last, MAX_ROWS, num_text(p->forcing_end).s);
         else
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g after %d solves from F = %.6g", F_last,

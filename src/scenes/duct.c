@@ -1,5 +1,5 @@
 /* Scene "duct": the bed-load flow of the bedload scene in a square duct
- * (seeds/002 sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
+ * (Chauchat & Medale 2010, sec. 4.1, figs. 10-11; cases/duct_square.ini): a Newtonian
  * fluid driven by a pressure gradient along the periodic x over a flat
  * granular bed, the mixed-fluid model (physics/bed.h) or the two-fluid
  * model (physics/bed_two_fluid.h, its Newton step of the pair solved on the
@@ -18,7 +18,7 @@
  * half's), the mean velocity against the plane channel's (the friction of
  * the side walls), and the mid-plane's bed top.
  *
- * The circular duct (seeds/002 sec. 4.2, cases/duct_circular.ini) is the
+ * The circular duct (Chauchat & Medale 2010, sec. 4.2; cases/duct_circular.ini) is the
  * same box with the wall an embedded circle of the obstacle module
  * ([obstacle], plane yz, invert): the faces weigh in the flow rate by
  * their open share, and the area is the circle's, sampled. */
@@ -38,10 +38,18 @@
 static const struct key duct_keys[] = {
     BEDLOAD_KEYS(T, "duct"),
     KEY_CHO(T, "duct", "model", model, bedload_model_choices,
-            "mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle velocities "
-            "coupled by Darcy drag (eq. 12)"),
+            KEY_HELP("mixed: one mixture velocity (eq. 13); two_fluid: fluid and particle "
+                     "velocities coupled by Darcy drag (eq. 12)",
+                     NULL,
+                     "`mixed`: one mixture velocity, the bed's viscosity plus the Coulomb "
+                     "friction (Chauchat & Medale 2010, eq. 13; `src/physics/bed.c`); "
+                     "`two_fluid`: the mixture velocity u^m and the particle velocity u^p, "
+                     "coupled by the Darcy drag (eq. 12; `src/physics/bed_two_fluid.c`; "
+                     "the pair's Newton step solved on the whole cross-section; `s"
+                     "olver.mode = steady`, `domain.nz` >= 3)")),
     KEY_DBL(T, "duct", "grain_diameter", grain_diameter,
-            "grain diameter d in the bed's permeability K (two_fluid)", KEY_GT0),
+            KEY_HELP("grain diameter d in the bed's permeability K (two_fluid)", "length", NULL),
+            KEY_GT0),
     KEY_DBL(T, "duct", "kozeny", kozeny,
             "Carman-Kozeny constant k_CK of K = eps^3 d^2 / (k_CK (1 - eps)^2) (two_fluid)",
             KEY_GT0),
@@ -50,7 +58,22 @@ static const struct key duct_keys[] = {
 
 static void defaults(void *block) { bedload_defaults(block); }
 
-SCENE_PARAMS(duct_block, "duct", struct bedload_params, duct_keys, defaults)
+SCENE_PARAMS(duct_block, "duct",
+             "The bed load of `[bedload]` in a duct (Chauchat & Medale 2010, sec. 4; "
+             "`cases/duct_square.ini`, `cases/duct_circular.ini`), with the same keys, defaults "
+             "and checks.  Half the cross-section is solved: the flow u(y, z) along the periodic "
+             "x (`domain.nx = 1`), a side wall at y = 0 (`boundary.ylo = wall`), the symmetry "
+             "plane at y = `domain.ly` (`yhi = slip`), walls at z = 0 and z = `domain.lz` = D; "
+             "other boundaries are refused.  The circular duct is the same box with the wall an "
+             "`[obstacle]` circle (`shapes = circle D/2 D/2 D/2`, `plane = yz`, `invert = on`), "
+             "its flow rate weighting each face by its open share.  `profile.csv` is the last "
+             "column of cells with the plane channel's exact profile at the same pressure "
+             "gradient (`u_plane`); `midplane.csv` adds u extrapolated to the symmetry plane.  "
+             "The summary has the mid-plane's difference from the plane profile (`diff_plane`, "
+             "`err_max`), `u_max`, `flow_rate` (the whole duct), `mean_velocity` and its ratio "
+             "to the plane channel's (`velocity_ratio`), the mobile layer on the mid-plane, "
+             "`secondary_velocity`, and for the circular duct its open `area`.",
+             struct bedload_params, duct_keys, defaults)
 
 static double plane_u(const struct muflow_case *cs, double z)
 {

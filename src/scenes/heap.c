@@ -1,5 +1,5 @@
-/* Scene "heap": surface flow on a heap between rough side walls (seeds/000
- * sec. 4.1; cases/heap.ini), its diagnostics (heap.h) and the tilt search
+/* Scene "heap": surface flow on a heap between rough side walls (Chauchat
+ * & Medale 2014, sec. 4.1; cases/heap.ini), its diagnostics (heap.h) and the tilt search
  * that finds the tilt of a given flow rate (tilt_search.h). */
 #include <math.h>
 #include <omp.h>
@@ -102,10 +102,11 @@ static const struct key heap_keys[] = {
             "steady solves (0: one solve at physics.tilt)",
             KEY_GE0),
     KEY_DBLT(T, "heap", "tilt_min", tilt_min, "must be in (0, pi/2) (radians)",
-             "low end of the search's tilt bracket, Q*(tilt_min) < target (rad)",
+             KEY_HELP("low end of the search's tilt bracket, Q*(tilt_min) < target", "rad", NULL),
              KEY_RANGE(0, HALF_PI, 0, 0)),
     KEY_DBLT(T, "heap", "tilt_max", tilt_max, "must be in (0, pi/2) (radians)",
-             "high end of the search's tilt bracket, Q*(tilt_max) > target (rad)",
+             KEY_HELP("high end of the search's tilt bracket, Q*(tilt_max) > target", "rad",
+                      NULL),
              KEY_RANGE(0, HALF_PI, 0, 0)),
     KEY_DBL(T, "heap", "flow_rate_tolerance", flow_rate_tolerance,
             "the search ends when |Q* / target - 1| is at most this", KEY_RANGE(0, 0.5, 0, 1)),
@@ -130,7 +131,14 @@ static void heap_defaults(void *block)
     h->depth_fraction = 0.01;
 }
 
-SCENE_PARAMS(heap_block, "heap", struct heap_params, heap_keys, heap_defaults)
+SCENE_PARAMS(heap_block, "heap",
+             "Surface flow on a heap between rough side walls (`cases/heap.ini`).  With "
+             "`flow_rate > 0` the tilt of that flow rate is found by a bracketing root finder "
+             "(Brent) over steady solves, each continued from a previous one; the search needs "
+             "`solver.mode = steady`, needs `tilt_min < tilt_max`, and cannot be combined with "
+             "`output.checkpoint_every` or `--restart`.  The scene writes `heap.csv` (the "
+             "surface velocity and flowing depth of each column).",
+             struct heap_params, heap_keys, heap_defaults)
 
 /* The cross-section: periodic along the flow, side wall at y = 0 and
  * symmetry plane at y = ly, static base and free surface in z. */
@@ -161,9 +169,9 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     }
     if (h->flow_rate > 0.0) {
         if (!(h->tilt_min < h->tilt_max)) {
-            snprintf(msg, msglen, "heap.tilt_min = %.17g, heap.tilt_max = %.17g: the bracket needs "
-                                  "tilt_min < tilt_max",
-                     h->tilt_min, h->tilt_max);
+            snprintf(msg, msglen, "heap.tilt_min = %s, heap.tilt_max = %s: the bracket needs "
+                                  "heap.tilt_min < heap.tilt_max",
+                     num_text(h->tilt_min).s, num_text(h->tilt_max).s);
             return 1;
         }
         if (c->mode != MODE_STEADY || c->checkpoint_every > 0) {

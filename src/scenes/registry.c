@@ -3,6 +3,8 @@
  * defines `const struct scene scene_NAME`, plus its line here. */
 #include <string.h>
 #include "config/keys.h"
+#include "march/march.h"
+#include "march/module.h"
 #include "scenes/scene.h"
 
 #define SCENE_LIST(X)      \
@@ -62,4 +64,42 @@ const char *scene_error_name(const struct scene *s)
 int scene_has_reference(const struct scene *s)
 {
     return strcmp(scene_solution_name(s), "reference") == 0;
+}
+
+/* Adds the names of list (NULL-terminated, or NULL) not yet in names. */
+static int add_names(const char **names, int *n, int max, const char *const *list)
+{
+    for (const char *const *f = list; f && *f; f++) {
+        int seen = 0;
+        for (int i = 0; i < *n && !seen; i++)
+            seen = strcmp(names[i], *f) == 0;
+        if (seen)
+            continue;
+        if (*n + 1 >= max)
+            return -1;
+        names[(*n)++] = *f;
+    }
+    names[*n] = NULL;
+    return 0;
+}
+
+int scene_output_files(const char **names, int max, const struct module *const *extra)
+{
+    int n = 0;
+    if (max < 1)
+        return -1;
+    names[0] = NULL;
+    const struct module *const *common[2] = {march_case_modules, extra};
+    for (int i = 0; i < NSCENES; i++) {
+        if (add_names(names, &n, max, registry[i]->files) != 0)
+            return -1;
+        for (const struct module *const *m = registry[i]->modules; m && *m; m++)
+            if (add_names(names, &n, max, (*m)->files) != 0)
+                return -1;
+    }
+    for (int l = 0; l < 2; l++)
+        for (const struct module *const *m = common[l]; m && *m; m++)
+            if (add_names(names, &n, max, (*m)->files) != 0)
+                return -1;
+    return n;
 }

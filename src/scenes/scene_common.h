@@ -12,6 +12,20 @@ static inline double shear_per_sqrt_p(const struct rheology *r)
     return 1.0 / (r->grain_diameter * sqrt(r->grain_density));
 }
 
+/* A length the grid must resolve: at least one cell of size h (to the
+ * round-off of h = l / n, so that the bound a message prints is accepted). */
+static inline int scene_at_least_a_cell(double length, double h)
+{
+    return length >= h * (1.0 - 1e-9);
+}
+
+/* A layer from the base to height inside a box of height lz: it and the
+ * layer above it each at least a cell of size h. */
+static inline int scene_layer_fits(double height, double lz, double h)
+{
+    return scene_at_least_a_cell(height, h) && scene_at_least_a_cell(lz - height, h);
+}
+
 /* u[i] = f(cs, x[i]) for a pointwise exact profile. */
 #define POINTWISE_PROFILE(name, f)                                                       \
     static void name(const struct muflow_case *cs, int n, const double *x, double *u)   \
@@ -21,11 +35,14 @@ static inline double shear_per_sqrt_p(const struct rheology *r)
     }
 
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block
- * NAME (parse, check, write back; case.c), the compile-time check that TYPE
- * fits the case's scene block, and params(cs), the block of a loaded case. */
-#define SCENE_PARAMS(NAME, SECTION, TYPE, KEYS, DEFAULTS)                                \
+ * NAME (parse, check, write back; case.c) with INTRO, the section's
+ * description in docs/case_keys.md (Markdown), the compile-time check that
+ * TYPE fits the case's scene block, and params(cs), the block of a loaded
+ * case. */
+#define SCENE_PARAMS(NAME, SECTION, INTRO, TYPE, KEYS, DEFAULTS)                         \
     static const struct key_block NAME = {                                              \
         .section = SECTION,                                                              \
+        .intro = INTRO,                                                                  \
         .keys = KEYS,                                                                    \
         .nkeys = (int)(sizeof KEYS / sizeof KEYS[0]),                                    \
         .size = sizeof(TYPE),                                                            \

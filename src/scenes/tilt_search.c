@@ -4,6 +4,7 @@
 #include <string.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_roots.h>
+#include "config/keys.h"
 #include "scenes/tilt_search.h"
 
 struct search_ctx {
@@ -101,9 +102,10 @@ int tilt_search_run(struct march_state *st, struct muflow_case *cs,
         goto done;
     if (status != GSL_SUCCESS) {
         snprintf(res->message, sizeof res->message,
-                 "heap.flow_rate = %.6g is not between Q*(heap.tilt_min = %.6g) = %.6g and "
-                 "Q*(heap.tilt_max = %.6g) = %.6g: widen the bracket",
-                 spec->target, spec->tilt_min, x.end_rate[0], spec->tilt_max, x.end_rate[1]);
+                 "heap.flow_rate = %s is not between Q*(heap.tilt_min = %s) = %.6g and "
+                 "Q*(heap.tilt_max = %s) = %.6g: widen the bracket",
+                 num_text(spec->target).s, num_text(spec->tilt_min).s, x.end_rate[0],
+                 num_text(spec->tilt_max).s, x.end_rate[1]);
         goto done;
     }
     rc = 0;

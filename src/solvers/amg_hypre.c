@@ -21,8 +21,8 @@
 #include <_hypre_parcsr_ls.h>
 #pragma GCC diagnostic pop
 #include "solvers/amg_hypre.h"
-#include "solvers/blas.h"
-#include "solvers/dynlib.h"
+#include "platform/blas.h"
+#include "platform/dynlib.h"
 
 _Static_assert(sizeof(HYPRE_Int) == sizeof(int), "hypre built with 32-bit indices expected");
 _Static_assert(sizeof(HYPRE_Real) == sizeof(double), "hypre built in double precision expected");
@@ -61,9 +61,10 @@ struct amg_hypre {
 
 /* ---- hypre and MPI, loaded on first use ---------------------------------- */
 
-/* The library is opened when the first AMG is created, not linked: linking
- * hypre and OpenMPI cost every program start about 7 ms (74 shared libraries
- * instead of 57) although only solver.preconditioner = amg uses them.  Its
+/* The library is opened when the first AMG is created, not linked: linked,
+ * hypre and OpenMPI would slow every program start although only
+ * solver.preconditioner = amg uses them
+ * (docs/numerics/threads-and-platform.md).  Its
  * soname comes from the -dev package's libHYPRE.so link (Makefile); the
  * headers still give the types and prototypes, and each pointer below is
  * declared with its function's own type (__typeof__), so a prototype that
@@ -669,14 +670,9 @@ int amg_hypre_dropped_components(const struct amg_hypre *a)
     return m;
 }
 
-/* The library with OpenMPI initialised: the peak RSS of the heap at 14 x 20
- * grew by 12 MB with amg against lu.  The hierarchy: peak RSS less the
- * march's estimate without hypre's share, less 12 MB, over the unknowns, on
- * the heap with the full tangent and the default options (the matrix
- * fills in over the first steps: the whole solve's peak): 70 x 100 (21,000
- * unknowns) 99.5 - 48 MB, 1.87 kB an unknown; 140 x 200 (84,000, 6 steps)
- * 293 - 129 MB, 1.81 kB.  The bench's 280 x 400 peak of 1,155 MB against
- * this model's 1,140 MB. */
+/* The library with OpenMPI initialised, and the matrix with its hierarchy
+ * per unknown: fitted to the heap's peak RSS with amg against lu
+ * (docs/numerics/memory-estimate.md). */
 #define AMG_LIBRARY_BYTES 12e6
 #define AMG_BYTES_PER_UNKNOWN 2000.0
 

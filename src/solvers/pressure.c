@@ -71,6 +71,30 @@ void pressure_destroy(struct pressure_solver *ps)
     free(ps);
 }
 
+/* The multigrid's options for a variable coefficient on g: 1 when it is
+ * the whole grid's factorisation (a small 2D grid), else 0. */
+static int variable_options(const struct grid *g, struct multigrid_options *o)
+{
+    multigrid_default_options(o);
+    long cells = (long)grid_cells(g);
+    int flat = g->n[0] == 1 || g->n[1] == 1 || g->n[2] == 1;
+    if (!(flat && cells <= PRESSURE_DIRECT_CELLS))
+        return 0;
+    o->coarse_cells = cells;
+    /* the whole grid's factorisation runs beside the implicit step
+     * (pressure_finish, march/step.c): no BLAS in it, which the implicit
+     * step's factorisation calls at the same time */
+    o->coarse_simplicial = 1;
+    return 1;
+}
+
+double pressure_variable_memory_estimate(const struct grid *g)
+{
+    struct multigrid_options o;
+    variable_options(g, &o);
+    return multigrid_memory_estimate(g, &o) + (double)g->size * sizeof(double);
+}
+
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen)
 {
@@ -79,17 +103,7 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
         return 0;
     if (!ps->mg) {
         struct multigrid_options o;
-        multigrid_default_options(&o);
-        long cells = (long)grid_cells(ps->g);
-        int flat = ps->g->n[0] == 1 || ps->g->n[1] == 1 || ps->g->n[2] == 1;
-        if (flat && cells <= PRESSURE_DIRECT_CELLS) {
-            o.coarse_cells = cells;
-            /* the whole grid's factorisation runs beside the implicit
-             * step (pressure_finish, march/step.c): no BLAS in it, which
-             * the implicit step's factorisation calls at the same time */
-            o.coarse_simplicial = 1;
-            ps->direct = 1;
-        }
+        ps->direct = variable_options(ps->g, &o);
         if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, &o, err,
                              errlen) != 0)
             return -1;

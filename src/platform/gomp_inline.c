@@ -1,6 +1,7 @@
-/* GOMP_parallel, run inline in the one-thread sections (see gomp_inline.h). */
+/* muflow's own GOMP_parallel: regions of one thread run inline instead of
+ * paying libgomp's barrier (platform/gomp_inline.h). */
 #define _GNU_SOURCE /* RTLD_NEXT */
-#include "solvers/gomp_inline.h"
+#include "platform/gomp_inline.h"
 
 #include <dlfcn.h>
 #include <stdio.h>

@@ -1,8 +1,10 @@
 /* Symbols of a shared library opened on first use (amg_hypre.c,
- * suitesparse.c): each is resolved into a pointer typed from the library's
- * own prototype. */
-#ifndef MUFLOW_DYNLIB_H
-#define MUFLOW_DYNLIB_H
+ * suitesparse_open.c): the libraries are not linked, so that runs that need
+ * none start without them (docs/numerics/threads-and-platform.md); each
+ * symbol is resolved into a pointer typed from the library's own
+ * prototype. */
+#ifndef MUFLOW_PLATFORM_DYNLIB_H
+#define MUFLOW_PLATFORM_DYNLIB_H
 
 #include <dlfcn.h>
 

@@ -1,6 +1,7 @@
-/* Which BLAS the dlopen'ed libraries use, and its kernels (see blas.h). */
+/* Debian's serial OpenBLAS under the libraries muflow opens, its kernels
+ * named for the CPU (platform/blas.h). */
 #define _POSIX_C_SOURCE 200809L /* setenv */
-#include "solvers/blas.h"
+#include "platform/blas.h"
 
 #include <dlfcn.h>
 #include <stdlib.h>
@@ -17,10 +18,9 @@ static int prepared;
  * its oldest x86-64 kernels (Prescott, SSE3) for a model it does not know,
  * as version 0.3.21 does for virtual machines' "Intel Xeon Processor".
  * Naming the core from the CPU's features gives the factorisations' dense
- * blocks the AVX kernels: the coupled step's factorisation takes 0.26 s
- * instead of 0.34 s.  A core the user names (OPENBLAS_CORETYPE) is kept;
- * other BLAS ignore the variable.  It must be set before the library is
- * loaded: OpenBLAS reads it once. */
+ * blocks the AVX kernels.  A core the user names (OPENBLAS_CORETYPE) is
+ * kept; other BLAS ignore the variable.  It must be set before the library
+ * is loaded: OpenBLAS reads it once. */
 static void name_blas_core(void)
 {
     if (getenv("OPENBLAS_CORETYPE"))
