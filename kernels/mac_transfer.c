@@ -88,40 +88,27 @@ void kernel_prolong_velocity(const struct grid *fine, const struct grid *coarse,
         }
 }
 
-/* The weight fine index i of direction d gives coarse node I (0: none). */
-static double weight_1d(const struct grid *coarse, const struct boundary *bc, int coarsened, int a,
-                        int d, int i, double w2, int I)
+/* The contributions of the fine nodes of x-index i to the coarse nodes
+ * they draw on, scattered into y. */
+static void restrict_row(const struct grid *fine, const struct grid *coarse,
+                         const struct boundary *bc, const int f[3], int a, const struct box *act_f,
+                         double *const w[3], const double *x, double *y, int i)
 {
-    struct tap t[2];
-    int n = taps_1d(coarse, bc, coarsened, a, d, i, w2, t);
-    double w = 0.0;
-    for (int m = 0; m < n; m++)
-        if (t[m].at == I)
-            w += t[m].w;
-    return w;
-}
-
-/* The fine indices of direction d that can draw on coarse node I, in the
- * fine box (wrapped when periodic): at most four, their count returned. */
-static int sources_1d(const struct grid *fine, const struct boundary *bc, int coarsened, int a,
-                      int d, const struct box *act_f, int I, int out[4])
-{
-    if (!coarsened) {
-        out[0] = I;
-        return 1;
-    }
-    const int n = fine->n[d], periodic = bc->face[d][0] == BC_PERIODIC;
-    int m = 0;
-    const int last = d == a ? 2 * I + 1 : 2 * I + 2;
-    for (int i = 2 * I - 1; i <= last; i++) {
-        int q = i;
-        if (periodic)
-            q = q < 0 ? q + n : q >= n ? q - n : q;
-        if (q < act_f->lo[d] || q >= act_f->hi[d])
-            continue;
-        out[m++] = q;
-    }
-    return m;
+    for (int j = act_f->lo[1]; j < act_f->hi[1]; j++)
+        for (int k = act_f->lo[2]; k < act_f->hi[2]; k++) {
+            const ptrdiff_t p = grid_idx(fine, i, j, k);
+            struct tap ti[2], tj[2], tk[2];
+            int ni = taps_1d(coarse, bc, f[0] == 2, a, 0, i, w[0][p], ti);
+            int nj = taps_1d(coarse, bc, f[1] == 2, a, 1, j, w[1][p], tj);
+            int nk = taps_1d(coarse, bc, f[2] == 2, a, 2, k, w[2][p], tk);
+            const double xp = x[p];
+            for (int u = 0; u < ni; u++)
+                for (int v = 0; v < nj; v++) {
+                    double wuv = ti[u].w * tj[v].w * xp;
+                    for (int t = 0; t < nk; t++)
+                        y[grid_idx(coarse, ti[u].at, tj[v].at, tk[t].at)] += wuv * tk[t].w;
+                }
+        }
 }
 
 void kernel_restrict_velocity(const struct grid *fine, const struct grid *coarse,
@@ -133,31 +120,39 @@ void kernel_restrict_velocity(const struct grid *fine, const struct grid *coarse
     for (int d = 0; d < 3; d++)
         if (f[d] == 2)
             scale *= 0.5;
+    for (int I = act_c->lo[0]; I < act_c->hi[0]; I++)
+        for (int J = act_c->lo[1]; J < act_c->hi[1]; J++)
+            for (int K = act_c->lo[2]; K < act_c->hi[2]; K++)
+                y[grid_idx(coarse, I, J, K)] = 0.0;
+    /* a scatter (the transpose of the gather P): the fine rows of x-index i
+     * write the coarse rows of x-index I - 1 .. I + 1 around their home I,
+     * so the rows of one home run in one thread and homes three apart in
+     * parallel; the two homes at either end, which a periodic wrap joins,
+     * run serially after them */
+    const int step = f[0] == 2 ? 2 : 1, homes = coarse->n[0] + 1;
+    for (int colour = 0; colour < 3; colour++) {
+#pragma omp parallel for schedule(static) if (kernel_parallel(fine))
+        for (int home = 2 + colour; home < homes - 2; home += 3)
+            for (int t = 0; t < step; t++) {
+                int i = home * step + t;
+                if (i >= act_f->lo[0] && i < act_f->hi[0])
+                    restrict_row(fine, coarse, bc, f, a, act_f, w, x, y, i);
+            }
+    }
+    for (int home = 0; home < homes; home++) {
+        if (home >= 2 && home < homes - 2)
+            continue;
+        for (int t = 0; t < step; t++) {
+            int i = home * step + t;
+            if (i >= act_f->lo[0] && i < act_f->hi[0])
+                restrict_row(fine, coarse, bc, f, a, act_f, w, x, y, i);
+        }
+    }
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
     for (int I = act_c->lo[0]; I < act_c->hi[0]; I++)
-        for (int J = act_c->lo[1]; J < act_c->hi[1]; J++) {
-            int si[4], sj[4], sk[4];
-            int ni = sources_1d(fine, bc, f[0] == 2, a, 0, act_f, I, si);
-            int nj = sources_1d(fine, bc, f[1] == 2, a, 1, act_f, J, sj);
-            for (int K = act_c->lo[2]; K < act_c->hi[2]; K++) {
-                int nk = sources_1d(fine, bc, f[2] == 2, a, 2, act_f, K, sk);
-                double s = 0.0;
-                for (int u = 0; u < ni; u++)
-                    for (int v = 0; v < nj; v++)
-                        for (int t = 0; t < nk; t++) {
-                            const ptrdiff_t p = grid_idx(fine, si[u], sj[v], sk[t]);
-                            double wt = weight_1d(coarse, bc, f[0] == 2, a, 0, si[u], w[0][p], I);
-                            if (wt == 0.0)
-                                continue;
-                            wt *= weight_1d(coarse, bc, f[1] == 2, a, 1, sj[v], w[1][p], J);
-                            if (wt == 0.0)
-                                continue;
-                            wt *= weight_1d(coarse, bc, f[2] == 2, a, 2, sk[t], w[2][p], K);
-                            s += wt * x[p];
-                        }
-                y[grid_idx(coarse, I, J, K)] = scale * s;
-            }
-        }
+        for (int J = act_c->lo[1]; J < act_c->hi[1]; J++)
+            for (int K = act_c->lo[2]; K < act_c->hi[2]; K++)
+                y[grid_idx(coarse, I, J, K)] *= scale;
 }
 
 /* The conductance of the coupling of component a between the node at p and
@@ -234,36 +229,26 @@ void kernel_prolong_weights(const struct grid *fine, const struct boundary *bc, 
     }
 }
 
-int mac_transfer_mode; /* EXPERIMENT: bit 0 harmonic cells, bit 1 full-weighting edges */
 
 void kernel_coarsen_cells(const struct grid *fine, const struct grid *coarse, const int f[3],
-                          const double *x, double *y)
+                          int harmonic, const double *x, double *y)
 {
-    if (mac_transfer_mode & 1) {
-        const double share = 1.0 / (f[0] * f[1] * f[2]);
-        for (int I = 0; I < coarse->n[0]; I++)
-            for (int J = 0; J < coarse->n[1]; J++)
-                for (int K = 0; K < coarse->n[2]; K++) {
-                    double s = 0.0;
-                    for (int u = 0; u < f[0]; u++)
-                        for (int v = 0; v < f[1]; v++)
-                            for (int w = 0; w < f[2]; w++)
-                                s += 1.0 / x[grid_idx(fine, f[0] * I + u, f[1] * J + v, f[2] * K + w)];
-                    y[grid_idx(coarse, I, J, K)] = 1.0 / (share * s);
-                }
-        return;
-    }
     const double share = 1.0 / (f[0] * f[1] * f[2]);
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
     for (int I = 0; I < coarse->n[0]; I++)
         for (int J = 0; J < coarse->n[1]; J++)
             for (int K = 0; K < coarse->n[2]; K++) {
                 double s = 0.0;
+                int zero = 0;
                 for (int u = 0; u < f[0]; u++)
                     for (int v = 0; v < f[1]; v++)
-                        for (int w = 0; w < f[2]; w++)
-                            s += x[grid_idx(fine, f[0] * I + u, f[1] * J + v, f[2] * K + w)];
-                y[grid_idx(coarse, I, J, K)] = share * s;
+                        for (int w = 0; w < f[2]; w++) {
+                            double a = x[grid_idx(fine, f[0] * I + u, f[1] * J + v, f[2] * K + w)];
+                            zero |= a == 0.0;
+                            s += harmonic ? (a != 0.0 ? 1.0 / a : 0.0) : a;
+                        }
+                y[grid_idx(coarse, I, J, K)] =
+                    harmonic ? (zero ? 0.0 : 1.0 / (share * s)) : share * s;
             }
 }
 
@@ -298,35 +283,6 @@ void kernel_coarsen_edges(const struct grid *fine, const struct grid *coarse, co
     int hi[3] = {coarse->n[0] + 1, coarse->n[1] + 1, coarse->n[2] + 1};
     hi[k] -= 1; /* cells along the edge, faces across */
     const double share = 1.0 / f[k];
-    if (mac_transfer_mode & 2) {
-        for (int I = 0; I < hi[0]; I++)
-            for (int J = 0; J < hi[1]; J++)
-                for (int K = 0; K < hi[2]; K++) {
-                    const int c[3] = {I, J, K};
-                    double s = 0.0, ws = 0.0;
-                    int lo3[3], hi3[3];
-                    for (int d = 0; d < 3; d++) {
-                        if (d == k || f[d] == 1) { lo3[d] = 0; hi3[d] = 0; }
-                        else { lo3[d] = -1; hi3[d] = 1; }
-                    }
-                    for (int u = lo3[0]; u <= hi3[0]; u++)
-                        for (int v = lo3[1]; v <= hi3[1]; v++)
-                            for (int w = lo3[2]; w <= hi3[2]; w++)
-                                for (int t = 0; t < f[k]; t++) {
-                                    int q[3] = {f[0] * c[0] + u, f[1] * c[1] + v, f[2] * c[2] + w};
-                                    q[k] += t;
-                                    int ok = 1;
-                                    for (int d = 0; d < 3; d++)
-                                        if (d != k && (q[d] < 0 || q[d] > fine->n[d])) ok = 0;
-                                    if (!ok) continue;
-                                    double wt = (u ? 0.5 : 1.0) * (v ? 0.5 : 1.0) * (w ? 0.5 : 1.0);
-                                    s += wt * x[grid_idx(fine, q[0], q[1], q[2])];
-                                    ws += wt;
-                                }
-                    y[grid_idx(coarse, I, J, K)] = s / ws;
-                }
-        return;
-    }
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
     for (int I = 0; I < hi[0]; I++)
         for (int J = 0; J < hi[1]; J++)

@@ -106,6 +106,7 @@ static const struct {
     {"obstacle", group_obstacle},
     {"stretched", group_stretched},
     {"cases", group_cases},
+    {"velocity_mg", group_velocity_mg},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -13,9 +13,10 @@
  * halved): a weighted mean, as the coarse operator is the fine one
  * rediscretised (not summed over the children).
  *
- * The coefficients are carried by means: a cell's over its children, a
- * face's over the fine faces of its plane, an edge's over the fine edges
- * that lie on it. */
+ * The coefficients are carried by means: a cell's over its children (the
+ * normal-stress coefficients harmonic, as resistances in series), a face's
+ * over the fine faces of its plane, an edge's over the fine edges that lie
+ * on it. */
 #ifndef MUFLOW_KERNELS_MAC_TRANSFER_H
 #define MUFLOW_KERNELS_MAC_TRANSFER_H
 
@@ -48,9 +49,10 @@ void kernel_prolong_velocity(const struct grid *fine, const struct grid *coarse,
                              const struct box *act_f, const struct box *act_c,
                              double *const w[3], const double *y, double *x);
 
-/* Coarse cell values, the mean of their children (interior cells). */
+/* Coarse cell values, the mean of their children (interior cells):
+ * arithmetic, or harmonic (0 where a child is 0). */
 void kernel_coarsen_cells(const struct grid *fine, const struct grid *coarse, const int f[3],
-                          const double *x, double *y);
+                          int harmonic, const double *x, double *y);
 
 /* Coarse values on the faces normal to a (faces 0..n along a), the mean of
  * the fine faces of the plane they lie on. */

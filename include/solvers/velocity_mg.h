@@ -68,7 +68,9 @@ int velocity_mg_levels(const struct velocity_mg *m);
 void velocity_mg_level_size(const struct velocity_mg *m, int l, int n[3]);
 /* Bytes held. */
 size_t velocity_mg_bytes(const struct velocity_mg *m);
-/* Bytes velocity_mg_create and setup would hold on g (without the caller's). */
-double velocity_mg_memory_estimate(const struct grid *g, const struct velocity_mg_options *opt);
+/* Bytes velocity_mg_create and setup would hold on g (bc NULL: every
+ * direction of two cells or more taken as a line direction, an upper bound). */
+double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *bc,
+                                   const struct velocity_mg_options *opt);
 
 #endif

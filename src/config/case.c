@@ -119,7 +119,12 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "warning. `gmg`: matrix-free geometric multigrid (zebra line Gauss-Seidel, W(1,1)) of each "   \
     "velocity component along a periodic direction, inside GMRES(20); needs a periodic direction " \
     "and every periodic direction one cell across (a cross-section: the heap, the ducts); not "     \
-    "with `coupled`; a failed GMRES gives way to `lu` as above. `auto`, for grids varying in two "  \
+    "with `coupled`; a failed GMRES gives way to `lu` as above. `multigrid`: matrix-free "          \
+    "geometric multigrid of every velocity component together (line Gauss-Seidel over the "        \
+    "components, operator-dependent transfers, rediscretised coarse operators, only the coarsest " \
+    "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
+    "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
+    "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
     "cross-section's periodic direction (the heap, the square duct's mixed model) without "        \
     "augmentation, body or band; else `amg` on a steady 2D cross-section with Newton, no "          \
@@ -364,7 +369,8 @@ static const struct key keys[] = {
                  "tangent) or LU, AMG, or fourier (the line blocks of every plane Fourier mode, "
                  "for periodic directions across the lines), or gmg (geometric multigrid of the "
                  "velocity components along periodic directions inside GMRES, matrix-free: flows "
-                 "along a periodic direction such as the heap and the ducts) (auto, for grids "
+                 "along a periodic direction such as the heap and the ducts), or multigrid "
+                 "(every component's geometric multigrid, matrix-free) (auto, for grids "
                  "varying in two or more directions: gmg for the steady newton solves of the heap "
                  "and the square duct's mixed model without augmentation, a body or a band, else "
                  "amg on a steady 2D cross-section with newton, no augmentation and over 1e4 "
@@ -1283,9 +1289,9 @@ static void finish(struct ctx *x)
             return;
         }
         why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c)
-              : c->preconditioner == PRECOND_GMG
-                  ? "with solver.preconditioner = gmg: the coupled step solves its own matrix; "
-                    "set solver.preconditioner = lu or amg"
+              : c->preconditioner == PRECOND_GMG || c->preconditioner == PRECOND_MULTIGRID
+                  ? "with solver.preconditioner = gmg or multigrid: the coupled step solves its "
+                    "own matrix; set solver.preconditioner = lu or amg"
                   : NULL;
         if (why) {
             refuse(x, "solver.coupled = on %s", why);

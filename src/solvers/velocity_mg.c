@@ -49,20 +49,10 @@ struct velocity_mg {
 
 void velocity_mg_default_options(struct velocity_mg_options *o)
 {
-    o->pre = 1;
-    o->post = 1;
+    o->pre = 2;
+    o->post = 2;
     o->gamma = 1;
     o->coarse_cells = 256;
-    /* EXPERIMENT knobs */
-    extern int mac_transfer_mode;
-    if (getenv("MG_MODE"))
-        mac_transfer_mode = atoi(getenv("MG_MODE"));
-    if (getenv("MG_PRE"))
-        o->pre = o->post = atoi(getenv("MG_PRE"));
-    if (getenv("MG_GAMMA"))
-        o->gamma = atoi(getenv("MG_GAMMA"));
-    if (getenv("MG_COARSE"))
-        o->coarse_cells = atol(getenv("MG_COARSE"));
 }
 
 /* The directions a level halves: even, at least four cells. */
@@ -214,7 +204,7 @@ int velocity_mg_create(struct velocity_mg **out, const struct grid *g, const str
     (void)maxlen;
     struct mg_level *cl = &m->lv[m->nlevels - 1];
     if (sparse_direct_create(&cl->direct, &cl->g, cl->periodic, cl->act,
-                             getenv("MG_GALERKIN") ? 2 : 1, 1, err, errlen) != 0) {
+                             1, 1, err, errlen) != 0) {
         velocity_mg_destroy(m);
         return -1;
     }
@@ -230,23 +220,49 @@ void velocity_mg_level_size(const struct velocity_mg *m, int l, int n[3])
         n[d] = m->lv[l].g.n[d];
 }
 
-size_t velocity_mg_bytes(const struct velocity_mg *m)
+/* Field arrays a level holds: x, b, r, d and the stencils of each
+ * component, the prolongation's weights, the line factors, the work's
+ * divergence, and below the finest the coefficients of its operator. */
+static double level_fields(int nlines, int coarse)
 {
-    size_t fields = 0;
-    for (int l = 0; l < m->nlevels; l++) {
-        size_t per = 3 * 11 + 1; /* x b r d, stencils, the work's divergence */
-        if (l > 0)
-            per += 3 + 3 + 3 + 1; /* coefficients */
-        fields += per * m->lv[l].g.size;
-    }
-    return fields * sizeof(double);
+    return 3.0 * (4.0 + 7.0 + 3.0 + 2.0 * nlines) + 1.0 + (coarse ? 10.0 : 0.0);
 }
 
-double velocity_mg_memory_estimate(const struct grid *g, const struct velocity_mg_options *opt)
+size_t velocity_mg_bytes(const struct velocity_mg *m)
 {
-    (void)opt;
-    /* the levels sum to at most 4/3 of the finest in 2D, 8/7 in 3D */
-    return (3.0 * 11.0 + 1.0 + 10.0 / 3.0) * (4.0 / 3.0) * (double)g->size * sizeof(double);
+    double bytes = 0.0;
+    for (int l = 0; l < m->nlevels; l++)
+        bytes += level_fields(m->lv[l].nlines, l > 0) * (double)m->lv[l].g.size * sizeof(double);
+    return (size_t)bytes;
+}
+
+double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *bc,
+                                   const struct velocity_mg_options *opt)
+{
+    struct velocity_mg_options o;
+    if (opt)
+        o = *opt;
+    else
+        velocity_mg_default_options(&o);
+    int lines = 0;
+    for (int d = 0; d < 3; d++)
+        lines += (!bc || bc->face[d][0] != BC_PERIODIC) && g->n[d] >= 2;
+    /* the levels as velocity_mg_create builds them */
+    int n[3] = {g->n[0], g->n[1], g->n[2]};
+    double bytes = 0.0;
+    for (int l = 0; l < MAX_LEVELS; l++) {
+        double size = (double)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
+        bytes += level_fields(lines, l > 0) * size * sizeof(double);
+        int any = 0;
+        for (int d = 0; d < 3; d++)
+            any |= n[d] >= 4 && !(n[d] & 1);
+        if ((double)n[0] * n[1] * n[2] <= (double)o.coarse_cells || !any)
+            break;
+        for (int d = 0; d < 3; d++)
+            if (n[d] >= 4 && !(n[d] & 1))
+                n[d] /= 2;
+    }
+    return bytes;
 }
 
 /* The held masks and coarse held lists of level l (from level l - 1's). */
@@ -322,7 +338,7 @@ static int carry_coefficients(struct velocity_mg *m, int l)
         if ((!lv->A_cell[c] && !(lv->A_cell[c] = field_alloc(g))) ||
             (!lv->A_edge[c] && !(lv->A_edge[c] = field_alloc(g))))
             return -1;
-        kernel_coarsen_cells(&fl->g, g, lv->f, fp->A_cell[c], lv->A_cell[c]);
+        kernel_coarsen_cells(&fl->g, g, lv->f, 1, fp->A_cell[c], lv->A_cell[c]);
         bc_fill_scalar(g, m->bc, lv->A_cell[c]);
         pb->A_cell[c] = lv->A_cell[c];
         kernel_coarsen_edges(&fl->g, g, lv->f, c, fp->A_edge[c], lv->A_edge[c]);
@@ -337,7 +353,7 @@ static int carry_coefficients(struct velocity_mg *m, int l)
     if (fp->augmentation) {
         if (!lv->aug && !(lv->aug = field_alloc(g)))
             return -1;
-        kernel_coarsen_cells(&fl->g, g, lv->f, fp->augmentation, lv->aug);
+        kernel_coarsen_cells(&fl->g, g, lv->f, 0, fp->augmentation, lv->aug);
         bc_fill_scalar(g, m->bc, lv->aug);
         pb->augmentation = lv->aug;
     }
@@ -376,28 +392,6 @@ static void level_apply(void *ctx, double *v[3], double *out[3])
 {
     struct level_op *o = ctx;
     viscous_operator_eval(&o->lv->g, o->m->bc, o->lv->act, &o->lv->work, &o->lv->pb, v, out);
-}
-
-/* EXPERIMENT: the coarse level's operator as R A_f P (Galerkin) */
-static void galerkin_apply(void *ctx, double *v[3], double *out[3])
-{
-    struct level_op *o = ctx;
-    const struct velocity_mg *m = o->m;
-    struct mg_level *cl = o->lv, *fl = cl - 1;
-    const struct grid *g = &fl->g;
-    for (int c = 0; c < 3; c++)
-        memset(fl->d[c], 0, g->size * sizeof(double));
-    for (int c = 0; c < 3; c++)
-        if (box_size(&fl->act[c]) > 0)
-            kernel_prolong_velocity(g, &cl->g, m->bc, cl->f, c, &fl->act[c], &cl->act[c],
-                                    fl->pw[c], v[c], fl->d[c]);
-    viscous_operator_eval(g, m->bc, fl->act, &fl->work, &fl->pb, fl->d, fl->r);
-    for (int c = 0; c < 3; c++) {
-        memset(out[c], 0, cl->g.size * sizeof(double));
-        if (box_size(&cl->act[c]) > 0)
-            kernel_restrict_velocity(g, &cl->g, m->bc, cl->f, c, &fl->act[c], &cl->act[c],
-                                     fl->pw[c], fl->r[c], out[c]);
-    }
 }
 
 int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, char *err,
@@ -440,7 +434,7 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
             if (box_size(&lv->act[c]) > 0)
                 kernel_prolong_weights(&lv->g, m->bc, m->lv[l + 1].f, c, &lv->act[c],
                                        lv->pb.A_cell, lv->pb.A_edge, lv->pb.augmentation,
-                                       getenv("MG_LINEAR") != NULL, lv->pw[c]);
+                                       0, lv->pw[c]);
     }
     struct mg_level *cl = &m->lv[m->nlevels - 1];
     struct level_op op = {m, cl};
@@ -454,7 +448,7 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
                 for (int k = b->lo[2]; k < b->hi[2]; k++)
                     cl->b[c][grid_idx(&cl->g, i, j, k)] = 1.0;
     }
-    if (sparse_direct_factor(cl->direct, getenv("MG_GALERKIN") && m->nlevels > 1 ? galerkin_apply : level_apply, &op, cl->x, cl->r, 7, &probed) != 0 ||
+    if (sparse_direct_factor(cl->direct, level_apply, &op, cl->x, cl->r, 7, &probed) != 0 ||
         sparse_direct_prepare(cl->direct, cl->b, -1.0) != 0) {
         snprintf(err, errlen, "velocity multigrid: the coarsest level's factorisation: %s",
                  sparse_direct_cause(cl->direct));

@@ -1563,5 +1563,5 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
         doubles += (2.0 * MG_RESTART + 3.0) * 3.0 * cells;
     return doubles * sizeof(double) +
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0) +
-           (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL) : 0.0);
+           (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL, NULL) : 0.0);
 }
