@@ -10,11 +10,9 @@
 #include <string.h>
 #include "case_internal.h"
 #include "config/keys.h"
-#include "scenes/scene.h"
 
 #define HALF_PI 1.57079632679489661923
 
-extern const struct choice scene_choice_table[];
 const struct choice case_bc_choices[] = {
     {"periodic", BC_PERIODIC}, {"wall", BC_WALL}, {"slip", BC_SLIP},
     {"surface", BC_SURFACE}, {"lid", BC_LID}, {"open", BC_OPEN}, {"inflow", BC_INFLOW}, {NULL, 0}};
@@ -116,7 +114,7 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
  * section goes between [solver] and [output].  muflow --list prints their
  * help lines, muflow --list=markdown (docs/case_keys.md) their docs. */
 const struct key case_core_keys[] = {
-    CHO("case", "scene", scene, scene_choice_table,
+    CHO("case", "scene", scene, case_scene_choices,
         KEY_HELP("the flow problem: its exact or reference solution, profile and headline value "
                  "(the scenes above)",
                  NULL,

@@ -9,9 +9,6 @@
 #include "config/keys.h"
 #include "grid/grid.h"
 #include "grid/shapes.h"
-#include "march/march.h"
-#include "scenes/scene.h"
-#include "solvers/viscous_gmg.h"
 
 #define MAX_CELLS 500000000.0 /* cap on nx*ny*nz */
 
@@ -165,20 +162,6 @@ static int check_shapes_fit(struct case_ctx *x, struct shape_set *set)
     return check_regions(x, set);
 }
 
-const char *case_coupled_gmres_refusal(const struct muflow_case *c)
-{
-    /* its GMRES (saddle_krylov.h) is measured on the Bingham cavity only; on
-     * mu(I) it diverged (docs/numerics/coupled-step.md) */
-    if (c->rheo.law == LAW_MUI)
-        return "needs a law without the pressure's dependence (rheology.law = bingham or "
-               "newtonian) with solver.preconditioner = amg: on mu(I) its GMRES steps diverged "
-               "(the granular cylinder); set solver.preconditioner = lu";
-    if (bc_has_open(&c->bc))
-        return "with solver.preconditioner = amg needs no open face (its GMRES is not measured "
-               "there); set solver.preconditioner = lu";
-    return NULL;
-}
-
 int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *msg,
               size_t msglen)
 {
@@ -232,7 +215,7 @@ static int check_bands(struct case_ctx *x)
             return 1;
         }
         const char *need = NULL;
-        if (!case_scene(c)->stretched_grid)
+        if (!case_scene_of(c)->stretched_grid)
             need = "a scene built for varying cell sizes (case.scene = none or cylinder)";
         else if (!c->coupled || c->mode != MODE_STEADY)
             need = "solver.mode = steady with solver.coupled = on (the only pressure built for "
@@ -323,7 +306,8 @@ static int check_faces(struct case_ctx *x)
 
 /* The coupled step (stage_coupled.c): a steady Newton step of its own, whose
  * pressure needs no augmentation (its open faces' balance is in its matrix,
- * coupled_open.h); then the preconditioner the keys name against the case. */
+ * coupled_open.h); then the preconditioner the keys name against the case,
+ * which only the layers that build it know (case_checks.preconditioner). */
 static int check_solver(struct case_ctx *x)
 {
     const struct muflow_case *c = x->c;
@@ -336,24 +320,12 @@ static int check_solver(struct case_ctx *x)
             case_refuse(x, "solver.coupled = on %s", why);
             return 1;
         }
-        why = c->preconditioner == PRECOND_AMG ? case_coupled_gmres_refusal(c)
-              : c->preconditioner == PRECOND_GMG
-                  ? "with solver.preconditioner = gmg: the coupled step solves its own matrix; "
-                    "set solver.preconditioner = lu or amg"
-                  : NULL;
-        if (why) {
-            case_refuse(x, "solver.coupled = on %s", why);
-            return 1;
-        }
     }
-    /* the implicit step's geometric multigrid covers the velocity components
-     * along periodic directions (viscous_gmg.h) */
-    if (c->preconditioner == PRECOND_GMG) {
-        const char *why = viscous_gmg_refusal(c->n, &c->bc);
-        if (why) {
-            case_refuse(x, "%s", why);
-            return 1;
-        }
+    const struct case_checks *above = case_registered_checks();
+    char msg[512];
+    if (above->preconditioner && above->preconditioner(c, msg, sizeof msg) != 0) {
+        case_refuse(x, "%s", msg);
+        return 1;
     }
     return 0;
 }
@@ -392,7 +364,7 @@ static int read_shapes(struct case_ctx *x, struct shape_set *set)
 static int check_scene(struct case_ctx *x)
 {
     const struct muflow_case *c = x->c;
-    const struct scene *sc = case_scene(c);
+    const struct case_scene_info *sc = case_scene_of(c);
     const struct key_block *kb = sc->keys;
     char msg[512];
     if ((sc->check && sc->check(c, msg, sizeof msg) != 0) ||
@@ -415,7 +387,8 @@ static int check_time_step(struct case_ctx *x)
 }
 
 /* The law's own parameters, then the curve's derived values (I_1^N,
- * A_minus), once, from the final keys. */
+ * A_minus), once, from the final keys (case_checks.rheology_curve: the
+ * kernels' root finder). */
 static int check_rheology(struct case_ctx *x)
 {
     struct muflow_case *c = x->c;
@@ -430,9 +403,10 @@ static int check_rheology(struct case_ctx *x)
                     "rheology.yield_stress > 0");
         return 1;
     }
+    const struct case_checks *above = case_registered_checks();
     if (c->rheo.law == LAW_MUI) {
         char msg[512];
-        if (rheology_curve_setup(&c->rheo, msg, sizeof msg) != 0) {
+        if (above->rheology_curve && above->rheology_curve(&c->rheo, msg, sizeof msg) != 0) {
             case_refuse(x, "%s", msg);
             return 1;
         }
@@ -464,9 +438,9 @@ static const char *scene_names(char *names, size_t len)
 {
     size_t used = 0;
     names[0] = '\0';
-    for (int i = 1; i < scene_count() && used < len; i++)
+    for (int i = 1; i < case_scene_count() && used < len; i++)
         used += (size_t)snprintf(names + used, len - used, "%s%s", i > 1 ? "|" : "",
-                                 scene_at(i)->name);
+                                 case_scene_info(i)->name);
     return names;
 }
 
@@ -506,11 +480,13 @@ static int check_solvable(struct case_ctx *x)
     return 0;
 }
 
-/* The memory the run needs, from the case alone. */
+/* The memory the run needs, from the case alone (case_checks.memory: the
+ * march's estimate). */
 static int check_memory(struct case_ctx *x)
 {
+    const struct case_checks *above = case_registered_checks();
     char msg[512];
-    if (march_memory_check(x->c, msg, sizeof msg) != 0) {
+    if (above->memory && above->memory(x->c, msg, sizeof msg) != 0) {
         case_refuse(x, "%s", msg);
         return 1;
     }

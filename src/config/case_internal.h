@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include "config/case.h"
+#include "config/case_registry.h"
 #include "config/ini.h"
 #include "config/keys.h"
 
@@ -25,6 +26,16 @@ int case_core_key_index(const char *section, const char *name);
 /* The choices whose names the checks' messages repeat (value = index). */
 extern const struct choice case_bc_choices[];
 extern const struct choice case_plane_choices[];
+
+/* What the layers above registered (case_scenes.c): the scenes, in order,
+ * case.scene's choices (their names, {NULL, 0} after them), the checks. */
+int case_scene_count(void);
+const struct case_scene_info *case_scene_info(int index); /* NULL out of range */
+/* The case's scene (the default when its index is out of range), or NULL
+ * before any is registered. */
+const struct case_scene_info *case_scene_of(const struct muflow_case *c);
+extern struct choice case_scene_choices[CASE_SCENES_MAX + 1];
+const struct case_checks *case_registered_checks(void);
 
 /* The case's keys (case_scenes.c): the core table, and the scene's section
  * before [output]. */

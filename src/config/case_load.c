@@ -18,7 +18,6 @@
 #include "case_internal.h"
 #include "config/ini.h"
 #include "config/keys.h"
-#include "scenes/scene.h"
 
 /* The core sections, for the duplicate warnings and near misses. */
 static const char *const sections[] = {"case", "domain", "boundary", "obstacle", "physics",
@@ -112,10 +111,11 @@ static const char *near_section(const struct muflow_case *c, const char *s)
 /* " (a section of case.scene = NAME)" when s is another scene's section. */
 static void owner_hint(const char *s, char *out, size_t outlen)
 {
-    for (int i = 0; i < scene_count(); i++) {
-        const struct key_block *kb = scene_at(i)->keys;
+    for (int i = 0; i < case_scene_count(); i++) {
+        const struct key_block *kb = case_scene_info(i)->keys;
         if (kb && strcmp(kb->section, s) == 0) {
-            snprintf(out, outlen, " (a section of case.scene = %s)", scene_at(i)->name);
+            snprintf(out, outlen, " (a section of case.scene = %s)",
+                     case_scene_info(i)->name);
             return;
         }
     }
@@ -372,7 +372,7 @@ static int scene_of(const struct ini_events *ev)
             break;
         if (v->kind != INI_KEY || strcmp(v->section, "case") != 0 || strcmp(v->key, "scene") != 0)
             continue;
-        for (const struct choice *ch = scene_choices(); ch->name; ch++)
+        for (const struct choice *ch = case_scene_choices; ch->name; ch++)
             if (ini_equal_nocase(v->value, ch->name))
                 scene = ch->value;
     }
@@ -402,9 +402,17 @@ int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
     x.warn_ctx = warn_ctx;
     if (err && errlen)
         err[0] = '\0';
+    char b[SHOWN_MAX + 4];
+    /* without the scenes, case.scene has no values and the checks of the
+     * layers above would be skipped: refused, not read half-checked */
+    if (case_scene_count() == 0) {
+        case_fail(&x, "%s: no scenes are registered: a program calls run_init() (app/run.h) "
+                      "before loading a case",
+                  shown(x.where, b));
+        return 2;
+    }
 
     struct ini_events ev = {0};
-    char b[SHOWN_MAX + 4];
     int oom = 0;
     if (path && set_name(&x, path))
         oom = ini_read_file(&ev, path, x.where, err, errlen) != 0;

@@ -7,7 +7,6 @@
 #include "case_internal.h"
 #include "config/case.h"
 #include "config/keys.h"
-#include "scenes/scene.h"
 
 /* ------------------------------------------------------------------------ */
 /* The key list (muflow --list) */
@@ -17,21 +16,21 @@ void case_write_key_list(FILE *out)
     static struct muflow_case d; /* static: the case is large */
     case_defaults(&d);
     fprintf(out, "Scenes (case.scene):\n");
-    for (int i = 0; i < scene_count(); i++)
-        fprintf(out, "  %-16s %s\n", scene_at(i)->name, scene_at(i)->title);
+    for (int i = 0; i < case_scene_count(); i++)
+        fprintf(out, "  %-16s %s\n", case_scene_info(i)->name, case_scene_info(i)->title);
     fprintf(out, "\nKeys: section.key = default  (allowed values)\n      meaning\n");
     const char *section = NULL;
     for (int i = 0; i < case_core_nkeys; i++) {
         if (strcmp(case_core_keys[i].section, "output") == 0 && strcmp(section, "output") != 0)
-            for (int sc = 0; sc < scene_count(); sc++) { /* the scenes' own sections */
-                const struct key_block *kb = scene_at(sc)->keys;
+            for (int sc = 0; sc < case_scene_count(); sc++) { /* the scenes' own sections */
+                const struct key_block *kb = case_scene_info(sc)->keys;
                 if (!kb)
                     continue;
                 static struct muflow_case ds;
                 case_defaults(&ds);
                 case_set_scene(&ds, sc);
                 fprintf(out, "\n[%s]  (only with case.scene = %s)\n", kb->section,
-                        scene_at(sc)->name);
+                        case_scene_info(sc)->name);
                 for (int j = 0; j < kb->nkeys; j++)
                     key_write_help(case_scene_params(&ds), &kb->keys[j], out);
             }
