@@ -159,6 +159,7 @@ int main(int argc, char **argv)
 {
     struct test_tally tally = {0, 0};
     int unknown = 0;
+    run_init();
     /* MUFLOW_TEST_FILTER=test_pipe*: only the tests whose names match */
     const char *filter = getenv("MUFLOW_TEST_FILTER");
     if (filter && *filter)

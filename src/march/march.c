@@ -513,7 +513,7 @@ static double plan(const struct muflow_case *cs, const struct grid *g, int amg, 
     *kind = choose_preconditioner(cs, g, amg);
     double bytes = memory_estimate(cs, g, *kind);
     if (cs->coupled && cs->preconditioner == PRECOND_AUTO && *kind == VISCOUS_LU &&
-        avail > 0.0 && bytes > avail && !case_coupled_gmres_refusal(cs)) {
+        avail > 0.0 && bytes > avail && !saddle_krylov_refusal(cs->rheo.law, &cs->bc)) {
         double gmres = memory_estimate(cs, g, VISCOUS_AMG);
         if (gmres <= avail && amg_allowed(amg)) {
             *kind = VISCOUS_AMG;
@@ -698,7 +698,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         march_destroy(st);
         return -1;
     }
-    /* a stretched grid's steps are the coupled ones (case.c): no projection */
+    /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
     if ((!grid_stretched(g) && pressure_create(&st->pressure_solver, g,
                                                (const enum poisson_bc(*)[2])pbc, err,
                                                errlen) != 0) ||
