@@ -59,7 +59,7 @@ LIB_SRC    = $(filter-out src/app/main.c,$(wildcard src/*/*.c)) $(KERNEL_SRC)
 LIB_OBJ    = $(patsubst %.c,$(BUILD)/obj/%.o,$(LIB_SRC))
 TEST_SRC   = $(wildcard tests/*.c)
 TEST_OBJ   = $(patsubst %.c,$(BUILD)/obj/%.o,$(TEST_SRC))
-HEADERS    = $(wildcard include/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
+HEADERS    = $(wildcard include/*/*.h src/*/*.h kernels/*.h tests/*.h tests/fuzz/*.h)
 
 .PHONY: all deps run test clean check-deps check-asan fuzz install uninstall print-version print-deb-pkgs \
         case-keys docs FORCE

@@ -9,6 +9,7 @@
 #include <time.h>
 #include <unistd.h>
 #include "bench.h"
+#include "app/run.h"
 #include "io/output.h"
 
 static int cmp_double(const void *a, const void *b)
@@ -54,6 +55,7 @@ double bench_max(const double *x, int n)
 void bench_load(struct muflow_case *cs, const char *file, int n, char *const ov[])
 {
     char err[512];
+    run_init(); /* the scenes case_load reads case.scene against */
     if (case_load(cs, file, n, ov, err, sizeof err) != 0) {
         fprintf(stderr, "bench: %s\n", err);
         exit(2);

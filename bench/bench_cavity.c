@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "scenes/bingham_cavity.h"
+#include "app/run.h"
 #include "scenes/scene.h"
 #include "march/march.h"
 #include "diagnostics/profile.h"
@@ -39,6 +40,7 @@ static int write_fields(const char *dir, double bn, const struct march_state *st
 
 int main(int argc, char **argv)
 {
+    run_init();
     if (argc < 4) {
         fprintf(stderr, "usage: bench_cavity OUTDIR N [SECTION.KEY=VALUE...] BN...\n");
         return 2;

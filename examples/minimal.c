@@ -14,7 +14,7 @@
  * (after `make install`; in the source tree `make build/minimal` builds it
  * against build/libmuflow.a). */
 #include <stdio.h>
-#include "app/run.h"     /* run_case, run_exit_code; includes config/case.h and io/output.h */
+#include "app/run.h"     /* run_init, run_case, run_exit_code; includes config/case.h */
 
 int main(int argc, char **argv)
 {
@@ -22,6 +22,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: minimal CASE.ini [section.key=value ...]\n");
         return 2;
     }
+    /* The scenes and the checks the case reader needs, once. */
+    run_init();
     /* The case: every key of the file, then the overrides in order, checked
      * as the muflow command checks them (one line naming the key on error). */
     struct muflow_case cs;

@@ -25,7 +25,7 @@
 #include <stdio.h>
 #include "kernels/rheology.h"
 #include "rheology_inline.h"
-#include "config/keys.h" /* num_text: numbers in messages as case files write them */
+#include "platform/num_text.h" /* numbers in messages as case files write them */
 
 double rheology_pressure(const struct rheology *r, double p, double *dpreg_dp)
 {

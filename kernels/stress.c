@@ -78,11 +78,13 @@ stress_row(const double *restrict Aa, const double *restrict va, ptrdiff_t oa, d
 static inline __attribute__((always_inline)) void
 stress_loop(const struct grid *g, const struct box act[3], const double *const A_cell[3],
             const double *const A_edge[3], double *const v[3], double *out[3],
-            const int magnitude, const double vf)
+            const int magnitude, const double vf, const int only)
 {
     const ptrdiff_t *o = g->stride;
     const int par = kernel_parallel(g);
     for (int a = 0; a < 3; a++) {
+        if (only >= 0 && a != only)
+            continue;
         const struct box *bx = &act[a];
         const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
         const struct stress_dir d1 = {A_edge[3 - a - b1], v[b1], o[b1], 1.0 / g->h[b1]};
@@ -119,10 +121,12 @@ stress_loop(const struct grid *g, const struct box act[3], const double *const A
 static void stress_loop_stretched(const struct grid *g, const struct box act[3],
                                   const double *const A_cell[3], const double *const A_edge[3],
                                   double *const v[3], double *out[3], const int magnitude,
-                                  const double vf)
+                                  const double vf, const int only)
 {
     const ptrdiff_t *o = g->stride;
     for (int a = 0; a < 3; a++) {
+        if (only >= 0 && a != only)
+            continue;
         const struct box *bx = &act[a];
         const double *Aa = A_cell[a], *va = v[a];
         const ptrdiff_t oa = o[a];
@@ -175,10 +179,10 @@ void kernel_stress_divergence(const struct grid *g, const struct box act[3],
                               double *const v[3], double *out[3])
 {
     if (grid_stretched(g)) {
-        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, 0.0);
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, 0.0, -1);
         return;
     }
-    stress_loop(g, act, A_cell, A_edge, v, out, 0, 0.0);
+    stress_loop(g, act, A_cell, A_edge, v, out, 0, 0.0, -1);
 }
 
 void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
@@ -193,8 +197,19 @@ void kernel_stress_magnitude_at(const struct grid *g, const struct box act[3],
                                 double *const v[3], double v_floor, double *out[3])
 {
     if (grid_stretched(g)) {
-        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 1, v_floor);
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 1, v_floor, -1);
         return;
     }
-    stress_loop(g, act, A_cell, A_edge, v, out, 1, v_floor);
+    stress_loop(g, act, A_cell, A_edge, v, out, 1, v_floor, -1);
+}
+
+void kernel_stress_component(const struct grid *g, const struct box act[3], int c,
+                             const double *const A_cell[3], const double *const A_edge[3],
+                             double *const v[3], double *out[3])
+{
+    if (grid_stretched(g)) {
+        stress_loop_stretched(g, act, A_cell, A_edge, v, out, 0, 0.0, c);
+        return;
+    }
+    stress_loop(g, act, A_cell, A_edge, v, out, 0, 0.0, c);
 }

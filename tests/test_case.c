@@ -1,18 +1,21 @@
-/* Tests of the case-file reader (src/config/case.c): defaults, a full file,
+/* Tests of the case-file reader (src/config/case*.c): defaults, a full file,
  * overrides, every class of error, and the round trip through
  * case_write_ini.  Case files are written into a fresh mkdtemp directory. */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "app/run.h"
 #include "scenes/scene.h"
 #include "test_main.h"
 #include "config/case.h"
+#include "config/case_registry.h"
 #include "config/keys.h"
 
 #define MAX_FILES 16
@@ -1348,6 +1351,161 @@ static void test_write_format(void **state)
     free(buf);
 }
 
+/* ---------------------------------------------------------------------- */
+/* The case reader knows the layers above it only by what they register
+ * (config/case_registry.h): a scene list of its own and checks that record
+ * their calls stand in for muflow's here, and run_init restores those. */
+
+struct fake_block {
+    double width;
+};
+
+static const struct key fake_keys[] = {
+    KEY_DBL(struct fake_block, "fake", "width", width, "a width", KEY_GT0),
+};
+
+static void fake_defaults(void *block) { ((struct fake_block *)block)->width = 2.0; }
+
+static int fake_block_check(const struct muflow_case *cs, const void *block, char *msg,
+                            size_t msglen)
+{
+    (void)cs;
+    if (((const struct fake_block *)block)->width > 5.0) {
+        snprintf(msg, msglen, "fake.width = %g: must be at most 5 for this scene",
+                 ((const struct fake_block *)block)->width);
+        return 1;
+    }
+    return 0;
+}
+
+static const struct key_block fake_block_keys = {
+    .section = "fake", .keys = fake_keys, .nkeys = 1, .size = sizeof(struct fake_block),
+    .defaults = fake_defaults, .check = fake_block_check};
+
+static int fake_scene_check(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    if (cs->bc.face[2][0] != BC_WALL) {
+        snprintf(msg, msglen, "case.scene = fake needs boundary.zlo = wall");
+        return 1;
+    }
+    return 0;
+}
+
+static int fake_calls[3]; /* preconditioner, rheology curve, memory */
+
+static int fake_preconditioner(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    fake_calls[0]++;
+    if (cs->preconditioner == PRECOND_GMG) {
+        snprintf(msg, msglen, "solver.preconditioner = gmg: refused by the fake solver");
+        return 1;
+    }
+    return 0;
+}
+
+static int fake_curve(struct rheology *r, char *msg, size_t msglen)
+{
+    (void)msg, (void)msglen;
+    fake_calls[1]++;
+    r->i1n = 0.125; /* what the hook derives reaches the loaded case */
+    return 0;
+}
+
+static int fake_memory(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    fake_calls[2]++;
+    if (cs->n[0] > 1000) {
+        snprintf(msg, msglen, "domain.nx = %d: more than the fake machine holds", cs->n[0]);
+        return 1;
+    }
+    return 0;
+}
+
+static int restore_registry(void **state)
+{
+    (void)state;
+    run_init();
+    return 0;
+}
+
+static int load_with(struct muflow_case *cs, char *err, size_t errlen, int n, ...)
+{
+    char *ov[8];
+    va_list ap;
+    va_start(ap, n);
+    for (int i = 0; i < n; i++)
+        ov[i] = va_arg(ap, char *);
+    va_end(ap);
+    return case_load(cs, NULL, n, ov, err, errlen);
+}
+
+static void test_registered_layers(void **state)
+{
+    (void)state;
+    static const struct case_scene_info scenes[] = {
+        {.name = "none", .title = "no scene"},
+        {.name = "fake", .title = "a scene of this test", .keys = &fake_block_keys,
+         .check = fake_scene_check},
+    };
+    static const struct case_checks checks = {fake_preconditioner, fake_curve, fake_memory};
+    assert_int_equal(case_register_scenes(scenes, 2), 0);
+    case_register_checks(&checks);
+    static struct muflow_case cs;
+    char err[512];
+
+    /* the registered scene, its block's defaults and keys, every hook once */
+    memset(fake_calls, 0, sizeof fake_calls);
+    assert_int_equal(load_with(&cs, err, sizeof err, 3, "case.scene=fake", "boundary.zlo=wall",
+                               "boundary.zhi=wall"),
+                     0);
+    assert_int_equal(cs.scene, 1);
+    assert_true(((const struct fake_block *)case_scene_params(&cs))->width == 2.0);
+    assert_true(cs.rheo.i1n == 0.125);
+    for (int i = 0; i < 3; i++)
+        assert_int_equal(fake_calls[i], 1);
+    assert_int_equal(load_with(&cs, err, sizeof err, 4, "case.scene=fake", "boundary.zlo=wall",
+                               "boundary.zhi=wall", "fake.width=4.5"),
+                     0);
+    assert_true(((const struct fake_block *)case_scene_params(&cs))->width == 4.5);
+
+    /* refusals: the scene's and the hooks', each named after the override
+     * that set the key it names, as the reader's own */
+    static const struct {
+        const char *ov[4];
+        const char *want;
+    } bad[] = {
+        {{"case.scene=heap", "boundary.zlo=wall", "boundary.zhi=wall", "domain.nx=1"},
+         "override case.scene=heap: must be one of none|fake"},
+        {{"case.scene=fake", "boundary.zlo=slip", "boundary.zhi=wall", "domain.nx=1"},
+         "override case.scene=fake, override boundary.zlo=slip: case.scene = fake needs "
+         "boundary.zlo = wall"},
+        {{"case.scene=fake", "boundary.zlo=wall", "boundary.zhi=wall", "fake.width=6"},
+         "override fake.width=6: fake.width = 6: must be at most 5 for this scene"},
+        {{"case.scene=fake", "boundary.zlo=wall", "boundary.zhi=wall",
+          "solver.preconditioner=gmg"},
+         "override solver.preconditioner=gmg: solver.preconditioner = gmg: refused by the fake "
+         "solver"},
+        {{"case.scene=fake", "boundary.zlo=wall", "boundary.zhi=wall", "domain.nx=2000"},
+         "override domain.nx=2000: domain.nx = 2000: more than the fake machine holds"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        assert_int_equal(load_with(&cs, err, sizeof err, 4, bad[i].ov[0], bad[i].ov[1],
+                                   bad[i].ov[2], bad[i].ov[3]),
+                         2);
+        print_message("%s\n", err);
+        assert_string_equal(err, bad[i].want);
+    }
+
+    /* no scenes: every case refused, saying what the program must do */
+    assert_int_equal(case_register_scenes(scenes, CASE_SCENES_MAX + 1), -1);
+    assert_int_equal(case_register_scenes(scenes, 0), 0);
+    assert_int_equal(load_with(&cs, err, sizeof err, 2, "boundary.zlo=wall", "boundary.zhi=wall"),
+                     2);
+    print_message("%s\n", err);
+    assert_string_equal(err, "case: no scenes are registered: a program calls run_init() "
+                             "(app/run.h) before loading a case");
+}
+
 void group_case(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -1373,6 +1531,7 @@ void group_case(struct test_tally *t)
         cmocka_unit_test_setup_teardown(test_round_trip, tmp_setup, tmp_teardown),
         cmocka_unit_test(test_write_format),
         cmocka_unit_test(test_docs_key_order),
+        cmocka_unit_test_teardown(test_registered_layers, restore_registry),
     };
     RUN_GROUP(t, "case", tests);
 }

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "app/run.h" /* run_init */
 #include "test_main.h"
 
 static const struct {
@@ -42,6 +43,7 @@ static const struct {
     {"obstacle", group_obstacle},
     {"stretched", group_stretched},
     {"cases", group_cases},
+    {"velocity_mg", group_velocity_mg},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
@@ -94,6 +96,7 @@ int main(int argc, char **argv)
 {
     struct test_tally tally = {0, 0};
     int unknown = 0;
+    run_init();
     /* MUFLOW_TEST_FILTER=test_pipe*: only the tests whose names match */
     const char *filter = getenv("MUFLOW_TEST_FILTER");
     if (filter && *filter)

@@ -203,11 +203,12 @@ static void test_runner_any_folder(void **state)
 
 static const char prog[] =
     "#include <stdio.h>\n"
-    "#include \"config/case.h\"\n"
+    "#include \"app/run.h\"\n"
     "int main(int argc, char **argv)\n"
     "{\n"
     "    static struct muflow_case cs;\n"
     "    char err[512];\n"
+    "    run_init();\n"
     "    if (argc < 2 || case_load(&cs, argv[1], 0, NULL, err, sizeof err) != 0)\n"
     "        return fprintf(stderr, \"%s\\n\", argc < 2 ? \"usage: prog CASE\" : err), 1;\n"
     "    printf(\"%s %d %d %d\\n\", cs.name, cs.n[0], cs.n[1], cs.n[2]);\n"

@@ -8,6 +8,12 @@
 #include "march/march.h"
 #include "io/output.h"
 
+/* Hands the case reader (config, the bottom layer) what the layers above
+ * it know: the scenes of the registry and the checks that need the solvers,
+ * the friction curve and the march (config/case_registry.h).  Once, before
+ * the first case_load or case_defaults; later calls change nothing. */
+void run_init(void);
+
 /* What run_case_opts returns (PETSc-like: 0 or a negative code, cause in err). */
 enum run_error {
     RUN_OK = 0,

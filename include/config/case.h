@@ -6,9 +6,9 @@
 
 #include <stddef.h>
 #include <stdio.h>
+#include "config/rheology_params.h"
 #include "grid/boundary.h"
 #include "grid/grid.h"
-#include "kernels/rheology.h"
 
 /* obstacle.plane: the shapes' coordinates (A, B) are along these directions */
 enum obstacle_plane { OBSTACLE_XZ = 0, OBSTACLE_XY, OBSTACLE_YZ };
@@ -16,16 +16,16 @@ enum obstacle_plane { OBSTACLE_XZ = 0, OBSTACLE_XY, OBSTACLE_YZ };
  * the body held at 0, first order: for comparison) */
 enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE };
 
-struct scene;
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
-                     PRECOND_FOURIER, PRECOND_GMG };
+                     PRECOND_FOURIER, PRECOND_GMG, PRECOND_MULTIGRID };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
 
 struct muflow_case {
     char name[128];          /* case name: the file's base name without .ini */
-    int scene;               /* case.scene: index in the scene registry (scenes/scene.h);
-                                case_scene() gives the scene itself */
+    int scene;               /* case.scene: the scene's index in the registry's order, as
+                                registered with the case reader (case_registry.h);
+                                case_scene() of scenes/scene.h gives the scene itself */
     char reference[512];     /* case.reference: published data to compare with (a path
                                 relative to the case file's folder; stored absolute) */
 
@@ -103,14 +103,16 @@ struct muflow_case {
     long checkpoint_every;   /* steps between checkpoints (0: only when stopped) */
 };
 
-/* The case's scene, and its parameter block (the scene's key_block struct). */
-const struct scene *case_scene(const struct muflow_case *c);
+/* The case's scene's parameter block (the scene's key_block struct). */
 const void *case_scene_params(const struct muflow_case *c);
 void *case_scene_params_mut(struct muflow_case *c);
 
 /* Loads path (an INI file) then applies overrides "section.key=value" in order.
  * On failure returns 2 and writes one line naming the file / key, the value and
- * what is allowed into err; nothing is written to disk.  Returns 0 on success. */
+ * what is allowed into err; nothing is written to disk.  Returns 0 on success.
+ * The scenes and the checks of the layers above are registered first
+ * (run_init of app/run.h; case_registry.h): until the scenes are, every
+ * case is refused. */
 int case_load(struct muflow_case *c, const char *path, int noverrides,
               char *const overrides[], char *err, size_t errlen);
 
@@ -124,15 +126,10 @@ int case_load_warn(struct muflow_case *c, const char *path, int noverrides,
                    char *const overrides[], case_warn_fn warn, void *warn_ctx, char *err,
                    size_t errlen);
 
-/* Why the coupled step's GMRES (solver.coupled with solver.preconditioner =
- * amg) is refused for this case (a mu(I) law, an open face), a phrase that
- * follows "solver.coupled = on"; NULL where it is allowed. */
-const char *case_coupled_gmres_refusal(const struct muflow_case *c);
-
 /* Defaults for every key (what a case file may leave out), scene "none". */
 void case_defaults(struct muflow_case *c);
 
-/* Sets the scene (a registry index) and its keys' defaults. */
+/* Sets the scene (a registered index) and its keys' defaults. */
 void case_set_scene(struct muflow_case *c, int scene);
 
 /* Writes every key with its value in the case file's own format (used in the
@@ -149,7 +146,7 @@ int case_visit_keys(const struct muflow_case *c,
                     void *ctx);
 
 /* The core key table (keys.h), in the order case_write_ini writes it; a
- * scene's own keys are its key_block (scene.h). */
+ * scene's own keys are its key_block (case_registry.h). */
 struct key;
 int case_key_count(void);
 const struct key *case_key_at(int i); /* NULL out of range */

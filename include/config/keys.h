@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include "platform/num_text.h" /* num_text: numbers as key_text writes them */
 
 enum ktype { K_DOUBLE, K_INT, K_LONG, K_BOOL, K_CHOICE, K_STRING };
 
@@ -100,15 +101,6 @@ const char *key_parse(void *base, const struct key *k, const char *value, char *
 /* The value of key k in base as case files and summaries write it: doubles
  * as the shortest text that reads back to the same value. */
 void key_text(const void *base, const struct key *k, char *val, size_t len);
-
-/* The shortest text that reads back as exactly v, the form case files and
- * summaries write numbers in (key_text), for messages:
- * snprintf(msg, len, "... = %s", num_text(v).s).  The array lives to the end
- * of the full expression that calls num_text (C11 6.2.4p8). */
-struct num_text {
-    char s[32];
-};
-struct num_text num_text(double v);
 
 /* "must be ..." for a number key. */
 void key_range_text(const struct key *k, char *out, size_t outlen);

@@ -145,6 +145,11 @@ void kernel_stress_divergence(const struct grid *g, const struct box act[3],
 /* The same sum with every term replaced by its magnitude (differences by the
  * sums of the absolute values): the rounding error of the stress divergence
  * is a few machine epsilons times this. */
+/* The divergence's component c alone (out[c]; the others untouched). */
+void kernel_stress_component(const struct grid *g, const struct box act[3], int c,
+                             const double *const A_cell[3], const double *const A_edge[3],
+                             double *const v[3], double *out[3]);
+
 void kernel_stress_magnitude(const struct grid *g, const struct box act[3],
                              const double *const A_cell[3], const double *const A_edge[3],
                              double *const v[3], double *out[3]);

@@ -38,31 +38,7 @@
 #define MUFLOW_RHEOLOGY_H
 
 #include <stddef.h>
-
-enum rheology_law { LAW_MUI = 0, LAW_BINGHAM, LAW_NEWTONIAN };
-enum regularisation { REG_SIMPLE = 0, REG_BERCOVIER, REG_PAPANASTASIOU, REG_MC };
-enum rheology_curve { CURVE_JOP = 0, CURVE_BARKER_GRAY };
-
-struct rheology {
-    enum rheology_law law;
-    enum regularisation reg;
-    double lambda;            /* regularisation parameter (a shear rate) */
-    int pressure_regularisation; /* 1: p_reg as above; 0: max(p, 0) */
-    /* mu(I) */
-    double mu_s, delta_mu, i0;
-    enum rheology_curve curve; /* the friction curve mu(I) */
-    double alpha, mu_inf;     /* barker_gray: low-I exponent, high-I slope */
-    /* barker_gray, derived when the case is loaded (rheology_curve_setup),
-     * not keys: the lower well-posed bound I_1^N and A_minus */
-    double i1n, a_minus;
-    double phi;               /* solid volume fraction */
-    double grain_diameter;    /* d */
-    double grain_density;     /* rho_s */
-    /* Bingham */
-    double yield_stress, plastic_viscosity;
-    /* Newtonian */
-    double viscosity;
-};
+#include "config/rheology_params.h" /* struct rheology: the [rheology] keys */
 
 /* Value and first derivatives of the viscosity at one point. */
 struct rheology_point {

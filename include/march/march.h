@@ -187,6 +187,14 @@ double march_available_memory(void);
  * library's answer). */
 int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen);
 
+/* The preconditioner solver.preconditioner names against the case, where
+ * the march picks the solvers: the coupled step's (solver.coupled) GMRES
+ * (saddle_krylov_refusal) and its refusal of gmg, and the implicit step's
+ * geometric multigrid (viscous_gmg_refusal).  1 with one line in msg naming
+ * the keys, else 0.  The case reader calls it when a case is loaded
+ * (case_registry.h), so that the command refuses before any allocation. */
+int march_preconditioner_refusal(const struct muflow_case *cs, char *msg, size_t msglen);
+
 /* What residuals are relative to (rho g, or the first residual), and the
  * smallest cell size of the directions with more than one cell. */
 double march_force_scale(const struct march_state *st);

@@ -124,12 +124,16 @@ const char *scene_error_name(const struct scene *s);
 int scene_has_reference(const struct scene *s);
 
 /* The registry (src/scenes/registry.c). */
+/* Hands the case reader each scene's name, title, section of keys, check
+ * and stretched_grid (config/case_registry.h), in registry order: the
+ * values of case.scene.  run_init (app/run.h) calls it. */
+void scenes_register(void);
 int scene_count(void);
 const struct scene *scene_at(int index);
 /* Index of the scene called name, or -1. */
 int scene_find(const char *name);
-/* The scene choices of case.scene ({name, index} ..., {NULL, 0}). */
-const struct choice *scene_choices(void);
+/* The case's scene (case.scene; the default, none, out of range). */
+const struct scene *case_scene(const struct muflow_case *c);
 /* Every name of an output file that a scene or a physics module of muflow
  * writes besides the run's own (summary.ini, ...): each scene's files, its
  * modules' files, those of march_case_modules and of extra (a program's

@@ -18,16 +18,24 @@
  * the pseudo-time mass dominates, by dt / rho.  Measured on the Bingham
  * cavity (docs/design.md, "The coupled step by GMRES"): 27-63 iterations a
  * step from 32 x 32 to 256 x 256; the diagonal alone took 200-500 in the
- * tangent steps.  The march refuses it on mu(I) and with open faces
- * (case_coupled_gmres_refusal). */
+ * tangent steps.  It is refused on mu(I) and with open faces
+ * (saddle_krylov_refusal). */
 #ifndef MUFLOW_SADDLE_KRYLOV_H
 #define MUFLOW_SADDLE_KRYLOV_H
 
 #include <stddef.h>
+#include "config/rheology_params.h"
+#include "grid/boundary.h"
 #include "solvers/amg_hypre.h"
 #include "solvers/csr.h"
 
 struct saddle_krylov;
+
+/* Why this GMRES cannot serve the coupled step of a case with this law and
+ * these faces: a phrase that follows "solver.coupled = on", naming the keys
+ * to change; NULL where it can.  It is measured on the Bingham cavity only;
+ * on mu(I) it diverged (docs/numerics/coupled-step.md). */
+const char *saddle_krylov_refusal(enum rheology_law law, const struct boundary *bc);
 
 /* For systems of n unknowns whose first nu are velocities, comp[k] the
  * component of velocity unknown k.  Returns 0, or -1 with a message (hypre

@@ -23,34 +23,8 @@
 #include "kernels/embedded.h"
 #include "kernels/kernels.h"
 #include "solvers/amg_hypre.h"
+#include "solvers/viscous_operator.h"
 
-struct viscous_problem {
-    double mass;                  /* rho / dt (the scale, and the mass term when
-                                     mass_face is NULL) */
-    const double *mass_face[3];   /* rho_f / dt per face (variable density), or NULL */
-    const double *augmentation;   /* cell field r >= 0 (ghosts filled) or NULL: adds
-                                     -grad(r div x), the augmented-Lagrangian term that
-                                     lets the pressure converge in few steps */
-    const double *A_cell[3];      /* normal-stress coefficients, ghosts filled */
-    const double *A_edge[3];      /* shear-stress coefficients per edge plane */
-    /* Full consistent tangent (non-symmetric): with b_cell set, the operator
-     * adds -div(b d|D|^2[x] gamma(base)) (kernels.h); A_* are then the
-     * viscosities.  NULL: the symmetric operator above. */
-    const double *b_cell;
-    const double *b_edge[3];
-    double *const *base;          /* the velocity the tangent is taken at */
-    /* With the full tangent, the coefficients of the symmetric operator a
-     * Cholesky factorisation takes instead (VISCOUS_CHOLESKY): the diagonal
-     * tangent, normal and shear; NULL: A_* (the lagged viscosity) */
-    const double *sym_cell[3];
-    const double *sym_edge[3];
-    /* an embedded solid body (kernels/embedded.h), or NULL: its nodes are
-     * held at 0 with mass-only rows, and the links the surface cuts end on it */
-    const struct embedded *embedded;
-    /* 1: the open faces' normal increments are given, not the inner faces'
-     * (boundary.h, bc_fill_velocity_open_given) */
-    int open_given;
-};
 
 struct viscous_stats {
     int iterations;
@@ -62,7 +36,7 @@ struct viscous_stats {
 struct viscous_solver;
 
 enum viscous_precond { VISCOUS_LINE = 0, VISCOUS_CHOLESKY, VISCOUS_LU, VISCOUS_AMG, VISCOUS_FOURIER,
-                        VISCOUS_GMG };
+                        VISCOUS_GMG, VISCOUS_MG };
 
 /* line_dir: 0, 1, 2, or -1 to pick the non-periodic direction with most cells.
  * kind: line blocks; the probed sparse Cholesky factorisation of the
@@ -200,14 +174,5 @@ void viscous_allow_lu_fallback(struct viscous_solver *s, int on);
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 
-/* An embedded body's share of -div tau (kernels/embedded.h): the links the
- * surface cuts end on it, and the Laplacian form, -div tau + grad(A div v)
- * with A = A_cell[0] (the cut cells' plain divergence is not 0).  scale 1:
- * the implicit operator's (mass - div tau) v; -1: the residual's + div tau.
- * One place for both, so the operator stays the residual's linearisation. */
-void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
-                            const struct box act[3], const struct embedded *e,
-                            const double *const A_cell[3], const double *const A_edge[3],
-                            double scale, double *const v[3], double *out[3]);
 
 #endif

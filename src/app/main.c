@@ -258,6 +258,7 @@ static int refuse_arguments(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    run_init();
     int refused = refuse_arguments(argc, argv);
     if (refused)
         return refused;

@@ -5,9 +5,9 @@
  * every key shares, is fixed text here. */
 #include <ctype.h>
 #include <string.h>
+#include "case_internal.h"
 #include "config/case.h"
 #include "config/keys.h"
-#include "scenes/scene.h"
 
 static const char preamble[] =
     "# Case keys\n"
@@ -142,14 +142,14 @@ static void section_heading(FILE *out, const char *section, const char *intro)
 static void scene_sections(FILE *out)
 {
     static struct muflow_case d; /* static: the case is large */
-    for (int sc = 0; sc < scene_count(); sc++) {
-        const struct key_block *kb = scene_at(sc)->keys;
+    for (int sc = 0; sc < case_scene_count(); sc++) {
+        const struct key_block *kb = case_scene_info(sc)->keys;
         if (!kb)
             continue;
         case_defaults(&d);
         case_set_scene(&d, sc);
         fprintf(out, "\n### `[%s]`\n\nOnly with `case.scene = %s`.", kb->section,
-                scene_at(sc)->name);
+                case_scene_info(sc)->name);
         if (kb->intro)
             fprintf(out, "  %s", kb->intro);
         fputs("\n\n", out);
@@ -165,9 +165,9 @@ void case_write_key_markdown(FILE *out)
     fputs("\n## Scenes\n\n`case.scene` chooses one; a scene with its own section has keys there.\n\n"
           "| `case.scene` | Flow problem |\n|---|---|\n",
           out);
-    for (int i = 0; i < scene_count(); i++) {
-        fprintf(out, "| `%s` | ", scene_at(i)->name);
-        cell(out, scene_at(i)->title);
+    for (int i = 0; i < case_scene_count(); i++) {
+        fprintf(out, "| `%s` | ", case_scene_info(i)->name);
+        cell(out, case_scene_info(i)->title);
         fputs(" |\n", out);
     }
     fputs("\n## Sections\n", out);

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "config/keys.h" /* num_text: numbers in messages as case files write them */
+#include "platform/num_text.h" /* numbers in messages as case files write them */
 
 #define FIELD_ALIGN 64
 

@@ -17,7 +17,7 @@ static int zero_pressure(enum bc_kind k) { return k == BC_SURFACE || k == BC_OPE
 /* The hydrostatic pressure (below) in closed form, for a grid whose
  * spacing varies (no Poisson solver takes it): where every boundary face of
  * a non-periodic direction is closed (the stretched grids have no open
- * face: case.c), p = f_a scale (x_a - len_a / 2) summed over those
+ * face: case_checks.c), p = f_a scale (x_a - len_a / 2) summed over those
  * directions has the flux f_a scale on every interior face, as the force,
  * and the closed faces pass none, which is the split's discrete problem; a
  * periodic direction's uniform flux has no divergence.  Zero mean over the

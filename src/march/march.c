@@ -242,6 +242,7 @@ static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, 
     case PRECOND_AMG: return VISCOUS_AMG;
     case PRECOND_FOURIER: return VISCOUS_FOURIER;
     case PRECOND_GMG: return VISCOUS_GMG;
+    case PRECOND_MULTIGRID: return VISCOUS_MG;
     case PRECOND_AUTO: break;
     }
     /* the coupled step probes and factorises its own matrix: the viscous
@@ -425,7 +426,8 @@ static enum poisson_bc projection_bc(enum bc_kind k)
  * blocks' bands and the multigrid's coarsest level aside). */
 static int without_factors(enum viscous_precond kind)
 {
-    return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG;
+    return kind == VISCOUS_LINE || kind == VISCOUS_FOURIER || kind == VISCOUS_GMG ||
+           kind == VISCOUS_MG;
 }
 
 static double memory_estimate(const struct muflow_case *cs, const struct grid *g,
@@ -511,7 +513,7 @@ static double plan(const struct muflow_case *cs, const struct grid *g, int amg, 
     *kind = choose_preconditioner(cs, g, amg);
     double bytes = memory_estimate(cs, g, *kind);
     if (cs->coupled && cs->preconditioner == PRECOND_AUTO && *kind == VISCOUS_LU &&
-        avail > 0.0 && bytes > avail && !case_coupled_gmres_refusal(cs)) {
+        avail > 0.0 && bytes > avail && !saddle_krylov_refusal(cs->rheo.law, &cs->bc)) {
         double gmres = memory_estimate(cs, g, VISCOUS_AMG);
         if (gmres <= avail && amg_allowed(amg)) {
             *kind = VISCOUS_AMG;
@@ -678,7 +680,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
      * one with it (the heap at 140 x 200: 58 steps instead of the diagonal
      * tangent's 460; docs/design.md, "The Cholesky of the diagonal tangent") */
     st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY ||
-                        kind == VISCOUS_GMG ||
+                        kind == VISCOUS_GMG || kind == VISCOUS_MG ||
                         cs->coupled) && cs->newton;
     int ok = 1;
     if (cs->augmentation > 0.0) {
@@ -696,7 +698,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
         march_destroy(st);
         return -1;
     }
-    /* a stretched grid's steps are the coupled ones (case.c): no projection */
+    /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
     if ((!grid_stretched(g) && pressure_create(&st->pressure_solver, g,
                                                (const enum poisson_bc(*)[2])pbc, err,
                                                errlen) != 0) ||

@@ -2,6 +2,8 @@
  * default ("none").  A new scene is its own file under src/scenes/ that
  * defines `const struct scene scene_NAME`, plus its line here. */
 #include <string.h>
+#include "config/case.h"
+#include "config/case_registry.h"
 #include "config/keys.h"
 #include "march/march.h"
 #include "march/module.h"
@@ -28,11 +30,17 @@ SCENE_LIST(DECLARE)
 static const struct scene *const registry[] = {SCENE_LIST(ENTRY)};
 #define NSCENES ((int)(sizeof registry / sizeof registry[0]))
 
-#define INDEX(s) index_##s,
-enum { SCENE_LIST(INDEX) };
-#define CHOICE(s) {#s, index_##s},
-/* The values of case.scene (config/case.c), in registry order. */
-const struct choice scene_choice_table[] = {SCENE_LIST(CHOICE){NULL, 0}};
+_Static_assert(NSCENES <= CASE_SCENES_MAX, "CASE_SCENES_MAX: room for every scene");
+
+void scenes_register(void)
+{
+    struct case_scene_info info[NSCENES];
+    for (int i = 0; i < NSCENES; i++)
+        info[i] = (struct case_scene_info){registry[i]->name, registry[i]->title,
+                                           registry[i]->keys, registry[i]->check,
+                                           registry[i]->stretched_grid};
+    case_register_scenes(info, NSCENES); /* cannot fail: NSCENES fits */
+}
 
 int scene_count(void) { return NSCENES; }
 
@@ -49,7 +57,11 @@ int scene_find(const char *name)
     return -1;
 }
 
-const struct choice *scene_choices(void) { return scene_choice_table; }
+const struct scene *case_scene(const struct muflow_case *c)
+{
+    const struct scene *s = scene_at(c->scene);
+    return s ? s : registry[0];
+}
 
 const char *scene_solution_name(const struct scene *s)
 {

@@ -35,7 +35,7 @@ static inline int scene_layer_fits(double height, double lz, double h)
     }
 
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block
- * NAME (parse, check, write back; case.c) with INTRO, the section's
+ * NAME (parse, check, write back: config/keys.h) with INTRO, the section's
  * description in docs/case_keys.md (Markdown), the compile-time check that
  * TYPE fits the case's scene block, and params(cs), the block of a loaded
  * case. */

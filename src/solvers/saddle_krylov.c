@@ -12,6 +12,18 @@
  * one after 150 57); at 256 x 256 a few steps take up to 170 */
 #define SADDLE_RESTART 64
 
+const char *saddle_krylov_refusal(enum rheology_law law, const struct boundary *bc)
+{
+    if (law == LAW_MUI)
+        return "needs a law without the pressure's dependence (rheology.law = bingham or "
+               "newtonian) with solver.preconditioner = amg: on mu(I) its GMRES steps diverged "
+               "(the granular cylinder); set solver.preconditioner = lu";
+    if (bc_has_open(bc))
+        return "with solver.preconditioner = amg needs no open face (its GMRES is not measured "
+               "there); set solver.preconditioner = lu";
+    return NULL;
+}
+
 struct saddle_krylov {
     int n, nu;
     struct amg_hypre *amg;

@@ -14,6 +14,7 @@
 #include "solvers/amg_hypre.h"
 #include "solvers/fourier_lines.h"
 #include "solvers/viscous_gmg.h"
+#include "solvers/velocity_mg.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous.h"
@@ -121,6 +122,10 @@ struct viscous_solver {
     double *gmg_b, *gmg_x;             /* their gathered right-hand side and solution */
     double *flow_gb[2];                /* the flow block's base strains (kernel_flow_gammas),
                                           set by each Newton solve that uses it */
+    struct velocity_mg *mg;            /* VISCOUS_MG: the velocity multigrid */
+    int mg_ok;                         /* it serves this solve */
+    struct gmres *mg_gm;               /* flexible GMRES on every unknown */
+    double *mg_b, *mg_x;               /* gathered right-hand side and solution */
 };
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
@@ -213,6 +218,54 @@ static int bicgstab_alloc(struct viscous_solver *s)
     return 0;
 }
 
+/* The unknowns of every component's box, in one vector. */
+static long box_unknowns(const struct box act[3])
+{
+    long n = 0;
+    for (int c = 0; c < 3; c++)
+        if (act[c].hi[0] > act[c].lo[0] && act[c].hi[1] > act[c].lo[1] &&
+            act[c].hi[2] > act[c].lo[2])
+            n += (long)(act[c].hi[0] - act[c].lo[0]) * (act[c].hi[1] - act[c].lo[1]) *
+                 (act[c].hi[2] - act[c].lo[2]);
+    return n;
+}
+
+/* Between the field triple f and the vector v of every unknown. */
+static void box_move(const struct grid *g, const struct box act[3], double *f[3], double *v,
+                     int to_vector)
+{
+    long n = 0;
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++) {
+                double *row = f[c] + grid_idx(g, i, j, 0);
+                for (int k = b->lo[2]; k < b->hi[2]; k++, n++) {
+                    if (to_vector)
+                        v[n] = row[k];
+                    else
+                        row[k] = v[n];
+                }
+            }
+    }
+}
+
+#define MG_RESTART 30 /* GMRES(30) around the velocity multigrid */
+
+static int mg_create(struct viscous_solver *s, char *err, size_t errlen)
+{
+    if (velocity_mg_create(&s->mg, s->g, s->bc, s->act, NULL, err, errlen) != 0)
+        return -1;
+    long n = box_unknowns(s->act);
+    s->mg_b = malloc((size_t)(n > 0 ? n : 1) * sizeof(double));
+    s->mg_x = malloc((size_t)(n > 0 ? n : 1) * sizeof(double));
+    if (!s->mg_b || !s->mg_x || gmres_create_flexible(&s->mg_gm, n, MG_RESTART) != 0) {
+        snprintf(err, errlen, "viscous solver: out of memory for the multigrid's GMRES");
+        return -1;
+    }
+    return 0;
+}
+
 int viscous_create(struct viscous_solver **out, const struct grid *g, const struct boundary *bc,
                    const struct box act[3], int line_dir, enum viscous_precond kind, char *err,
                    size_t errlen)
@@ -271,6 +324,10 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
         return -1;
     }
     s->kind = s->info.kind = kind;
+    if (kind == VISCOUS_MG && mg_create(s, err, errlen) != 0) {
+        viscous_destroy(s);
+        return -1;
+    }
     if (kind == VISCOUS_GMG &&
         viscous_gmg_create(&s->gmg, g, bc, act, err, errlen) != 0) {
         viscous_destroy(s);
@@ -288,7 +345,8 @@ int viscous_create(struct viscous_solver **out, const struct grid *g, const stru
                 viscous_destroy(s);
                 return -1;
             }
-        } else if (kind != VISCOUS_GMG && create_direct(s, kind == VISCOUS_LU, err, errlen) != 0) {
+        } else if (kind != VISCOUS_GMG && kind != VISCOUS_MG &&
+                   create_direct(s, kind == VISCOUS_LU, err, errlen) != 0) {
             viscous_destroy(s);
             return -1;
         }
@@ -418,6 +476,10 @@ void viscous_destroy(struct viscous_solver *s)
     field_free(s->divbuf);
     fourier_lines_destroy(s->fourier);
     viscous_gmg_destroy(s->gmg);
+    velocity_mg_destroy(s->mg);
+    gmres_destroy(s->mg_gm);
+    free(s->mg_b);
+    free(s->mg_x);
     gmres_destroy(s->gmg_gm[0]);
     gmres_destroy(s->gmg_gm[1]);
     free(s->gmg_b);
@@ -441,62 +503,14 @@ void viscous_destroy(struct viscous_solver *s)
     free(s);
 }
 
-void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
-                            const struct box act[3], const struct embedded *e,
-                            const double *const A_cell[3], const double *const A_edge[3],
-                            double scale, double *const v[3], double *out[3])
-{
-    embedded_links(e, A_cell, A_edge, scale, v, out);
-    kernel_divergence(g, v, e->work);
-    for (size_t p = 0; p < g->size; p++)
-        e->work[p] *= A_cell[0][p] * e->cut[p];
-    bc_fill_scalar(g, bc, e->work);
-    kernel_gradient_update(g, act, e->work, -scale, out);
-}
-
 void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
                    double *out[3])
 {
-    const struct grid *g = s->g;
-    if (pb->open_given)
-        bc_fill_velocity_open_given(g, s->bc, v);
-    else
-        bc_fill_velocity_homogeneous(g, s->bc, v);
-    if (pb->embedded)
-        embedded_hold(pb->embedded, v);
-    kernel_stress_divergence(g, s->act, pb->A_cell, pb->A_edge, v, out);
-    if (pb->mass_face[0]) /* mass v - div tau */
-        kernel_multiply_minus(g, s->act, pb->mass_face, v, out);
-    else
-        kernel_lincomb(g, s->act, pb->mass, v, -1.0, out);
-    if (pb->embedded)
-        viscous_embedded_terms(g, s->bc, s->act, pb->embedded, pb->A_cell, pb->A_edge, 1.0, v,
-                               out);
-    if (pb->b_cell && s->pn) { /* - div(b d|D|^2[v] gamma(u)) */
-        kernel_strain_products(g, pb->base, v, s->pn, s->pe);
-        bc_fill_scalar(g, s->bc, s->pn);
-        kernel_tangent_cells(g, s->pn, s->pe, pb->b_cell, s->Bc);
-        bc_fill_scalar(g, s->bc, s->Bc);
-        kernel_tangent_edges(g, s->pn, s->pe, (double *const *)pb->b_edge, s->Be);
-        const double *Bcell[3] = {s->Bc, s->Bc, s->Bc};
-        kernel_stress_divergence(g, s->act, Bcell, (const double *const *)s->Be, pb->base,
-                                 s->tmp);
-        kernel_axpy(g, s->act, -1.0, s->tmp, out);
-        /* the body's cut links and cut-cell grad-div move with the
-         * viscosity as well: their terms of the base velocity with d eta */
-        if (pb->embedded)
-            viscous_embedded_terms(g, s->bc, s->act, pb->embedded, Bcell,
-                                   (const double *const *)s->Be, 1.0, pb->base, out);
-    }
-    if (pb->augmentation) {                            /* - grad(r div v) */
-        kernel_divergence(g, v, s->divbuf);
-        for (size_t p = 0; p < g->size; p++)
-            s->divbuf[p] *= pb->augmentation[p];
-        bc_fill_scalar(g, s->bc, s->divbuf);
-        kernel_gradient_update(g, s->act, s->divbuf, 1.0, out);
-    }
-    if (pb->embedded)
-        embedded_release(pb->embedded, pb->mass, pb->mass_face, v, out);
+    const struct viscous_work w = {.divbuf = s->divbuf, .pn = s->pn, .Bc = s->Bc,
+                                   .pe = {s->pe[0], s->pe[1], s->pe[2]},
+                                   .Be = {s->Be[0], s->Be[1], s->Be[2]},
+                                   .tmp = {s->tmp[0], s->tmp[1], s->tmp[2]}};
+    viscous_operator_eval(s->g, s->bc, s->act, &w, pb, v, out);
 }
 
 void viscous_operator_apply(void *ctx, double *v[3], double *out[3])
@@ -742,6 +756,18 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
     s->direct_ok = 0;
     s->fourier_ok = 0;
     s->gmg_ok = 0;
+    s->mg_ok = 0;
+    if (s->mg) {
+        double t0 = cpu_now();
+        char why[200];
+        s->mg_ok = velocity_mg_setup(s->mg, pb, why, sizeof why) == 0;
+        s->info.setup_seconds = cpu_now() - t0;
+        s->info.probe_seconds = 0.0;
+        s->info.reused = 0;
+        s->info.levels = velocity_mg_levels(s->mg);
+        s->info.kind = s->mg_ok ? VISCOUS_MG : VISCOUS_LINE;
+        return s->mg_ok ? 0 : fall_back(s, pb, why);
+    }
     if (s->gmg)
         return gmg_setup(s, pb);
     if (s->fourier) {
@@ -1282,6 +1308,101 @@ static int gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb,
     return rc;
 }
 
+/* GMRES's operator and preconditioner on every unknown: the operator
+ * (the full tangent where pb has it), one multigrid cycle. */
+static void mg_gmres_operator(void *ctx, const double *x, double *y)
+{
+    const struct gmres_ctx *c = ctx;
+    struct viscous_solver *s = c->s;
+    box_move(s->g, s->act, s->z, (double *)x, 0);
+    viscous_apply(s, c->pb, s->z, s->q);
+    box_move(s->g, s->act, s->q, y, 1);
+}
+
+static void mg_gmres_precondition(void *ctx, const double *x, double *y)
+{
+    const struct gmres_ctx *c = ctx;
+    struct viscous_solver *s = c->s;
+    box_move(s->g, s->act, s->p, (double *)x, 0);
+    velocity_mg_cycle(s->mg, s->p, s->q);
+    box_move(s->g, s->act, s->q, y, 1);
+}
+
+static int mg_gmres(struct viscous_solver *s, const struct viscous_problem *pb, double *x[3],
+                    double rtol, int maxit, struct viscous_stats *st)
+{
+    const long n = box_unknowns(s->act);
+    struct gmres_ctx ctx = {s, pb};
+    struct gmres_stats gs;
+    box_move(s->g, s->act, s->r, s->mg_b, 1);
+    memset(s->mg_x, 0, (size_t)n * sizeof(double));
+    int rc = gmres_solve(s->mg_gm, mg_gmres_operator, mg_gmres_precondition, &ctx, s->mg_b,
+                         s->mg_x, rtol, maxit, &gs);
+    box_move(s->g, s->act, x, s->mg_x, 0);
+    st->iterations = gs.iterations;
+    st->relative_residual = gs.relative_residual;
+    return rc;
+}
+
+/* Conjugate gradients preconditioned by one multigrid cycle (a symmetric
+ * cycle of a symmetric operator) on the unknowns of the boxes act, from
+ * x = 0 with the residual in s->r. */
+static int mg_pcg_boxes(struct viscous_solver *s, const struct viscous_problem *pb, double bnorm,
+                        double *x[3], double rtol, int maxit, struct viscous_stats *st);
+
+/* A component along a periodic direction of one cell is coupled to no
+ * other; with no right-hand side (a flow in a plane: the component across)
+ * its solution is 0 and it is left out of the solve. */
+static int mg_pcg(struct viscous_solver *s, const struct viscous_problem *pb, double bnorm,
+                  double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    struct box kept[3];
+    memcpy(kept, s->act, sizeof kept);
+    for (int c = 0; c < 3; c++) {
+        if (s->bc->face[c][0] != BC_PERIODIC || s->g->n[c] != 1)
+            continue;
+        struct box one[3];
+        masked_boxes(s, 1 << c, one);
+        if (kernel_max_abs(s->g, one, s->r) == 0.0)
+            s->act[c].hi[0] = s->act[c].lo[0];
+    }
+    int rc = mg_pcg_boxes(s, pb, bnorm, x, rtol, maxit, st);
+    memcpy(s->act, kept, sizeof kept);
+    return rc;
+}
+
+static int mg_pcg_boxes(struct viscous_solver *s, const struct viscous_problem *pb, double bnorm,
+                        double *x[3], double rtol, int maxit, struct viscous_stats *st)
+{
+    const struct grid *g = s->g;
+    const struct box *act = s->act;
+    velocity_mg_cycle(s->mg, s->r, s->z);
+    zero_fields(g, s->p);
+    kernel_lincomb(g, act, 1.0, s->z, 0.0, s->p);
+    double rz = kernel_dot(g, act, s->r, s->z);
+    for (int it = 1; it <= maxit; it++) {
+        viscous_apply(s, pb, s->p, s->q);
+        double pq = kernel_dot(g, act, s->p, s->q);
+        if (!(pq > 0.0) || !isfinite(pq))
+            return -1;
+        double alpha = rz / pq;
+        kernel_axpy(g, act, alpha, s->p, x);
+        kernel_axpy(g, act, -alpha, s->q, s->r);
+        double rnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+        st->iterations = it;
+        st->relative_residual = rnorm / bnorm;
+        if (!isfinite(rnorm))
+            return -1;
+        if (rnorm <= rtol * bnorm)
+            return 0;
+        velocity_mg_cycle(s->mg, s->r, s->z);
+        double rz_new = kernel_dot(g, act, s->r, s->z);
+        kernel_lincomb(g, act, 1.0, s->z, rz_new / rz, s->p);
+        rz = rz_new;
+    }
+    return 1;
+}
+
 static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
                  double *x[3], double rtol, int maxit, struct viscous_stats *st)
 {
@@ -1367,6 +1488,9 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
             fall_back(s, pb, cause);
         }
     }
+    if (s->mg_ok)
+        return pb->b_cell ? mg_gmres(s, pb, x, rtol, maxit, st)
+                          : mg_pcg(s, pb, bnorm, x, rtol, maxit, st);
     if (s->gmg_ok)
         gmg_others(s, pb, negligible, bnorm);
     st->failed_blocks = s->failed_blocks;
@@ -1434,6 +1558,10 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
     if (kind == VISCOUS_GMG)
         doubles += (2.0 * 12.0 * 4.0 / 3.0 + 4.0) * points +
                    (2.0 * GMG_RESTART + 3.0) * 2.0 * cells;
+    /* the velocity multigrid's levels and its GMRES(30)'s flexible bases */
+    if (kind == VISCOUS_MG)
+        doubles += (2.0 * MG_RESTART + 3.0) * 3.0 * cells;
     return doubles * sizeof(double) +
-           (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0);
+           (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0) +
+           (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL, NULL) : 0.0);
 }

@@ -39,10 +39,11 @@ static char *key_texts(const struct muflow_case *cs)
     return t.buf;
 }
 
-/* Known gap of case.c, not fixed here: an override may set output.dir to up
- * to 511 characters (tested in test_case.c), but a case-file line holds at
- * most 197, so case_write_ini then writes "dir = ..." as a line that does not
- * read back.  Found by this target; other round-trip failures still abort. */
+/* Known gap of the case reader, not fixed here: an override may set
+ * output.dir to up to 511 characters (tested in test_case.c), but a
+ * case-file line holds at most 197, so case_write_ini then writes
+ * "dir = ..." as a line that does not read back.  Found by this target;
+ * other round-trip failures still abort. */
 static int long_dir_line(const char *ini)
 {
     const char *line = strstr(ini, "\ndir = ");

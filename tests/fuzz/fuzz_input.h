@@ -20,6 +20,7 @@
 #include <string.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#include "app/run.h"
 #include "config/case.h"
 
 #define FUZZ_SEPARATOR "\n----\n"
@@ -71,6 +72,7 @@ static int fuzz_case_load(const uint8_t *data, size_t size, struct muflow_case *
     }
     char path[64];
     snprintf(path, sizeof path, "/proc/self/fd/%d", fd);
+    run_init(); /* the scenes case_load reads case.scene against */
     int rc = case_load(cs, path, n, over, err, errlen);
     free(text);
     return rc;

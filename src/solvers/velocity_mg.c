@@ -1,0 +1,586 @@
+/* Geometric multigrid of the implicit viscous step (velocity_mg.h). */
+#include "solvers/velocity_mg.h"
+#include "kernels/kernels.h"
+#include "kernels/mac_transfer.h"
+#include "kernels/viscous_stencil.h"
+#include "solvers/sparse_direct.h"
+
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_LEVELS 24
+
+struct mg_level {
+    struct grid g;
+    int f[3];                    /* halved from the finer level along d: 2, else 1 */
+    int periodic[3];
+    struct box act[3];
+    int lines[3], nlines;        /* the line directions: bounded, two cells or more */
+    /* coefficients this level owns (the finest reads the caller's) */
+    double *A_cell[3], *A_edge[3], *mass_face[3], *aug;
+    struct viscous_problem pb;   /* the symmetric operator of this level */
+    /* a body's held nodes: the caller's on the finest level, else carried down */
+    struct embedded emb;
+    unsigned char *held[3];      /* 1 at a held node (NULL: no body) */
+    struct viscous_work work;
+    struct own_stencil st[3];
+    double *x[3], *b[3], *r[3], *d[3];
+    struct line_factors lf[3][3]; /* per component, per line direction */
+    double *pw[3][3];            /* the prolongation's weights to the next coarser level,
+                                    per component and direction (kernel_prolong_weights) */
+    struct sparse_direct *direct; /* the coarsest level's factorisation */
+};
+
+struct velocity_mg {
+    const struct boundary *bc;
+    struct velocity_mg_options opt;
+    int nlevels;
+    struct mg_level lv[MAX_LEVELS];
+    int nthreads;
+    int has_body;
+    /* the components this cycle leaves out (bit c): a component along a
+     * periodic direction of one cell is coupled to no other (every
+     * derivative along it vanishes), and when its part of the right-hand
+     * side is 0 so is its solution (a flow in a plane: the component across) */
+    int skip;
+};
+
+void velocity_mg_default_options(struct velocity_mg_options *o)
+{
+    o->pre = 2;
+    o->post = 2;
+    o->gamma = 1;
+    o->coarse_cells = 256;
+}
+
+/* The directions a level halves: even, at least four cells. */
+static int coarsening(const struct grid *g, int f[3])
+{
+    int any = 0;
+    for (int d = 0; d < 3; d++) {
+        f[d] = g->n[d] >= 4 && !(g->n[d] & 1) ? 2 : 1;
+        any |= f[d] == 2;
+    }
+    return any;
+}
+
+static size_t box_size(const struct box *b)
+{
+    size_t s = 1;
+    for (int d = 0; d < 3; d++)
+        s *= (size_t)(b->hi[d] > b->lo[d] ? b->hi[d] - b->lo[d] : 0);
+    return s;
+}
+
+static void level_free(struct mg_level *l, int finest)
+{
+    for (int c = 0; c < 3; c++) {
+        field_free(l->x[c]);
+        field_free(l->b[c]);
+        field_free(l->r[c]);
+        field_free(l->d[c]);
+        field_free(l->st[c].diag);
+        for (int d = 0; d < 3; d++) {
+            field_free(l->st[c].cp[d]);
+            field_free(l->st[c].cm[d]);
+        }
+        free(l->held[c]);
+        for (int d = 0; d < 3; d++) {
+            field_free(l->pw[c][d]);
+            field_free(l->lf[c][d].inv_b);
+            field_free(l->lf[c][d].cprime);
+        }
+        if (!finest) {
+            free(l->emb.held[c]);
+            free(l->emb.saved[c]);
+        }
+    }
+    if (!finest) {
+        for (int c = 0; c < 3; c++) {
+            field_free(l->A_cell[c]);
+            field_free(l->A_edge[c]);
+            field_free(l->mass_face[c]);
+        }
+        field_free(l->aug);
+    }
+    viscous_work_destroy(&l->work);
+    sparse_direct_destroy(l->direct);
+    memset(l, 0, sizeof *l);
+}
+
+void velocity_mg_destroy(struct velocity_mg *m)
+{
+    if (!m)
+        return;
+    for (int l = 0; l < m->nlevels; l++)
+        level_free(&m->lv[l], l == 0);
+    free(m);
+}
+
+/* The arrays every level needs (coefficients are allocated by setup). */
+static int level_alloc(struct mg_level *l)
+{
+    int ok = viscous_work_create(&l->work, &l->g, 0) == 0;
+    for (int c = 0; c < 3; c++) {
+        double **fs[] = {&l->x[c], &l->b[c], &l->r[c], &l->d[c], &l->st[c].diag,
+                         &l->st[c].cp[0], &l->st[c].cp[1], &l->st[c].cp[2],
+                         &l->st[c].cm[0], &l->st[c].cm[1], &l->st[c].cm[2]};
+        for (size_t i = 0; i < sizeof fs / sizeof fs[0]; i++)
+            ok &= (*fs[i] = field_alloc(&l->g)) != NULL;
+        for (int d = 0; d < 3; d++)
+            ok &= (l->pw[c][d] = field_alloc(&l->g)) != NULL;
+        for (int s = 0; s < l->nlines; s++) {
+            struct line_factors *f = &l->lf[c][l->lines[s]];
+            ok &= (f->inv_b = field_alloc(&l->g)) != NULL &&
+                  (f->cprime = field_alloc(&l->g)) != NULL;
+        }
+    }
+    return ok ? 0 : -1;
+}
+
+static void level_geometry(struct mg_level *l, const struct boundary *bc)
+{
+    bc_periodic_flags(bc, l->periodic);
+    bc_unknown_boxes(&l->g, bc, l->act);
+    l->nlines = 0;
+    for (int d = 0; d < 3; d++)
+        if (!l->periodic[d] && l->g.n[d] >= 2)
+            l->lines[l->nlines++] = d;
+}
+
+int velocity_mg_create(struct velocity_mg **out, const struct grid *g, const struct boundary *bc,
+                       const struct box act[3], const struct velocity_mg_options *opt, char *err,
+                       size_t errlen)
+{
+    *out = NULL;
+    if (grid_stretched(g)) {
+        snprintf(err, errlen, "velocity multigrid: stretched grids are not supported yet");
+        return -1;
+    }
+    struct velocity_mg *m = calloc(1, sizeof *m);
+    if (!m) {
+        snprintf(err, errlen, "velocity multigrid: out of memory");
+        return -1;
+    }
+    m->bc = bc;
+    if (opt)
+        m->opt = *opt;
+    else
+        velocity_mg_default_options(&m->opt);
+    struct mg_level *l = &m->lv[0];
+    l->g = *g;
+    level_geometry(l, bc);
+    memcpy(l->act, act, sizeof l->act);
+    int maxlen = 1;
+    for (m->nlevels = 1; m->nlevels < MAX_LEVELS; m->nlevels++) {
+        const struct grid *fg = &m->lv[m->nlevels - 1].g;
+        int f[3];
+        if ((long)grid_cells(fg) <= m->opt.coarse_cells || !coarsening(fg, f))
+            break;
+        struct mg_level *c = &m->lv[m->nlevels];
+        int n[3];
+        for (int d = 0; d < 3; d++) {
+            n[d] = fg->n[d] / f[d];
+            c->f[d] = f[d];
+        }
+        if (grid_init(&c->g, n, g->len) != 0) {
+            velocity_mg_destroy(m);
+            snprintf(err, errlen, "velocity multigrid: bad coarse grid");
+            return -1;
+        }
+        level_geometry(c, bc);
+    }
+    for (int i = 0; i < m->nlevels; i++) {
+        for (int d = 0; d < 3; d++)
+            maxlen = m->lv[i].g.n[d] + 2 > maxlen ? m->lv[i].g.n[d] + 2 : maxlen;
+        if (level_alloc(&m->lv[i]) != 0) {
+            velocity_mg_destroy(m);
+            snprintf(err, errlen, "velocity multigrid: out of memory");
+            return -1;
+        }
+    }
+    (void)maxlen;
+    struct mg_level *cl = &m->lv[m->nlevels - 1];
+    if (sparse_direct_create(&cl->direct, &cl->g, cl->periodic, cl->act,
+                             1, 1, err, errlen) != 0) {
+        velocity_mg_destroy(m);
+        return -1;
+    }
+    *out = m;
+    return 0;
+}
+
+int velocity_mg_levels(const struct velocity_mg *m) { return m->nlevels; }
+
+void velocity_mg_level_size(const struct velocity_mg *m, int l, int n[3])
+{
+    for (int d = 0; d < 3; d++)
+        n[d] = m->lv[l].g.n[d];
+}
+
+/* Field arrays a level holds: x, b, r, d and the stencils of each
+ * component, the prolongation's weights, the line factors, the work's
+ * divergence, and below the finest the coefficients of its operator. */
+static double level_fields(int nlines, int coarse)
+{
+    return 3.0 * (4.0 + 7.0 + 3.0 + 2.0 * nlines) + 1.0 + (coarse ? 10.0 : 0.0);
+}
+
+size_t velocity_mg_bytes(const struct velocity_mg *m)
+{
+    double bytes = 0.0;
+    for (int l = 0; l < m->nlevels; l++)
+        bytes += level_fields(m->lv[l].nlines, l > 0) * (double)m->lv[l].g.size * sizeof(double);
+    return (size_t)bytes;
+}
+
+double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *bc,
+                                   const struct velocity_mg_options *opt)
+{
+    struct velocity_mg_options o;
+    if (opt)
+        o = *opt;
+    else
+        velocity_mg_default_options(&o);
+    int lines = 0;
+    for (int d = 0; d < 3; d++)
+        lines += (!bc || bc->face[d][0] != BC_PERIODIC) && g->n[d] >= 2;
+    /* the levels as velocity_mg_create builds them */
+    int n[3] = {g->n[0], g->n[1], g->n[2]};
+    double bytes = 0.0;
+    for (int l = 0; l < MAX_LEVELS; l++) {
+        double size = (double)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
+        bytes += level_fields(lines, l > 0) * size * sizeof(double);
+        int any = 0;
+        for (int d = 0; d < 3; d++)
+            any |= n[d] >= 4 && !(n[d] & 1);
+        if ((double)n[0] * n[1] * n[2] <= (double)o.coarse_cells || !any)
+            break;
+        for (int d = 0; d < 3; d++)
+            if (n[d] >= 4 && !(n[d] & 1))
+                n[d] /= 2;
+    }
+    return bytes;
+}
+
+/* The held masks and coarse held lists of level l (from level l - 1's). */
+static int carry_body(struct velocity_mg *m, int l, const struct embedded *e)
+{
+    struct mg_level *lv = &m->lv[l];
+    const struct grid *g = &lv->g;
+    if (l == 0) {
+        for (int c = 0; c < 3; c++) {
+            if (!lv->held[c] && !(lv->held[c] = calloc(g->size, 1)))
+                return -1;
+            memset(lv->held[c], 0, g->size);
+            for (long i = 0; i < e->nheld[c]; i++)
+                lv->held[c][e->held[c][i]] = 1;
+        }
+        return 0;
+    }
+    const struct mg_level *fl = &m->lv[l - 1];
+    double *coarse = lv->d[1]; /* work: this level's d is free here */
+    double *fmask = malloc(fl->g.size * sizeof(double));
+    if (!fmask)
+        return -1;
+    int ok = 1;
+    for (int c = 0; c < 3 && ok; c++) {
+        for (size_t p = 0; p < fl->g.size; p++)
+            fmask[p] = fl->held[c][p];
+        kernel_coarsen_faces(&fl->g, g, lv->f, c, fmask, coarse);
+        if (!lv->held[c] && !(lv->held[c] = calloc(g->size, 1))) {
+            ok = 0;
+            break;
+        }
+        memset(lv->held[c], 0, g->size);
+        long n = 0;
+        const struct box *b = &lv->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    if (coarse[p] >= 0.5) {
+                        lv->held[c][p] = 1;
+                        n++;
+                    }
+                }
+        free(lv->emb.held[c]);
+        free(lv->emb.saved[c]);
+        lv->emb.held[c] = malloc((size_t)(n > 0 ? n : 1) * sizeof(ptrdiff_t));
+        lv->emb.saved[c] = malloc((size_t)(n > 0 ? n : 1) * sizeof(double));
+        if (!lv->emb.held[c] || !lv->emb.saved[c]) {
+            ok = 0;
+            break;
+        }
+        lv->emb.nheld[c] = 0;
+        for (size_t p = 0; p < g->size; p++)
+            if (lv->held[c][p])
+                lv->emb.held[c][lv->emb.nheld[c]++] = (ptrdiff_t)p;
+        memset(coarse, 0, g->size * sizeof(double));
+    }
+    free(fmask);
+    return ok ? 0 : -1;
+}
+
+/* Level l's coefficients from level l - 1's. */
+static int carry_coefficients(struct velocity_mg *m, int l)
+{
+    struct mg_level *lv = &m->lv[l];
+    const struct mg_level *fl = &m->lv[l - 1];
+    const struct grid *g = &lv->g;
+    const struct viscous_problem *fp = &fl->pb;
+    struct viscous_problem *pb = &lv->pb;
+    memset(pb, 0, sizeof *pb);
+    pb->mass = fp->mass;
+    for (int c = 0; c < 3; c++) {
+        if ((!lv->A_cell[c] && !(lv->A_cell[c] = field_alloc(g))) ||
+            (!lv->A_edge[c] && !(lv->A_edge[c] = field_alloc(g))))
+            return -1;
+        kernel_coarsen_cells(&fl->g, g, lv->f, 1, fp->A_cell[c], lv->A_cell[c]);
+        bc_fill_scalar(g, m->bc, lv->A_cell[c]);
+        pb->A_cell[c] = lv->A_cell[c];
+        kernel_coarsen_edges(&fl->g, g, lv->f, c, fp->A_edge[c], lv->A_edge[c]);
+        pb->A_edge[c] = lv->A_edge[c];
+        if (fp->mass_face[c]) {
+            if (!lv->mass_face[c] && !(lv->mass_face[c] = field_alloc(g)))
+                return -1;
+            kernel_coarsen_faces(&fl->g, g, lv->f, c, fp->mass_face[c], lv->mass_face[c]);
+            pb->mass_face[c] = lv->mass_face[c];
+        }
+    }
+    if (fp->augmentation) {
+        if (!lv->aug && !(lv->aug = field_alloc(g)))
+            return -1;
+        kernel_coarsen_cells(&fl->g, g, lv->f, 0, fp->augmentation, lv->aug);
+        bc_fill_scalar(g, m->bc, lv->aug);
+        pb->augmentation = lv->aug;
+    }
+    if (m->has_body)
+        pb->embedded = &lv->emb;
+    return 0;
+}
+
+/* The stencils of level l's symmetric operator. */
+static void level_stencils(const struct velocity_mg *m, struct mg_level *lv)
+{
+    const struct viscous_problem *pb = &lv->pb;
+    for (int c = 0; c < 3; c++) {
+        if (box_size(&lv->act[c]) == 0)
+            continue;
+        struct stencil_coefficients k = {.mass_face = pb->mass_face[c], .mass = pb->mass,
+                                         .aug = pb->augmentation, .e = pb->embedded,
+                                         .held = m->has_body ? lv->held[c] : NULL};
+        for (int a = 0; a < 3; a++) {
+            k.A_cell[a] = pb->A_cell[a];
+            k.A_edge[a] = pb->A_edge[a];
+        }
+        kernel_own_stencil(&lv->g, m->bc, &lv->act[c], c, &k, &lv->st[c]);
+        for (int s = 0; s < lv->nlines; s++)
+            kernel_line_factor(&lv->g, &lv->act[c], lv->lines[s], &lv->st[c],
+                               &lv->lf[c][lv->lines[s]]);
+    }
+}
+
+struct level_op {
+    const struct velocity_mg *m;
+    struct mg_level *lv;
+};
+
+static void level_apply(void *ctx, double *v[3], double *out[3])
+{
+    struct level_op *o = ctx;
+    viscous_operator_eval(&o->lv->g, o->m->bc, o->lv->act, &o->lv->work, &o->lv->pb, v, out);
+}
+
+int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, char *err,
+                      size_t errlen)
+{
+    struct mg_level *fine = &m->lv[0];
+    struct viscous_problem *fp = &fine->pb;
+    *fp = *pb;
+    /* the symmetric operator: with the full tangent, its symmetric part */
+    fp->b_cell = NULL;
+    fp->base = NULL;
+    fp->open_given = 0;
+    for (int a = 0; a < 3; a++) {
+        fp->b_edge[a] = NULL;
+        if (pb->b_cell && pb->sym_cell[a])
+            fp->A_cell[a] = pb->sym_cell[a];
+        if (pb->b_cell && pb->sym_edge[a])
+            fp->A_edge[a] = pb->sym_edge[a];
+        fp->sym_cell[a] = fp->sym_edge[a] = NULL;
+    }
+    m->has_body = pb->embedded != NULL;
+    for (int l = 0; l < m->nlevels; l++) {
+        if (l > 0 && carry_coefficients(m, l) != 0) {
+            snprintf(err, errlen, "velocity multigrid: out of memory");
+            return -1;
+        }
+        if (m->has_body) {
+            if (carry_body(m, l, pb->embedded) != 0) {
+                snprintf(err, errlen, "velocity multigrid: out of memory");
+                return -1;
+            }
+            if (l > 0)
+                m->lv[l].pb.embedded = &m->lv[l].emb;
+        }
+        level_stencils(m, &m->lv[l]);
+    }
+    for (int l = 0; l + 1 < m->nlevels; l++) {
+        struct mg_level *lv = &m->lv[l];
+        for (int c = 0; c < 3; c++)
+            if (box_size(&lv->act[c]) > 0)
+                kernel_prolong_weights(&lv->g, m->bc, m->lv[l + 1].f, c, &lv->act[c],
+                                       lv->pb.A_cell, lv->pb.A_edge, lv->pb.augmentation,
+                                       0, lv->pw[c]);
+    }
+    struct mg_level *cl = &m->lv[m->nlevels - 1];
+    struct level_op op = {m, cl};
+    int probed = 0;
+    /* a right-hand side on every unknown: every block factorised now */
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &cl->act[c];
+        memset(cl->b[c], 0, cl->g.size * sizeof(double));
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++)
+                    cl->b[c][grid_idx(&cl->g, i, j, k)] = 1.0;
+    }
+    if (sparse_direct_factor(cl->direct, level_apply, &op, cl->x, cl->r, 7, &probed) != 0 ||
+        sparse_direct_prepare(cl->direct, cl->b, -1.0) != 0) {
+        snprintf(err, errlen, "velocity multigrid: the coarsest level's factorisation: %s",
+                 sparse_direct_cause(cl->direct));
+        return -1;
+    }
+    return 0;
+}
+
+static void zero3(const struct grid *g, double *f[3])
+{
+    for (int c = 0; c < 3; c++)
+        memset(f[c], 0, g->size * sizeof(double));
+}
+
+/* One smoothing step on level lv: Gauss-Seidel over the components, each
+ * by line Gauss-Seidel along the level's line directions on the residual
+ * of the whole operator (its rows of that component); reverse: the
+ * components, directions and colours in the opposite order. */
+static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
+{
+    const struct grid *g = &lv->g;
+    for (int t = 0; t < 3; t++) {
+        const int c = reverse ? 2 - t : t;
+        const struct box *b = &lv->act[c];
+        if (box_size(b) == 0 || (m->skip >> c & 1))
+            continue;
+        viscous_operator_rows(g, m->bc, lv->act, &lv->work, &lv->pb, c, lv->x, lv->r);
+        double *r = lv->r[c], *bb = lv->b[c], *d = lv->d[c], *x = lv->x[c];
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    r[p] = bb[p] - r[p];
+                    d[p] = 0.0;
+                }
+        for (int s = 0; s < lv->nlines; s++) {
+            const int L = lv->lines[reverse ? lv->nlines - 1 - s : s];
+            kernel_line_gauss_seidel(g, lv->periodic, b, L, &lv->st[c], &lv->lf[c][L], r, d,
+                                     reverse);
+        }
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    ptrdiff_t p = grid_idx(g, i, j, k);
+                    x[p] += d[p];
+                }
+    }
+}
+
+/* x ~ A^-1 b on level l, from x = 0. */
+static void cycle(struct velocity_mg *m, int l)
+{
+    struct mg_level *lv = &m->lv[l];
+    const struct grid *g = &lv->g;
+    if (l == m->nlevels - 1) {
+        zero3(g, lv->x);
+        sparse_direct_solve(lv->direct, lv->b, lv->x);
+        return;
+    }
+    struct mg_level *cl = &m->lv[l + 1];
+    zero3(g, lv->x);
+    for (int s = 0; s < m->opt.pre; s++)
+        smooth(m, lv, 0);
+    struct level_op op = {m, lv};
+    level_apply(&op, lv->x, lv->r);
+    for (int c = 0; c < 3; c++) {
+        double *r = lv->r[c], *b = lv->b[c];
+        for (size_t p = 0; p < g->size; p++)
+            r[p] = b[p] - r[p];
+    }
+    zero3(&cl->g, cl->b);
+    for (int c = 0; c < 3; c++)
+        if (box_size(&cl->act[c]) > 0 && !(m->skip >> c & 1))
+            kernel_restrict_velocity(g, &cl->g, m->bc, cl->f, c, &lv->act[c], &cl->act[c],
+                                     lv->pw[c], lv->r[c], cl->b[c]);
+    for (int k = 0; k < m->opt.gamma; k++) {
+        if (k == 0) {
+            cycle(m, l + 1);
+        } else {
+            /* a further visit corrects the coarse solution: b - A x there */
+            double *keep[3];
+            for (int c = 0; c < 3; c++)
+                keep[c] = cl->d[c];
+            struct level_op cop = {m, cl};
+            for (int c = 0; c < 3; c++)
+                memcpy(keep[c], cl->x[c], cl->g.size * sizeof(double));
+            level_apply(&cop, cl->x, cl->r);
+            for (int c = 0; c < 3; c++)
+                for (size_t p = 0; p < cl->g.size; p++)
+                    cl->b[c][p] -= cl->r[c][p];
+            cycle(m, l + 1);
+            for (int c = 0; c < 3; c++)
+                for (size_t p = 0; p < cl->g.size; p++)
+                    cl->x[c][p] += keep[c][p];
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        if (box_size(&lv->act[c]) > 0 && !(m->skip >> c & 1))
+            kernel_prolong_velocity(g, &cl->g, m->bc, cl->f, c, &lv->act[c], &cl->act[c],
+                                    lv->pw[c], cl->x[c], lv->x[c]);
+    for (int s = 0; s < m->opt.post; s++)
+        smooth(m, lv, 1);
+}
+
+void velocity_mg_cycle(struct velocity_mg *m, double *const r[3], double *z[3])
+{
+    struct mg_level *lv = &m->lv[0];
+    m->skip = 0;
+    for (int c = 0; c < 3; c++) {
+        memset(lv->b[c], 0, lv->g.size * sizeof(double));
+        const struct box *b = &lv->act[c];
+        int zero = 1;
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    ptrdiff_t p = grid_idx(&lv->g, i, j, k);
+                    lv->b[c][p] = r[c][p];
+                    zero &= r[c][p] == 0.0;
+                }
+        if (zero && lv->periodic[c] && lv->g.n[c] == 1)
+            m->skip |= 1 << c;
+    }
+    cycle(m, 0);
+    for (int c = 0; c < 3; c++) {
+        const struct box *b = &lv->act[c];
+        for (int i = b->lo[0]; i < b->hi[0]; i++)
+            for (int j = b->lo[1]; j < b->hi[1]; j++)
+                for (int k = b->lo[2]; k < b->hi[2]; k++) {
+                    ptrdiff_t p = grid_idx(&lv->g, i, j, k);
+                    z[c][p] = lv->x[c][p];
+                }
+    }
+}
