@@ -109,8 +109,8 @@ int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen)
     /* the face between cells p - o_c and p: the mean of their densities
      * (ghost cells mirror the boundary cells, so a wall face gets its cell's) */
     for (int c = 0; c < 3; c++)
-        for (int i = 0; i <= g->n[0]; i++)
-            for (int j = 0; j <= g->n[1]; j++)
+        for (int i = 0; i <= grid_slot_hi(g, 0); i++)
+            for (int j = 0; j <= grid_slot_hi(g, 1); j++)
                 for (int k = 0; k <= g->n[2]; k++) {
                     ptrdiff_t q = grid_idx(g, i, j, k);
                     double t = 0.5 * (tp->T[q] + tp->T[q - o[c]]);
