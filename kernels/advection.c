@@ -52,8 +52,8 @@ void kernel_advection(const struct grid *g, const struct box act[3], double *con
         double *res = out[a];
         const int klo = bx->lo[2], khi = bx->hi[2], kend = g->n[2] + 1;
 #pragma omp parallel for collapse(2) schedule(static) if (par)
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++) {
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++) {
                 ptrdiff_t p0 = grid_idx(g, i, j, 0); /* slot of k = 0; k runs -1 .. n */
                 if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1]) {
                     for (int k = -1; k < kend; k++) /* clear non-unknown slots */

@@ -69,8 +69,8 @@ void kernel_advection_upwind(const struct grid *g, const struct box act[3], doub
         const double *va = vel[a], *vb1 = vel[b1], *vb2 = vel[b2];
         double *res = out[a];
 #pragma omp parallel for collapse(2) schedule(static) if (par)
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
                     if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1] ||

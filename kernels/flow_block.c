@@ -14,8 +14,8 @@ static void plane_gammas(const struct grid *g, int c, int d, double *const base[
     int lo, hi;
     plane_dirs(e, &lo, &hi);
 #pragma omp for schedule(static) nowait
-    for (int j = 0; j <= g->n[d]; j++)
-        for (int k = -1; k <= g->n[e]; k++) {
+    for (int j = 0; j <= grid_slot_hi(g, d); j++) /* faces 0..n: one slot compact */
+        for (int k = grid_slot_lo(g, e); k <= grid_slot_hi(g, e); k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
             gb[p] = edge_gamma(base, lo, hi, p, g->stride[lo], g->stride[hi], g->h[lo], g->h[hi]);
         }
@@ -40,8 +40,8 @@ static void plane_products(const struct grid *g, int c, int d, const double *gb,
     const ptrdiff_t od = g->stride[d], oe = g->stride[e];
     const double hd = g->h[d];
 #pragma omp for schedule(static) nowait
-    for (int j = 0; j <= g->n[d]; j++)
-        for (int k = -1; k <= g->n[e]; k++) {
+    for (int j = 0; j <= grid_slot_hi(g, d); j++)
+        for (int k = grid_slot_lo(g, e); k <= grid_slot_hi(g, e); k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
             /* gamma_cd(v): v_c's difference along d (v_d is 0) */
             pe[p] = gb[p] * ((v[p] - v[p - od]) / hd);
@@ -61,7 +61,7 @@ static void plane_stress(const struct grid *g, int c, int d, const double *gb, c
     const ptrdiff_t od = g->stride[d], oe = g->stride[e];
     const double ihd = 1.0 / g->h[d];
 #pragma omp for schedule(static) nowait
-    for (int j = 0; j <= g->n[d]; j++)
+    for (int j = 0; j <= grid_slot_hi(g, d); j++)
         for (int k = 0; k < g->n[e]; k++) {
             const ptrdiff_t p = grid_idx(g, 0, 0, 0) + (ptrdiff_t)j * od + (ptrdiff_t)k * oe;
             double s = A[p] * ((v[p] - v[p - od]) * ihd);

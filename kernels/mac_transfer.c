@@ -259,7 +259,7 @@ void kernel_coarsen_faces(const struct grid *fine, const struct grid *coarse, co
     g[a] = 1;
     const double share = 1.0 / (g[0] * g[1] * g[2]);
     int hi[3] = {coarse->n[0], coarse->n[1], coarse->n[2]};
-    hi[a] += 1;
+    hi[a] = grid_slot_hi(coarse, a) + 1; /* faces 0..n, one slot when compact */
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
     for (int I = 0; I < hi[0]; I++)
         for (int J = 0; J < hi[1]; J++)
@@ -280,8 +280,8 @@ void kernel_coarsen_faces(const struct grid *fine, const struct grid *coarse, co
 void kernel_coarsen_edges(const struct grid *fine, const struct grid *coarse, const int f[3],
                           int k, const double *x, double *y)
 {
-    int hi[3] = {coarse->n[0] + 1, coarse->n[1] + 1, coarse->n[2] + 1};
-    hi[k] -= 1; /* cells along the edge, faces across */
+    int hi[3] = {grid_slot_hi(coarse, 0) + 1, grid_slot_hi(coarse, 1) + 1, grid_slot_hi(coarse, 2) + 1};
+    hi[k] = coarse->n[k]; /* cells along the edge, faces across (one slot when compact) */
     const double share = 1.0 / f[k];
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
     for (int I = 0; I < hi[0]; I++)

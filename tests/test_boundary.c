@@ -18,12 +18,17 @@
  * - a flow that falls through open ends under gravity (the chute, open at
  *   the top and bottom, Newtonian and granular under its confining
  *   pressure) reaches the steady state of the periodic chute, p_dyn = 0;
- * - the case checks that name the keys. */
+ * - the case checks that name the keys;
+ * - a compact periodic direction of one cell (grid.h): one slot, and the ghost
+ *   fills, the strains, the stress divergence, the advection and the
+ *   divergence give the full layout's values to the bit; the full-layout
+ *   copies (checkpoints) go there and back. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "app/run.h"
+#include "kernels/kernels.h"
 #include "march/step.h"
 #include "physics/vof_transport.h"
 #include "scenes/collapse.h"
@@ -142,6 +147,128 @@ static void vof_column(enum bc_kind top, double c, double *top_row, double *rest
     field_free(T);
     for (int d = 0; d < 3; d++)
         field_free(vel[d]);
+}
+
+/* ---- compact layout ------------------------------------------------------ */
+
+/* A value per node, the same at its periodic images along y. */
+static double node_value(int c, int i, int k)
+{
+    return sin(1.3 * c + 0.7 * i + 0.37 * k * k) + 0.1 * c;
+}
+
+static void test_compact_layout(void **state)
+{
+    (void)state;
+    const int n[3] = {5, 1, 4}, periodic[3] = {0, 1, 0};
+    const double len[3] = {1.0, 0.2, 0.8};
+    struct grid gf, gc;
+    assert_int_equal(grid_init(&gf, n, len), 0);
+    assert_int_equal(grid_init_compact(&gc, n, len, periodic), 0);
+    assert_int_equal(gc.ext[1], 1);
+    assert_int_equal(gc.stride[1], 0);
+    assert_int_equal(gc.size, 7 * 6);
+    assert_int_equal(gc.padded, gf.size);
+    assert_true(grid_compact(&gc, 1) && !grid_compact(&gc, 0) && !grid_compact(&gf, 1));
+    assert_int_equal(grid_idx(&gc, 2, -1, 3), grid_idx(&gc, 2, 1, 3));
+    assert_int_equal(grid_slot_lo(&gc, 1), 0);
+    assert_int_equal(grid_slot_hi(&gc, 1), 0);
+    int idx[3];
+    grid_slot_index(&gc, grid_idx(&gc, 4, 0, -1), idx);
+    assert_true(idx[0] == 4 && idx[1] == 0 && idx[2] == -1);
+    /* only a periodic x or y of one cell is compact */
+    const int n2[3] = {1, 3, 1}, all[3] = {1, 1, 1};
+    struct grid g2;
+    assert_int_equal(grid_init_compact(&g2, n2, len, all), 0);
+    assert_true(grid_compact(&g2, 0) && !grid_compact(&g2, 1) && !grid_compact(&g2, 2));
+    assert_int_equal(g2.stride[0], 0);
+    grid_slot_index(&g2, grid_idx(&g2, 0, 2, 0), idx);
+    assert_true(idx[0] == 0 && idx[1] == 2 && idx[2] == 0);
+    assert_int_equal(grid_init_compact(&g2, n2, len, periodic), 0);
+    assert_false(grid_compact(&g2, 0));
+
+    struct boundary bc = {.face = {{BC_WALL, BC_SLIP}, {BC_PERIODIC, BC_PERIODIC}, {BC_WALL, BC_LID}},
+                          .lid_velocity = 0.7,
+                          .lid_direction = 0};
+    struct box act_f[3], act_c[3];
+    bc_unknown_boxes(&gf, &bc, act_f);
+    bc_unknown_boxes(&gc, &bc, act_c);
+    double *vf[3], *vc[3], *of[3], *oc[3], *af[3], *ac[3], *ef[3], *ec[3];
+    for (int c = 0; c < 3; c++) {
+        vf[c] = field_alloc(&gf), of[c] = field_alloc(&gf), af[c] = field_alloc(&gf);
+        ef[c] = field_alloc(&gf);
+        vc[c] = field_alloc(&gc), oc[c] = field_alloc(&gc), ac[c] = field_alloc(&gc);
+        ec[c] = field_alloc(&gc);
+        for (int i = 0; i <= n[0]; i++)
+            for (int k = 0; k <= n[2]; k++) {
+                for (int j = 0; j < n[1]; j++)
+                    vf[c][grid_idx(&gf, i, j, k)] = node_value(c, i, k);
+                vc[c][grid_idx(&gc, i, 0, k)] = node_value(c, i, k);
+            }
+        for (int i = -1; i <= n[0]; i++)
+            for (int j = -1; j <= n[1]; j++)
+                for (int k = -1; k <= n[2]; k++) {
+                    af[c][grid_idx(&gf, i, j, k)] = 1.0 + node_value(c + 3, i, k) * node_value(c + 3, i, k);
+                    ac[c][grid_idx(&gc, i, j, k)] = af[c][grid_idx(&gf, i, j, k)];
+                }
+    }
+    bc_fill_velocity(&gf, &bc, vf);
+    bc_fill_velocity(&gc, &bc, vc);
+    double *cf = field_alloc(&gf), *cc = field_alloc(&gc);
+    /* every slot of the full layout holds the compact one's value */
+    for (int pass = 0; pass < 4; pass++) {
+        for (int c = 0; c < 3; c++)
+            for (int i = -1; i <= n[0]; i++)
+                for (int j = -1; j <= n[1]; j++)
+                    for (int k = -1; k <= n[2]; k++) {
+                        const double *F = pass == 0 ? vf[c] : pass == 3 ? (c ? ef[c] : cf) : of[c];
+                        const double *C = pass == 0 ? vc[c] : pass == 3 ? (c ? ec[c] : cc) : oc[c];
+                        int check = pass == 0 || pass == 3 ||
+                                    (i >= act_f[c].lo[0] && i < act_f[c].hi[0] && j == 0 &&
+                                     k >= act_f[c].lo[2] && k < act_f[c].hi[2]);
+                        if (pass == 3 && (i < 0 || i >= n[0] || k < 0 || k >= n[2] || j != 0))
+                            check = 0; /* the strains: cells, and edges 0 .. n */
+                        if (check && memcmp(&F[grid_idx(&gf, i, j, k)], &C[grid_idx(&gc, i, j, k)],
+                                            sizeof(double)) != 0)
+                            fail_msg("pass %d component %d (%d,%d,%d): %.17g, compact %.17g", pass,
+                                     c, i, j, k, F[grid_idx(&gf, i, j, k)], C[grid_idx(&gc, i, j, k)]);
+                    }
+        if (pass == 0) {
+            kernel_stress_divergence(&gf, act_f, (const double *const *)af,
+                                     (const double *const *)af, vf, of);
+            kernel_stress_divergence(&gc, act_c, (const double *const *)ac,
+                                     (const double *const *)ac, vc, oc);
+        } else if (pass == 1) {
+            kernel_advection(&gf, act_f, vf, of);
+            kernel_advection(&gc, act_c, vc, oc);
+        } else if (pass == 2) {
+            kernel_strain(&gf, vf, cf, ef);
+            kernel_strain(&gc, vc, cc, ec);
+            kernel_divergence(&gf, vf, of[0]);
+            kernel_divergence(&gc, vc, oc[0]);
+            for (int i = 0; i < n[0]; i++)
+                for (int k = 0; k < n[2]; k++)
+                    assert_memory_equal(&of[0][grid_idx(&gf, i, 0, k)], &oc[0][grid_idx(&gc, i, 0, k)],
+                                        sizeof(double));
+        }
+    }
+    /* the full-layout copy is the filled full grid's, and comes back */
+    double *full = field_alloc(&gf);
+    field_to_full(&gc, vc[0], full);
+    assert_memory_equal(full, vf[0], gf.size * sizeof(double));
+    memset(vc[0], 0, gc.size * sizeof(double));
+    field_from_full(&gc, full, vc[0]);
+    for (int i = -1; i <= n[0]; i++)
+        for (int k = -1; k <= n[2]; k++)
+            assert_memory_equal(&vc[0][grid_idx(&gc, i, 0, k)], &vf[0][grid_idx(&gf, i, 0, k)],
+                                sizeof(double));
+    field_free(full);
+    field_free(cf);
+    field_free(cc);
+    for (int c = 0; c < 3; c++) {
+        field_free(vf[c]), field_free(vc[c]), field_free(of[c]), field_free(oc[c]);
+        field_free(af[c]), field_free(ac[c]), field_free(ef[c]), field_free(ec[c]);
+    }
 }
 
 static void test_vof_open_top(void **state)
@@ -590,6 +717,7 @@ void group_boundary(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_ghost_fills),
+        cmocka_unit_test(test_compact_layout),
         cmocka_unit_test(test_vof_open_top),
         cmocka_unit_test(test_poiseuille_channel),
         cmocka_unit_test(test_channel_solvers),

@@ -22,7 +22,8 @@
 #include "grid/grid.h"
 #include "kernels/rheology.h"
 
-/* Fewer array slots than this (ghosts included; 32^3) and a kernel runs on the
+/* Fewer array slots than this (ghosts included, as the full layout holds
+ * them: grid.padded; 32^3) and a kernel runs on the
  * calling thread alone: every OpenMP loop of kernels/ (and of the Poisson
  * solver) carries `if (kernel_parallel(g))`.  A parallel region costs a wake-up
  * and a barrier (microseconds when the other core is free, a time slice when it
@@ -39,7 +40,7 @@
 
 static inline int kernel_parallel(const struct grid *g)
 {
-    return g->size >= KERNEL_PARALLEL_MIN;
+    return g->padded >= KERNEL_PARALLEL_MIN;
 }
 
 /* cn2 = 0.5 sum_i gamma_ii^2 on interior cells; e2[c] = gamma_ab^2 on the

@@ -11,7 +11,7 @@
 
 #define FIELD_ALIGN 64
 
-int grid_init(struct grid *g, const int n[3], const double len[3])
+int grid_init_compact(struct grid *g, const int n[3], const double len[3], const int periodic[3])
 {
     if (!g || !n || !len)
         return -1;
@@ -20,25 +20,42 @@ int grid_init(struct grid *g, const int n[3], const double len[3])
         if (n[d] < 1 || n[d] > INT_MAX - 2 || !(len[d] > 0.0))
             return -1;
     }
-    size_t size = 1;
+    size_t size = 1, padded = 1;
+    int ext[3];
     for (int d = 0; d < 3; d++) {
         size_t e = (size_t)n[d] + 2;
-        if (size > SIZE_MAX / sizeof(double) / e)
+        if (padded > SIZE_MAX / sizeof(double) / e)
             return -1; /* the field would not fit in memory */
-        size *= e;
+        padded *= e;
+        ext[d] = d < 2 && periodic && periodic[d] && n[d] == 1 ? 1 : n[d] + 2;
+        size *= (size_t)ext[d];
     }
     for (int d = 0; d < 3; d++) {
         g->n[d] = n[d];
         g->len[d] = len[d];
         g->h[d] = len[d] / n[d];
-        g->ext[d] = n[d] + 2;
+        g->ext[d] = ext[d];
         g->axis[d] = NULL;
     }
     g->stride[2] = 1;
-    g->stride[1] = g->ext[2];
-    g->stride[0] = (ptrdiff_t)g->ext[1] * g->ext[2];
+    g->stride[1] = ext[1] == 1 ? 0 : ext[2];
+    g->stride[0] = ext[0] == 1 ? 0 : (ptrdiff_t)ext[1] * ext[2];
     g->size = size;
+    g->padded = padded;
     return 0;
+}
+
+int grid_init(struct grid *g, const int n[3], const double len[3])
+{
+    return grid_init_compact(g, n, len, NULL);
+}
+
+int grid_init_like(struct grid *g, const int n[3], const double len[3], const struct grid *like)
+{
+    int compact[3];
+    for (int d = 0; d < 3; d++)
+        compact[d] = grid_compact(like, d);
+    return grid_init_compact(g, n, len, compact);
 }
 
 double grid_min_width(const struct grid *g, int d)
@@ -274,7 +291,7 @@ int grid_set_axis(struct grid *g, int d, const struct grid_axis *ax)
     const struct grid_axis *keep[3] = {g->axis[0], g->axis[1], g->axis[2]};
     double h[3] = {g->h[0], g->h[1], g->h[2]};
     n[d] = ax->n;
-    if (grid_init(g, n, g->len) != 0)
+    if (grid_init_like(g, n, g->len, g) != 0)
         return -1;
     for (int e = 0; e < 3; e++) {
         g->axis[e] = keep[e];
@@ -307,4 +324,36 @@ void field_free(double *f)
 size_t grid_cells(const struct grid *g)
 {
     return (size_t)g->n[0] * (size_t)g->n[1] * (size_t)g->n[2];
+}
+
+/* full[q] = f[p] (to_full) or f[p] = full[q] for every full-layout slot q of
+ * (i, j, k) and its slot p in g; a compact slot is read back from its node
+ * (index 0) only. */
+static void full_layout(const struct grid *g, double *f, double *full, int to_full)
+{
+    const ptrdiff_t s1 = g->n[2] + 2, s0 = (ptrdiff_t)(g->n[1] + 2) * s1;
+    for (int i = -1; i <= g->n[0]; i++)
+        for (int j = -1; j <= g->n[1]; j++) {
+            const int node = (!grid_compact(g, 0) || i == 0) && (!grid_compact(g, 1) || j == 0);
+            if (!to_full && !node)
+                continue;
+            const ptrdiff_t q = (ptrdiff_t)(i + 1) * s0 + (ptrdiff_t)(j + 1) * s1;
+            const ptrdiff_t p = grid_idx(g, i, j, -1);
+            for (int k = 0; k < g->n[2] + 2; k++) {
+                if (to_full)
+                    full[q + k] = f[p + k];
+                else
+                    f[p + k] = full[q + k];
+            }
+        }
+}
+
+void field_to_full(const struct grid *g, const double *f, double *full)
+{
+    full_layout(g, (double *)f, full, 1);
+}
+
+void field_from_full(const struct grid *g, const double *full, double *f)
+{
+    full_layout(g, f, (double *)full, 0);
 }

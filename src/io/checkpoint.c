@@ -71,35 +71,46 @@ void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, s
 }
 
 /* The checkpointed fields of the registry (march/fields.h), dataset by
- * dataset, named by checkpoint_dataset_name.
+ * dataset, named by checkpoint_dataset_name, each in the layout with every
+ * ghost (field_to_full: the files of a compact grid are a full grid's).
  * read: 0 to write them, 1 to read them back. */
 static int each_dataset(hid_t file, const struct march_state *st, int read, char *err,
                         size_t errlen)
 {
+    const struct grid *g = &st->g;
     hsize_t dims[3];
     for (int d = 0; d < 3; d++)
-        dims[d] = (hsize_t)st->g.ext[d];
+        dims[d] = (hsize_t)g->n[d] + 2;
+    double *full = NULL;
+    if (g->size != g->padded && !(full = malloc(g->padded * sizeof *full))) {
+        snprintf(err, errlen, "checkpoint: out of memory for a field");
+        return -1;
+    }
     const struct field_registry *r = &st->fields;
-    for (int i = 0; i < r->count; i++) {
+    int rc = 0;
+    for (int i = 0; rc == 0 && i < r->count; i++) {
         const struct field_entry *e = &r->e[i];
         if (!(e->spec.flags & FIELD_CHECKPOINT))
             continue;
         int n = field_arrays(e->spec.where);
-        for (int c = 0; c < n; c++) {
+        for (int c = 0; rc == 0 && c < n; c++) {
             char name[96];
             checkpoint_dataset_name(&e->spec, c, name, sizeof name);
             /* a field added since the checkpoint was written keeps its start */
             if (read && (e->spec.flags & FIELD_START_OPTIONAL) &&
                 H5Lexists(file, name, H5P_DEFAULT) <= 0)
                 continue;
-            int rc = read ? h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err, errlen)
-                          : h5io_write(file, name, H5T_NATIVE_DOUBLE, 3, dims, e->v[c], err,
-                                       errlen);
-            if (rc != 0)
-                return -1;
+            double *buf = full ? full : e->v[c];
+            if (!read && full)
+                field_to_full(g, e->v[c], full);
+            rc = read ? h5io_read(file, name, H5T_NATIVE_DOUBLE, 3, dims, buf, err, errlen)
+                      : h5io_write(file, name, H5T_NATIVE_DOUBLE, 3, dims, buf, err, errlen);
+            if (rc == 0 && read && full)
+                field_from_full(g, full, e->v[c]);
         }
     }
-    return 0;
+    free(full);
+    return rc;
 }
 
 /* ---- what the modules keep between steps (module_record.h) ---- */
@@ -138,6 +149,36 @@ int module_record_get(struct module_record *r, const char *name, double *v, long
 {
     hsize_t dim = (hsize_t)(n > 0 ? n : 0);
     return h5io_read(r->group, name, H5T_NATIVE_DOUBLE, 1, &dim, v, r->err, sizeof r->err);
+}
+
+/* A field in the layout with every ghost (as each_dataset stores them). */
+int module_record_put_field(struct module_record *r, const char *name, const struct grid *g,
+                            const double *f)
+{
+    if (g->size == g->padded)
+        return module_record_put(r, name, f, (long)g->size);
+    double *full = malloc(g->padded * sizeof *full);
+    if (!full)
+        return module_record_fail(r, "%s: out of memory", name);
+    field_to_full(g, f, full);
+    int rc = module_record_put(r, name, full, (long)g->padded);
+    free(full);
+    return rc;
+}
+
+int module_record_get_field(struct module_record *r, const char *name, const struct grid *g,
+                            double *f)
+{
+    if (g->size == g->padded)
+        return module_record_get(r, name, f, (long)g->size);
+    double *full = malloc(g->padded * sizeof *full);
+    if (!full)
+        return module_record_fail(r, "%s: out of memory", name);
+    int rc = module_record_get(r, name, full, (long)g->padded);
+    if (rc == 0)
+        field_from_full(g, full, f);
+    free(full);
+    return rc;
 }
 
 #define MODULES_GROUP "modules"

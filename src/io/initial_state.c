@@ -71,8 +71,8 @@ static double sample(const double *src, const struct grid *gs, const double off[
 static void interpolate(const double *src, const struct grid *gs, const double off[3],
                         const struct grid *g, double *f)
 {
-    for (int i = -1; i <= g->n[0]; i++)
-        for (int j = -1; j <= g->n[1]; j++)
+    for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+        for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
             for (int k = -1; k <= g->n[2]; k++) {
                 const int idx[3] = {i, j, k};
                 double x[3];

@@ -125,11 +125,11 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
             for (int i = 0; i < g->n[0]; i++)
                 pc->colour[i + g->n[0] * (j + g->n[1] * k)] = (unsigned char)cell_colour(pc, (int[3]){i, j, k});
     const int *comp = probe_matrix_components(pm);
-    const ptrdiff_t s0 = g->stride[0], s1 = g->stride[1];
     long n = 0;
     for (int k = 0; k < nu; k++) {
         ptrdiff_t p = slot[k];
-        int f[3] = {(int)(p / s0) - 1, (int)((p % s0) / s1) - 1, (int)(p % s1) - 1};
+        int f[3];
+        grid_slot_index(g, p, f);
         pc->start[k] = (int)n;
         /* a face held in a body keeps its row, the mass term alone */
         if (!st->embedded || st->embedded->share[comp[k]][p] > 0.0)

@@ -67,8 +67,8 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
      * none (a surface or an open face, where p_hyd = 0, passes it) */
     double **flux = st->delta;
     for (int a = 0; a < 3; a++)
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++) {
                     int idx[3] = {i, j, k};
                     int face = idx[a];
@@ -113,8 +113,8 @@ void hydrostatic_force(struct march_state *st)
             st->force[a][p] = st->density_uniform ? f[a] : f[a] * st->rho_face[a][p] / st->cs->density;
     kernel_gradient_update(g, st->act, st->p_hyd, 1.0, st->force);
     for (int a = 0; a < 3; a++) /* only unknown faces carry a force */
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++) {
                     const struct box *b = &st->act[a];
                     if (i < b->lo[0] || i >= b->hi[0] || j < b->lo[1] || j >= b->hi[1] ||

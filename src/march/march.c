@@ -545,7 +545,9 @@ int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
 {
     double avail = march_available_memory();
     struct grid g;
-    if (!(avail > 0.0) || grid_init(&g, cs->n, cs->len) != 0)
+    int periodic[3];
+    bc_periodic_flags(&cs->bc, periodic);
+    if (!(avail > 0.0) || grid_init_compact(&g, cs->n, cs->len, periodic) != 0)
         return 0; /* nothing known, or a grid march_create refuses itself */
     struct grid_axis axes[3];
     int built[3] = {0, 0, 0}, ok = 1;
@@ -626,7 +628,9 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
     st->rheo = cs->rheo;
     if (cs->mode == MODE_STEADY)
         st->rheo.lambda *= cs->continuation;
-    if (grid_init(&st->g, cs->n, cs->len) != 0) {
+    int wraps[3];
+    bc_periodic_flags(&cs->bc, wraps);
+    if (grid_init_compact(&st->g, cs->n, cs->len, wraps) != 0) {
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }

@@ -135,8 +135,8 @@ static void number_cells(const struct grid *g, const int periodic[3], int *cell)
 {
     for (size_t p = 0; p < g->size; p++)
         cell[p] = -1;
-    for (int i = -1; i <= g->n[0]; i++)
-        for (int j = -1; j <= g->n[1]; j++)
+    for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+        for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
             for (int k = -1; k <= g->n[2]; k++) {
                 int idx[3] = {i, j, k}, inside = 1;
                 for (int d = 0; d < 3; d++)

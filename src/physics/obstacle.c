@@ -278,8 +278,8 @@ static int build_shares(struct obstacle *ob, const struct grid *g)
         ob->share[c] = field_alloc(g);
         if (!ob->share[c])
             return -1;
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++)
                     ob->share[c][grid_idx(g, i, j, k)] = face_share(&ob->set, g, c, i, j, k);
         ob->e.share[c] = ob->share[c];
@@ -289,8 +289,8 @@ static int build_shares(struct obstacle *ob, const struct grid *g)
     if (!ob->cut || !ob->e.work)
         return -1;
     /* every cell slot (ghosts too): a face of it open below 1 */
-    for (int i = -1; i < g->n[0]; i++)
-        for (int j = -1; j < g->n[1]; j++)
+    for (int i = grid_slot_lo(g, 0); i < g->n[0]; i++)
+        for (int j = grid_slot_lo(g, 1); j < g->n[1]; j++)
             for (int k = -1; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 int cut = 0;

@@ -98,7 +98,10 @@ static int interp(const struct plane *pl, const double *f, int c, const double x
             double y[3];
             obstacle_node_position(g, c, idx[0], idx[1], idx[2], y);
             double wt = (da ? w[0] : 1.0 - w[0]) * (db ? w[1] : 1.0 - w[1]);
-            if (wt > 0.0 && shape_distance(&pl->set, y) <= 0.0)
+            if (wt == 0.0)
+                continue; /* face n + 1 past a box's face has no slot: never read */
+            if (idx[pl->a] > g->n[pl->a] || idx[pl->b] > g->n[pl->b] ||
+                shape_distance(&pl->set, y) <= 0.0)
                 return -1;
             s += wt * f[grid_idx(g, idx[0], idx[1], idx[2])];
         }

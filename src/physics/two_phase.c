@@ -109,8 +109,8 @@ int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen)
     /* the face between cells p - o_c and p: the mean of their densities
      * (ghost cells mirror the boundary cells, so a wall face gets its cell's) */
     for (int c = 0; c < 3; c++)
-        for (int i = 0; i <= g->n[0]; i++)
-            for (int j = 0; j <= g->n[1]; j++)
+        for (int i = 0; i <= grid_slot_hi(g, 0); i++)
+            for (int j = 0; j <= grid_slot_hi(g, 1); j++)
                 for (int k = 0; k <= g->n[2]; k++) {
                     ptrdiff_t q = grid_idx(g, i, j, k);
                     double t = 0.5 * (tp->T[q] + tp->T[q - o[c]]);
@@ -345,14 +345,14 @@ static int save(const struct march_state *st, void *state, struct module_record 
     const struct two_phase *tp = state;
     if (!tp->configured)
         return 0;
-    long size = (long)st->g.size;
+    const struct grid *g = &st->g;
     double steps = tp->vt_ready ? (double)tp->vt.steps : 0.0, stale = tp->edges_stale;
     if (module_record_put(rec, "transport_steps", &steps, 1) != 0 ||
         module_record_put(rec, "edges_stale", &stale, 1) != 0)
         return -1;
     for (int c = 0; c < 3; c++)
-        if (module_record_put(rec, rho_names[c], st->rho_face[c], size) != 0 ||
-            (!tp->edges_stale && module_record_put(rec, edge_names[c], tp->edge_t[c], size) != 0))
+        if (module_record_put_field(rec, rho_names[c], g, st->rho_face[c]) != 0 ||
+            (!tp->edges_stale && module_record_put_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
             return -1;
     return 0;
 }
@@ -365,7 +365,7 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
     char err[256];
     if (!rec) /* an earlier checkpoint: the density of today's T */
         return two_phase_tracer_changed(st, err, sizeof err);
-    long size = (long)st->g.size;
+    const struct grid *g = &st->g;
     double steps, stale;
     if (module_record_get(rec, "transport_steps", &steps, 1) != 0 ||
         module_record_get(rec, "edges_stale", &stale, 1) != 0)
@@ -374,8 +374,8 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
         tp->vt.steps = (long)steps;
     tp->edges_stale = stale != 0.0;
     for (int c = 0; c < 3; c++)
-        if (module_record_get(rec, rho_names[c], st->rho_face[c], size) != 0 ||
-            (!tp->edges_stale && module_record_get(rec, edge_names[c], tp->edge_t[c], size) != 0))
+        if (module_record_get_field(rec, rho_names[c], g, st->rho_face[c]) != 0 ||
+            (!tp->edges_stale && module_record_get_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
             return -1;
     if (march_density_changed(st, 0, err, sizeof err) != 0)
         return module_record_fail(rec, "%s", err);

@@ -55,8 +55,8 @@ static void open_ghosts(struct vof_transport *vt, double *T, int which)
                 continue;
             int idx[3];
             idx[e] = side == 0 ? -1 : g->n[e];
-            for (idx[a] = -1; idx[a] <= g->n[a]; idx[a]++)
-                for (idx[b] = -1; idx[b] <= g->n[b]; idx[b]++) {
+            for (idx[a] = grid_slot_lo(g, a); idx[a] <= grid_slot_hi(g, a); idx[a]++)
+                for (idx[b] = grid_slot_lo(g, b); idx[b] <= grid_slot_hi(g, b); idx[b]++) {
                     ptrdiff_t p = grid_idx(g, idx[0], idx[1], idx[2]);
                     if (which == 0) {
                         T[p] = 0.0;

@@ -267,8 +267,8 @@ static int setup(struct march_state *st, char *err, size_t errlen)
             for (int k = 0; k < g->n[2]; k++)
                 T[grid_idx(g, i, j, k)] = layer_fraction(b->interface_height, k, h);
     if (b->start == START_EXACT)
-        for (int i = -1; i <= g->n[0]; i++)
-            for (int j = -1; j <= g->n[1]; j++)
+        for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+            for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = 0; k < g->n[2]; k++)
                     st->vel[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
     /* the stream function of each x-z plane, in the grains (sin^2(pi z / h0)

@@ -111,7 +111,7 @@ double multigrid_memory_estimate(const struct grid *g, const struct multigrid_op
             break;
         for (int d = 0; d < 3; d++)
             n[d] = halve[d] ? lev[nlev - 1].n[d] / 2 : lev[nlev - 1].n[d];
-        if (grid_init(&lev[nlev], n, lev[nlev - 1].len) != 0)
+        if (grid_init_like(&lev[nlev], n, lev[nlev - 1].len, &lev[nlev - 1]) != 0)
             break;
         nlev++;
     }

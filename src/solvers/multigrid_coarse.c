@@ -102,9 +102,7 @@ static long number_rows(struct coarse_direct *cs, const struct level *lv)
 /* The cell indices of field slot p. */
 static void slot_cell(const struct grid *g, ptrdiff_t p, int c[3])
 {
-    c[0] = (int)(p / g->stride[0]) - 1;
-    c[1] = (int)((p % g->stride[0]) / g->stride[1]) - 1;
-    c[2] = (int)(p % g->stride[1]) - 1;
+    grid_slot_index(g, p, c);
 }
 
 /* Each connected component of live cells that neither a Dirichlet face nor

@@ -84,7 +84,7 @@ static void plan_levels(struct multigrid *mg, const struct grid *g)
         for (int d = 0; d < 3; d++)
             n[d] = halve[d] ? gf->n[d] / 2 : gf->n[d];
         struct level *lc = &mg->lev[mg->nlev];
-        if (grid_init(&lc->g, n, gf->len) != 0)
+        if (grid_init_like(&lc->g, n, gf->len, gf) != 0)
             break;
         for (int d = 0; d < 3; d++)
             lc->coarse[d] = halve[d];
@@ -264,11 +264,10 @@ static int copy_faces(struct multigrid *mg, int d, const double *src, char *err,
                 dst[p] = val;
             }
     if (bad >= 0) {
-        const int i = (int)(bad / g->stride[0]) - 1;
-        const int j = (int)((bad % g->stride[0]) / g->stride[1]) - 1;
-        const int k = (int)(bad % g->stride[1]) - 1;
+        int c[3];
+        grid_slot_index(g, bad, c);
         mg_set_err(err, errlen, "multigrid: coefficient %g on face (%d,%d,%d) of direction %c",
-                   src[bad], i, j, k, "xyz"[d]);
+                   src[bad], c[0], c[1], c[2], "xyz"[d]);
         return -1;
     }
     return 0;

@@ -35,8 +35,8 @@ void mg_halo_fill(const struct multigrid *mg, const struct level *lv, double *f,
     for (int d = 0; d < 3; d++) {
         const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
         const int ext1 = e1 < d && !faces_only, ext2 = e2 < d && !faces_only;
-        const int lo1 = ext1 ? -1 : 0, hi1 = ext1 ? g->n[e1] + 1 : g->n[e1];
-        const int lo2 = ext2 ? -1 : 0, hi2 = ext2 ? g->n[e2] + 1 : g->n[e2];
+        const int lo1 = ext1 ? grid_slot_lo(g, e1) : 0, hi1 = ext1 ? grid_slot_hi(g, e1) + 1 : g->n[e1];
+        const int lo2 = ext2 ? grid_slot_lo(g, e2) : 0, hi2 = ext2 ? grid_slot_hi(g, e2) + 1 : g->n[e2];
         const int n = g->n[d];
         /* a periodic direction of one cell has zero coefficients
          * (multigrid_levels.c): the operator reads its ghosts only times 0,

@@ -185,7 +185,7 @@ int velocity_mg_create(struct velocity_mg **out, const struct grid *g, const str
             n[d] = fg->n[d] / f[d];
             c->f[d] = f[d];
         }
-        if (grid_init(&c->g, n, g->len) != 0) {
+        if (grid_init_like(&c->g, n, g->len, fg) != 0) {
             velocity_mg_destroy(m);
             snprintf(err, errlen, "velocity multigrid: bad coarse grid");
             return -1;
@@ -251,7 +251,9 @@ double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *
     int n[3] = {g->n[0], g->n[1], g->n[2]};
     double bytes = 0.0;
     for (int l = 0; l < MAX_LEVELS; l++) {
-        double size = (double)(n[0] + 2) * (n[1] + 2) * (n[2] + 2);
+        double size = 1.0; /* a level's slots: one along a compact direction (grid.h) */
+        for (int d = 0; d < 3; d++)
+            size *= d < 2 && n[d] == 1 && bc && bc->face[d][0] == BC_PERIODIC ? 1.0 : n[d] + 2.0;
         bytes += level_fields(lines, l > 0) * size * sizeof(double);
         int any = 0;
         for (int d = 0; d < 3; d++)

@@ -570,8 +570,8 @@ void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, in
          * images (as the march's ghosts are): random ghosts would couple a
          * direction of one periodic cell, whose derivatives vanish */
         for (int m = 0; m < NFIELDS; m++)
-            for (int i = -1; i <= g->n[0]; i++)
-                for (int j = -1; j <= g->n[1]; j++)
+            for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
+                for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                     for (int k = -1; k <= g->n[2]; k++) {
                         int t[3] = {i, j, k};
                         unsigned long long x = (unsigned long long)m;
