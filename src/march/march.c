@@ -227,7 +227,8 @@ double march_picard_reference(const struct march_state *st)
  * library's answer (it is opened to find out). */
 static int amg_allowed(int amg)
 {
-    return amg >= 0 ? amg : amg_allowed(amg);
+    char err[160];
+    return amg >= 0 ? amg : amg_hypre_available(err, sizeof err);
 }
 
 /* The implicit solve's preconditioner for the case on g (amg: see
