@@ -24,9 +24,8 @@ struct amg_options {
     int sweeps;         /* smoothing sweeps per level after the coarse
                            correction (and on the coarsest level) */
     int pre_sweeps;     /* before the restriction: 0, a V(0,1) cycle, by
-                           default (docs/design.md: 20-25 % less time on the
-                           heap's steady solves than V(1,1), the iterations
-                           1.2x more) */
+                           default (less time than V(1,1) on the heap's
+                           steady solves: docs/numerics/multigrid.md) */
     int systems;        /* 1: the three velocity components coarsened and
                            interpolated apart (unknown-based systems AMG) */
     int agg_levels;     /* levels of aggressive coarsening */
