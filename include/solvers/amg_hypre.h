@@ -100,7 +100,8 @@ int amg_hypre_dropped_components(const struct amg_hypre *a);
 
 /* Bytes hypre takes for a hierarchy of this many unknowns (with the default
  * options, the full tangent on a 2D grid), its library and MPI included: a
- * measured model for the run's memory estimate. */
+ * model fitted to measured peaks for the run's memory estimate
+ * (docs/numerics/memory-estimate.md). */
 double amg_hypre_memory_estimate(long unknowns);
 
 /* Levels and operator complexity (sum of the levels' entries over A's) of the

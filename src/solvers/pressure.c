@@ -149,10 +149,9 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     /* A right-hand side at the round-off of its own computation (a flow
      * uniform along the periodic direction has div u* ~ 1e-16 |u| / h) cannot
      * be reduced 1e12-fold: the operator's own round-off, amplified by the
-     * coefficient's jumps, is above that, and the iteration ran into its
-     * cap with restarts (bagnold2, 50 x 100: 3 of 11 solves, 2,500
-     * iterations each, 80% of the run).  The floor ends it where the result
-     * no longer changes. */
+     * coefficient's jumps, is above that, and the iteration would run into
+     * its cap with restarts, most of bagnold2's run (docs/numerics/pressure.md,
+     * "The floor").  The floor ends it where the result no longer changes. */
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
         double norm = kernel_norm2_cells(ps->g, ps->rhs);
