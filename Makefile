@@ -35,8 +35,8 @@ LDLIBS += -Wl,--export-dynamic-symbol=GOMP_parallel
 # the archive though nothing in muflow calls it): CHOLMOD's clock, stopped
 LDLIBS += -Wl,--undefined=SuiteSparse_time -Wl,--export-dynamic-symbol=SuiteSparse_time
 # hypre (and its OpenMPI) is not linked: amg_hypre.c opens it with dlopen when
-# the first AMG is created (every other run starts ~5 ms of CPU sooner, 57
-# shared libraries instead of 74: bench/analysis.md), by the soname
+# the first AMG is created (every other run starts sooner, with fewer shared
+# libraries: docs/numerics/threads-and-platform.md), by the soname
 # the -dev package's libHYPRE.so points to; mpi.h and hypre's headers give the
 # types.  ompi-c is only in the Cflags' packages.
 MULTIARCH := $(shell $(CC) -print-multiarch)
@@ -235,14 +235,13 @@ fuzz:
 	  -artifact_prefix=$(FUZZ_BUILD)/ -print_final_stats=1 $(FUZZ_BUILD)/corpus tests/fuzz/corpus
 	$(FUZZ_BUILD)/fuzz_case -merge=1 tests/fuzz/corpus $(FUZZ_BUILD)/corpus
 
-# ---- benchmarks (bench/; README "Benchmarks") --------------------------------
+# ---- benchmarks (bench/; docs/benchmarks.md) ----------------------------------
 # `make bench` installs the plotting package (Debian's matplotlib, used through
 # /usr/bin/python3), builds the bench programs against build/libmuflow.a with
-# the flags above, runs every benchmark on 2 threads (2-3 minutes on 2 idle
-# cores, bounded on a busy machine, plus bench_multigrid: about 5 minutes on a
-# loaded machine, most of it the 256^3 solves; it needs ~2.3 GiB; plus
-# bench_process, about a minute: whole `muflow CASE` processes) and writes
-# bench/out/report.md with its PNG plots, printing the tables.
+# the flags above, runs every benchmark on 2 threads (several minutes, most of
+# it bench_multigrid's 256^3 solves, which need ~2.3 GiB; bench_process runs
+# whole `muflow CASE` processes) and writes bench/out/report.md with its PNG
+# plots, printing the tables.
 BENCH_PKGS    = python3-matplotlib python3-h5py
 BENCH_OUT     ?= bench/out
 BENCH_REPEATS ?= 7
@@ -302,7 +301,7 @@ bench-cavity: deps bench-deps
 	/usr/bin/python3 bench/plot_cavity.py $(BENCH_OUT)
 
 # 128 x 128 for Vola's Bn = 0, 1, 10, 100, 1000 (minutes each), from rest with
-# the case's defaults (docs/design.md, "Globalisation").
+# the case's defaults (docs/numerics/steady-criterion.md, "Globalisation").
 bench-cavity-128: deps bench-deps
 	@$(MAKE) --no-print-directory $(BUILD)/bench_cavity
 	@mkdir -p $(BENCH_OUT)/cavity128
@@ -338,9 +337,8 @@ bench-amg: deps bench-deps $(BUILD)/muflow
 # cases/duct_circular.ini, both models, on the half cross-section meshes
 # 10 x 20, 20 x 40, 40 x 80 (the paper's square meshes) and 80 x 160.  At
 # 80 x 160 the mixed model starts from the 40 x 80 solution
-# (solver.initial_state, at dt 0.001 with the probed LU: from rest the
-# circular duct's AMG gives way to the LU late, 122 steps against 19,
-# README), the two-fluid model from rest like the coarser meshes.  The
+# (solver.initial_state, at dt 0.001 with the probed LU), the two-fluid
+# model from rest like the coarser meshes.  The
 # tables of flow rates and mid-plane differences (bench/out/duct_table*.md,
 # duct_circular_table*.md) and the plots duct*_midplane*.png (figs. 11, 14),
 # duct*_map*.png (figs. 10, 13) and duct*_phases_two_fluid.png (figs. 12,
@@ -390,7 +388,8 @@ bench-cylinder: deps bench-deps $(BUILD)/muflow
 # secant of the two before, the step halved on failure down to 0.0125: the
 # limit; the others from its states scaled to their pressure), with
 # $(BENCH_OUT)/cylinder_granular.csv, cylinder_granular.png (fig. 12) and
-# cylinder_granular_maps.png (figs. 13, 14, 16).  Hours: see the README.
+# cylinder_granular_maps.png (figs. 13, 14, 16).  Hours on 2 cores
+# (docs/validation/cylinder.md).
 GRANULAR_PRESSURES ?= 10,5,20,2.5,40
 GRANULAR_FORCING ?= 1.0,1.05,1.1,1.15,1.2,1.25,1.3,1.35,1.4,1.45,1.5,1.55
 .PHONY: bench-cylinder-granular
@@ -403,7 +402,8 @@ bench-cylinder-granular: deps bench-deps $(BUILD)/muflow
 # lambda 1e-2 on every grid): D/h = GRANULAR_GRIDS, the first from rest,
 # each finer one from the state before it, with the sheared layer at the
 # body ($(BENCH_OUT)/cylinder_grids.md, cylinder_grids_layer.png).  About
-# 5 minutes on 2 cores to D/16; D/32 takes 40 more and 14 GB (README).
+# 5 minutes on 2 cores to D/16; D/32 takes 40 more and 14 GB
+# (docs/validation/cylinder.md).
 GRANULAR_GRIDS ?= 4,8,16
 .PHONY: bench-cylinder-grids
 bench-cylinder-grids: deps bench-deps $(BUILD)/muflow
@@ -413,7 +413,7 @@ bench-cylinder-grids: deps bench-deps $(BUILD)/muflow
 
 # The same study on stretched grids: D/h within 1.5 D of the cylinder's
 # centre (domain.x_band, z_band), D/4 far from it, h over GRANULAR_BANDS
-# (README "Flow past a cylinder"): $(BENCH_OUT)/cylinder_bands.md.
+# (docs/validation/cylinder.md): $(BENCH_OUT)/cylinder_bands.md.
 GRANULAR_BANDS ?= 8,16,32,64
 .PHONY: bench-cylinder-bands
 bench-cylinder-bands: deps bench-deps $(BUILD)/muflow
@@ -425,7 +425,7 @@ bench-cylinder-bands: deps bench-deps $(BUILD)/muflow
 # cases/cylinder.ini: D/4, p_ext = 10, lambda 1e-6; from rest at F = 1 to
 # CYLINDER_FORCING_END in steps of 0.05, 2 threads): the time of each steady
 # solve and of the whole continuation, $(BENCH_OUT)/cylinder_continuation/
-# cylinder.csv.  27-37 minutes to 1.2 (the path in F varies; README).
+# cylinder.csv.  About 6 minutes to 1.2 (docs/benchmarks.md).
 CYLINDER_FORCING_END ?= 1.2
 .PHONY: bench-cylinder-continuation
 bench-cylinder-continuation: deps $(BUILD)/muflow
@@ -445,13 +445,13 @@ bench-cylinder-continuation: deps $(BUILD)/muflow
 # 1.42 and 6.26 at
 # COLLAPSE_DEPOSIT_N cells per H0 against contact dynamics
 # (collapse_deposits.md, collapse_deposit_a*.png), without and with the
-# clip.  About 4 minutes on 2 idle cores (2026-12-05), most of it the two
-# runs at N = 64.
+# clip.  About 4 minutes on 2 idle cores, most of it the two runs at N = 64.
 COLLAPSE_N ?= 16 32 64
 COLLAPSE_DEPOSIT_N ?= 32
 # The published set-up: the clip, and van Leer's second-order advection,
 # which the clip's floor on the viscosity keeps from shedding grains at the
-# front (without the clip the case keeps the donor cell: README).
+# front (without the clip the case keeps the donor cell:
+# docs/numerics/two-phase-and-vof.md).
 COLLAPSE_CLIP = collapse.viscosity_clip=on collapse.eta_max=1e4 physics.advection_scheme=vanleer
 .PHONY: bench-collapse
 bench-collapse: deps bench-deps $(BUILD)/muflow
@@ -467,8 +467,8 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 # The collapse beside Gerris 1.3.2 (the code of the published runs; Debian's
 # gerris, and libgfs-dev, whose headers Gerris needs to compile a case's
 # functions): a = 0.5 to t = 4 at 25.6 and 51.2 cells per H0
-# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4: Gerris took 6.6 to 12.8 minutes
-# at the clip 10 and had reached t = 1.46 after 21 minutes at 1e4), the granular
+# (COLLAPSE_GERRIS_LEVELS 7 8; 9 is 102.4, where Gerris takes many minutes:
+# docs/benchmarks.md), the granular
 # viscosity clipped at 10 (Gerris's example) and 1e4 (the Basilisk port,
 # muflow's published set-up), Gerris's step capped at 0.01 (its example's)
 # and 0.02, muflow's at 0.01 (its set-up's) and 0.04, and 0.03 and 0.04 with

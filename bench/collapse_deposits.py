@@ -5,7 +5,7 @@ usage: collapse_deposits.py MUFLOW OUTDIR [N] [section.key=value ...] [--tag NAM
 
 Runs cases/collapse.ini (the caller's OMP_NUM_THREADS) at N cells per H0
 (default 32) for the three aspect ratios of Lagree, Staron & Popinet (2011)
-with the overrides the README gives, each until the grains come to rest
+with the overrides docs/validation/collapse.md gives, each until the grains come to rest
 (collapse.rest_energy) or t = 12, and compares the final surface h(x) with
 the final contact-dynamics profile of cases/data/staron_cd_deposits.csv
 (both of its sides folded onto x >= 0): OUTDIR/collapse_deposit_a*.png and

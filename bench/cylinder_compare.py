@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The granular cylinder's continuation on several grids, side by side: F_D
 / p_ext and C_D against Fr = U / sqrt(g D) from each run's cylinder.csv
-(Chauchat & Medale 2014, fig. 12, one curve per run; README "Flow past a cylinder").
+(Chauchat & Medale 2014, fig. 12, one curve per run; docs/validation/cylinder.md).
 
 usage: cylinder_compare.py OUT.png LABEL=RUNDIR [LABEL=RUNDIR ...]
 

@@ -20,8 +20,8 @@ from the one before (solver.initial_state, the same grid: an exact copy)
 at lambda 1e-6.  A solve without a steady state is retried at the midpoint
 of the last step in F, down to steps of --min-step: the series ends at
 the first F that fails within --min-step of a steady one: the limit of
-the continuation, or only the march's failure before it (at D/4, p_ext 10
-the series stopped at F = 1.2, which p_ext 5 reaches: README).  Every other pressure starts each F from
+the continuation, or only the march's failure before it
+(docs/validation/cylinder.md, "Known limits").  Every other pressure starts each F from
 the first pressure's state at that F scaled to it (velocity times
 sqrt(p / p_first), pressure times p / p_first: mu(I) has no stress or rate
 scale of its own, so at a fixed F the steady state scales so but for the

@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 """Grid convergence of the granular cylinder's drag at one forcing
-(cases/cylinder.ini, F = 1, p_ext = 10; README "Granular flow past a
-cylinder").
+(cases/cylinder.ini, F = 1, p_ext = 10; docs/validation/cylinder.md).
 
 usage: cylinder_grids.py MUFLOW OUTDIR [--grids 4,8,16] [--lambda 1e-2]
                          [--band W [--far 4]] [section.key=value ...]

@@ -2,8 +2,8 @@
 """The sheared layer at the granular cylinder's surface, grid by grid: the
 shear rate |D| against the distance from the body along the ray from the
 body's centre through the flow cell of largest |D|, one curve per run,
-from each run's last field file (Chauchat & Medale 2014, sec. 4.2; README "Granular
-flow past a cylinder", the grid convergence of the drag).
+from each run's last field file (Chauchat & Medale 2014, sec. 4.2;
+docs/validation/cylinder.md, the drag's grid convergence).
 
 usage: cylinder_layer.py OUT.png RUNDIR [RUNDIR ...]
 

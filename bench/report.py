@@ -349,7 +349,8 @@ if ch or ct or cl or et:
     md.append("## 2. chute: the paper's studies redone\n")
     md.append(
         "Vertical chute between rough plates, b = 28, p = 28 (`cases/chute.ini`), from rest "
-        "to a relative residual of 1e-10 (less its round-off, see docs/design.md), "
+        "to a relative residual of 1e-10 (less its round-off, see "
+        "docs/numerics/steady-criterion.md), "
         "`domain.ny` = b/h.\n")
 if ch:
     md.append("### 2a. Error against h, lambda 1e-4\n")
@@ -833,7 +834,7 @@ if os.path.exists(mgp):
         lines = f.read().splitlines()
     md.append("## 6. Multigrid Poisson solver\n")
     md.append("Geometric multigrid for div(a grad phi) = f (`src/solvers/multigrid.c`, "
-              "docs/design.md \"Multigrid\"), from `bench_multigrid`:\n")
+              "docs/numerics/multigrid.md), from `bench_multigrid`:\n")
     for line in lines:
         if line.startswith("# "):
             continue  # its own title

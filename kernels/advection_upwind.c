@@ -10,7 +10,8 @@
  * pressure, hence mu(I)'s viscosity, vanishes there), and with the centred
  * form the front of a collapsing column sheds droplets of grains at twice
  * the front's speed.  The limited flux damps only at extrema, and still lets
- * a few droplets go (docs/design.md, "Column collapse"). */
+ * a few droplets go (docs/numerics/two-phase-and-vof.md, "What the collapse
+ * needed"). */
 #include <math.h>
 #include "kernels/kernels.h"
 

@@ -1,7 +1,7 @@
 /* The bedload scene: Poiseuille flow over a granular bed, mixed-fluid model
  * (physics/bed.h), against the exact solution of Ouriemi, Aussillous &
- * Guazzelli (2009).  Tolerances from the measured study (README "Bed load",
- * docs/design.md), lambda 1e-6, bercovier:
+ * Guazzelli (2009).  Tolerances from the measured study
+ * (docs/validation/bedload.md), lambda 1e-6, bercovier:
  *   set A nz = 20: err_rms 3.065e-4 m/s (0.54% of u_max 0.0567), mobile layer
  *                  0.0119286 m against 0.0120997 (0.053 cells);
  *   set A nz = 40: err_rms 7.698e-5 (order 1.99 from nz = 20);
@@ -125,7 +125,7 @@ static void test_viscosity(void **state)
 }
 
 /* The two-fluid model (bedload.model = two_fluid, physics/bed_two_fluid.h),
- * set A, lambda 1e-6.  Measured (README "Bed load (two-fluid model)"):
+ * set A, lambda 1e-6.  Measured (docs/validation/bedload.md):
  *   nz = 20: err_rms 3.568e-4 (u^m), err_rms_particles 5.72e-5 (u^p in the
  *            bed), mobile layer (of the grains, from u^p) 0.0119213 m
  *            against 0.0120997 (0.055 cells), 11 steps;

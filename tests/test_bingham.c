@@ -182,7 +182,8 @@ static void test_cavity_bn1000_64_enters_newton(void **state)
  * 64 x 64: all ten printed digits of psi_max, 31 steps each), and its steady
  * state reached in no more steps than the augmented run takes plus 10.
  * Bad input: with the augmentation, in a transient run, with a physics
- * module (bagnold2's two phases; its open top is no longer the reason). */
+ * module (bagnold2's two phases: the module is the reason, not its open
+ * top). */
 static void test_cavity_coupled(void **state)
 {
     (void)state;

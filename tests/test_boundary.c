@@ -314,7 +314,7 @@ static void channel_case(struct muflow_case *cs, int nz, const char *extra)
      * time step grows from 0.06 to 0.6 rho h^2 / eta and no further: the
      * incremental projection corrects a pressure error of wavenumber k by
      * the fraction 1 / (1 + eta k^2 dt / rho) a step, which a step growing
-     * past rho h^2 / eta makes slow (docs/design.md, open boundaries).  That
+     * past rho h^2 / eta makes slow (docs/numerics/open-boundaries.md).  That
      * it grows matters: with a constant step the sum of the projections'
      * corrections happens to pin the outlet pressure even without the open
      * face's pressure balance (stage_projection.c); with a varying one only
@@ -516,15 +516,15 @@ static void chute_run(int nz, const char *ends, const char *law, const char *cou
  * 2e-11 of rho g b.  The granular chute (p_ext = 28, plug velocity -1.2376
  * on this grid) open at both ends, nz = 2: steady in 45 steps like the
  * periodic one, the same w to 1e-13 of the plug's; with nz = 8 the
- * projection's march converges slowly (docs/design.md: its pressure update,
- * 8e-8 after 1000 steps with nz = 4), the coupled step (solver.coupled,
- * coupled_open.h) in the periodic chute's 45 steps, the same w to 1e-15.
- * Before the open faces'
- * increments took the inner faces' in the implicit step (boundary.c), the
- * open faces' normal velocity lagged a step behind the inner ones, the
- * projection turned the lag into a pressure that held the column up, and
- * neither run reached a steady state (the residual stalled at 1: the
- * granular column did not move).  The bound 1e-8 is far above the measured
+ * projection's march converges slowly (docs/numerics/open-boundaries.md:
+ * its pressure update, 8e-8 after 1000 steps with nz = 4), the coupled step
+ * (solver.coupled, coupled_open.h) in the periodic chute's 45 steps, the
+ * same w to 1e-15.  Were the open faces' increments not the inner faces' in
+ * the implicit step (boundary.c), the open faces' normal velocity would lag
+ * a step behind the inner ones, the projection would turn the lag into a
+ * pressure that holds the column up, and neither run would reach a steady
+ * state (the residual stalls at 1: the granular column does not move).  The
+ * bound 1e-8 is far above the measured
  * round-off and far below the pressure that held the column (order 1). */
 #define FALL_TOL 1e-8
 

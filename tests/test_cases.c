@@ -324,7 +324,7 @@ static void test_result_values(void **state)
         print_message("%s: %d lines of [result] read back\n", shipped[i].tag, lines);
         free(s);
     }
-    /* the names the README promises, read on bagnold's run */
+    /* the names the README's "Outputs" promises, read on bagnold's run */
     assert_true(run_result_value(&runs[0].ra, "err_rms") > 0.0);
     assert_true(run_result_value(&runs[0].ra, "err_max") >= run_result_value(&runs[0].ra, "err_rms"));
     assert_true(fabs(run_result_value(&runs[0].ra, "u_surface_exact") - 1.5913872) < 1e-6);

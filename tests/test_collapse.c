@@ -17,7 +17,7 @@
 #define REFERENCE "../cases/data/lagree2011_collapse.csv"
 
 /* |x_f - reference| on 16 cells per H0.  The grid study (make
- * bench-collapse; README "Column collapse") measured on 16, 32 and 64
+ * bench-collapse; docs/validation/collapse.md) measured on 16, 32 and 64
  * cells per H0 (the published runs' pressure gauge, test_top_gauge):
  *   t <= 2: at most 0.043, 0.018, 0.004 (the three grids agree with the
  *           reference to 0.05 and with each other to 0.047),
@@ -214,8 +214,8 @@ static void test_top_gauge(void **state)
  * with the limit), and at every time within LATE_TOL (measured 0.127 at
  * t = 4 against 0.077 with the limit: the larger steps' first-order time
  * error, behind, on this coarse grid; at 25.6 and 51.2 cells per H0 the
- * same switch moved it by 0.018 and 0.022, docs/design.md "Column
- * collapse"): a regression bound. */
+ * same switch moved it by 0.018 and 0.022, docs/numerics/time-step.md): a
+ * regression bound. */
 static void test_vof_limit_off(void **state)
 {
     (void)state;

@@ -14,12 +14,12 @@
  * - The search must meet its own criterion: |Q* / 40.2 - 1| <= 1e-3.
  * - The tilt must lie where a steady flow exists, tan between mu_s and
  *   mu_s + delta_mu.
- * - Against the mesh study (bench/heap_study.py, README "Heap"): the tilt for
- *   Q* = 40.2 is 0.40552, 0.40610 and 0.40634 at 35 x 50, 70 x 100 and
- *   140 x 200, converging at about order 1.3; the 14 x 20 mesh's
- *   discretisation error against the finest is TILT_COARSE_ERROR.  The test
- *   allows that error plus 25%, so it fails when the scheme or the search
- *   moves the answer by more than the coarse mesh's own error.
+ * - Against the mesh study (bench/heap_study.py, docs/validation/heap.md):
+ *   the tilt for Q* = 40.2 is 0.40552, 0.40610 and 0.40634 at 35 x 50,
+ *   70 x 100 and 140 x 200, converging at about order 1.3; the 14 x 20
+ *   mesh's discretisation error against the finest is TILT_COARSE_ERROR.
+ *   The test allows that error plus 25%, so it fails when the scheme or the
+ *   search moves the answer by more than the coarse mesh's own error.
  * - The flowing layer is deepest at the mid-plane and thins towards the side
  *   wall; the surface velocity rises from the wall to the mid-plane; the
  *   flowing layer stays clear of the base (else the domain would be too
@@ -72,7 +72,7 @@ static void test_layer_shape(void **state)
     /* the cell next to the wall is left out of the surface velocity's
      * monotony: at the free surface the wall's largest friction (mu_s + dmu) p
      * vanishes and the top corner slips, so on fine meshes that one cell is
-     * faster than its neighbour (README, "Heap") */
+     * faster than its neighbour (docs/validation/heap.md) */
     for (int j = 1; j < hp.n; j++) {
         if (j >= 2)
             assert_true(hp.u_surface[j] > hp.u_surface[j - 1]);

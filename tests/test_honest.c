@@ -33,7 +33,7 @@ static void run_one_thread(const struct muflow_case *cs, int write_output, struc
 
 /* From a small pseudo-time step the march follows the physical start-up of
  * the layer: its residual stays near 4.3e-2 for hundreds of steps while the
- * layer speeds up (200 steps used to be called "accelerates").  It must end
+ * layer speeds up (200 such steps are not "accelerates").  It must end
  * steady, on the profile of the default run. */
 static void test_startup_is_not_a_stall(void **state)
 {
@@ -114,8 +114,8 @@ static void test_true_acceleration_still_said(void **state)
 }
 
 /* The automatic preconditioner: a flow bounded in one direction only gets the
- * line blocks, exact for it, whatever the periodic extent (16 x 8 used to
- * fail for want of 960 probes, 15 x 5 took the LU of 375 probes a step);
+ * line blocks, exact for it, whatever the periodic extent (not the LU: 960
+ * probes at 16 x 8, 375 probes a step at 15 x 5);
  * two bounded directions keep the sparse factorisation. */
 static void test_auto_preconditioner(void **state)
 {
@@ -268,8 +268,8 @@ static void test_memory_estimate(void **state)
     snprintf(run_dir, sizeof run_dir, "%s/run", dir);
     assert_int_not_equal(access(run_dir, F_OK), 0); /* nothing written */
     /* the coupled step's own LU counts: the cavity at 128 x 128 peaks at
-     * 384 MB (estimate 389 MB; 130 MB when the viscous LU's model stood
-     * for it, and the run would have started) */
+     * 384 MB (estimate 389 MB; the viscous LU's model would say 130 MB and
+     * let the run start) */
     snprintf(cmd, sizeof cmd,
              "MUFLOW_AVAILABLE_MEMORY=300000000 '%s' ../cases/bingham_cavity.ini "
              "solver.coupled=on solver.augmentation=0 solver.preconditioner=lu "
@@ -292,13 +292,12 @@ static void test_memory_estimate(void **state)
 }
 
 /* Every size check comes before the work the grid costs: the body's
- * geometry on the grid ran first (a plane of flags and a queue, 5 bytes a
- * cell, twice), so the cylinder benchmark at 40000 x 8000 cells worked
- * 50-60 s and grew to 1.5 GB before the memory estimate refused it, and
- * the circular duct at 20000 x 40000 33 s and 790 MB before the cell
- * count's cap did.  Two checks, neither a timing:
+ * geometry on the grid (a plane of flags and a queue, 5 bytes a cell,
+ * twice) would take the cylinder benchmark at 40000 x 8000 cells a minute
+ * and 1.5 GB, the circular duct at 20000 x 40000 half a minute and 790 MB,
+ * before a later check refused them.  Two checks, neither a timing:
  * - case_load refuses the first from the case alone, before march_create
- *   (it accepted the case: the estimate lived in march_create only);
+ *   (not only march_create's estimate);
  * - from the command line, under an address space of 1 GB, far below what
  *   the geometry needs and far above what muflow's start needs, both are
  *   refused with the size message (exit 2), not "out of memory checking
@@ -429,8 +428,8 @@ static void test_linear_cap_told(void **state)
  * below mu_s at 4 x 100, lambda 1e-8 by stages from 1e-6: the stiffer
  * plug of the last stage raises the residual to 45 with the film still
  * right, then the velocity from the film's 0.0105 m/s to 700 m/s, the
- * residual never past 80: it used to end "unsteady: the residual stalls"
- * after 294 steps) ends diverged at once, names the step and the velocity,
+ * residual never past 80, not "unsteady: the residual stalls" after 294
+ * steps) ends diverged at once, names the step and the velocity,
  * and keeps (and checkpoints) the state before: its velocity within 1000
  * times the film's. */
 static void test_velocity_blowup_diverges(void **state)

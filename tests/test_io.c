@@ -31,8 +31,9 @@
 #include "app/run.h"
 #include "test_main.h"
 
-/* The cell datasets of a field file of a single-phase run, as README and
- * fields_h5.h document them: five scalars and the cell-centred velocity. */
+/* The cell datasets of a field file of a single-phase run, as
+ * docs/user-guide.md and fields_h5.h document them: five scalars and the
+ * cell-centred velocity. */
 /* The heap scene's own output (scenes/heap.c: files). */
 static const char *const scene_files[] = {"heap.csv", NULL};
 #define FIELDS_CELL_SCALARS 5
@@ -508,7 +509,7 @@ static void test_cli_signals(void **state)
     assert_true(from >= 50 && from % 25 == 0); /* a periodic checkpoint */
 
     /* The reference run a is a separate process: with FFTW_ESTIMATE it plans
-     * the same transforms as b and c (README "Reproducibility"), so the
+     * the same transforms as b and c (docs/numerics/reproducibility.md), so the
      * fields match bit for bit, and so does the summary. */
     char *x = test_summary_result(da);
     for (int m = 0; m < 2; m++) {

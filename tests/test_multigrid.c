@@ -589,7 +589,7 @@ static double blob_rate(const int n[3], double ratio, int use_pcg, int *cycles, 
 /* Rates on a series of grids: each mean rate at most `bound`, every single
  * cycle's reduction at most `single`, and the finer grids' rates at most
  * `growth` above the coarsest's.  The bounds are the measured worst values
- * (docs/design.md, "Multigrid"; these are deterministic: same rhs, same
+ * (docs/numerics/multigrid.md; these are deterministic: same rhs, same
  * arithmetic at a given thread count) plus a margin of about 0.05. */
 static void rate_series(const char *label, const int (*sizes)[3], int count, double ratio,
                         int use_pcg, double bound, double growth, double single)
@@ -619,7 +619,7 @@ static void rate_series(const char *label, const int (*sizes)[3], int count, dou
  * Worst single cycle: 0.137 and 0.057 (a = 1), 0.355 and 0.201 (blob, both at
  * 32^2: the first cycles).  Bounds: the worst measured plus ~0.05 (cycles) /
  * ~0.04 (PCG); growth from the coarsest grid at most 0.03 (none measured).  (V(2,2) grew with the jump:
- * 0.274 -> 0.366 and 0.093 -> 0.121 with PCG; see design.md.) */
+ * 0.274 -> 0.366 and 0.093 -> 0.121 with PCG: docs/numerics/multigrid.md.) */
 static void test_rate_2d(void **state)
 {
     (void)state;

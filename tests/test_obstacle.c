@@ -6,8 +6,7 @@
  * - Poiseuille flow in a circular pipe (the fluid inside a circle:
  *   obstacle.invert), cross-section in y-z, one periodic cell along the
  *   flow: u = G (R^2 - r^2) / (4 eta).  The sharp boundary converges at
- *   second order, the staircase at first (measured, docs/design.md
- *   "Obstacles (measured)");
+ *   second order, the staircase at first (docs/numerics/obstacles.md);
  * - the Schaefer-Turek cylinder (cases/cylinder_benchmark.ini) on its
  *   coarse grid D/10: drag coefficient and pressure difference within the
  *   tolerance the three-grid study justifies;
@@ -219,7 +218,7 @@ static void test_pipe_stretched(void **state)
 #define REF_CL 0.0106
 #define REF_DP 0.1175
 
-/* The three-grid study (README, "Flow past a cylinder"; bench-cylinder)
+/* The three-grid study (docs/validation/cylinder_benchmark.md; bench-cylinder)
  * measured on D/10: C_D from the surface integral (the discrete surface's
  * fluxes) +0.54 % (D/20 +0.18 %), from the control volume +0.58 % (D/20
  * +0.19 %), the two 0.04 % apart (D/20 0.003 %: the box's midpoint
@@ -230,8 +229,8 @@ static void test_pipe_stretched(void **state)
  * than 1e-9, the thread count by round-off), the surface against the
  * control volume 5 times their difference: a change of the body's
  * treatment that loses accuracy fails them, as the staircase does (D/10:
- * measured in docs/design.md), and so does a surface sum that misses a
- * flux of the scheme (the cut links and the cut cells' pressure alone,
+ * docs/validation/cylinder_benchmark.md), and so does a surface sum that
+ * misses a flux of the scheme (the cut links and the cut cells' pressure alone,
  * without the advective, transposed-stress and grad-div fluxes, were
  * 0.57 % from the control volume on D/10). */
 static void test_cylinder_coarse(void **state)

@@ -1,10 +1,11 @@
 /* Reproducibility across processes, and the thread policy of the command.
  *
- * README "Reproducibility": the same binary, input, thread count and machine
- * give the same bits.  Within one process that follows from fixed-order
- * reductions (kernels/vector.c) and static schedules; across processes it also
- * needs the same FFTW plans, which FFTW_ESTIMATE gives (FFTW_MEASURE times
- * candidate plans and may choose another one in each process).  So the same
+ * docs/numerics/reproducibility.md: the same binary, input, thread count
+ * and machine give the same bits.  Within one process that follows from
+ * fixed-order reductions (kernels/vector.c) and static schedules; across
+ * processes it also needs the same FFTW plans, which FFTW_ESTIMATE gives
+ * (FFTW_MEASURE times candidate plans and may choose another one in each
+ * process).  So the same
  * case is run by two separate build/muflow processes and their summaries
  * ([result] without wall_seconds) and field files (every dataset, read with
  * the HDF5 library) are compared bit for bit: the thin bagnold grid (one

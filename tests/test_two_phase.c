@@ -263,9 +263,9 @@ static struct growth_fit illposed_run(const char *const *extra, int nextra, int 
  * tan 32 = 0.625 below mu_d = 0.643, I = 3.72 above the well-posed band's
  * I_2^N = 0.846) the uniform flow is unstable, and the finer grid grows
  * faster.  Measured (dt 1e-4): 72 1/s on 12 x 40, 111 on 16 x 64; 10 x 20
- * decays (-34); the rate rises with resolution and as dt falls (README,
- * "Ill-posedness").  Bounds: > 20 1/s (r2 > 0.9: an exponential), and the
- * finer at least 1.2 times the coarser. */
+ * decays (-34); the rate rises with resolution and as dt falls
+ * (docs/validation/bagnold2.md).  Bounds: > 20 1/s (r2 > 0.9: an
+ * exponential), and the finer at least 1.2 times the coarser. */
 static void test_illposed_table1(void **state)
 {
     (void)state;
@@ -355,7 +355,7 @@ static enum run_status b2_run(int n, char **ov, struct profile *pr, struct run_r
  * rest and the air a film driven by gravity over the static bed, u_top =
  * rho_f g sin(tilt) (L - h0)^2 / (2 eta_f) = 0.0105348 m/s.  The run ends
  * steady (its residual stalls at 4e-9 at the base of the plug, round-off of
- * the plug's viscosity mu p / lambda: it used to end unsteady there) on the
+ * the plug's viscosity mu p / lambda, which must not end it unsteady) on the
  * film: measured air err_rms 1.72e-6 (0.016% of u_top, the cell the
  * interface cuts), the grains' creep 1.8e-10.  Bounds: the exact top to
  * round-off, the air to 5e-4 of u_top (3x), the grains to 1e-7 of it. */
@@ -394,8 +394,8 @@ static void test_below_yield_film(void **state)
 /* A negative tilt is the mirror image: the profile at -0.4 is minus the one
  * at +0.4 (to the round-off of the march: 4e-14 measured), and so is
  * the exact solution (tan 0.4 = 0.423 just above mu_s: the grains flow).
- * Measured: err_rms 1.13e-5 at either sign (0.038% of |u_top| 0.0294); it
- * used to be 1.6e-2 at -0.4, against an exact profile of 0. */
+ * Measured: err_rms 1.13e-5 at either sign (0.038% of |u_top| 0.0294); an
+ * exact solution not mirrored (0 at -0.4) is 1.6e-2 off. */
 static void test_negative_tilt_mirror(void **state)
 {
     (void)state;

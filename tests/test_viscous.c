@@ -1558,7 +1558,8 @@ static void test_amg_blocks(void **state)
 }
 
 /* The V-cycle's smoothing: none before the restriction by default (V(0,1),
- * docs/design.md), and the option that changes it is read and checked. */
+ * docs/numerics/multigrid.md), and the option that changes it is read and
+ * checked. */
 static void test_amg_options(void **state)
 {
     (void)state;

@@ -1,6 +1,7 @@
 /* The growth rate of a perturbation from its measured amplitude A(t): the
  * least-squares slope of ln A against t over a window of the record
- * (docs/design.md, "Ill-posedness as a measured growth rate"). */
+ * (docs/validation/bagnold2.md, "Ill-posedness of mu(I) as a measured growth
+ * rate"). */
 #ifndef MUFLOW_DIAGNOSTICS_GROWTH_H
 #define MUFLOW_DIAGNOSTICS_GROWTH_H
 

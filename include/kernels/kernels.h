@@ -117,8 +117,7 @@ void kernel_flow_block(const struct grid *g, int c, const double *const gb[2], c
  * velocity as kernel_strain_products takes it, over face indices 0 .. n of
  * that direction and cells -1 .. n of the third.  They are constant over a
  * Newton step, so its operator applications read them instead of
- * recomputing them (the heap at 140 x 200 with the multigrid
- * preconditioner: 1.58-1.63 s against 1.67-1.81 s).  base with filled
+ * recomputing them (docs/numerics/multigrid.md, `gmg`).  base with filled
  * ghosts. */
 void kernel_flow_gammas(const struct grid *g, int c, double *const base[3], double *gb[2]);
 

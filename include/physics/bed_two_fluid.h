@@ -31,7 +31,7 @@
  * the plane flow u(z) (periodic y).  With walls in y (a cross-section
  * u(y, z), the duct scene) the operators are probed with nine combs
  * (j, k mod 3) and the 2 x ny x nz system of each x plane is solved by
- * UMFPACK (docs/design.md, "Bed load in a square duct"). */
+ * UMFPACK (docs/numerics/bed-models.md). */
 #ifndef MUFLOW_PHYSICS_BED_TWO_FLUID_H
 #define MUFLOW_PHYSICS_BED_TWO_FLUID_H
 

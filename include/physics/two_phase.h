@@ -32,7 +32,7 @@ enum mixture_law { MIXTURE_WEIGHTED = 0, MIXTURE_HARMONIC };
  * the two in series, 1/eta = t/eta_g + (1 - t)/eta_f, at the grains' share t
  * of its control volume cut from the reconstructed interface (the shear
  * stress is continuous across an interface whose normal lies in the edge's
- * plane, as in layered shear; docs/design.md "Two phases"). */
+ * plane, as in layered shear; docs/numerics/two-phase-and-vof.md). */
 enum edge_mixing { EDGES_MEAN = 0, EDGES_SERIES };
 
 struct two_phase_params {

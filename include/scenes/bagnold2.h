@@ -1,7 +1,7 @@
 /* The granular layer under air (scene "bagnold2", cases/bagnold2.ini): the
  * growth of a perturbation of the uniform flow, for the scene, its tests and
- * the study of the rheology's ill-posedness (docs/design.md, "Ill-posedness
- * as a measured growth rate"). */
+ * the study of the rheology's ill-posedness (docs/validation/bagnold2.md,
+ * "Ill-posedness of mu(I) as a measured growth rate"). */
 #ifndef MUFLOW_SCENES_BAGNOLD2_H
 #define MUFLOW_SCENES_BAGNOLD2_H
 
@@ -14,7 +14,7 @@
 void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap);
 
 /* The growth becomes nonlinear (its rate falls) once the velocity amplitude
- * exceeds this share of the exact top velocity (measured, docs/design.md). */
+ * exceeds this share of the exact top velocity (docs/validation/bagnold2.md). */
 #define BAGNOLD2_SATURATION 0.01
 
 /* The window [t0, t1] of the growth fit of a record of n samples (times t,

@@ -24,9 +24,8 @@ struct amg_options {
     int sweeps;         /* smoothing sweeps per level after the coarse
                            correction (and on the coarsest level) */
     int pre_sweeps;     /* before the restriction: 0, a V(0,1) cycle, by
-                           default (docs/design.md: 20-25 % less time on the
-                           heap's steady solves than V(1,1), the iterations
-                           1.2x more) */
+                           default (less time than V(1,1) on the heap's
+                           steady solves: docs/numerics/multigrid.md) */
     int systems;        /* 1: the three velocity components coarsened and
                            interpolated apart (unknown-based systems AMG) */
     int agg_levels;     /* levels of aggressive coarsening */
@@ -101,7 +100,8 @@ int amg_hypre_dropped_components(const struct amg_hypre *a);
 
 /* Bytes hypre takes for a hierarchy of this many unknowns (with the default
  * options, the full tangent on a 2D grid), its library and MPI included: a
- * measured model for the run's memory estimate. */
+ * model fitted to measured peaks for the run's memory estimate
+ * (docs/numerics/memory-estimate.md). */
 double amg_hypre_memory_estimate(long unknowns);
 
 /* Levels and operator complexity (sum of the levels' entries over A's) of the

@@ -15,11 +15,10 @@
  * so that the velocity block's preconditioner needs no augmentation: the
  * pressure is an unknown, not carried by -grad(r div u).  The weight W
  * makes M a pressure Laplacian scaled by the inverse viscosity and, where
- * the pseudo-time mass dominates, by dt / rho.  Measured on the Bingham
- * cavity (docs/design.md, "The coupled step by GMRES"): 27-63 iterations a
- * step from 32 x 32 to 256 x 256; the diagonal alone took 200-500 in the
- * tangent steps.  It is refused on mu(I) and with open faces
- * (saddle_krylov_refusal). */
+ * the pseudo-time mass dominates, by dt / rho.  On the Bingham cavity its
+ * iterations a step grow slowly with the grid, where the diagonal alone
+ * took hundreds (docs/numerics/coupled-step.md).  It is refused on mu(I) and
+ * with open faces (saddle_krylov_refusal). */
 #ifndef MUFLOW_SADDLE_KRYLOV_H
 #define MUFLOW_SADDLE_KRYLOV_H
 

@@ -30,7 +30,8 @@ int saddle_point_solve_many(struct saddle_point *s, const struct csr_matrix *K, 
                             const double *const *rhs, double *const *x, char *err, size_t errlen);
 
 /* Bytes of the LU of a saddle-point system of this many unknowns on a grid
- * of dims dimensions (a measured model, for the run's memory estimate). */
+ * of dims dimensions (a model fitted to measured peaks, for the run's memory
+ * estimate: docs/numerics/memory-estimate.md). */
 double saddle_point_memory_estimate(long unknowns, int dims);
 
 #endif

@@ -33,7 +33,8 @@ int sparse_direct_probes_for(const struct grid *g, const int periodic[3], int re
 int sparse_direct_max_probes(void);
 
 /* Bytes of the matrix and factorisation for that many unknowns on a grid
- * varying in dims directions (a measured model, see the source). */
+ * varying in dims directions (a model fitted to measured peaks:
+ * docs/numerics/memory-estimate.md). */
 double sparse_direct_memory_estimate(long unknowns, int dims);
 /* c log2(n) bytes an unknown on a 2D grid (nested dissection's fill), c
  * n^(1/3) 8 in 3D: the model of both sparse LUs' estimates. */

@@ -25,7 +25,7 @@ void suitesparse_keep_factor_memory(void);
 
 /* cholmod_start with muflow's settings, which are CHOLMOD's defaults: with
  * its regions inline (platform/gomp_inline.h) the defaults' supernodes were
- * the fastest measured. */
+ * the fastest measured (docs/numerics/threads-and-platform.md). */
 void suitesparse_cholmod_start(cholmod_common *cm);
 
 /* A failed factorisation's status as words (UMFPACK's return value,

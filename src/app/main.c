@@ -28,33 +28,28 @@
 #endif
 
 /* Two run-time settings that libraries read before main, unless the user
- * chose them.
+ * chose them (docs/numerics/threads-and-platform.md holds the measurements;
+ * bench/analysis.md the profiles).
  *
  * Short spinning for OpenMP threads.  libgomp's default lets a thread that
  * reaches a barrier spin for up to 300,000 iterations before it sleeps.  On a
  * machine whose cores other processes also use, the thread being waited for
  * is often preempted while its partner spins on the core it needs: a thin
- * profile scene, which opens thousands of parallel regions, ran 10 to 1000
- * times slower at 2 threads than at 1 (bench/analysis.md, section 7).
- * Sleeping at once (OMP_WAIT_POLICY=passive, spin count 0, the policy until
- * then) costs a futex wake-up at every barrier instead, several microseconds
- * in a virtual machine: the heap with the multigrid preconditioner, whose
- * cycle runs its finest level on two threads and its coarse ones on one,
- * spent 15 % of its samples there.  A spin count of SPIN_COUNT bounds what a
- * waiting thread can take from a busy core to a few tens of microseconds and
- * catches the short waits: on a quiet machine 0.85 of the time of sleeping at
- * once, on one with six other processes running 1.02 of it
- * (bench/analysis.md, "Short spinning").  One thread needs no policy.
+ * profile scene, which opens thousands of parallel regions, ran many times
+ * slower at 2 threads than at 1.  Sleeping at once (OMP_WAIT_POLICY=passive)
+ * costs a futex wake-up at every barrier instead, several microseconds in a
+ * virtual machine.  A spin count of SPIN_COUNT bounds what a waiting thread
+ * can take from a busy core to a few tens of microseconds and catches the
+ * short waits.  One thread needs no policy.
  *
- * Huge pages for the field arrays.  A field of a mid-sized grid (0.7 MB at
- * 140 x 200) is below glibc's threshold for a mapping of its own, which it
- * gets anyway (the threshold grows only after a free), and every 4 kB page of
- * it is a fault on first touch: 20,000 at the heap's 140 x 200, several
- * microseconds each in a virtual machine.  MALLOC_TUNABLES keeps blocks below
- * 32 MB in malloc's heap and lets malloc ask for transparent huge pages there
- * (glibc 2.35 and later; where the kernel gives none, or an older glibc does
- * not know the tunable, nothing changes): 1,900 faults, the heap with `gmg`
- * 0.92 of the time and with `lu` 0.95 (bench/analysis.md, "Huge pages").
+ * Huge pages for the field arrays.  A field of a mid-sized grid is below
+ * glibc's threshold for a mapping of its own, which it gets anyway (the
+ * threshold grows only after a free), and every 4 kB page of it is a fault
+ * on first touch, several microseconds each in a virtual machine.
+ * MALLOC_TUNABLES keeps blocks below 32 MB in malloc's heap and lets malloc
+ * ask for transparent huge pages there (glibc 2.35 and later; where the
+ * kernel gives none, or an older glibc does not know the tunable, nothing
+ * changes): a tenth of the faults.
  *
  * libgomp and malloc read the environment before main, so setting a variable
  * in main is too late; setting it in the executable's .preinit_array does
@@ -66,8 +61,7 @@
  * is left alone; under valgrind (its preload library in LD_PRELOAD) there is
  * no re-exec.  When the exec fails (no /proc) the run continues with the
  * libraries' defaults.  The re-exec costs one more program start (loading
- * the ten shared libraries again): 13 ms of CPU on the development machine
- * (bench/analysis.md, "Start-up").
+ * the shared libraries again).
  * `OMP_DISPLAY_ENV=verbose build/muflow CASE` (a case whose grid opens
  * parallel regions) shows the spin count: the last GOMP_SPINCOUNT printed is
  * SPIN_COUNT's (the tests check it). */

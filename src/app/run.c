@@ -229,8 +229,8 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
 }
 
 /* Warnings go to stderr whatever output.quiet says (quiet silences progress,
- * not problems; a restart inherits the checkpoint's quiet and used to hide
- * this one). */
+ * not problems; a restart inherits the checkpoint's quiet, which must not
+ * hide this one). */
 static void warn_threads(const char *restart_from, int threads_then)
 {
     if (restart_from && threads_then != omp_get_max_threads())
@@ -322,7 +322,7 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
      * sane state of a divergence) continues from it with other keys, and one
      * that reached it can go on with a tighter tolerance or a later end time;
      * `muflow --restart out/bagnold` after `make run` is then a command that
-     * works (a steady run stopped at max_steps used to leave nothing).  A
+     * works (also after a steady run stopped at max_steps).  A
      * scene's run that cannot continue from it (a search, a continuation)
      * still leaves its final state there: a new run starts from it with
      * solver.initial_state */

@@ -57,8 +57,8 @@ void bed_point(const struct bed_params *p, double z, double dz, double *t, doubl
  * and the fluid's are taken in series, 1/eta = t/eta_bed + (1 - t)/eta_f:
  * the shear stress is continuous across the bed's top, so the velocity
  * jump over the volume is the sum of the two parts' strains.  The
- * arithmetic mean made the whole fluid profile first-order wrong (measured:
- * err_rms order 0.93 with the bed top on a face, docs/design.md). */
+ * arithmetic mean made the whole fluid profile first-order wrong
+ * (docs/numerics/bed-models.md). */
 double bed_viscosity(const struct bed_params *p, const struct rheology *r, double z, double dz,
                      double shear, double *deta)
 {

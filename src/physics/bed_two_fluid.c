@@ -371,7 +371,8 @@ static int block_solve(int n, double (*D)[4], double (*lower)[2], double (*upper
  * of an edge reads the other shear rate at the four edges around it, so the
  * term couples the nine faces around a face, within the section's combs;
  * the diagonal tangent (tan_e) drops the cross terms u_y u_z, and on the
- * circular duct's curved yield surface its steps diverged (measured). */
+ * circular duct's curved yield surface its steps diverged
+ * (docs/numerics/bed-models.md). */
 static void add_full_tangent(struct march_state *st, struct two_fluid *b, double *v[3])
 {
     const struct grid *g = &st->g;

@@ -129,10 +129,9 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     struct bedload_exact x = exact_of(cs);
     double hp = params(cs)->bed_height;
     /* two_fluid: the grains' mobile layer, from u^p where the layer's centre
-     * is in the bed.  u^m runs ahead of u^p by the Darcy slip there (3.9e-6
-     * m/s for set A, 7% of the threshold), which moved the zero of sqrt(u^m)
-     * 5e-5 m down: measured on u^m the layer came out 0.3% thicker on the
-     * finest grids (docs/design.md) */
+     * is in the bed.  u^m runs ahead of u^p by the Darcy slip there, which
+     * moves the zero of sqrt(u^m) down: on u^m the layer came out too thick
+     * (docs/numerics/bed-models.md) */
     double *ub = malloc((size_t)pr.n * sizeof *ub);
     if (!ub) {
         profile_free(&pr);

@@ -556,11 +556,10 @@ static int setup(struct march_state *st, char *err, size_t errlen)
      * box's height), so that p = -rho_f g z in the light phase at rest and
      * the grains' pressure is their own weight (less rho_f g h, a
      * thousandth): the light phase above them, however tall the box, adds
-     * no friction.  With p = 0 at the top it adds rho_f g (lz - h), and
-     * at the thin front, whose own pressure is a few hundredths, that
-     * slowed x_f(4) by 0.013 with the top at 3.125 instead of 1.5625 and by
-     * 0.036 at 5 (25.6 cells per H0); with the gauge the three tops agree
-     * to 0.004 (docs/design.md, "Column collapse"). */
+     * no friction.  With p = 0 at the top it adds rho_f g (lz - h), which
+     * at the thin front, whose own pressure is a few hundredths, made the
+     * front depend on the box's height; with the gauge it does not
+     * (docs/numerics/two-phase-and-vof.md, "What the collapse needed"). */
     st->pressure_gauge = p->fluid_weight ? 0.0 : -p->fluid_density * cs->gravity * cs->len[2];
     const struct grid *g = &st->g;
     for (int i = 0; i < g->n[0]; i++)

@@ -316,8 +316,8 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
 
 static const char *const duct_files[] = {"midplane.csv", NULL};
 /* The mixed model's flow along x is the implicit step's to solve; the
- * two-fluid model solves its pair itself (bed_two_fluid.c), and with `gmg`
- * the run took 10.9 s at 80 x 160 against 5.8 s with the Cholesky */
+ * two-fluid model solves its pair itself (bed_two_fluid.c), where `gmg` was
+ * slower than the Cholesky (docs/numerics/bed-models.md) */
 static int along_x(const struct muflow_case *cs)
 {
     return params(cs)->model == BEDLOAD_MIXED;

@@ -32,9 +32,9 @@ static double misfit(double tilt, void *vctx)
     /* Continuing from the last solution pays only near the target: from a
      * faster flow the Newton iterates must stop part of the flowing layer and
      * overshoot across the yield surface, from a much slower one the
-     * pseudo-time march oscillates (70 x 100, measured: 50-100+ steps with
-     * rejections, against 18-55 from rest).  Farther away the solve starts
-     * from rest, as a fresh run would. */
+     * pseudo-time march oscillates and takes more steps than from rest
+     * (docs/numerics/time-step.md).  Farther away the solve starts from rest,
+     * as a fresh run would. */
     int from_last = res->solves > 0 && fabs(x->last_f) < 0.1;
     if (!from_last) {
         for (int c = 0; c < 3; c++)

@@ -17,15 +17,11 @@
 
 /* A 2D grid of at most this many cells is the multigrid's coarsest level
  * itself: one level, factorised by CHOLMOD whenever the coefficient changes,
- * which makes the CG's preconditioner exact.  Measured on the column
- * collapse (2 threads, the density new every step; docs/design.md,
- * "Pressure"): the projection and the coefficient's update took 1.56 s
- * against 1.2 s to t = 4 at 128 x 40 cells (3,936 multigrid-CG iterations
- * against 422), 2.23 against 1.59 s to t = 1 at 256 x 80, and 2.55 against
- * 3.75 s to t = 0.3 at 512 x 160, where the factorisation's fill has
- * overtaken the cycles.  3D grids keep the cycles: their fill grows faster.
- * (A grid distributed over ranks would gather its coarsest level to one:
- * there the limit is that of one rank's share.) */
+ * which makes the CG's preconditioner exact.  Up to this size the
+ * factorisation beats the cycles; beyond it its fill overtakes them
+ * (docs/numerics/pressure.md).  3D grids keep the cycles: their fill grows
+ * faster.  (A grid distributed over ranks would gather its coarsest level to
+ * one: there the limit is that of one rank's share.) */
 #define PRESSURE_DIRECT_CELLS 32768L
 
 struct pressure_solver {
@@ -153,10 +149,9 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     /* A right-hand side at the round-off of its own computation (a flow
      * uniform along the periodic direction has div u* ~ 1e-16 |u| / h) cannot
      * be reduced 1e12-fold: the operator's own round-off, amplified by the
-     * coefficient's jumps, is above that, and the iteration ran into its
-     * cap with restarts (bagnold2, 50 x 100: 3 of 11 solves, 2,500
-     * iterations each, 80% of the run).  The floor ends it where the result
-     * no longer changes. */
+     * coefficient's jumps, is above that, and the iteration would run into
+     * its cap with restarts, most of bagnold2's run (docs/numerics/pressure.md,
+     * "The floor").  The floor ends it where the result no longer changes. */
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
         double norm = kernel_norm2_cells(ps->g, ps->rhs);
@@ -167,16 +162,12 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     struct multigrid_stats stats;
     int rc = multigrid_pcg(ps->mg, ps->rhs, phi, rtol, PRESSURE_MAX_ITER, &stats);
     /* CG in floating point can stagnate (its directions lose conjugacy): a
-     * restart from the iterate reached, with a fresh residual, recovers.
-     * Measured on the column collapse (a = 1.42, 72 x 24): 5 of 629 solves
-     * stalled at 5e-10 to 5e-5 after 500 iterations, which the projection
-     * took as they were (the grains' volume off by 1e-10); restarted, they
-     * converge and the volume holds to round-off.  multigrid_pcg now stops
-     * a stalled iteration once its residual has grown 100-fold above its
-     * best (returning the best iterate), so a restart comes after a few
-     * iterations instead of 500, and a restart already at the residual's
-     * rounding level is converged (the collapse at 32 cells per H0: 4,047
-     * iterations in 401 solves, all converged, against 7,715). */
+     * restart from the iterate reached, with a fresh residual, recovers, where
+     * a stalled solve taken as it was left the grains' volume off.
+     * multigrid_pcg stops a stalled iteration once its residual has grown
+     * 100-fold above its best (returning the best iterate), so a restart comes
+     * early, and one already at the residual's rounding level is converged
+     * (docs/numerics/pressure.md). */
     ps->iterations += stats.cycles;
     for (int restart = 0; rc != 0 && restart < PRESSURE_RESTARTS; restart++) {
         rc = multigrid_pcg(ps->mg, ps->rhs, phi, rtol, PRESSURE_MAX_ITER, &stats);

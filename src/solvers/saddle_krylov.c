@@ -7,9 +7,8 @@
 #include "solvers/saddle_krylov.h"
 
 /* GMRES's restart: above the iterations a step takes on the cavity up to
- * 128 x 128 (at most 61), so that a solve rarely restarts (with a V(0,1)
- * cycle of A at 128 x 128, a restart after 50 took 67 iterations a step,
- * one after 150 57); at 256 x 256 a few steps take up to 170 */
+ * 128 x 128, so that a solve rarely restarts (a restart costs iterations:
+ * docs/numerics/coupled-step.md) */
 #define SADDLE_RESTART 64
 
 const char *saddle_krylov_refusal(enum rheology_law law, const struct boundary *bc)

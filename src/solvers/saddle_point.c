@@ -144,11 +144,9 @@ int saddle_point_solve_many(struct saddle_point *s, const struct csr_matrix *K, 
 
 double saddle_point_memory_estimate(long unknowns, int dims)
 {
-    /* Measured (peak RSS less the fields, the coupled step's LU on the
-     * Bingham cavity without augmentation, the velocity across the plane
-     * left out): 330 MB for 65,536 unknowns at 128 x 128 and 1,540 MB for
-     * 262,144 at 256 x 256, about 320 log2(n) bytes an unknown, three times
-     * the viscous LU's (sparse_direct_memory_estimate): the pressure rows'
-     * zero diagonal keeps UMFPACK from the symmetric ordering's fill. */
+    /* about 320 log2(n) bytes an unknown (the coupled LU on the Bingham
+     * cavity: docs/numerics/memory-estimate.md), three times the viscous
+     * LU's (sparse_direct_memory_estimate): the pressure rows' zero diagonal
+     * keeps UMFPACK from the symmetric ordering's fill. */
     return sparse_fill_bytes(unknowns, dims, 320.0);
 }

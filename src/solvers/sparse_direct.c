@@ -255,9 +255,9 @@ int sparse_direct_factor(struct sparse_direct *s, operator_fn op, void *ctx, dou
                                          &s->rows, probed) != 0)
         return failed(s, NULL, "matrix", "out of memory");
     /* the factors of a flow along one direction then hold its component and
-     * the two across it apart: the heap at 140 x 200 factorised in half the
-     * time and 60 % of the memory, the same steps (docs/design.md); the
-     * Krylov method keeps the dropped round-off in the operator */
+     * the two across it apart: about half the time, less memory, the same
+     * steps (docs/numerics/linear-solvers.md, "Blocks left out"); the Krylov
+     * method keeps the dropped round-off in the operator */
     csr_drop_component_roundoff(&s->rows, probe_matrix_components(s->pm),
                                 COMPONENT_ROUNDOFF);
     split_blocks(s, &s->rows);
@@ -475,8 +475,8 @@ double sparse_fill_bytes(long unknowns, int dims, double c)
 
 double sparse_direct_memory_estimate(long unknowns, int dims)
 {
-    /* Measured (peak RSS less the fields, UMFPACK's LU of the full tangent on
-     * the Bingham cavity): 1,260 bytes an unknown at 64 x 64 (12,288
-     * unknowns), 1,550 at 128 x 128 (49,152): about 100 log2(n) bytes. */
+    /* about 100 log2(n) bytes an unknown: the peak less the fields of
+     * UMFPACK's LU of the full tangent on the Bingham cavity
+     * (docs/numerics/memory-estimate.md) */
     return sparse_fill_bytes(unknowns, dims, 100.0);
 }
