@@ -2,7 +2,7 @@
  * mixed-fluid model (cases/duct_square.ini).  No exact solution; the checks
  * are against the plane channel (the bedload scene and its exact solution)
  * where the duct must reproduce it, and against the measured mesh study
- * (README "Bed load in a square duct").  Measured (lambda 1e-6, bercovier,
+ * (docs/validation/duct_square.md).  Measured (lambda 1e-6, bercovier,
  * 1 thread):
  *   wide duct, half width 5 D (W = 10 D), 10 x 20: the mid-plane profile
  *     differs from the plane exact one by diff_plane 3.0653e-4 m/s, the
@@ -164,8 +164,8 @@ static void test_two_fluid(void **state)
 }
 
 /* (e) The circular duct (cases/duct_circular.ini: the obstacle's embedded
- * circle of diameter D = 0.065 m as the wall, both models).  Measured (README
- * "Bed load in a circular duct"), flow rate of the full duct: mixed model
+ * circle of diameter D = 0.065 m as the wall, both models).  Measured
+ * (docs/validation/duct_circular.md), flow rate of the full duct: mixed model
  * 3.7805e-5 at 10 x 20, then 3.7101e-5, 3.6890e-5 and 3.6810e-5 to
  * 80 x 160 (extrapolated 3.676e-5); two-fluid model 3.7812e-5, 3.7110e-5,
  * 3.6896e-5, 3.6811e-5 from 10 x 20 to 80 x 160 (orders 1.71, 1.35),
@@ -210,7 +210,7 @@ static void test_circular(void **state)
     assert_int_equal(none.steps, sq.steps);
     /* the Cholesky named: the bed's diagonal tangent stops being positive
      * definite near the end, and the factors of the lagged viscosity serve
-     * (viscous.c, direct_factor): no fallback to the line blocks, and the
+     * (viscous_precond.c, direct_factor): no fallback to the line blocks, and the
      * LU's flow rate in as many steps (auto takes the LU with a body:
      * march.c; measured 76 against 77, the Picard steps' hand-over to the
      * tangent judged on residuals that the inexact solve moves a little) */
