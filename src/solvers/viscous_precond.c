@@ -211,7 +211,7 @@ static int can_lag(const struct viscous_solver *s, const struct viscous_problem 
 /* The multigrid of the covered components on the symmetric operator's
  * coefficients (the diagonal tangent with Newton's full tangent, as the
  * Cholesky takes); the others' line blocks are built by the first solve
- * that needs them (gmg_others). */
+ * that needs them (visc_gmg_others). */
 static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     double t0 = visc_cpu_now();
