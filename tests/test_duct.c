@@ -210,7 +210,7 @@ static void test_circular(void **state)
     assert_int_equal(none.steps, sq.steps);
     /* the Cholesky named: the bed's diagonal tangent stops being positive
      * definite near the end, and the factors of the lagged viscosity serve
-     * (viscous.c, direct_factor): no fallback to the line blocks, and the
+     * (viscous_precond.c, direct_factor): no fallback to the line blocks, and the
      * LU's flow rate in as many steps (auto takes the LU with a body:
      * march.c; measured 76 against 77, the Picard steps' hand-over to the
      * tangent judged on residuals that the inexact solve moves a little) */

@@ -1395,7 +1395,7 @@ static void test_amg_gives_way_to_lu(void **state)
     struct reuse_count n_lu = {0, 0, 0, 0, 0};
     const char *cap = "solver.max_linear_iterations=3";
     heap_state("solver.preconditioner=lu", cap, &lu, &cs_lu, &n_lu);
-    /* the geometric multigrid the same way (retire_gmg) */
+    /* the geometric multigrid the same way (visc_retire_gmg) */
     const char *kinds[2] = {"solver.preconditioner=amg", "solver.preconditioner=gmg"};
     for (int k = 0; k < 2; k++) {
         struct muflow_case cs_mg;

@@ -95,7 +95,7 @@ void kernel_tangent_edges(const struct grid *g, const double *pn, double *const 
 
 /* The implicit operator, mass v - div tau(v), for a v whose only nonzero
  * component is c, along the grid's periodic direction of one cell (the
- * flow of a cross-section: viscous.c's solve of that component alone), on
+ * flow of a cross-section: viscous_krylov.c's solve of that component alone), on
  * uniform cells: what kernel_stress_divergence and the tangent's terms
  * (kernel_strain_products, kernel_tangent_edges, with the base strains gb
  * of kernel_flow_gammas and the edges' b_edge; b_edge NULL: Picard, gb not

@@ -23,7 +23,7 @@
  *
  * The multigrid works on the symmetric operator: with Newton's full
  * tangent, its symmetric part (pb->sym_cell, sym_edge) is what the cycle
- * approximates and the Krylov method (solvers/viscous.c) solves the
+ * approximates and the Krylov method (solvers/viscous_krylov.c) solves the
  * tangent.  The cycle is symmetric (the post-smoother the pre-smoother's
  * reverse), so it preconditions conjugate gradients too.
  *

@@ -84,9 +84,9 @@ int viscous_precondition(struct viscous_solver *s, const struct viscous_problem 
  * faces given or not), once per kind (*learnt holds the last kind, 0 at
  * first): the operator with generic coefficients, whose pattern holds that
  * of any coefficients, zeros included, through probe_matrix_learn.  Its
- * assemblies then probe once per colour of the pattern: the collapse's
- * Picard operator 9 times instead of 27, the heap's full tangent 41 times
- * instead of 75 (docs/design.md, "Probing"). */
+ * assemblies then probe once per colour of the pattern, fewer than the
+ * structured colouring takes (docs/numerics/linear-solvers.md, "A learnt
+ * colouring"). */
 struct probe_matrix;
 void viscous_learn_pattern(struct viscous_solver *s, struct probe_matrix *pm, int *learnt,
                            const struct viscous_problem *pb);

@@ -15,13 +15,13 @@
  * path's operator), plus, with Newton on a cross-section, the full
  * tangent's cross term between the two bounded directions
  * (multigrid_set_mixed: where the shear is oblique to the grid the
- * tangent's principal directions are too); viscous.c's GMRES solves the
- * whole operator with it.  The couplings between components (the transpose
+ * tangent's principal directions are too); viscous_krylov.c's GMRES solves
+ * the whole operator with it.  The couplings between components (the transpose
  * part of the strain, the full tangent's b terms across components) are
  * left to GMRES: in a flow along one direction (the heap, the ducts, the
  * profile scenes) they vanish.  The other components (those along a
- * bounded direction) are not covered here: viscous.c gives them its line
- * blocks.
+ * bounded direction) are not covered here: viscous_precond.c gives them
+ * its line blocks.
  *
  * Conditions of a covered component on the faces across it: a wall or a
  * lid (the velocity held) is the multigrid's Dirichlet face, a slip wall or

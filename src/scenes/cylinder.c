@@ -377,58 +377,45 @@ static enum run_status continued_solve(struct scene_drive *d, struct cylinder_ru
     return s;
 }
 
-static int drive(struct scene_drive *d)
+/* The continuation's record and state: its rows, the last two steady
+ * states (their fields, F and U), the steps of the last one's solve and the
+ * status of the last solve. */
+struct continuation {
+    struct row *rows;
+    int n;
+    struct field_snapshot last, older;
+    double F_last, F_older, U_last, U_older;
+    long last_steps;
+    enum run_status status;
+};
+
+/* In F up to cylinder.forcing_end, each start the secant through the last
+ * two steady states; a failed F is retried at half the step down to
+ * cylinder.min_step. */
+static void continue_in_forcing(struct scene_drive *d, struct continuation *c)
 {
     struct march_state *st = d->st;
-    struct muflow_case *cs = d->cs;
-    const struct cylinder_params *p = params(cs);
+    const struct cylinder_params *p = params(d->cs);
     struct cylinder_run *run = (struct cylinder_run *)d->data.bytes;
-    _Static_assert(sizeof(struct cylinder_run) <= sizeof d->data.bytes, "drive data");
-    memset(run, 0, sizeof *run);
-    run->failed_F = run->failed_U = NAN;
-    run->continued = p->forcing_end > p->forcing;
-    struct row *rows = malloc(MAX_ROWS * sizeof *rows);
-    if (!rows) {
-        out_of_memory(st);
-        return 0;
-    }
-    int n = 0;
-    double t0 = omp_get_wtime() - st->wall_seconds; /* a restart's: the checkpoint's on */
-    enum run_status s = solve(d, p->forcing, 0.0, 1, 1.0, &rows[n++]);
-    run->solves = 1;
-    run->steps = st->step;
-    if (d->dir)
-        write_rows(d->dir, cs, rows, n);
-    struct field_snapshot last = {0}, older = {0};
-    if (!run->continued || s != STATUS_STEADY) {
-        st->wall_seconds = omp_get_wtime() - t0;
-        free(rows);
-        return 0;
-    }
-    if (fields_snapshot_take(&last, &st->fields) != 0) {
-        out_of_memory(st);
-        free(rows);
-        return 0;
-    }
-    long last_steps = st->step;
-    double F_last = p->forcing, F_older = NAN, step = p->forcing_step;
-    double U_last = rows[0].v.U, U_older = NAN;
+    double step = p->forcing_step;
     const double eps = 1e-9 * p->forcing_end;
-    while (F_last < p->forcing_end - eps && n < MAX_ROWS) {
-        double F = fmin(F_last + step, p->forcing_end);
+    while (c->F_last < p->forcing_end - eps && c->n < MAX_ROWS) {
+        double F = fmin(c->F_last + step, p->forcing_end);
         /* the secant through the last two steady states, at most one of
          * their steps ahead */
-        double w = isfinite(F_older) ? fmin(1.0, (F - F_last) / (F_last - F_older)) : 0.0;
-        fields_snapshot_put(&last, isfinite(F_older) ? &older : NULL, w, &st->fields);
-        s = continued_solve(d, run, rows, &n, F, 0.0, 1.0, &last, &older);
-        if (s == STATUS_STOPPED) /* a signal, a failed output or no memory: the run says which */
+        double w = isfinite(c->F_older) ? fmin(1.0, (F - c->F_last) / (c->F_last - c->F_older))
+                                        : 0.0;
+        fields_snapshot_put(&c->last, isfinite(c->F_older) ? &c->older : NULL, w, &st->fields);
+        c->status = continued_solve(d, run, c->rows, &c->n, F, 0.0, 1.0, &c->last, &c->older);
+        /* a signal, a failed output or no memory: the run says which */
+        if (c->status == STATUS_STOPPED)
             break;
-        if (s == STATUS_STEADY) {
-            F_older = F_last;
-            F_last = F;
-            U_older = U_last;
-            U_last = rows[n - 1].v.U;
-            last_steps = st->step;
+        if (c->status == STATUS_STEADY) {
+            c->F_older = c->F_last;
+            c->F_last = F;
+            c->U_older = c->U_last;
+            c->U_last = c->rows[c->n - 1].v.U;
+            c->last_steps = st->step;
             continue;
         }
         /* no steady state at F: back to the last one, a shorter step */
@@ -439,104 +426,166 @@ static int drive(struct scene_drive *d)
         run->failed_F = F;
         break;
     }
-    /* then in U (cylinder.velocity_end), from the last two steady states,
-     * by their secant, on which U is exact (it is linear in the velocity) */
-    if (s != STATUS_STOPPED && p->velocity_end > 0.0 && isfinite(U_older) && U_last > U_older &&
-        n < MAX_ROWS) {
-        double ratio = p->velocity_ratio, min_ratio = 1.0 + (p->velocity_ratio - 1.0) / 8.0;
-        int staged = 0; /* this U is being retried by stages */
-        run->failed_F = NAN;
-        run->in_velocity = 1;
-        while (U_last < p->velocity_end * (1.0 - 1e-9) && n < MAX_ROWS) {
-            double U = fmin(U_last * ratio, p->velocity_end);
-            fields_snapshot_put(&last, &older, (U - U_last) / (U_last - U_older), &st->fields);
-            double g = flow_rate_gravity(st); /* the secant's */
-            s = continued_solve(d, run, rows, &n, g / gravity_of(cs, 1.0), U,
-                                staged ? p->velocity_stages : 1.0, &last, &older);
-            if (s == STATUS_STOPPED)
-                break;
-            if (s == STATUS_STEADY) {
-                U_older = U_last;
-                U_last = U;
-                F_last = rows[n - 1].F;
-                last_steps = st->step;
-                ratio = fmin(p->velocity_ratio, ratio * ratio); /* back after a cut */
-                staged = 0;
-                continue;
-            }
-            /* the same U by stages in lambda: measured on D/2 at lambda 1e-6 with the
-             * factor 1.5, every such retry was steady where the plain solve
-             * had stalled, and the run reached U = 300 where it had ended
-             * at 17.3 (README, "Flow past a cylinder") */
-            if (p->velocity_stages > 1.0 && !staged) {
-                staged = 1;
-                continue;
-            }
-            staged = 0;
-            if (sqrt(ratio) >= min_ratio * (1.0 - 1e-12)) {
-                ratio = sqrt(ratio);
-                continue;
-            }
-            run->failed_U = U;
+}
+
+/* Then in U up to cylinder.velocity_end, from the last two steady states,
+ * by their secant, on which U is exact (it is linear in the velocity); a
+ * failed U is retried by stages in lambda, then at the factor's square
+ * root. */
+static void continue_in_velocity(struct scene_drive *d, struct continuation *c)
+{
+    struct march_state *st = d->st;
+    const struct cylinder_params *p = params(d->cs);
+    struct cylinder_run *run = (struct cylinder_run *)d->data.bytes;
+    double ratio = p->velocity_ratio, min_ratio = 1.0 + (p->velocity_ratio - 1.0) / 8.0;
+    int staged = 0; /* this U is being retried by stages */
+    run->failed_F = NAN;
+    run->in_velocity = 1;
+    while (c->U_last < p->velocity_end * (1.0 - 1e-9) && c->n < MAX_ROWS) {
+        double U = fmin(c->U_last * ratio, p->velocity_end);
+        fields_snapshot_put(&c->last, &c->older, (U - c->U_last) / (c->U_last - c->U_older),
+                            &st->fields);
+        double g = flow_rate_gravity(st); /* the secant's */
+        c->status = continued_solve(d, run, c->rows, &c->n, g / gravity_of(d->cs, 1.0), U,
+                                    staged ? p->velocity_stages : 1.0, &c->last, &c->older);
+        if (c->status == STATUS_STOPPED)
             break;
+        if (c->status == STATUS_STEADY) {
+            c->U_older = c->U_last;
+            c->U_last = U;
+            c->F_last = c->rows[c->n - 1].F;
+            c->last_steps = st->step;
+            ratio = fmin(p->velocity_ratio, ratio * ratio); /* back after a cut */
+            staged = 0;
+            continue;
         }
-    }
-    if (s != STATUS_STOPPED && s != STATUS_STEADY) {
-        /* the continuation ends on its last steady state */
-        fields_snapshot_put(&last, NULL, 0.0, &st->fields);
-        cs->gravity = gravity_of(cs, F_last);
-        char err[200];
-        if (march_reforce(st, err, sizeof err) != 0 ||
-            flow_rate_restart(st, cs->gravity, run->in_velocity ? U_last : 0.0, err,
-                              sizeof err) != 0) {
-            /* the same forcing gave this state before: only memory can fail */
-            st->status = STATUS_DIVERGED;
-            snprintf(st->message, sizeof st->message,
-                     "the continuation's last steady state could not be set up again: %.150s",
-                     err);
-        } else {
-            step_evaluate(st);
-            st->step = last_steps; /* the summary's steps: the solve of this state */
-            st->status = STATUS_STEADY;
+        /* the same U by stages in lambda, which steadies where the plain
+         * solve stalls (docs/validation/cylinder.md) */
+        if (p->velocity_stages > 1.0 && !staged) {
+            staged = 1;
+            continue;
         }
+        staged = 0;
+        if (sqrt(ratio) >= min_ratio * (1.0 - 1e-12)) {
+            ratio = sqrt(ratio);
+            continue;
+        }
+        run->failed_U = U;
+        break;
     }
-    if (st->status == STATUS_STEADY && run->in_velocity) {
+}
+
+/* The continuation ends on its last steady state. */
+static void end_on_last_steady(struct scene_drive *d, struct continuation *c)
+{
+    struct march_state *st = d->st;
+    struct muflow_case *cs = d->cs;
+    const struct cylinder_run *run = (const struct cylinder_run *)d->data.bytes;
+    fields_snapshot_put(&c->last, NULL, 0.0, &st->fields);
+    cs->gravity = gravity_of(cs, c->F_last);
+    char err[200];
+    if (march_reforce(st, err, sizeof err) != 0 ||
+        flow_rate_restart(st, cs->gravity, run->in_velocity ? c->U_last : 0.0, err,
+                          sizeof err) != 0) {
+        /* the same forcing gave this state before: only memory can fail */
+        st->status = STATUS_DIVERGED;
+        snprintf(st->message, sizeof st->message,
+                 "the continuation's last steady state could not be set up again: %.150s", err);
+    } else {
+        step_evaluate(st);
+        st->step = c->last_steps; /* the summary's steps: the solve of this state */
+        st->status = STATUS_STEADY;
+    }
+}
+
+/* The message of a continuation that ended steady: where and why it ended. */
+static void steady_message(struct march_state *st, const struct cylinder_params *p,
+                           const struct cylinder_run *run, const struct continuation *c)
+{
+    const double eps = 1e-9 * p->forcing_end;
+    if (run->in_velocity) {
         if (isfinite(run->failed_U))
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g), the continuation's end: no steady state "
                      "at U = %.6g within a factor of %g of it",
-                     U_last, F_last, run->failed_U,
+                     c->U_last, c->F_last, run->failed_U,
                      1.0 + (p->velocity_ratio - 1.0) / 8.0);
-        else if (U_last < p->velocity_end * (1.0 - 1e-9))
+        else if (c->U_last < p->velocity_end * (1.0 - 1e-9))
             snprintf(st->message, sizeof st->message,
                      "steady at U = %.6g (F = %.6g): the continuation stopped at its limit of "
                      "%d solves short of cylinder.velocity_end = %s",
-                     U_last, F_last, MAX_ROWS, num_text(p->velocity_end).s);
+                     c->U_last, c->F_last, MAX_ROWS, num_text(p->velocity_end).s);
         else
             snprintf(st->message, sizeof st->message,
-                     "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", U_last,
-                     F_last, run->solves, p->forcing);
-    } else if (st->status == STATUS_STEADY) {
+                     "steady at U = %.6g (F = %.6g) after %d solves from F = %.6g", c->U_last,
+                     c->F_last, run->solves, p->forcing);
+    } else {
         if (isfinite(run->failed_F))
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g, the continuation's end: no steady state at F = %.6g "
                      "within cylinder.min_step = %s of it (the limit of steady flow, or of the "
                      "march)",
-                     F_last, run->failed_F, num_text(p->min_step).s);
-        else if (F_last < p->forcing_end - eps)
+                     c->F_last, run->failed_F, num_text(p->min_step).s);
+        else if (c->F_last < p->forcing_end - eps)
             snprintf(st->message, sizeof st->message,
                      "steady at F = %.6g: the continuation stopped at its limit of %d solves "
                      "short of cylinder.forcing_end = %s",
-                     F_last, MAX_ROWS, num_text(p->forcing_end).s);
+                     c->F_last, MAX_ROWS, num_text(p->forcing_end).s);
         else
             snprintf(st->message, sizeof st->message,
-                     "steady at F = %.6g after %d solves from F = %.6g", F_last,
+                     "steady at F = %.6g after %d solves from F = %.6g", c->F_last,
                      run->solves, p->forcing);
     }
+}
+
+static int drive(struct scene_drive *d)
+{
+    struct march_state *st = d->st;
+    struct muflow_case *cs = d->cs;
+    const struct cylinder_params *p = params(cs);
+    struct cylinder_run *run = (struct cylinder_run *)d->data.bytes;
+    _Static_assert(sizeof(struct cylinder_run) <= sizeof d->data.bytes, "drive data");
+    memset(run, 0, sizeof *run);
+    run->failed_F = run->failed_U = NAN;
+    run->continued = p->forcing_end > p->forcing;
+    struct continuation c = {.rows = malloc(MAX_ROWS * sizeof *c.rows)};
+    if (!c.rows) {
+        out_of_memory(st);
+        return 0;
+    }
+    double t0 = omp_get_wtime() - st->wall_seconds; /* a restart's: the checkpoint's on */
+    c.status = solve(d, p->forcing, 0.0, 1, 1.0, &c.rows[c.n++]);
+    run->solves = 1;
+    run->steps = st->step;
+    if (d->dir)
+        write_rows(d->dir, cs, c.rows, c.n);
+    if (!run->continued || c.status != STATUS_STEADY) {
+        st->wall_seconds = omp_get_wtime() - t0;
+        free(c.rows);
+        return 0;
+    }
+    if (fields_snapshot_take(&c.last, &st->fields) != 0) {
+        out_of_memory(st);
+        free(c.rows);
+        return 0;
+    }
+    c.last_steps = st->step;
+    c.F_last = p->forcing;
+    c.F_older = NAN;
+    c.U_last = c.rows[0].v.U;
+    c.U_older = NAN;
+    continue_in_forcing(d, &c);
+    if (c.status != STATUS_STOPPED && p->velocity_end > 0.0 && isfinite(c.U_older) &&
+        c.U_last > c.U_older && c.n < MAX_ROWS)
+        continue_in_velocity(d, &c);
+    if (c.status != STATUS_STOPPED && c.status != STATUS_STEADY)
+        end_on_last_steady(d, &c);
+    if (st->status == STATUS_STEADY)
+        steady_message(st, p, run, &c);
     st->wall_seconds = omp_get_wtime() - t0; /* the whole continuation */
-    fields_snapshot_free(&last);
-    fields_snapshot_free(&older);
-    free(rows);
+    fields_snapshot_free(&c.last);
+    fields_snapshot_free(&c.older);
+    free(c.rows);
     return 0;
 }
 

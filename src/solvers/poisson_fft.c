@@ -64,11 +64,9 @@ static int init_threads(void)
     return 0;
 }
 
-/* FFTW's threads for a grid: one below FFTW_THREADS_MIN cells.  Measured
- * (bench/bench_fftplan.c, bench/analysis.md): up to 32^3 cells the 2-thread
- * transforms were no faster (at 64 x 64 x 32, 1.2x faster), and on the thin
- * profile grids one 2-thread solve took up to 300 times the 1-thread time on
- * a busy machine (a wake-up of the second thread per transform stage). */
+/* FFTW's threads for a grid: one below FFTW_THREADS_MIN cells, where a
+ * wake-up of the other threads per transform stage costs more than they
+ * save (docs/numerics/threads-and-platform.md). */
 #define FFTW_THREADS_MIN 65536
 
 static int fft_threads(const struct grid *g)
@@ -95,16 +93,12 @@ void poisson_fft_destroy(struct poisson_fft *ps)
     free(ps);
 }
 
-int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
-                       const enum poisson_bc bc[3][2], char *err, size_t errlen)
+/* The grid's cells and sizes and the faces' conditions: 0, or -1 with a
+ * message. */
+static int check_problem(const struct grid *g, const enum poisson_bc bc[3][2], char *err,
+                         size_t errlen)
 {
     static const char *side_name[2] = {"low", "high"};
-    if (out)
-        *out = NULL;
-    if (!out || !g || !bc) {
-        set_err(err, errlen, "poisson: missing argument");
-        return -1;
-    }
     for (int d = 0; d < 3; d++) {
         if (g->n[d] < 1) {
             set_err(err, errlen, "poisson: %d cells in direction %c (need at least 1)",
@@ -129,6 +123,87 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
             return -1;
         }
     }
+    return 0;
+}
+
+/* Direction d's transforms, eigenvalues and normalisation (the table
+ * above) for the conditions bc of its faces; -1 when out of memory. */
+static int direction_transform(struct poisson_fft *ps, int d, const enum poisson_bc bc[2],
+                               fftw_r2r_kind *fwd_kind, fftw_r2r_kind *bwd_kind)
+{
+    int n = ps->g.n[d];
+    double h2 = ps->g.h[d] * ps->g.h[d];
+    enum poisson_bc lo = bc[0], hi = bc[1];
+    double shift, period; /* eigenvalue k: -4 sin^2(pi (k + shift) / period) / h^2 */
+    if (lo == POISSON_PERIODIC) {
+        *fwd_kind = FFTW_R2HC;
+        *bwd_kind = FFTW_HC2R;
+        shift = 0.0;
+        period = n;
+        ps->norm *= n;
+    } else {
+        ps->norm *= 2.0 * n;
+        period = 2.0 * n;
+        if (lo == POISSON_NEUMANN && hi == POISSON_NEUMANN) {
+            *fwd_kind = FFTW_REDFT10;
+            *bwd_kind = FFTW_REDFT01;
+            shift = 0.0;
+        } else if (lo == POISSON_DIRICHLET && hi == POISSON_DIRICHLET) {
+            *fwd_kind = FFTW_RODFT10;
+            *bwd_kind = FFTW_RODFT01;
+            shift = 1.0;
+        } else if (lo == POISSON_NEUMANN) { /* neumann low, dirichlet high */
+            *fwd_kind = *bwd_kind = FFTW_REDFT11;
+            shift = 0.5;
+        } else {                            /* dirichlet low, neumann high */
+            *fwd_kind = *bwd_kind = FFTW_RODFT11;
+            shift = 0.5;
+        }
+        if (lo == POISSON_DIRICHLET || hi == POISSON_DIRICHLET)
+            ps->singular = 0;
+    }
+    ps->eig[d] = malloc((size_t)n * sizeof(double));
+    if (!ps->eig[d])
+        return -1;
+    for (int k = 0; k < n; k++) {
+        double s = sin(pi * (k + shift) / period);
+        ps->eig[d][k] = -4.0 * s * s / h2; /* exactly 0 for the k = 0 mode of periodic / NN */
+    }
+    return 0;
+}
+
+/* The forward and backward plans on ps->buf; -1 when FFTW cannot make them.
+ * FFTW_ESTIMATE: the plan is a function of the sizes, kinds, thread count,
+ * buffer alignment and the FFTW build alone, so two processes with the same
+ * input, threads and machine make the same plan and compute the same bits,
+ * where FFTW_MEASURE may pick another plan in every process, for a gain
+ * that does not pay for its planning (docs/numerics/reproducibility.md).
+ * Wisdom imported before planning (a checkpoint's, see io/checkpoint.h) is
+ * still used, so a run continued from a checkpoint of a binary that
+ * measured keeps that binary's plans. */
+static int make_plans(struct poisson_fft *ps, const fftw_r2r_kind fwd_kind[3],
+                      const fftw_r2r_kind bwd_kind[3])
+{
+    const struct grid *g = &ps->g;
+    fftw_plan_with_nthreads(fft_threads(g));
+    ps->fwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
+                               fwd_kind[0], fwd_kind[1], fwd_kind[2], FFTW_ESTIMATE);
+    ps->bwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
+                               bwd_kind[0], bwd_kind[1], bwd_kind[2], FFTW_ESTIMATE);
+    return ps->fwd && ps->bwd ? 0 : -1;
+}
+
+int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
+                       const enum poisson_bc bc[3][2], char *err, size_t errlen)
+{
+    if (out)
+        *out = NULL;
+    if (!out || !g || !bc) {
+        set_err(err, errlen, "poisson: missing argument");
+        return -1;
+    }
+    if (check_problem(g, bc, err, errlen) != 0)
+        return -1;
     if (init_threads() != 0) {
         set_err(err, errlen, "poisson: fftw_init_threads failed");
         return -1;
@@ -145,46 +220,10 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
 
     fftw_r2r_kind fwd_kind[3], bwd_kind[3];
     for (int d = 0; d < 3; d++) {
-        int n = g->n[d];
-        double h2 = g->h[d] * g->h[d];
-        enum poisson_bc lo = bc[d][0], hi = bc[d][1];
-        double shift, period; /* eigenvalue k: -4 sin^2(pi (k + shift) / period) / h^2 */
-        if (lo == POISSON_PERIODIC) {
-            fwd_kind[d] = FFTW_R2HC;
-            bwd_kind[d] = FFTW_HC2R;
-            shift = 0.0;
-            period = n;
-            ps->norm *= n;
-        } else {
-            ps->norm *= 2.0 * n;
-            period = 2.0 * n;
-            if (lo == POISSON_NEUMANN && hi == POISSON_NEUMANN) {
-                fwd_kind[d] = FFTW_REDFT10;
-                bwd_kind[d] = FFTW_REDFT01;
-                shift = 0.0;
-            } else if (lo == POISSON_DIRICHLET && hi == POISSON_DIRICHLET) {
-                fwd_kind[d] = FFTW_RODFT10;
-                bwd_kind[d] = FFTW_RODFT01;
-                shift = 1.0;
-            } else if (lo == POISSON_NEUMANN) { /* neumann low, dirichlet high */
-                fwd_kind[d] = bwd_kind[d] = FFTW_REDFT11;
-                shift = 0.5;
-            } else {                            /* dirichlet low, neumann high */
-                fwd_kind[d] = bwd_kind[d] = FFTW_RODFT11;
-                shift = 0.5;
-            }
-            if (lo == POISSON_DIRICHLET || hi == POISSON_DIRICHLET)
-                ps->singular = 0;
-        }
-        ps->eig[d] = malloc((size_t)n * sizeof(double));
-        if (!ps->eig[d]) {
+        if (direction_transform(ps, d, bc[d], &fwd_kind[d], &bwd_kind[d]) != 0) {
             set_err(err, errlen, "poisson: out of memory");
             poisson_fft_destroy(ps);
             return -1;
-        }
-        for (int k = 0; k < n; k++) {
-            double s = sin(pi * (k + shift) / period);
-            ps->eig[d][k] = -4.0 * s * s / h2; /* exactly 0 for the k = 0 mode of periodic / NN */
         }
     }
 
@@ -195,21 +234,7 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
         poisson_fft_destroy(ps);
         return -1;
     }
-    /* FFTW_ESTIMATE: the plan is a function of the sizes, kinds, thread count,
-     * buffer alignment and the FFTW build alone, so two processes with the same
-     * input, threads and machine make the same plan and compute the same bits
-     * (FFTW_MEASURE times candidate plans and may pick another one in every
-     * process).  Measuring would also cost 0.02 to 1 s of planning, won back
-     * only after 60 to 560 solves, for a gain under 1 % of a 3D step
-     * (bench/analysis.md, "Start-up").  Wisdom imported before planning (a
-     * checkpoint's, see io/checkpoint.h) is still used, so a run continued from
-     * a checkpoint of a binary that measured keeps that binary's plans. */
-    fftw_plan_with_nthreads(fft_threads(g));
-    ps->fwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
-                               fwd_kind[0], fwd_kind[1], fwd_kind[2], FFTW_ESTIMATE);
-    ps->bwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
-                               bwd_kind[0], bwd_kind[1], bwd_kind[2], FFTW_ESTIMATE);
-    if (!ps->fwd || !ps->bwd) {
+    if (make_plans(ps, fwd_kind, bwd_kind) != 0) {
         set_err(err, errlen, "poisson: FFTW planning failed for %d x %d x %d cells",
                 g->n[0], g->n[1], g->n[2]);
         poisson_fft_destroy(ps);
