@@ -77,7 +77,7 @@ int main(int argc, char **argv)
             return 2;
         }
         struct march_state st;
-        if (march_create(&st, &cs, err, sizeof err) != 0) {
+        if (scene_march_create(&st, &cs, NULL, err, sizeof err) != 0) {
             fprintf(stderr, "%s\n", err);
             return 1;
         }
@@ -86,9 +86,9 @@ int main(int argc, char **argv)
         double wall = omp_get_wtime() - t0;
         struct profile pr;
         struct scene_errors e;
-        if (profile_extract(&pr, &st) != 0)
+        if (scene_profile(&pr, &st) != 0)
             return 1;
-        profile_errors(&pr, &st, &e);
+        scene_profile_errors(&pr, &st, &e);
         char path[1024];
         snprintf(path, sizeof path, "%s/cavity_midline_bn%g.csv", dir, bn);
         FILE *f = fopen(path, "w");

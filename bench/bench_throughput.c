@@ -80,7 +80,7 @@ static double bagnold_u(const struct muflow_case *cs, double z)
 {
     struct muflow_case b = *cs;
     b.scene = scene_find("bagnold");
-    return profile_exact_at(&b, z);
+    return scene_exact_at(&b, z);
 }
 
 /* The Bagnold profile plus two discretely divergence-free perturbations:
@@ -149,7 +149,7 @@ static void bench_create(struct bench3d *b, int n[3])
     b->cs.len[1] = b->cs.len[2] / b->cs.n[2] * b->cs.n[1];
     char err[512];
     double t0 = bench_now();
-    if (march_create(&b->st, &b->cs, err, sizeof err) != 0) {
+    if (scene_march_create(&b->st, &b->cs, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "bench: %s\n", err);
         exit(1);
     }

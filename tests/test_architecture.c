@@ -6,7 +6,10 @@
  *   file: a restarted run ends bit for bit where the uninterrupted one does;
  * - the variable-coefficient path (a face density that is not uniform) gives
  *   the same flow as the uniform one when the density is in fact uniform,
- *   through the multigrid projection instead of the FFT one. */
+ *   through the multigrid projection instead of the FFT one;
+ * - the layers (docs/architecture.md) are one-way: every include and every
+ *   use of another file's definitions goes down their order, and no source
+ *   files use each other (tests/include_layers.py). */
 #define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include <math.h>
 #include <stdio.h>
@@ -181,7 +184,7 @@ static void test_variable_coefficients(void **state)
     test_load_case(&cs, COUETTE, 6, ov);
     struct march_state u, v;
     char err[512];
-    assert_int_equal(march_create(&u, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&u, &cs, NULL, err, sizeof err), 0);
     test_march_create(&v, &cs, test_variable_density);
     assert_true(u.density_uniform && !v.density_uniform);
     /* a perturbation that is not a steady flow: w varies along x */
@@ -232,9 +235,26 @@ static void test_scene_section(void **state)
     assert_non_null(strstr(err, "case.scene = heap needs")); /* couette's boundaries */
 }
 
+/* tests/include_layers.py on the tree: exit 0 and its one line; else every
+ * upward include or use and every cycle, one line each. */
+static void test_include_layers(void **state)
+{
+    (void)state;
+    char *out;
+    int rc = test_sh("/usr/bin/python3 include_layers.py .. 2>&1", &out);
+    if (rc != 0)
+        print_error("include_layers.py exited %d:\n%s", rc, out);
+    else
+        print_message("%s", out);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "no cycle"));
+    free(out);
+}
+
 void group_architecture(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_include_layers),
         cmocka_unit_test(test_scene_section),
         cmocka_unit_test(test_couette_scene),
         cmocka_unit_test(test_module_field_restart),

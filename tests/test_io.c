@@ -29,6 +29,7 @@
 #include "io/output.h"
 #include "march/march.h"
 #include "app/run.h"
+#include "scenes/scene.h"
 #include "test_main.h"
 
 /* The cell datasets of a field file of a single-phase run, as README and
@@ -164,7 +165,7 @@ static void fields_of(const char *file, int n, char *ov[])
     test_load_case(&cs, file, n, ov);
     struct march_state st;
     char err[1024], dir[64];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     march_run(&st, NULL, NULL);
     assert_int_equal(st.status, STATUS_STEADY);
     test_tmp_make(dir, sizeof dir, "io_fields");
@@ -590,7 +591,7 @@ static void test_checkpoint_write_fails(void **state)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state ms;
     char err[1024], notdir[800];
-    assert_int_equal(march_create(&ms, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&ms, &cs, NULL, err, sizeof err), 0);
     struct field_series fs;
     field_series_init(&fs);
     snprintf(notdir, sizeof notdir, "%s/stderr", dir);

@@ -169,7 +169,7 @@ static void test_bagnold_below_threshold(void **state)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_STEADY);
     double umax = kernel_max_abs(&st.g, st.act, st.vel);
     double ratio = tan(0.36) / cs.rheo.mu_s;
@@ -256,7 +256,7 @@ static void test_bagnold_3d_from_perturbation(void **state)
     test_load_case(&cs, CASES_DIR "bagnold3d.ini", 5, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     double top = r1.errors.headline_exact;
     double umax = kernel_max_abs(&st.g, st.act, st.vel);
     bc_fill_velocity(&st.g, &st.bc, st.vel); /* the periodic faces' ghosts */
@@ -329,7 +329,7 @@ static double startup_error(const char *dt)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 10, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
     assert_true(fabs(st.time - 0.1) < 1e-12);
     double H = 1.0, S = sin(0.5), t = st.time, emax = 0.0;

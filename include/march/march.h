@@ -136,11 +136,29 @@ struct march_state {
  * to stop the run with status STATUS_STOPPED. */
 typedef int (*march_observer)(void *ctx, const struct march_state *st);
 
-int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
-/* The same with extra physics modules beside the scene's (NULL-terminated
- * list, or NULL): a program embedding muflow, or a test, adds its own. */
-int march_create_with(struct march_state *st, const struct muflow_case *cs,
-                      const struct module *const *extra, char *err, size_t errlen);
+/* What the march takes of the layers above it, which its caller looks up
+ * once from the case's scene and hands in (scenes/scene.h:
+ * scene_march_setup): nothing in the march switches on a scene or a
+ * module. */
+struct march_setup {
+    /* the physics modules, NULL-terminated lists (or NULL) taken in this
+     * order: the scene's, the caller's (a program embedding muflow, a
+     * test), the case's own (a body: obstacle.shapes) */
+    const struct module *const *modules[3];
+    /* the scene's forcing and initial state, after the fields exist and
+     * before the hydrostatic split, which may depend on them (a restart
+     * overwrites the fields afterwards); NULL: rest */
+    int (*setup)(struct march_state *st, char *err, size_t errlen);
+    /* 1: the flow runs along the grid's periodic direction of one cell and
+     * the implicit step solves it (the scene's cross_section_flow) */
+    int cross_section_flow;
+};
+
+/* Creates the march of the case: its grid, fields, solvers and modules,
+ * the scene's setup, the hydrostatic split.  Returns 0, or -1 with the
+ * cause in err (nothing to destroy then). */
+int march_create(struct march_state *st, const struct muflow_case *cs,
+                 const struct march_setup *su, char *err, size_t errlen);
 
 /* Declares that the face density (rho_face) changed: a module's properties
  * stage calls it after writing rho_face; uniform says whether it is still
@@ -149,10 +167,6 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
  * here, whichever module changed the density.  Returns 0, or -1 when the pressure solver cannot
  * take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
-
-/* The physics modules a case's own keys add to any scene's (the obstacle,
- * [obstacle] shapes), NULL-terminated. */
-extern const struct module *const march_case_modules[];
 
 /* The state of module m in this march, or NULL when it is not switched on
  * (a scene's setup configures its modules through it). */
@@ -178,14 +192,15 @@ const char *run_status_name(enum run_status s);
  * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
 double march_available_memory(void);
 
-/* The same refusal from the case alone, before any field or geometry (its
- * grid and bands, the preconditioner auto would choose, a body bounded from
- * above): 1 with one line in msg naming the grid keys when the run needs
+/* The same refusal from the case and its setup alone, before any field or
+ * geometry (its grid and bands, the preconditioner auto would choose, the
+ * modules' memory_bound: a body bounded from above): 1 with one line in msg naming the grid keys when the run needs
  * more than march_available_memory, else 0 (also when that is unknown).
  * Where auto's choice depends on hypre's library, which this does not open,
  * the smaller of the two estimates counts (march_create's check has the
  * library's answer). */
-int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen);
+int march_memory_check(const struct muflow_case *cs, const struct march_setup *su, char *msg,
+                       size_t msglen);
 
 /* The preconditioner solver.preconditioner names against the case, where
  * the march picks the solvers: the coupled step's (solver.coupled) GMRES

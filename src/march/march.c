@@ -8,13 +8,11 @@
 #include <unistd.h>
 #include "march/march.h"
 #include "march/step.h"
-#include "physics/flow_rate.h"
-#include "physics/obstacle.h"
+#include "grid/shapes.h"
 #include "solvers/saddle_krylov.h"
 #include "solvers/saddle_point.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous_gmg.h"
-#include "scenes/scene.h"
 
 /* A steady march is judged unable to reach a steady state only when the best
  * residual has not improved by 10% for STALL_STEPS steps AND for a
@@ -217,12 +215,6 @@ static int fell_over(const struct march_state *st, long steps)
     return 0;
 }
 
-double march_picard_reference(const struct march_state *st)
-{
-    double r0 = st->stage_residual0 > 0.0 ? st->stage_residual0 : st->residual0;
-    return fmax(r0, st->peak_residual);
-}
-
 /* Whether auto may choose hypre's AMG: amg 1 or 0 as given, -1 the
  * library's answer (it is opened to find out). */
 static int amg_allowed(int amg)
@@ -233,8 +225,9 @@ static int amg_allowed(int amg)
 
 /* The implicit solve's preconditioner for the case on g (amg: see
  * amg_allowed). */
-static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, const struct grid *g,
-                                                  int amg)
+static enum viscous_precond choose_preconditioner(const struct muflow_case *cs,
+                                                  const struct march_setup *su,
+                                                  const struct grid *g, int amg)
 {
     switch (cs->preconditioner) {
     case PRECOND_LINE: return VISCOUS_LINE;
@@ -256,9 +249,9 @@ static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, 
      * blocks took 53-500 CG iterations a step around a cylinder in a flow
      * periodic along z, the LU 1) */
     int varying = 0, periodic[3], in_plane[3] = {0, 0, 0};
-    if (obstacle_active(cs)) {
+    if (case_obstacle_active(cs)) {
         struct shape_set set;
-        obstacle_shapes(cs, &set);
+        case_obstacle_shapes(cs, &set);
         in_plane[set.plane_a] = in_plane[set.plane_b] = 1;
     }
     bc_periodic_flags(&cs->bc, periodic);
@@ -285,10 +278,9 @@ static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, 
      * the same steps and states.  Measured with Newton in steady mode,
      * without the augmentation and without a body (whose cut cells it
      * does not hold) */
-    const struct scene *sc = case_scene(cs);
-    if (sc->cross_section_flow && sc->cross_section_flow(cs) && cs->newton &&
+    if (su->cross_section_flow && cs->newton &&
         cs->mode == MODE_STEADY && wide == 2 && !(cs->augmentation > 0.0) &&
-        !obstacle_active(cs) && !grid_stretched(g) &&
+        !case_obstacle_active(cs) && !grid_stretched(g) &&
         !viscous_gmg_refusal(g->n, &cs->bc))
         return VISCOUS_GMG;
     /* in a flow that varies in two directions the strain components couple
@@ -308,7 +300,7 @@ static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, 
      * the circular duct at 40 x 80 failed the Cholesky from step 1 (683
      * fallbacks to the line blocks, unsteady after 586 steps; the LU steady
      * in 381) */
-    int lu = wide != 2 || bc_passes_flow(&cs->bc) || obstacle_active(cs);
+    int lu = wide != 2 || bc_passes_flow(&cs->bc) || case_obstacle_active(cs);
     enum viscous_precond kind = cs->newton && lu ? VISCOUS_LU : VISCOUS_CHOLESKY;
     int reach = kind == VISCOUS_LU ? 2 : 1;
     if (sparse_direct_probes_for(g, periodic, reach) > sparse_direct_max_probes())
@@ -324,7 +316,7 @@ static enum viscous_precond choose_preconditioner(const struct muflow_case *cs, 
      * then gave way to), where the LU from the start takes 78 steps and
      * 10.8 s; at 120 x 240 (86,400) the AMG serves: 72 steps, 14.2 s
      * against the LU's 17.8 s */
-    long amg_min = kind == VISCOUS_CHOLESKY || obstacle_active(cs)
+    long amg_min = kind == VISCOUS_CHOLESKY || case_obstacle_active(cs)
                        ? AMG_OVER_CHOLESKY_MIN_UNKNOWNS
                        : AMG_MIN_UNKNOWNS;
     if (cs->newton && wide == 2 && cs->mode == MODE_STEADY && !(cs->augmentation > 0.0) &&
@@ -416,9 +408,9 @@ static enum poisson_bc projection_bc(enum bc_kind k)
 /* Bytes the march will allocate on g with the preconditioner kind, from
  * the case alone: the registry's fields (saved copies included) and the
  * optional ones of this case, the pressure solver's two arrays, the viscous
- * solver's work, the sparse factorisation when chosen, and a body's share
- * bounded from above (obstacle_memory_bound).  Other modules' own fields
- * are not known before they are created.  Measured against the peak RSS: bagnold
+ * solver's work, the sparse factorisation when chosen, and the modules'
+ * memory_bound (a body's share bounded from above).  Other modules' own
+ * fields are not known before they are created.  Measured against the peak RSS: bagnold
  * 100 x 100 x 50 (line blocks) 353 MB, estimate 367 MB; cavity 128 x 128
  * (LU) 141 MB, estimate 135 MB; 64 x 64 47 MB, estimate 46 MB; with a
  * body, the cylinder benchmark at 1760 x 328 (line blocks) 1,399 MB,
@@ -431,8 +423,8 @@ static int without_factors(enum viscous_precond kind)
            kind == VISCOUS_MG;
 }
 
-static double memory_estimate(const struct muflow_case *cs, const struct grid *g,
-                              enum viscous_precond kind)
+static double memory_estimate(const struct muflow_case *cs, const struct march_setup *su,
+                              const struct grid *g, enum viscous_precond kind)
 {
     double arrays = 2.0; /* pressure: right-hand side and FFT buffer */
     for (size_t m = 0; m < NSPECS; m++)
@@ -445,8 +437,10 @@ static double memory_estimate(const struct muflow_case *cs, const struct grid *g
         arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
                    viscous_memory_estimate(g, kind);
-    if (obstacle_active(cs))
-        bytes += obstacle_memory_bound(cs, g);
+    for (int l = 0; l < 3; l++)
+        for (const struct module *const *m = su->modules[l]; m && *m; m++)
+            if ((*m)->memory_bound)
+                bytes += (*m)->memory_bound(cs, g);
     int dims = 0;
     for (int d = 0; d < 3; d++)
         dims += g->n[d] > 1;
@@ -508,14 +502,14 @@ static void format_bytes(char *out, size_t len, double b)
  * amg_allowed).  Auto's coupled LU that does not fit in avail gives way to
  * the coupled GMRES where that is allowed and fits (the cavity at 256 x 256:
  * 653 MB against the LU's 1,693 MB, 1.3x its time). */
-static double plan(const struct muflow_case *cs, const struct grid *g, int amg, double avail,
-                   enum viscous_precond *kind)
+static double plan(const struct muflow_case *cs, const struct march_setup *su,
+                   const struct grid *g, int amg, double avail, enum viscous_precond *kind)
 {
-    *kind = choose_preconditioner(cs, g, amg);
-    double bytes = memory_estimate(cs, g, *kind);
+    *kind = choose_preconditioner(cs, su, g, amg);
+    double bytes = memory_estimate(cs, su, g, *kind);
     if (cs->coupled && cs->preconditioner == PRECOND_AUTO && *kind == VISCOUS_LU &&
         avail > 0.0 && bytes > avail && !saddle_krylov_refusal(cs->rheo.law, &cs->bc)) {
-        double gmres = memory_estimate(cs, g, VISCOUS_AMG);
+        double gmres = memory_estimate(cs, su, g, VISCOUS_AMG);
         if (gmres <= avail && amg_allowed(amg)) {
             *kind = VISCOUS_AMG;
             bytes = gmres;
@@ -542,7 +536,8 @@ static void refusal(char *err, size_t errlen, const struct grid *g, enum viscous
              have);
 }
 
-int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
+int march_memory_check(const struct muflow_case *cs, const struct march_setup *su, char *msg,
+                       size_t msglen)
 {
     double avail = march_available_memory();
     struct grid g;
@@ -562,8 +557,8 @@ int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
     if (ok) {
         /* without opening hypre's library: the smaller of the two choices */
         enum viscous_precond with, without;
-        double need_with = plan(cs, &g, 1, avail, &with);
-        double need_without = plan(cs, &g, 0, avail, &without);
+        double need_with = plan(cs, su, &g, 1, avail, &with);
+        double need_without = plan(cs, su, &g, 0, avail, &without);
         double need = fmin(need_with, need_without);
         if (need > avail) {
             refusal(msg, msglen, &g, need_with <= need_without ? with : without, need, avail);
@@ -576,29 +571,19 @@ int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
     return refused;
 }
 
-int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen)
-{
-    return march_create_with(st, cs, NULL, err, errlen);
-}
-
-/* the case's obstacles are a module of every scene */
-const struct module *const march_case_modules[] = {&obstacle_module, NULL};
-
-/* The scene's modules, then the extra ones. */
-static int add_modules(struct march_state *st, const struct module *const *extra, char *err,
+/* The setup's modules, in order. */
+static int add_modules(struct march_state *st, const struct march_setup *su, char *err,
                        size_t errlen)
 {
-    const struct module *const *lists[3] = {case_scene(st->cs)->modules, extra,
-                                            obstacle_active(st->cs) ? march_case_modules : NULL};
     for (int l = 0; l < 3; l++)
-        for (const struct module *const *m = lists[l]; m && *m; m++) {
+        for (const struct module *const *m = su->modules[l]; m && *m; m++) {
             if (st->nmodules == MODULES_MAX) {
                 snprintf(err, errlen, "more than %d physics modules", MODULES_MAX);
                 return -1;
             }
             /* the coupled step solves the velocity and pressure of one
-             * density and one velocity field: a body only */
-            if (st->cs->coupled && *m != &obstacle_module && *m != &flow_rate_module) {
+             * density and one velocity field (module.h: coupled_ok) */
+            if (st->cs->coupled && !(*m)->coupled_ok) {
                 snprintf(err, errlen, "solver.coupled = on: the physics module '%s' of this "
                                       "scene is not supported by the coupled step yet",
                          (*m)->name);
@@ -612,16 +597,8 @@ static int add_modules(struct march_state *st, const struct module *const *extra
     return 0;
 }
 
-/* The scene's forcing and initial state (a restart overwrites the fields
- * afterwards), before the hydrostatic split, which may depend on them. */
-static int scene_setup(struct march_state *st, char *err, size_t errlen)
-{
-    const struct scene *sc = case_scene(st->cs);
-    return sc->setup ? sc->setup(st, err, errlen) : 0;
-}
-
-int march_create_with(struct march_state *st, const struct muflow_case *cs,
-                      const struct module *const *extra, char *err, size_t errlen)
+int march_create(struct march_state *st, const struct muflow_case *cs,
+                 const struct march_setup *su, char *err, size_t errlen)
 {
     memset(st, 0, sizeof *st);
     st->cs = cs;
@@ -657,7 +634,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
      * without a word (case_load refuses it first, from the case alone) */
     enum viscous_precond kind;
     double avail = march_available_memory();
-    st->memory_estimate = plan(cs, g, -1, avail, &kind);
+    st->memory_estimate = plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
         refusal(err, errlen, g, kind, st->memory_estimate, avail);
@@ -709,7 +686,7 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                                                errlen) != 0) ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
-        add_modules(st, extra, err, errlen) != 0 || scene_setup(st, err, errlen) != 0 ||
+        add_modules(st, su, err, errlen) != 0 || (su->setup && su->setup(st, err, errlen) != 0) ||
         hydrostatic_split(st, err, errlen) != 0) {
         march_destroy(st);
         return -1;
@@ -725,7 +702,8 @@ int march_create_with(struct march_state *st, const struct muflow_case *cs,
                                   3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
                                   sparse_direct_probes_for(g, periodic, 2) <=
                                       sparse_direct_max_probes() &&
-                                  !(avail > 0.0 && memory_estimate(cs, g, VISCOUS_LU) > avail));
+                                  !(avail > 0.0 &&
+                                    memory_estimate(cs, su, g, VISCOUS_LU) > avail));
     st->dt = cs->dt;
     forget_progress(st);
     st->dt_scale = 1.0;
@@ -794,14 +772,6 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
     return projection_coefficient(st, st->beta, err, errlen);
 }
 
-void *march_module_state(const struct march_state *st, const struct module *m)
-{
-    for (int i = 0; i < st->nmodules; i++)
-        if (st->modules[i] == m)
-            return st->module_state[i];
-    return NULL;
-}
-
 void march_destroy(struct march_state *st)
 {
     for (int i = st->nmodules - 1; i >= 0; i--)
@@ -839,39 +809,6 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     st->status = STATUS_RUNNING;
     st->message[0] = '\0';
     return 0;
-}
-
-double march_force_scale(const struct march_state *st)
-{
-    return st->force_ref > 0.0 ? st->force_ref : 1.0;
-}
-
-double march_min_spacing(const struct grid *g)
-{
-    double h = grid_min_width(g, 0);
-    for (int d = 1; d < 3; d++) {
-        double w = grid_min_width(g, d);
-        if (g->n[d] > 1 && w < h)
-            h = w;
-    }
-    return h;
-}
-
-int march_driven_component(const struct march_state *st)
-{
-    double f[3];
-    body_force_vector(st->cs, f);
-    int a = fabs(f[0]) >= fabs(f[2]) ? 0 : 2;
-    if (!bc_through_flow(&st->bc, a))
-        a = a == 0 ? 2 : 0;
-    return a;
-}
-
-double march_mean_acceleration(const struct march_state *st)
-{
-    /* mean residual per unit mass of the component the body force drives */
-    int a = march_driven_component(st);
-    return kernel_component_mean(&st->g, &st->act[a], a, st->res[a]) / st->cs->density;
 }
 
 void march_evaluate(struct march_state *st) { step_evaluate(st); }
@@ -1183,6 +1120,16 @@ static int line_search(struct march_state *st, double dt, double rms0)
     return 0;
 }
 
+/* Whether a module asks for the line search (module.h: line_search). */
+static int module_searches(const struct march_state *st)
+{
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->line_search &&
+            st->modules[m]->line_search(st, st->module_state[m]))
+            return 1;
+    return 0;
+}
+
 /* The steps that take the line search and the rejection on the maximum and
  * the root mean square together: those of a Picard-first solve, and those of
  * a continuation stage above the case's lambda (solver.continuation), whose
@@ -1194,7 +1141,7 @@ static int line_search(struct march_state *st, double dt, double rms0)
  * with the search the continuation in F of cases/cylinder.ini stalled at
  * F = 1.15 or 1.2, where the plain march's crawl reaches the steady state
  * (docs/design.md, "The granular cylinder and the steady mode").  But a
- * solve at a held mean velocity (physics/flow_rate.h), whose plug's speed
+ * solve at a held mean velocity (physics/flow_rate.h: its line_search hook), whose plug's speed
  * the border fixes, searches: there the plain rejection crawled at
  * pseudo-time steps of 1e-6 on the maximum at the sliding layers while the
  * root mean square fell (the continuation in U of cases/cylinder.ini to
@@ -1202,7 +1149,7 @@ static int line_search(struct march_state *st, double dt, double rms0)
  * and two failed without, the same end). */
 static int searched_steps(const struct march_state *st)
 {
-    return st->cs->newton_below < 1.0 || continuing(st) || flow_rate_held(st);
+    return st->cs->newton_below < 1.0 || continuing(st) || module_searches(st);
 }
 
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)

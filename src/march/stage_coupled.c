@@ -16,8 +16,9 @@
  * solver.preconditioner = amg GMRES solves it (saddle_krylov.h), giving way
  * to the LU for the rest of the run if it fails.
  *
- * A prescribed mean velocity (physics/flow_rate.h) borders K with the force's
- * size as one more unknown: a second right-hand side of the same LU.
+ * A module's border (march/module.h: the prescribed mean velocity, whose
+ * force's size is one more unknown) borders K: a second right-hand side of
+ * the same LU.
  *
  * An open face is not a velocity unknown; each has one more unknown, its
  * own increment beyond its inner face's, with the face's balance for its
@@ -41,7 +42,6 @@
 #include "march/coupled_pressure.h"
 #include "march/coupled_open.h"
 #include "march/step.h"
-#include "physics/flow_rate.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_krylov.h"
 #include "solvers/saddle_point.h"
@@ -88,8 +88,8 @@ struct coupled_state {
     struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
     int pcols_on;                   /* this step's matrix has them (the tangent's) */
     int idle[3];                    /* components this step leaves at du = 0 (idle_components) */
-    double *f, *x2;                 /* a prescribed mean velocity: the bordered solve's
-                                       second column and its solution (physics/flow_rate.h) */
+    double *f, *x2;                 /* a module's border: the bordered solve's second
+                                       column and its solution (march/module.h) */
     int bordered;                   /* this step's solve has them */
 };
 
@@ -174,6 +174,15 @@ static int list_gradient_faces(const struct march_state *st, struct coupled_stat
     return 0;
 }
 
+/* The module that borders the step (the first with a border), or -1. */
+static int border_module(const struct march_state *st)
+{
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->border)
+            return m;
+    return -1;
+}
+
 static struct coupled_state *create(struct march_state *st, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
@@ -224,7 +233,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     c->x = malloc(nall * sizeof *c->x);
     if (!c->b || !c->x)
         goto oom;
-    if (march_module_state(st, &flow_rate_module) &&
+    if (border_module(st) >= 0 &&
         (!(c->f = calloc(nall, sizeof *c->f)) || !(c->x2 = malloc(nall * sizeof *c->x2))))
         goto oom;
     memset(c->held, 1, (size_t)c->nc);
@@ -428,10 +437,13 @@ static int assemble(struct coupled_state *c)
     return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
-/* The bordered step of a prescribed mean velocity (physics/flow_rate.h):
- * x = x1 + dg x2 with dg such that the mean of u + x is the target. */
+/* The bordered step (march/module.h: module_border): x = x1 + dg x2 with
+ * dg such that the border's row of u + x is its target. */
 static void border(struct march_state *st, struct coupled_state *c, double gap)
 {
+    int m = border_module(st);
+    const struct module_border *b = st->modules[m]->border;
+    void *state = st->module_state[m];
     size_t nall = (size_t)c->nu + (size_t)c->nc + (size_t)c->nopen;
     double w[2];
     const double *sol[2] = {c->x, c->x2};
@@ -439,12 +451,12 @@ static void border(struct march_state *st, struct coupled_state *c, double gap)
         for (int k = 0; k < 3; k++)
             memset(st->delta[k], 0, st->g.size * sizeof(double));
         probe_matrix_scatter(c->pm, sol[r], st->delta);
-        w[r] = flow_rate_mean(st, st->delta);
+        w[r] = b->row(st, state, st->delta);
     }
     double dg = w[1] != 0.0 ? (gap - w[0]) / w[1] : 0.0;
     for (size_t q = 0; q < nall; q++)
         c->x[q] += dg * c->x2[q];
-    flow_rate_increment(st, dg);
+    b->increment(st, state, dg);
 }
 
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
@@ -468,7 +480,9 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         return -1;
     probe_matrix_gather(c->pm, st->res, c->b);
     double gap = 0.0;
-    c->bordered = c->f && flow_rate_border(st, st->delta, &gap) == 0;
+    int m = border_module(st);
+    c->bordered = c->f && st->modules[m]->border->column(st, st->module_state[m], st->delta,
+                                                         &gap) == 0;
     if (c->bordered)
         probe_matrix_gather(c->pm, st->delta, c->f); /* its pressure rows stay 0 */
     idle_components(c);

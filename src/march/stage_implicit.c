@@ -2,14 +2,6 @@
  * linearised with the consistent tangent (step.h, viscous.h). */
 #include "march/step.h"
 
-int implicit_uses_tangent(const struct march_state *st)
-{
-    const struct muflow_case *cs = st->cs;
-    return cs->newton && cs->mode == MODE_STEADY &&
-           (cs->newton_below >= 1.0 || st->picard_stalled ||
-            st->residual <= cs->newton_below * march_picard_reference(st));
-}
-
 struct viscous_problem implicit_problem(const struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;

@@ -114,12 +114,43 @@ static void destroy(void *state)
     free(s);
 }
 
+/* The module's hooks of the coupled step and the loop (march/module.h),
+ * over the functions below. */
+static int held(const struct march_state *st, void *state)
+{
+    (void)state;
+    return flow_rate_held(st);
+}
+
+static int border_column(struct march_state *st, void *state, double *f[3], double *gap)
+{
+    (void)state;
+    return flow_rate_border(st, f, gap);
+}
+
+static double border_row(const struct march_state *st, void *state, double *const u[3])
+{
+    (void)state;
+    return flow_rate_mean(st, u);
+}
+
+static void border_increment(struct march_state *st, void *state, double dg)
+{
+    (void)state;
+    flow_rate_increment(st, dg);
+}
+
+static const struct module_border border = {border_column, border_row, border_increment};
+
 const struct module flow_rate_module = {
     .name = "flow_rate",
     .create = create,
     .properties = properties,
     .end_step = end_step,
     .destroy = destroy,
+    .line_search = held,
+    .border = &border,
+    .coupled_ok = 1,
 };
 
 int flow_rate_held(const struct march_state *st)

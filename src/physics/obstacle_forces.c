@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "kernels/embedded.h"
+#include "platform/output_file.h"
 #include "march/step.h"
 #include "physics/obstacle.h"
 #include "solvers/viscous.h"
@@ -33,7 +34,7 @@ static double shape_centre(const struct shape *sh, int k)
 static void plane_init(struct plane *pl, const struct march_state *st)
 {
     pl->st = st;
-    obstacle_shapes(st->cs, &pl->set);
+    case_obstacle_shapes(st->cs, &pl->set);
     pl->a = pl->set.plane_a;
     pl->b = pl->set.plane_b;
     pl->m = 3 - pl->a - pl->b;
@@ -521,7 +522,7 @@ static int flow_direction(const struct march_state *st, double *sense)
     return f[a] != 0.0 ? a : -1;
 }
 
-void obstacle_results(const struct march_state *st, struct run_result *res)
+void obstacle_results(const struct march_state *st, struct result_values *res)
 {
     /* a wall around the fluid (obstacle.invert: a duct) is no body in a
      * flow: no drag or lift, front, back or box around it (its forces in
@@ -532,7 +533,7 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     struct obstacle_forces f;
     int rc = obstacle_forces(st, &f);
     struct shape_set set;
-    obstacle_shapes(st->cs, &set);
+    case_obstacle_shapes(st->cs, &set);
     /* drag along the flow (positive downstream), lift across it in the
      * plane (positive along the grid's axis): the flow along the plane's a
      * (k = 0) or b (k = 1); a flow along the extrusion, or none, has
@@ -543,48 +544,48 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     if (k >= 0) {
         int along = k, across = 1 - k;
         double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
-        run_result_add(res, "drag_force", "%.10g", sense * f.surface[along]);
-        run_result_add(res, "lift_force", "%.10g", f.surface[across]);
-        run_result_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
-        run_result_add(res, "drag_force_reconstructed", "%.10g", sense * f.reconstructed[along]);
-        run_result_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[across]);
-        run_result_add(res, "drag_force_pressure_reconstructed", "%.10g",
+        result_values_add(res, "drag_force", "%.10g", sense * f.surface[along]);
+        result_values_add(res, "lift_force", "%.10g", f.surface[across]);
+        result_values_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
+        result_values_add(res, "drag_force_reconstructed", "%.10g", sense * f.reconstructed[along]);
+        result_values_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[across]);
+        result_values_add(res, "drag_force_pressure_reconstructed", "%.10g",
                        sense * f.reconstructed_pressure[along]);
-        run_result_add(res, "drag_force_control_volume", "%.10g", sense * f.control_volume[along]);
-        run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[across]);
+        result_values_add(res, "drag_force_control_volume", "%.10g", sense * f.control_volume[along]);
+        result_values_add(res, "lift_force_control_volume", "%.10g", f.control_volume[across]);
         if (q > 0.0) {
-            run_result_add(res, "drag_coefficient", "%.10g", sense * f.surface[along] / q);
-            run_result_add(res, "lift_coefficient", "%.10g", f.surface[across] / q);
-            run_result_add(res, "drag_coefficient_control_volume", "%.10g",
+            result_values_add(res, "drag_coefficient", "%.10g", sense * f.surface[along] / q);
+            result_values_add(res, "lift_coefficient", "%.10g", f.surface[across] / q);
+            result_values_add(res, "drag_coefficient_control_volume", "%.10g",
                            sense * f.control_volume[along] / q);
-            run_result_add(res, "lift_coefficient_control_volume", "%.10g",
+            result_values_add(res, "lift_coefficient_control_volume", "%.10g",
                            f.control_volume[across] / q);
-            run_result_add(res, "drag_coefficient_reconstructed", "%.10g",
+            result_values_add(res, "drag_coefficient_reconstructed", "%.10g",
                            sense * f.reconstructed[along] / q);
-            run_result_add(res, "lift_coefficient_reconstructed", "%.10g",
+            result_values_add(res, "lift_coefficient_reconstructed", "%.10g",
                            f.reconstructed[across] / q);
         }
         /* the front and back points lie along a */
         if (k == 0 && !f.mirror[0])
-            run_result_add(res, "pressure_drop", "%.10g", sense * f.front_back);
+            result_values_add(res, "pressure_drop", "%.10g", sense * f.front_back);
     } else {
         const int axis[2] = {set.plane_a, set.plane_b};
         for (int c = 0; c < 2; c++) {
             char key[40];
             snprintf(key, sizeof key, "force_%c", "xyz"[axis[c]]);
-            run_result_add(res, key, "%.10g", f.surface[c]);
+            result_values_add(res, key, "%.10g", f.surface[c]);
             snprintf(key, sizeof key, "force_%c_control_volume", "xyz"[axis[c]]);
-            run_result_add(res, key, "%.10g", f.control_volume[c]);
+            result_values_add(res, key, "%.10g", f.control_volume[c]);
         }
     }
     double u_mean = obstacle_mean_velocity(st);
     if (isfinite(u_mean))
-        run_result_add(res, "mean_velocity", "%.10g", u_mean);
+        result_values_add(res, "mean_velocity", "%.10g", u_mean);
     if (rc == -2)
-        run_result_add(res, "obstacle_warning", "%s",
+        result_values_add(res, "obstacle_warning", "%s",
                        "no memory for the discrete force: drag and lift are 0");
     else if (rc != 0)
-        run_result_add(res, "obstacle_warning", "%s",
+        result_values_add(res, "obstacle_warning", "%s",
                        "samples reached into the body (too few cells across): reconstructed forces incomplete");
 }
 

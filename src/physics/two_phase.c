@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "kernels/vof.h"
 #include "physics/two_phase.h"
 #include "physics/vof_transport.h"

@@ -34,7 +34,7 @@
 #include <string.h>
 #include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "io/output.h"
 #include "physics/obstacle.h"
 #include "physics/two_phase.h"
@@ -190,7 +190,7 @@ static const char *exact_missing(const struct muflow_case *cs, char *why, size_t
             return "the flow varies across y (boundary.ylo, yhi)";
         }
     }
-    if (obstacle_active(cs)) {
+    if (case_obstacle_active(cs)) {
         snprintf(why, len, "obstacle.shapes puts a body in the flow: it is not uniform");
         return "a body in the flow (obstacle.shapes)";
     }
@@ -544,7 +544,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     (void)d;
     const struct muflow_case *cs = st->cs;
     struct profile pr;
-    if (profile_extract(&pr, st) != 0)
+    if (scene_profile(&pr, st) != 0)
         return;
     double h0 = params(cs)->interface_height, rg, mg, ra, ma;
     part_errors(&pr, 0.0, h0, &rg, &mg);

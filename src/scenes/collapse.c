@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/reference.h"
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"

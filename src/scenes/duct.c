@@ -110,7 +110,7 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                  c->n[1], c->n[2]);
         return 1;
     }
-    if (obstacle_active(c) && c->obstacle.plane != OBSTACLE_YZ) {
+    if (case_obstacle_active(c) && c->obstacle.plane != OBSTACLE_YZ) {
         snprintf(msg, msglen, "case.scene = duct needs obstacle.plane = yz (the shapes draw "
                               "the duct's wall in its cross-section)");
         return 1;
@@ -178,7 +178,7 @@ static double open_area(const struct march_state *st)
 {
     const struct grid *g = &st->g;
     struct shape_set set;
-    obstacle_shapes(st->cs, &set);
+    case_obstacle_shapes(st->cs, &set);
     double reach = hypot(g->h[1], g->h[2]), open = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
