@@ -1113,7 +1113,7 @@ void group_viscous(struct test_tally *t)
     RUN_GROUP(t, "viscous", tests);
 }
 
-/* solver.preconditioner = auto (march.c, choose_preconditioner): the
+/* solver.preconditioner = auto (precond_policy.c, march_choose_preconditioner): the
  * geometric multigrid for a steady Newton solve of a flow along a
  * cross-section's periodic direction; otherwise the AMG for a steady flow
  * on a grid bounded in two directions with Newton's full tangent, no

@@ -21,7 +21,7 @@
 #include "solvers/viscous.h"
 
 /* A steady march is judged stalled only after this many steps without
- * progress (march.c: stalled); the residuals of as many steps are kept. */
+ * progress (end_check.c: stalled); the residuals of as many steps are kept. */
 #define MARCH_STALL_STEPS 200
 #define MARCH_RECENT (MARCH_STALL_STEPS + 1)
 
@@ -103,7 +103,7 @@ struct march_state {
     double peak_residual;       /* the largest of them since the problem began */
     /* the largest max |u| of the accepted states whose residual was within
      * ten times max(1, residual0) (the weight, or the start's): the velocity
-     * scale a blow-up is measured against (march.c) */
+     * scale a blow-up is measured against (end_check.c) */
     double sane_velocity;
     /* the mean acceleration each time the pseudo-time doubled (newest
      * first): whether an acceleration is sustained or decaying */
@@ -194,8 +194,9 @@ double march_available_memory(void);
 
 /* The same refusal from the case and its setup alone, before any field or
  * geometry (its grid and bands, the preconditioner auto would choose, the
- * modules' memory_bound: a body bounded from above): 1 with one line in msg naming the grid keys when the run needs
- * more than march_available_memory, else 0 (also when that is unknown).
+ * modules' memory_bound: a body bounded from above): 1 with one line in
+ * msg naming the grid keys when the run needs more than
+ * march_available_memory, else 0 (also when that is unknown).
  * Where auto's choice depends on hypre's library, which this does not open,
  * the smaller of the two estimates counts (march_create's check has the
  * library's answer). */

@@ -75,7 +75,7 @@ struct scene {
      * grid a cross-section of it, and the implicit step's solver solves it
      * (the heap, the duct's mixed model): solver.preconditioner = auto takes
      * the implicit step's geometric multigrid for its steady Newton solves
-     * (march.c); NULL: 0 */
+     * (precond_policy.c); NULL: 0 */
     int (*cross_section_flow)(const struct muflow_case *cs);
     int profile_axis, profile_component; /* -1: no profile */
     /* limits the profile to the faces and cells of index in [lo, hi] (both

@@ -28,11 +28,10 @@
  * (rho / dt) phi, which stops moving a pressure error once nu dt / h^2 is
  * large; a flow whose pressure matters (around a body, the cavity) then
  * stalls unless the grad-div augmentation carries the pressure, and that
- * augmentation defeats the AMG.  Measured (docs/design.md, "The granular
- * cylinder and the steady mode"): a Newtonian square in a periodic channel
- * steady in 22 steps where the projection march found no steady state; the
- * Bingham cavity steady without augmentation in the augmented run's 31
- * steps and psi_max.
+ * augmentation defeats the AMG.  Measured (docs/numerics/coupled-step.md):
+ * a Newtonian square in a periodic channel steady in 22 steps where the
+ * projection march found no steady state; the Bingham cavity steady without
+ * augmentation in the augmented run's 31 steps and psi_max.
  *
  * The numbering, the probing's colouring and the solver live from the first
  * coupled step to march_destroy; the matrices are the step's. */
@@ -259,8 +258,8 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
         struct amg_options o;
         amg_options_default(&o);
         /* V(1,1): on the cavity 27, 31, 43 GMRES iterations a step at 32,
-           64, 128 cells across against V(0,1)'s 33, 41, 57 (docs/design.md,
-           "The coupled step by GMRES") */
+           64, 128 cells across against V(0,1)'s 33, 41, 57
+           (docs/numerics/coupled-step.md) */
         o.pre_sweeps = 1;
         if (saddle_krylov_create(&c->krylov, (int)nall, c->nu, probe_matrix_components(c->pm),
                                  &o, err, errlen) != 0)

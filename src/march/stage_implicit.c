@@ -27,7 +27,8 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
      * is small) overshoots and, without the steady march's rejections, the
      * grains' viscosity collapses (a layer under air slid freely at steps of
      * 2e-4 s; with the lagged viscosity it reaches the steady state,
-     * docs/design.md "Two phases"); for a Newtonian fluid both are one. */
+     * docs/numerics/implicit-step-and-newton.md); for a Newtonian fluid both
+     * are one. */
     int tangent = implicit_uses_tangent(st);
     int diagonal = tangent && !st->full_tangent;
     for (int a = 0; a < 3; a++) {

@@ -39,7 +39,7 @@ static void subtract_gradient(struct march_state *st, const double *phi)
  * instead, a flow falling through open ends under gravity never became
  * steady: each step the inner faces moved and the open ones lagged, and the
  * projection turned the lag into a pressure that held the column up
- * (docs/design.md, "Open and inflow boundaries").  Its increment is set
+ * (docs/numerics/open-boundaries.md).  Its increment is set
  * here, before the projection: the face's momentum balance is the inner
  * face's with zero normal gradient for every term but the pressure and the
  * body force, which are taken on the face itself with the Dirichlet ghost
