@@ -28,10 +28,10 @@ static int write_fields(const char *dir, double bn, const struct march_state *st
     for (int k = 0; k < g->n[2]; k++)
         for (int i = 0; i < g->n[0]; i++) {
             ptrdiff_t p = grid_idx(g, i, 0, k);
-            double u = 0.5 * (st->vel[0][p] + st->vel[0][p + g->stride[0]]);
-            double w = 0.5 * (st->vel[2][p] + st->vel[2][p + g->stride[2]]);
+            double u = 0.5 * (st->field.velocity[0][p] + st->field.velocity[0][p + g->stride[0]]);
+            double w = 0.5 * (st->field.velocity[2][p] + st->field.velocity[2][p + g->stride[2]]);
             /* |tau| = sqrt(tau:tau / 2) = eta |D| in muflow's convention */
-            double tau = st->eta[p] * sqrt(st->shear2[p]);
+            double tau = st->field.viscosity[p] * sqrt(st->field.shear2[p]);
             fprintf(f, "%.6g,%.6g,%.8g,%.8g,%.8g,%d\n", (i + 0.5) * g->h[0], (k + 0.5) * g->h[2],
                     u, w, tau, tau >= st->cs->rheo.yield_stress);
         }

@@ -84,7 +84,7 @@ static int tracer_transport(struct march_state *st, void *state, double dt)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                t->tracer[p] += dt * fabs(st->vel[0][p]) * (1.0 + k);
+                t->tracer[p] += dt * fabs(st->field.velocity[0][p]) * (1.0 + k);
             }
     return 0;
 }
@@ -191,7 +191,8 @@ static void test_variable_coefficients(void **state)
     for (struct march_state *s = &u; s; s = s == &u ? &v : NULL)
         for (int i = 0; i < s->g.n[0]; i++)
             for (int k = 1; k < s->g.n[2]; k++)
-                s->vel[2][grid_idx(&s->g, i, 0, k)] = 0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
+                s->field.velocity[2][grid_idx(&s->g, i, 0, k)] =
+                    0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
     assert_int_equal(march_run(&u, NULL, NULL), STATUS_FINISHED);
     assert_int_equal(march_run(&v, NULL, NULL), STATUS_FINISHED);
     double size, diff = test_velocity_difference(&u, &v, &size);

@@ -87,7 +87,7 @@ static void test_layer_shape(void **state)
     double flux = 0.0;
     for (int j = 0; j < st.g.n[1]; j++)
         for (int k = 0; k < st.g.n[2]; k++)
-            flux += st.vel[0][grid_idx(&st.g, 0, j, k)] * st.g.h[1] * st.g.h[2];
+            flux += st.field.velocity[0][grid_idx(&st.g, 0, j, k)] * st.g.h[1] * st.g.h[2];
     assert_true(fabs(heap_flow_rate(&st) - flux / cs.len[1]) <= 1e-12 * flux);
     heap_profile_free(&hp);
     march_destroy(&st);

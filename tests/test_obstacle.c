@@ -147,7 +147,7 @@ static void pipe_run_grid(int n, const char *boundary, int band, struct pipe_err
         for (int k = 0; k < g->n[2]; k++) {
             double x[3];
             obstacle_node_position(g, 0, 0, j, k, x);
-            double u = st.vel[0][grid_idx(g, 0, j, k)];
+            double u = st.field.velocity[0][grid_idx(g, 0, j, k)];
             Q += u * grid_hc(g, 1, j) * grid_hc(g, 2, k);
             if (shape_distance(&set, x) <= 0.0) {
                 assert_true(u == 0.0); /* held */

@@ -193,9 +193,10 @@ static void test_perturbation(void **state)
     double umax = 0.0, dmax = 0.0, air = 0.0;
     for (int i = 0; i < g->n[0]; i++)
         for (int k = 0; k < g->n[2]; k++) {
-            double u0 = st.vel[0][grid_idx(g, i, 0, k)];
-            double u1 = st.vel[0][grid_idx(g, (i + 1) % g->n[0], 0, k)];
-            double w0 = st.vel[2][grid_idx(g, i, 0, k)], w1 = st.vel[2][grid_idx(g, i, 0, k + 1)];
+            double u0 = st.field.velocity[0][grid_idx(g, i, 0, k)];
+            double u1 = st.field.velocity[0][grid_idx(g, (i + 1) % g->n[0], 0, k)];
+            double w0 = st.field.velocity[2][grid_idx(g, i, 0, k)],
+                   w1 = st.field.velocity[2][grid_idx(g, i, 0, k + 1)];
             umax = fmax(umax, fmax(fabs(u0), fabs(w0)));
             dmax = fmax(dmax, fabs((u1 - u0) / g->h[0] + (w1 - w0) / g->h[2]));
             if ((k + 0.5) * g->h[2] > 5e-4 + g->h[2])

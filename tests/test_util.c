@@ -413,8 +413,8 @@ double test_velocity_difference(const struct march_state *a, const struct march_
     assert_true(a->g.size == b->g.size);
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < a->g.size; p++) {
-            diff = fmax(diff, fabs(a->vel[c][p] - b->vel[c][p]));
-            top = fmax(top, fabs(a->vel[c][p]));
+            diff = fmax(diff, fabs(a->field.velocity[c][p] - b->field.velocity[c][p]));
+            top = fmax(top, fabs(a->field.velocity[c][p]));
         }
     if (largest)
         *largest = top;

@@ -7,15 +7,18 @@
  *   create      registers fields, allocates its state (*state)
  *   properties  after the core properties (strain rates, pressure,
  *               viscosities): density and mixture properties, ...
- *   residual    adds its own terms to the momentum residual st->res
+ *   residual    adds its own terms to the momentum residual
+ *               st->field.residual
  *   residual_max the largest |residual| of the module's own equations (a
  *               field it solves for beside the velocity), in the units of
- *               st->res, and in *excess the same beyond the round-off of
- *               its terms: the steady criterion takes the larger of the two
+ *               st->field.residual, and in *excess the same beyond the
+ *               round-off of its terms: the steady criterion takes the
+ *               larger of the two
  *   implicit    solves the step's implicit problem in place of the viscous
  *               solver (a module whose unknowns are coupled to the velocity
- *               too stiffly for a split step): st->delta from st->res at
- *               pseudo-time step dt, its own increment kept for end_step;
+ *               too stiffly for a split step): st->field.increment from
+ *               st->field.residual at pseudo-time step dt, its own
+ *               increment kept for end_step;
  *               0, -1 when it broke down, 1 when it declines (an idle
  *               module: the viscous solver takes the step)
  *   transport   after the projection: advects its tracers by the new

@@ -54,7 +54,7 @@ int profile_extract(struct profile *pr, const struct march_state *st,
                 if (idx[sa] < faces[0] || idx[sa] > faces[1])
                     continue;
                 int l = idx[pr->axis];
-                pr->velocity[l] += st->vel[pr->component][grid_idx(g, i, j, k)];
+                pr->velocity[l] += st->field.velocity[pr->component][grid_idx(g, i, j, k)];
                 nodes[l]++;
             }
     for (int i = 0; i < g->n[0]; i++)
@@ -65,11 +65,12 @@ int profile_extract(struct profile *pr, const struct march_state *st,
                     continue;
                 int l = idx[pr->axis];
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                double shear = sqrt(st->shear2[p]);
-                pr->pressure[l] += st->pressure[p];
+                double shear = sqrt(st->field.shear2[p]);
+                pr->pressure[l] += st->field.pressure[p];
                 pr->shear_rate[l] += shear;
-                pr->inertial[l] += rheology_inertial_number(&cs->rheo, shear, st->preg[p]);
-                pr->viscosity[l] += st->eta[p];
+                pr->inertial[l] +=
+                    rheology_inertial_number(&cs->rheo, shear, st->field.pressure_regularised[p]);
+                pr->viscosity[l] += st->field.viscosity[p];
                 cells[l]++;
             }
     for (int l = 0; l < n; l++) {

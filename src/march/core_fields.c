@@ -18,33 +18,18 @@ static double output_shear_rate(const void *ctx, double shear2, ptrdiff_t p)
 static double output_inertial_number(const void *ctx, double shear2, ptrdiff_t p)
 {
     const struct march_state *st = ctx;
-    return rheology_inertial_number(&st->cs->rheo, sqrt(shear2), st->preg[p]);
+    return rheology_inertial_number(&st->cs->rheo, sqrt(shear2), st->field.pressure_regularised[p]);
 }
 
-/* The arrays of the march, declared once (march/fields.h). */
-const struct field_spec march_specs[] = {
-    {"velocity", FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED},
-    {"p_dyn", FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED},
-    {"p_hyd", FIELD_CELLS, 0},
-    {"force", FIELD_FACES, 0},
-    {"density_faces", FIELD_FACES, 0},
-    {"pressure", FIELD_CELLS, 0},
-    {"strain_normal2", FIELD_CELLS, 0},
-    {"strain_shear2", FIELD_EDGES, 0},
-    {"shear2", FIELD_CELLS, 0},
-    {"viscosity", FIELD_CELLS, 0},
-    {"pressure_regularised", FIELD_CELLS, 0},
-    {"tangent_cells", FIELD_CELLS3, 0},
-    {"viscosity_edges", FIELD_EDGES, 0},
-    {"tangent_edges", FIELD_EDGES, 0},
-    {"residual", FIELD_FACES, 0},
-    {"increment", FIELD_FACES, 0},
-    {"advection", FIELD_FACES, 0},
-    {"divergence", FIELD_CELLS, 0},
-    {"phi", FIELD_CELLS, 0},
-};
+/* The registry's entries of the march's own fields (march.h:
+ * MARCH_CORE_FIELDS), and their indices there. */
+#define SPEC(name, where, flags, what) {#name, where, flags},
+const struct field_spec march_specs[] = {MARCH_CORE_FIELDS(SPEC)};
 #define NSPECS (sizeof march_specs / sizeof march_specs[0])
 const size_t march_nspecs = NSPECS;
+#define INDEX(name, where, flags, what) CORE_##name,
+enum { MARCH_CORE_FIELDS(INDEX) CORE_COUNT };
+_Static_assert(CORE_COUNT == NSPECS, "one index each");
 
 /* Whether the run needs the array: the advection term's only without
  * advection (its pointers stay NULL; only stage_residual reads it, when
@@ -58,9 +43,14 @@ int march_register_fields(struct march_state *st)
 {
     struct field_registry *r = &st->fields;
     const struct field_spec *specs = march_specs;
-    double **into[] = {st->vel, &st->p_dyn, &st->p_hyd, st->force, st->rho_face, &st->pressure,
-                       &st->cn2, st->e2, &st->shear2, &st->eta, &st->preg, st->tan_c, st->eta_e,
-                       st->tan_e, st->res, st->delta, st->adv, &st->div, &st->phi};
+    /* where each one's arrays go: &member for a cell field, the member (an
+     * array of three) for the others */
+#define INTO_FIELD_CELLS(m) &(m)
+#define INTO_FIELD_FACES(m) (m)
+#define INTO_FIELD_EDGES(m) (m)
+#define INTO_FIELD_CELLS3(m) (m)
+#define INTO(name, where, flags, what) INTO_##where(st->field.name),
+    double **into[] = {MARCH_CORE_FIELDS(INTO)};
     _Static_assert(NSPECS == sizeof into / sizeof into[0], "one each");
     int idx[NSPECS];
     for (size_t m = 0; m < NSPECS; m++) {
@@ -71,12 +61,12 @@ int march_register_fields(struct march_state *st)
     /* what the field files hold, in this order: the velocity (face values
      * u, v, w and the cell-centred vector), then the cell scalars */
     const struct field_output outs[] = {
-        {"velocity", {"u", "v", "w"}, idx[0], NULL, NULL},
-        {"pressure", {NULL}, idx[5], NULL, NULL},
-        {"pressure_regularised", {NULL}, idx[10], NULL, NULL},
-        {"shear_rate", {NULL}, idx[8], output_shear_rate, st},
-        {"inertial_number", {NULL}, idx[8], output_inertial_number, st},
-        {"viscosity", {NULL}, idx[9], NULL, NULL},
+        {"velocity", {"u", "v", "w"}, idx[CORE_velocity], NULL, NULL},
+        {"pressure", {NULL}, idx[CORE_pressure], NULL, NULL},
+        {"pressure_regularised", {NULL}, idx[CORE_pressure_regularised], NULL, NULL},
+        {"shear_rate", {NULL}, idx[CORE_shear2], output_shear_rate, st},
+        {"inertial_number", {NULL}, idx[CORE_shear2], output_inertial_number, st},
+        {"viscosity", {NULL}, idx[CORE_viscosity], NULL, NULL},
     };
     for (size_t m = 0; m < sizeof outs / sizeof outs[0]; m++)
         if (fields_output(r, &outs[m]) != 0)

@@ -60,7 +60,9 @@ int march_density_changed(struct march_state *st, int uniform, char *err, size_t
     }
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < g->size; p++)
-            st->beta[c][p] = st->rho_face[c][p] > 0.0 ? st->rho_ref / st->rho_face[c][p] : 0.0;
+            st->beta[c][p] = st->field.density_faces[c][p] > 0.0
+                                 ? st->rho_ref / st->field.density_faces[c][p]
+                                 : 0.0;
     if (st->embedded)
         return set_cut_coefficient(st, err, errlen);
     return projection_coefficient(st, st->beta, err, errlen);

@@ -93,7 +93,7 @@ static void residual_peak(const struct march_state *st, int *comp, double at[3])
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++)
                 for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                    double r = fabs(st->res[c][grid_idx(g, i, j, k)]);
+                    double r = fabs(st->field.residual[c][grid_idx(g, i, j, k)]);
                     if (!(r > peak))
                         continue;
                     const int idx[3] = {i, j, k};
@@ -145,7 +145,8 @@ void march_check_end(struct march_state *st)
                march_cfl_dt(st) < DT_COLLAPSE * fmin(cs->dt, cs->end_time)) {
         /* the CFL limit, not the last step to end_time, which may be short */
         long bad = st->step;
-        double t = st->time, dt = march_cfl_dt(st), umax = kernel_max_abs(&st->g, st->act, st->vel);
+        double t = st->time, dt = march_cfl_dt(st),
+               umax = kernel_max_abs(&st->g, st->act, st->field.velocity);
         march_restore_good(st);
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,

@@ -92,7 +92,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     st->density_uniform = 1;
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < g->size; p++)
-            st->rho_face[c][p] = cs->density;
+            st->field.density_faces[c][p] = cs->density;
     enum poisson_bc pbc[3][2];
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)

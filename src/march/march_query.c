@@ -57,5 +57,5 @@ double march_mean_acceleration(const struct march_state *st)
 {
     /* mean residual per unit mass of the component the body force drives */
     int a = march_driven_component(st);
-    return kernel_component_mean(&st->g, &st->act[a], a, st->res[a]) / st->cs->density;
+    return kernel_component_mean(&st->g, &st->act[a], a, st->field.residual[a]) / st->cs->density;
 }

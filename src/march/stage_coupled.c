@@ -448,9 +448,9 @@ static void border(struct march_state *st, struct coupled_state *c, double gap)
     const double *sol[2] = {c->x, c->x2};
     for (int r = 0; r < 2; r++) {
         for (int k = 0; k < 3; k++)
-            memset(st->delta[k], 0, st->g.size * sizeof(double));
-        probe_matrix_scatter(c->pm, sol[r], st->delta);
-        w[r] = b->row(st, state, st->delta);
+            memset(st->field.increment[k], 0, st->g.size * sizeof(double));
+        probe_matrix_scatter(c->pm, sol[r], st->field.increment);
+        w[r] = b->row(st, state, st->field.increment);
     }
     double dg = w[1] != 0.0 ? (gap - w[0]) / w[1] : 0.0;
     for (size_t q = 0; q < nall; q++)
@@ -477,13 +477,13 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         return -1;
     if (c->open && coupled_open_probe(c->open, st, pb) != 0)
         return -1;
-    probe_matrix_gather(c->pm, st->res, c->b);
+    probe_matrix_gather(c->pm, st->field.residual, c->b);
     double gap = 0.0;
     int m = border_module(st);
-    c->bordered = c->f && st->modules[m]->border->column(st, st->module_state[m], st->delta,
-                                                         &gap) == 0;
+    c->bordered = c->f && st->modules[m]->border->column(st, st->module_state[m],
+                                                         st->field.increment, &gap) == 0;
     if (c->bordered)
-        probe_matrix_gather(c->pm, st->delta, c->f); /* its pressure rows stay 0 */
+        probe_matrix_gather(c->pm, st->field.increment, c->f); /* its pressure rows stay 0 */
     idle_components(c);
     if (assemble(c) != 0)
         return -1;
@@ -497,9 +497,9 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
                  * brings its own value, and a pressure-dependent law sees
                  * the level (D/8 from a D/4 state: F_D 57.374 against
                  * 57.658 from rest, both steady to round-off) */
-                c->b[nu + q] = q == c->pinned ? -st->p_dyn[p]
+                c->b[nu + q] = q == c->pinned ? -st->field.p_dyn[p]
                                : c->held[q]   ? 0.0
-                                              : -st->div[p];
+                                              : -st->field.divergence[p];
             }
     for (int m = 0; m < c->nopen; m++)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
@@ -539,17 +539,17 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     if (c->bordered)
         border(st, c, gap);
     for (int k = 0; k < 3; k++)
-        memset(st->delta[k], 0, g->size * sizeof(double));
-    probe_matrix_scatter(c->pm, c->x, st->delta);
+        memset(st->field.increment[k], 0, g->size * sizeof(double));
+    probe_matrix_scatter(c->pm, c->x, st->field.increment);
     for (int m = 0; m < c->nopen; m++) {
         const struct open_link *o = coupled_open_link(c->open, m);
-        st->delta[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
+        st->field.increment[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
     }
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += c->x[nu + c->cell[p]];
+                st->field.p_dyn[p] += c->x[nu + c->cell[p]];
             }
     return 0;
 }
@@ -563,11 +563,11 @@ long stage_coupled_fallbacks(const struct coupled_state *c, const char **cause)
 
 void stage_coupled_update(struct march_state *st)
 {
-    kernel_axpy(&st->g, st->act, 1.0, st->delta, st->vel);
+    kernel_axpy(&st->g, st->act, 1.0, st->field.increment, st->field.velocity);
     const struct coupled_state *c = st->coupled;
     for (int m = 0; m < c->nopen; m++) { /* the open faces are state, not unknowns */
         const struct open_link *o = coupled_open_link(c->open, m);
-        st->vel[o->d][o->pf] += st->delta[o->d][o->pf];
+        st->field.velocity[o->d][o->pf] += st->field.increment[o->d][o->pf];
     }
-    bc_fill_velocity(&st->g, &st->bc, st->vel);
+    bc_fill_velocity(&st->g, &st->bc, st->field.velocity);
 }

@@ -314,7 +314,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         snprintf(err, errlen, "obstacle: out of memory");
         return -1;
     }
-    embedded_zero(&ob->e, st->vel);
+    embedded_zero(&ob->e, st->field.velocity);
     st->embedded = &ob->e;
     /* the projection: the cut cells' flux form (march_density_changed) */
     return march_density_changed(st, 0, err, errlen);
@@ -324,10 +324,11 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
 static void residual(struct march_state *st, void *state)
 {
     struct obstacle *ob = state;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
     viscous_embedded_terms(&st->g, &st->bc, st->act, &ob->e, eta_cell,
-                           (const double *const *)st->eta_e, -1.0, st->vel, st->res);
-    embedded_zero(&ob->e, st->res);
+                           (const double *const *)st->field.viscosity_edges, -1.0,
+                           st->field.velocity, st->field.residual);
+    embedded_zero(&ob->e, st->field.residual);
 }
 
 /* The held nodes stay 0 (their increment is 0 to the solver's round-off). */
@@ -335,7 +336,7 @@ static void end_step(struct march_state *st, void *state, double dt)
 {
     (void)dt;
     struct obstacle *ob = state;
-    embedded_zero(&ob->e, st->vel);
+    embedded_zero(&ob->e, st->field.velocity);
 }
 
 static const char *const obstacle_files[] = {"obstacle_surface.csv", NULL}; /* obstacle_write */

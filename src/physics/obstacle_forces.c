@@ -131,9 +131,10 @@ static int surface_sample(const struct plane *pl, struct sample *s)
         y[pl->a] += dist * s->n[0];
         y[pl->b] += dist * s->n[1];
         double pd, ph;
-        if (interp(pl, st->vel[pl->a], pl->a, y, &u[q][0]) || interp(pl, st->vel[pl->b], pl->b, y, &u[q][1]) ||
-            interp(pl, st->p_dyn, -1, y, &pd) || interp(pl, st->p_hyd, -1, y, &ph) ||
-            (q == 0 && interp(pl, st->eta, -1, y, &eta)))
+        if (interp(pl, st->field.velocity[pl->a], pl->a, y, &u[q][0]) ||
+            interp(pl, st->field.velocity[pl->b], pl->b, y, &u[q][1]) ||
+            interp(pl, st->field.p_dyn, -1, y, &pd) || interp(pl, st->field.p_hyd, -1, y, &ph) ||
+            (q == 0 && interp(pl, st->field.viscosity, -1, y, &eta)))
             return -1;
         p[q] = pd + ph;
     }
@@ -227,7 +228,8 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
      * it is no force, and at the granular cylinder's large velocities it
      * was most of the difference between the two estimates */
     const double rho = st->cs->advection ? st->cs->density : 0.0;
-    const double *uN = st->vel[N], *uT = st->vel[T], *etae = st->eta_e[3 - N - T];
+    const double *uN = st->field.velocity[N], *uT = st->field.velocity[T],
+                 *etae = st->field.viscosity_edges[3 - N - T];
     /* the widths and centres' distances where each difference is taken
      * (one size per direction on a uniform grid) */
     /* at(): indices in (a, b) order */
@@ -235,12 +237,13 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
 #define IX(iN, iT) (N == pl->a ? at(pl, (iN), (iT)) : at(pl, (iT), (iN)))
         double un = uN[IX(I, k)];
         double ut = 0.25 * (uT[IX(I - 1, k)] + uT[IX(I, k)] + uT[IX(I - 1, k + 1)] + uT[IX(I, k + 1)]);
-        double p = 0.5 * (st->p_dyn[IX(I - 1, k)] + st->p_dyn[IX(I, k)] + st->p_hyd[IX(I - 1, k)] +
-                          st->p_hyd[IX(I, k)]);
+        double p = 0.5 * (st->field.p_dyn[IX(I - 1, k)] + st->field.p_dyn[IX(I, k)] +
+                          st->field.p_hyd[IX(I - 1, k)] + st->field.p_hyd[IX(I, k)]);
         const double hNm = grid_hc(g, N, I - 1), hNp = grid_hc(g, N, I), hNf = grid_hf(g, N, I);
         const double hT = grid_hc(g, T, k);
-        double tnn = st->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
-                     st->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp; /* mean of 2 eta dudn */
+        /* the mean of 2 eta dudn */
+        double tnn = st->field.viscosity[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
+                     st->field.viscosity[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp;
         double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / grid_hf(g, T, k) +
                                       (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hNf);
         double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / grid_hf(g, T, k + 1) +
@@ -342,20 +345,23 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
     int rc = -1;
     if (!r[0] || !r[1] || !r[2] || !rp[0] || !rp[1] || !rp[2])
         goto done;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel, r);
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->field.viscosity_edges,
+                             st->field.velocity, r);
     /* the obstacle module's own residual terms: the cut cells' grad-div
      * (which reaches the held nodes) and the cut links (on fluid nodes, not
      * summed below: their share is taken from the links themselves) */
-    viscous_embedded_terms(g, &st->bc, st->act, e, eta_cell, (const double *const *)st->eta_e,
-                           -1.0, st->vel, r);
-    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, rp);
-    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, rp);
-    if (st->cs->advection) { /* st->adv: the last evaluation's, held nodes included */
+    viscous_embedded_terms(g, &st->bc, st->act, e, eta_cell,
+                           (const double *const *)st->field.viscosity_edges, -1.0,
+                           st->field.velocity, r);
+    kernel_gradient_update(g, st->act, st->field.p_dyn, 1.0, rp);
+    kernel_gradient_update(g, st->act, st->field.p_hyd, 1.0, rp);
+    if (st->cs->advection) { /* st->field.advection: the last evaluation's, held nodes included */
         if (st->density_uniform)
-            kernel_axpy(g, st->act, st->cs->density, (double *const *)st->adv, r);
+            kernel_axpy(g, st->act, st->cs->density, (double *const *)st->field.advection, r);
         else
-            kernel_multiply_add(g, st->act, (double *const *)st->rho_face, (double *const *)st->adv, r);
+            kernel_multiply_add(g, st->act, (double *const *)st->field.density_faces,
+                                (double *const *)st->field.advection, r);
     }
     const double vol = g->h[0] * g->h[1] * g->h[2] / (g->n[pl->m] * g->h[pl->m]);
     double Fd[3] = {0.0, 0.0, 0.0}, Fpd[3] = {0.0, 0.0, 0.0};
@@ -368,9 +374,10 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
         }
     for (long i = 0; i < e->nlinks; i++) { /* the residual's -A w v_P, taken from the fluid */
         const struct embedded_link *l = &e->links[i];
-        double A = l->coef < 3 ? st->eta[l->at] : st->eta_e[l->coef - 3][l->at];
+        double A = l->coef < 3 ? st->field.viscosity[l->at]
+                               : st->field.viscosity_edges[l->coef - 3][l->at];
         double v = grid_stretched(g) ? node_area(pl, l->c, l->p) : vol;
-        Fd[l->c] += A * l->w * st->vel[l->c][l->p] * v;
+        Fd[l->c] += A * l->w * st->field.velocity[l->c][l->p] * v;
     }
     F[0] = Fd[pl->a], F[1] = Fd[pl->b];
     Fp[0] = Fpd[pl->a], Fp[1] = Fpd[pl->b];
@@ -500,7 +507,8 @@ double obstacle_mean_velocity(const struct march_state *st)
     int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
-    return copysign(1.0, f[a]) * kernel_component_mean(&st->g, &st->act[a], a, st->vel[a]);
+    return copysign(1.0, f[a]) *
+           kernel_component_mean(&st->g, &st->act[a], a, st->field.velocity[a]);
 }
 
 /* The flow's direction: an inflow face's (into the box), else the

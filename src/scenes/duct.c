@@ -138,7 +138,7 @@ static double column_u(const struct march_state *st, int j, int k)
     const struct grid *g = &st->g;
     double s = 0.0;
     for (int i = 0; i < g->n[0]; i++)
-        s += st->vel[0][grid_idx(g, i, j, k)];
+        s += st->field.velocity[0][grid_idx(g, i, j, k)];
     return s / g->n[0];
 }
 
@@ -251,7 +251,7 @@ static void measure(const struct march_state *st, struct duct_measures *m)
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++)
                 for (int k = b->lo[2]; k < b->hi[2]; k++)
-                    s = fmax(s, fabs(st->vel[c][grid_idx(g, i, j, k)]));
+                    s = fmax(s, fabs(st->field.velocity[c][grid_idx(g, i, j, k)]));
     }
     double um = largest_u(st);
     m->secondary = um > 0.0 ? s / um : s;
