@@ -28,10 +28,10 @@ static int write_fields(const char *dir, double bn, const struct march_state *st
     for (int k = 0; k < g->n[2]; k++)
         for (int i = 0; i < g->n[0]; i++) {
             ptrdiff_t p = grid_idx(g, i, 0, k);
-            double u = 0.5 * (st->vel[0][p] + st->vel[0][p + g->stride[0]]);
-            double w = 0.5 * (st->vel[2][p] + st->vel[2][p + g->stride[2]]);
+            double u = 0.5 * (st->field.velocity[0][p] + st->field.velocity[0][p + g->stride[0]]);
+            double w = 0.5 * (st->field.velocity[2][p] + st->field.velocity[2][p + g->stride[2]]);
             /* |tau| = sqrt(tau:tau / 2) = eta |D| in muflow's convention */
-            double tau = st->eta[p] * sqrt(st->shear2[p]);
+            double tau = st->field.viscosity[p] * sqrt(st->field.shear2[p]);
             fprintf(f, "%.6g,%.6g,%.8g,%.8g,%.8g,%d\n", (i + 0.5) * g->h[0], (k + 0.5) * g->h[2],
                     u, w, tau, tau >= st->cs->rheo.yield_stress);
         }
@@ -77,7 +77,7 @@ int main(int argc, char **argv)
             return 2;
         }
         struct march_state st;
-        if (march_create(&st, &cs, err, sizeof err) != 0) {
+        if (scene_march_create(&st, &cs, NULL, err, sizeof err) != 0) {
             fprintf(stderr, "%s\n", err);
             return 1;
         }
@@ -86,9 +86,9 @@ int main(int argc, char **argv)
         double wall = omp_get_wtime() - t0;
         struct profile pr;
         struct scene_errors e;
-        if (profile_extract(&pr, &st) != 0)
+        if (scene_profile(&pr, &st) != 0)
             return 1;
-        profile_errors(&pr, &st, &e);
+        scene_profile_errors(&pr, &st, &e);
         char path[1024];
         snprintf(path, sizeof path, "%s/cavity_midline_bn%g.csv", dir, bn);
         FILE *f = fopen(path, "w");

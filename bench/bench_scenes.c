@@ -70,15 +70,15 @@ static void run_limited(const struct muflow_case *cs, struct run_result *res)
     struct march_state st;
     char err[512];
     struct limit_ctx l = {bench_now()};
-    if (march_create(&st, cs, err, sizeof err) != 0) {
+    if (scene_march_create(&st, cs, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "bench: run failed: %s\n", err);
         exit(1);
     }
     march_run(&st, limit_observer, &l);
     run_result_from(&st, res);
     struct profile pr;
-    if (profile_extract(&pr, &st) == 0) {
-        profile_errors(&pr, &st, &res->errors);
+    if (scene_profile(&pr, &st) == 0) {
+        scene_profile_errors(&pr, &st, &res->errors);
         profile_free(&pr);
     }
     march_destroy(&st);
@@ -190,7 +190,7 @@ static void error_time(FILE *out, const char *scene, const char *reg, int n,
         struct march_state st;
         char err[512];
         double t0 = bench_now();
-        if (march_create(&st, cs, err, sizeof err) != 0) {
+        if (scene_march_create(&st, cs, NULL, err, sizeof err) != 0) {
             fprintf(stderr, "bench: %s\n", err);
             exit(1);
         }
@@ -274,13 +274,13 @@ static void bagnold_profiles(const char *dir)
         bench_load(&cs, BAGNOLD_INI, 1, ov);
         struct march_state st;
         char err[512];
-        if (march_create(&st, &cs, err, sizeof err) != 0) {
+        if (scene_march_create(&st, &cs, NULL, err, sizeof err) != 0) {
             fprintf(stderr, "bench: %s\n", err);
             exit(1);
         }
         march_run(&st, NULL, NULL);
         struct profile pr;
-        if (profile_extract(&pr, &st) != 0) {
+        if (scene_profile(&pr, &st) != 0) {
             fprintf(stderr, "bench: no profile for bagnold\n");
             exit(1);
         }
@@ -294,7 +294,7 @@ static void bagnold_profiles(const char *dir)
     fprintf(f, "z,u_exact\n");
     for (int i = 0; i <= 280; i++) {
         double z = cs.len[2] * i / 280.0;
-        fprintf(f, "%.8e,%.8e\n", z, profile_exact_at(&cs, z));
+        fprintf(f, "%.8e,%.8e\n", z, scene_exact_at(&cs, z));
     }
     fclose(f);
 }

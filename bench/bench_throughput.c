@@ -80,7 +80,7 @@ static double bagnold_u(const struct muflow_case *cs, double z)
 {
     struct muflow_case b = *cs;
     b.scene = scene_find("bagnold");
-    return profile_exact_at(&b, z);
+    return scene_exact_at(&b, z);
 }
 
 /* The Bagnold profile plus two discretely divergence-free perturbations:
@@ -113,15 +113,18 @@ static void initial_field(struct bench3d *b)
                 double xf = i * h[0], yf = j * h[1], zf = k * h[2];
                 double yc = yf + 0.5 * h[1], zc = zf + 0.5 * h[2];
                 /* u on x-face (xf, yc, zc); psi on z-edges (xf, yf), phi on y-edges (xf, zf) */
-                st->vel[0][p] = bagnold_u(&b->cs, zc) +
-                                A * (psi_xy(L, xf, yf + h[1], zc) - psi_xy(L, xf, yf, zc)) / h[1] -
-                                B * (phi_xz(L, xf, yc, zf + h[2]) - phi_xz(L, xf, yc, zf)) / h[2];
+                st->field.velocity[0][p] =
+                    bagnold_u(&b->cs, zc) +
+                    A * (psi_xy(L, xf, yf + h[1], zc) - psi_xy(L, xf, yf, zc)) / h[1] -
+                    B * (phi_xz(L, xf, yc, zf + h[2]) - phi_xz(L, xf, yc, zf)) / h[2];
                 /* v on y-face (xc, yf, zc) */
-                st->vel[1][p] = -A * (psi_xy(L, xf + h[0], yf, zc) - psi_xy(L, xf, yf, zc)) / h[0];
+                st->field.velocity[1][p] =
+                    -A * (psi_xy(L, xf + h[0], yf, zc) - psi_xy(L, xf, yf, zc)) / h[0];
                 /* w on z-face (xc, yc, zf) */
-                st->vel[2][p] = B * (phi_xz(L, xf + h[0], yc, zf) - phi_xz(L, xf, yc, zf)) / h[0];
+                st->field.velocity[2][p] =
+                    B * (phi_xz(L, xf + h[0], yc, zf) - phi_xz(L, xf, yc, zf)) / h[0];
             }
-    bc_fill_velocity(g, &st->bc, st->vel);
+    bc_fill_velocity(g, &st->bc, st->field.velocity);
 }
 
 static void problem_of(struct bench3d *b)
@@ -131,8 +134,8 @@ static void problem_of(struct bench3d *b)
     b->pb.mass = b->cs.density / st->dt;
     b->pb.augmentation = st->aug; /* as the march builds it (line blocks: symmetric tangent) */
     for (int a = 0; a < 3; a++) {
-        b->pb.A_cell[a] = st->tan_c[a];
-        b->pb.A_edge[a] = st->tan_e[a];
+        b->pb.A_cell[a] = st->field.tangent_cells[a];
+        b->pb.A_edge[a] = st->field.tangent_edges[a];
     }
 }
 
@@ -149,7 +152,7 @@ static void bench_create(struct bench3d *b, int n[3])
     b->cs.len[1] = b->cs.len[2] / b->cs.n[2] * b->cs.n[1];
     char err[512];
     double t0 = bench_now();
-    if (march_create(&b->st, &b->cs, err, sizeof err) != 0) {
+    if (scene_march_create(&b->st, &b->cs, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "bench: %s\n", err);
         exit(1);
     }
@@ -172,7 +175,7 @@ static void bench_create(struct bench3d *b, int n[3])
     }
     problem_of(b);
     for (int c = 0; c < 3; c++)
-        memcpy(b->x[c], b->st.vel[c], b->st.g.size * sizeof(double));
+        memcpy(b->x[c], b->st.field.velocity[c], b->st.g.size * sizeof(double));
 }
 
 static void bench_destroy(struct bench3d *b)
@@ -191,19 +194,26 @@ typedef void (*stage_fn)(struct bench3d *b);
 #define ST(b) (&(b)->st)
 #define G(b) (&(b)->st.g)
 
-static void s_strain(struct bench3d *b) { kernel_strain(G(b), ST(b)->vel, ST(b)->cn2, ST(b)->e2); }
+static void s_strain(struct bench3d *b)
+{
+    kernel_strain(G(b), ST(b)->field.velocity, ST(b)->field.strain_normal2,
+                  ST(b)->field.strain_shear2);
+}
 
 static void s_visc_cells(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    kernel_viscosity_cells(G(b), &b->cs.rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
-                           st->tan_c, st->shear2, st->preg, st->b_c);
+    kernel_viscosity_cells(G(b), &b->cs.rheo, st->field.velocity, st->field.strain_normal2,
+                           st->field.strain_shear2, st->field.pressure, st->field.viscosity,
+                           st->field.tangent_cells, st->field.shear2,
+                           st->field.pressure_regularised, st->b_c);
 }
 
 static void s_visc_edges(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    kernel_viscosity_edges(G(b), &b->cs.rheo, st->cn2, st->e2, st->pressure, st->eta_e, st->tan_e,
+    kernel_viscosity_edges(G(b), &b->cs.rheo, st->field.strain_normal2, st->field.strain_shear2,
+                           st->field.pressure, st->field.viscosity_edges, st->field.tangent_edges,
                            st->full_tangent ? st->b_e : NULL, 0);
 }
 
@@ -211,26 +221,26 @@ static void s_visc_edges(struct bench3d *b)
 static void s_visc_fills(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    bc_fill_velocity(G(b), &st->bc, st->vel);
-    bc_fill_scalar(G(b), &st->bc, st->cn2);
-    bc_fill_scalar_linear(G(b), &st->bc, st->pressure);
-    bc_fill_scalar(G(b), &st->bc, st->eta);
+    bc_fill_velocity(G(b), &st->bc, st->field.velocity);
+    bc_fill_scalar(G(b), &st->bc, st->field.strain_normal2);
+    bc_fill_scalar_linear(G(b), &st->bc, st->field.pressure);
+    bc_fill_scalar(G(b), &st->bc, st->field.viscosity);
     for (int a = 0; a < 3; a++)
-        bc_fill_scalar(G(b), &st->bc, st->tan_c[a]);
+        bc_fill_scalar(G(b), &st->bc, st->field.tangent_cells[a]);
 }
 
 static void s_viscosity(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    bc_fill_velocity(G(b), &st->bc, st->vel);
+    bc_fill_velocity(G(b), &st->bc, st->field.velocity);
     s_strain(b);
-    bc_fill_scalar(G(b), &st->bc, st->cn2);
-    bc_fill_scalar_linear(G(b), &st->bc, st->pressure);
+    bc_fill_scalar(G(b), &st->bc, st->field.strain_normal2);
+    bc_fill_scalar_linear(G(b), &st->bc, st->field.pressure);
     s_visc_cells(b);
     s_visc_edges(b);
-    bc_fill_scalar(G(b), &st->bc, st->eta);
+    bc_fill_scalar(G(b), &st->bc, st->field.viscosity);
     for (int a = 0; a < 3; a++)
-        bc_fill_scalar(G(b), &st->bc, st->tan_c[a]);
+        bc_fill_scalar(G(b), &st->bc, st->field.tangent_cells[a]);
 }
 
 static void s_apply(struct bench3d *b) { viscous_apply(ST(b)->viscous, &b->pb, b->x, b->y); }
@@ -238,16 +248,18 @@ static void s_apply(struct bench3d *b) { viscous_apply(ST(b)->viscous, &b->pb, b
 static void s_stress_div(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(G(b), st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_divergence(G(b), st->act, eta_cell,
+                             (const double *const *)st->field.viscosity_edges, st->field.velocity,
                              b->y);
 }
 
 static void s_stress_mag(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_magnitude(G(b), st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_magnitude(G(b), st->act, eta_cell,
+                            (const double *const *)st->field.viscosity_edges, st->field.velocity,
                             b->y);
 }
 
@@ -255,16 +267,22 @@ static void s_precondition(struct bench3d *b) { viscous_precondition(ST(b)->visc
 
 static void s_advection(struct bench3d *b)
 {
-    kernel_advection(G(b), ST(b)->act, ST(b)->vel, ST(b)->adv);
+    kernel_advection(G(b), ST(b)->act, ST(b)->field.velocity, ST(b)->field.advection);
 }
 
-static void s_poisson(struct bench3d *b) { pressure_solve(ST(b)->pressure_solver, ST(b)->div, ST(b)->phi, 0.0); }
+static void s_poisson(struct bench3d *b)
+{
+    pressure_solve(ST(b)->pressure_solver, ST(b)->field.divergence, ST(b)->field.phi, 0.0);
+}
 
-static void s_divergence(struct bench3d *b) { kernel_divergence(G(b), ST(b)->vel, ST(b)->div); }
+static void s_divergence(struct bench3d *b)
+{
+    kernel_divergence(G(b), ST(b)->field.velocity, ST(b)->field.divergence);
+}
 
 static void s_gradient(struct bench3d *b)
 {
-    kernel_gradient_update(G(b), ST(b)->act, ST(b)->phi, 1e-30, b->y);
+    kernel_gradient_update(G(b), ST(b)->act, ST(b)->field.phi, 1e-30, b->y);
 }
 
 static void s_correction(struct bench3d *b)
@@ -273,20 +291,32 @@ static void s_correction(struct bench3d *b)
     s_gradient(b);
 }
 
-static void s_dot(struct bench3d *b) { sink = kernel_dot(G(b), ST(b)->act, b->x, ST(b)->vel); }
-static void s_axpy(struct bench3d *b) { kernel_axpy(G(b), ST(b)->act, 1e-30, ST(b)->vel, b->y); }
+static void s_dot(struct bench3d *b)
+{
+    sink = kernel_dot(G(b), ST(b)->act, b->x, ST(b)->field.velocity);
+}
+static void s_axpy(struct bench3d *b)
+{
+    kernel_axpy(G(b), ST(b)->act, 1e-30, ST(b)->field.velocity, b->y);
+}
 static void s_lincomb(struct bench3d *b)
 {
-    kernel_lincomb(G(b), ST(b)->act, 1.0, ST(b)->vel, 1e-30, b->y);
+    kernel_lincomb(G(b), ST(b)->act, 1.0, ST(b)->field.velocity, 1e-30, b->y);
 }
-static void s_max_abs(struct bench3d *b) { sink = kernel_max_abs(G(b), ST(b)->act, ST(b)->vel); }
+static void s_max_abs(struct bench3d *b)
+{
+    sink = kernel_max_abs(G(b), ST(b)->act, ST(b)->field.velocity);
+}
 static void s_residual_excess(struct bench3d *b)
 {
     struct march_state *st = ST(b);
-    sink = kernel_residual_excess(G(b), st->act, st->res, b->y, st->force, 1e-15);
+    sink = kernel_residual_excess(G(b), st->act, st->field.residual, b->y, st->field.force, 1e-15);
 }
-static void s_fill_vel(struct bench3d *b) { bc_fill_velocity(G(b), &ST(b)->bc, ST(b)->vel); }
-static void s_fill_scalar(struct bench3d *b) { bc_fill_scalar(G(b), &ST(b)->bc, ST(b)->phi); }
+static void s_fill_vel(struct bench3d *b)
+{
+    bc_fill_velocity(G(b), &ST(b)->bc, ST(b)->field.velocity);
+}
+static void s_fill_scalar(struct bench3d *b) { bc_fill_scalar(G(b), &ST(b)->bc, ST(b)->field.phi); }
 
 /* One CG iteration: the difference of solves capped at 6 and 1 iterations
  * (rtol 0: the cap is always reached), over 5. */
@@ -294,7 +324,7 @@ static int solve_its;
 static void s_solve(struct bench3d *b)
 {
     struct viscous_stats vs;
-    viscous_solve(ST(b)->viscous, &b->pb, ST(b)->res, b->y, 0.0, solve_its, &vs);
+    viscous_solve(ST(b)->viscous, &b->pb, ST(b)->field.residual, b->y, 0.0, solve_its, &vs);
 }
 
 /* ---- whole steps -------------------------------------------------------------- */

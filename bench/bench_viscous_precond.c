@@ -26,6 +26,7 @@
 #include "bench.h"
 #include "march/march.h"
 #include "scenes/heap.h"
+#include "scenes/scene.h"
 
 struct tally {
     int n;
@@ -125,7 +126,7 @@ int main(int argc, char **argv)
                                                              : VISCOUS_LU;
     char err[512];
     struct march_state st;
-    if (march_create(&st, &cs, err, sizeof err) != 0) {
+    if (scene_march_create(&st, &cs, NULL, err, sizeof err) != 0) {
         fprintf(stderr, "%s\n", err);
         return 1;
     }

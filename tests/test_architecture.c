@@ -6,7 +6,10 @@
  *   file: a restarted run ends bit for bit where the uninterrupted one does;
  * - the variable-coefficient path (a face density that is not uniform) gives
  *   the same flow as the uniform one when the density is in fact uniform,
- *   through the multigrid projection instead of the FFT one. */
+ *   through the multigrid projection instead of the FFT one;
+ * - the layers (docs/architecture.md) are one-way: every include and every
+ *   use of another file's definitions goes down their order, and no source
+ *   files use each other (tests/include_layers.py). */
 #define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include <math.h>
 #include <stdio.h>
@@ -81,7 +84,7 @@ static int tracer_transport(struct march_state *st, void *state, double dt)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                t->tracer[p] += dt * fabs(st->vel[0][p]) * (1.0 + k);
+                t->tracer[p] += dt * fabs(st->field.velocity[0][p]) * (1.0 + k);
             }
     return 0;
 }
@@ -181,14 +184,15 @@ static void test_variable_coefficients(void **state)
     test_load_case(&cs, COUETTE, 6, ov);
     struct march_state u, v;
     char err[512];
-    assert_int_equal(march_create(&u, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&u, &cs, NULL, err, sizeof err), 0);
     test_march_create(&v, &cs, test_variable_density);
     assert_true(u.density_uniform && !v.density_uniform);
     /* a perturbation that is not a steady flow: w varies along x */
     for (struct march_state *s = &u; s; s = s == &u ? &v : NULL)
         for (int i = 0; i < s->g.n[0]; i++)
             for (int k = 1; k < s->g.n[2]; k++)
-                s->vel[2][grid_idx(&s->g, i, 0, k)] = 0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
+                s->field.velocity[2][grid_idx(&s->g, i, 0, k)] =
+                    0.1 * sin(2.0 * M_PI * (i + 0.5) / 8);
     assert_int_equal(march_run(&u, NULL, NULL), STATUS_FINISHED);
     assert_int_equal(march_run(&v, NULL, NULL), STATUS_FINISHED);
     double size, diff = test_velocity_difference(&u, &v, &size);
@@ -232,9 +236,26 @@ static void test_scene_section(void **state)
     assert_non_null(strstr(err, "case.scene = heap needs")); /* couette's boundaries */
 }
 
+/* tests/include_layers.py on the tree: exit 0 and its one line; else every
+ * upward include or use and every cycle, one line each. */
+static void test_include_layers(void **state)
+{
+    (void)state;
+    char *out;
+    int rc = test_sh("/usr/bin/python3 include_layers.py .. 2>&1", &out);
+    if (rc != 0)
+        print_error("include_layers.py exited %d:\n%s", rc, out);
+    else
+        print_message("%s", out);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(out, "no cycle"));
+    free(out);
+}
+
 void group_architecture(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_include_layers),
         cmocka_unit_test(test_scene_section),
         cmocka_unit_test(test_couette_scene),
         cmocka_unit_test(test_module_field_restart),

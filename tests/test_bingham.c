@@ -224,7 +224,7 @@ static void test_cavity_coupled(void **state)
     struct march_state st;
     char err[512], *b2[] = {"solver.coupled=on"};
     assert_int_equal(case_load(&cs, CASES_DIR "bagnold2.ini", 1, b2, err, sizeof err), 0);
-    assert_int_not_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_not_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     print_message("%s\n", err);
     assert_non_null(strstr(err, "solver.coupled"));
     assert_non_null(strstr(err, "two_phase"));

@@ -357,34 +357,36 @@ static void channel_measure(const struct march_state *st, struct channel_errors 
     memset(e, 0, sizeof *e);
     for (int i = 3 * nx / 4; i <= nx; i++) /* the open face i = nx included */
         for (int k = 0; k < nz; k++) {
-            double s = (k + 0.5) * hz, u = st->vel[0][grid_idx(g, i, 0, k)];
+            double s = (k + 0.5) * hz, u = st->field.velocity[0][grid_idx(g, i, 0, k)];
             e->u_discrete = fmax(e->u_discrete, fabs(u - A * (s * (H - s) + hz * hz / 4.0)) / U);
             e->u_parabola = fmax(e->u_parabola, fabs(u - 4.0 * U * s * (H - s) / (H * H)) / U);
         }
     for (int i = 3 * nx / 4; i < nx; i++)
         for (int k = 0; k <= nz; k++)
-            e->w = fmax(e->w, fabs(st->vel[2][grid_idx(g, i, 0, k)]) / U);
+            e->w = fmax(e->w, fabs(st->field.velocity[2][grid_idx(g, i, 0, k)]) / U);
     for (int i = 3 * nx / 4; i < nx; i++)
         for (int k = 0; k < nz; k++) {
-            double dp = (st->p_dyn[grid_idx(g, i, 0, k)] - st->p_dyn[grid_idx(g, i - 1, 0, k)]) / hx;
+            double dp = (st->field.p_dyn[grid_idx(g, i, 0, k)] -
+                         st->field.p_dyn[grid_idx(g, i - 1, 0, k)]) /
+                        hx;
             e->dpdx = fmax(e->dpdx, fabs(dp / -Gd - 1.0));
         }
     for (int k = 0; k < nz; k++) {
-        double face = 1.5 * st->p_dyn[grid_idx(g, nx - 1, 0, k)] -
-                      0.5 * st->p_dyn[grid_idx(g, nx - 2, 0, k)];
+        double face = 1.5 * st->field.p_dyn[grid_idx(g, nx - 1, 0, k)] -
+                      0.5 * st->field.p_dyn[grid_idx(g, nx - 2, 0, k)];
         e->outlet_p = fmax(e->outlet_p, fabs(face) / (Gd * L));
     }
     double in = 0.0, out = 0.0;
     for (int k = 0; k < nz; k++) {
-        in += st->vel[0][grid_idx(g, 0, 0, k)];
-        out += st->vel[0][grid_idx(g, nx, 0, k)];
+        in += st->field.velocity[0][grid_idx(g, 0, 0, k)];
+        out += st->field.velocity[0][grid_idx(g, nx, 0, k)];
     }
     e->flux = fabs(out - in) / in;
     for (int i = 0; i < nx; i++)
         for (int k = 0; k < nz; k++) {
             ptrdiff_t p = grid_idx(g, i, 0, k);
-            double d = (st->vel[0][p + g->stride[0]] - st->vel[0][p]) / hx +
-                       (st->vel[2][p + g->stride[2]] - st->vel[2][p]) / hz;
+            double d = (st->field.velocity[0][p + g->stride[0]] - st->field.velocity[0][p]) / hx +
+                       (st->field.velocity[2][p + g->stride[2]] - st->field.velocity[2][p]) / hz;
             e->divergence = fmax(e->divergence, fabs(d) * hz / U);
         }
     e->gradient = Gd / (8.0 * CHANNEL_ETA * U / (H * H)) - 1.0;
@@ -549,10 +551,10 @@ static void test_open_falling_chute(void **state)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k <= g->n[2]; k++) { /* the open faces included */
                 ptrdiff_t p = grid_idx(g, 0, j, k), q = grid_idx(g, 0, j, k % g->n[2]);
-                wmax = fmax(wmax, fabs(b.vel[2][q]));
-                dw = fmax(dw, fabs(a.vel[2][p] - b.vel[2][q]));
+                wmax = fmax(wmax, fabs(b.field.velocity[2][q]));
+                dw = fmax(dw, fabs(a.field.velocity[2][p] - b.field.velocity[2][q]));
                 if (k < g->n[2])
-                    pmax = fmax(pmax, fabs(a.p_dyn[p]));
+                    pmax = fmax(pmax, fabs(a.field.p_dyn[p]));
             }
         double scale = ca.density * ca.gravity * g->len[1];
         print_message("  open - periodic: max |dw| %.1e of max |w| %.4g, max |p_dyn| %.1e of "
@@ -595,7 +597,7 @@ static void top_hook(void *vctx, const struct march_state *st)
     tr->tmax = fmax(tr->tmax, s.t_max);
     double net = 0.0, wm = 0.0;
     for (int i = 0; i < g->n[0]; i++) {
-        double w = st->vel[2][grid_idx(g, i, 0, g->n[2])];
+        double w = st->field.velocity[2][grid_idx(g, i, 0, g->n[2])];
         net += w;
         wm = fmax(wm, fabs(w));
     }

@@ -370,9 +370,9 @@ static void test_summary_force_names(void **state)
     const char *ducts[] = {"duct_circular", "duct_circular_two_fluid"};
     for (int m = 0; m < 2; m++) {
         const struct run_result *d = &runs[shipped_index(ducts[m])].ra;
-        for (int i = 0; i < d->nvalues; i++)
-            if (strstr(d->values[i].key, "force"))
-                print_error("%s: %s = %s\n", ducts[m], d->values[i].key, d->values[i].text);
+        for (int i = 0; i < d->values.n; i++)
+            if (strstr(d->values.v[i].key, "force"))
+                print_error("%s: %s = %s\n", ducts[m], d->values.v[i].key, d->values.v[i].text);
         assert_true(isnan(run_result_value(d, "drag_force")));
         assert_true(isnan(run_result_value(d, "lift_force")));
         assert_true(run_result_value(d, "mean_velocity") > 0.0); /* the duct's: Q / area */

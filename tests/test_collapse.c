@@ -79,8 +79,8 @@ static void hook(void *vctx, const struct march_state *st)
         for (int k = 0; k < g->n[2]; k++) {
             ptrdiff_t p = grid_idx(g, i, 0, k);
             if (T[p] == 1.0) {
-                tr->eta_lo = fmin(tr->eta_lo, st->eta[p]);
-                tr->eta_hi = fmax(tr->eta_hi, st->eta[p]);
+                tr->eta_lo = fmin(tr->eta_lo, st->field.viscosity[p]);
+                tr->eta_hi = fmax(tr->eta_hi, st->field.viscosity[p]);
             }
         }
     tr->dv = fmax(tr->dv, fabs(s.volume / tr->v0 - 1.0));

@@ -44,9 +44,9 @@ static void test_search_coarse(void **state)
     assert_int_equal(r.status, STATUS_STEADY);
     assert_true(!isnan(run_result_value(&r, "flow_rate_target"))); /* a search took place */
     int converged = 0;
-    for (int i = 0; i < r.nvalues; i++)
-        converged |= strcmp(r.values[i].key, "search_converged") == 0 &&
-                     strcmp(r.values[i].text, "true") == 0;
+    for (int i = 0; i < r.values.n; i++)
+        converged |= strcmp(r.values.v[i].key, "search_converged") == 0 &&
+                     strcmp(r.values.v[i].text, "true") == 0;
     assert_true(converged);
     assert_true(fabs(q / 40.2 - 1.0) <= 1e-3);
     assert_true(tan(tilt) > cs.rheo.mu_s && tan(tilt) < cs.rheo.mu_s + cs.rheo.delta_mu);
@@ -64,7 +64,7 @@ static void test_layer_shape(void **state)
     test_load_case(&cs, HEAP_CASE, 4, ov);
     struct march_state st;
     char err[512];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_STEADY);
     struct heap_profile hp;
     const struct heap_params *params = case_scene_params(&cs);
@@ -87,7 +87,7 @@ static void test_layer_shape(void **state)
     double flux = 0.0;
     for (int j = 0; j < st.g.n[1]; j++)
         for (int k = 0; k < st.g.n[2]; k++)
-            flux += st.vel[0][grid_idx(&st.g, 0, j, k)] * st.g.h[1] * st.g.h[2];
+            flux += st.field.velocity[0][grid_idx(&st.g, 0, j, k)] * st.g.h[1] * st.g.h[2];
     assert_true(fabs(heap_flow_rate(&st) - flux / cs.len[1]) <= 1e-12 * flux);
     heap_profile_free(&hp);
     march_destroy(&st);

@@ -143,7 +143,7 @@ static void test_auto_preconditioner(void **state)
     test_load_case(&cs, CASES_DIR "bingham_cavity.ini", 2, ov);
     struct march_state st;
     char err[512];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(st.precond, VISCOUS_CHOLESKY);
     march_destroy(&st);
 }

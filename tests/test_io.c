@@ -29,6 +29,7 @@
 #include "io/output.h"
 #include "march/march.h"
 #include "app/run.h"
+#include "scenes/scene.h"
 #include "test_main.h"
 
 /* The cell datasets of a field file of a single-phase run, as
@@ -111,7 +112,7 @@ static void check_fields_file(const char *dir, const struct march_state *st)
         for (int k = 0; k < hi[2]; k++)
             for (int j = 0; j < hi[1]; j++)
                 for (int i = 0; i < hi[0]; i++, m++)
-                    assert_true(a[m] == st->vel[c][grid_idx(g, i, j, k)]);
+                    assert_true(a[m] == st->field.velocity[c][grid_idx(g, i, j, k)]);
         free(a);
     }
     /* cell-centred scalars, from their definitions */
@@ -127,10 +128,12 @@ static void check_fields_file(const char *dir, const struct march_state *st)
             for (int j = 0; j < g->n[1]; j++)
                 for (int i = 0; i < g->n[0]; i++, m++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    double shear = sqrt(st->shear2[p]);
+                    double shear = sqrt(st->field.shear2[p]);
                     double want[FIELDS_CELL_SCALARS] = {
-                        st->pressure[p], st->preg[p], shear,
-                        rheology_inertial_number(&st->cs->rheo, shear, st->preg[p]), st->eta[p]};
+                        st->field.pressure[p], st->field.pressure_regularised[p], shear,
+                        rheology_inertial_number(&st->cs->rheo, shear,
+                                                 st->field.pressure_regularised[p]),
+                        st->field.viscosity[p]};
                     assert_true(a[m] == want[f]);
                 }
         free(a);
@@ -149,8 +152,8 @@ static void check_fields_file(const char *dir, const struct march_state *st)
                 for (int c = 0; c < 3; c++, m++) {
                     int up[3] = {i, j, k};
                     up[c] = (up[c] + 1 == g->n[c] && periodic(st, c)) ? 0 : up[c] + 1;
-                    double want = 0.5 * (st->vel[c][grid_idx(g, i, j, k)] +
-                                         st->vel[c][grid_idx(g, up[0], up[1], up[2])]);
+                    double want = 0.5 * (st->field.velocity[c][grid_idx(g, i, j, k)] +
+                                         st->field.velocity[c][grid_idx(g, up[0], up[1], up[2])]);
                     assert_true(a[m] == want);
                     vmax = fmax(vmax, fabs(a[m]));
                 }
@@ -165,7 +168,7 @@ static void fields_of(const char *file, int n, char *ov[])
     test_load_case(&cs, file, n, ov);
     struct march_state st;
     char err[1024], dir[64];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     march_run(&st, NULL, NULL);
     assert_int_equal(st.status, STATUS_STEADY);
     test_tmp_make(dir, sizeof dir, "io_fields");
@@ -591,7 +594,7 @@ static void test_checkpoint_write_fails(void **state)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state ms;
     char err[1024], notdir[800];
-    assert_int_equal(march_create(&ms, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&ms, &cs, NULL, err, sizeof err), 0);
     struct field_series fs;
     field_series_init(&fs);
     snprintf(notdir, sizeof notdir, "%s/stderr", dir);

@@ -32,6 +32,7 @@
 #include "grid/shapes.h"
 #include "march/march.h"
 #include "physics/obstacle.h"
+#include "scenes/scene.h"
 #include "test_main.h"
 
 #define CASES_DIR "../cases/"
@@ -69,7 +70,7 @@ static void test_modules_refused(void **state)
     char err[512];
     test_load_case(&cs, "../cases/collapse.ini", 2, ov);
     struct march_state st;
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), -1);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), -1);
     print_message("%s\n", err);
     assert_non_null(strstr(err, "obstacle.shapes"));
 }
@@ -138,14 +139,14 @@ static void pipe_run_grid(int n, const char *boundary, int band, struct pipe_err
     assert_int_equal(s, STATUS_STEADY);
     const struct grid *g = &st.g;
     struct shape_set set;
-    obstacle_shapes(&cs, &set);
+    case_obstacle_shapes(&cs, &set);
     double u0 = PIPE_G * PIPE_R * PIPE_R / 4.0, Q = 0.0;
     e->u_max = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
             double x[3];
             obstacle_node_position(g, 0, 0, j, k, x);
-            double u = st.vel[0][grid_idx(g, 0, j, k)];
+            double u = st.field.velocity[0][grid_idx(g, 0, j, k)];
             Q += u * grid_hc(g, 1, j) * grid_hc(g, 2, k);
             if (shape_distance(&set, x) <= 0.0) {
                 assert_true(u == 0.0); /* held */

@@ -169,9 +169,9 @@ static void test_bagnold_below_threshold(void **state)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 1, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_STEADY);
-    double umax = kernel_max_abs(&st.g, st.act, st.vel);
+    double umax = kernel_max_abs(&st.g, st.act, st.field.velocity);
     double ratio = tan(0.36) / cs.rheo.mu_s;
     double creep = cs.len[2] * cs.rheo.lambda * ratio / sqrt(1.0 - ratio * ratio);
     print_message("tilt 0.36: max |u| %.3e, regularisation creep %.3e (lambda %.0e)\n", umax,
@@ -218,11 +218,11 @@ static double plane_departure(const struct march_state *st, int c)
         long n = 0;
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++, n++)
-                mean += st->vel[c][grid_idx(g, i, j, k)];
+                mean += st->field.velocity[c][grid_idx(g, i, j, k)];
         mean /= (double)n;
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++)
-                dmax = fmax(dmax, fabs(st->vel[c][grid_idx(g, i, j, k)] - mean));
+                dmax = fmax(dmax, fabs(st->field.velocity[c][grid_idx(g, i, j, k)] - mean));
     }
     return dmax;
 }
@@ -256,12 +256,12 @@ static void test_bagnold_3d_from_perturbation(void **state)
     test_load_case(&cs, CASES_DIR "bagnold3d.ini", 5, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     double top = r1.errors.headline_exact;
-    double umax = kernel_max_abs(&st.g, st.act, st.vel);
-    bc_fill_velocity(&st.g, &st.bc, st.vel); /* the periodic faces' ghosts */
-    kernel_divergence(&st.g, st.vel, st.div);
-    double div = kernel_max_abs_cells(&st.g, st.div) * march_min_spacing(&st.g) / umax;
+    double umax = kernel_max_abs(&st.g, st.act, st.field.velocity);
+    bc_fill_velocity(&st.g, &st.bc, st.field.velocity); /* the periodic faces' ghosts */
+    kernel_divergence(&st.g, st.field.velocity, st.field.divergence);
+    double div = kernel_max_abs_cells(&st.g, st.field.divergence) * march_min_spacing(&st.g) / umax;
     double dep0[3];
     for (int c = 0; c < 3; c++)
         dep0[c] = plane_departure(&st, c);
@@ -282,7 +282,7 @@ static void test_bagnold_3d_from_perturbation(void **state)
         for (int i = 0; i < st.g.n[0]; i++)
             for (int j = 0; j < st.g.n[1]; j++)
                 for (int k = 0; k < st.g.n[2]; k++)
-                    vw = fmax(vw, fabs(st.vel[c][grid_idx(&st.g, i, j, k)]));
+                    vw = fmax(vw, fabs(st.field.velocity[c][grid_idx(&st.g, i, j, k)]));
     print_message("bagnold 3D 8 x 8 x 16: steady in %ld steps, err_rms %.10e (1D %.10e), "
                   "err_max %.10e (1D %.10e), u_surface %.10f (1D %.10f), largest departure "
                   "from the plane means %.3e, max |v|, |w| %.3e\n",
@@ -329,7 +329,7 @@ static double startup_error(const char *dt)
     test_load_case(&cs, CASES_DIR "bagnold.ini", 10, ov);
     struct march_state st;
     char err[256];
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
     assert_true(fabs(st.time - 0.1) < 1e-12);
     double H = 1.0, S = sin(0.5), t = st.time, emax = 0.0;
@@ -340,7 +340,7 @@ static double startup_error(const char *dt)
             double l = (2 * n + 1) * M_PI / (2 * H);
             u -= 2 * S / (H * l * l * l) * sin(l * z) * exp(-l * l * t);
         }
-        emax = fmax(emax, fabs(st.vel[0][grid_idx(&st.g, 0, 0, k)] - u));
+        emax = fmax(emax, fabs(st.field.velocity[0][grid_idx(&st.g, 0, 0, k)] - u));
     }
     march_destroy(&st);
     return emax;

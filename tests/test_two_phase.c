@@ -84,14 +84,14 @@ static void test_transient_from_rest(void **state)
     char err[512];
     test_load_case(&cs, CASE, 6, ov);
     struct march_state st;
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
     struct run_result r;
     memset(&r, 0, sizeof r);
     run_result_from(&st, &r);
     struct profile pr;
-    assert_int_equal(profile_extract(&pr, &st), 0);
-    profile_errors(&pr, &st, &r.errors);
+    assert_int_equal(scene_profile(&pr, &st), 0);
+    scene_profile_errors(&pr, &st, &r.errors);
     profile_free(&pr);
     case_scene(&cs)->results(&st, NULL, &r);
     double top = r.errors.headline_exact;
@@ -188,14 +188,15 @@ static void test_perturbation(void **state)
     char err[512];
     test_load_case(&cs, CASE, 3, ov);
     struct march_state st;
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     const struct grid *g = &st.g;
     double umax = 0.0, dmax = 0.0, air = 0.0;
     for (int i = 0; i < g->n[0]; i++)
         for (int k = 0; k < g->n[2]; k++) {
-            double u0 = st.vel[0][grid_idx(g, i, 0, k)];
-            double u1 = st.vel[0][grid_idx(g, (i + 1) % g->n[0], 0, k)];
-            double w0 = st.vel[2][grid_idx(g, i, 0, k)], w1 = st.vel[2][grid_idx(g, i, 0, k + 1)];
+            double u0 = st.field.velocity[0][grid_idx(g, i, 0, k)];
+            double u1 = st.field.velocity[0][grid_idx(g, (i + 1) % g->n[0], 0, k)];
+            double w0 = st.field.velocity[2][grid_idx(g, i, 0, k)],
+                   w1 = st.field.velocity[2][grid_idx(g, i, 0, k + 1)];
             umax = fmax(umax, fmax(fabs(u0), fabs(w0)));
             dmax = fmax(dmax, fabs((u1 - u0) / g->h[0] + (w1 - w0) / g->h[2]));
             if ((k + 0.5) * g->h[2] > 5e-4 + g->h[2])
@@ -340,12 +341,12 @@ static enum run_status b2_run(int n, char **ov, struct profile *pr, struct run_r
         all[m + 1] = ov[m];
     test_load_case(&cs, CASE, n + 1, all);
     struct march_state st;
-    assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     enum run_status status = march_run(&st, NULL, NULL);
     memset(r, 0, sizeof *r);
     run_result_from(&st, r);
-    assert_int_equal(profile_extract(pr, &st), 0);
-    profile_errors(pr, &st, &r->errors);
+    assert_int_equal(scene_profile(pr, &st), 0);
+    scene_profile_errors(pr, &st, &r->errors);
     case_scene(&cs)->results(&st, NULL, r);
     march_destroy(&st);
     return status;
@@ -437,17 +438,17 @@ static void test_no_exact_said(void **state)
         char err[512];
         char *ov[] = {(char *)cases[m][0], (char *)cases[m][1]};
         test_load_case(&cs, CASE, 2, ov);
-        assert_true(isnan(profile_exact_at(&cs, B2_L)));
+        assert_true(isnan(scene_exact_at(&cs, B2_L)));
         struct march_state st;
-        assert_int_equal(march_create(&st, &cs, err, sizeof err), 0);
+        assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
         struct run_result r;
         memset(&r, 0, sizeof r);
         case_scene(&cs)->results(&st, NULL, &r);
         march_destroy(&st);
         const char *why = NULL;
-        for (int v = 0; v < r.nvalues; v++)
-            if (strcmp(r.values[v].key, "no_exact_solution") == 0)
-                why = r.values[v].text;
+        for (int v = 0; v < r.values.n; v++)
+            if (strcmp(r.values.v[v].key, "no_exact_solution") == 0)
+                why = r.values.v[v].text;
         print_message("%s: %s | %s\n", cases[m][0], why ? why : "(none)", r.scene_line);
         assert_non_null(why);
         assert_non_null(strstr(r.scene_line, "no exact solution"));
@@ -456,7 +457,7 @@ static void test_no_exact_said(void **state)
     struct muflow_case cs;
     char *ov[] = {"physics.tilt=0.2", "physics.confining_pressure=10"};
     test_load_case(&cs, CASE, 2, ov);
-    assert_true(fabs(profile_exact_at(&cs, B2_L) - b2_exact(0.2, B2_L)) <= 1e-12 * 0.0105);
+    assert_true(fabs(scene_exact_at(&cs, B2_L) - b2_exact(0.2, B2_L)) <= 1e-12 * 0.0105);
 }
 
 /* lambda 1e-8 from rest: the whole layer starts as a plug of viscosity

@@ -15,6 +15,7 @@
 #include "io/fields_h5.h"
 #include "march/march.h"
 #include "march/module.h"
+#include "scenes/scene.h"
 #include "test_main.h"
 #include "test_poisson_kinds.h"
 
@@ -49,7 +50,7 @@ void test_march_create(struct march_state *st, const struct muflow_case *cs,
                        const struct module *const *extra)
 {
     char err[1024];
-    int rc = march_create_with(st, cs, extra, err, sizeof err);
+    int rc = scene_march_create(st, cs, extra, err, sizeof err);
     if (rc != 0)
         print_error("%s\n", err);
     assert_int_equal(rc, 0);
@@ -412,8 +413,8 @@ double test_velocity_difference(const struct march_state *a, const struct march_
     assert_true(a->g.size == b->g.size);
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < a->g.size; p++) {
-            diff = fmax(diff, fabs(a->vel[c][p] - b->vel[c][p]));
-            top = fmax(top, fabs(a->vel[c][p]));
+            diff = fmax(diff, fabs(a->field.velocity[c][p] - b->field.velocity[c][p]));
+            top = fmax(top, fabs(a->field.velocity[c][p]));
         }
     if (largest)
         *largest = top;

@@ -40,7 +40,7 @@ void test_run_loaded(const struct muflow_case *cs, int write_output, struct run_
 void test_run_case(const char *file, int n, char *ov[], struct muflow_case *cs,
                    struct run_result *r);
 
-/* march_create_with of the loaded case and the extra modules (NULL: none)
+/* scene_march_create of the loaded case and the extra modules (NULL: none)
  * returns 0. */
 void test_march_create(struct march_state *st, const struct muflow_case *cs,
                        const struct module *const *extra);

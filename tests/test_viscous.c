@@ -19,6 +19,7 @@
 #include "config/case.h"
 #include "march/march.h"
 #include "app/run.h"
+#include "scenes/scene.h"
 
 struct vfix {
     struct grid g;
@@ -1112,7 +1113,7 @@ void group_viscous(struct test_tally *t)
     RUN_GROUP(t, "viscous", tests);
 }
 
-/* solver.preconditioner = auto (march.c, choose_preconditioner): the
+/* solver.preconditioner = auto (precond_policy.c, march_choose_preconditioner): the
  * geometric multigrid for a steady Newton solve of a flow along a
  * cross-section's periodic direction; otherwise the AMG for a steady flow
  * on a grid bounded in two directions with Newton's full tangent, no
@@ -1128,7 +1129,7 @@ static enum viscous_precond auto_choice(const char *file, int n, char *ov[])
         print_error("%s\n", err);
     assert_int_equal(rc, 0);
     struct march_state st;
-    rc = march_create(&st, &cs, err, sizeof err);
+    rc = scene_march_create(&st, &cs, NULL, err, sizeof err);
     if (rc != 0)
         print_error("%s\n", err);
     assert_int_equal(rc, 0);
@@ -1241,7 +1242,7 @@ static void heap_state_keep(const char *precond, const char *reuse, int keep_blo
     char err[512];
     int rc = case_load(cs, "../cases/heap.ini", 6, ov, err, sizeof err);
     if (rc == 0)
-        rc = march_create(st, cs, err, sizeof err);
+        rc = scene_march_create(st, cs, NULL, err, sizeof err);
     if (rc != 0)
         print_error("%s\n", err);
     assert_int_equal(rc, 0);

@@ -173,4 +173,11 @@ void case_write_key_markdown(FILE *out);
 int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *msg,
               size_t msglen);
 
+/* 1 when the case has obstacle shapes (a body in the flow). */
+int case_obstacle_active(const struct muflow_case *c);
+/* The case's shapes with their plane and inversion (the case was checked:
+ * the shapes parse). */
+struct shape_set;
+void case_obstacle_shapes(const struct muflow_case *c, struct shape_set *set);
+
 #endif

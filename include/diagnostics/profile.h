@@ -1,11 +1,26 @@
-/* Diagnostics of the profile scenes: the layer-averaged profile along the
- * scene's axis (scenes/scene.h: profile_axis, profile_component, an optional
- * slab such as the cavity's mid-line), its error against the scene's exact
- * or reference profile, and the headline value. */
+/* Diagnostics of the profile scenes: the layer-averaged profile along an
+ * axis (a scene's: scenes/scene.h, scene_profile, which hands its axis,
+ * component, an optional slab such as the cavity's mid-line and its exact
+ * or reference profile), its error against that profile, and the headline
+ * value. */
 #ifndef MUFLOW_DIAGNOSTICS_PROFILE_H
 #define MUFLOW_DIAGNOSTICS_PROFILE_H
 
+#include "io/output.h"
 #include "march/march.h"
+
+/* What a profile is taken along, and compared with. */
+struct profile_spec {
+    int axis, component;   /* -1: no profile */
+    /* limits the profile to the faces and cells of index in [lo, hi] along
+     * slab_axis; NULL: every layer's full mean */
+    void (*slab)(const struct grid *g, int faces[2], int cells[2]);
+    int slab_axis;
+    /* u at the n coordinates x along the axis (NaN where undefined); NULL:
+     * none */
+    void (*exact)(const struct muflow_case *cs, int n, const double *x, double *u);
+    const char *exact_name; /* "exact" or "reference" */
+};
 
 struct profile {
     int n;                 /* layers (cells along the axis) */
@@ -17,28 +32,17 @@ struct profile {
     double *inertial;      /* I, from |D| and the regularised pressure */
     double *viscosity;
     double *exact;         /* analytic or reference velocity (NaN where undefined) */
-    const char *exact_name; /* "exact" or "reference" (scene_solution_name): the
-                               column is <component>_<exact_name> in profile.csv */
+    const char *exact_name; /* "exact" or "reference" (the spec's): the column is
+                               <component>_<exact_name> in profile.csv */
 };
 
-struct scene_errors {
-    int valid;             /* the scene has an analytic solution here */
-    double err_rms;        /* sqrt(mean (u - u_ex)^2) over layers; for the cavity the
-                              RMS difference from the reference curve at its points
-                              (err_midline) */
-    double err_max;        /* max |u - u_ex| */
-    double err_rms_paper;  /* sqrt(sum (u - u_ex)^2) / N, the papers' form */
-    double headline, headline_exact;
-};
-
-/* The profile along the scene's axis.  Returns 0, or -1 when the scene has
- * no profile or memory runs out. */
-int profile_extract(struct profile *pr, const struct march_state *st);
+/* The profile of spec.  Returns 0, or -1 when spec has no profile or memory
+ * runs out. */
+int profile_extract(struct profile *pr, const struct march_state *st,
+                    const struct profile_spec *spec);
 void profile_free(struct profile *pr);
-
-/* The errors and headline of the scene (its errors callback, or the
- * default below). */
-void profile_errors(const struct profile *pr, const struct march_state *st, struct scene_errors *e);
+/* profile.csv in dir (a whole file, or none: io/output.h). */
+int profile_write(const char *dir, const struct profile *pr, char *err, size_t errlen);
 
 /* The default: err_rms, err_max, err_rms_paper of the profile against
  * pr->exact (NaN and valid = 0 where exact is undefined), headline the
@@ -55,11 +59,5 @@ static inline double profile_zero_slope_end(double nearest, double next)
 {
     return (9.0 * nearest - next) / 8.0;
 }
-
-/* The scene's exact profile at one coordinate (NaN without one). */
-double profile_exact_at(const struct muflow_case *cs, double x);
-
-/* Only the errors (for the history), without keeping a profile. */
-void scene_errors_of(const struct march_state *st, struct scene_errors *e);
 
 #endif

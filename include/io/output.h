@@ -1,28 +1,41 @@
-/* Run output: summary.ini, profile.csv, history.csv in the output folder
- * (field files and checkpoints: fields_h5.h, checkpoint.h).
+/* Run output: summary.ini, history.csv in the output folder (profile.csv:
+ * diagnostics/profile.h; field files and checkpoints: fields_h5.h,
+ * checkpoint.h).
  * Every file is written under a temporary name and renamed when complete, so
  * a file that exists is whole. */
 #ifndef MUFLOW_OUTPUT_H
 #define MUFLOW_OUTPUT_H
 
 #include <stdio.h>
-#include "diagnostics/profile.h"
 #include "march/march.h"
+#include "march/results.h"
+#include "platform/output_file.h"
 
-/* One summary line a scene adds to [result] (scene.h: results). */
-struct result_value {
-    char key[40];
-    char text[88];
+/* A run's comparison with the exact (or reference) solution of its scene,
+ * which the profile's diagnostics compute (diagnostics/profile.h). */
+struct scene_errors {
+    int valid;             /* the scene has an analytic solution here */
+    double err_rms;        /* sqrt(mean (u - u_ex)^2) over layers; for the cavity the
+                              RMS difference from the reference curve at its points
+                              (err_midline) */
+    double err_max;        /* max |u - u_ex| */
+    double err_rms_paper;  /* sqrt(sum (u - u_ex)^2) / N, the papers' form */
+    double headline, headline_exact;
 };
-#define RESULT_VALUES_MAX 24
 
-struct scene;
+/* The names of the comparison's lines in [result], the scene's
+ * (scenes/scene.h: scene_result_names); headline NULL: no such lines. */
+struct result_names {
+    const char *headline;  /* the headline value's key (u_surface, psi_max) */
+    const char *error;     /* err_rms, or err_midline */
+    const char *solution;  /* "exact" or "reference": the headline's counterpart */
+    int no_err_rms_paper;  /* no err_rms_paper line */
+};
 
 /* What a run returns (run_case_opts, app/run.h): a plain value, nothing to
  * free; its texts are arrays inside it. */
 struct run_result {
-    const struct scene *scene; /* the run's scene (static): names the error and
-                                  headline lines of [result] */
+    struct result_names names; /* the scene's names of the comparison's lines */
     enum run_status status;
     long steps;
     long rejected_steps; /* steady mode: steps retried with a smaller pseudo-time step */
@@ -39,10 +52,10 @@ struct run_result {
     int signal;            /* SIGINT / SIGTERM that stopped the run, or 0 */
     int checkpointed;      /* a checkpoint of the final state was written */
     int restartable;       /* --restart continues from it (else solver.initial_state only) */
-    /* what the scene adds: summary lines in order, one terminal line, and
-     * the note printed when the run was interrupted and cannot continue */
-    int nvalues;
-    struct result_value values[RESULT_VALUES_MAX];
+    /* what the scene and the modules add: summary lines in order, one
+     * terminal line, and the note printed when the run was interrupted and
+     * cannot continue */
+    struct result_values values;
     char scene_line[320];
     char stop_note[256];
 };
@@ -63,17 +76,6 @@ void run_result_lines(const struct run_result *r, result_line_fn line, void *ctx
  * NaN when there is none or it is a text. */
 double run_result_value(const struct run_result *r, const char *key);
 
-/* A file written under a temporary name and renamed when complete. */
-struct output_file {
-    FILE *f;
-    char path[600], tmp[620];
-};
-/* Opens dir/name.tmp; returns 0, or -1 with the cause in err. */
-int output_open(struct output_file *o, const char *dir, const char *name, char *err,
-                size_t errlen);
-/* Closes and renames it (removing the temporary on failure). */
-int output_commit(struct output_file *o, char *err, size_t errlen);
-
 /* Creates dir and its parents; returns 0, or -1 with the cause in err. */
 int output_make_dir(const char *dir, char *err, size_t errlen);
 
@@ -90,8 +92,7 @@ int output_remove_run_files(const char *dir, const char *const *extra, char *err
 
 /* history.csv, row by row. */
 struct history {
-    FILE *f;
-    char path[600], tmp[620];
+    struct output_file file;
 };
 /* error_name: the scene's name of its error column (err_rms, err_midline). */
 int history_open(struct history *h, const char *dir, const char *error_name, char *err,
@@ -107,7 +108,6 @@ void history_flush(struct history *h);
 void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e);
 int history_close(struct history *h, char *err, size_t errlen);
 
-int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen);
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
                    char *err, size_t errlen);
 

@@ -6,7 +6,7 @@
  * there tau ~ mu p D / lambda.  Without these columns the Newton matrix of
  * the coupled step misses that dependence; the granular cylinder then
  * stalled at a residual that grew tenfold per tenfold decrease of lambda
- * (docs/design.md, "The granular cylinder and the steady mode").
+ * (docs/numerics/coupled-step.md).
  *
  * How: by coloured finite differences of the viscous residual in the
  * cell pressures, as the velocity block is probed.  A cell's pressure

@@ -21,12 +21,48 @@
 #include "solvers/viscous.h"
 
 /* A steady march is judged stalled only after this many steps without
- * progress (march.c: stalled); the residuals of as many steps are kept. */
+ * progress (end_check.c: stalled); the residuals of as many steps are kept. */
 #define MARCH_STALL_STEPS 200
 #define MARCH_RECENT (MARCH_STALL_STEPS + 1)
 
 enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNSTEADY,
                   STATUS_DIVERGED, STATUS_STOPPED };
+
+/* The march's own fields, declared once: each is a member of struct
+ * march_fields (double *name for FIELD_CELLS, double *name[3] for the
+ * others) and an entry of the field registry under the same name, with its
+ * flags (march/fields.h; src/march/core_fields.c registers them, in this
+ * order).  X(name, where, flags, what it holds). */
+#define MARCH_CORE_FIELDS(X)                                                                       \
+    X(velocity, FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED, "velocity on faces")                  \
+    X(p_dyn, FIELD_CELLS, FIELD_CHECKPOINT | FIELD_SAVED, "dynamic pressure (projection)")         \
+    X(p_hyd, FIELD_CELLS, 0, "hydrostatic pressure of the body force")                             \
+    X(force, FIELD_FACES, 0, "body force minus its hydrostatic gradient")                          \
+    X(density_faces, FIELD_FACES, 0, "face density rho_f of the mass term (density_uniform)")      \
+    X(pressure, FIELD_CELLS, 0, "total pressure: confining + gauge + hydrostatic + dynamic")       \
+    X(strain_normal2, FIELD_CELLS, 0, "normal strain^2 per cell")                                  \
+    X(strain_shear2, FIELD_EDGES, 0, "shear strain^2 per edge")                                    \
+    X(shear2, FIELD_CELLS, 0, "|D|^2 per cell")                                                    \
+    X(viscosity, FIELD_CELLS, 0, "viscosity per cell")                                             \
+    X(pressure_regularised, FIELD_CELLS, 0, "the pressure the rheology reads")                     \
+    X(tangent_cells, FIELD_CELLS3, 0, "normal-stress tangent coefficients (cells)")                \
+    X(viscosity_edges, FIELD_EDGES, 0, "shear-stress viscosity (edges)")                           \
+    X(tangent_edges, FIELD_EDGES, 0, "shear-stress tangent (edges)")                               \
+    X(residual, FIELD_FACES, 0, "momentum residual")                                               \
+    X(increment, FIELD_FACES, 0, "velocity increment of the implicit solve")                       \
+    X(advection, FIELD_FACES, 0, "advection term (NULL without physics.advection)")                \
+    X(divergence, FIELD_CELLS, 0, "the projection's divergence")                                   \
+    X(phi, FIELD_CELLS, 0, "the projection's potential")
+
+#define MARCH_FIELD_MEMBER_FIELD_CELLS(name) double *name;
+#define MARCH_FIELD_MEMBER_FIELD_FACES(name) double *name[3];
+#define MARCH_FIELD_MEMBER_FIELD_EDGES(name) double *name[3];
+#define MARCH_FIELD_MEMBER_FIELD_CELLS3(name) double *name[3];
+#define MARCH_FIELD_MEMBER(name, where, flags, what) MARCH_FIELD_MEMBER_##where(name)
+
+struct march_fields {
+    MARCH_CORE_FIELDS(MARCH_FIELD_MEMBER)
+};
 
 struct march_state {
     const struct muflow_case *cs;
@@ -35,41 +71,29 @@ struct march_state {
     struct boundary bc;
     struct box act[3];          /* velocity unknowns per component */
     struct field_registry fields; /* every array below is registered there */
+    struct march_fields field;  /* the march's own fields (MARCH_CORE_FIELDS) */
     /* the physics modules of the scene (and of the caller), their states */
     int nmodules;
     const struct module *modules[MODULES_MAX];
     void *module_state[MODULES_MAX];
-    /* variable coefficients: the face density rho_f of the mass term and
-     * beta = rho_ref / rho_f of the projection.  While density_uniform the
-     * density is cs->density on every face: the mass term is the scalar
-     * rho / dt and the projection uses the FFT solver. */
-    double *rho_face[3];
+    /* variable coefficients: the face density rho_f of the mass term
+     * (field.density_faces) and beta = rho_ref / rho_f of the projection.
+     * While density_uniform the density is cs->density on every face: the
+     * mass term is the scalar rho / dt and the projection uses the FFT
+     * solver. */
     int density_uniform;
     double rho_ref;
     double *mass_face[3];       /* rho_f / dt of the step (variable density) */
     double *beta[3];            /* rho_ref / rho_f (variable density) */
-    double *vel[3];             /* velocity on faces */
-    double *p_dyn;              /* dynamic pressure (projection) */
-    double *p_hyd;              /* hydrostatic pressure of the body force */
-    double *force[3];           /* body force minus its hydrostatic gradient */
-    double *pressure;           /* total pressure: confining + gauge + hydrostatic + dynamic */
     /* a constant a scene adds to the pressure the rheology reads (0 unless
      * set): the projection fixes only p_dyn's gradient, the rheology needs
      * its level (the collapse: the top at -rho_f g lz, scenes/collapse.c) */
     double pressure_gauge;
-    double *cn2, *e2[3];        /* normal strain^2 per cell, shear strain^2 per edge */
-    double *shear2, *eta, *preg; /* cell |D|^2, viscosity, regularised pressure */
-    double *tan_c[3];           /* normal-stress tangent coefficients (cells) */
-    double *eta_e[3], *tan_e[3]; /* shear-stress viscosity and tangent (edges) */
     double *aug;                /* augmentation r = kappa max(eta) per cell, or NULL */
     enum viscous_precond precond; /* of the implicit solve (automatic or the case's) */
     double memory_estimate;     /* bytes the run was estimated to need before allocating */
     int full_tangent;           /* Newton with the full (non-symmetric) tangent */
     double *b_c, *b_e[3];       /* its coefficients (d eta/d|D|)/(2|D|), or NULL */
-    double *res[3];             /* momentum residual */
-    double *delta[3];           /* velocity increment of the viscous solve */
-    double *adv[3];             /* advection term */
-    double *div, *phi;          /* projection */
     const struct embedded *embedded; /* a solid body in the grid (physics/obstacle.h), or NULL */
     struct pressure_solver *pressure_solver;
     struct viscous_solver *viscous;
@@ -103,7 +127,7 @@ struct march_state {
     double peak_residual;       /* the largest of them since the problem began */
     /* the largest max |u| of the accepted states whose residual was within
      * ten times max(1, residual0) (the weight, or the start's): the velocity
-     * scale a blow-up is measured against (march.c) */
+     * scale a blow-up is measured against (end_check.c) */
     double sane_velocity;
     /* the mean acceleration each time the pseudo-time doubled (newest
      * first): whether an acceleration is sustained or decaying */
@@ -136,23 +160,37 @@ struct march_state {
  * to stop the run with status STATUS_STOPPED. */
 typedef int (*march_observer)(void *ctx, const struct march_state *st);
 
-int march_create(struct march_state *st, const struct muflow_case *cs, char *err, size_t errlen);
-/* The same with extra physics modules beside the scene's (NULL-terminated
- * list, or NULL): a program embedding muflow, or a test, adds its own. */
-int march_create_with(struct march_state *st, const struct muflow_case *cs,
-                      const struct module *const *extra, char *err, size_t errlen);
+/* What the march takes of the layers above it, which its caller looks up
+ * once from the case's scene and hands in (scenes/scene.h:
+ * scene_march_setup): nothing in the march switches on a scene or a
+ * module. */
+struct march_setup {
+    /* the physics modules, NULL-terminated lists (or NULL) taken in this
+     * order: the scene's, the caller's (a program embedding muflow, a
+     * test), the case's own (a body: obstacle.shapes) */
+    const struct module *const *modules[3];
+    /* the scene's forcing and initial state, after the fields exist and
+     * before the hydrostatic split, which may depend on them (a restart
+     * overwrites the fields afterwards); NULL: rest */
+    int (*setup)(struct march_state *st, char *err, size_t errlen);
+    /* 1: the flow runs along the grid's periodic direction of one cell and
+     * the implicit step solves it (the scene's cross_section_flow) */
+    int cross_section_flow;
+};
 
-/* Declares that the face density (rho_face) changed: a module's properties
- * stage calls it after writing rho_face; uniform says whether it is still
- * cs->density everywhere.  With an embedded body (st->embedded) the
+/* Creates the march of the case: its grid, fields, solvers and modules,
+ * the scene's setup, the hydrostatic split.  Returns 0, or -1 with the
+ * cause in err (nothing to destroy then). */
+int march_create(struct march_state *st, const struct muflow_case *cs,
+                 const struct march_setup *su, char *err, size_t errlen);
+
+/* Declares that the face density (field.density_faces) changed: a module's
+ * properties stage calls it after writing it; uniform says whether it is
+ * still cs->density everywhere.  With an embedded body (st->embedded) the
  * projection's coefficient gets the body's closed faces and open shares
- * here, whichever module changed the density.  Returns 0, or -1 when the pressure solver cannot
- * take the new coefficient (cause in err). */
+ * here, whichever module changed the density.  Returns 0, or -1 when the
+ * pressure solver cannot take the new coefficient (cause in err). */
 int march_density_changed(struct march_state *st, int uniform, char *err, size_t errlen);
-
-/* The physics modules a case's own keys add to any scene's (the obstacle,
- * [obstacle] shapes), NULL-terminated. */
-extern const struct module *const march_case_modules[];
 
 /* The state of module m in this march, or NULL when it is not switched on
  * (a scene's setup configures its modules through it). */
@@ -178,14 +216,16 @@ const char *run_status_name(enum run_status s);
  * march_create refuses a grid whose estimate (memory_estimate) exceeds it. */
 double march_available_memory(void);
 
-/* The same refusal from the case alone, before any field or geometry (its
- * grid and bands, the preconditioner auto would choose, a body bounded from
- * above): 1 with one line in msg naming the grid keys when the run needs
- * more than march_available_memory, else 0 (also when that is unknown).
+/* The same refusal from the case and its setup alone, before any field or
+ * geometry (its grid and bands, the preconditioner auto would choose, the
+ * modules' memory_bound: a body bounded from above): 1 with one line in
+ * msg naming the grid keys when the run needs more than
+ * march_available_memory, else 0 (also when that is unknown).
  * Where auto's choice depends on hypre's library, which this does not open,
  * the smaller of the two estimates counts (march_create's check has the
  * library's answer). */
-int march_memory_check(const struct muflow_case *cs, char *msg, size_t msglen);
+int march_memory_check(const struct muflow_case *cs, const struct march_setup *su, char *msg,
+                       size_t msglen);
 
 /* The preconditioner solver.preconditioner names against the case, where
  * the march picks the solvers: the coupled step's (solver.coupled) GMRES
@@ -200,8 +240,8 @@ int march_preconditioner_refusal(const struct muflow_case *cs, char *msg, size_t
 double march_force_scale(const struct march_state *st);
 double march_min_spacing(const struct grid *g);
 
-/* The steady momentum residual R(u) of the current state into st->res (and the
- * viscosities and tangent coefficients at it). */
+/* The steady momentum residual R(u) of the current state into
+ * st->field.residual (and the viscosities and tangent coefficients at it). */
 void march_evaluate(struct march_state *st);
 
 /* out = -dR/du v, the linearised operator of the implicit step without its

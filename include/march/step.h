@@ -40,7 +40,7 @@ void stage_residual(struct march_state *st);
  * velocity carries an absolute error of the field's round-off (its terms'
  * sizes with each velocity taken as max |u|), relative to the force scale:
  * what a stiff region (a plug, eta ~ mu p / lambda) keeps of the solves'
- * round-off.  Overwrites st->delta (scratch after the residual stage). */
+ * round-off.  Overwrites st->field.increment (scratch after the residual stage). */
 double stage_residual_velocity_roundoff(struct march_state *st);
 int stage_implicit(struct march_state *st, double dt);
 /* solver.coupled: the steady step's velocity and pressure increments from

@@ -1,6 +1,6 @@
 /* Solid obstacles inside the box (case section [obstacle], grid/shapes.h): a
- * physics module that every case with shapes gets (march.c adds it; a case
- * without shapes runs without it, bit for bit as before).
+ * physics module that every case with shapes gets (scenes/scene.h:
+ * scene_march_setup adds it; a case without shapes runs without it).
  *
  * - Velocity nodes inside the body (distance <= 0) are held at 0: not
  *   unknowns of the implicit step (kernels/embedded.h), their residual 0,
@@ -21,13 +21,6 @@
 #include "march/march.h"
 
 extern const struct module obstacle_module;
-
-/* 1 when the case has obstacle shapes. */
-int obstacle_active(const struct muflow_case *cs);
-
-/* The case's shapes with their plane and inversion (the case was checked:
- * the shapes parse). */
-void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set);
 
 /* Bytes the body adds to a run on g, bounded from above from the case
  * alone (no geometry is computed): its arrays, its held nodes (at most

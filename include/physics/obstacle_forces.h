@@ -40,8 +40,8 @@
 #define MUFLOW_PHYSICS_OBSTACLE_FORCES_H
 
 #include <stddef.h>
-#include "io/output.h"
 #include "march/march.h"
+#include "march/results.h"
 
 struct obstacle_forces {
     double surface[2];        /* along the plane's a (drag) and b (lift) */
@@ -75,7 +75,7 @@ double obstacle_mean_velocity(const struct march_state *st);
  * flow along the extrusion, or none, the forces are named by their axes
  * (force_x, force_x_control_volume, ...).  A wall around the fluid
  * (obstacle.invert) has none of these lines. */
-void obstacle_results(const struct march_state *st, struct run_result *res);
+void obstacle_results(const struct march_state *st, struct result_values *res);
 
 /* obstacle_surface.csv in dir: per sample, its angle, position, p, the
  * normal and tangential stresses.  Returns 0, or -1 with the cause. */

@@ -29,10 +29,13 @@
 #include "config/keys.h"
 
 struct grid;
+struct march_setup;
 struct march_state;
 struct module;
 struct muflow_case;
 struct profile;
+struct profile_spec;
+struct result_names;
 struct run_result;
 struct scene_errors;
 
@@ -72,7 +75,7 @@ struct scene {
      * grid a cross-section of it, and the implicit step's solver solves it
      * (the heap, the duct's mixed model): solver.preconditioner = auto takes
      * the implicit step's geometric multigrid for its steady Newton solves
-     * (march.c); NULL: 0 */
+     * (precond_policy.c); NULL: 0 */
     int (*cross_section_flow)(const struct muflow_case *cs);
     int profile_axis, profile_component; /* -1: no profile */
     /* limits the profile to the faces and cells of index in [lo, hi] (both
@@ -97,7 +100,7 @@ struct scene {
      * the data have none for them ("Bn = 1.414 (Vola's convention)"); NULL:
      * none named */
     void (*reference_parameters)(const struct muflow_case *cs, char *out, size_t outlen);
-    /* the errors and the headline; NULL: scene_errors_profile with the
+    /* the errors and the headline; NULL: profile_errors_default with the
      * plug (centre) value as headline */
     void (*errors)(const struct march_state *st, const struct profile *pr,
                    struct scene_errors *e);
@@ -136,11 +139,42 @@ int scene_find(const char *name);
 const struct scene *case_scene(const struct muflow_case *c);
 /* Every name of an output file that a scene or a physics module of muflow
  * writes besides the run's own (summary.ini, ...): each scene's files, its
- * modules' files, those of march_case_modules and of extra (a program's
+ * modules' files, those of scene_case_modules and of extra (a program's
  * own modules, NULL-terminated, or NULL); each once, NULL-terminated, into
  * names (room for max).  Returns their count, or -1 when max is too small.
  * A fresh run removes them all from its folder (io/output.h). */
 #define SCENE_OUTPUT_FILES_MAX 64
 int scene_output_files(const char **names, int max, const struct module *const *extra);
+
+/* What the layers below take of the case's scene, looked up once here and
+ * handed to them (src/scenes/scene_parts.c). */
+
+/* The physics modules a case's own keys add to any scene's (the obstacle,
+ * [obstacle] shapes), NULL-terminated. */
+extern const struct module *const scene_case_modules[];
+/* The march's setup for the case (march/march.h): the scene's modules, the
+ * extra ones (NULL-terminated, or NULL), the case's own when it has a body;
+ * the scene's setup and cross_section_flow. */
+void scene_march_setup(const struct muflow_case *cs, const struct module *const *extra,
+                       struct march_setup *su);
+/* march_create with that setup. */
+int scene_march_create(struct march_state *st, const struct muflow_case *cs,
+                       const struct module *const *extra, char *err, size_t errlen);
+/* The scene's profile: its axis, component, slab and exact or reference
+ * profile (diagnostics/profile.h). */
+void scene_profile_spec(const struct scene *sc, struct profile_spec *spec);
+/* The profile of the case's scene.  Returns 0, or -1 when the scene has no
+ * profile or memory runs out. */
+int scene_profile(struct profile *pr, const struct march_state *st);
+/* The errors and headline of the case's scene (its errors hook, or
+ * profile_errors_default against the exact profile at the centre). */
+void scene_profile_errors(const struct profile *pr, const struct march_state *st,
+                          struct scene_errors *e);
+/* The scene's exact profile at one coordinate (NaN without one). */
+double scene_exact_at(const struct muflow_case *cs, double x);
+/* Only the errors (for the history), without keeping a profile. */
+void scene_errors_of(const struct march_state *st, struct scene_errors *e);
+/* The names of the scene's comparison lines in [result] (io/output.h). */
+void scene_result_names(const struct scene *sc, struct result_names *names);
 
 #endif

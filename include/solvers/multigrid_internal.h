@@ -32,7 +32,9 @@
 #ifndef MUFLOW_MULTIGRID_INTERNAL_H
 #define MUFLOW_MULTIGRID_INTERNAL_H
 
+#include <stdarg.h>
 #include <stddef.h>
+#include <stdio.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -222,11 +224,18 @@ static inline __attribute__((always_inline)) double mixed_row(const struct level
     return q * (f1 + f2);
 }
 
-/* ---- multigrid.c ---------------------------------------------------------------- */
-
-/* err = the formatted message (err NULL or errlen 0: nothing). */
-void mg_set_err(char *err, size_t errlen, const char *fmt, ...)
-    __attribute__((format(printf, 3, 4)));
+/* err = the formatted message (err NULL or errlen 0: nothing); here, not
+ * in multigrid.c, because the parts multigrid.c calls use it too. */
+__attribute__((format(printf, 3, 4))) static inline void mg_set_err(char *err, size_t errlen,
+                                                                    const char *fmt, ...)
+{
+    if (!err || errlen == 0)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err, errlen, fmt, ap);
+    va_end(ap);
+}
 
 /* ---- multigrid_levels.c: the hierarchy and its coefficients --------------------- */
 

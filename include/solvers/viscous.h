@@ -168,7 +168,7 @@ void viscous_set_reuse(struct viscous_solver *s, int steps);
  * iteration cap, or a breakdown) gives way for good to the probed sparse LU
  * of the same full tangent: the solve is done again with it, and
  * viscous_precond_info counts a fallback and says why.  The caller allows
- * it where the LU's factorisation fits (march.c).  Off by default. */
+ * it where the LU's factorisation fits (march_create.c).  Off by default. */
 void viscous_allow_lu_fallback(struct viscous_solver *s, int on);
 
 /* The line direction in use. */

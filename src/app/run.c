@@ -178,7 +178,7 @@ static int observe(void *vctx, const struct march_state *st)
 
 void run_result_from(const struct march_state *st, struct run_result *res)
 {
-    res->scene = case_scene(st->cs);
+    scene_result_names(case_scene(st->cs), &res->names);
     res->status = st->status;
     res->steps = st->step;
     res->rejected_steps = st->rejected;
@@ -248,7 +248,7 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     int threads_then = omp_get_max_threads();
     if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
         return RUN_ERR_SETUP;
-    if (march_create_with(st, cs, opt->modules, err, errlen) != 0)
+    if (scene_march_create(st, cs, opt->modules, err, errlen) != 0)
         return RUN_ERR_SETUP;
     if (opt->restart_from) {
         if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,
@@ -335,12 +335,12 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     res->restartable = !ctx->not_restartable;
     if (history_close(&ctx->hist, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (pr && output_profile(cs->output_dir, pr, cause, sizeof cause) != 0)
+    if (pr && profile_write(cs->output_dir, pr, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     const struct scene *sc = case_scene(cs);
     if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
+    if (case_obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
@@ -355,7 +355,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
      * tilt search), and the summary then records what it found */
     struct muflow_case work = *cs;
     const struct scene *sc = case_scene(&work);
-    res->scene = sc;
+    scene_result_names(sc, &res->names);
     const char *why = sc->not_restartable ? sc->not_restartable(&work) : NULL;
     if (why && opt->restart_from) {
         snprintf(err, errlen, "%s", why);
@@ -389,17 +389,17 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     }
     run_result_from(&st, res);
     struct profile pr;
-    int have_profile = profile_extract(&pr, &st) == 0;
+    int have_profile = scene_profile(&pr, &st) == 0;
     if (have_profile)
-        profile_errors(&pr, &st, &res->errors);
+        scene_profile_errors(&pr, &st, &res->errors);
     if (sc->results)
         sc->results(&st, &drive, res);
     /* a run that cannot continue from its checkpoint says so when
      * interrupted, and what to do instead, never "resume with" */
     if (why && !res->stop_note[0])
         snprintf(res->stop_note, sizeof res->stop_note, "at step %ld: %s", st.step, why);
-    if (obstacle_active(&work))
-        obstacle_results(&st, res);
+    if (case_obstacle_active(&work))
+        obstacle_results(&st, &res->values);
     if (opt->write_output) {
         rc = finish_outputs(&ctx, &st, have_profile ? &pr : NULL, res, err, errlen);
         interrupt_restore(); /* only now: a signal during the final writes is ignored */

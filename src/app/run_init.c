@@ -6,12 +6,20 @@
 #include "march/march.h"
 #include "scenes/scene.h"
 
+/* The memory check with the setup of the case's scene (march.h). */
+static int memory_check(const struct muflow_case *cs, char *msg, size_t msglen)
+{
+    struct march_setup su;
+    scene_march_setup(cs, NULL, &su);
+    return march_memory_check(cs, &su, msg, msglen);
+}
+
 void run_init(void)
 {
     static const struct case_checks checks = {
         .preconditioner = march_preconditioner_refusal,
         .rheology_curve = rheology_curve_setup,
-        .memory = march_memory_check,
+        .memory = memory_check,
     };
     scenes_register();
     case_register_checks(&checks);

@@ -176,6 +176,23 @@ int case_axis(const struct muflow_case *c, int d, struct grid_axis *ax, char *ms
                : -1;
 }
 
+int case_obstacle_active(const struct muflow_case *c)
+{
+    for (const char *s = c->obstacle.shapes; *s; s++)
+        if (*s != ' ' && *s != '\t' && *s != ';')
+            return 1;
+    return 0;
+}
+
+void case_obstacle_shapes(const struct muflow_case *c, struct shape_set *set)
+{
+    char msg[300];
+    memset(set, 0, sizeof *set);
+    if (shapes_parse(set, c->obstacle.shapes, msg, sizeof msg) != 0)
+        set->n = 0; /* not reached: the case's check parsed them */
+    shapes_set_plane(set, c->obstacle.plane, c->obstacle.invert);
+}
+
 /* The stretched directions: 'lo hi h' triples, bands the grid can hold,
  * and only the paths built for varying spacing (the coupled steady step:
  * the FFT and geometric-multigrid pressures, the Fourier and Cholesky

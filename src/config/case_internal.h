@@ -1,8 +1,8 @@
 /* What the files of the case reader share (case.h is their public face):
- * the core key table and the defaults (case.c), the case's scene and its
- * keys with the scene's (case_scenes.c), the loading context and its
- * messages (case_load.c), the checks that need every key (case_checks.c)
- * and writing back (case_write.c). */
+ * the core key table and the defaults (case.c), the case's scene
+ * (case_scenes.c), its keys with the scene's (case_keys.c), the loading
+ * context (case_load.c) and its messages (case_messages.c), the checks that
+ * need every key (case_checks.c) and writing back (case_write.c). */
 #ifndef MUFLOW_CONFIG_CASE_INTERNAL_H
 #define MUFLOW_CONFIG_CASE_INTERNAL_H
 
@@ -37,9 +37,10 @@ const struct case_scene_info *case_scene_of(const struct muflow_case *c);
 extern struct choice case_scene_choices[CASE_SCENES_MAX + 1];
 const struct case_checks *case_registered_checks(void);
 
-/* The case's keys (case_scenes.c): the core table, and the scene's section
- * before [output]. */
+/* The scene's section of keys (case_scenes.c). */
 const struct key_block *case_scene_keys(const struct muflow_case *c);
+/* The case's keys (case_keys.c): the core table, and the scene's section
+ * before [output]. */
 /* The key section.name and the struct it describes a member of (*base). */
 const struct key *case_find_key(const struct muflow_case *c, const char *section,
                                 const char *name, void **base);
@@ -72,7 +73,8 @@ struct case_ctx {
     const char *origin[CORE_KEYS_MAX + SCENE_KEYS_MAX];
 };
 
-/* Records the first error only; the message is one line. */
+/* The messages (case_messages.c).  Records the first error only; the
+ * message is one line. */
 void case_fail(struct case_ctx *x, const char *fmt, ...);
 /* A check of the loaded case failed: the message after what set the keys it
  * names (the overrides among them, else the file). */

@@ -1,9 +1,9 @@
 /* Layer-averaged profiles, errors and headline values (profile.h). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/profile.h"
-#include "scenes/scene.h"
 
 void profile_free(struct profile *pr)
 {
@@ -14,16 +14,16 @@ void profile_free(struct profile *pr)
     memset(pr, 0, sizeof *pr);
 }
 
-int profile_extract(struct profile *pr, const struct march_state *st)
+int profile_extract(struct profile *pr, const struct march_state *st,
+                    const struct profile_spec *spec)
 {
     memset(pr, 0, sizeof *pr);
     const struct muflow_case *cs = st->cs;
-    const struct scene *sc = case_scene(cs);
-    if (sc->profile_axis < 0 || sc->profile_component < 0)
+    if (spec->axis < 0 || spec->component < 0)
         return -1;
-    pr->axis = sc->profile_axis;
-    pr->component = sc->profile_component;
-    pr->exact_name = scene_solution_name(sc);
+    pr->axis = spec->axis;
+    pr->component = spec->component;
+    pr->exact_name = spec->exact_name;
     const struct grid *g = &st->g;
     int n = pr->n = g->n[pr->axis];
     double **arrays[] = {&pr->coord, &pr->velocity, &pr->pressure, &pr->shear_rate,
@@ -43,10 +43,10 @@ int profile_extract(struct profile *pr, const struct march_state *st)
     }
     /* a slab along the slab axis (the cavity's mid-line in x, the duct's
      * mid-plane in y), or every node */
-    int sa = sc->profile_slab_axis;
+    int sa = spec->slab_axis;
     int faces[2] = {-1, g->n[sa] + 1}, cellr[2] = {-1, g->n[sa] + 1};
-    if (sc->profile_slab)
-        sc->profile_slab(g, faces, cellr);
+    if (spec->slab)
+        spec->slab(g, faces, cellr);
     for (int i = b->lo[0]; i < b->hi[0]; i++)
         for (int j = b->lo[1]; j < b->hi[1]; j++)
             for (int k = b->lo[2]; k < b->hi[2]; k++) {
@@ -54,7 +54,7 @@ int profile_extract(struct profile *pr, const struct march_state *st)
                 if (idx[sa] < faces[0] || idx[sa] > faces[1])
                     continue;
                 int l = idx[pr->axis];
-                pr->velocity[l] += st->vel[pr->component][grid_idx(g, i, j, k)];
+                pr->velocity[l] += st->field.velocity[pr->component][grid_idx(g, i, j, k)];
                 nodes[l]++;
             }
     for (int i = 0; i < g->n[0]; i++)
@@ -65,11 +65,12 @@ int profile_extract(struct profile *pr, const struct march_state *st)
                     continue;
                 int l = idx[pr->axis];
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                double shear = sqrt(st->shear2[p]);
-                pr->pressure[l] += st->pressure[p];
+                double shear = sqrt(st->field.shear2[p]);
+                pr->pressure[l] += st->field.pressure[p];
                 pr->shear_rate[l] += shear;
-                pr->inertial[l] += rheology_inertial_number(&cs->rheo, shear, st->preg[p]);
-                pr->viscosity[l] += st->eta[p];
+                pr->inertial[l] +=
+                    rheology_inertial_number(&cs->rheo, shear, st->field.pressure_regularised[p]);
+                pr->viscosity[l] += st->field.viscosity[p];
                 cells[l]++;
             }
     for (int l = 0; l < n; l++) {
@@ -82,20 +83,11 @@ int profile_extract(struct profile *pr, const struct march_state *st)
         pr->viscosity[l] /= nc;
         pr->exact[l] = NAN;
     }
-    if (sc->exact_profile)
-        sc->exact_profile(cs, n, pr->coord, pr->exact);
+    if (spec->exact)
+        spec->exact(cs, n, pr->coord, pr->exact);
     free(nodes);
     free(cells);
     return 0;
-}
-
-double profile_exact_at(const struct muflow_case *cs, double x)
-{
-    const struct scene *sc = case_scene(cs);
-    double u = NAN;
-    if (sc->exact_profile)
-        sc->exact_profile(cs, 1, &x, &u);
-    return u;
 }
 
 double profile_centre_value(const struct profile *pr)
@@ -130,25 +122,19 @@ void profile_errors_default(const struct profile *pr, double exact_centre, struc
     e->err_rms_paper = sqrt(sum2) / pr->n;
 }
 
-void profile_errors(const struct profile *pr, const struct march_state *st, struct scene_errors *e)
+int profile_write(const char *dir, const struct profile *pr, char *err, size_t errlen)
 {
-    const struct scene *sc = case_scene(st->cs);
-    if (sc->errors) {
-        sc->errors(st, pr, e);
-        return;
-    }
-    int axis = sc->profile_axis;
-    profile_errors_default(pr, profile_exact_at(st->cs, 0.5 * st->cs->len[axis]), e);
-}
-
-void scene_errors_of(const struct march_state *st, struct scene_errors *e)
-{
-    struct profile pr;
-    memset(e, 0, sizeof *e);
-    if (profile_extract(&pr, st) != 0) {
-        e->err_rms = e->err_max = e->err_rms_paper = e->headline = e->headline_exact = NAN;
-        return;
-    }
-    profile_errors(&pr, st, e);
-    profile_free(&pr);
+    struct output_file o;
+    if (output_open(&o, dir, "profile.csv", err, errlen) != 0)
+        return -1;
+    FILE *f = o.f;
+    const char *ax = pr->axis == 0 ? "x" : pr->axis == 1 ? "y" : "z";
+    const char *vc = pr->component == 0 ? "u" : pr->component == 1 ? "v" : "w";
+    fprintf(f, "%s,%s,pressure,shear_rate,inertial_number,viscosity,%s_%s\n", ax, vc, vc,
+            pr->exact_name ? pr->exact_name : "exact");
+    for (int l = 0; l < pr->n; l++)
+        fprintf(f, "%.10g,%.12g,%.10g,%.10g,%.10g,%.10g,%.12g\n", pr->coord[l], pr->velocity[l],
+                pr->pressure[l], pr->shear_rate[l], pr->inertial[l], pr->viscosity[l],
+                pr->exact[l]);
+    return output_commit(&o, err, errlen);
 }

@@ -3,14 +3,13 @@
 
 #include <errno.h>
 #include <fftw3.h>
-#include <stdarg.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include "io/fields_h5.h"
 #include "io/h5io.h"
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "march/module.h"
 
 /* The loop state of march_state a restart must recover (march.h). */
@@ -113,73 +112,34 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
     return rc;
 }
 
-/* ---- what the modules keep between steps (module_record.h) ---- */
+/* ---- what the modules keep between steps (march/module_record.h) ---- */
 
-struct module_record {
-    hid_t group;
-    char err[512];
-};
-
-int module_record_fail(struct module_record *r, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(r->err, sizeof r->err, fmt, ap);
-    va_end(ap);
-    return -1;
-}
-
-int module_record_put(struct module_record *r, const char *name, const double *v, long n)
+/* A record's arrays as the datasets of its module's group (ctx: the hid_t) */
+static int record_put(void *ctx, const char *name, const double *v, long n, char *err,
+                      size_t errlen)
 {
     hsize_t dim = (hsize_t)(n > 0 ? n : 0);
-    return h5io_write(r->group, name, H5T_NATIVE_DOUBLE, 1, &dim, v, r->err, sizeof r->err);
+    return h5io_write(*(hid_t *)ctx, name, H5T_NATIVE_DOUBLE, 1, &dim, v, err, errlen);
 }
 
-long module_record_count(struct module_record *r, const char *name)
+static long record_count(void *ctx, const char *name, char *err, size_t errlen)
 {
+    hid_t group = *(hid_t *)ctx;
     hsize_t dim;
-    if (H5Lexists(r->group, name, H5P_DEFAULT) <= 0) {
-        snprintf(r->err, sizeof r->err, "no dataset %s", name);
+    if (H5Lexists(group, name, H5P_DEFAULT) <= 0) {
+        snprintf(err, errlen, "no dataset %s", name);
         return -1;
     }
-    return h5io_dims(r->group, name, 1, &dim, r->err, sizeof r->err) == 1 ? (long)dim : -1;
+    return h5io_dims(group, name, 1, &dim, err, errlen) == 1 ? (long)dim : -1;
 }
 
-int module_record_get(struct module_record *r, const char *name, double *v, long n)
+static int record_get(void *ctx, const char *name, double *v, long n, char *err, size_t errlen)
 {
     hsize_t dim = (hsize_t)(n > 0 ? n : 0);
-    return h5io_read(r->group, name, H5T_NATIVE_DOUBLE, 1, &dim, v, r->err, sizeof r->err);
+    return h5io_read(*(hid_t *)ctx, name, H5T_NATIVE_DOUBLE, 1, &dim, v, err, errlen);
 }
 
-/* A field in the layout with every ghost (as each_dataset stores them). */
-int module_record_put_field(struct module_record *r, const char *name, const struct grid *g,
-                            const double *f)
-{
-    if (g->size == g->padded)
-        return module_record_put(r, name, f, (long)g->size);
-    double *full = malloc(g->padded * sizeof *full);
-    if (!full)
-        return module_record_fail(r, "%s: out of memory", name);
-    field_to_full(g, f, full);
-    int rc = module_record_put(r, name, full, (long)g->padded);
-    free(full);
-    return rc;
-}
-
-int module_record_get_field(struct module_record *r, const char *name, const struct grid *g,
-                            double *f)
-{
-    if (g->size == g->padded)
-        return module_record_get(r, name, f, (long)g->size);
-    double *full = malloc(g->padded * sizeof *full);
-    if (!full)
-        return module_record_fail(r, "%s: out of memory", name);
-    int rc = module_record_get(r, name, full, (long)g->padded);
-    if (rc == 0)
-        field_from_full(g, full, f);
-    free(full);
-    return rc;
-}
+static const struct module_record_store group_store = {record_put, record_count, record_get};
 
 #define MODULES_GROUP "modules"
 
@@ -205,15 +165,16 @@ static int modules_save(hid_t file, const struct march_state *st, char *err, siz
             h5io_error(err, errlen, "cannot create the group " MODULES_GROUP);
             return -1;
         }
-        struct module_record rec = {.group = group_at(top, m->name, 1), .err = ""};
-        if (rec.group < 0) {
+        hid_t group = group_at(top, m->name, 1);
+        struct module_record rec = {.store = &group_store, .ctx = &group, .err = ""};
+        if (group < 0) {
             h5io_error(err, errlen, "cannot create a module's group");
             rc = -1;
             break;
         }
         if ((rc = m->save(st, st->module_state[i], &rec)) != 0)
             snprintf(err, errlen, "module %s: %s", m->name, rec.err[0] ? rec.err : "failed");
-        H5Gclose(rec.group);
+        H5Gclose(group);
     }
     if (top >= 0)
         H5Gclose(top);
@@ -229,14 +190,15 @@ static int modules_load(hid_t file, struct march_state *st, char *err, size_t er
         const struct module *m = st->modules[i];
         if (!m->load)
             continue;
-        struct module_record rec = {.group = -1, .err = ""};
+        hid_t group = -1;
+        struct module_record rec = {.store = &group_store, .ctx = &group, .err = ""};
         if (top < 0)
             top = group_at(file, MODULES_GROUP, 0);
         if (top >= 0)
-            rec.group = group_at(top, m->name, 0);
+            group = group_at(top, m->name, 0);
         /* a checkpoint of an earlier muflow holds none: the module goes on
          * without (load with NULL) or refuses */
-        if (rec.group < 0) {
+        if (group < 0) {
             if ((rc = m->load(st, st->module_state[i], NULL)) != 0)
                 snprintf(err, errlen, "it holds no state of the physics module %s (written by "
                                       "an earlier muflow, which could not continue this case)",
@@ -245,7 +207,7 @@ static int modules_load(hid_t file, struct march_state *st, char *err, size_t er
         }
         if ((rc = m->load(st, st->module_state[i], &rec)) != 0)
             snprintf(err, errlen, "module %s: %s", m->name, rec.err[0] ? rec.err : "failed");
-        H5Gclose(rec.group);
+        H5Gclose(group);
     }
     if (top >= 0)
         H5Gclose(top);

@@ -209,6 +209,6 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         grid_axis_free(&ax[d]);
     /* a body's nodes stay at rest (the coarse grid's wall is elsewhere) */
     if (rc == 0 && st->embedded)
-        embedded_zero(st->embedded, st->vel);
+        embedded_zero(st->embedded, st->field.velocity);
     return rc;
 }

@@ -10,7 +10,6 @@
 #include <stdarg.h>
 #include <unistd.h>
 #include "io/checkpoint.h"
-#include "scenes/scene.h"
 #include "io/output.h"
 
 int output_make_dir(const char *dir, char *err, size_t errlen)
@@ -103,46 +102,12 @@ int output_remove_run_files(const char *dir, const char *const *extra, char *err
     return removed;
 }
 
-/* Opens dir/name.tmp for writing; fills the final and temporary paths. */
-static FILE *open_tmp(const char *dir, const char *name, char *path, size_t plen, char *tmp,
-                      size_t tlen, char *err, size_t errlen)
-{
-    if (snprintf(path, plen, "%s/%s", dir, name) >= (int)plen ||
-        snprintf(tmp, tlen, "%s/%s.tmp", dir, name) >= (int)tlen) {
-        snprintf(err, errlen, "output path too long in %s", dir);
-        return NULL;
-    }
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno));
-    return f;
-}
-
-/* Closes f and renames tmp to path; on any failure removes tmp. */
-static int close_rename(FILE *f, const char *tmp, const char *path, char *err, size_t errlen)
-{
-    int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        snprintf(err, errlen, "cannot write %s: %s", tmp, strerror(errno ? errno : EIO));
-        remove(tmp);
-        return -1;
-    }
-    if (rename(tmp, path) != 0) {
-        snprintf(err, errlen, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
-        remove(tmp);
-        return -1;
-    }
-    return 0;
-}
-
 int history_open(struct history *h, const char *dir, const char *error_name, char *err,
                  size_t errlen)
 {
-    h->f = open_tmp(dir, "history.csv", h->path, sizeof h->path, h->tmp, sizeof h->tmp, err,
-                    errlen);
-    if (!h->f)
+    if (output_open(&h->file, dir, "history.csv", err, errlen) != 0)
         return -1;
-    fprintf(h->f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
+    fprintf(h->file.f, "step,time,wall_seconds,dt,residual,residual_beyond_roundoff,divergence,"
                   "linear_iterations,rejected_steps,%s\n",
             error_name);
     return 0;
@@ -177,7 +142,7 @@ int history_resume(struct history *h, const char *dir, const char *error_name, l
         char *end;
         long step = strtol(line, &end, 10);
         if (end != line && *end == ',' && step <= upto)
-            fputs(line, h->f);
+            fputs(line, h->file.f);
     }
     free(line);
     fclose(src);
@@ -186,68 +151,31 @@ int history_resume(struct history *h, const char *dir, const char *error_name, l
 
 void history_flush(struct history *h)
 {
-    if (h->f)
-        fflush(h->f);
+    if (h->file.f)
+        fflush(h->file.f);
 }
 
 void history_row(struct history *h, const struct march_state *st, const struct scene_errors *e)
 {
-    if (!h->f)
+    if (!h->file.f)
         return;
-    fprintf(h->f, "%ld,%.10g,%.6g,%.6g,%.6e,%.6e,%.6e,%d,%ld,%.6e\n", st->step, st->time,
+    fprintf(h->file.f, "%ld,%.10g,%.6g,%.6g,%.6e,%.6e,%.6e,%d,%ld,%.6e\n", st->step, st->time,
             st->wall_seconds, st->dt, st->residual, st->residual_excess, st->divergence,
             st->linear_iterations, st->rejected, e->err_rms);
 }
 
 int history_close(struct history *h, char *err, size_t errlen)
 {
-    if (!h->f)
+    if (!h->file.f)
         return 0;
-    int rc = close_rename(h->f, h->tmp, h->path, err, errlen);
-    h->f = NULL;
-    return rc;
-}
-
-int output_profile(const char *dir, const struct profile *pr, char *err, size_t errlen)
-{
-    char path[600], tmp[620];
-    FILE *f = open_tmp(dir, "profile.csv", path, sizeof path, tmp, sizeof tmp, err, errlen);
-    if (!f)
-        return -1;
-    const char *ax = pr->axis == 0 ? "x" : pr->axis == 1 ? "y" : "z";
-    const char *vc = pr->component == 0 ? "u" : pr->component == 1 ? "v" : "w";
-    fprintf(f, "%s,%s,pressure,shear_rate,inertial_number,viscosity,%s_%s\n", ax, vc, vc,
-            pr->exact_name ? pr->exact_name : "exact");
-    for (int l = 0; l < pr->n; l++)
-        fprintf(f, "%.10g,%.12g,%.10g,%.10g,%.10g,%.10g,%.12g\n", pr->coord[l], pr->velocity[l],
-                pr->pressure[l], pr->shear_rate[l], pr->inertial[l], pr->viscosity[l],
-                pr->exact[l]);
-    return close_rename(f, tmp, path, err, errlen);
-}
-
-int output_open(struct output_file *o, const char *dir, const char *name, char *err,
-                size_t errlen)
-{
-    o->f = open_tmp(dir, name, o->path, sizeof o->path, o->tmp, sizeof o->tmp, err, errlen);
-    return o->f ? 0 : -1;
-}
-
-int output_commit(struct output_file *o, char *err, size_t errlen)
-{
-    int rc = close_rename(o->f, o->tmp, o->path, err, errlen);
-    o->f = NULL;
-    return rc;
+    return output_commit(&h->file, err, errlen);
 }
 
 void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
 {
-    if (r->nvalues >= RESULT_VALUES_MAX)
-        return;
-    struct result_value *v = &r->values[r->nvalues++];
-    snprintf(v->key, sizeof v->key, "%s", key);
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(v->text, sizeof v->text, fmt, ap);
+    result_values_vadd(&r->values, key, fmt, ap);
     va_end(ap);
 }
 
@@ -273,23 +201,24 @@ void run_result_lines(const struct run_result *r, result_line_fn line, void *ctx
     NUMBER_LINE("wall_seconds", "%.6g", r->wall_seconds);
     NUMBER_LINE("residual", "%.6e", r->residual);
     NUMBER_LINE("divergence", "%.6e", r->divergence);
-    const struct scene *sc = r->scene;
-    if (sc && sc->headline_name) {
+    const struct result_names *nm = &r->names;
+    if (nm->headline) {
         /* err_midline and psi_max_reference for the cavity: its comparison
          * is a published curve, not an exact solution, and it has no
          * per-layer err_rms_paper */
-        NUMBER_LINE(scene_error_name(sc), "%.6e", r->errors.err_rms);
+        NUMBER_LINE(nm->error, "%.6e", r->errors.err_rms);
         NUMBER_LINE("err_max", "%.6e", r->errors.err_max);
-        if (!sc->no_err_rms_paper)
+        if (!nm->no_err_rms_paper)
             NUMBER_LINE("err_rms_paper", "%.6e", r->errors.err_rms_paper);
-        NUMBER_LINE(sc->headline_name, "%.10g", r->errors.headline);
-        snprintf(key, sizeof key, "%s_%s", sc->headline_name, scene_solution_name(sc));
+        NUMBER_LINE(nm->headline, "%.10g", r->errors.headline);
+        snprintf(key, sizeof key, "%s_%s", nm->headline, nm->solution);
         NUMBER_LINE(key, "%.10g", r->errors.headline_exact);
     }
-    for (int i = 0; i < r->nvalues; i++) {
+    for (int i = 0; i < r->values.n; i++) {
+        const struct result_value *rv = &r->values.v[i];
         char *end;
-        double v = strtod(r->values[i].text, &end);
-        line(ctx, r->values[i].key, r->values[i].text, end != r->values[i].text ? v : NAN);
+        double v = strtod(rv->text, &end);
+        line(ctx, rv->key, rv->text, end != rv->text ? v : NAN);
     }
 }
 
@@ -325,13 +254,13 @@ static void print_line(void *vctx, const char *key, const char *text, double val
 int output_summary(const char *dir, const struct muflow_case *cs, const struct run_result *r,
                    char *err, size_t errlen)
 {
-    char path[600], tmp[620];
-    FILE *f = open_tmp(dir, "summary.ini", path, sizeof path, tmp, sizeof tmp, err, errlen);
-    if (!f)
+    struct output_file o;
+    if (output_open(&o, dir, "summary.ini", err, errlen) != 0)
         return -1;
+    FILE *f = o.f;
     fprintf(f, "; muflow run summary: the result, then every case key as used\n[result]\n");
     run_result_lines(r, print_line, f);
     fprintf(f, "\n");
     case_write_ini(cs, f);
-    return close_rename(f, tmp, path, err, errlen);
+    return output_commit(&o, err, errlen);
 }

@@ -163,12 +163,14 @@ long pressure_columns_count(const struct pressure_columns *pc)
 static void viscous_part(struct pressure_columns *pc, struct march_state *st, double *r)
 {
     double **out = pc->work;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(&st->g, st->act, eta_cell, (const double *const *)st->eta_e,
-                             st->vel, out);
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_divergence(&st->g, st->act, eta_cell,
+                             (const double *const *)st->field.viscosity_edges, st->field.velocity,
+                             out);
     if (st->embedded)
         viscous_embedded_terms(&st->g, &st->bc, st->act, st->embedded, eta_cell,
-                               (const double *const *)st->eta_e, -1.0, st->vel, out);
+                               (const double *const *)st->field.viscosity_edges, -1.0,
+                               st->field.velocity, out);
     probe_matrix_gather(pc->pm, out, r);
 }
 
@@ -176,12 +178,12 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
 {
     const struct grid *g = &st->g;
     viscous_part(pc, st, pc->r0);
-    memcpy(pc->saved_p, st->p_dyn, g->size * sizeof(double));
+    memcpy(pc->saved_p, st->field.p_dyn, g->size * sizeof(double));
     double pmax = 0.0;
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++)
-                pmax = fmax(pmax, fabs(st->pressure[grid_idx(g, i, j, k)]));
+                pmax = fmax(pmax, fabs(st->field.pressure[grid_idx(g, i, j, k)]));
     for (int colour = 0; colour < RESIDUES * RESIDUES * RESIDUES; colour++) {
         int any = 0;
         for (int k = 0; k < g->n[2]; k++)
@@ -191,11 +193,11 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
                     if (pc->colour[q] != colour || pc->held[q])
                         continue;
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    double e = PERTURBATION * (fabs(st->pressure[p]) + 1e-3 * pmax + 1e-300);
+                    double e = PERTURBATION * (fabs(st->field.pressure[p]) + 1e-3 * pmax + 1e-300);
                     /* the perturbation as the sum will hold it */
-                    double moved = st->p_dyn[p] + e;
-                    pc->eps[q] = moved - st->p_dyn[p];
-                    st->p_dyn[p] = moved;
+                    double moved = st->field.p_dyn[p] + e;
+                    pc->eps[q] = moved - st->field.p_dyn[p];
+                    st->field.p_dyn[p] = moved;
                     any = 1;
                 }
         if (!any)
@@ -208,7 +210,7 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
                 if (pc->colour[q] == colour)
                     pc->values[m] = -(pc->r1[k] - pc->r0[k]) / pc->eps[q];
             }
-        memcpy(st->p_dyn, pc->saved_p, g->size * sizeof(double));
+        memcpy(st->field.p_dyn, pc->saved_p, g->size * sizeof(double));
     }
     stage_properties(st);
     return 0;

@@ -26,8 +26,8 @@
  * its cycle, GMRES meets 0.1 in one or two iterations far from the steady
  * state, and those steps are poor ones: the heap at the tilt 0.4061 took 69
  * steps (11 rejected) at 140 x 200 and 729 (210 rejected) at 280 x 400,
- * against 54 and 57 with 0.01, the LU's own march (docs/design.md,
- * "Geometric multigrid for the implicit step") */
+ * against 54 and 57 with 0.01, the LU's own march
+ * (docs/numerics/implicit-step-and-newton.md) */
 #define FORCING_MAX_GMG 0.01
 
 double implicit_tolerance(struct march_state *st, int tangent)

@@ -33,7 +33,7 @@ static void stretched_hydrostatic(struct march_state *st, const double f[3], dou
                 for (int a = 0; a < 3; a++)
                     if (st->bc.face[a][0] != BC_PERIODIC)
                         p += f[a] * scale * (grid_xc(g, a, idx[a]) - 0.5 * g->len[a]);
-                st->p_hyd[grid_idx(g, i, j, k)] = p;
+                st->field.p_hyd[grid_idx(g, i, j, k)] = p;
             }
 }
 
@@ -51,7 +51,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     double scale = st->density_uniform ? 1.0 : st->rho_ref / st->cs->density;
     if (grid_stretched(g)) {
         stretched_hydrostatic(st, f, scale);
-        bc_fill_scalar(g, &st->bc, st->p_hyd);
+        bc_fill_scalar(g, &st->bc, st->field.p_hyd);
         hydrostatic_force(st);
         return 0;
     }
@@ -65,7 +65,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
         }
     /* fluxes of the force through every face; a closed boundary face passes
      * none (a surface or an open face, where p_hyd = 0, passes it) */
-    double **flux = st->delta;
+    double **flux = st->field.increment;
     for (int a = 0; a < 3; a++)
         for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
@@ -79,7 +79,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                         v = 0.0;
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }
-    kernel_divergence(g, flux, st->div);
+    kernel_divergence(g, flux, st->field.divergence);
     struct pressure_solver *ps;
     if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
         return -1;
@@ -88,13 +88,13 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
         pressure_destroy(ps);
         return -1;
     }
-    if (pressure_solve(ps, st->div, st->p_hyd, 0.0) != 0) {
+    if (pressure_solve(ps, st->field.divergence, st->field.p_hyd, 0.0) != 0) {
         snprintf(err, errlen, "hydrostatic %s", pressure_message(ps));
         pressure_destroy(ps);
         return -1;
     }
     pressure_destroy(ps);
-    bc_fill_scalar(g, &st->bc, st->p_hyd);
+    bc_fill_scalar(g, &st->bc, st->field.p_hyd);
     hydrostatic_force(st);
     return 0;
 }
@@ -110,8 +110,9 @@ void hydrostatic_force(struct march_state *st)
     body_force_vector(st->cs, f);
     for (int a = 0; a < 3; a++)
         for (size_t p = 0; p < g->size; p++)
-            st->force[a][p] = st->density_uniform ? f[a] : f[a] * st->rho_face[a][p] / st->cs->density;
-    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, st->force);
+            st->field.force[a][p] =
+                st->density_uniform ? f[a] : f[a] * st->field.density_faces[a][p] / st->cs->density;
+    kernel_gradient_update(g, st->act, st->field.p_hyd, 1.0, st->field.force);
     for (int a = 0; a < 3; a++) /* only unknown faces carry a force */
         for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
@@ -119,6 +120,6 @@ void hydrostatic_force(struct march_state *st)
                     const struct box *b = &st->act[a];
                     if (i < b->lo[0] || i >= b->hi[0] || j < b->lo[1] || j >= b->hi[1] ||
                         k < b->lo[2] || k >= b->hi[2])
-                        st->force[a][grid_idx(g, i, j, k)] = 0.0;
+                        st->field.force[a][grid_idx(g, i, j, k)] = 0.0;
                 }
 }

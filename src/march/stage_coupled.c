@@ -16,8 +16,9 @@
  * solver.preconditioner = amg GMRES solves it (saddle_krylov.h), giving way
  * to the LU for the rest of the run if it fails.
  *
- * A prescribed mean velocity (physics/flow_rate.h) borders K with the force's
- * size as one more unknown: a second right-hand side of the same LU.
+ * A module's border (march/module.h: the prescribed mean velocity, whose
+ * force's size is one more unknown) borders K: a second right-hand side of
+ * the same LU.
  *
  * An open face is not a velocity unknown; each has one more unknown, its
  * own increment beyond its inner face's, with the face's balance for its
@@ -27,11 +28,10 @@
  * (rho / dt) phi, which stops moving a pressure error once nu dt / h^2 is
  * large; a flow whose pressure matters (around a body, the cavity) then
  * stalls unless the grad-div augmentation carries the pressure, and that
- * augmentation defeats the AMG.  Measured (docs/design.md, "The granular
- * cylinder and the steady mode"): a Newtonian square in a periodic channel
- * steady in 22 steps where the projection march found no steady state; the
- * Bingham cavity steady without augmentation in the augmented run's 31
- * steps and psi_max.
+ * augmentation defeats the AMG.  Measured (docs/numerics/coupled-step.md):
+ * a Newtonian square in a periodic channel steady in 22 steps where the
+ * projection march found no steady state; the Bingham cavity steady without
+ * augmentation in the augmented run's 31 steps and psi_max.
  *
  * The numbering, the probing's colouring and the solver live from the first
  * coupled step to march_destroy; the matrices are the step's. */
@@ -41,7 +41,6 @@
 #include "march/coupled_pressure.h"
 #include "march/coupled_open.h"
 #include "march/step.h"
-#include "physics/flow_rate.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_krylov.h"
 #include "solvers/saddle_point.h"
@@ -88,8 +87,8 @@ struct coupled_state {
     struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
     int pcols_on;                   /* this step's matrix has them (the tangent's) */
     int idle[3];                    /* components this step leaves at du = 0 (idle_components) */
-    double *f, *x2;                 /* a prescribed mean velocity: the bordered solve's
-                                       second column and its solution (physics/flow_rate.h) */
+    double *f, *x2;                 /* a module's border: the bordered solve's second
+                                       column and its solution (march/module.h) */
     int bordered;                   /* this step's solve has them */
 };
 
@@ -174,6 +173,15 @@ static int list_gradient_faces(const struct march_state *st, struct coupled_stat
     return 0;
 }
 
+/* The module that borders the step (the first with a border), or -1. */
+static int border_module(const struct march_state *st)
+{
+    for (int m = 0; m < st->nmodules; m++)
+        if (st->modules[m]->border)
+            return m;
+    return -1;
+}
+
 static struct coupled_state *create(struct march_state *st, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
@@ -224,7 +232,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     c->x = malloc(nall * sizeof *c->x);
     if (!c->b || !c->x)
         goto oom;
-    if (march_module_state(st, &flow_rate_module) &&
+    if (border_module(st) >= 0 &&
         (!(c->f = calloc(nall, sizeof *c->f)) || !(c->x2 = malloc(nall * sizeof *c->x2))))
         goto oom;
     memset(c->held, 1, (size_t)c->nc);
@@ -250,8 +258,8 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
         struct amg_options o;
         amg_options_default(&o);
         /* V(1,1): on the cavity 27, 31, 43 GMRES iterations a step at 32,
-           64, 128 cells across against V(0,1)'s 33, 41, 57 (docs/design.md,
-           "The coupled step by GMRES") */
+           64, 128 cells across against V(0,1)'s 33, 41, 57
+           (docs/numerics/coupled-step.md) */
         o.pre_sweeps = 1;
         if (saddle_krylov_create(&c->krylov, (int)nall, c->nu, probe_matrix_components(c->pm),
                                  &o, err, errlen) != 0)
@@ -428,23 +436,26 @@ static int assemble(struct coupled_state *c)
     return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
-/* The bordered step of a prescribed mean velocity (physics/flow_rate.h):
- * x = x1 + dg x2 with dg such that the mean of u + x is the target. */
+/* The bordered step (march/module.h: module_border): x = x1 + dg x2 with
+ * dg such that the border's row of u + x is its target. */
 static void border(struct march_state *st, struct coupled_state *c, double gap)
 {
+    int m = border_module(st);
+    const struct module_border *b = st->modules[m]->border;
+    void *state = st->module_state[m];
     size_t nall = (size_t)c->nu + (size_t)c->nc + (size_t)c->nopen;
     double w[2];
     const double *sol[2] = {c->x, c->x2};
     for (int r = 0; r < 2; r++) {
         for (int k = 0; k < 3; k++)
-            memset(st->delta[k], 0, st->g.size * sizeof(double));
-        probe_matrix_scatter(c->pm, sol[r], st->delta);
-        w[r] = flow_rate_mean(st, st->delta);
+            memset(st->field.increment[k], 0, st->g.size * sizeof(double));
+        probe_matrix_scatter(c->pm, sol[r], st->field.increment);
+        w[r] = b->row(st, state, st->field.increment);
     }
     double dg = w[1] != 0.0 ? (gap - w[0]) / w[1] : 0.0;
     for (size_t q = 0; q < nall; q++)
         c->x[q] += dg * c->x2[q];
-    flow_rate_increment(st, dg);
+    b->increment(st, state, dg);
 }
 
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
@@ -466,11 +477,13 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         return -1;
     if (c->open && coupled_open_probe(c->open, st, pb) != 0)
         return -1;
-    probe_matrix_gather(c->pm, st->res, c->b);
+    probe_matrix_gather(c->pm, st->field.residual, c->b);
     double gap = 0.0;
-    c->bordered = c->f && flow_rate_border(st, st->delta, &gap) == 0;
+    int m = border_module(st);
+    c->bordered = c->f && st->modules[m]->border->column(st, st->module_state[m],
+                                                         st->field.increment, &gap) == 0;
     if (c->bordered)
-        probe_matrix_gather(c->pm, st->delta, c->f); /* its pressure rows stay 0 */
+        probe_matrix_gather(c->pm, st->field.increment, c->f); /* its pressure rows stay 0 */
     idle_components(c);
     if (assemble(c) != 0)
         return -1;
@@ -484,9 +497,9 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
                  * brings its own value, and a pressure-dependent law sees
                  * the level (D/8 from a D/4 state: F_D 57.374 against
                  * 57.658 from rest, both steady to round-off) */
-                c->b[nu + q] = q == c->pinned ? -st->p_dyn[p]
+                c->b[nu + q] = q == c->pinned ? -st->field.p_dyn[p]
                                : c->held[q]   ? 0.0
-                                              : -st->div[p];
+                                              : -st->field.divergence[p];
             }
     for (int m = 0; m < c->nopen; m++)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
@@ -526,17 +539,17 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     if (c->bordered)
         border(st, c, gap);
     for (int k = 0; k < 3; k++)
-        memset(st->delta[k], 0, g->size * sizeof(double));
-    probe_matrix_scatter(c->pm, c->x, st->delta);
+        memset(st->field.increment[k], 0, g->size * sizeof(double));
+    probe_matrix_scatter(c->pm, c->x, st->field.increment);
     for (int m = 0; m < c->nopen; m++) {
         const struct open_link *o = coupled_open_link(c->open, m);
-        st->delta[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
+        st->field.increment[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
     }
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += c->x[nu + c->cell[p]];
+                st->field.p_dyn[p] += c->x[nu + c->cell[p]];
             }
     return 0;
 }
@@ -550,11 +563,11 @@ long stage_coupled_fallbacks(const struct coupled_state *c, const char **cause)
 
 void stage_coupled_update(struct march_state *st)
 {
-    kernel_axpy(&st->g, st->act, 1.0, st->delta, st->vel);
+    kernel_axpy(&st->g, st->act, 1.0, st->field.increment, st->field.velocity);
     const struct coupled_state *c = st->coupled;
     for (int m = 0; m < c->nopen; m++) { /* the open faces are state, not unknowns */
         const struct open_link *o = coupled_open_link(c->open, m);
-        st->vel[o->d][o->pf] += st->delta[o->d][o->pf];
+        st->field.velocity[o->d][o->pf] += st->field.increment[o->d][o->pf];
     }
-    bc_fill_velocity(&st->g, &st->bc, st->vel);
+    bc_fill_velocity(&st->g, &st->bc, st->field.velocity);
 }

@@ -2,14 +2,6 @@
  * linearised with the consistent tangent (step.h, viscous.h). */
 #include "march/step.h"
 
-int implicit_uses_tangent(const struct march_state *st)
-{
-    const struct muflow_case *cs = st->cs;
-    return cs->newton && cs->mode == MODE_STEADY &&
-           (cs->newton_below >= 1.0 || st->picard_stalled ||
-            st->residual <= cs->newton_below * march_picard_reference(st));
-}
-
 struct viscous_problem implicit_problem(const struct march_state *st, double dt)
 {
     const struct muflow_case *cs = st->cs;
@@ -24,7 +16,7 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
         pb.mass = st->rho_ref / dt;
         for (int c = 0; c < 3; c++) {
             for (size_t p = 0; p < g->size; p++)
-                st->mass_face[c][p] = st->rho_face[c][p] / dt;
+                st->mass_face[c][p] = st->field.density_faces[c][p] / dt;
             pb.mass_face[c] = st->mass_face[c];
         }
     }
@@ -35,22 +27,23 @@ struct viscous_problem implicit_problem(const struct march_state *st, double dt)
      * is small) overshoots and, without the steady march's rejections, the
      * grains' viscosity collapses (a layer under air slid freely at steps of
      * 2e-4 s; with the lagged viscosity it reaches the steady state,
-     * docs/design.md "Two phases"); for a Newtonian fluid both are one. */
+     * docs/numerics/implicit-step-and-newton.md); for a Newtonian fluid both
+     * are one. */
     int tangent = implicit_uses_tangent(st);
     int diagonal = tangent && !st->full_tangent;
     for (int a = 0; a < 3; a++) {
-        pb.A_cell[a] = diagonal ? st->tan_c[a] : st->eta;
-        pb.A_edge[a] = diagonal ? st->tan_e[a] : st->eta_e[a];
+        pb.A_cell[a] = diagonal ? st->field.tangent_cells[a] : st->field.viscosity;
+        pb.A_edge[a] = diagonal ? st->field.tangent_edges[a] : st->field.viscosity_edges[a];
     }
     if (tangent && st->full_tangent) {
         pb.b_cell = st->b_c;
         for (int a = 0; a < 3; a++) {
             pb.b_edge[a] = st->b_e[a];
             /* what a Cholesky factorises in the tangent's place */
-            pb.sym_cell[a] = st->tan_c[a];
-            pb.sym_edge[a] = st->tan_e[a];
+            pb.sym_cell[a] = st->field.tangent_cells[a];
+            pb.sym_edge[a] = st->field.tangent_edges[a];
         }
-        pb.base = st->vel;
+        pb.base = st->field.velocity;
     }
     return pb;
 }
@@ -71,7 +64,7 @@ int stage_implicit(struct march_state *st, double dt)
     double tol = implicit_tolerance(st, pb.b_cell != NULL);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;
-    int rc = viscous_solve(st->viscous, &pb, st->res, st->delta, tol,
+    int rc = viscous_solve(st->viscous, &pb, st->field.residual, st->field.increment, tol,
                            cs->max_linear_iterations, &vs);
     st->linear_iterations = vs.iterations;
     st->linear_residual = vs.relative_residual;

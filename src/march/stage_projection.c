@@ -27,9 +27,9 @@ void stage_divergence(const struct march_state *st, double *const v[3], double *
 static void subtract_gradient(struct march_state *st, const double *phi)
 {
     if (st->density_uniform)
-        kernel_gradient_update(&st->g, st->act, phi, 1.0, st->vel);
+        kernel_gradient_update(&st->g, st->act, phi, 1.0, st->field.velocity);
     else
-        kernel_gradient_update_coef(&st->g, st->act, phi, 1.0, st->beta, st->vel);
+        kernel_gradient_update_coef(&st->g, st->act, phi, 1.0, st->beta, st->field.velocity);
 }
 
 /* Open faces (boundary.h).  The normal velocity on an open face is not an
@@ -39,7 +39,7 @@ static void subtract_gradient(struct march_state *st, const double *phi)
  * instead, a flow falling through open ends under gravity never became
  * steady: each step the inner faces moved and the open ones lagged, and the
  * projection turned the lag into a pressure that held the column up
- * (docs/design.md, "Open and inflow boundaries").  Its increment is set
+ * (docs/numerics/open-boundaries.md).  Its increment is set
  * here, before the projection: the face's momentum balance is the inner
  * face's with zero normal gradient for every term but the pressure and the
  * body force, which are taken on the face itself with the Dirichlet ghost
@@ -58,8 +58,8 @@ static void open_predict(struct march_state *st, double dt)
     FOR_OPEN_FACES(st, {
         double af = open_acceleration(st, d, pf, 1, pc, s);
         double ai = open_acceleration(st, d, pi, 0, pc, s);
-        st->delta[d][pf] = st->delta[d][pi] + dt * (af - ai);
-        st->vel[d][pf] += st->delta[d][pf];
+        st->field.increment[d][pf] = st->field.increment[d][pi] + dt * (af - ai);
+        st->field.velocity[d][pf] += st->field.increment[d][pf];
     })
 }
 
@@ -70,7 +70,7 @@ static void open_correct(struct march_state *st, const double *phi)
     FOR_OPEN_FACES(st, {
         (void)pi;
         double beta = st->density_uniform ? 1.0 : st->beta[d][pf];
-        st->vel[d][pf] -= beta * face_gradient(phi, pc, s, st->g.h[d]);
+        st->field.velocity[d][pf] -= beta * face_gradient(phi, pc, s, st->g.h[d]);
     })
 }
 
@@ -111,48 +111,48 @@ void stage_projection(struct march_state *st, double dt)
      * length).  The projection u = u* - grad lap^-1 div delta keeps div u at
      * round-off; a state whose own divergence is above it (not one this
      * march produced) gets a second projection. */
-    bc_fill_velocity_homogeneous(g, &st->bc, st->delta);
+    bc_fill_velocity_homogeneous(g, &st->bc, st->field.increment);
     int open = bc_has_open(&st->bc);
     if (open)
         open_predict(st, dt);
-    stage_divergence(st, st->delta, st->phi);
+    stage_divergence(st, st->field.increment, st->field.phi);
     if (st->aug) /* augmented-Lagrangian (Uzawa) update p -= r div u* */
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
                 for (int k = 0; k < g->n[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    st->p_dyn[p] -= st->aug[p] * st->phi[p];
+                    st->field.p_dyn[p] -= st->aug[p] * st->field.phi[p];
                 }
-    kernel_axpy(g, st->act, 1.0, st->delta, st->vel);
+    kernel_axpy(g, st->act, 1.0, st->field.increment, st->field.velocity);
     /* a divergence at DIVERGENCE_FLOOR of |u| / h in the 2-norm (which bounds
      * every cell's): solving further changes nothing */
     double floor = pressure_uniform(st->pressure_solver)
                        ? 0.0 /* the FFT path is direct: no floor to pass */
-                       : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->vel) /
+                       : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->field.velocity) /
                              march_min_spacing(g);
     /* div delta exactly 0 (the flow of a cross-section or a profile, whose
      * implicit step moves no component across the grid): phi is 0 and the
      * solve, its fill and the gradient would change nothing (the heap at
      * 140 x 200: 4 % of the run) */
-    const int nothing = all_zero(g, st->phi);
+    const int nothing = all_zero(g, st->field.phi);
     if (nothing) {
-        memset(st->phi, 0, g->size * sizeof *st->phi);
+        memset(st->field.phi, 0, g->size * sizeof *st->field.phi);
     } else {
-        project_solve(st, st->phi, floor);
-        bc_fill_pressure(g, &st->bc, st->phi);
-        subtract_gradient(st, st->phi);
+        project_solve(st, st->field.phi, floor);
+        bc_fill_pressure(g, &st->bc, st->field.phi);
+        subtract_gradient(st, st->field.phi);
         if (open)
-            open_correct(st, st->phi);
+            open_correct(st, st->field.phi);
     }
-    bc_fill_velocity(g, &st->bc, st->vel);
+    bc_fill_velocity(g, &st->bc, st->field.velocity);
     if (st->divergence > DIVERGENCE_ROUNDOFF) {
-        stage_divergence(st, st->vel, st->div);
-        project_solve(st, st->div, floor);
-        bc_fill_pressure(g, &st->bc, st->div);
-        subtract_gradient(st, st->div);
+        stage_divergence(st, st->field.velocity, st->field.divergence);
+        project_solve(st, st->field.divergence, floor);
+        bc_fill_pressure(g, &st->bc, st->field.divergence);
+        subtract_gradient(st, st->field.divergence);
         if (open) {
-            open_correct(st, st->div);
-            bc_fill_velocity(g, &st->bc, st->vel);
+            open_correct(st, st->field.divergence);
+            bc_fill_velocity(g, &st->bc, st->field.velocity);
         }
     }
     /* incremental pressure correction (rho/dt) lap^-1 div delta; with large
@@ -164,6 +164,6 @@ void stage_projection(struct march_state *st, double dt)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                st->p_dyn[p] += scale * st->phi[p];
+                st->field.p_dyn[p] += scale * st->field.phi[p];
             }
 }

@@ -6,25 +6,28 @@ void stage_properties(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
     const struct grid *g = &st->g;
-    bc_fill_velocity(g, &st->bc, st->vel);
-    kernel_strain(g, st->vel, st->cn2, st->e2);
-    bc_fill_scalar(g, &st->bc, st->cn2);
+    bc_fill_velocity(g, &st->bc, st->field.velocity);
+    kernel_strain(g, st->field.velocity, st->field.strain_normal2, st->field.strain_shear2);
+    bc_fill_scalar(g, &st->bc, st->field.strain_normal2);
     for (size_t p = 0; p < g->size; p++)
-        st->pressure[p] =
-            cs->confining_pressure + st->pressure_gauge + st->p_hyd[p] + st->p_dyn[p];
-    bc_fill_scalar_linear(g, &st->bc, st->pressure);
-    kernel_viscosity_cells(g, &st->rheo, st->vel, st->cn2, st->e2, st->pressure, st->eta,
-                           cs->newton ? st->tan_c : NULL, st->shear2, st->preg, st->b_c);
+        st->field.pressure[p] =
+            cs->confining_pressure + st->pressure_gauge + st->field.p_hyd[p] + st->field.p_dyn[p];
+    bc_fill_scalar_linear(g, &st->bc, st->field.pressure);
+    kernel_viscosity_cells(g, &st->rheo, st->field.velocity, st->field.strain_normal2,
+                           st->field.strain_shear2, st->field.pressure, st->field.viscosity,
+                           cs->newton ? st->field.tangent_cells : NULL, st->field.shear2,
+                           st->field.pressure_regularised, st->b_c);
     /* periodic directions: this grid holds each whole (one process) */
     int wraps = 0;
     for (int d = 0; d < 3; d++)
         if (st->bc.face[d][0] == BC_PERIODIC)
             wraps |= 1 << d;
-    kernel_viscosity_edges(g, &st->rheo, st->cn2, st->e2, st->pressure, st->eta_e,
-                           cs->newton ? st->tan_e : NULL, st->full_tangent ? st->b_e : NULL,
-                           wraps);
-    bc_fill_scalar(g, &st->bc, st->eta);
+    kernel_viscosity_edges(g, &st->rheo, st->field.strain_normal2, st->field.strain_shear2,
+                           st->field.pressure, st->field.viscosity_edges,
+                           cs->newton ? st->field.tangent_edges : NULL,
+                           st->full_tangent ? st->b_e : NULL, wraps);
+    bc_fill_scalar(g, &st->bc, st->field.viscosity);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
-            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
+            bc_fill_scalar(g, &st->bc, st->field.tangent_cells[a]);
 }

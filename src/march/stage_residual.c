@@ -12,22 +12,23 @@ void stage_residual(struct march_state *st)
 {
     const struct muflow_case *cs = st->cs;
     const struct grid *g = &st->g;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
-                             st->res);
-    kernel_axpy(g, st->act, 1.0, st->force, st->res);
-    bc_fill_pressure(g, &st->bc, st->p_dyn);
-    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, st->res);
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->field.viscosity_edges,
+                             st->field.velocity, st->field.residual);
+    kernel_axpy(g, st->act, 1.0, st->field.force, st->field.residual);
+    bc_fill_pressure(g, &st->bc, st->field.p_dyn);
+    kernel_gradient_update(g, st->act, st->field.p_dyn, 1.0, st->field.residual);
     if (cs->advection) {
         if (cs->advection_scheme != ADVECTION_CENTRED)
-            kernel_advection_upwind(g, st->act, st->vel,
-                                    cs->advection_scheme == ADVECTION_VANLEER, st->adv);
+            kernel_advection_upwind(g, st->act, st->field.velocity,
+                                    cs->advection_scheme == ADVECTION_VANLEER, st->field.advection);
         else
-            kernel_advection(g, st->act, st->vel, st->adv);
+            kernel_advection(g, st->act, st->field.velocity, st->field.advection);
         if (st->density_uniform)
-            kernel_axpy(g, st->act, cs->density, st->adv, st->res);
+            kernel_axpy(g, st->act, cs->density, st->field.advection, st->field.residual);
         else
-            kernel_multiply_add(g, st->act, st->rho_face, st->adv, st->res);
+            kernel_multiply_add(g, st->act, st->field.density_faces, st->field.advection,
+                                st->field.residual);
     }
     for (int m = 0; m < st->nmodules; m++)
         if (st->modules[m]->residual)
@@ -43,27 +44,33 @@ void stage_residual(struct march_state *st)
          * cell (a pressure mode in a yielded layer is resisted by the plug
          * beside it).  With r = kappa eta_cell a Vola Bn = 1000 cavity
          * contracted by 0.994 per step; with r = kappa max(eta) by < 1/kappa. */
-        double r = cs->augmentation * kernel_max_abs_cells(g, st->eta);
+        double r = cs->augmentation * kernel_max_abs_cells(g, st->field.viscosity);
         for (size_t p = 0; p < g->size; p++)
             st->aug[p] = r;
     }
     if (st->force_ref == 0.0) {
         double rg = cs->density * cs->gravity;
-        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->res);
+        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->field.residual);
     }
     double scale = march_force_scale(st);
-    st->residual = kernel_max_abs(g, st->act, st->res) / scale;
+    st->residual = kernel_max_abs(g, st->act, st->field.residual) / scale;
     {
         long n = 0;
         for (int c = 0; c < 3; c++)
             n += (long)(st->act[c].hi[0] - st->act[c].lo[0]) * (st->act[c].hi[1] - st->act[c].lo[1]) *
                  (st->act[c].hi[2] - st->act[c].lo[2]);
-        st->residual_rms = n > 0 ? sqrt(kernel_dot(g, st->act, st->res, st->res) / (double)n) / scale : 0.0;
+        st->residual_rms =
+            n > 0
+                ? sqrt(kernel_dot(g, st->act, st->field.residual, st->field.residual) / (double)n) /
+                      scale
+                : 0.0;
     }
-    kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
-                            st->delta);
-    st->residual_excess = kernel_residual_excess(g, st->act, st->res, st->delta, st->force,
-                                                 ROUNDOFF_EPS) / scale;
+    kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->field.viscosity_edges,
+                            st->field.velocity, st->field.increment);
+    st->residual_excess =
+        kernel_residual_excess(g, st->act, st->field.residual, st->field.increment, st->field.force,
+                               ROUNDOFF_EPS) /
+        scale;
     /* the modules' own equations (a second velocity): both must vanish */
     for (int m = 0; m < st->nmodules; m++)
         if (st->modules[m]->residual_max) {
@@ -72,21 +79,23 @@ void stage_residual(struct march_state *st)
             st->residual = fmax(st->residual, r);
             st->residual_excess = fmax(st->residual_excess, x / scale);
         }
-    stage_divergence(st, st->vel, st->div);
-    double umax = st->velocity_max = kernel_max_abs(g, st->act, st->vel);
-    double dmax = kernel_max_abs_cells(g, st->div);
+    stage_divergence(st, st->field.velocity, st->field.divergence);
+    double umax = st->velocity_max = kernel_max_abs(g, st->act, st->field.velocity);
+    double dmax = kernel_max_abs_cells(g, st->field.divergence);
     st->divergence = umax > 0.0 ? dmax * march_min_spacing(g) / umax : dmax;
 }
 
 double stage_residual_velocity_roundoff(struct march_state *st)
 {
     const struct grid *g = &st->g;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    double umax = kernel_max_abs(g, st->act, st->vel);
-    /* st->delta is the magnitude's scratch here as in stage_residual */
-    kernel_stress_magnitude_at(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel,
-                               umax, st->delta);
-    double x = kernel_residual_excess(g, st->act, st->res, st->delta, st->force, ROUNDOFF_EPS) /
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    double umax = kernel_max_abs(g, st->act, st->field.velocity);
+    /* st->field.increment is the magnitude's scratch here as in stage_residual */
+    kernel_stress_magnitude_at(g, st->act, eta_cell,
+                               (const double *const *)st->field.viscosity_edges, st->field.velocity,
+                               umax, st->field.increment);
+    double x = kernel_residual_excess(g, st->act, st->field.residual, st->field.increment,
+                                      st->field.force, ROUNDOFF_EPS) /
                march_force_scale(st);
     /* a module's own equations keep their measure */
     for (int m = 0; m < st->nmodules; m++)

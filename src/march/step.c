@@ -36,7 +36,7 @@ static void *pressure_job_run(void *arg)
  * the whole grid's factorisation, they are both serial (CHOLMOD runs on one
  * thread, suitesparse.h) and the second core sat idle: the pressure's
  * factorisation is a sixth of the column collapse's run at 25.6 cells per
- * H0 (docs/design.md, "Column collapse").  A POSIX thread takes it, outside
+ * H0 (docs/numerics/pressure.md).  A POSIX thread takes it, outside
  * any OpenMP team, so that the implicit stage's regions run as they do
  * alone, with one thread fewer meanwhile (on 256 x 80, where the kernels
  * are parallel, that is still 0.87 of the time).  Where the pressure is

@@ -145,18 +145,19 @@ static void properties(struct march_state *st, void *state)
     const struct bed_law_ctx l = {&bd->p, &cs->rheo};
     /* cells: |D| is the core's shear2; the tangent coefficients are those of
      * kernel_viscosity_cells with this law's eta and slope */
-    struct bed_viscosity_out out = {.eta_c = st->eta, .b_c = st->b_c};
+    struct bed_viscosity_out out = {.eta_c = st->field.viscosity, .b_c = st->b_c};
     for (int a = 0; a < 3; a++) {
-        out.tan_c[a] = cs->newton ? st->tan_c[a] : NULL;
-        out.eta_e[a] = st->eta_e[a];
-        out.tan_e[a] = cs->newton ? st->tan_e[a] : NULL;
+        out.tan_c[a] = cs->newton ? st->field.tangent_cells[a] : NULL;
+        out.eta_e[a] = st->field.viscosity_edges[a];
+        out.tan_e[a] = cs->newton ? st->field.tangent_edges[a] : NULL;
         out.b_e[a] = st->b_e[a];
     }
-    bed_fill_viscosities(g, mixture_law, &l, st->shear2, st->cn2, st->e2, st->vel, &out);
-    bc_fill_scalar(g, &st->bc, st->eta);
+    bed_fill_viscosities(g, mixture_law, &l, st->field.shear2, st->field.strain_normal2,
+                         st->field.strain_shear2, st->field.velocity, &out);
+    bc_fill_scalar(g, &st->bc, st->field.viscosity);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
-            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
+            bc_fill_scalar(g, &st->bc, st->field.tangent_cells[a]);
 }
 
 const struct module bed_module = {

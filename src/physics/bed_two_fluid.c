@@ -201,18 +201,18 @@ static void properties(struct march_state *st, void *state)
         if (st->b_c)
             st->b_c[q] = 0.0;
     const struct law_ctx l = {p, r};
-    struct bed_viscosity_out fluid = {.eta_c = st->eta};
+    struct bed_viscosity_out fluid = {.eta_c = st->field.viscosity};
     for (int a = 0; a < 3; a++) {
-        fluid.tan_c[a] = cs->newton ? st->tan_c[a] : NULL;
-        fluid.eta_e[a] = st->eta_e[a];
-        fluid.tan_e[a] = cs->newton ? st->tan_e[a] : NULL;
+        fluid.tan_c[a] = cs->newton ? st->field.tangent_cells[a] : NULL;
+        fluid.eta_e[a] = st->field.viscosity_edges[a];
+        fluid.tan_e[a] = cs->newton ? st->field.tangent_edges[a] : NULL;
         fluid.b_e[a] = st->b_e[a];
     }
-    bed_fill_viscosities(g, fluid_viscosity, &l, NULL, NULL, NULL, st->vel, &fluid);
-    bc_fill_scalar(g, &st->bc, st->eta);
+    bed_fill_viscosities(g, fluid_viscosity, &l, NULL, NULL, NULL, st->field.velocity, &fluid);
+    bc_fill_scalar(g, &st->bc, st->field.viscosity);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
-            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
+            bc_fill_scalar(g, &st->bc, st->field.tangent_cells[a]);
 
     /* the particles: strains of u^p, |D| at cells as the core's kernel
      * computes it (its Newtonian viscosity is overwritten below) */
@@ -222,8 +222,8 @@ static void properties(struct march_state *st, void *state)
     struct rheology newt = *r;
     newt.law = LAW_NEWTONIAN;
     newt.viscosity = 1.0;
-    kernel_viscosity_cells(g, &newt, b->up, b->cn2, b->e2, st->pressure, b->eta_c, NULL, b->shear2,
-                           b->scratch, NULL);
+    kernel_viscosity_cells(g, &newt, b->up, b->cn2, b->e2, st->field.pressure, b->eta_c, NULL,
+                           b->shear2, b->scratch, NULL);
     struct bed_viscosity_out grains = {.eta_c = b->eta_c, .b_c = b->b_c};
     for (int a = 0; a < 3; a++) {
         grains.tan_c[a] = b->tan_c[a];
@@ -252,7 +252,7 @@ static void residual(struct march_state *st, void *state)
                                (const double *const *)b->eta_e, -1.0, b->up, b->work);
         embedded_zero(st->embedded, b->work);
     }
-    kernel_axpy(g, st->act, 1.0, b->work, st->res);
+    kernel_axpy(g, st->act, 1.0, b->work, st->field.residual);
     for (int c = 0; c < 3; c++)
         memset(b->rp[c], 0, g->size * sizeof(double));
     /* the round-off of R_p: a few epsilons of its terms' magnitudes (the
@@ -268,10 +268,11 @@ static void residual(struct march_state *st, void *state)
                 if (t <= 0.0)
                     continue;
                 ptrdiff_t q = grid_idx(g, i, j, k);
-                double rp = b->work[0][q] + b->beta * t * (st->vel[0][q] - b->up[0][q]);
+                double rp = b->work[0][q] + b->beta * t * (st->field.velocity[0][q] - b->up[0][q]);
                 b->rp[0][q] = rp;
                 m = fmax(m, fabs(rp));
-                double mag = b->probe[0][q] + b->beta * t * (fabs(st->vel[0][q]) + fabs(b->up[0][q]));
+                double mag = b->probe[0][q] +
+                             b->beta * t * (fabs(st->field.velocity[0][q]) + fabs(b->up[0][q]));
                 x = fmax(x, fabs(rp) - ROUNDOFF * mag);
             }
     b->residual_max = m;
@@ -487,7 +488,7 @@ static int section_solve(struct march_state *st, struct two_fluid *b, double mas
                         col[e] = N + jj * nk + kk;
                         val[e++] = -bt;
                     }
-                    rhs[r] = part ? b->rp[0][q] : st->res[0][q] - b->rp[0][q];
+                    rhs[r] = part ? b->rp[0][q] : st->field.residual[0][q] - b->rp[0][q];
                 }
         rowptr[n] = e;
         /* the rows, read as compressed columns, are the transpose: solve with it */
@@ -505,7 +506,7 @@ static int section_solve(struct march_state *st, struct two_fluid *b, double mas
         for (int jj = 0; rc == 0 && jj < nj; jj++)
             for (int kk = 0; kk < nk; kk++) {
                 ptrdiff_t q = grid_idx(g, i, bx->lo[1] + jj, bx->lo[2] + kk);
-                st->delta[0][q] = x[jj * nk + kk];
+                st->field.increment[0][q] = x[jj * nk + kk];
                 b->dup[0][q] = x[N + jj * nk + kk];
             }
     }
@@ -537,7 +538,7 @@ static int implicit(struct march_state *st, void *state, double dt)
     }
     double mass = dt > 0.0 ? cs->density / dt : 0.0;
     for (int c = 0; c < 3; c++) {
-        memset(st->delta[c], 0, g->size * sizeof(double));
+        memset(st->field.increment[c], 0, g->size * sizeof(double));
         memset(b->dup[c], 0, g->size * sizeof(double));
     }
     if (st->bc.face[1][0] != BC_PERIODIC) { /* a cross-section u(y, z) */
@@ -570,7 +571,7 @@ static int implicit(struct march_state *st, void *state, double dt)
                 D[m][0] = mass + b->fl[s0][q] + bt;
                 lo[m][0] = m > 0 ? b->fl[sm][q] : 0.0;
                 up[m][0] = m < n - 1 ? b->fl[sp][q] : 0.0;
-                x[m][0] = st->res[0][q] - b->rp[0][q];
+                x[m][0] = st->field.residual[0][q] - b->rp[0][q];
                 if (t > 0.0) {
                     D[m][1] = D[m][2] = -bt;
                     D[m][3] = mass + b->pl[s0][q] + bt;
@@ -597,7 +598,7 @@ static int implicit(struct march_state *st, void *state, double dt)
             }
             for (int m = 0; m < n; m++) {
                 ptrdiff_t q = grid_idx(g, i, j, bx->lo[2] + m);
-                st->delta[0][q] = x[m][0];
+                st->field.increment[0][q] = x[m][0];
                 b->dup[0][q] = x[m][1];
             }
         }
@@ -636,7 +637,7 @@ int two_fluid_particle_profile(const struct march_state *st, double *upro, doubl
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 s += b->up[0][q];
                 if (t > 0.0)
-                    smax = fmax(smax, fabs(st->vel[0][q] - b->up[0][q]));
+                    smax = fmax(smax, fabs(st->field.velocity[0][q] - b->up[0][q]));
             }
         upro[k] = t > 0.0 && cnt > 0 ? s / (double)cnt : NAN;
     }

@@ -13,8 +13,8 @@
 
 struct flow_rate {
     double *gravity;     /* the registry's cell field: g, uniform */
-    double *unit[3];     /* the body force per unit g (st->force at g = 1) */
-    double applied;      /* the g st->force holds */
+    double *unit[3];     /* the body force per unit g (st->field.force at g = 1) */
+    double applied;      /* the g st->field.force holds */
     double target;       /* U*; 0 while idle (the force the case's) */
     double pending;      /* this step's increment of g */
     int a;               /* the driven component */
@@ -31,13 +31,13 @@ static double held_gravity(const struct march_state *st, const struct flow_rate 
     return s->gravity[grid_idx(&st->g, 0, 0, 0)];
 }
 
-/* st->force (computed at the case's gravity) as the force per unit g. */
+/* st->field.force (computed at the case's gravity) as the force per unit g. */
 static void take_unit_force(struct march_state *st, struct flow_rate *s)
 {
     double g = st->cs->gravity;
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < st->g.size; p++)
-            s->unit[c][p] = st->force[c][p] / g;
+            s->unit[c][p] = st->field.force[c][p] / g;
     s->applied = g;
 }
 
@@ -91,7 +91,7 @@ static void properties(struct march_state *st, void *state)
         return;
     for (int c = 0; c < 3; c++)
         for (size_t p = 0; p < st->g.size; p++)
-            st->force[c][p] = g * s->unit[c][p];
+            st->field.force[c][p] = g * s->unit[c][p];
     s->applied = g;
 }
 
@@ -114,12 +114,43 @@ static void destroy(void *state)
     free(s);
 }
 
+/* The module's hooks of the coupled step and the loop (march/module.h),
+ * over the functions below. */
+static int held(const struct march_state *st, void *state)
+{
+    (void)state;
+    return flow_rate_held(st);
+}
+
+static int border_column(struct march_state *st, void *state, double *f[3], double *gap)
+{
+    (void)state;
+    return flow_rate_border(st, f, gap);
+}
+
+static double border_row(const struct march_state *st, void *state, double *const u[3])
+{
+    (void)state;
+    return flow_rate_mean(st, u);
+}
+
+static void border_increment(struct march_state *st, void *state, double dg)
+{
+    (void)state;
+    flow_rate_increment(st, dg);
+}
+
+static const struct module_border border = {border_column, border_row, border_increment};
+
 const struct module flow_rate_module = {
     .name = "flow_rate",
     .create = create,
     .properties = properties,
     .end_step = end_step,
     .destroy = destroy,
+    .line_search = held,
+    .border = &border,
+    .coupled_ok = 1,
 };
 
 int flow_rate_held(const struct march_state *st)
@@ -177,7 +208,7 @@ int flow_rate_border(struct march_state *st, double *f[3], double *gap)
         memcpy(f[c], s->unit[c], st->g.size * sizeof(double));
     if (st->embedded) /* a body's held nodes have no residual (physics/obstacle.h) */
         embedded_zero(st->embedded, f);
-    *gap = s->target - flow_rate_mean(st, st->vel);
+    *gap = s->target - flow_rate_mean(st, st->field.velocity);
     return 0;
 }
 

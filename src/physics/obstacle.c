@@ -4,7 +4,6 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <string.h>
 #include "kernels/embedded.h"
 #include "march/step.h"
 #include "solvers/pressure.h"
@@ -122,27 +121,10 @@ static double face_share(const struct shape_set *set, const struct grid *g, int 
     return s / FACE_PARTS;
 }
 
-int obstacle_active(const struct muflow_case *cs)
-{
-    for (const char *s = cs->obstacle.shapes; *s; s++)
-        if (*s != ' ' && *s != '\t' && *s != ';')
-            return 1;
-    return 0;
-}
-
-void obstacle_shapes(const struct muflow_case *cs, struct shape_set *set)
-{
-    char msg[300];
-    memset(set, 0, sizeof *set);
-    if (shapes_parse(set, cs->obstacle.shapes, msg, sizeof msg) != 0)
-        set->n = 0; /* not reached: the case's check parsed them */
-    shapes_set_plane(set, cs->obstacle.plane, cs->obstacle.invert);
-}
-
 double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g)
 {
     struct shape_set set;
-    obstacle_shapes(cs, &set);
+    case_obstacle_shapes(cs, &set);
     double points = (double)g->size;
     /* the faces' open shares, the cut flags and the work field (build_shares);
      * each component's held slots and saved values (build_component) */
@@ -321,7 +303,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
                                   "body's cut cells yet)", st->modules[m]->name);
             return -1;
         }
-    obstacle_shapes(st->cs, &ob->set);
+    case_obstacle_shapes(st->cs, &ob->set);
     int sharp = st->cs->obstacle.boundary == OBSTACLE_SHARP;
     for (int c = 0; c < 3; c++)
         if (build_component(ob, st, c, sharp) != 0) {
@@ -332,7 +314,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         snprintf(err, errlen, "obstacle: out of memory");
         return -1;
     }
-    embedded_zero(&ob->e, st->vel);
+    embedded_zero(&ob->e, st->field.velocity);
     st->embedded = &ob->e;
     /* the projection: the cut cells' flux form (march_density_changed) */
     return march_density_changed(st, 0, err, errlen);
@@ -342,10 +324,11 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
 static void residual(struct march_state *st, void *state)
 {
     struct obstacle *ob = state;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
     viscous_embedded_terms(&st->g, &st->bc, st->act, &ob->e, eta_cell,
-                           (const double *const *)st->eta_e, -1.0, st->vel, st->res);
-    embedded_zero(&ob->e, st->res);
+                           (const double *const *)st->field.viscosity_edges, -1.0,
+                           st->field.velocity, st->field.residual);
+    embedded_zero(&ob->e, st->field.residual);
 }
 
 /* The held nodes stay 0 (their increment is 0 to the solver's round-off). */
@@ -353,7 +336,7 @@ static void end_step(struct march_state *st, void *state, double dt)
 {
     (void)dt;
     struct obstacle *ob = state;
-    embedded_zero(&ob->e, st->vel);
+    embedded_zero(&ob->e, st->field.velocity);
 }
 
 static const char *const obstacle_files[] = {"obstacle_surface.csv", NULL}; /* obstacle_write */
@@ -364,5 +347,7 @@ const struct module obstacle_module = {
     .residual = residual,
     .end_step = end_step,
     .destroy = destroy,
+    .memory_bound = obstacle_memory_bound,
     .files = obstacle_files,
+    .coupled_ok = 1,
 };

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 #include "kernels/embedded.h"
+#include "platform/output_file.h"
 #include "march/step.h"
 #include "physics/obstacle.h"
 #include "solvers/viscous.h"
@@ -33,7 +34,7 @@ static double shape_centre(const struct shape *sh, int k)
 static void plane_init(struct plane *pl, const struct march_state *st)
 {
     pl->st = st;
-    obstacle_shapes(st->cs, &pl->set);
+    case_obstacle_shapes(st->cs, &pl->set);
     pl->a = pl->set.plane_a;
     pl->b = pl->set.plane_b;
     pl->m = 3 - pl->a - pl->b;
@@ -130,9 +131,10 @@ static int surface_sample(const struct plane *pl, struct sample *s)
         y[pl->a] += dist * s->n[0];
         y[pl->b] += dist * s->n[1];
         double pd, ph;
-        if (interp(pl, st->vel[pl->a], pl->a, y, &u[q][0]) || interp(pl, st->vel[pl->b], pl->b, y, &u[q][1]) ||
-            interp(pl, st->p_dyn, -1, y, &pd) || interp(pl, st->p_hyd, -1, y, &ph) ||
-            (q == 0 && interp(pl, st->eta, -1, y, &eta)))
+        if (interp(pl, st->field.velocity[pl->a], pl->a, y, &u[q][0]) ||
+            interp(pl, st->field.velocity[pl->b], pl->b, y, &u[q][1]) ||
+            interp(pl, st->field.p_dyn, -1, y, &pd) || interp(pl, st->field.p_hyd, -1, y, &ph) ||
+            (q == 0 && interp(pl, st->field.viscosity, -1, y, &eta)))
             return -1;
         p[q] = pd + ph;
     }
@@ -226,7 +228,8 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
      * it is no force, and at the granular cylinder's large velocities it
      * was most of the difference between the two estimates */
     const double rho = st->cs->advection ? st->cs->density : 0.0;
-    const double *uN = st->vel[N], *uT = st->vel[T], *etae = st->eta_e[3 - N - T];
+    const double *uN = st->field.velocity[N], *uT = st->field.velocity[T],
+                 *etae = st->field.viscosity_edges[3 - N - T];
     /* the widths and centres' distances where each difference is taken
      * (one size per direction on a uniform grid) */
     /* at(): indices in (a, b) order */
@@ -234,12 +237,13 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
 #define IX(iN, iT) (N == pl->a ? at(pl, (iN), (iT)) : at(pl, (iT), (iN)))
         double un = uN[IX(I, k)];
         double ut = 0.25 * (uT[IX(I - 1, k)] + uT[IX(I, k)] + uT[IX(I - 1, k + 1)] + uT[IX(I, k + 1)]);
-        double p = 0.5 * (st->p_dyn[IX(I - 1, k)] + st->p_dyn[IX(I, k)] + st->p_hyd[IX(I - 1, k)] +
-                          st->p_hyd[IX(I, k)]);
+        double p = 0.5 * (st->field.p_dyn[IX(I - 1, k)] + st->field.p_dyn[IX(I, k)] +
+                          st->field.p_hyd[IX(I - 1, k)] + st->field.p_hyd[IX(I, k)]);
         const double hNm = grid_hc(g, N, I - 1), hNp = grid_hc(g, N, I), hNf = grid_hf(g, N, I);
         const double hT = grid_hc(g, T, k);
-        double tnn = st->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
-                     st->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp; /* mean of 2 eta dudn */
+        /* the mean of 2 eta dudn */
+        double tnn = st->field.viscosity[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
+                     st->field.viscosity[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp;
         double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / grid_hf(g, T, k) +
                                       (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hNf);
         double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / grid_hf(g, T, k + 1) +
@@ -341,20 +345,23 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
     int rc = -1;
     if (!r[0] || !r[1] || !r[2] || !rp[0] || !rp[1] || !rp[2])
         goto done;
-    const double *eta_cell[3] = {st->eta, st->eta, st->eta};
-    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->eta_e, st->vel, r);
+    const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
+    kernel_stress_divergence(g, st->act, eta_cell, (const double *const *)st->field.viscosity_edges,
+                             st->field.velocity, r);
     /* the obstacle module's own residual terms: the cut cells' grad-div
      * (which reaches the held nodes) and the cut links (on fluid nodes, not
      * summed below: their share is taken from the links themselves) */
-    viscous_embedded_terms(g, &st->bc, st->act, e, eta_cell, (const double *const *)st->eta_e,
-                           -1.0, st->vel, r);
-    kernel_gradient_update(g, st->act, st->p_dyn, 1.0, rp);
-    kernel_gradient_update(g, st->act, st->p_hyd, 1.0, rp);
-    if (st->cs->advection) { /* st->adv: the last evaluation's, held nodes included */
+    viscous_embedded_terms(g, &st->bc, st->act, e, eta_cell,
+                           (const double *const *)st->field.viscosity_edges, -1.0,
+                           st->field.velocity, r);
+    kernel_gradient_update(g, st->act, st->field.p_dyn, 1.0, rp);
+    kernel_gradient_update(g, st->act, st->field.p_hyd, 1.0, rp);
+    if (st->cs->advection) { /* st->field.advection: the last evaluation's, held nodes included */
         if (st->density_uniform)
-            kernel_axpy(g, st->act, st->cs->density, (double *const *)st->adv, r);
+            kernel_axpy(g, st->act, st->cs->density, (double *const *)st->field.advection, r);
         else
-            kernel_multiply_add(g, st->act, (double *const *)st->rho_face, (double *const *)st->adv, r);
+            kernel_multiply_add(g, st->act, (double *const *)st->field.density_faces,
+                                (double *const *)st->field.advection, r);
     }
     const double vol = g->h[0] * g->h[1] * g->h[2] / (g->n[pl->m] * g->h[pl->m]);
     double Fd[3] = {0.0, 0.0, 0.0}, Fpd[3] = {0.0, 0.0, 0.0};
@@ -367,9 +374,10 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
         }
     for (long i = 0; i < e->nlinks; i++) { /* the residual's -A w v_P, taken from the fluid */
         const struct embedded_link *l = &e->links[i];
-        double A = l->coef < 3 ? st->eta[l->at] : st->eta_e[l->coef - 3][l->at];
+        double A = l->coef < 3 ? st->field.viscosity[l->at]
+                               : st->field.viscosity_edges[l->coef - 3][l->at];
         double v = grid_stretched(g) ? node_area(pl, l->c, l->p) : vol;
-        Fd[l->c] += A * l->w * st->vel[l->c][l->p] * v;
+        Fd[l->c] += A * l->w * st->field.velocity[l->c][l->p] * v;
     }
     F[0] = Fd[pl->a], F[1] = Fd[pl->b];
     Fp[0] = Fpd[pl->a], Fp[1] = Fpd[pl->b];
@@ -499,7 +507,8 @@ double obstacle_mean_velocity(const struct march_state *st)
     int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
-    return copysign(1.0, f[a]) * kernel_component_mean(&st->g, &st->act[a], a, st->vel[a]);
+    return copysign(1.0, f[a]) *
+           kernel_component_mean(&st->g, &st->act[a], a, st->field.velocity[a]);
 }
 
 /* The flow's direction: an inflow face's (into the box), else the
@@ -521,7 +530,7 @@ static int flow_direction(const struct march_state *st, double *sense)
     return f[a] != 0.0 ? a : -1;
 }
 
-void obstacle_results(const struct march_state *st, struct run_result *res)
+void obstacle_results(const struct march_state *st, struct result_values *res)
 {
     /* a wall around the fluid (obstacle.invert: a duct) is no body in a
      * flow: no drag or lift, front, back or box around it (its forces in
@@ -532,7 +541,7 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     struct obstacle_forces f;
     int rc = obstacle_forces(st, &f);
     struct shape_set set;
-    obstacle_shapes(st->cs, &set);
+    case_obstacle_shapes(st->cs, &set);
     /* drag along the flow (positive downstream), lift across it in the
      * plane (positive along the grid's axis): the flow along the plane's a
      * (k = 0) or b (k = 1); a flow along the extrusion, or none, has
@@ -543,48 +552,48 @@ void obstacle_results(const struct march_state *st, struct run_result *res)
     if (k >= 0) {
         int along = k, across = 1 - k;
         double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
-        run_result_add(res, "drag_force", "%.10g", sense * f.surface[along]);
-        run_result_add(res, "lift_force", "%.10g", f.surface[across]);
-        run_result_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
-        run_result_add(res, "drag_force_reconstructed", "%.10g", sense * f.reconstructed[along]);
-        run_result_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[across]);
-        run_result_add(res, "drag_force_pressure_reconstructed", "%.10g",
+        result_values_add(res, "drag_force", "%.10g", sense * f.surface[along]);
+        result_values_add(res, "lift_force", "%.10g", f.surface[across]);
+        result_values_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
+        result_values_add(res, "drag_force_reconstructed", "%.10g", sense * f.reconstructed[along]);
+        result_values_add(res, "lift_force_reconstructed", "%.10g", f.reconstructed[across]);
+        result_values_add(res, "drag_force_pressure_reconstructed", "%.10g",
                        sense * f.reconstructed_pressure[along]);
-        run_result_add(res, "drag_force_control_volume", "%.10g", sense * f.control_volume[along]);
-        run_result_add(res, "lift_force_control_volume", "%.10g", f.control_volume[across]);
+        result_values_add(res, "drag_force_control_volume", "%.10g", sense * f.control_volume[along]);
+        result_values_add(res, "lift_force_control_volume", "%.10g", f.control_volume[across]);
         if (q > 0.0) {
-            run_result_add(res, "drag_coefficient", "%.10g", sense * f.surface[along] / q);
-            run_result_add(res, "lift_coefficient", "%.10g", f.surface[across] / q);
-            run_result_add(res, "drag_coefficient_control_volume", "%.10g",
+            result_values_add(res, "drag_coefficient", "%.10g", sense * f.surface[along] / q);
+            result_values_add(res, "lift_coefficient", "%.10g", f.surface[across] / q);
+            result_values_add(res, "drag_coefficient_control_volume", "%.10g",
                            sense * f.control_volume[along] / q);
-            run_result_add(res, "lift_coefficient_control_volume", "%.10g",
+            result_values_add(res, "lift_coefficient_control_volume", "%.10g",
                            f.control_volume[across] / q);
-            run_result_add(res, "drag_coefficient_reconstructed", "%.10g",
+            result_values_add(res, "drag_coefficient_reconstructed", "%.10g",
                            sense * f.reconstructed[along] / q);
-            run_result_add(res, "lift_coefficient_reconstructed", "%.10g",
+            result_values_add(res, "lift_coefficient_reconstructed", "%.10g",
                            f.reconstructed[across] / q);
         }
         /* the front and back points lie along a */
         if (k == 0 && !f.mirror[0])
-            run_result_add(res, "pressure_drop", "%.10g", sense * f.front_back);
+            result_values_add(res, "pressure_drop", "%.10g", sense * f.front_back);
     } else {
         const int axis[2] = {set.plane_a, set.plane_b};
         for (int c = 0; c < 2; c++) {
             char key[40];
             snprintf(key, sizeof key, "force_%c", "xyz"[axis[c]]);
-            run_result_add(res, key, "%.10g", f.surface[c]);
+            result_values_add(res, key, "%.10g", f.surface[c]);
             snprintf(key, sizeof key, "force_%c_control_volume", "xyz"[axis[c]]);
-            run_result_add(res, key, "%.10g", f.control_volume[c]);
+            result_values_add(res, key, "%.10g", f.control_volume[c]);
         }
     }
     double u_mean = obstacle_mean_velocity(st);
     if (isfinite(u_mean))
-        run_result_add(res, "mean_velocity", "%.10g", u_mean);
+        result_values_add(res, "mean_velocity", "%.10g", u_mean);
     if (rc == -2)
-        run_result_add(res, "obstacle_warning", "%s",
+        result_values_add(res, "obstacle_warning", "%s",
                        "no memory for the discrete force: drag and lift are 0");
     else if (rc != 0)
-        run_result_add(res, "obstacle_warning", "%s",
+        result_values_add(res, "obstacle_warning", "%s",
                        "samples reached into the body (too few cells across): reconstructed forces incomplete");
 }
 

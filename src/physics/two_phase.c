@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "kernels/vof.h"
 #include "physics/two_phase.h"
 #include "physics/vof_transport.h"
@@ -114,7 +114,7 @@ int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen)
                 for (int k = 0; k <= g->n[2]; k++) {
                     ptrdiff_t q = grid_idx(g, i, j, k);
                     double t = 0.5 * (tp->T[q] + tp->T[q - o[c]]);
-                    st->rho_face[c][q] = t * rg + (1.0 - t) * rf;
+                    st->field.density_faces[c][q] = t * rg + (1.0 - t) * rf;
                 }
     return march_density_changed(st, 0, err, errlen);
 }
@@ -250,8 +250,8 @@ static void properties(struct march_state *st, void *state)
                 double *tan[3] = {NULL, NULL, NULL};
                 if (cs->newton)
                     for (int a = 0; a < 3; a++)
-                        tan[a] = &st->tan_c[a][q];
-                mix_point(tp, rg, tp->T[q], 0, &st->eta[q], tan, cs->newton ? 3 : 0,
+                        tan[a] = &st->field.tangent_cells[a][q];
+                mix_point(tp, rg, tp->T[q], 0, &st->field.viscosity[q], tan, cs->newton ? 3 : 0,
                           st->b_c ? &st->b_c[q] : NULL);
             }
     for (int c = 0; c < 3; c++) {
@@ -270,15 +270,16 @@ static void properties(struct march_state *st, void *state)
                     double t = series ? tp->edge_t[c][e]
                                       : 0.25 * (T[e] + T[e - o[a]] + T[e - o[b]] +
                                                 T[e - o[a] - o[b]]);
-                    double *tan[1] = {cs->newton ? &st->tan_e[c][e] : NULL};
-                    mix_point(tp, rg, t, series && t > 0.0 && t < 1.0, &st->eta_e[c][e], tan,
-                              cs->newton ? 1 : 0, st->b_e[c] ? &st->b_e[c][e] : NULL);
+                    double *tan[1] = {cs->newton ? &st->field.tangent_edges[c][e] : NULL};
+                    mix_point(tp, rg, t, series && t > 0.0 && t < 1.0,
+                              &st->field.viscosity_edges[c][e], tan, cs->newton ? 1 : 0,
+                              st->b_e[c] ? &st->b_e[c][e] : NULL);
                 }
     }
-    bc_fill_scalar(g, &st->bc, st->eta);
+    bc_fill_scalar(g, &st->bc, st->field.viscosity);
     if (cs->newton)
         for (int a = 0; a < 3; a++)
-            bc_fill_scalar(g, &st->bc, st->tan_c[a]);
+            bc_fill_scalar(g, &st->bc, st->field.tangent_cells[a]);
 }
 
 /* The transport stage: T carried by the projected velocity over the step,
@@ -291,13 +292,13 @@ static int transport(struct march_state *st, void *state, double dt)
     if (!tp->configured || !tp->transported)
         return 0;
     double cfl[3];
-    long n = (long)ceil(vof_cfl(&st->g, st->vel, dt, cfl) / TRANSPORT_CFL);
+    long n = (long)ceil(vof_cfl(&st->g, st->field.velocity, dt, cfl) / TRANSPORT_CFL);
     if (n < 1)
         n = 1;
-    bc_fill_velocity(&st->g, &st->bc, st->vel);
+    bc_fill_velocity(&st->g, &st->bc, st->field.velocity);
     memcpy(tp->before, tp->T, st->g.size * sizeof(double));
     for (long m = 0; m < n; m++)
-        vof_transport_step(&tp->vt, tp->T, st->vel, dt / (double)n, NULL);
+        vof_transport_step(&tp->vt, tp->T, st->field.velocity, dt / (double)n, NULL);
     /* the density (and the multigrid's coefficients, rebuilt with a
      * factorisation of its coarsest level) only when T moved: a flat layer
      * sheared along itself keeps T to round-off */
@@ -327,7 +328,7 @@ static double max_dt(const struct march_state *st, void *state)
     if (!tp->configured || !tp->transported || !(tp->p.step_cfl > 0.0))
         return INFINITY;
     double cfl[3];
-    double c = vof_cfl(&st->g, st->vel, 1.0, cfl);
+    double c = vof_cfl(&st->g, st->field.velocity, 1.0, cfl);
     return c > 0.0 ? fmin(tp->p.step_cfl, VOF_CFL_MAX) / c : INFINITY;
 }
 
@@ -351,8 +352,9 @@ static int save(const struct march_state *st, void *state, struct module_record 
         module_record_put(rec, "edges_stale", &stale, 1) != 0)
         return -1;
     for (int c = 0; c < 3; c++)
-        if (module_record_put_field(rec, rho_names[c], g, st->rho_face[c]) != 0 ||
-            (!tp->edges_stale && module_record_put_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
+        if (module_record_put_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
+            (!tp->edges_stale &&
+             module_record_put_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
             return -1;
     return 0;
 }
@@ -374,8 +376,9 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
         tp->vt.steps = (long)steps;
     tp->edges_stale = stale != 0.0;
     for (int c = 0; c < 3; c++)
-        if (module_record_get_field(rec, rho_names[c], g, st->rho_face[c]) != 0 ||
-            (!tp->edges_stale && module_record_get_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
+        if (module_record_get_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
+            (!tp->edges_stale &&
+             module_record_get_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
             return -1;
     if (march_density_changed(st, 0, err, sizeof err) != 0)
         return module_record_fail(rec, "%s", err);

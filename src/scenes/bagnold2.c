@@ -34,7 +34,7 @@
 #include <string.h>
 #include "diagnostics/growth.h"
 #include "diagnostics/profile.h"
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "io/output.h"
 #include "physics/obstacle.h"
 #include "physics/two_phase.h"
@@ -190,7 +190,7 @@ static const char *exact_missing(const struct muflow_case *cs, char *why, size_t
             return "the flow varies across y (boundary.ylo, yhi)";
         }
     }
-    if (obstacle_active(cs)) {
+    if (case_obstacle_active(cs)) {
         snprintf(why, len, "obstacle.shapes puts a body in the flow: it is not uniform");
         return "a body in the flow (obstacle.shapes)";
     }
@@ -270,7 +270,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
         for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = 0; k < g->n[2]; k++)
-                    st->vel[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
+                    st->field.velocity[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
     /* the stream function of each x-z plane, in the grains (sin^2(pi z / h0)
      * below the interface, 0 above: the air starts unperturbed), every
      * wavelength of the grid seeded, so which one grows fastest is measured,
@@ -399,9 +399,9 @@ void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap)
         for (int k = 0; k < g->n[2]; k++) {
             double su = 0.0, sw = 0.0, sp = 0.0;
             for (int i = 0; i < nx; i++) {
-                su += st->vel[0][grid_idx(g, i, j, k)];
-                sw += st->vel[2][grid_idx(g, i, j, k)];
-                sp += st->pressure[grid_idx(g, i, j, k)];
+                su += st->field.velocity[0][grid_idx(g, i, j, k)];
+                sw += st->field.velocity[2][grid_idx(g, i, j, k)];
+                sp += st->field.pressure[grid_idx(g, i, j, k)];
             }
             su /= nx;
             sw /= nx;
@@ -410,11 +410,11 @@ void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap)
                 double tc = T[grid_idx(g, i, j, k)];
                 double tx = 0.5 * (tc + T[grid_idx(g, (i + nx - 1) % nx, j, k)]);
                 if (tx >= 0.5)
-                    mu = fmax(mu, fabs(st->vel[0][grid_idx(g, i, j, k)] - su));
+                    mu = fmax(mu, fabs(st->field.velocity[0][grid_idx(g, i, j, k)] - su));
                 if (k > 0 && 0.5 * (tc + T[grid_idx(g, i, j, k - 1)]) >= 0.5)
-                    mu = fmax(mu, fabs(st->vel[2][grid_idx(g, i, j, k)] - sw));
+                    mu = fmax(mu, fabs(st->field.velocity[2][grid_idx(g, i, j, k)] - sw));
                 if (tc >= 0.5)
-                    mp = fmax(mp, fabs(st->pressure[grid_idx(g, i, j, k)] - sp));
+                    mp = fmax(mp, fabs(st->field.pressure[grid_idx(g, i, j, k)] - sp));
             }
         }
     *au = mu;
@@ -544,7 +544,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     (void)d;
     const struct muflow_case *cs = st->cs;
     struct profile pr;
-    if (profile_extract(&pr, st) != 0)
+    if (scene_profile(&pr, st) != 0)
         return;
     double h0 = params(cs)->interface_height, rg, mg, ra, ma;
     part_errors(&pr, 0.0, h0, &rg, &mg);

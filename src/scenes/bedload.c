@@ -124,7 +124,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     (void)d;
     const struct muflow_case *cs = st->cs;
     struct profile pr;
-    if (profile_extract(&pr, st) != 0)
+    if (scene_profile(&pr, st) != 0)
         return;
     struct bedload_exact x = exact_of(cs);
     double hp = params(cs)->bed_height;
@@ -196,7 +196,7 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (params(cs)->model != BEDLOAD_TWO_FLUID)
         return 0;
     struct profile pr;
-    if (profile_extract(&pr, st) != 0)
+    if (scene_profile(&pr, st) != 0)
         return 0;
     double *up = malloc((size_t)pr.n * sizeof *up);
     int rc = 0;

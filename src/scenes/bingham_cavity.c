@@ -112,7 +112,7 @@ static double stream_function_max(const struct march_state *st)
         for (int k = 0; k < g->n[2]; k++) {
             double u = 0.0;
             for (int j = 0; j < g->n[1]; j++)
-                u += st->vel[0][grid_idx(g, i, j, k)];
+                u += st->field.velocity[0][grid_idx(g, i, j, k)];
             psi += u / g->n[1] * g->h[2];
             m = fmax(m, fabs(psi));
         }

@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "diagnostics/reference.h"
-#include "io/module_record.h"
+#include "march/module_record.h"
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
@@ -206,10 +206,10 @@ static void end_step(struct march_state *st, void *state, double dt)
     double s = 0.0;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
-            s += st->p_dyn[grid_idx(g, i, j, k)];
+            s += st->field.p_dyn[grid_idx(g, i, j, k)];
     s /= (double)g->n[0] * g->n[1];
     for (size_t p = 0; p < g->size; p++)
-        st->p_dyn[p] -= s;
+        st->field.p_dyn[p] -= s;
 }
 
 static int grow(void **a, long *cap, long need, size_t each)

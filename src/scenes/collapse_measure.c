@@ -76,7 +76,8 @@ void collapse_measure(const struct march_state *st, const double *T, struct coll
             for (int j = b->lo[1]; j < b->hi[1]; j++)
                 for (int k = b->lo[2]; k < b->hi[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    ke += 0.5 * st->rho_face[c][p] * st->vel[c][p] * st->vel[c][p];
+                    ke += 0.5 * st->field.density_faces[c][p] * st->field.velocity[c][p] *
+                          st->field.velocity[c][p];
                 }
     }
     s->kinetic = ke * g->h[0] * g->h[2] / g->n[1];

@@ -113,7 +113,7 @@ static struct box_geometry geometry(const struct muflow_case *cs)
 {
     struct box_geometry b = {NAN, NAN};
     struct shape_set set;
-    obstacle_shapes(cs, &set);
+    case_obstacle_shapes(cs, &set);
     if (set.n != 1 || set.s[0].kind != SHAPE_CIRCLE || set.invert || set.plane_a != 0 ||
         set.plane_b != 2)
         return b;

@@ -110,7 +110,7 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                  c->n[1], c->n[2]);
         return 1;
     }
-    if (obstacle_active(c) && c->obstacle.plane != OBSTACLE_YZ) {
+    if (case_obstacle_active(c) && c->obstacle.plane != OBSTACLE_YZ) {
         snprintf(msg, msglen, "case.scene = duct needs obstacle.plane = yz (the shapes draw "
                               "the duct's wall in its cross-section)");
         return 1;
@@ -138,7 +138,7 @@ static double column_u(const struct march_state *st, int j, int k)
     const struct grid *g = &st->g;
     double s = 0.0;
     for (int i = 0; i < g->n[0]; i++)
-        s += st->vel[0][grid_idx(g, i, j, k)];
+        s += st->field.velocity[0][grid_idx(g, i, j, k)];
     return s / g->n[0];
 }
 
@@ -178,7 +178,7 @@ static double open_area(const struct march_state *st)
 {
     const struct grid *g = &st->g;
     struct shape_set set;
-    obstacle_shapes(st->cs, &set);
+    case_obstacle_shapes(st->cs, &set);
     double reach = hypot(g->h[1], g->h[2]), open = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
@@ -251,7 +251,7 @@ static void measure(const struct march_state *st, struct duct_measures *m)
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++)
                 for (int k = b->lo[2]; k < b->hi[2]; k++)
-                    s = fmax(s, fabs(st->vel[c][grid_idx(g, i, j, k)]));
+                    s = fmax(s, fabs(st->field.velocity[c][grid_idx(g, i, j, k)]));
     }
     double um = largest_u(st);
     m->secondary = um > 0.0 ? s / um : s;

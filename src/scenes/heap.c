@@ -21,7 +21,7 @@ static double column_u(const struct march_state *st, int j, int k)
     const struct grid *g = &st->g;
     double s = 0.0;
     for (int i = 0; i < g->n[0]; i++)
-        s += st->vel[0][grid_idx(g, i, j, k)];
+        s += st->field.velocity[0][grid_idx(g, i, j, k)];
     return s / g->n[0];
 }
 

@@ -86,10 +86,10 @@ void perturbation_add(struct march_state *st, enum perturbation_shape shape, dou
                         umax = fmax(umax, fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))));
                     } else {
                         ptrdiff_t p = grid_idx(g, i, j, k);
-                        st->vel[0][p] += scale * v[0];
+                        st->field.velocity[0][p] += scale * v[0];
                         if (shape == PERTURB_3D)
-                            st->vel[1][p] += scale * v[1];
-                        st->vel[2][p] += scale * v[2];
+                            st->field.velocity[1][p] += scale * v[1];
+                        st->field.velocity[2][p] += scale * v[2];
                     }
                 }
     }

@@ -7,6 +7,7 @@
 #include "config/keys.h"
 #include "march/march.h"
 #include "march/module.h"
+#include "physics/obstacle.h"
 #include "scenes/scene.h"
 
 #define SCENE_LIST(X)      \
@@ -78,6 +79,9 @@ int scene_has_reference(const struct scene *s)
     return strcmp(scene_solution_name(s), "reference") == 0;
 }
 
+/* the case's obstacles are a module of every scene */
+const struct module *const scene_case_modules[] = {&obstacle_module, NULL};
+
 /* Adds the names of list (NULL-terminated, or NULL) not yet in names. */
 static int add_names(const char **names, int *n, int max, const char *const *list)
 {
@@ -101,7 +105,7 @@ int scene_output_files(const char **names, int max, const struct module *const *
     if (max < 1)
         return -1;
     names[0] = NULL;
-    const struct module *const *common[2] = {march_case_modules, extra};
+    const struct module *const *common[2] = {scene_case_modules, extra};
     for (int i = 0; i < NSCENES; i++) {
         if (add_names(names, &n, max, registry[i]->files) != 0)
             return -1;

@@ -38,8 +38,8 @@ static double misfit(double tilt, void *vctx)
     int from_last = res->solves > 0 && fabs(x->last_f) < 0.1;
     if (!from_last) {
         for (int c = 0; c < 3; c++)
-            memset(st->vel[c], 0, st->g.size * sizeof(double));
-        memset(st->p_dyn, 0, st->g.size * sizeof(double));
+            memset(st->field.velocity[c], 0, st->g.size * sizeof(double));
+        memset(st->field.p_dyn, 0, st->g.size * sizeof(double));
     }
     char err[256];
     if (march_reforce(st, err, sizeof err) != 0) {

@@ -1,0 +1,20 @@
+/* A file written under a temporary name and renamed when complete, so that a
+ * file that exists is whole (every output of a run: io/output.h, and the
+ * modules' and scenes' own files). */
+#ifndef MUFLOW_PLATFORM_OUTPUT_FILE_H
+#define MUFLOW_PLATFORM_OUTPUT_FILE_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+struct output_file {
+    FILE *f;
+    char path[600], tmp[620];
+};
+/* Opens dir/name.tmp; returns 0, or -1 with the cause in err. */
+int output_open(struct output_file *o, const char *dir, const char *name, char *err,
+                size_t errlen);
+/* Closes and renames it (removing the temporary on failure). */
+int output_commit(struct output_file *o, char *err, size_t errlen);
+
+#endif

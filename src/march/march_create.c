@@ -1,0 +1,165 @@
+/* Creating and destroying a march (march.h). */
+#include <stdio.h>
+#include <string.h>
+#include "march_internal.h"
+
+#include "march/step.h"
+#include "solvers/sparse_direct.h"
+
+/* The projection's condition on a face: the pressure vanishes on an open
+ * face (Dirichlet), its normal gradient on every closed or prescribed one. */
+static enum poisson_bc projection_bc(enum bc_kind k)
+{
+    return k == BC_PERIODIC ? POISSON_PERIODIC : k == BC_OPEN ? POISSON_DIRICHLET : POISSON_NEUMANN;
+}
+
+/* The setup's modules, in order. */
+static int add_modules(struct march_state *st, const struct march_setup *su, char *err,
+                       size_t errlen)
+{
+    for (int l = 0; l < 3; l++)
+        for (const struct module *const *m = su->modules[l]; m && *m; m++) {
+            if (st->nmodules == MODULES_MAX) {
+                snprintf(err, errlen, "more than %d physics modules", MODULES_MAX);
+                return -1;
+            }
+            /* the coupled step solves the velocity and pressure of one
+             * density and one velocity field (module.h: coupled_ok) */
+            if (st->cs->coupled && !(*m)->coupled_ok) {
+                snprintf(err, errlen, "solver.coupled = on: the physics module '%s' of this "
+                                      "scene is not supported by the coupled step yet",
+                         (*m)->name);
+                return -1;
+            }
+            int i = st->nmodules++;
+            st->modules[i] = *m;
+            if ((*m)->create && (*m)->create(st, &st->module_state[i], err, errlen) != 0)
+                return -1;
+        }
+    return 0;
+}
+
+int march_create(struct march_state *st, const struct muflow_case *cs,
+                 const struct march_setup *su, char *err, size_t errlen)
+{
+    memset(st, 0, sizeof *st);
+    st->cs = cs;
+    st->bc = cs->bc;
+    st->rheo = cs->rheo;
+    if (cs->mode == MODE_STEADY)
+        st->rheo.lambda *= cs->continuation;
+    int wraps[3];
+    bc_periodic_flags(&cs->bc, wraps);
+    if (grid_init_compact(&st->g, cs->n, cs->len, wraps) != 0) {
+        snprintf(err, errlen, "grid: invalid cell counts or lengths");
+        return -1;
+    }
+    for (int d = 0; d < 3; d++) {
+        char why[300];
+        int r = case_axis(cs, d, &st->axes[d], why, sizeof why);
+        if (r > 0 && grid_set_axis(&st->g, d, &st->axes[d]) != 0) {
+            snprintf(why, sizeof why, "the field would not fit in memory");
+            r = -1;
+        }
+        if (r < 0) {
+            snprintf(err, errlen, "domain.%c_band: %s", "xyz"[d],
+                     why[0] ? why : "not 'lo hi h' triples separated by ';'");
+            march_destroy(st);
+            return -1;
+        }
+    }
+    const struct grid *g = &st->g;
+    fields_init(&st->fields, g);
+    bc_unknown_boxes(g, &st->bc, st->act);
+    /* refuse before allocating what the machine does not have (case_load
+     * refuses it first, from the case alone) */
+    enum viscous_precond kind;
+    double avail = march_available_memory();
+    st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
+    st->precond = kind;
+    if (avail > 0.0 && st->memory_estimate > avail) {
+        march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);
+        march_destroy(st);
+        return -1;
+    }
+    if (march_register_fields(st) != 0) {
+        snprintf(err, errlen, "out of memory for a %d x %d x %d grid", g->n[0], g->n[1], g->n[2]);
+        march_destroy(st);
+        return -1;
+    }
+    /* one density everywhere until a module says otherwise */
+    st->rho_ref = cs->density;
+    st->density_uniform = 1;
+    for (int c = 0; c < 3; c++)
+        for (size_t p = 0; p < g->size; p++)
+            st->field.density_faces[c][p] = cs->density;
+    enum poisson_bc pbc[3][2];
+    for (int d = 0; d < 3; d++)
+        for (int s = 0; s < 2; s++)
+            pbc[d][s] = projection_bc(st->bc.face[d][s]);
+    /* the probed LU and the AMG both take the full (non-symmetric) tangent,
+     * and so does the coupled step whatever the preconditioner named; the
+     * Cholesky factorises the diagonal tangent and BiCGStab solves the full
+     * one with it (docs/numerics/implicit-step-and-newton.md) */
+    st->full_tangent = (kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY ||
+                        kind == VISCOUS_GMG || kind == VISCOUS_MG ||
+                        cs->coupled) && cs->newton;
+    int ok = 1;
+    if (cs->augmentation > 0.0) {
+        const struct field_spec s = {"augmentation", FIELD_CELLS, 0};
+        ok &= fields_add(&st->fields, &s, &st->aug) >= 0;
+    }
+    if (st->full_tangent) {
+        const struct field_spec sc = {"tangent_b_cells", FIELD_CELLS, 0},
+                                se = {"tangent_b_edges", FIELD_EDGES, 0};
+        ok &= fields_add(&st->fields, &sc, &st->b_c) >= 0 &&
+              fields_add(&st->fields, &se, st->b_e) >= 0;
+    }
+    if (!ok) {
+        snprintf(err, errlen, "out of memory for the full tangent");
+        march_destroy(st);
+        return -1;
+    }
+    /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
+    if ((!grid_stretched(g) && pressure_create(&st->pressure_solver, g,
+                                               (const enum poisson_bc(*)[2])pbc, err,
+                                               errlen) != 0) ||
+        viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
+                       errlen) != 0 ||
+        add_modules(st, su, err, errlen) != 0 || (su->setup && su->setup(st, err, errlen) != 0) ||
+        hydrostatic_split(st, err, errlen) != 0) {
+        march_destroy(st);
+        return -1;
+    }
+    viscous_set_reuse(st->viscous, cs->preconditioner_reuse);
+    /* an AMG or a geometric multigrid whose GMRES fails gives way to the LU
+     * where that fits: the factorisation's limits, and the run with the LU
+     * in the memory the machine had at the start */
+    int periodic[3];
+    bc_periodic_flags(&st->bc, periodic);
+    viscous_allow_lu_fallback(st->viscous,
+                              (kind == VISCOUS_AMG || kind == VISCOUS_GMG) &&
+                                  3L * (long)grid_cells(g) <= FACTOR_MAX_UNKNOWNS &&
+                                  sparse_direct_probes_for(g, periodic, 2) <=
+                                      sparse_direct_max_probes() &&
+                                  !(avail > 0.0 &&
+                                    march_memory_estimate(cs, su, g, VISCOUS_LU) > avail));
+    st->dt = cs->dt;
+    march_forget_progress(st);
+    st->dt_scale = 1.0;
+    return 0;
+}
+
+void march_destroy(struct march_state *st)
+{
+    for (int i = st->nmodules - 1; i >= 0; i--)
+        if (st->modules[i]->destroy)
+            st->modules[i]->destroy(st->module_state[i]);
+    fields_free(&st->fields);
+    pressure_destroy(st->pressure_solver);
+    viscous_destroy(st->viscous);
+    stage_coupled_destroy(st->coupled);
+    for (int d = 0; d < 3; d++)
+        grid_axis_free(&st->axes[d]);
+    memset(st, 0, sizeof *st);
+}

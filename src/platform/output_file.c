@@ -1,0 +1,42 @@
+/* Whole files: written under a temporary name, renamed (output_file.h). */
+#include "platform/output_file.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+
+int output_open(struct output_file *o, const char *dir, const char *name, char *err,
+                size_t errlen)
+{
+    o->f = NULL;
+    if (snprintf(o->path, sizeof o->path, "%s/%s", dir, name) >= (int)sizeof o->path ||
+        snprintf(o->tmp, sizeof o->tmp, "%s/%s.tmp", dir, name) >= (int)sizeof o->tmp) {
+        snprintf(err, errlen, "output path too long in %s", dir);
+        return -1;
+    }
+    o->f = fopen(o->tmp, "w");
+    if (!o->f) {
+        snprintf(err, errlen, "cannot write %s: %s", o->tmp, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+/* On any failure the temporary is removed. */
+int output_commit(struct output_file *o, char *err, size_t errlen)
+{
+    FILE *f = o->f;
+    o->f = NULL;
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad) {
+        snprintf(err, errlen, "cannot write %s: %s", o->tmp, strerror(errno ? errno : EIO));
+        remove(o->tmp);
+        return -1;
+    }
+    if (rename(o->tmp, o->path) != 0) {
+        snprintf(err, errlen, "cannot rename %s to %s: %s", o->tmp, o->path, strerror(errno));
+        remove(o->tmp);
+        return -1;
+    }
+    return 0;
+}
