@@ -1,13 +1,11 @@
 /* Matrix-free implicit viscous solve (viscous.h): the solver object, its
  * settings, the solve and its retries; the preconditioners are built in
- * viscous_precond.c, the Krylov loops run in viscous_krylov.c
- * (viscous_internal.h). */
-#define _POSIX_C_SOURCE 200809L /* clock_gettime */
+ * viscous_precond.c, the Krylov loops run in viscous_krylov.c, the operator
+ * is applied in viscous_apply.c (viscous_internal.h). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
-#include <time.h>
 #include <gsl/gsl_errno.h>
 #include "solvers/viscous_internal.h"
 
@@ -17,13 +15,6 @@
 #define MG_RESTART 30 /* GMRES(30) around the velocity multigrid */
 
 int viscous_line_direction(const struct viscous_solver *s) { return s->line_dir; }
-
-double visc_cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 void viscous_allow_lu_fallback(struct viscous_solver *s, int on) { s->lu_fallback = on; }
 
@@ -287,22 +278,6 @@ void viscous_destroy(struct viscous_solver *s)
             field_free(fs[m]);
     }
     free(s);
-}
-
-void viscous_apply(struct viscous_solver *s, const struct viscous_problem *pb, double *v[3],
-                   double *out[3])
-{
-    const struct viscous_work w = {.divbuf = s->divbuf, .pn = s->pn, .Bc = s->Bc,
-                                   .pe = {s->pe[0], s->pe[1], s->pe[2]},
-                                   .Be = {s->Be[0], s->Be[1], s->Be[2]},
-                                   .tmp = {s->tmp[0], s->tmp[1], s->tmp[2]}};
-    viscous_operator_eval(s->g, s->bc, s->act, &w, pb, v, out);
-}
-
-void viscous_operator_apply(void *ctx, double *v[3], double *out[3])
-{
-    struct viscous_operator *a = ctx;
-    viscous_apply(a->s, a->pb, v, out);
 }
 
 static int solve(struct viscous_solver *s, const struct viscous_problem *pb, double *const rhs[3],
