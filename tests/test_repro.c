@@ -15,9 +15,11 @@
  *
  * The run-time defaults: muflow re-executes itself with a short spin count
  * (GOMP_SPINCOUNT=1000) unless the user set OMP_WAIT_POLICY or GOMP_SPINCOUNT
- * or runs one thread, and with malloc's huge pages (GLIBC_TUNABLES) unless the
- * user set that (src/app/main.c); libgomp's OMP_DISPLAY_ENV=verbose prints
- * the spin count each image uses, one block per image. */
+ * or runs one thread (sleeping at once instead when the machine is busy at
+ * start: MUFLOW_MACHINE_LOAD stands for the load average), and with malloc's
+ * huge pages (GLIBC_TUNABLES) unless the user set that (src/app/main.c);
+ * libgomp's OMP_DISPLAY_ENV=verbose prints the spin count each image uses,
+ * one block per image. */
 #define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include <limits.h>
 #include <stdio.h>
@@ -123,11 +125,13 @@ static void test_wait_policy(void **state)
         int blocks; /* images started: 2 when muflow re-executes itself */
         const char *grid;
     } cases[] = {
-        /* a 32^3 grid opens parallel regions: no policy set, short spinning */
-        {"OMP_NUM_THREADS=2", 1000, 2, LARGE},
+        /* a 32^3 grid opens parallel regions: no policy set, short spinning
+         * on an idle machine, sleeping at once (passive: 0) on a busy one */
+        {"OMP_NUM_THREADS=2 MUFLOW_MACHINE_LOAD=0", 1000, 2, LARGE},
+        {"OMP_NUM_THREADS=2 MUFLOW_MACHINE_LOAD=64", 0, 2, LARGE},
         /* the user's choices are kept; the huge pages alone still re-execute */
         {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=active", -1, 2, LARGE},
-        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000", 5000, 2, LARGE},
+        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000 MUFLOW_MACHINE_LOAD=64", 5000, 2, LARGE},
         {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive", 0, 2, LARGE},
         /* both set by the user (an empty GLIBC_TUNABLES too): no re-exec */
         {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000 GLIBC_TUNABLES=", 5000, 1, LARGE},
