@@ -7,7 +7,7 @@ threads, on an idle machine and beside two other busy processes.
 For each case file of cases/ (with the bounds below on the long ones), the
 three settings run alternately, N times each, first with nothing else
 running, then with two processes that spin on the two cores (a user's busy
-laptop).  Writes OUT/threads_busy.md: the median wall seconds of each
+laptop), each block once the load average shows it.  Writes OUT/threads_busy.md: the median wall seconds of each
 setting, the ratio of the default to the better of the other two (the
 default should be within 1.2 of it when busy), and the load average beside
 each block; OUT/threads_busy.csv has every run.
@@ -32,7 +32,7 @@ BOUNDS = {
 SETTINGS = [
     ("default", {}),
     ("one thread", {"OMP_NUM_THREADS": "1"}),
-    ("two passive", {"OMP_WAIT_POLICY": "passive"}),
+    ("two passive", {"OMP_NUM_THREADS": "2", "OMP_WAIT_POLICY": "passive"}),
 ]
 
 
@@ -41,11 +41,25 @@ def spin():
     return subprocess.Popen([sys.executable, "-c", "while True: pass"])
 
 
+def settle(busy, limit=120.0):
+    """Waits (up to limit s) until the 1-minute load average says what the
+    block is: at least the cores less half a core beside the spinners (a
+    machine that has been busy for a while, which muflow reads at start to
+    choose its threads' waiting), below half a core when idle."""
+    cores = os.cpu_count() or 1
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < limit:
+        load = os.getloadavg()[0]
+        if (busy and load >= cores - 0.5) or (not busy and load < 0.5):
+            return
+        time.sleep(2.0)
+
+
 def run(muflow, case, extra, env_extra, outdir):
     env = dict(os.environ)
     env.pop("OMP_WAIT_POLICY", None)
     env.pop("GOMP_SPINCOUNT", None)
-    env["OMP_NUM_THREADS"] = "2"
+    env.pop("OMP_NUM_THREADS", None)  # the default: OpenMP's count, the cores
     env.update(env_extra)
     cmd = [muflow, case, "output.quiet=on", "output.fields=off", "output.dir=" + outdir] + extra
     t0 = time.monotonic()
@@ -69,7 +83,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         for busy in (False, True):
             spinners = [spin(), spin()] if busy else []
-            time.sleep(0.5 if busy else 0.0)
+            settle(busy)
             try:
                 for name in names:
                     case = os.path.join(root, "cases", name + ".ini")
@@ -105,7 +119,7 @@ def main():
         w.writerows(rows)
     with open(os.path.join(a.out, "threads_busy.md"), "w") as f:
         f.write("Median wall seconds of at least %d alternating runs per setting (up to 15 "
-                "for runs under a second; 2 threads unless named; the load is the 1-minute "
+                "for runs under a second; default: no thread setting (OpenMP's count, the cores), so muflow's own choice; the load is the 1-minute "
                 "average before and after; bounds: %s).\n\n" % (a.repeats, "; ".join(
                     "%s %s" % (k, " ".join(v)) for k, v in BOUNDS.items())))
         for busy in (0, 1):

@@ -15,11 +15,14 @@
  *
  * The run-time defaults: muflow re-executes itself with a short spin count
  * (GOMP_SPINCOUNT=1000) unless the user set OMP_WAIT_POLICY or GOMP_SPINCOUNT
- * or runs one thread, and with malloc's huge pages (GLIBC_TUNABLES) unless the
- * user set that (src/app/main.c); libgomp's OMP_DISPLAY_ENV=verbose prints
- * the spin count each image uses, one block per image. */
+ * or runs one thread (sleeping at once instead when the machine is busy at
+ * start: MUFLOW_MACHINE_LOAD stands for the load average), and with malloc's
+ * huge pages (GLIBC_TUNABLES) unless the user set that (src/app/main.c);
+ * libgomp's OMP_DISPLAY_ENV=verbose prints the spin count each image uses,
+ * one block per image. */
 #define _POSIX_C_SOURCE 200809L /* PATH_MAX */
 #include <limits.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,6 +113,60 @@ static long last_spincount(const char *text, int *blocks)
 
 #define LARGE "domain.nx=32 domain.ny=32 domain.nz=32 domain.lx=14 domain.ly=14"
 
+/* The last "OMP_NUM_THREADS = 'N'" libgomp prints: the image that runs. */
+static long last_threads(const char *text)
+{
+    long v = -1;
+    for (const char *s = strstr(text, "OMP_NUM_THREADS = '"); s;
+         s = strstr(s + 1, "OMP_NUM_THREADS = '"))
+        v = strtol(s + 19, NULL, 10);
+    return v;
+}
+
+/* On a busy machine (MUFLOW_MACHINE_LOAD standing for the load average) a
+ * grid below the kernels' threshold runs on one thread when the user left
+ * the count to OpenMP, keeps the user's count otherwise, and a larger grid
+ * keeps its threads, which sleep at once. */
+static void test_busy_threads(void **state)
+{
+    (void)state;
+    if (omp_get_num_procs() < 2)
+        skip();
+    char bin[PATH_MAX], cmd[PATH_MAX + 512];
+    test_muflow_bin(bin, sizeof bin);
+    char dir[64];
+    test_tmp_make(dir, sizeof dir, "busy");
+    struct {
+        const char *env, *grid;
+        long threads, spin;
+    } cases[] = {
+        {"MUFLOW_MACHINE_LOAD=64", "domain.nx=60 domain.nz=60", 1, -1},
+        {"MUFLOW_MACHINE_LOAD=0", "domain.nx=60 domain.nz=60", 2, 1000},
+        {"MUFLOW_MACHINE_LOAD=64 OMP_NUM_THREADS=2", "domain.nx=60 domain.nz=60", 2, 0},
+        {"MUFLOW_MACHINE_LOAD=64", LARGE, 2, 0},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        snprintf(cmd, sizeof cmd,
+                 "env -u OMP_WAIT_POLICY -u GOMP_SPINCOUNT -u GLIBC_TUNABLES -u OMP_NUM_THREADS "
+                 "OMP_DISPLAY_ENV=verbose %s '%s' ../cases/bagnold.ini %s solver.max_steps=1 "
+                 "output.fields=off output.quiet=on output.dir=%s 2>&1",
+                 cases[c].env, bin, cases[c].grid, dir);
+        char *text;
+        int st = test_sh(cmd, &text);
+        int blocks;
+        long spin = last_spincount(text, &blocks), threads = last_threads(text);
+        print_message("%s %s: OMP_NUM_THREADS %ld, GOMP_SPINCOUNT %ld\n", cases[c].env,
+                      cases[c].grid, threads, spin);
+        assert_true(st == 0 || st == 3);
+        if (omp_get_num_procs() == 2 || cases[c].threads == 1)
+            assert_int_equal(threads, cases[c].threads);
+        if (cases[c].spin >= 0)
+            assert_int_equal(spin, cases[c].spin);
+        free(text);
+    }
+    test_tmp_remove(dir);
+}
+
 static void test_wait_policy(void **state)
 {
     (void)state;
@@ -123,11 +180,13 @@ static void test_wait_policy(void **state)
         int blocks; /* images started: 2 when muflow re-executes itself */
         const char *grid;
     } cases[] = {
-        /* a 32^3 grid opens parallel regions: no policy set, short spinning */
-        {"OMP_NUM_THREADS=2", 1000, 2, LARGE},
+        /* a 32^3 grid opens parallel regions: no policy set, short spinning
+         * on an idle machine, sleeping at once (passive: 0) on a busy one */
+        {"OMP_NUM_THREADS=2 MUFLOW_MACHINE_LOAD=0", 1000, 2, LARGE},
+        {"OMP_NUM_THREADS=2 MUFLOW_MACHINE_LOAD=64", 0, 2, LARGE},
         /* the user's choices are kept; the huge pages alone still re-execute */
         {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=active", -1, 2, LARGE},
-        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000", 5000, 2, LARGE},
+        {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000 MUFLOW_MACHINE_LOAD=64", 5000, 2, LARGE},
         {"OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive", 0, 2, LARGE},
         /* both set by the user (an empty GLIBC_TUNABLES too): no re-exec */
         {"OMP_NUM_THREADS=2 GOMP_SPINCOUNT=5000 GLIBC_TUNABLES=", 5000, 1, LARGE},
@@ -163,6 +222,7 @@ void group_repro(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_wait_policy),
+        cmocka_unit_test(test_busy_threads),
         cmocka_unit_test(test_two_processes_bagnold),
         cmocka_unit_test(test_two_processes_3d),
         cmocka_unit_test(test_two_processes_collapse),

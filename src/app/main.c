@@ -64,15 +64,48 @@
  * the shared libraries again).
  * `OMP_DISPLAY_ENV=verbose build/muflow CASE` (a case whose grid opens
  * parallel regions) shows the spin count: the last GOMP_SPINCOUNT printed is
- * SPIN_COUNT's (the tests check it). */
+ * SPIN_COUNT's (the tests check it).
+ *
+ * When other processes already keep the cores busy at start (the 1-minute
+ * load average within half a core of the core count), even short spinning
+ * takes time the thread being waited for needs: the threads sleep at once
+ * (OMP_WAIT_POLICY=passive) instead, and a grid below the kernels' parallel
+ * threshold runs on one thread unless the user set OMP_NUM_THREADS (its
+ * threads would mostly wait for each other: docs/numerics/threads-and-platform.md).
+ * MUFLOW_MACHINE_LOAD replaces the load average read (tests). */
 #define SPIN_COUNT "1000"
 #define MALLOC_TUNABLES "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432"
 
-static void runtime_defaults(char **argv)
+/* Whether other processes keep the cores busy: the 1-minute load average
+ * (or MUFLOW_MACHINE_LOAD) within half a core of the online cores. */
+static int machine_busy(void)
+{
+    double load = -1.0;
+    const char *given = getenv("MUFLOW_MACHINE_LOAD");
+    if (given) {
+        load = strtod(given, NULL);
+    } else {
+        FILE *f = fopen("/proc/loadavg", "r");
+        if (f) {
+            if (fscanf(f, "%lf", &load) != 1)
+                load = -1.0;
+            fclose(f);
+        }
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    return cores > 0 && load >= (double)cores - 0.5;
+}
+
+static void runtime_defaults(char **argv, double slots)
 {
     const int spin =
         !getenv("OMP_WAIT_POLICY") && !getenv("GOMP_SPINCOUNT") && omp_get_max_threads() >= 2;
     const int tunables = !getenv("GLIBC_TUNABLES");
+    const int busy = spin && machine_busy();
+    /* busy, a grid whose loops are too short to share (below the kernels'
+     * threshold, only the multigrid's levels open regions) and the thread
+     * count the user left to OpenMP: one thread, no barrier to wait at */
+    const int one = busy && !getenv("OMP_NUM_THREADS") && slots < KERNEL_PARALLEL_MIN;
     if (!spin && !tunables)
         return;
     /* Under valgrind the process is the tool's: /proc/self/exe is the tool,
@@ -85,12 +118,19 @@ static void runtime_defaults(char **argv)
     if (n <= 0 || (size_t)n >= sizeof self - 1)
         return;
     self[n] = '\0';
-    if ((spin && setenv("GOMP_SPINCOUNT", SPIN_COUNT, 1) != 0) ||
+    const int passive = busy;
+    if ((one && setenv("OMP_NUM_THREADS", "1", 1) != 0) ||
+        (passive && setenv("OMP_WAIT_POLICY", "passive", 1) != 0) ||
+        (spin && !passive && setenv("GOMP_SPINCOUNT", SPIN_COUNT, 1) != 0) ||
         (tunables && setenv("GLIBC_TUNABLES", MALLOC_TUNABLES, 1) != 0))
         return;
     execv(self, argv);
     /* the exec failed: this image keeps the defaults */
-    if (spin)
+    if (one)
+        unsetenv("OMP_NUM_THREADS");
+    if (passive)
+        unsetenv("OMP_WAIT_POLICY");
+    else if (spin)
         unsetenv("GOMP_SPINCOUNT");
     if (tunables)
         unsetenv("GLIBC_TUNABLES");
@@ -215,7 +255,7 @@ static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
     if (slots >= PARALLEL_REGION_MIN)
-        runtime_defaults(argv);
+        runtime_defaults(argv, slots);
 }
 
 /* The options without arguments; "-h" is "--help". */
