@@ -17,7 +17,9 @@ into DIR (default OUTDIR; with several runs DIR/<run folder name>):
                     mid-plane against the plane channel, the collapse's
                     x_f(t), h(0, t) and surface against Lagree et al.
                     (2011), the cylinder's drag, a body in a channel against
-                    Schaefer & Turek (1996)
+                    Schaefer & Turek (1996); a scene this tool does not
+                    name, its profile.csv's first value column against the
+                    file's exact column (muflow alone without one)
   history.png       a steady run's residual and error against the step; a
                     transient run's time step and kinetic energy against t
   field_NAME.png    a dataset of the last fields_*.h5 over the box's two
@@ -25,13 +27,12 @@ into DIR (default OUTDIR; with several runs DIR/<run folder name>):
                     velocity (its magnitude) by default, or each --field
                     NAME given (pressure, viscosity, tracer, shear_rate, ...:
                     any dataset of the file; an unknown name lists them)
-  profile.png       profile.csv of a scene without its own comparison
 
 Axes are in the case's units: SI where the case is (a gravity of 9.81), else
-the scene's scales.  A plot whose input is missing is skipped with a note.
-Exit status 0; 1 when an OUTDIR holds no muflow output; 2 for a --field the
-field files do not have.  Needs Debian's /usr/bin/python3 with numpy,
-matplotlib and h5py (`make deps`).
+the scene's scales (none for a scene this tool does not name).  A plot whose
+input is missing is skipped with a note.  Exit status 0; 1 when an OUTDIR
+holds no muflow output; 2 for a --field the field files do not have.  Needs
+Debian's /usr/bin/python3 with numpy, matplotlib and h5py (`make deps`).
 """
 import argparse
 import os
@@ -39,7 +40,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from plots import fields, figure, history, profile, scenes  # noqa: E402
+from plots import fields, figure, history, scenes  # noqa: E402
 from plots.run import Run  # noqa: E402
 from plots.units import Units  # noqa: E402
 
@@ -65,8 +66,6 @@ def plot_run(run, out, names):
     compare = scenes.comparison(run)
     if compare is not None:
         compare(run, out, units)
-    elif run.table("profile.csv") is not None:
-        profile.plot(run, out, units, "profile.png")
     else:
         print("scene '%s' has no comparison to draw" % (run.scene or "?"))
     history.plot(run, out, units)

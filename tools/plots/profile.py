@@ -1,12 +1,15 @@
 """The profile scenes' comparison: profile.csv's velocity against its exact
 profile (u_exact, or another *_exact / *_reference column), and the
 difference, with the scene's marks (the two-phase interface, the bed, the
-Bingham plug)."""
+Bingham plug).  A scene this tool does not know gets the same plot of its
+profile.csv's first value column against the exact column the file holds,
+named by its column."""
 import math
 
 import numpy as np
 
 from . import figure
+from .units import FIELD_KIND
 
 # scene -> (what the exact profile is, the [result] keys of the headline)
 REFERENCE = {
@@ -70,8 +73,10 @@ def plot(run, out, units, name="compare.png"):
         return None
     coord, vel = t.header[0], t.header[1]
     z, u = t[coord], t[vel]
-    ref_name, keys = REFERENCE.get(run.scene, ("the exact profile", ("err_rms",)))
     exact = exact_column(t)
+    known = run.scene in REFERENCE
+    ref_name, keys = REFERENCE[run.scene] if known else (
+        "profile.csv's %s" % exact if exact else "the exact profile", ("err_rms",))
     fig = figure.new(9.5, 5.2)
     ax, ex = fig.subplots(1, 2, sharey=True, gridspec_kw={"width_ratios": [3, 2]})
     if exact is not None and np.isfinite(t[exact]).any():
@@ -86,7 +91,7 @@ def plot(run, out, units, name="compare.png"):
     for zm, label, style in marks(run):
         for a in (ax, ex):
             a.axhline(zm, color="0.35", ls=style, lw=0.9, label=label if a is ax else None)
-    kind = "velocity"
+    kind = "velocity" if known else FIELD_KIND.get(vel, "none")
     ax.set_xlabel(units.label(vel, kind))
     ax.set_ylabel(units.label(coord, "length"))
     ex.set_xlabel(units.label("%s - %s" % (vel, exact or "exact"), kind))
@@ -97,7 +102,10 @@ def plot(run, out, units, name="compare.png"):
         a.grid(alpha=0.3)
         if math.isfinite(top):
             a.set_ylim(0.0, top)
-    fig.suptitle("%s: velocity profile against %s\n%s" % (
-        run.name, ref_name, figure.headline_text(run, keys)), fontsize=10)
+    if known:
+        what = "velocity profile against %s" % ref_name
+    else:
+        what = "profile.csv's %s %s" % (vel, "against " + exact if exact else "alone")
+    fig.suptitle("%s: %s\n%s" % (run.name, what, figure.headline_text(run, keys)), fontsize=10)
     return figure.save(fig, out, name, "against " + ref_name if exact is not None else
                        "no exact profile: muflow alone")

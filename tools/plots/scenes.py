@@ -1,5 +1,7 @@
 """compare.png: the scene's own comparison with its reference, and the
-[result] keys each scene's headline prints."""
+[result] keys each scene's headline prints.  A scene not named here (a new
+one) is drawn from what its outputs hold: its profile.csv against the exact
+column there, if any (profile.py), in the case's units or none."""
 from . import cavity, collapse, cylinder, duct, heap, profile
 
 COMPARE = {
@@ -28,6 +30,8 @@ def comparison(run):
         return COMPARE[run.scene]
     if "drag_coefficient" in run.result:  # a body in a channel (scene none)
         return cylinder.plot_benchmark
+    if run.table("profile.csv") is not None:
+        return profile.plot
     return None
 
 
