@@ -21,7 +21,7 @@
  *   extrapolated linearly from the same two points.  The pointwise
  *   pressure and shear around the body (obstacle_surface.csv); its
  *   integral converges slowly, the fields within a few cells of the
- *   body being the least accurate (docs/design.md, "Obstacles").
+ *   body being the least accurate (docs/numerics/obstacles.md).
  * - control volume: the momentum balance of the fluid in a box around the
  *   body, F = surface integral over the box of (sigma n - rho u (u . n)),
  *   midpoint rule on the grid's faces (second order): a check of the

@@ -1,8 +1,8 @@
 /* Geometric multigrid preconditioner of the implicit viscous step
- * (include/solvers/viscous_gmg.h; docs/design.md, "Geometric multigrid for
- * the implicit step").  One multigrid.h hierarchy per covered component,
- * with its mass term; the coefficient arrays are shared by the components,
- * since each hierarchy copies what it is given. */
+ * (include/solvers/viscous_gmg.h; docs/numerics/multigrid.md).  One
+ * multigrid.h hierarchy per covered component, with its mass term; the
+ * coefficient arrays are shared by the components, since each hierarchy
+ * copies what it is given. */
 #include "solvers/viscous_gmg.h"
 #include "solvers/multigrid.h"
 #include "kernels/kernels.h"
@@ -130,8 +130,8 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
         struct multigrid_options opt;
         multigrid_default_options(&opt);
         /* zebra lines in both directions, W(1,1), the finest level's
-         * smoothing split between them: measured on the heap (docs/design.md,
-         * "Geometric multigrid for the implicit step") */
+         * smoothing split between them: the fastest on the heap
+         * (docs/numerics/multigrid.md) */
         opt.smoother = MG_SMOOTH_LINES;
         opt.pre = opt.post = 1;
         opt.full_coarsening = 1;
