@@ -144,6 +144,7 @@ static void test_busy_threads(void **state)
         {"MUFLOW_MACHINE_LOAD=0", "domain.nx=60 domain.nz=60", 2, 1000},
         {"MUFLOW_MACHINE_LOAD=64 OMP_NUM_THREADS=2", "domain.nx=60 domain.nz=60", 2, 0},
         {"MUFLOW_MACHINE_LOAD=64", LARGE, 2, 0},
+        {"MUFLOW_MACHINE_LOAD=64", "", 1, -1}, /* the thin grid too */
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         snprintf(cmd, sizeof cmd,

@@ -250,11 +250,14 @@ static void print_warning(void *ctx, const char *line)
  * parallel regions on two threads or more: any grid of PARALLEL_REGION_MIN
  * slots (kernels.h), where a solver may, even if the kernels do not (the
  * column collapse's 2D grid, 24,300 slots: its projection's multigrid).  A
- * thin profile grid opens none and is spared the second program start. */
+ * thin profile grid opens few and is spared the second program start, but
+ * on a busy machine the few (the sparse factorisations' own) still spin at
+ * libgomp's default count: there it runs on one thread too. */
 static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
-    if (slots >= PARALLEL_REGION_MIN)
+    if (slots >= PARALLEL_REGION_MIN ||
+        (!getenv("OMP_NUM_THREADS") && !getenv("OMP_WAIT_POLICY") && machine_busy()))
         runtime_defaults(argv, slots);
 }
 
