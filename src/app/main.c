@@ -256,9 +256,11 @@ static void print_warning(void *ctx, const char *line)
 static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
-    if (slots >= PARALLEL_REGION_MIN ||
-        (!getenv("OMP_NUM_THREADS") && !getenv("OMP_WAIT_POLICY") && machine_busy()))
+    if (slots >= PARALLEL_REGION_MIN)
         runtime_defaults(argv, slots);
+    else if (!getenv("OMP_NUM_THREADS") && !getenv("OMP_WAIT_POLICY") &&
+             omp_get_max_threads() >= 2 && machine_busy())
+        omp_set_num_threads(1); /* no second start: it would cost more than the run gains */
 }
 
 /* The options without arguments; "-h" is "--help". */
