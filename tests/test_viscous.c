@@ -1168,6 +1168,13 @@ static void test_auto_choice(void **state)
     char *augmented[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
                          "solver.augmentation=10"};
     assert_int_equal(auto_choice("../cases/heap.ini", 4, augmented), VISCOUS_CHOLESKY);
+    /* the time-accurate Picard steps of a plane flow without a body: the
+     * velocity multigrid (the collapse); with the augmentation, the
+     * Cholesky as before */
+    char *none[] = {"solver.preconditioner=auto"};
+    assert_int_equal(auto_choice("../cases/collapse.ini", 1, none), VISCOUS_MG);
+    char *collapse_aug[] = {"solver.preconditioner=auto", "solver.augmentation=10"};
+    assert_int_equal(auto_choice("../cases/collapse.ini", 2, collapse_aug), VISCOUS_CHOLESKY);
     /* (open faces keep the LU: test_channel_solvers, group boundary) */
     char *lu[] = {"domain.ny=70", "domain.nz=100", "heap.flow_rate=0",
                   "solver.preconditioner=lu"};

@@ -107,7 +107,8 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
     "cross-section's periodic direction (the heap, the square duct's mixed model) without "        \
-    "augmentation, body or band; else `amg` on a steady 2D cross-section with Newton, no "          \
+    "augmentation, body or band; `multigrid` for the time-accurate (Picard) steps of a 2D flow "   \
+    "without body, augmentation or band; else `amg` on a steady 2D cross-section with Newton, no " \
     "augmentation and more than 1e4 unknowns (5e4 where `cholesky` would serve, or with a body); " \
     "else `cholesky` on a 2D cross-section without open or inflow faces or a body up to 1e6 "       \
     "unknowns; else `lu` (`cholesky` without Newton) up to 4e5 unknowns; beyond them `amg` on a "   \
