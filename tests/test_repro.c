@@ -124,7 +124,7 @@ static long last_threads(const char *text)
 }
 
 /* On a busy machine (MUFLOW_MACHINE_LOAD standing for the load average) a
- * grid below the kernels' threshold runs on one thread when the user left
+ * steady march on a grid below the kernels' threshold runs on one thread when the user left
  * the count to OpenMP, keeps the user's count otherwise, and a larger grid
  * keeps its threads, which sleep at once. */
 static void test_busy_threads(void **state)
@@ -141,6 +141,8 @@ static void test_busy_threads(void **state)
         long threads, spin;
     } cases[] = {
         {"MUFLOW_MACHINE_LOAD=64", "domain.nx=60 domain.nz=60", 1, -1},
+        /* a transient step keeps its threads, asleep */
+        {"MUFLOW_MACHINE_LOAD=64", "domain.nx=60 domain.nz=60 solver.mode=transient", 2, 0},
         {"MUFLOW_MACHINE_LOAD=0", "domain.nx=60 domain.nz=60", 2, 1000},
         {"MUFLOW_MACHINE_LOAD=64 OMP_NUM_THREADS=2", "domain.nx=60 domain.nz=60", 2, 0},
         {"MUFLOW_MACHINE_LOAD=64", LARGE, 2, 0},
