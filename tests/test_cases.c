@@ -1,8 +1,8 @@
 /* Every shipped case (each .ini file of cases/), each on a small grid for a few steps,
  * run with its output folder as the command writes it:
  * - continued from a checkpoint, it ends as the uninterrupted run: the
- *   same [result] (but wall_seconds) and the same scene files (but their
- *   wall-time columns), bit for bit; a case that cannot continue (the
+ *   same [result] (but wall_seconds and grid_matrices) and the same scene
+ *   files (but their wall-time columns), bit for bit; a case that cannot continue (the
  *   heap's tilt search) is refused and says why, and so is a collapse from
  *   a checkpoint without its record (an earlier muflow's);
  * - its summary.ini is an INI file a strict reader takes (no key twice in

@@ -85,7 +85,8 @@ char *test_read_file(const char *path, size_t *len);
 char *test_read_in(const char *dir, const char *name);
 
 /* The [result] section of dir/summary.ini ("[result]\n" up to the blank
- * line that ends it) without its wall_seconds line (caller frees). */
+ * line that ends it) without its wall_seconds and grid_matrices lines
+ * (caller frees). */
 char *test_summary_result(const char *dir);
 
 /* The CSV file dir/name with the values of every column whose header

@@ -410,6 +410,26 @@ static void test_mg_scenes(void **state)
                   1e-6);
 }
 
+/* The run counts the matrices of the grid's unknowns it probed
+ * (summary.ini: grid_matrices): none for the collapse, whose implicit step
+ * auto gives the velocity multigrid; one a step with the Cholesky named. */
+static void test_grid_matrices_counted(void **state)
+{
+    (void)state;
+    struct muflow_case cs;
+    struct run_result r;
+    char *mg[] = {"solver.end_time=0.05"};
+    test_run_case("../cases/collapse.ini", 1, mg, &cs, &r);
+    assert_int_equal(cs.preconditioner, PRECOND_AUTO);
+    assert_true(r.steps > 0);
+    assert_int_equal(r.grid_matrices, 0);
+    char *chol[] = {"solver.end_time=0.05", "solver.preconditioner=cholesky"};
+    test_run_case("../cases/collapse.ini", 2, chol, &cs, &r);
+    print_message("collapse to t = 0.05: %ld steps, %ld grid matrices with cholesky\n",
+                  r.steps, r.grid_matrices);
+    assert_true(r.grid_matrices >= r.steps);
+}
+
 void group_velocity_mg(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -417,6 +437,7 @@ void group_velocity_mg(struct test_tally *t)
         cmocka_unit_test(test_transfer_transpose),
         cmocka_unit_test(test_mg_grid_independent),
         cmocka_unit_test(test_mg_scenes),
+        cmocka_unit_test(test_grid_matrices_counted),
     };
     RUN_GROUP(t, "velocity_mg", tests);
 }

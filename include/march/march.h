@@ -116,6 +116,8 @@ struct march_state {
     long pressure_iterations;   /* the projection's multigrid-CG iterations, every step */
     long pressure_unconverged;  /* its solves that ended above their tolerance */
     long linear_unconverged;    /* implicit solves stopped at solver.max_linear_iterations */
+    long grid_matrices;         /* matrices of the grid's unknowns probed for the implicit
+                                   step (viscous.h: viscous_precond_info), the run's */
     double linear_residual;     /* relative residual of the last implicit solve */
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */

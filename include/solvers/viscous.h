@@ -136,6 +136,9 @@ struct viscous_precond_info {
     double complexity;      /* operator complexity */
     int blocks;             /* AMG: diagonal blocks set up apart (amg_hypre_blocks) */
     int reused;             /* 1: the last viscous_precondition kept the hierarchy */
+    long grid_matrices;     /* matrices of the grid's unknowns probed and factorised
+                               or set up for the AMG (a multigrid's coarsest level,
+                               the line and Fourier blocks not counted) */
     long fallbacks;         /* preconditioners whose factorisation or AMG setup
                                failed (the line blocks served) */
     char cause[200];        /* why the last of them failed */

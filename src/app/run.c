@@ -185,6 +185,7 @@ void run_result_from(const struct march_state *st, struct run_result *res)
     res->pressure_iterations = st->pressure_iterations;
     res->pressure_unconverged = st->pressure_unconverged;
     res->linear_unconverged = st->linear_unconverged;
+    res->grid_matrices = st->grid_matrices;
     if (st->viscous) {
         struct viscous_precond_info info;
         viscous_precond_info(st->viscous, &info);

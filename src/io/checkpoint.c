@@ -47,6 +47,7 @@ static const struct {
     {"pressure_iterations", offsetof(struct march_state, pressure_iterations), S_LONG, 1, 0},
     {"pressure_unconverged", offsetof(struct march_state, pressure_unconverged), S_LONG, 1, 0},
     {"linear_unconverged", offsetof(struct march_state, linear_unconverged), S_LONG, 1, 0},
+    {"grid_matrices", offsetof(struct march_state, grid_matrices), S_LONG, 1, 0},
     {"recent_residual", offsetof(struct march_state, recent_residual), S_DOUBLE, 1, MARCH_RECENT},
     {"peak_residual", offsetof(struct march_state, peak_residual), S_DOUBLE, 1, 0},
     {"sane_velocity", offsetof(struct march_state, sane_velocity), S_DOUBLE, 1, 0},

@@ -472,6 +472,7 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     viscous_learn_pattern(st->viscous, c->pm, &c->pattern, pb);
     if (probe_matrix_assemble(c->pm, viscous_operator_apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
         return -1;
+    st->grid_matrices++;
     c->pcols_on = c->pcols && implicit_uses_tangent(st);
     if (c->pcols_on && pressure_columns_probe(c->pcols, st) != 0)
         return -1;

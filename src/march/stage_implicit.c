@@ -62,11 +62,15 @@ int stage_implicit(struct march_state *st, double dt)
     if (cs->coupled)
         return stage_coupled(st, &pb);
     double tol = implicit_tolerance(st, pb.b_cell != NULL);
+    struct viscous_precond_info before, after;
+    viscous_precond_info(st->viscous, &before);
     viscous_precondition(st->viscous, &pb);
     struct viscous_stats vs;
     int rc = viscous_solve(st->viscous, &pb, st->field.residual, st->field.increment, tol,
                            cs->max_linear_iterations, &vs);
     st->linear_iterations = vs.iterations;
+    viscous_precond_info(st->viscous, &after);
+    st->grid_matrices += after.grid_matrices - before.grid_matrices;
     st->linear_residual = vs.relative_residual;
     /* the step goes on with the iterate, counted (the run tells it) */
     if (rc == 1)

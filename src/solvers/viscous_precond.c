@@ -194,6 +194,7 @@ static int direct_factor(struct viscous_solver *s, const struct viscous_problem 
         sparse_direct_factor(s->direct, viscous_operator_apply, &a, s->p, s->q,
                              probe_mask(s), &s->probed_components) == 0;
     kept_built(&s->direct_kept);
+    s->info.grid_matrices++;
     s->info.setup_seconds = visc_cpu_now() - t0; /* probing included */
     s->info.unknowns = sparse_direct_unknowns(s->direct);
     s->info.kind = s->direct_ok ? s->info.kind : VISCOUS_LINE;
@@ -331,6 +332,7 @@ static int amg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
                                                   s->q, 0, probe_mask(s), &s->amat,
                                                   &s->probed_components) == 0;
     int ok = probed;
+    s->info.grid_matrices += probed;
     double t1 = visc_cpu_now();
     s->info.unknowns = s->amat.n;
     s->info.entries = csr_nnz(&s->amat);
