@@ -1,8 +1,8 @@
 /* Every shipped case (each .ini file of cases/), each on a small grid for a few steps,
  * run with its output folder as the command writes it:
  * - continued from a checkpoint, it ends as the uninterrupted run: the
- *   same [result] (but wall_seconds and grid_matrices) and the same scene
- *   files (but their wall-time columns), bit for bit; a case that cannot continue (the
+ *   same [result] (but wall_seconds and grid_matrices) and the same files
+ *   of its scene and modules (but their wall-time columns), bit for bit; a case that cannot continue (the
  *   heap's tilt search) is refused and says why, and so is a collapse from
  *   a checkpoint without its record (an earlier muflow's);
  * - its summary.ini is an INI file a strict reader takes (no key twice in
@@ -293,7 +293,8 @@ static void test_every_case_listed(void **state)
 
 /* Stopped at max_steps and continued (--restart's path, run_case_opts with
  * restart_from and a larger max_steps): the uninterrupted run's [result]
- * and scene files, bit for bit (same binary, thread count and process). */
+ * and its scene's and modules' files, bit for bit (same binary, thread
+ * count and process). */
 static void test_continued_as_uninterrupted(void **state)
 {
     (void)state;
@@ -322,8 +323,10 @@ static void test_continued_as_uninterrupted(void **state)
         assert_string_equal(x, y);
         free(x);
         free(y);
-        const char *const *files = case_scene(&w->cs)->files;
-        for (const char *const *f = files; f && *f; f++) {
+        /* the scene's and its modules' own files (forces.csv: a body's) */
+        const char *files[SCENE_OUTPUT_FILES_MAX];
+        assert_true(scene_output_files(files, SCENE_OUTPUT_FILES_MAX, NULL) > 0);
+        for (const char *const *f = files; *f; f++) {
             char path[256];
             snprintf(path, sizeof path, "%s/%s", w->a, *f);
             if (access(path, F_OK) != 0)

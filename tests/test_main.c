@@ -41,6 +41,7 @@ static const struct {
     {"boundary", group_boundary},
     {"duct", group_duct},
     {"obstacle", group_obstacle},
+    {"forces", group_forces},
     {"stretched", group_stretched},
     {"cases", group_cases},
     {"velocity_mg", group_velocity_mg},

@@ -53,6 +53,7 @@ void group_collapse(struct test_tally *t);
 void group_boundary(struct test_tally *t);
 void group_duct(struct test_tally *t);
 void group_obstacle(struct test_tally *t);
+void group_forces(struct test_tally *t);
 void group_velocity_mg(struct test_tally *t);
 void group_cases(struct test_tally *t);
 

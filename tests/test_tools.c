@@ -450,7 +450,8 @@ static void test_plot(void **state)
  * two each), then tools/muflow_plot.py on all the runs in one process: exit
  * 0, each run's compare.png (the scene against its reference, the reference
  * named on the line that writes it), history.png (a transient's, by
- * solver.mode, without a residual), field_velocity.png, the axes in SI
+ * solver.mode, without a residual; the channel's body: its C_D and C_L
+ * from forces.csv), field_velocity.png, the axes in SI
  * units exactly for the SI cases, no [result] key printed twice; and
  * tools/collapse_movie.py on a run that is not a collapse: exit 2 and one
  * line.
@@ -683,6 +684,8 @@ static void test_plot_cases(void **state)
         }
         if (!strcmp(name, "collapse"))
             assert_non_null(strstr(hist, "(dt, kinetic energy against t)"));
+        if (!strcmp(name, "cylinder_benchmark")) /* forces.csv's series */
+            assert_non_null(strstr(hist, "(dt, drag coefficient, lift coefficient against t)"));
         int si = strstr(block, "\naxes in SI units\n") != NULL;
         int want_si = cases[c].si >= 0 ? cases[c].si : summary_si(run);
         if (si != want_si)

@@ -204,6 +204,50 @@ char *test_read_csv_without_wall(const char *dir, const char *name)
     return out;
 }
 
+double *test_read_csv_numbers(const char *dir, const char *name, char *header, size_t hlen,
+                              int *rows, int *cols)
+{
+    char *text = test_read_in(dir, name);
+    char *eol = strchr(text, '\n');
+    assert_non_null(eol);
+    *eol = '\0';
+    snprintf(header, hlen, "%s", text);
+    int nc = 1;
+    for (const char *c = text; *c; c++)
+        nc += *c == ',';
+    int nr = 0;
+    for (const char *c = eol + 1; *c; c++)
+        nr += *c == '\n';
+    double *v = malloc((size_t)(nr > 0 ? nr : 1) * (size_t)nc * sizeof *v);
+    assert_non_null(v);
+    char *p = eol + 1;
+    for (int r = 0; r < nr; r++)
+        for (int c = 0; c < nc; c++) {
+            char *end;
+            v[(size_t)r * nc + c] = strtod(p, &end);
+            assert_true(end != p && *end == (c + 1 < nc ? ',' : '\n'));
+            p = end + 1;
+        }
+    free(text);
+    *rows = nr;
+    *cols = nc;
+    return v;
+}
+
+int test_csv_column(const char *header, const char *col)
+{
+    size_t n = strlen(col);
+    const char *c = header;
+    for (int i = 0;; i++) {
+        if (strncmp(c, col, n) == 0 && (c[n] == ',' || c[n] == '\0'))
+            return i;
+        c = strchr(c, ',');
+        if (!c)
+            return -1;
+        c++;
+    }
+}
+
 /* ---- commands ------------------------------------------------------------ */
 
 void test_muflow_bin(char *out, size_t len)

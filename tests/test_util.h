@@ -94,6 +94,15 @@ char *test_summary_result(const char *dir);
  * row; caller frees). */
 char *test_read_csv_without_wall(const char *dir, const char *name);
 
+/* The CSV file dir/name of numbers: its header line (without the newline)
+ * in header[hlen], its rows' values row by row (caller frees), their
+ * number in *rows and the columns' in *cols; a row of another length, or
+ * a value that is no number, fails the test. */
+double *test_read_csv_numbers(const char *dir, const char *name, char *header, size_t hlen,
+                              int *rows, int *cols);
+/* The index of the column named col in a CSV header line, or -1. */
+int test_csv_column(const char *header, const char *col);
+
 /* ---- commands ------------------------------------------------------------ */
 
 /* The muflow binary of this build (beside this test executable). */

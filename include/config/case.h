@@ -101,6 +101,7 @@ struct muflow_case {
     long fields_every;       /* steps between field files (0: none by count) */
     double fields_interval;  /* time between field files (0: none by time) */
     long checkpoint_every;   /* steps between checkpoints (0: only when stopped) */
+    long forces_every;       /* steps between rows of forces.csv (0: no file) */
 };
 
 /* The case's scene's parameter block (the scene's key_block struct). */

@@ -61,6 +61,12 @@ struct obstacle_forces {
  * them), -2 when out of memory for the surface's sum (then 0). */
 int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
 
+/* obstacle_forces without the reconstructed traction and the control
+ * volume (their members 0): the surface integral, front_back and the
+ * scales, each the same number as obstacle_forces gives, at a fraction of
+ * its cost (a record of every step). */
+int obstacle_forces_surface(const struct march_state *st, struct obstacle_forces *f);
+
 /* The mean over the box of the velocity component the body force drives
  * (the body's own faces hold 0), signed along the force: a flow rate per
  * unit area across the flow.  NaN without a force along that component. */
@@ -76,6 +82,21 @@ double obstacle_mean_velocity(const struct march_state *st);
  * (force_x, force_x_control_volume, ...).  A wall around the fluid
  * (obstacle.invert) has none of these lines. */
 void obstacle_results(const struct march_state *st, struct result_values *res);
+
+/* The summary's headline force lines of f (obstacle_results' names and
+ * numbers, from f's surface integral): drag_force, lift_force, then
+ * drag_coefficient and lift_coefficient (an inflow: a velocity scale) and
+ * pressure_drop (the flow along the plane's first direction, no symmetry
+ * plane across it); force_<axis> twice without a flow in the plane.  None
+ * (n = 0) without a body in a flow (no shapes, obstacle.invert). */
+#define OBSTACLE_FORCE_LINES 5
+struct obstacle_force_lines {
+    int n;
+    const char *name[OBSTACLE_FORCE_LINES];
+    double value[OBSTACLE_FORCE_LINES];
+};
+void obstacle_force_lines(const struct march_state *st, const struct obstacle_forces *f,
+                          struct obstacle_force_lines *l);
 
 /* obstacle_surface.csv in dir: per sample, its angle, position, p, the
  * normal and tangential stresses.  Returns 0, or -1 with the cause. */

@@ -9,6 +9,7 @@
 #include "diagnostics/profile.h"
 #include "physics/obstacle.h"
 #include "physics/obstacle_forces.h"
+#include "physics/forces_file.h"
 #include "io/checkpoint.h"
 #include "march/step.h"
 #include "io/initial_state.h"
@@ -20,6 +21,7 @@ struct observer_ctx {
     const struct muflow_case *cs;
     const struct run_options *opt;
     struct history hist;
+    struct forces_file forces; /* forces.csv (a body in a flow) */
     struct field_series series;
     double last_print;
     double last_scene_write; /* wall time of the last write_running refresh */
@@ -73,6 +75,7 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     if (cs->checkpoint_every > 0 && st->step > 0 && st->step % cs->checkpoint_every == 0 &&
         st->status == STATUS_RUNNING) {
         history_flush(&ctx->hist); /* a restart after a crash continues these rows */
+        forces_file_flush(&ctx->forces);
         if (checkpoint_write(cs->output_dir, st, &ctx->series, ctx->err, sizeof ctx->err) != 0)
             return ctx->failed = ctx->checkpoint_failed = 1;
     }
@@ -158,6 +161,7 @@ static int observe(void *vctx, const struct march_state *st)
      * outputs the run that wrote the checkpoint has written */
     int resumed = st->step == ctx->resume_step;
     ctx->resume_step = -1;
+    forces_file_row(&ctx->forces, st); /* before a checkpoint; once per step */
     if (!resumed && step_outputs(ctx, st, &e) != 0)
         return 1;
     if (!ctx->cs->quiet) {
@@ -280,9 +284,15 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
              ? history_resume(&ctx->hist, cs->output_dir, ename, st->step, err, errlen)
              : history_open(&ctx->hist, cs->output_dir, ename, err, errlen)) != 0)
         goto fail;
+    if (forces_file_open(&ctx->forces, st, cs->output_dir, opt->restart_from ? st->step : -1,
+                         err, errlen) != 0) {
+        history_close(&ctx->hist, err, 0);
+        goto fail;
+    }
     if (interrupt_install() != 0) {
         snprintf(err, errlen, "cannot install the SIGINT/SIGTERM handler: %s", strerror(errno));
         history_close(&ctx->hist, err, 0);
+        forces_file_close(&ctx->forces, err, 0);
         goto fail;
     }
     if (!cs->quiet)
@@ -335,6 +345,9 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     }
     res->restartable = !ctx->not_restartable;
     if (history_close(&ctx->hist, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
+    forces_file_row(&ctx->forces, st); /* the final state's, if no observation wrote it */
+    if (forces_file_close(&ctx->forces, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
     if (pr && profile_write(cs->output_dir, pr, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);

@@ -422,6 +422,15 @@ const struct key case_core_keys[] = {
         KEY_HELP("a checkpoint every this many steps (0: only when the run is stopped)", "steps",
                  "A checkpoint (`checkpoint.h5`, replacing the previous one) every this many "
                  "steps; `0`: only at the end of the run")),
+    LNG("output", "forces_every", forces_every, RANGE(0, 1e9, 1, 1),
+        KEY_HELP("a row of forces.csv (the forces on the bodies) every this many steps, and "
+                 "the final state's (0: no file)",
+                 "steps",
+                 "A case with `[obstacle]` shapes (a body in the flow, not `invert`) writes "
+                 "`forces.csv`: a row every this many steps and one of the final state (the "
+                 "summary's numbers), with `step`, `time`, `drag_force`, `lift_force` and, "
+                 "where the summary has them, `drag_coefficient`, `lift_coefficient`, "
+                 "`pressure_drop`; `0`: no file")),
 };
 #undef FACE
 #define NKEYS ((int)(sizeof(case_core_keys) / sizeof(case_core_keys[0])))
@@ -442,8 +451,9 @@ static const struct {
      "Solid bodies in the flow. A case with shapes runs the projection through the multigrid "
      "solver (the faces the body closes take the coefficient 0, the cut cells' faces their open "
      "share) and writes `drag_coefficient`, `lift_coefficient`, `pressure_drop` and the forces "
-     "(with the control-volume cross-check) to the summary, and `obstacle_surface.csv` (the "
-     "stresses around the body against the angle). A case whose scene transports a tracer (the "
+     "(with the control-volume cross-check) to the summary, `obstacle_surface.csv` (the "
+     "stresses around the body against the angle) and `forces.csv` (the forces through the "
+     "run, `output.forces_every`). A case whose scene transports a tracer (the "
      "collapse) cannot have shapes."},
     {"physics", "Gravity, the density and the terms of the momentum equation."},
     {"rheology",
@@ -536,6 +546,7 @@ void case_defaults(struct muflow_case *c)
     c->fields_every = 0;
     c->fields_interval = 0.0;
     c->checkpoint_every = 0;
+    c->forces_every = 1;
 }
 
 /* ------------------------------------------------------------------------ */

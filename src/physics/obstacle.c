@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "kernels/embedded.h"
+#include "physics/forces_file.h"
 #include "march/step.h"
 #include "solvers/pressure.h"
 
@@ -339,7 +340,8 @@ static void end_step(struct march_state *st, void *state, double dt)
     embedded_zero(&ob->e, st->field.velocity);
 }
 
-static const char *const obstacle_files[] = {"obstacle_surface.csv", NULL}; /* obstacle_write */
+/* obstacle_write's, forces_file's */
+static const char *const obstacle_files[] = {"obstacle_surface.csv", FORCES_FILE_NAME, NULL};
 
 const struct module obstacle_module = {
     .name = "obstacle",

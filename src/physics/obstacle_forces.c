@@ -390,13 +390,68 @@ done:
     return rc;
 }
 
-int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
+/* The control volume: the box around the bodies (their bounding box lo, hi
+ * in the plane), half their size and two cells beyond them, on the grid's
+ * faces, inside the domain. */
+static void control_volume(const struct plane *pl, const double lo[2], const double hi[2],
+                           struct obstacle_forces *f)
+{
+    const struct march_state *st = pl->st;
+    const struct grid *g = &st->g;
+    double margin[2] = {0.5 * (hi[0] - lo[0]) + 2.0 * g->h[pl->a],
+                        0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl->b]}; /* NaN if stretched */
+    int dd[2] = {pl->a, pl->b}, I0[2], I1[2];
+    for (int k = 0; k < 2; k++) {
+        int d = dd[k];
+        if (g->axis[d]) { /* two of the local cells beyond, as below */
+            int c0 = grid_locate(g, d, lo[k]), c1 = grid_locate(g, d, hi[k]);
+            margin[k] = 0.5 * (hi[k] - lo[k]) + 2.0 * fmax(grid_hc(g, d, c0), grid_hc(g, d, c1));
+            I0[k] = grid_locate(g, d, lo[k] - margin[k]);
+            I1[k] = grid_locate(g, d, hi[k] + margin[k]) + 1;
+        } else {
+            I0[k] = (int)floor((lo[k] - margin[k]) / g->h[d]);
+            I1[k] = (int)ceil((hi[k] + margin[k]) / g->h[d]);
+        }
+        if (I0[k] < 2)
+            I0[k] = 2;
+        if (I1[k] > g->n[d] - 2)
+            I1[k] = g->n[d] - 2;
+        /* a symmetry plane is a side of the box: across a slip face no
+         * momentum along it passes (no shear stress, no flow) */
+        if (pl->mirror[k] < 0)
+            I0[k] = 0;
+        if (pl->mirror[k] > 0)
+            I1[k] = g->n[d];
+    }
+    double F[3] = {0.0, 0.0, 0.0};
+    if (pl->mirror[0] >= 0)
+        cv_side(pl, pl->a, pl->b, I0[0], I0[1], I1[1], -1.0, F);
+    if (pl->mirror[0] <= 0)
+        cv_side(pl, pl->a, pl->b, I1[0], I0[1], I1[1], 1.0, F);
+    if (pl->mirror[1] >= 0)
+        cv_side(pl, pl->b, pl->a, I0[1], I0[0], I1[0], -1.0, F);
+    if (pl->mirror[1] <= 0)
+        cv_side(pl, pl->b, pl->a, I1[1], I0[0], I1[0], 1.0, F);
+    /* the body force on the fluid in the box (a flow driven by it) */
+    double fb[3];
+    body_force_vector(st->cs, fb);
+    double fluid = fluid_area(pl, I0, I1);
+    F[pl->a] += fb[pl->a] * fluid;
+    F[pl->b] += fb[pl->b] * fluid;
+    f->control_volume[0] = F[pl->a];
+    f->control_volume[1] = F[pl->b];
+    symmetric_whole(pl->mirror, f->control_volume);
+}
+
+/* obstacle_forces; all = 0: the surface integral, the front and back
+ * points and the scales only (obstacle_forces_surface), the same numbers. */
+static int forces_of(const struct march_state *st, struct obstacle_forces *f, int all)
 {
     memset(f, 0, sizeof *f);
     struct plane pl;
     plane_init(&pl, st);
     struct sums S = {{0.0, 0.0}, {0.0, 0.0}};
-    int rc = outline(&pl, add_sample, &S);
+    int rc = all ? outline(&pl, add_sample, &S) : 0;
     for (int k = 0; k < 2; k++) {
         f->reconstructed[k] = S.f[k];
         f->reconstructed_pressure[k] = S.fp[k];
@@ -410,7 +465,6 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
     symmetric_whole(pl.mirror, f->reconstructed_pressure);
     /* the bounding box of the union, and the front and back points of the
      * first shape along a */
-    const struct grid *g = &st->g;
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int i = 0; i < pl.set.n; i++) {
         const struct shape *sh = &pl.set.s[i];
@@ -434,51 +488,8 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
             f->front_back = front.p - back.p;
         else
             rc = -1;
-        /* the control volume: the box around the bodies, half their size
-         * and two cells beyond them, on the grid's faces, inside the domain */
-        double margin[2] = {0.5 * (hi[0] - lo[0]) + 2.0 * g->h[pl.a],
-                            0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl.b]}; /* NaN if stretched */
-        int dd[2] = {pl.a, pl.b}, I0[2], I1[2];
-        for (int k = 0; k < 2; k++) {
-            int d = dd[k];
-            if (g->axis[d]) { /* two of the local cells beyond, as below */
-                int c0 = grid_locate(g, d, lo[k]), c1 = grid_locate(g, d, hi[k]);
-                margin[k] = 0.5 * (hi[k] - lo[k]) + 2.0 * fmax(grid_hc(g, d, c0), grid_hc(g, d, c1));
-                I0[k] = grid_locate(g, d, lo[k] - margin[k]);
-                I1[k] = grid_locate(g, d, hi[k] + margin[k]) + 1;
-            } else {
-                I0[k] = (int)floor((lo[k] - margin[k]) / g->h[d]);
-                I1[k] = (int)ceil((hi[k] + margin[k]) / g->h[d]);
-            }
-            if (I0[k] < 2)
-                I0[k] = 2;
-            if (I1[k] > g->n[d] - 2)
-                I1[k] = g->n[d] - 2;
-            /* a symmetry plane is a side of the box: across a slip face no
-             * momentum along it passes (no shear stress, no flow) */
-            if (pl.mirror[k] < 0)
-                I0[k] = 0;
-            if (pl.mirror[k] > 0)
-                I1[k] = g->n[d];
-        }
-        double F[3] = {0.0, 0.0, 0.0};
-        if (pl.mirror[0] >= 0)
-            cv_side(&pl, pl.a, pl.b, I0[0], I0[1], I1[1], -1.0, F);
-        if (pl.mirror[0] <= 0)
-            cv_side(&pl, pl.a, pl.b, I1[0], I0[1], I1[1], 1.0, F);
-        if (pl.mirror[1] >= 0)
-            cv_side(&pl, pl.b, pl.a, I0[1], I0[0], I1[0], -1.0, F);
-        if (pl.mirror[1] <= 0)
-            cv_side(&pl, pl.b, pl.a, I1[1], I0[0], I1[0], 1.0, F);
-        /* the body force on the fluid in the box (a flow driven by it) */
-        double fb[3];
-        body_force_vector(st->cs, fb);
-        double fluid = fluid_area(&pl, I0, I1);
-        F[pl.a] += fb[pl.a] * fluid;
-        F[pl.b] += fb[pl.b] * fluid;
-        f->control_volume[0] = F[pl.a];
-        f->control_volume[1] = F[pl.b];
-        symmetric_whole(pl.mirror, f->control_volume);
+        if (all)
+            control_volume(&pl, lo, hi, f);
     }
     /* the coefficients' scales: the inflow's mean velocity, the extent across */
     const struct boundary *bc = &st->bc;
@@ -494,6 +505,16 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
             }
     f->d_ref = pl.set.n > 0 && !pl.set.invert ? hi[1] - lo[1] : 0.0;
     return rc;
+}
+
+int obstacle_forces(const struct march_state *st, struct obstacle_forces *f)
+{
+    return forces_of(st, f, 1);
+}
+
+int obstacle_forces_surface(const struct march_state *st, struct obstacle_forces *f)
+{
+    return forces_of(st, f, 0);
 }
 
 /* The mean over the box of the velocity component the body force drives
@@ -595,6 +616,37 @@ void obstacle_results(const struct march_state *st, struct result_values *res)
     else if (rc != 0)
         result_values_add(res, "obstacle_warning", "%s",
                        "samples reached into the body (too few cells across): reconstructed forces incomplete");
+}
+
+void obstacle_force_lines(const struct march_state *st, const struct obstacle_forces *f,
+                          struct obstacle_force_lines *l)
+{
+    static const char *const axis_names[3] = {"force_x", "force_y", "force_z"};
+    l->n = 0;
+    if (!case_obstacle_active(st->cs) || st->cs->obstacle.invert)
+        return;
+    struct shape_set set;
+    case_obstacle_shapes(st->cs, &set);
+    double sense; /* as obstacle_results: the same expressions, the same numbers */
+    int dir = flow_direction(st, &sense);
+    int k = dir == set.plane_a ? 0 : dir == set.plane_b ? 1 : -1;
+#define LINE(nm, v) (l->name[l->n] = (nm), l->value[l->n++] = (v))
+    if (k >= 0) {
+        int along = k, across = 1 - k;
+        double q = 0.5 * st->cs->density * f->u_ref * f->u_ref * f->d_ref;
+        LINE("drag_force", sense * f->surface[along]);
+        LINE("lift_force", f->surface[across]);
+        if (q > 0.0) {
+            LINE("drag_coefficient", sense * f->surface[along] / q);
+            LINE("lift_coefficient", f->surface[across] / q);
+        }
+        if (k == 0 && !f->mirror[0])
+            LINE("pressure_drop", sense * f->front_back);
+    } else {
+        LINE(axis_names[set.plane_a], f->surface[0]);
+        LINE(axis_names[set.plane_b], f->surface[1]);
+    }
+#undef LINE
 }
 
 struct csv_ctx {

@@ -4,14 +4,18 @@ A steady run (solver.mode = steady): the residual and the error column of
 history.csv against the step, the tolerance drawn.  A transient run has no
 residual to converge: the time step against time with the steps the march
 rejected, the kinetic energy where the run records one (a kinetic_energy
-column of history.csv or of the scene's time series, e.g. collapse.csv), and
-any other column a scene adds to history.csv."""
+column of history.csv or of the scene's time series, e.g. collapse.csv), the
+forces on a body (forces.csv: C_D and C_L, or the drag and lift forces
+without the coefficients), and any other column a scene adds to
+history.csv."""
 import numpy as np
 
 from . import figure
 
 ERROR_COLUMNS = ("err_rms", "err_midline", "diff_plane")
 SCENE_SERIES = ("collapse.csv",)  # scene time series with t and kinetic_energy columns
+# forces.csv's series: the coefficients where it has them, else the forces
+FORCES = (("drag_coefficient", "lift_coefficient"), ("drag_force", "lift_force"))
 # history.csv's columns of every run (its error column is a series where finite)
 STANDARD = {"step", "time", "wall_seconds", "dt", "residual", "residual_beyond_roundoff",
             "divergence", "linear_iterations", "rejected_steps"}
@@ -63,7 +67,8 @@ def _label(name):
 def _series(run, h):
     """[(name, t, values)]: the kinetic energy and any other time series of
     the run beyond history.csv's standard columns (a scene's own columns of
-    history.csv, the kinetic energy of collapse.csv), at most MAX_SERIES."""
+    history.csv, the kinetic energy of collapse.csv, the forces of
+    forces.csv), at most MAX_SERIES."""
     out = [(c, h["time"], h[c]) for c in h.header
            if c not in STANDARD and np.isfinite(h[c]).any()]
     if not any(name == "kinetic_energy" for name, _, _ in out):
@@ -72,6 +77,11 @@ def _series(run, h):
             if s is not None and "t" in s and "kinetic_energy" in s:
                 out.insert(0, ("kinetic_energy", s["t"], s["kinetic_energy"]))
                 break
+    f = run.table("forces.csv")
+    for names in FORCES if f is not None and "time" in f else ():
+        if all(n in f for n in names):
+            out += [(n, f["time"], f[n]) for n in names]
+            break
     return out[:MAX_SERIES]
 
 

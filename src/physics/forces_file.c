@@ -1,0 +1,100 @@
+/* forces.csv, row by row (forces_file.h). */
+#define _POSIX_C_SOURCE 200809L /* getline */
+#include "physics/forces_file.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "physics/obstacle_forces.h"
+
+/* The rows of the previous file that the uninterrupted run has too: those
+ * before step resume, and its own row when it is a sampled step (a final
+ * row of a run stopped between samples is not one). */
+static void copy_rows(struct forces_file *ff, FILE *src, long resume)
+{
+    char *line = NULL;
+    size_t cap = 0;
+    int first = 1;
+    while (getline(&line, &cap, src) > 0) {
+        if (first) { /* the header, already written */
+            first = 0;
+            continue;
+        }
+        char *end;
+        long step = strtol(line, &end, 10);
+        if (end == line || *end != ',')
+            continue;
+        if (step < resume || (step == resume && step % ff->every == 0)) {
+            fputs(line, ff->file.f);
+            ff->last_step = step;
+        }
+    }
+    free(line);
+}
+
+int forces_file_open(struct forces_file *ff, const struct march_state *st, const char *dir,
+                     long resume, char *err, size_t errlen)
+{
+    memset(ff, 0, sizeof *ff);
+    ff->last_step = -1;
+    ff->every = st->cs->forces_every;
+    if (ff->every <= 0 || !case_obstacle_active(st->cs) || st->cs->obstacle.invert)
+        return 0; /* no body in a flow */
+    struct obstacle_forces f;
+    struct obstacle_force_lines l;
+    obstacle_forces_surface(st, &f); /* the columns: the scales decide the coefficients' */
+    obstacle_force_lines(st, &f, &l);
+    char path[600], tmp[620];
+    snprintf(path, sizeof path, "%s/" FORCES_FILE_NAME, dir);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *src = NULL;
+    if (resume >= 0 && (src = fopen(tmp, "r")))
+        remove(tmp); /* still read through src; output_open makes a new one */
+    else if (resume >= 0)
+        src = fopen(path, "r");
+    if (output_open(&ff->file, dir, FORCES_FILE_NAME, err, errlen) != 0) {
+        if (src)
+            fclose(src);
+        return -1;
+    }
+    fprintf(ff->file.f, "step,time");
+    for (int i = 0; i < l.n; i++)
+        fprintf(ff->file.f, ",%s", l.name[i]);
+    fprintf(ff->file.f, "\n");
+    if (src) {
+        copy_rows(ff, src, resume);
+        fclose(src);
+    }
+    return 0;
+}
+
+void forces_file_row(struct forces_file *ff, const struct march_state *st)
+{
+    if (!ff->file.f || st->step == ff->last_step ||
+        (st->step % ff->every != 0 && st->status == STATUS_RUNNING))
+        return;
+    struct obstacle_forces f;
+    struct obstacle_force_lines l;
+    obstacle_forces_surface(st, &f);
+    obstacle_force_lines(st, &f, &l);
+    fprintf(ff->file.f, "%ld,%.10g", st->step, st->time);
+    for (int i = 0; i < l.n; i++)
+        fprintf(ff->file.f, ",%.10g", l.value[i]);
+    fprintf(ff->file.f, "\n");
+    ff->last_step = st->step;
+}
+
+void forces_file_flush(struct forces_file *ff)
+{
+    if (ff->file.f)
+        fflush(ff->file.f);
+}
+
+int forces_file_close(struct forces_file *ff, char *err, size_t errlen)
+{
+    if (!ff->file.f)
+        return 0;
+    int rc = output_commit(&ff->file, err, errlen);
+    ff->file.f = NULL;
+    return rc;
+}
