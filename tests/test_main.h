@@ -55,5 +55,6 @@ void group_duct(struct test_tally *t);
 void group_obstacle(struct test_tally *t);
 void group_velocity_mg(struct test_tally *t);
 void group_cases(struct test_tally *t);
+void group_depth_averaged(struct test_tally *t);
 
 #endif
