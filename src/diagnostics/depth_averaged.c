@@ -174,9 +174,9 @@ static void fill_ghosts(struct da_solver *s, int side, double t)
     double *h = s->hc + NG, *u = s->uc + NG;
     long n = s->n;
     for (int k = 1; k <= NG; k++) {
-        long g = side == 0 ? -k : n - 1 + k;       /* the ghost */
-        long in = side == 0 ? k - 1 : n - k;       /* its mirror inside */
-        long edge = side == 0 ? 0 : n - 1;         /* the cell at the boundary */
+        long g = side == 0 ? -k : n - 1 + k; /* the ghost */
+        long in = side == 0 ? k - 1 : n - k; /* its mirror inside */
+        long edge = side == 0 ? 0 : n - 1;   /* the cell at the boundary */
         switch (s->bc[side].kind) {
         case DA_BC_WALL:
             h[g] = h[in];
