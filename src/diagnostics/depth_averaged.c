@@ -22,7 +22,10 @@ struct da_solver {
     double *fm;            /* n + 1: momentum flux */
     double *fv;            /* n + 1: viscous flux nu h^{3/2} u_x */
     unsigned char *held;   /* n + 1: the face is between two cells held at rest */
+    unsigned char *holds;  /* n: the cell is at rest and its friction holds it */
     double *h0, *m0;       /* n: the step's start */
+    double *dh, *rm, *tf;  /* n: a stage's rates: h_t, m_t but for friction, friction's bound */
+    double *rm0, *tf0;     /* n: the first stage's rm and tf */
 };
 
 struct da_params da_params_default(void)
@@ -99,10 +102,10 @@ struct da_solver *da_create(long n, double x0, double dx, const double *zeta,
     if (check_params(n, dx, zeta, p, bc, err, err_len) != 0)
         return NULL;
     struct da_solver *s = calloc(1, sizeof *s);
-    /* one block: 4 arrays of n, 8 of n + 1, 2 of n + 2 NG */
-    size_t nd = 4 * (size_t)n + 8 * (size_t)(n + 1) + 2 * (size_t)(n + 2 * NG);
+    /* one block: 9 arrays of n, 8 of n + 1, 2 of n + 2 NG */
+    size_t nd = 9 * (size_t)n + 8 * (size_t)(n + 1) + 2 * (size_t)(n + 2 * NG);
     double *a = s ? malloc(nd * sizeof *a) : NULL;
-    unsigned char *held = a ? calloc((size_t)n + 1, 1) : NULL;
+    unsigned char *held = a ? calloc(2 * (size_t)n + 1, 1) : NULL;
     if (!held) {
         free(a);
         free(s);
@@ -116,7 +119,9 @@ struct da_solver *da_create(long n, double x0, double dx, const double *zeta,
     s->bc[0] = left;
     s->bc[1] = right;
     s->held = held;
-    double **n_arrays[] = {&s->sin_z, &s->cos_z, &s->h0, &s->m0};
+    s->holds = held + n + 1;
+    double **n_arrays[] = {&s->sin_z, &s->cos_z, &s->h0, &s->m0, &s->dh,
+                           &s->rm, &s->tf, &s->rm0, &s->tf0};
     double **f_arrays[] = {&s->gf, &s->hl, &s->ul, &s->hr, &s->ur,
                            &s->fh, &s->fm, &s->fv};
     double *q = a;
@@ -313,12 +318,12 @@ static double cell_rhs(const struct da_solver *s, long i)
     return r;
 }
 
-/* The friction's largest impulse over dt on cell i (stage state). */
-static double friction_impulse(const struct da_solver *s, long i, double dt)
+/* The friction's largest force on cell i, mu_b g cos(zeta) h (stage state). */
+static double friction_bound(const struct da_solver *s, long i)
 {
     double h = s->hc[NG + i], u = s->uc[NG + i];
     double mu = da_basal_friction(&s->p, s->cos_z[i], h, fabs(u));
-    return dt * mu * s->p.g * s->cos_z[i] * h;
+    return mu * s->p.g * s->cos_z[i] * h;
 }
 
 /* A face between two cells at rest passes no mass and the pressure g' hl hr
@@ -334,30 +339,35 @@ static void held_flux(struct da_solver *s, long f)
     s->fm[f] = 0.5 * s->gf[f] * s->hl[f] * s->hr[f];
 }
 
-/* Which faces are held: both cells at rest, and friction holds each of them
- * against the force it feels with both its faces held. */
-static void find_held(struct da_solver *s, const double *m, double dt)
+/* Which cells hold: at rest, and friction holds them against the force they
+ * feel with both their faces held; which faces are held: both their cells
+ * hold. */
+static void find_held(struct da_solver *s, const double *m)
 {
     long n = s->n;
     for (long f = 0; f <= n; f++) {
         held_flux(s, f);
         s->fv[f] = 0.0;
     }
-    for (long f = 0; f <= n; f++)
-        s->held[f] = 0;
-    unsigned char *holds = s->held; /* cell i's verdict in held[i], then combined */
     for (long i = 0; i < n; i++)
-        holds[i] = m[i] == 0.0 && fabs(dt * cell_rhs(s, i)) <= friction_impulse(s, i, dt);
-    /* face f (1 .. n-1) is held when cells f - 1 and f both hold; walk down so
-     * that held[f - 1] is still cell f - 1's verdict when face f reads it */
-    unsigned char right = holds[n - 1];
-    for (long f = n - 1; f >= 1; f--) {
-        unsigned char left = holds[f - 1];
-        holds[f] = left && right;
-        right = left;
-    }
-    holds[0] = 0;
-    holds[n] = 0;
+        s->holds[i] = m[i] == 0.0 && fabs(cell_rhs(s, i)) <= friction_bound(s, i);
+    s->held[0] = s->held[n] = 0;
+    for (long f = 1; f < n; f++)
+        s->held[f] = s->holds[f - 1] && s->holds[f];
+}
+
+/* A face between a wet cell that holds and one that does not: the moving
+ * side's edge state flows in when it moves towards the holding cell, and
+ * nothing flows out of that cell.  The Riemann flux's diffusion would drain
+ * a deposit into a thin layer sliding beside it (its toe) until the
+ * diffusion balanced the advection: a layer that slides forever without
+ * moving its mass. */
+static void one_sided_flux(struct da_solver *s, long f, int rest_left)
+{
+    double h = rest_left ? s->hr[f] : s->hl[f], u = rest_left ? s->ur[f] : s->ul[f];
+    int toward = rest_left ? u < 0.0 : u > 0.0;
+    s->fh[f] = toward ? h * u : 0.0;
+    s->fm[f] = (toward ? s->p.chi * h * u * u : 0.0) + 0.5 * s->gf[f] * s->hl[f] * s->hr[f];
 }
 
 /* The viscous flux nu k (u_f - u_{f-1}) / dx at each face, k the harmonic
@@ -373,32 +383,38 @@ static void viscous_flux(struct da_solver *s)
     }
 }
 
-/* One forward-Euler stage: (h, m) at time t -> (ho, mo) at t + dt. */
-static void stage(struct da_solver *s, const double *h, const double *m, double t, double dt,
-                  double *ho, double *mo)
+/* A stage's rates at the state (h, m) at time t: h_t in dh, the momentum's
+ * rate but for friction in rm, the friction's bound in tf. */
+static void rates(struct da_solver *s, const double *h, const double *m, double t)
 {
     long n = s->n;
     reconstruct(s, h, m, t);
-    find_held(s, m, dt);
+    find_held(s, m);
     for (long f = 0; f <= n; f++) {
         if (s->held[f])
             continue;
-        face_flux(&s->p, s->gf[f], s->hl[f], s->ul[f], s->hr[f], s->ur[f], &s->fh[f],
-                  &s->fm[f]);
+        int rl = f > 0 && s->holds[f - 1] && s->hc[NG + f - 1] > s->p.h_dry;
+        int rr = f < n && s->holds[f] && s->hc[NG + f] > s->p.h_dry;
+        if (f > 0 && f < n && rl != rr)
+            one_sided_flux(s, f, rl);
+        else
+            face_flux(&s->p, s->gf[f], s->hl[f], s->ul[f], s->hr[f], s->ur[f], &s->fh[f],
+                      &s->fm[f]);
     }
     if (s->p.nu > 0.0)
         viscous_flux(s);
     for (long i = 0; i < n; i++) {
-        double rhs = cell_rhs(s, i), tau = friction_impulse(s, i, dt);
-        double hn = h[i] - dt / s->dx * (s->fh[i + 1] - s->fh[i]);
-        double mn = m[i] + dt * rhs;
-        /* the friction projection: it stops a cell, never reverses it */
-        mn = fabs(mn) <= tau ? 0.0 : mn - copysign(tau, mn);
-        if (hn < 0.0) /* round-off of a draining cell */
-            hn = 0.0;
-        ho[i] = hn;
-        mo[i] = hn > s->p.h_dry ? mn : 0.0;
+        s->dh[i] = -(s->fh[i + 1] - s->fh[i]) / s->dx;
+        s->rm[i] = cell_rhs(s, i);
+        s->tf[i] = friction_bound(s, i);
     }
+}
+
+/* The friction as a projection of m* with the impulse bound tau: it stops a
+ * cell, never reverses it. */
+static double project(double mstar, double tau)
+{
+    return fabs(mstar) <= tau ? 0.0 : mstar - copysign(tau, mstar);
 }
 
 double da_max_dt(const struct da_solver *s, const double *h, const double *m)
@@ -424,14 +440,28 @@ double da_max_dt(const struct da_solver *s, const double *h, const double *m)
 int da_step(struct da_solver *s, double *h, double *m, double t, double dt)
 {
     long n = s->n;
+    double hd = s->p.h_dry;
     memcpy(s->h0, h, (size_t)n * sizeof *h);
     memcpy(s->m0, m, (size_t)n * sizeof *m);
-    stage(s, h, m, t, dt, h, m);
-    stage(s, h, m, t + dt, dt, h, m);
+    /* stage 1, forward Euler: U1 = P(U + dt L(U)) */
+    rates(s, h, m, t);
+    for (long i = 0; i < n; i++) {
+        h[i] = fmax(0.0, s->h0[i] + dt * s->dh[i]); /* < 0 only by round-off */
+        m[i] = h[i] > hd ? project(s->m0[i] + dt * s->rm[i], dt * s->tf[i]) : 0.0;
+        s->rm0[i] = s->rm[i];
+        s->tf0[i] = s->tf[i];
+    }
+    /* stage 2: h the mean of U and U1 + dt L(U1) (a convex combination of
+     * non-negative depths), m projected once with the mean of the two
+     * stages' rates and bounds: Heun's step for a sliding cell, an exact stop
+     * for a cell whose friction wins over the step */
+    rates(s, h, m, t + dt);
     int ok = 1;
     for (long i = 0; i < n; i++) {
-        h[i] = 0.5 * (s->h0[i] + h[i]);
-        m[i] = h[i] > s->p.h_dry ? 0.5 * (s->m0[i] + m[i]) : 0.0;
+        double h2 = fmax(0.0, h[i] + dt * s->dh[i]);
+        h[i] = 0.5 * (s->h0[i] + h2);
+        double mstar = s->m0[i] + 0.5 * dt * (s->rm0[i] + s->rm[i]);
+        m[i] = h[i] > hd ? project(mstar, 0.5 * dt * (s->tf0[i] + s->tf[i])) : 0.0;
         ok &= isfinite(h[i]) && isfinite(m[i]);
     }
     return ok ? 0 : -1;
