@@ -10,9 +10,12 @@
  * - the dam break with Coulomb friction of Mangeney, Heinrich & Roche (2000),
  *   from the dam and from the exact state at t = 1;
  * - layers at rest below the friction angle, on a bed whose slope varies,
- *   kept exactly; the same layers steeper move; mass conserved to round-off;
+ *   kept exactly; the same layers steeper move; a released box's mass to
+ *   round-off and its deposit at rest;
+ * - the friction in time: a uniform layer's Coulomb stop, exact, and its
+ *   relaxation under Pouliquen's law at second order;
  * - the viscous term: a standing wave's damping against the linearised
- *   solution. */
+ *   solution; the shape factor: a small wave's speed. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
