@@ -11,10 +11,10 @@
  * (1 + beta h / (L Fr)), Fr = |u| / sqrt(g cos(zeta) h)) basal friction, on a
  * bed whose slope zeta(x) is given per cell.  Finite volumes: MUSCL edges of h
  * and u, an HLL or Rusanov flux, two-stage SSP Runge-Kutta, the friction as a
- * projection that stops a cell exactly; interfaces between two cells that
- * friction holds at rest pass no mass (docs/numerics/depth-averaged.md).
- * No I/O; the arrays the solver needs come with da_create and go with
- * da_free. */
+ * projection that stops a cell exactly; faces between two cells that friction
+ * holds at rest pass no mass, and nothing flows out of a holding cell into a
+ * moving one (docs/numerics/depth-averaged.md).  No I/O; the arrays the
+ * solver needs come with da_create and go with da_free. */
 #ifndef MUFLOW_DIAGNOSTICS_DEPTH_AVERAGED_H
 #define MUFLOW_DIAGNOSTICS_DEPTH_AVERAGED_H
 
