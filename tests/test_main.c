@@ -45,6 +45,7 @@ static const struct {
     {"stretched", group_stretched},
     {"cases", group_cases},
     {"velocity_mg", group_velocity_mg},
+    {"depth_averaged", group_depth_averaged},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
