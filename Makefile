@@ -493,9 +493,9 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 # 6, the harmonic mixture (collapse.mixture = harmonic, Gerris's), the clip
 # 10 (Gerris's example), van Leer's advection, each code's own step, at
 # 12.8, 25.6, 51.2 cells per H0 (COLLAPSE_FRONT_LEVELS 6 7 8; 9 is 102.4,
-# about 20 minutes more): the largest |x_f(muflow) - x_f(Gerris)| over t in
+# about 13 minutes more): the largest |x_f(muflow) - x_f(Gerris)| over t in
 # [0, 6], collapse_gerris_front.md in $(BENCH_OUT).  About 4 minutes on 2
-# cores with the defaults.
+# shared cores with the defaults.
 COLLAPSE_FRONT_LEVELS ?= 6 7 8
 .PHONY: bench-collapse-gerris-front
 bench-collapse-gerris-front: deps bench-deps $(BUILD)/muflow
