@@ -489,6 +489,21 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 	  --gerris-dts $(COLLAPSE_GERRIS_GERRIS_DTS) \
 	  --repeats $(COLLAPSE_GERRIS_REPEATS)
 
+# The collapse's front beside Gerris's with the same model: a = 1.42 to t =
+# 6, the harmonic mixture (collapse.mixture = harmonic, Gerris's), the clip
+# 10 (Gerris's example), van Leer's advection, each code's own step, at
+# 12.8, 25.6, 51.2 cells per H0 (COLLAPSE_FRONT_LEVELS 6 7 8; 9 is 102.4,
+# about 13 minutes more): the largest |x_f(muflow) - x_f(Gerris)| over t in
+# [0, 6], collapse_gerris_front.md in $(BENCH_OUT).  About 4 minutes on 2
+# shared cores with the defaults.
+COLLAPSE_FRONT_LEVELS ?= 6 7 8
+.PHONY: bench-collapse-gerris-front
+bench-collapse-gerris-front: deps bench-deps $(BUILD)/muflow
+	@$(MAKE) --no-print-directory deps DEB_PKGS="gerris libgfs-dev"
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_gerris_front.py $(BUILD)/muflow $(BENCH_OUT) \
+	  --levels $(COLLAPSE_FRONT_LEVELS)
+
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
 # time from the exact solution plus a perturbation, Barker & Rauter (2018), sec. 3.1 (Table
 # 1, 32 degrees, three grids, up to five time steps, lambda 1e-8) and 3.2
