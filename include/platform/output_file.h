@@ -16,5 +16,9 @@ int output_open(struct output_file *o, const char *dir, const char *name, char *
                 size_t errlen);
 /* Closes and renames it (removing the temporary on failure). */
 int output_commit(struct output_file *o, char *err, size_t errlen);
+/* Copies to dst the data rows of the CSV file src (its header line skipped)
+ * whose first column, a step, keep(step, ctx) accepts; returns the last step
+ * copied, or -1.  A continued run keeps the rows of its record this way. */
+long output_copy_rows(FILE *src, FILE *dst, int (*keep)(long step, void *ctx), void *ctx);
 
 #endif

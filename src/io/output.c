@@ -1,5 +1,5 @@
 /* CSV and INI output of a run (output.h). */
-#define _POSIX_C_SOURCE 200809L /* getline */
+#define _POSIX_C_SOURCE 200809L /* lstat */
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
@@ -113,6 +113,12 @@ int history_open(struct history *h, const char *dir, const char *error_name, cha
     return 0;
 }
 
+/* The rows a continued run keeps: those up to its checkpoint's step. */
+static int up_to(long step, void *upto)
+{
+    return step <= *(const long *)upto;
+}
+
 int history_resume(struct history *h, const char *dir, const char *error_name, long upto,
                    char *err, size_t errlen)
 {
@@ -131,20 +137,7 @@ int history_resume(struct history *h, const char *dir, const char *error_name, l
     }
     if (!src)
         return 0; /* nothing to continue: the rows before upto are lost */
-    char *line = NULL;
-    size_t cap = 0;
-    int first = 1;
-    while (getline(&line, &cap, src) > 0) {
-        if (first) { /* the header, already written */
-            first = 0;
-            continue;
-        }
-        char *end;
-        long step = strtol(line, &end, 10);
-        if (end != line && *end == ',' && step <= upto)
-            fputs(line, h->file.f);
-    }
-    free(line);
+    output_copy_rows(src, h->file.f, up_to, &upto);
     fclose(src);
     return 0;
 }

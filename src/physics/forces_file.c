@@ -1,5 +1,4 @@
 /* forces.csv, row by row (forces_file.h). */
-#define _POSIX_C_SOURCE 200809L /* getline */
 #include "physics/forces_file.h"
 
 #include <stdio.h>
@@ -10,26 +9,13 @@
 /* The rows of the previous file that the uninterrupted run has too: those
  * before step resume, and its own row when it is a sampled step (a final
  * row of a run stopped between samples is not one). */
-static void copy_rows(struct forces_file *ff, FILE *src, long resume)
+struct kept_rows {
+    long resume, every;
+};
+static int kept(long step, void *ctx)
 {
-    char *line = NULL;
-    size_t cap = 0;
-    int first = 1;
-    while (getline(&line, &cap, src) > 0) {
-        if (first) { /* the header, already written */
-            first = 0;
-            continue;
-        }
-        char *end;
-        long step = strtol(line, &end, 10);
-        if (end == line || *end != ',')
-            continue;
-        if (step < resume || (step == resume && step % ff->every == 0)) {
-            fputs(line, ff->file.f);
-            ff->last_step = step;
-        }
-    }
-    free(line);
+    const struct kept_rows *k = ctx;
+    return step < k->resume || (step == k->resume && step % k->every == 0);
 }
 
 int forces_file_open(struct forces_file *ff, const struct march_state *st, const char *dir,
@@ -62,7 +48,10 @@ int forces_file_open(struct forces_file *ff, const struct march_state *st, const
         fprintf(ff->file.f, ",%s", l.name[i]);
     fprintf(ff->file.f, "\n");
     if (src) {
-        copy_rows(ff, src, resume);
+        struct kept_rows k = {resume, ff->every};
+        long last = output_copy_rows(src, ff->file.f, kept, &k);
+        if (last >= 0)
+            ff->last_step = last;
         fclose(src);
     }
     return 0;

@@ -1,8 +1,10 @@
 /* Whole files: written under a temporary name, renamed (output_file.h). */
+#define _POSIX_C_SOURCE 200809L /* getline */
 #include "platform/output_file.h"
 
 #include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 int output_open(struct output_file *o, const char *dir, const char *name, char *err,
@@ -39,4 +41,26 @@ int output_commit(struct output_file *o, char *err, size_t errlen)
         return -1;
     }
     return 0;
+}
+
+long output_copy_rows(FILE *src, FILE *dst, int (*keep)(long step, void *ctx), void *ctx)
+{
+    char *line = NULL;
+    size_t cap = 0;
+    int first = 1;
+    long last = -1;
+    while (getline(&line, &cap, src) > 0) {
+        if (first) { /* the header, written by the caller */
+            first = 0;
+            continue;
+        }
+        char *end;
+        long step = strtol(line, &end, 10);
+        if (end != line && *end == ',' && keep(step, ctx)) {
+            fputs(line, dst);
+            last = step;
+        }
+    }
+    free(line);
+    return last;
 }
