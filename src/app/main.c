@@ -75,7 +75,14 @@
  * docs/numerics/threads-and-platform.md).
  * MUFLOW_MACHINE_LOAD replaces the load average read (tests). */
 #define SPIN_COUNT "1000"
-#define MALLOC_TUNABLES "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432"
+/* Huge pages for the field arrays; freed memory kept in the process (no trim
+ * of the heaps' tops): FFTW's threaded transforms free and allocate their
+ * buffers at every execution, and each heap trim that returned them cost page
+ * faults and, with two threads, a TLB shootdown on the other core (bagnold3d,
+ * 3 steps on 2 threads: 22.5 s -> 9.6 s; docs/numerics/threads-and-platform.md) */
+#define MALLOC_TUNABLES                                                                        \
+    "glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432:"                           \
+    "glibc.malloc.trim_threshold=4294967296"
 
 /* Whether other processes keep the cores busy: the 1-minute load average
  * (or MUFLOW_MACHINE_LOAD) within half a core of the online cores. */
