@@ -16,6 +16,11 @@ int output_open(struct output_file *o, const char *dir, const char *name, char *
                 size_t errlen);
 /* Closes and renames it (removing the temporary on failure). */
 int output_commit(struct output_file *o, char *err, size_t errlen);
+/* The file a previous run left as dir/name, to read the rows a continued
+ * run keeps: its temporary (a run that died before renaming it; the name is
+ * removed, the stream still reads it) if there is one, else dir/name; NULL
+ * when neither opens. */
+FILE *output_previous(const char *dir, const char *name);
 /* Copies to dst the data rows of the CSV file src (its header line skipped)
  * whose first column, a step, keep(step, ctx) accepts; returns the last step
  * copied, or -1.  A continued run keeps the rows of its record this way. */

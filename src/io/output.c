@@ -122,14 +122,7 @@ static int up_to(long step, void *upto)
 int history_resume(struct history *h, const char *dir, const char *error_name, long upto,
                    char *err, size_t errlen)
 {
-    char path[600], tmp[620];
-    snprintf(path, sizeof path, "%s/history.csv", dir);
-    snprintf(tmp, sizeof tmp, "%s/history.csv.tmp", dir);
-    FILE *src = fopen(tmp, "r");
-    if (src)
-        remove(tmp); /* still read through src; history_open makes a new one */
-    else
-        src = fopen(path, "r");
+    FILE *src = output_previous(dir, "history.csv");
     if (history_open(h, dir, error_name, err, errlen) != 0) {
         if (src)
             fclose(src);

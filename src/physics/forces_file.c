@@ -30,14 +30,7 @@ int forces_file_open(struct forces_file *ff, const struct march_state *st, const
     struct obstacle_force_lines l;
     obstacle_forces_surface(st, &f); /* the columns: the scales decide the coefficients' */
     obstacle_force_lines(st, &f, &l);
-    char path[600], tmp[620];
-    snprintf(path, sizeof path, "%s/" FORCES_FILE_NAME, dir);
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *src = NULL;
-    if (resume >= 0 && (src = fopen(tmp, "r")))
-        remove(tmp); /* still read through src; output_open makes a new one */
-    else if (resume >= 0)
-        src = fopen(path, "r");
+    FILE *src = resume >= 0 ? output_previous(dir, FORCES_FILE_NAME) : NULL;
     if (output_open(&ff->file, dir, FORCES_FILE_NAME, err, errlen) != 0) {
         if (src)
             fclose(src);

@@ -551,6 +551,30 @@ static int flow_direction(const struct march_state *st, double *sense)
     return f[a] != 0.0 ? a : -1;
 }
 
+/* How the forces are named: drag along the flow (positive downstream), lift
+ * across it in the plane (positive along the grid's axis), for a flow along
+ * the plane's a (k = 0) or b (k = 1); k = -1 for a flow along the extrusion,
+ * or none, whose forces are named by their axes.  q: the coefficients'
+ * dynamic pressure per unit length (0 without a velocity scale). */
+struct force_frame {
+    int k, along, across;
+    double sense, q;
+    int axis[2]; /* the plane's directions */
+};
+static void force_frame(const struct march_state *st, const struct obstacle_forces *f,
+                        struct force_frame *fr)
+{
+    struct shape_set set;
+    case_obstacle_shapes(st->cs, &set);
+    int dir = flow_direction(st, &fr->sense);
+    fr->k = dir == set.plane_a ? 0 : dir == set.plane_b ? 1 : -1;
+    fr->along = fr->k;
+    fr->across = 1 - fr->k;
+    fr->q = 0.5 * st->cs->density * f->u_ref * f->u_ref * f->d_ref;
+    fr->axis[0] = set.plane_a;
+    fr->axis[1] = set.plane_b;
+}
+
 void obstacle_results(const struct march_state *st, struct result_values *res)
 {
     /* a wall around the fluid (obstacle.invert: a duct) is no body in a
@@ -561,18 +585,11 @@ void obstacle_results(const struct march_state *st, struct result_values *res)
         return;
     struct obstacle_forces f;
     int rc = obstacle_forces(st, &f);
-    struct shape_set set;
-    case_obstacle_shapes(st->cs, &set);
-    /* drag along the flow (positive downstream), lift across it in the
-     * plane (positive along the grid's axis): the flow along the plane's a
-     * (k = 0) or b (k = 1); a flow along the extrusion, or none, has
-     * neither, and the forces are named by their axes */
-    double sense;
-    int dir = flow_direction(st, &sense);
-    int k = dir == set.plane_a ? 0 : dir == set.plane_b ? 1 : -1;
-    if (k >= 0) {
-        int along = k, across = 1 - k;
-        double q = 0.5 * st->cs->density * f.u_ref * f.u_ref * f.d_ref;
+    struct force_frame fr;
+    force_frame(st, &f, &fr);
+    if (fr.k >= 0) {
+        int along = fr.along, across = fr.across;
+        double sense = fr.sense, q = fr.q;
         result_values_add(res, "drag_force", "%.10g", sense * f.surface[along]);
         result_values_add(res, "lift_force", "%.10g", f.surface[across]);
         result_values_add(res, "drag_force_pressure", "%.10g", sense * f.pressure_part[along]);
@@ -595,10 +612,10 @@ void obstacle_results(const struct march_state *st, struct result_values *res)
                            f.reconstructed[across] / q);
         }
         /* the front and back points lie along a */
-        if (k == 0 && !f.mirror[0])
+        if (fr.k == 0 && !f.mirror[0])
             result_values_add(res, "pressure_drop", "%.10g", sense * f.front_back);
     } else {
-        const int axis[2] = {set.plane_a, set.plane_b};
+        const int *axis = fr.axis;
         for (int c = 0; c < 2; c++) {
             char key[40];
             snprintf(key, sizeof key, "force_%c", "xyz"[axis[c]]);
@@ -625,26 +642,23 @@ void obstacle_force_lines(const struct march_state *st, const struct obstacle_fo
     l->n = 0;
     if (!case_obstacle_active(st->cs) || st->cs->obstacle.invert)
         return;
-    struct shape_set set;
-    case_obstacle_shapes(st->cs, &set);
-    double sense; /* as obstacle_results: the same expressions, the same numbers */
-    int dir = flow_direction(st, &sense);
-    int k = dir == set.plane_a ? 0 : dir == set.plane_b ? 1 : -1;
+    struct force_frame fr; /* obstacle_results' names and numbers */
+    force_frame(st, f, &fr);
 #define LINE(nm, v) (l->name[l->n] = (nm), l->value[l->n++] = (v))
-    if (k >= 0) {
-        int along = k, across = 1 - k;
-        double q = 0.5 * st->cs->density * f->u_ref * f->u_ref * f->d_ref;
+    if (fr.k >= 0) {
+        int along = fr.along, across = fr.across;
+        double sense = fr.sense, q = fr.q;
         LINE("drag_force", sense * f->surface[along]);
         LINE("lift_force", f->surface[across]);
         if (q > 0.0) {
             LINE("drag_coefficient", sense * f->surface[along] / q);
             LINE("lift_coefficient", f->surface[across] / q);
         }
-        if (k == 0 && !f->mirror[0])
+        if (fr.k == 0 && !f->mirror[0])
             LINE("pressure_drop", sense * f->front_back);
     } else {
-        LINE(axis_names[set.plane_a], f->surface[0]);
-        LINE(axis_names[set.plane_b], f->surface[1]);
+        LINE(axis_names[fr.axis[0]], f->surface[0]);
+        LINE(axis_names[fr.axis[1]], f->surface[1]);
     }
 #undef LINE
 }

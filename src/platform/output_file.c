@@ -43,6 +43,19 @@ int output_commit(struct output_file *o, char *err, size_t errlen)
     return 0;
 }
 
+FILE *output_previous(const char *dir, const char *name)
+{
+    char path[600], tmp[620];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    FILE *src = fopen(tmp, "r");
+    if (src)
+        remove(tmp); /* still read through src; output_open makes a new one */
+    else
+        src = fopen(path, "r");
+    return src;
+}
+
 long output_copy_rows(FILE *src, FILE *dst, int (*keep)(long step, void *ctx), void *ctx)
 {
     char *line = NULL;
