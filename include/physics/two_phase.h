@@ -50,6 +50,10 @@ struct two_phase_params {
      * sub-steps still guard the velocity the step ends with); 0: no limit,
      * the sub-steps alone */
     double step_cfl;
+    /* 1: the phases lie in flat layers along z, the grains below, and the
+     * flow carries their weight (bagnold2): a cut edge's phases carry the
+     * stress and pressure of their own part of its link (series edges) */
+    int layered;
 };
 
 extern const struct module two_phase_module;

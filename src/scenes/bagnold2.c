@@ -256,7 +256,8 @@ static int setup(struct march_state *st, char *err, size_t errlen)
                                         .fluid_viscosity = b->fluid_viscosity,
                                         .mixture = (enum mixture_law)b->mixture,
                                         .edges = (enum edge_mixing)b->interface_edges,
-                                        .transported = st->cs->mode == MODE_TRANSIENT};
+                                        .transported = st->cs->mode == MODE_TRANSIENT,
+                                        .layered = 1};
     double *T = two_phase_configure(st, &tp, err, errlen);
     if (!T)
         return -1;
