@@ -356,7 +356,10 @@ static struct link_load cut_link_load(const struct two_phase *tp, const struct m
     double rg = st->cs->density, rf = tp->p.fluid_density;
     double lg = t * dz, lf = (1.0 - t) * dz;
     /* the interface: above the cells' centres below the edge by lg */
-    double p_up = 0.5 * (p[e] + p[e - o[h]]);
+    /* the weight's part of the pressure (without the projection's, which
+     * lags behind the velocity and made the last steps stall near 1e-10) */
+    const double *pd = st->field.p_dyn;
+    double p_up = 0.5 * (p[e] - pd[e] + p[e - o[h]] - pd[e - o[h]]);
     double p_i = p_up + rf * gn * lf;
     double p_e = t >= 0.5 ? p_i + rg * gn * (t - 0.5) * dz : p_i - rf * gn * (0.5 - t) * dz;
     double p_g = p_i + 0.5 * rg * gn * lg, p_f = p_i - 0.5 * rf * gn * lf;
@@ -364,7 +367,8 @@ static struct link_load cut_link_load(const struct two_phase *tp, const struct m
         return ld;
     ld.m_g = p_g / p_e;
     ld.m_f = p_f / p_e;
-    ld.p_g = p_g;
+    ld.p_g += p_g - 0.25 * (p[e] - pd[e] + p[e - o[a]] - pd[e - o[a]] + p[e - o[b]] -
+                            pd[e - o[b]] + p[e - o[a] - o[b]] - pd[e - o[a] - o[b]]);
     return ld;
 }
 
