@@ -505,15 +505,15 @@ static void test_no_exact_said(void **state)
 }
 
 /* lambda 1e-8 from rest: the whole layer starts as a plug of viscosity
- * mu p / lambda ~ 2e8 Pa s; as it yields (steps 6-8) the round-off of the
- * steps grows into a flow across x (w from 1e-16 to 1e-7 m/s) whose pressure
- * at the interface the projection's correction (rho / dt) phi cannot relax
- * once the pseudo-time step is large: the residual stalls at 6.8e-4 in the
- * z-momentum at the interface (16 x 100), far above any round-off, while
- * the velocity is that of lambda 1e-6 (err_rms 3.1525e-5 against
- * 3.1528e-5).  The run must end steady on that profile, or say that it
- * stalls there and is no round-off.  From lambda 1e-6 by stages
- * (solver.continuation = 100) it is steady in 10 steps on that profile. */
+ * mu p / lambda ~ 2e8 Pa s.  With the face densities of the cells' means
+ * the hydrostatic pressure left a force at the interface: as the plug
+ * yielded, the round-off grew into a flow across x whose interface pressure
+ * the projection's correction (rho / dt) phi could not relax at large
+ * pseudo-time steps (the residual stalled at 6.8e-4 in the z-momentum at
+ * the interface, 16 x 100).  With the faces' sub-cell shares it is steady in
+ * 10 steps on lambda 1e-6's profile (err_rms 3.0098e-6 both).  The run must
+ * end steady on that profile, or say that it stalls there and is no
+ * round-off; by stages (solver.continuation = 100) it is steady too. */
 static void test_small_lambda(void **state)
 {
     (void)state;
