@@ -330,14 +330,15 @@ static double series_edge(const struct two_phase *tp, const struct rheology *r, 
 }
 
 /* The load along a link of edge e (plane c) that the interface cuts.  A
- * layered flow (tp->p.layered: flat layers, grains below, along z) carries
- * the weight above it: stress and pressure both grow with it, so each
- * phase's part of the link carries the edge's stress times the ratio of the
- * pressure at its middle to the edge's, from the pressure of the cell
- * above the interface and the hydrostatic rise through the link; a third
- * of a cell of grains above an edge loads it ten times the air's weight,
- * which the air above the interface does not carry.  Otherwise the edge's
- * stress and mean pressure in both phases. */
+ * layered flow (tp->p.layered: flat layers along z, the grains below, on
+ * a uniform spacing along z) carries the weight above it: stress and
+ * pressure both grow with it, so each phase's part of the link carries the
+ * edge's stress times the ratio of the pressure at its middle to the
+ * edge's, from the pressure of the cells above the interface and the
+ * hydrostatic rise through the link.  A third of a cell of grains above an
+ * edge loads it with ten times the air's weight, which the air above the
+ * interface does not carry.  Otherwise the edge's stress and mean pressure
+ * in both phases. */
 static struct link_load cut_link_load(const struct two_phase *tp, const struct march_state *st,
                                       int c, ptrdiff_t e, double t)
 {
@@ -347,28 +348,24 @@ static struct link_load cut_link_load(const struct two_phase *tp, const struct m
     const double *p = st->field.pressure;
     struct link_load ld = {1.0, 1.0,
                            0.25 * (p[e] + p[e - o[a]] + p[e - o[b]] + p[e - o[a] - o[b]])};
-    if (!tp->p.layered || c == 2)
+    if (!tp->p.layered || c == 2 || g->axis[2])
         return ld;
     int h = a == 2 ? b : a; /* the edge's horizontal direction */
     double f[3];
     body_force_vector(st->cs, f);
     double gn = -f[2] / st->cs->density, dz = g->h[2];
     double rg = st->cs->density, rf = tp->p.fluid_density;
+    /* the link from the centres below the edge to those above: grains over
+     * lg, the interface, fluid over lf; the edge half way */
     double lg = t * dz, lf = (1.0 - t) * dz;
-    /* the interface: above the cells' centres below the edge by lg */
-    /* the weight's part of the pressure (without the projection's, which
-     * lags behind the velocity and made the last steps stall near 1e-10) */
-    const double *pd = st->field.p_dyn;
-    double p_up = 0.5 * (p[e] - pd[e] + p[e - o[h]] - pd[e - o[h]]);
-    double p_i = p_up + rf * gn * lf;
+    double p_i = 0.5 * (p[e] + p[e - o[h]]) + rf * gn * lf;
     double p_e = t >= 0.5 ? p_i + rg * gn * (t - 0.5) * dz : p_i - rf * gn * (0.5 - t) * dz;
     double p_g = p_i + 0.5 * rg * gn * lg, p_f = p_i - 0.5 * rf * gn * lf;
     if (!(p_e > 0.0 && p_f > 0.0 && gn > 0.0))
         return ld;
     ld.m_g = p_g / p_e;
     ld.m_f = p_f / p_e;
-    ld.p_g += p_g - 0.25 * (p[e] - pd[e] + p[e - o[a]] - pd[e - o[a]] + p[e - o[b]] -
-                            pd[e - o[b]] + p[e - o[a] - o[b]] - pd[e - o[a] - o[b]]);
+    ld.p_g = p_g;
     return ld;
 }
 
