@@ -6,14 +6,16 @@
  * field files as "tracer") and, in the properties stage, makes the mixture:
  *   density    rho = T rho_g + (1 - T) rho_f  (Barker & Rauter 2018, eq. 13), rho_g the
  *              bulk density of the grains (physics.density); on a face the
- *              mean of its two cells; the mass term and the projection take
- *              it through march_density_changed;
+ *              mean of its two cells (EDGES_MEAN) or the grains' share of
+ *              the face's box cut from the reconstructed interface
+ *              (EDGES_SERIES); the mass term and the projection take it
+ *              through march_density_changed;
  *   viscosity  from the granular viscosity eta_g the core properties stage
  *              computed (mu(I) with the regularised total pressure) and the
- *              fluid's eta_f: density-weighted (eq. 14) or harmonic (eq. 15),
- *              at cells and on edges (T on an edge: the mean of its four
- *              cells); the tangent coefficients of the Newton step follow
- *              the mixing rule's derivative with respect to eta_g.
+ *              fluid's eta_f: density-weighted (eq. 14) or harmonic (eq. 15)
+ *              at cells and on edges, an edge the interface cuts by the
+ *              edge rule below; the tangent coefficients of the Newton step
+ *              follow the mixing rule's derivative.
  * A scene's setup configures it (two_phase_configure) and sets T; T is held
  * or, in the transport stage, carried by the projected velocity with the
  * geometric VOF of physics/vof_transport.h (conservative and bounded to
@@ -28,11 +30,11 @@
 enum mixture_law { MIXTURE_WEIGHTED = 0, MIXTURE_HARMONIC };
 
 /* The viscosity of an edge (a shear-stress location) holding both phases:
- * EDGES_MEAN the mixture law at the mean T of its four cells; EDGES_SERIES
- * the two in series, 1/eta = t/eta_g + (1 - t)/eta_f, at the grains' share t
- * of its control volume cut from the reconstructed interface (the shear
- * stress is continuous across an interface whose normal lies in the edge's
- * plane, as in layered shear; docs/numerics/two-phase-and-vof.md). */
+ * EDGES_MEAN the mixture law at the mean T of its four cells (the
+ * collapse); EDGES_SERIES the two in series over their parts of the edge's
+ * link, t and 1 - t cut from the reconstructed interface, each at its own
+ * shear rate (and, layered, its own stress and pressure): the exact flux of
+ * a profile linear in each phase (docs/numerics/two-phase-and-vof.md). */
 enum edge_mixing { EDGES_MEAN = 0, EDGES_SERIES };
 
 struct two_phase_params {
@@ -50,6 +52,10 @@ struct two_phase_params {
      * sub-steps still guard the velocity the step ends with); 0: no limit,
      * the sub-steps alone */
     double step_cfl;
+    /* 1: the phases lie in flat layers along z, the grains below, and the
+     * flow carries their weight (bagnold2): a cut edge's phases carry the
+     * stress and pressure of their own part of its link (series edges) */
+    int layered;
 };
 
 extern const struct module two_phase_module;
