@@ -9,9 +9,15 @@
  * - the stopping height by bisection on 10 and 20 cells against Kamrin &
  *   Henann's (2015) closed form (pi / 2) A d / sqrt(tan(theta) - mu_s):
  *   within 5%, converging at second order;
+ * - a plane Couette flow without gravity (uniform p and mu): the half width
+ *   of its wall layers against the closed form of the fluidity equation,
+ *   g / g_bulk = 1 - (3/2) sech^2(kappa (z + s0) / 2), kappa = sqrt(mu - mu_s)
+ *   / (A d), sech^2(kappa s0 / 2) = 2/3 (g = 0 on the wall): |D| falls to half
+ *   its bulk value at 0.9754 / kappa from the wall;
  * - the law's input checks name the key. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "app/run.h"
 #include "io/output.h"
@@ -154,6 +160,62 @@ static void test_stopping_height(void **state)
     assert_true(fabs(e10 / e20) > 3.0);
 }
 
+/* The Couette flow between a wall and a lid at 1.5, H = 40 d, p = 1 without
+ * gravity, on nz cells: the measured half width over the closed form's,
+ * minus 1.  mu = mu_s + b I of the bulk's shear rate (its local law). */
+static double wall_layer_error(int nz)
+{
+    struct test_run_dir dir;
+    test_run_dir_make(&dir, "ngf_couette");
+    char n[32];
+    snprintf(n, sizeof n, "domain.nz=%d", nz);
+    /* at the case's tolerance 1e-10 the march stopped after 43 steps with the
+     * two wall layers still unequal (on 80 cells); 1e-15 takes 142 */
+    char *ov[] = {dir.output, n, "physics.tilt=0", "physics.gravity=0",
+                  "physics.confining_pressure=1", "boundary.zhi=lid", "boundary.lid_velocity=1.5",
+                  "domain.lz=40", "solver.tolerance=1e-15", "solver.max_steps=5000",
+                  "output.fields=off", "output.quiet=on"};
+    struct muflow_case cs;
+    struct run_result r;
+    test_load_case(&cs, NGF_CASE, 12, ov);
+    test_run_loaded(&cs, 1, &r);
+    assert_int_equal(r.status, STATUS_STEADY);
+    char header[256];
+    int rows, cols;
+    double *v = test_read_csv_numbers(dir.dir, "profile.csv", header, sizeof header, &rows, &cols);
+    int cz = test_csv_column(header, "z"), cd = test_csv_column(header, "shear_rate");
+    assert_true(rows == nz && cz >= 0 && cd >= 0);
+    double bulk = 0.5 * (v[(nz / 2 - 1) * cols + cd] + v[(nz / 2) * cols + cd]);
+    double z_half = NAN;
+    for (int k = 1; k < nz / 2 && isnan(z_half); k++) {
+        double d0 = v[(k - 1) * cols + cd], d1 = v[k * cols + cd];
+        double z0 = v[(k - 1) * cols + cz], z1 = v[k * cols + cz];
+        if (d1 >= 0.5 * bulk)
+            z_half = z0 + (0.5 * bulk - d0) * (z1 - z0) / (d1 - d0);
+    }
+    free(v);
+    test_run_dir_remove(&dir);
+    double inertial = bulk * sqrt(cs.rheo.grain_density / 1.0) * cs.rheo.grain_diameter;
+    double kappa =
+        sqrt(cs.rheo.nonlocal_b * inertial) / (cs.rheo.nonlocal_a * cs.rheo.grain_diameter);
+    /* sech^2 = 1/3 at kappa (z + s0) / 2 = acosh(sqrt 3), sech^2 = 2/3 at z = 0 */
+    double exact = 2.0 * (acosh(sqrt(3.0)) - acosh(sqrt(1.5))) / kappa;
+    print_message("ngf Couette on %d cells: |D| bulk %.6f, kappa %.5f, half width %.5f, closed "
+                  "form %.5f (%+.3f%%)\n",
+                  nz, bulk, kappa, z_half, exact, 100.0 * (z_half / exact - 1.0));
+    return z_half / exact - 1.0;
+}
+
+/* The wall layers' width: 4.8%, 0.73%, 0.077% on 40, 80, 160 cells (h = 1,
+ * 1/2, 1/4 d, the layer's half width 2.04 d). */
+static void test_couette_wall_layer(void **state)
+{
+    (void)state;
+    double e80 = wall_layer_error(80), e160 = wall_layer_error(160);
+    assert_true(fabs(e80) < 0.02 && fabs(e160) < 0.005);
+    assert_true(fabs(e80 / e160) > 4.0);
+}
+
 static void test_bad_input(void **state)
 {
     (void)state;
@@ -175,6 +237,7 @@ void group_ngf(struct test_tally *t)
         cmocka_unit_test(test_line_solver),
         cmocka_unit_test(test_stops_and_flows),
         cmocka_unit_test(test_stopping_height),
+        cmocka_unit_test(test_couette_wall_layer),
     };
     RUN_GROUP(t, "ngf", tests);
 }
