@@ -15,11 +15,11 @@ the closed form
 (the height at which g = 0 loses its stability: A^2 d^2 g'' + (tan(theta) -
 mu_s) g = 0 with g(0) = 0, g'(H) = 0 has the solution sin(pi z / (2 H)) there;
 Kamrin & Henann 2015), each run from rest (flows(): how a run is judged).
-Then, on N = 40, the depth-averaged velocity of layers of
-1.25 .. 6 H_stop against Pouliquen's flow rule u / sqrt(g H) = beta H / h_stop,
-beta fitted (and Forterre & Pouliquen's beta H / h_stop - gamma), beside the
-local law's (A = 0) Bagnold value.  Writes OUTDIR/ngf_hstop.csv, ngf_hstop.md (the table) and
-ngf_flow_rule.csv."""
+Then, on N = 40, the depth-averaged velocity of layers of 1.25 .. 6 H_stop
+against Pouliquen's flow rule u / sqrt(g H) = beta H / h_stop, beta fitted
+(and Forterre & Pouliquen's beta H / h_stop - gamma), beside the local law's
+(A = 0) Bagnold value.  Writes OUTDIR/ngf_hstop.csv, ngf_hstop.md (the
+table) and ngf_flow_rule.csv.  About 10 minutes on one thread."""
 import csv
 import math
 import os
