@@ -19,7 +19,8 @@ Then, on N = 40, the depth-averaged velocity of layers of 1.25 .. 6 H_stop
 against Pouliquen's flow rule u / sqrt(g H) = beta H / h_stop, beta fitted
 (and Forterre & Pouliquen's beta H / h_stop - gamma), beside the local law's
 (A = 0) Bagnold value.  Writes OUTDIR/ngf_hstop.csv, ngf_hstop.md (the
-table) and ngf_flow_rule.csv.  About 10 minutes on one thread."""
+table) and ngf_flow_rule.csv.  4 minutes on one thread of the busy 2-core
+machine (load 7 to 10)."""
 import csv
 import math
 import os
