@@ -318,6 +318,15 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
 
+# The nonlocal fluidity's stopping height at five angles on 10, 20, 40 cells
+# by bisection against the closed form, and the flow rule above it
+# (bench/ngf_hstop.py); bench/out/ngf_hstop.md.  4 minutes on one thread.
+.PHONY: bench-ngf
+bench-ngf: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=1 /usr/bin/python3 bench/ngf_hstop.py $(BUILD)/muflow $(BENCH_OUT) \
+	  rheology.lambda=1e-12
+
 # The algebraic multigrid against the probed LU on whole steady solves
 # (bench/heap_amg.py): the heap at the tilt 0.4061 on 140 x 200 with lu,
 # amg and gmg alternating (AMG_REPEATS each: wall and CPU time, peak memory,
