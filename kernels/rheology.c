@@ -242,6 +242,7 @@ const char *rheology_law_name(enum rheology_law law)
     case LAW_MUI: return "mui";
     case LAW_BINGHAM: return "bingham";
     case LAW_NEWTONIAN: return "newtonian";
+    case LAW_NGF: return "ngf";
     }
     return "unknown";
 }

@@ -192,6 +192,20 @@ static inline void rheo_eval(const struct rheology *r, enum rheology_law law,
         return;
     }
 
+    case LAW_NGF: {
+        /* the local limit of the nonlocal fluidity (A = 0): g = |D| / mu,
+         * mu = mu_s + b I, so eta = p / g = mu_s p f(|D|) + b d sqrt(rho_s p).
+         * physics/ngf.c replaces it by p / g of the nonlocal g; this is what
+         * a kernel without the fluidity field evaluates */
+        double p = p_reg > 0.0 ? p_reg : 0.0;
+        double rate = r->nonlocal_b * r->grain_diameter * sqrt(r->grain_density);
+        rheo_yield_kernel(reg, D, lam, &f, &df);
+        out->eta = r->mu_s * p * f + rate * sqrt(p);
+        out->deta_dshear = r->mu_s * p * df;
+        out->deta_dp = r->mu_s * f + (p > 0.0 ? fmin(0.5 * rate / sqrt(p), DBL_MAX) : DBL_MAX);
+        return;
+    }
+
     case LAW_MUI:
     default:
         break;
@@ -266,6 +280,13 @@ static inline void rheo_eval(const struct rheology *r, enum rheology_law law,
                 CALL(LAW_BINGHAM, REG_PAPANASTASIOU, CURVE_JOP);                    \
                 break;                                                              \
             default: CALL(LAW_BINGHAM, REG_BERCOVIER, CURVE_JOP); break;            \
+            }                                                                       \
+            break;                                                                  \
+        case LAW_NGF:                                                               \
+            switch ((r)->reg) {                                                     \
+            case REG_SIMPLE: CALL(LAW_NGF, REG_SIMPLE, CURVE_JOP); break;           \
+            case REG_PAPANASTASIOU: CALL(LAW_NGF, REG_PAPANASTASIOU, CURVE_JOP); break;\
+            default: CALL(LAW_NGF, REG_BERCOVIER, CURVE_JOP); break;                \
             }                                                                       \
             break;                                                                  \
         case LAW_MUI:                                                               \

@@ -6,7 +6,7 @@
 #ifndef MUFLOW_CONFIG_RHEOLOGY_PARAMS_H
 #define MUFLOW_CONFIG_RHEOLOGY_PARAMS_H
 
-enum rheology_law { LAW_MUI = 0, LAW_BINGHAM, LAW_NEWTONIAN };
+enum rheology_law { LAW_MUI = 0, LAW_BINGHAM, LAW_NEWTONIAN, LAW_NGF };
 enum regularisation { REG_SIMPLE = 0, REG_BERCOVIER, REG_PAPANASTASIOU, REG_MC };
 enum rheology_curve { CURVE_JOP = 0, CURVE_BARKER_GRAY };
 
@@ -31,6 +31,9 @@ struct rheology {
     double yield_stress, plastic_viscosity;
     /* Newtonian */
     double viscosity;
+    /* ngf, the nonlocal granular fluidity (with mu_s): the nonlocal
+     * amplitude A and the rate sensitivity b (physics/ngf.h) */
+    double nonlocal_a, nonlocal_b;
 };
 
 #endif

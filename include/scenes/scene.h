@@ -152,6 +152,9 @@ int scene_output_files(const char **names, int max, const struct module *const *
 /* The physics modules a case's own keys add to any scene's (the obstacle,
  * [obstacle] shapes), NULL-terminated. */
 extern const struct module *const scene_case_modules[];
+/* Those of scene_case_modules the case switches on (obstacle.shapes,
+ * rheology.law = ngf): a NULL-terminated list, or NULL. */
+const struct module *const *scene_case_module_list(const struct muflow_case *cs);
 /* The march's setup for the case (march/march.h): the scene's modules, the
  * extra ones (NULL-terminated, or NULL), the case's own when it has a body;
  * the scene's setup and cross_section_flow. */

@@ -23,7 +23,8 @@ const struct choice case_plane_choices[] = {
 static const struct choice obstacle_boundary_choices[] = {
     {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {NULL, 0}};
 static const struct choice law_choices[] = {
-    {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN}, {NULL, 0}};
+    {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN},
+    {"ngf", LAW_NGF}, {NULL, 0}};
 static const struct choice reg_choices[] = {
     {"simple", REG_SIMPLE}, {"bercovier", REG_BERCOVIER},
     {"papanastasiou", REG_PAPANASTASIOU}, {"mc", REG_MC}, {NULL, 0}};
@@ -222,7 +223,8 @@ const struct key case_core_keys[] = {
                  "centred form adds energy where no viscosity damps it, such as a granular free "
                  "surface, where the pressure and so the mu(I) viscosity vanish")),
 
-    CHO("rheology", "law", rheo.law, law_choices, "viscosity law: mu(I), Bingham or Newtonian"),
+    CHO("rheology", "law", rheo.law, law_choices,
+        "viscosity law: mu(I), Bingham, Newtonian or ngf (nonlocal granular fluidity)"),
     CHO("rheology", "regularisation", rheo.reg, reg_choices,
         KEY_HELP("form of the regularised yield term (include/kernels/rheology.h)", NULL,
                  "Form of the regularised viscosity (Chauchat & Medale 2014, eqs. 9-12), with "
@@ -235,7 +237,8 @@ const struct key case_core_keys[] = {
     DBL("rheology", "lambda", rheo.lambda, RANGE(0, 1, 0, 1),
         KEY_HELP("regularisation parameter, a shear rate (also of the pressure regularisation)",
                  "1/time", NULL)),
-    DBL("rheology", "mu_s", rheo.mu_s, GE0, "static friction coefficient mu_s (mu(I))"),
+    DBL("rheology", "mu_s", rheo.mu_s, GE0,
+        "static friction coefficient mu_s (mu(I), ngf; glass beads for ngf: 0.3819)"),
     DBL("rheology", "delta_mu", rheo.delta_mu, GE0, "friction increase mu_2 - mu_s (mu(I))"),
     DBL("rheology", "i0", rheo.i0, GT0, "reference inertial number I_0 (mu(I))"),
     CHO("rheology", "curve", rheo.curve, curve_choices,
@@ -277,6 +280,16 @@ const struct key case_core_keys[] = {
         KEY_HELP("Bingham plastic viscosity", "pressure time", NULL)),
     DBL("rheology", "viscosity", rheo.viscosity, GT0,
         KEY_HELP("Newtonian viscosity", "pressure time", NULL)),
+    DBL("rheology", "nonlocal_a", rheo.nonlocal_a, GT0,
+        KEY_HELP("ngf: nonlocal amplitude A, the cooperative length A d / sqrt|mu - mu_s|", NULL,
+                 "ngf: the nonlocal amplitude A of A^2 d^2 lap(g) in the fluidity equation; "
+                 "the cooperative length is A d / sqrt|mu - mu_s|. Glass beads: 0.48 (Henann & "
+                 "Kamrin 2013)")),
+    DBL("rheology", "nonlocal_b", rheo.nonlocal_b, GT0,
+        KEY_HELP("ngf: rate sensitivity b of the local law mu = mu_s + b I", NULL,
+                 "ngf: the rate sensitivity b of the fluidity equation's b sqrt(rho_s d^2 / p) mu "
+                 "g^2 term; the local law it gives is mu = mu_s + b I. Glass beads: 0.9377 "
+                 "(Henann & Kamrin 2013)")),
 
     CHO("solver", "mode", mode, mode_choices,
         "steady: pseudo-time march to a steady state; transient: march to solver.end_time"),
@@ -462,7 +475,9 @@ static const struct {
      "(the lower root of the well-posedness function C(I) of the `jop` curve with these `mu_s`, "
      "`delta_mu`, `i0`) and A_minus = I_1^N exp(alpha / mu(I_1^N)^2) are computed when the case "
      "is loaded; parameters whose `jop` curve is ill posed throughout the bracket are refused, "
-     "naming `rheology.mu_s`, `rheology.delta_mu` and `rheology.i0`."},
+     "naming `rheology.mu_s`, `rheology.delta_mu` and `rheology.i0`. `law = ngf` is the "
+     "nonlocal granular fluidity (`mu_s`, `nonlocal_a`, `nonlocal_b`; "
+     "docs/numerics/rheology.md), for layered flows (periodic x and y) so far."},
     {"solver",
      "The march: steady (a pseudo-time march to the steady state) or transient (to `end_time`), "
      "and the solvers of its steps."},
@@ -522,6 +537,8 @@ void case_defaults(struct muflow_case *c)
     c->rheo.yield_stress = 0.0;
     c->rheo.plastic_viscosity = 0.0;
     c->rheo.viscosity = 1.0;
+    c->rheo.nonlocal_a = 0.48;  /* glass beads, Henann & Kamrin (2013) */
+    c->rheo.nonlocal_b = 0.9377;
 
     c->mode = MODE_STEADY;
     c->tolerance = 1e-10;

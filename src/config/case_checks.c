@@ -403,6 +403,31 @@ static int check_time_step(struct case_ctx *x)
     return 0;
 }
 
+/* The nonlocal fluidity (physics/ngf.h) is solved along z only so far, and
+ * its viscosity p / (g + lambda) needs lambda > 0 where g = 0. */
+static int check_ngf(struct case_ctx *x)
+{
+    const struct muflow_case *c = x->c;
+    if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC ||
+        c->bc.face[2][0] == BC_PERIODIC) {
+        case_refuse(x, "rheology.law = ngf solves the fluidity along z only so far (layered "
+                       "flows): it needs boundary.xlo, xhi, ylo, yhi = periodic and boundary.zlo, "
+                       "zhi not periodic");
+        return 1;
+    }
+    if (!(c->rheo.lambda > 0.0)) {
+        case_refuse(x, "rheology.law = ngf needs rheology.lambda > 0 (in (0, 1]): the viscosity "
+                       "is p / (g + lambda) and the fluidity g is 0 where the grains rest");
+        return 1;
+    }
+    if (c->coupled) {
+        case_refuse(x, "rheology.law = ngf needs solver.coupled = off: the coupled step does not "
+                       "take the fluidity's viscosities yet");
+        return 1;
+    }
+    return 0;
+}
+
 /* The law's own parameters, then the curve's derived values (I_1^N,
  * A_minus), once, from the final keys (case_checks.rheology_curve: the
  * kernels' root finder). */
@@ -420,6 +445,8 @@ static int check_rheology(struct case_ctx *x)
                     "rheology.yield_stress > 0");
         return 1;
     }
+    if (c->rheo.law == LAW_NGF && check_ngf(x) != 0)
+        return 1;
     const struct case_checks *above = case_registered_checks();
     if (c->rheo.law == LAW_MUI) {
         char msg[512];

@@ -8,7 +8,10 @@
  * I = I_a is fixed, p = rho g cos(alpha) (H - z) and du/dz = I_a sqrt(p /
  * rho_s) / d; steady flow exists for mu_s < tan(alpha) < mu_s + dmu only
  * (jop curve).  With rheology.curve = barker_gray the same holds with I_a
- * from that curve, which has no static yield: every tilt flows.
+ * from that curve, which has no static yield: every tilt flows.  With
+ * rheology.law = ngf (physics/ngf.h) there is no closed form (the profile
+ * is NaN): a layer thinner than the stopping height stops
+ * (docs/validation/ngf.md).
  *
  * bagnold.perturbation starts the run from rest plus a divergence-free 3D
  * velocity (scenes/perturbation.h): the steady state must still be the
@@ -55,6 +58,8 @@ SCENE_PARAMS(bagnold_block, "bagnold",
 static double bagnold_u(const struct muflow_case *cs, double z)
 {
     const struct rheology *r = &cs->rheo;
+    if (r->law == LAW_NGF)
+        return NAN; /* the nonlocal fluidity's profile has no closed form */
     /* a negative tilt is the mirror image: |tan| sets I, the sign the flow */
     double ta = fabs(tan(cs->tilt));
     double ia;

@@ -7,6 +7,7 @@
 #include "config/keys.h"
 #include "march/march.h"
 #include "march/module.h"
+#include "physics/ngf.h"
 #include "physics/obstacle.h"
 #include "scenes/scene.h"
 
@@ -79,8 +80,19 @@ int scene_has_reference(const struct scene *s)
     return strcmp(scene_solution_name(s), "reference") == 0;
 }
 
-/* the case's obstacles are a module of every scene */
-const struct module *const scene_case_modules[] = {&obstacle_module, NULL};
+/* the case's obstacles and its rheology's fluidity are modules of every
+ * scene; scene_case_module_list picks those the case switches on */
+const struct module *const scene_case_modules[] = {&obstacle_module, &ngf_module, NULL};
+static const struct module *const obstacle_only[] = {&obstacle_module, NULL};
+static const struct module *const ngf_only[] = {&ngf_module, NULL};
+
+const struct module *const *scene_case_module_list(const struct muflow_case *cs)
+{
+    int ngf = cs->rheo.law == LAW_NGF;
+    if (case_obstacle_active(cs))
+        return ngf ? scene_case_modules : obstacle_only;
+    return ngf ? ngf_only : NULL;
+}
 
 /* Adds the names of list (NULL-terminated, or NULL) not yet in names. */
 static int add_names(const char **names, int *n, int max, const char *const *list)

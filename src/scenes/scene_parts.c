@@ -14,7 +14,7 @@ void scene_march_setup(const struct muflow_case *cs, const struct module *const 
 {
     const struct scene *sc = case_scene(cs);
     *su = (struct march_setup){
-        .modules = {sc->modules, extra, case_obstacle_active(cs) ? scene_case_modules : NULL},
+        .modules = {sc->modules, extra, scene_case_module_list(cs)},
         .setup = sc->setup,
         .cross_section_flow = sc->cross_section_flow && sc->cross_section_flow(cs),
     };

@@ -1,0 +1,33 @@
+/* The nonlocal granular fluidity (rheology.law = ngf; Kamrin & Koval 2012,
+ * Henann & Kamrin 2013): a physics module that every case of that law gets
+ * (scenes/scene.h: scene_case_module_list).
+ *
+ * The stress is tau = (p / g) gamma, so |D| = g mu with mu = |tau| / p and
+ * |D| = sqrt(gamma:gamma / 2) (the shear rate of a simple shear), and the
+ * fluidity g solves the steady form
+ *   A^2 d^2 lap(g) = (mu_s - mu) g + b sqrt(rho_s d^2 / p) mu g^2
+ * with g = 0 on walls and lids (a rough base: Kamrin & Henann 2015) and no
+ * flux through every other face.  With mu = |D| / g, which the stress holds
+ * identically, the equation is linear in g:
+ *   -A^2 d^2 lap(g) + (mu_s + b I) g = |D|,   I = |D| d sqrt(rho_s / p),
+ * so at each evaluation, after the core viscosities, the module solves it
+ * for g from the current shear rates (one tridiagonal system per column,
+ * solvers/line_screened.h) and replaces the viscosities by
+ * eta = p_reg / (g + lambda), their tangents by eta (Picard: the viscosity
+ * is a non-local function of the shear rates, with no pointwise tangent).
+ * lambda keeps eta finite where g = 0: a layer that cannot flow creeps at
+ * a speed proportional to lambda.  Solving with mu from the last stress
+ * instead (lagged, Newton on g^2) froze the layer: a stress out of
+ * equilibrium gives mu < mu_s and g = 0 (docs/numerics/rheology.md).
+ * g is the cell field "fluidity" (checkpointed, restored on a rejected
+ * step, written to the field files).  Layered flows only so far: periodic
+ * x and y, the lateral part of lap(g) left out (zero for a flow uniform
+ * along x and y). */
+#ifndef MUFLOW_PHYSICS_NGF_H
+#define MUFLOW_PHYSICS_NGF_H
+
+#include "march/march.h"
+
+extern const struct module ngf_module;
+
+#endif
