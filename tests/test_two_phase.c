@@ -78,9 +78,8 @@ static void test_bad_input(void **state)
 static void test_transient_from_rest(void **state)
 {
     (void)state;
-    char *ov[] = {"solver.mode=transient", "solver.end_time=1",
-                  "solver.dt=2e-3",        "domain.nx=2",
-                  "domain.lx=3.6e-5",      "solver.preconditioner=cholesky",
+    char *ov[] = {"solver.mode=transient", "solver.end_time=1", "solver.dt=2e-3",
+                  "domain.nx=2", "domain.lx=3.6e-5", "solver.preconditioner=cholesky",
                   "solver.preconditioner_reuse=20"};
     struct muflow_case cs;
     char err[512];
