@@ -72,7 +72,7 @@ static void test_bad_input(void **state)
  * the layer reaches the steady state (measured: grains err_rms 7.8e-6,
  * 0.017% of the top velocity; air 5.0e-5, 0.11%), the
  * grains' volume is kept to the rounding of its sums (measured 7e-14) and
- * T stays in [0, 1]; with the Cholesky named, its factors kept up to 20 steps
+ * T stays in [0, 1]; with a factorisation kept up to 20 steps
  * (solver.preconditioner_reuse), which changes the errors below the printed
  * digits only. */
 static void test_transient_from_rest(void **state)
