@@ -211,8 +211,8 @@ static void test_circular(void **state)
     /* the Cholesky named: the bed's diagonal tangent stops being positive
      * definite near the end, and the factors of the lagged viscosity serve
      * (viscous_precond.c, direct_factor): no fallback to the line blocks, and the
-     * LU's flow rate in as many steps (auto takes the LU with a body:
-     * precond_policy.c; measured 76 against 77, the Picard steps' hand-over to the
+     * flow rate of auto's geometric multigrid (the body folded in:
+     * precond_policy.c) in as many steps (the Picard steps' hand-over to the
      * tangent judged on residuals that the inexact solve moves a little) */
     char *och[] = {"domain.ny=10", "domain.nz=20", "output.fields=off",
                    "solver.preconditioner=cholesky"};

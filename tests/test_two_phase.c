@@ -121,10 +121,11 @@ static void test_transient_from_rest(void **state)
 {
     (void)state;
     char *ov[] = {"solver.mode=transient", "solver.end_time=1", "solver.dt=2e-3",
-                  "domain.nx=2", "domain.lx=3.6e-5", "solver.preconditioner_reuse=20"};
+                  "domain.nx=2", "domain.lx=3.6e-5", "solver.preconditioner=cholesky",
+                  "solver.preconditioner_reuse=20"};
     struct muflow_case cs;
     char err[512];
-    test_load_case(&cs, CASE, 6, ov);
+    test_load_case(&cs, CASE, 7, ov);
     struct march_state st;
     assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
     assert_int_equal(march_run(&st, NULL, NULL), STATUS_FINISHED);
@@ -472,16 +473,18 @@ static void test_negative_tilt_mirror(void **state)
 static void test_no_exact_said(void **state)
 {
     (void)state;
-    static const char *const cases[][3] = {
-        {"physics.tilt=0.6", "domain.nx=4", "accelerates"},
-        {"boundary.ylo=wall", "boundary.yhi=wall", "across y"},
-        {"physics.confining_pressure=10", "domain.nx=4", "confining_pressure"},
+    /* walls across y: the Cholesky (the case's Fourier blocks need y periodic) */
+    static const char *const cases[][4] = {
+        {"physics.tilt=0.6", "domain.nx=4", "solver.preconditioner=fourier", "accelerates"},
+        {"boundary.ylo=wall", "boundary.yhi=wall", "solver.preconditioner=cholesky", "across y"},
+        {"physics.confining_pressure=10", "domain.nx=4", "solver.preconditioner=fourier",
+         "confining_pressure"},
     };
     for (size_t m = 0; m < sizeof cases / sizeof cases[0]; m++) {
         struct muflow_case cs;
         char err[512];
-        char *ov[] = {(char *)cases[m][0], (char *)cases[m][1]};
-        test_load_case(&cs, CASE, 2, ov);
+        char *ov[] = {(char *)cases[m][0], (char *)cases[m][1], (char *)cases[m][2]};
+        test_load_case(&cs, CASE, 3, ov);
         assert_true(isnan(scene_exact_at(&cs, B2_L)));
         struct march_state st;
         assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
@@ -496,7 +499,7 @@ static void test_no_exact_said(void **state)
         print_message("%s: %s | %s\n", cases[m][0], why ? why : "(none)", r.scene_line);
         assert_non_null(why);
         assert_non_null(strstr(r.scene_line, "no exact solution"));
-        assert_non_null(strstr(r.scene_line, cases[m][2]));
+        assert_non_null(strstr(r.scene_line, cases[m][3]));
     }
     struct muflow_case cs;
     char *ov[] = {"physics.tilt=0.2", "physics.confining_pressure=10"};

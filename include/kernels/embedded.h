@@ -49,7 +49,13 @@ struct embedded {
      * faces): the cut cells' mass balance sum_f a_f u_f = 0 */
     const double *share[3];
     const double *cut;  /* per cell: 1 where a face's open share is below 1, else 0 */
-    double *work;       /* a cell field of work space (the operator's grad-div) */
+    double *work;       /* a cell field of work space (the operator's grad-div), 0
+                           outside the cut cells whenever the lists below are set */
+    /* the interior cut cells and, per component, the faces whose gradient
+     * reads one (or its ghost image): the grad-div term of the cut cells
+     * computed there only (NULL: on every cell and face) */
+    long ncut, ncut_faces[3];
+    ptrdiff_t *cut_cells, *cut_faces[3];
     long nheld[3];
     ptrdiff_t *held[3]; /* nodes inside the body, per component */
     double *saved[3];   /* their values while held at 0 (work space) */

@@ -33,6 +33,7 @@
 #include <stddef.h>
 #include "grid/boundary.h"
 #include "grid/grid.h"
+#include "kernels/embedded.h"
 
 struct viscous_gmg;
 
@@ -52,6 +53,11 @@ struct viscous_gmg_operator {
      * bounded directions of a cross-section enters the multigrid */
     const double *b_edge[3];
     double *const *base;
+    /* a body (or NULL): its held nodes become rows of the mass alone, their
+     * couplings to the fluid nodes next to them a Dirichlet condition on
+     * those (the mass term takes the coefficient), and the cut links join
+     * the mass term of their node, as the operator has them */
+    const struct embedded *embedded;
 };
 
 /* Why a grid of n cells with these conditions cannot take the multigrid

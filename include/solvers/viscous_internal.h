@@ -115,6 +115,7 @@ struct viscous_solver {
                                           set by each Newton solve that uses it */
     struct velocity_mg *mg;            /* VISCOUS_MG: the velocity multigrid */
     int mg_ok;                         /* it serves this solve */
+    int mg_valid;                      /* its last set-up succeeded (kept: direct_kept) */
     struct gmres *mg_gm;               /* flexible GMRES on every unknown */
     double *mg_b, *mg_x;               /* gathered right-hand side and solution */
 };

@@ -107,9 +107,10 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
     "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
-    "cross-section's periodic direction (the heap, the square duct's mixed model) without "        \
-    "augmentation, body or band; `multigrid` for the time-accurate (Picard) steps of a 2D flow "   \
-    "without body, augmentation or band; else `amg` on a steady 2D cross-section with Newton, no " \
+    "cross-section's periodic direction (the heap, the ducts' mixed model, a body included) "      \
+    "without augmentation or band; `multigrid` for the time-accurate (Picard) steps of a 2D flow " \
+    "without augmentation or band, a body included (not that of a cross-section's flow with "     \
+    "Newton named); else `amg` on a steady 2D cross-section with Newton, no "                       \
     "augmentation and more than 1e4 unknowns (5e4 where `cholesky` would serve, or with a body); " \
     "else `cholesky` on a 2D cross-section without open or inflow faces or a body up to 1e6 "       \
     "unknowns; else `lu` (`cholesky` without Newton) up to 4e5 unknowns; beyond them `amg` on a "   \
@@ -366,7 +367,8 @@ const struct key case_core_keys[] = {
                  "along a periodic direction such as the heap and the ducts), or multigrid "
                  "(every component's geometric multigrid, matrix-free) (auto, for grids "
                  "varying in two or more directions: gmg for the steady newton solves of the heap "
-                 "and the square duct's mixed model without augmentation, a body or a band, else "
+                 "and the ducts' mixed model without augmentation or a band, multigrid for the "
+                 "transient steps of a 2D flow without augmentation or a band, else "
                  "amg on a steady 2D cross-section with newton, no augmentation and over 1e4 "
                  "unknowns (5e4 where cholesky would serve or with a body), else cholesky on a 2D "
                  "cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "

@@ -137,6 +137,9 @@ double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g)
     for (int c = 0; c < 3; c++)
         lines += points / g->ext[set.plane_a] + points / g->ext[set.plane_b];
     bytes += 3.0 * 2.0 * set.n * lines * sizeof(struct embedded_link);
+    /* the cut cells' list and their faces' (cut_lists: three faces a cell
+     * per component at most), the cells two a crossing at most */
+    bytes += 10.0 * 2.0 * 2.0 * set.n * lines * sizeof(ptrdiff_t);
     /* march_density_changed: beta and the faces' mass, the cut coefficient
      * while it is set; the projection's multigrid and the hydrostatic split's */
     bytes += 9.0 * points * sizeof(double) + 2.0 * pressure_variable_memory_estimate(g);
@@ -245,11 +248,65 @@ static void destroy(void *state)
         free(ob->e.saved[c]);
     }
     free(ob->e.links);
+    free(ob->e.cut_cells);
+    for (int c = 0; c < 3; c++)
+        free(ob->e.cut_faces[c]);
     for (int c = 0; c < 3; c++)
         field_free(ob->share[c]);
     field_free(ob->cut);
     field_free(ob->e.work);
     free(ob);
+}
+
+/* The interior cut cells and each component's faces next to one, ghost
+ * images included (a face at a box end reads the ghost of the other end's
+ * cell or its own mirror): the operator's grad-div of the cut cells visits
+ * them alone (solvers/viscous_operator.c), the cells' stress kernels the
+ * whole grid. */
+static int cut_lists(struct obstacle *ob, const struct grid *g)
+{
+    long n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                n += ob->cut[grid_idx(g, i, j, k)] != 0.0;
+    ob->e.cut_cells = malloc((size_t)(n > 0 ? n : 1) * sizeof(ptrdiff_t));
+    for (int c = 0; c < 3; c++)
+        ob->e.cut_faces[c] = malloc((size_t)(3 * n + 1) * sizeof(ptrdiff_t));
+    if (!ob->e.cut_cells || !ob->e.cut_faces[0] || !ob->e.cut_faces[1] || !ob->e.cut_faces[2])
+        return -1;
+    ob->e.ncut = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                if (ob->cut[grid_idx(g, i, j, k)] != 0.0)
+                    ob->e.cut_cells[ob->e.ncut++] = grid_idx(g, i, j, k);
+    for (int c = 0; c < 3; c++) {
+        long m = 0;
+        const int nc = g->n[c];
+        for (int i = 0; i < g->n[0] + (c == 0); i++)
+            for (int j = 0; j < g->n[1] + (c == 1); j++)
+                for (int k = 0; k < g->n[2] + (c == 2); k++) {
+                    int idx[3] = {i, j, k}, t = idx[c], near = 0;
+                    /* the cells on the two sides: t - 1 and t, a box end's
+                     * ghost standing for either end's cell */
+                    for (int side = -1; side <= 0 && !near; side++) {
+                        int u = t + side;
+                        int cand[2] = {u < 0 ? nc - 1 : u >= nc ? 0 : u, u < 0 ? 0 : nc - 1};
+                        for (int q = 0; q < (u < 0 || u >= nc ? 2 : 1); q++) {
+                            idx[c] = cand[q];
+                            near |= ob->cut[grid_idx(g, idx[0], idx[1], idx[2])] != 0.0;
+                        }
+                    }
+                    if (near) {
+                        if (m == 3 * n + 1) /* two a cut cell, one more at a box end */
+                            return -1;
+                        ob->e.cut_faces[c][m++] = grid_idx(g, i, j, k);
+                    }
+                }
+        ob->e.ncut_faces[c] = m;
+    }
+    return 0;
 }
 
 /* The open shares of every face slot (ghosts too: a periodic direction's
@@ -282,7 +339,7 @@ static int build_shares(struct obstacle *ob, const struct grid *g)
                 ob->cut[p] = cut;
             }
     ob->e.cut = ob->cut;
-    return 0;
+    return cut_lists(ob, g);
 }
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)

@@ -338,7 +338,7 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     /* kept factors or a kept hierarchy that no longer serve: rebuilt for
      * this operator */
     struct kept *k = s->amg_ok ? &s->amg_kept
-                     : s->direct_ok || s->fourier_ok ? &s->direct_kept : NULL;
+                     : s->direct_ok || s->fourier_ok || s->mg_ok ? &s->direct_kept : NULL;
     if (rc != 0 && k && k->age > 0) {
         k->force = 1;
         viscous_precondition(s, pb);
@@ -370,7 +370,7 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     s->probe_components = 7 & ~out;
     if (s->amg_ok)
         kept_solved(&s->amg_kept, st->iterations);
-    else if (s->direct_ok || s->fourier_ok)
+    else if (s->direct_ok || s->fourier_ok || s->mg_ok)
         kept_solved(&s->direct_kept, st->iterations);
     /* the factorisations done for this right-hand side count as set-up */
     s->info.setup_seconds += s->prepare_seconds;

@@ -16,6 +16,7 @@ struct viscous_gmg {
     struct multigrid *mg[3];     /* NULL: component not covered */
     double *a[3], *mass;         /* the block's face coefficients and mass, set-up work */
     double *km[2];               /* the tangent's cross term (mixed_coefficients) */
+    unsigned char *held;         /* a body's held nodes of the block being set (or NULL) */
 };
 
 const char *viscous_gmg_refusal(const int n[3], const struct boundary *bc)
@@ -62,6 +63,7 @@ void viscous_gmg_destroy(struct viscous_gmg *m)
     field_free(m->km[0]);
     field_free(m->km[1]);
     field_free(m->mass);
+    free(m->held);
     free(m);
 }
 
@@ -177,6 +179,72 @@ static void block_coefficients(struct viscous_gmg *m, const struct viscous_gmg_o
             memcpy(m->a[e], op->A_edge[3 - c - e], g->size * sizeof(double));
 }
 
+/* A body in component c's block (held nodes of the body, cut links: the
+ * operator of viscous_operator.h): a held node's couplings leave the face
+ * coefficients, its fluid neighbours keep them in their mass term (the held
+ * value is 0: a Dirichlet condition at the node), and the held node is a
+ * row of its mass alone; a cut link's term A (1 - theta) / theta / h^2
+ * joins the mass of its node.  Returns -1 without memory for the mask. */
+static int fold_body(struct viscous_gmg *m, const struct viscous_gmg_operator *op, int c)
+{
+    const struct grid *g = m->g;
+    const struct embedded *e = op->embedded;
+    if (!m->held && !(m->held = calloc(g->size, 1)))
+        return -1;
+    unsigned char *held = m->held;
+    memset(held, 0, g->size);
+    for (long i = 0; i < e->nheld[c]; i++)
+        held[e->held[c][i]] = 1;
+    for (long i = 0; i < e->nheld[c]; i++) {
+        const ptrdiff_t p = e->held[c][i];
+        int idx[3];
+        grid_slot_index(g, p, idx);
+        for (int d = 0; d < 3; d++) {
+            if (g->n[d] == 1)
+                continue; /* a one-cell periodic direction: no coupling */
+            const ptrdiff_t s = g->stride[d];
+            const double ih2 = 1.0 / (g->h[d] * g->h[d]);
+            /* the face below p couples it to p - s, the one above to p + s;
+             * a neighbour outside the box is a ghost (the domain's faces) */
+            if (idx[d] > 0 && !held[p - s])
+                m->mass[p - s] += m->a[d][p] * ih2;
+            if (idx[d] + 1 < g->n[d] && !held[p + s])
+                m->mass[p + s] += m->a[d][p + s] * ih2;
+        }
+    }
+    for (long i = 0; i < e->nheld[c]; i++) {
+        const ptrdiff_t p = e->held[c][i];
+        for (int d = 0; d < 3; d++)
+            m->a[d][p] = m->a[d][p + g->stride[d]] = 0.0;
+    }
+    for (long i = 0; i < e->nlinks; i++) {
+        const struct embedded_link *l = &e->links[i];
+        if (l->c == c)
+            m->mass[l->p] +=
+                (l->coef < 3 ? op->A_cell[l->coef][l->at] : op->A_edge[l->coef - 3][l->at]) *
+                l->w;
+    }
+    return 0;
+}
+
+/* The cross term leaves the faces whose mean differences read a held node
+ * (fold_body made it a row of the mass alone): face p of direction e reads
+ * the cells p and p - s_e and their neighbours along the other direction,
+ * so a held node h is read by the faces h, h + s_e, each shifted by 0 or
+ * +-1 along the other. */
+static void mixed_off_body(struct viscous_gmg *m, const struct embedded *e, int c, int d1, int d2)
+{
+    const struct grid *g = m->g;
+    const int dir[2] = {d1, d2};
+    for (int t = 0; t < 2; t++) {
+        const ptrdiff_t se = g->stride[dir[t]], so = g->stride[dir[1 - t]];
+        for (long i = 0; i < e->nheld[c]; i++)
+            for (int a = 0; a < 2; a++)
+                for (int b = -1; b <= 1; b++)
+                    m->km[t][e->held[c][i] + a * se + b * so] = 0.0;
+    }
+}
+
 /* The full tangent's cross term in component c's block on a cross-section
  * (c along its one-cell periodic direction, d1 < d2 the bounded ones):
  * kernel_cross_coefficients from the base strains of kernel_flow_gammas,
@@ -197,6 +265,8 @@ static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_op
     kernel_flow_gammas(g, c, op->base, gb);
     const double *gbc[2] = {gb[0], gb[1]};
     kernel_cross_coefficients(g, c, gbc, op->b_edge, m->km);
+    if (op->embedded)
+        mixed_off_body(m, op->embedded, c, *d1, *d2);
     return 1;
 }
 
@@ -207,6 +277,10 @@ int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *
         if (!m->mg[c])
             continue;
         block_coefficients(m, op, c);
+        if (op->embedded && fold_body(m, op, c) != 0) {
+            snprintf(err, errlen, "the geometric multigrid: out of memory for a body's nodes");
+            return -1;
+        }
         char why[200];
         int d1 = 0, d2 = 0;
         int rc = multigrid_set_operator(m->mg[c], m->a, m->mass, why, sizeof why);

@@ -37,6 +37,47 @@ double viscous_work_bytes(const struct grid *g, int full)
     return (1.0 + (full ? 11.0 : 0.0)) * (double)g->size * sizeof(double);
 }
 
+/* The cut cells' term -scale grad(A div v) on their lists (kernels/embedded.h):
+ * the same sums as kernel_divergence and kernel_gradient_update, which
+ * visit every cell and face (the cylinder benchmark's multigrid computed the
+ * whole grid's divergence for each component's smoothing residual); work is
+ * 0 elsewhere before and after. */
+static void cut_graddiv(const struct grid *g, const struct boundary *bc,
+                        const struct box act[3], const struct embedded *e, const double *A,
+                        double scale, double *const v[3], double *out[3])
+{
+    const ptrdiff_t *o = g->stride;
+    double *w = e->work;
+    for (long n = 0; n < e->ncut; n++) {
+        const ptrdiff_t p = e->cut_cells[n];
+        int idx[3];
+        grid_slot_index(g, p, idx);
+        double s = 0.0;
+        for (int a = 0; a < 3; a++)
+            s += (v[a][p + o[a]] - v[a][p]) / (g->axis[a] ? grid_hc(g, a, idx[a]) : g->h[a]);
+        w[p] = s * (A[p] * e->cut[p]);
+    }
+    bc_fill_scalar(g, bc, w);
+    const double neg = -scale; /* kernel_gradient_update's scale */
+    for (int a = 0; a < 3; a++) {
+        const struct box *bx = &act[a];
+        const double c = neg / g->h[a];
+        for (long n = 0; n < e->ncut_faces[a]; n++) {
+            const ptrdiff_t q = e->cut_faces[a][n];
+            int idx[3];
+            grid_slot_index(g, q, idx);
+            if (idx[0] < bx->lo[0] || idx[0] >= bx->hi[0] || idx[1] < bx->lo[1] ||
+                idx[1] >= bx->hi[1] || idx[2] < bx->lo[2] || idx[2] >= bx->hi[2])
+                continue;
+            const double ca = g->axis[a] ? neg / grid_hf(g, a, idx[a]) : c;
+            out[a][q] -= ca * (w[q] - w[q - o[a]]);
+        }
+    }
+    for (long n = 0; n < e->ncut; n++)
+        w[e->cut_cells[n]] = 0.0;
+    bc_fill_scalar(g, bc, w);
+}
+
 void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
                             const struct box act[3], const struct embedded *e,
                             const double *const A_cell[3], const double *const A_edge[3],
@@ -45,6 +86,10 @@ void viscous_embedded_terms(const struct grid *g, const struct boundary *bc,
     embedded_links(e, A_cell, A_edge, scale, v, out);
     if (!e->cut) /* a staircase body (a multigrid's coarse level): no cut cells */
         return;
+    if (e->cut_cells) {
+        cut_graddiv(g, bc, act, e, A_cell[0], scale, v, out);
+        return;
+    }
     kernel_divergence(g, v, e->work);
     for (size_t p = 0; p < g->size; p++)
         e->work[p] *= A_cell[0][p] * e->cut[p];

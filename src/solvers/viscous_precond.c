@@ -216,7 +216,8 @@ static int can_lag(const struct viscous_solver *s, const struct viscous_problem 
 static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
 {
     double t0 = visc_cpu_now();
-    struct viscous_gmg_operator op = {.mass = pb->mass, .augmentation = pb->augmentation};
+    struct viscous_gmg_operator op = {.mass = pb->mass, .augmentation = pb->augmentation,
+                                      .embedded = pb->embedded};
     for (int a = 0; a < 3; a++) {
         op.A_cell[a] = pb->b_cell && pb->sym_cell[a] ? pb->sym_cell[a] : pb->A_cell[a];
         op.A_edge[a] = pb->b_cell && pb->sym_edge[a] ? pb->sym_edge[a] : pb->A_edge[a];
@@ -225,7 +226,7 @@ static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
     }
     op.base = pb->b_cell ? pb->base : NULL;
     char why[160];
-    s->gmg_ok = !pb->embedded && viscous_gmg_setup(s->gmg, &op, why, sizeof why) == 0;
+    s->gmg_ok = viscous_gmg_setup(s->gmg, &op, why, sizeof why) == 0;
     s->info.setup_seconds = visc_cpu_now() - t0;
     s->info.probe_seconds = 0.0;
     s->info.reused = 0;
@@ -233,12 +234,7 @@ static int gmg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
     s->info.levels = viscous_gmg_levels(s->gmg, first);
     if (!s->gmg_ok) {
         s->info.kind = VISCOUS_LINE;
-        char cause[200];
-        snprintf(cause, sizeof cause, "%s",
-                 pb->embedded ? "the geometric multigrid of the implicit step: a body's cut cells "
-                                "are not in its operator"
-                              : why);
-        return fall_back(s, pb, cause);
+        return fall_back(s, pb, why);
     }
     s->info.kind = VISCOUS_GMG;
     s->gmg_lines = 0; /* built by the first solve that needs them */
@@ -276,12 +272,24 @@ void visc_gmg_others(struct viscous_solver *s, const struct viscous_problem *pb,
     }
 }
 
-/* The velocity multigrid for pb. */
+/* The velocity multigrid for pb, kept like a factorisation
+ * (solver.preconditioner_reuse): at a fixed dt a Newtonian fluid's operator
+ * does not change, and the set-up (the levels' stencils, line factors and
+ * coarsest factorisation) was most of a step that CG ends in two
+ * iterations (docs/numerics/velocity-multigrid.md). */
 static int mg_setup(struct viscous_solver *s, const struct viscous_problem *pb)
 {
+    if (s->mg_valid && kept_serves(&s->direct_kept, s->direct_reuse)) {
+        s->direct_kept.age++;
+        s->mg_ok = 1;
+        s->info.probe_seconds = s->info.setup_seconds = 0.0;
+        s->info.reused = 1;
+        return 0;
+    }
     double t0 = visc_cpu_now();
     char why[200];
-    s->mg_ok = velocity_mg_setup(s->mg, pb, why, sizeof why) == 0;
+    s->mg_ok = s->mg_valid = velocity_mg_setup(s->mg, pb, why, sizeof why) == 0;
+    kept_built(&s->direct_kept);
     s->info.setup_seconds = visc_cpu_now() - t0;
     s->info.probe_seconds = 0.0;
     s->info.reused = 0;
