@@ -95,7 +95,7 @@ static int row_couplings(const struct grid *g, const int periodic[3], const stru
  * in the own stencil; the cross couplings' faces that are not unknowns are
  * closed faces, which hold 0). */
 static inline double row_direct(const struct grid *g, const struct patch_operator *op, int c,
-                                ptrdiff_t p, double *const x[3])
+                                ptrdiff_t p, double *const x[3], const double ih[3])
 {
     const struct own_stencil *s = &op->st[c];
     const double *xc = x[c];
@@ -108,14 +108,14 @@ static inline double row_direct(const struct grid *g, const struct patch_operato
     const double *r = op->aug;
     const double rp = r ? r[p] : 0.0, rm = r ? r[p - oc] : 0.0;
     for (int b = 0; b < 3; b++) {
-        if (b == c)
+        if (b == c || (op->skip >> b & 1))
             continue;
         const ptrdiff_t ob = g->stride[b];
         const double *Ae = op->A_edge[3 - c - b], *xb = x[b];
         const double up = Ae[p + ob], dn = Ae[p];
         y += ((up + rm) * xb[p + ob - oc] - (up + rp) * xb[p + ob] + (dn + rp) * xb[p] -
-              (dn + rm) * xb[p - oc]) /
-             (g->h[c] * g->h[b]);
+              (dn + rm) * xb[p - oc]) *
+             (ih[c] * ih[b]);
     }
     return y;
 }
@@ -135,8 +135,10 @@ double kernel_patch_row(const struct grid *g, const int periodic[3], const struc
                         double *const x[3])
 {
     const ptrdiff_t p = grid_idx(g, idx[0], idx[1], idx[2]);
-    if (!near_seam(g, periodic, idx))
-        return row_direct(g, op, c, p, x);
+    if (!near_seam(g, periodic, idx)) {
+        const double ih[3] = {1.0 / g->h[0], 1.0 / g->h[1], 1.0 / g->h[2]};
+        return row_direct(g, op, c, p, x, ih);
+    }
     struct coupling q[14];
     int m = row_couplings(g, periodic, act, op, c, idx, p, q);
     double y = op->st[c].diag[p] * x[c][p];
@@ -230,9 +232,9 @@ static int patch_block(const struct grid *g, const int periodic[3], const struct
                     bad = 1;
                     s = fabs(M[i][i]) > 0.0 ? fabs(M[i][i]) : 1.0;
                 }
-                L[LT(i, i)] = sqrt(s);
+                L[LT(i, i)] = 1.0 / sqrt(s); /* the reciprocal: no division in the sweeps */
             } else {
-                L[LT(i, j)] = s / L[LT(j, j)];
+                L[LT(i, j)] = s * L[LT(j, j)];
             }
         }
     }
@@ -303,6 +305,23 @@ long kernel_patch_factor(const struct grid *g, const int periodic[3], const stru
     return bad;
 }
 
+/* The block's solution of y in place (L L^T d = y). */
+static inline void block_solve(const double *L, double y[4])
+{
+    for (int i = 0; i < 4; i++) {
+        double s = y[i];
+        for (int k = 0; k < i; k++)
+            s -= L[LT(i, k)] * y[k];
+        y[i] = s * L[LT(i, i)];
+    }
+    for (int i = 3; i >= 0; i--) {
+        double s = y[i];
+        for (int k = i + 1; k < 4; k++)
+            s -= L[LT(k, i)] * y[k];
+        y[i] = s * L[LT(i, i)];
+    }
+}
+
 /* One patch: its residual, the block's solution, the faces corrected. */
 static inline void patch_solve(const struct grid *g, const int periodic[3], const struct box act[3],
                                const struct patch_operator *op, const double *L,
@@ -313,21 +332,46 @@ static inline void patch_solve(const struct grid *g, const int periodic[3], cons
         y[f] = pt->on[f] ? b[pt->c[f]][pt->p[f]] -
                                kernel_patch_row(g, periodic, act, op, pt->c[f], pt->idx[f], x)
                          : 0.0;
-    for (int i = 0; i < 4; i++) { /* L z = y */
-        double s = y[i];
-        for (int k = 0; k < i; k++)
-            s -= L[LT(i, k)] * y[k];
-        y[i] = s / L[LT(i, i)];
-    }
-    for (int i = 3; i >= 0; i--) { /* L^T d = z */
-        double s = y[i];
-        for (int k = i + 1; k < 4; k++)
-            s -= L[LT(k, i)] * y[k];
-        y[i] = s / L[LT(i, i)];
-    }
+    block_solve(L, y);
     for (int f = 0; f < 4; f++)
         if (pt->on[f])
             x[pt->c[f]][pt->p[f]] += y[f];
+}
+
+static inline int in_box(const struct box *b, int i, int j, int k)
+{
+    return i >= b->lo[0] && i < b->hi[0] && j >= b->lo[1] && j < b->hi[1] && k >= b->lo[2] &&
+           k < b->hi[2];
+}
+
+/* 1 when the patch at edge idx has its four faces and neither they nor
+ * their rows' neighbours wrap a periodic seam: its slots are plain offsets
+ * and its rows row_direct's. */
+static inline int patch_plain(const struct grid *g, const int periodic[3], const struct box act[3],
+                              int a, int b, const int idx[3])
+{
+    for (int d = 0; d < 3; d++)
+        if (periodic[d] && !grid_compact(g, d) && (idx[d] < 2 || idx[d] > g->n[d] - 3))
+            return 0;
+    int lo_a[3] = {idx[0], idx[1], idx[2]}, lo_b[3] = {idx[0], idx[1], idx[2]};
+    lo_a[b] -= 1;
+    lo_b[a] -= 1;
+    return in_box(&act[a], idx[0], idx[1], idx[2]) && in_box(&act[a], lo_a[0], lo_a[1], lo_a[2]) &&
+           in_box(&act[b], idx[0], idx[1], idx[2]) && in_box(&act[b], lo_b[0], lo_b[1], lo_b[2]);
+}
+
+static inline void patch_solve_plain(const struct grid *g, const struct patch_operator *op,
+                                     const double *L, double *const b[3], double *x[3], int a,
+                                     int bb, ptrdiff_t p0, const double ih[3])
+{
+    const ptrdiff_t pf[4] = {p0, p0 - g->stride[bb], p0, p0 - g->stride[a]};
+    const int cf[4] = {a, a, bb, bb};
+    double y[4];
+    for (int f = 0; f < 4; f++)
+        y[f] = b[cf[f]][pf[f]] - row_direct(g, op, cf[f], pf[f], x, ih);
+    block_solve(L, y);
+    for (int f = 0; f < 4; f++)
+        x[cf[f]][pf[f]] += y[f];
 }
 
 void kernel_patch_sweep(const struct grid *g, const int periodic[3], const struct box act[3],
@@ -344,6 +388,7 @@ void kernel_patch_sweep(const struct grid *g, const int periodic[3], const struc
     for (int d = 0; d < 3; d++)
         nc[d] = colours_along(lo[d], hi[d], stride[d], periodic[d]);
     const int ncol = nc[0] * nc[1] * nc[2];
+    const double ih[3] = {1.0 / g->h[0], 1.0 / g->h[1], 1.0 / g->h[2]};
     for (int t = 0; t < ncol; t++) {
         const int col = reverse ? ncol - 1 - t : t;
         const int k0 = col % nc[0], k1 = col / nc[0] % nc[1], k2 = col / (nc[0] * nc[1]);
@@ -356,11 +401,14 @@ void kernel_patch_sweep(const struct grid *g, const int periodic[3], const struc
                 for (int w = 0; w < r2.count; w++) {
                     const int idx[3] = {r0.start + u * r0.step, r1.start + v * r1.step,
                                         r2.start + w * r2.step};
+                    const ptrdiff_t p0 = grid_idx(g, idx[0], idx[1], idx[2]);
+                    if (patch_plain(g, periodic, act, a, bb, idx)) {
+                        patch_solve_plain(g, op, &fac[PATCH_FACTOR * p0], b, x, a, bb, p0, ih);
+                        continue;
+                    }
                     struct patch pt;
                     patch_faces(g, periodic, act, a, bb, idx, &pt);
-                    patch_solve(g, periodic, act, op,
-                                &fac[PATCH_FACTOR * grid_idx(g, idx[0], idx[1], idx[2])], b, x,
-                                &pt);
+                    patch_solve(g, periodic, act, op, &fac[PATCH_FACTOR * p0], b, x, &pt);
                 }
     }
 }

@@ -343,7 +343,7 @@ static double patch_row_error(const int n[3], const enum bc_kind face[3][2])
     viscous_operator_eval(&f.g, &f.bc, f.act, &f.w, &f.pb, f.v, f.out);
     int periodic[3];
     bc_periodic_flags(&f.bc, periodic);
-    const struct patch_operator op = {st, {f.A_edge[0], f.A_edge[1], f.A_edge[2]}, f.aug};
+    const struct patch_operator op = {st, {f.A_edge[0], f.A_edge[1], f.A_edge[2]}, f.aug, 0};
     double err = 0.0, scale = 0.0;
     for (int c = 0; c < 3; c++) {
         const struct box *b = &f.act[c];
@@ -397,7 +397,7 @@ static void test_patch_smoother_exact(void **state)
     int periodic[3];
     bc_periodic_flags(&f.bc, periodic);
     assert_true(kernel_patch_plane_ok(&f.g, &f.bc, 1));
-    const struct patch_operator op = {st, {f.A_edge[0], f.A_edge[1], f.A_edge[2]}, f.aug};
+    const struct patch_operator op = {st, {f.A_edge[0], f.A_edge[1], f.A_edge[2]}, f.aug, 0};
     double *fac = malloc(PATCH_FACTOR * f.g.size * sizeof(double)), *rhs[3];
     assert_non_null(fac);
     assert_int_equal(kernel_patch_factor(&f.g, periodic, f.act, 1, &op, fac), 0);

@@ -45,6 +45,8 @@ struct patch_operator {
     const struct own_stencil *st;  /* the three components' stencils */
     const double *A_edge[3];      /* shear coefficients (the operator's) */
     const double *aug;            /* augmentation per cell (ghosts filled), or NULL */
+    int skip;                     /* bit c: component c of x is 0 throughout (a plane
+                                     flow's third), its couplings not read */
 };
 
 /* 1 when the plane normal to n carries patches on g: both in-plane

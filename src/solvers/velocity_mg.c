@@ -409,7 +409,7 @@ static int level_patches(const struct velocity_mg *m, struct mg_level *lv)
     if (!lv->pb.augmentation || m->has_body)
         return 0;
     const struct patch_operator op = {lv->st, {lv->pb.A_edge[0], lv->pb.A_edge[1],
-                                               lv->pb.A_edge[2]}, lv->pb.augmentation};
+                                               lv->pb.A_edge[2]}, lv->pb.augmentation, 0};
     for (int n = 0; n < 3; n++) {
         if (!kernel_patch_plane_ok(&lv->g, m->bc, n))
             continue;
@@ -545,10 +545,10 @@ static void smooth_lines(struct velocity_mg *m, struct mg_level *lv, int reverse
 
 /* The edge patches' sweeps over the level's planes (reverse: the planes
  * and colours in the opposite order). */
-static void smooth_patches(struct mg_level *lv, int reverse)
+static void smooth_patches(const struct velocity_mg *m, struct mg_level *lv, int reverse)
 {
     const struct patch_operator op = {lv->st, {lv->pb.A_edge[0], lv->pb.A_edge[1],
-                                               lv->pb.A_edge[2]}, lv->pb.augmentation};
+                                               lv->pb.A_edge[2]}, lv->pb.augmentation, m->skip};
     for (int t = 0; t < 3; t++) {
         const int n = reverse ? 2 - t : t;
         if (lv->patch[n])
@@ -563,7 +563,7 @@ static void smooth_patches(struct mg_level *lv, int reverse)
 static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
 {
     if (lv->patch_on)
-        smooth_patches(lv, reverse);
+        smooth_patches(m, lv, reverse);
     else
         smooth_lines(m, lv, reverse);
 }
