@@ -101,7 +101,9 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "and every periodic direction one cell across (a cross-section: the heap, the ducts); not "     \
     "with `coupled`; a failed GMRES gives way to `lu` as above. `multigrid`: matrix-free "          \
     "geometric multigrid of every velocity component together (line Gauss-Seidel over the "        \
-    "components, operator-dependent transfers, rediscretised coarse operators, only the coarsest " \
+    "components, operator-dependent transfers; with the grad-div augmentation, the four faces "    \
+    "around each edge solved together and divergence-keeping transfers; rediscretised coarse "     \
+    "operators, only the coarsest "                                                                  \
     "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
     "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
     "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
