@@ -114,7 +114,8 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "augmentation and more than 1e4 unknowns (5e4 where `cholesky` would serve, or with a body); " \
     "else `cholesky` on a 2D cross-section without open or inflow faces or a body up to 1e6 "       \
     "unknowns; else `lu` (`cholesky` without Newton) up to 4e5 unknowns; beyond them `amg` on a "   \
-    "2D cross-section without augmentation; `line` otherwise, and for grids varying in one "        \
+    "2D cross-section without augmentation, `multigrid` with it (no body, open or inflow face); "  \
+    "`line` otherwise, and for grids varying in one "                                               \
     "direction. Without hypre's library, as if there were no `amg`. With `coupled`: `lu`, or "      \
     "`amg` where only its GMRES fits in memory"
 
@@ -359,7 +360,8 @@ const struct key case_core_keys[] = {
                  "amg on a steady 2D cross-section with newton, no augmentation and over 1e4 "
                  "unknowns (5e4 where cholesky would serve or with a body), else cholesky on a 2D "
                  "cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
-                 "unknowns, beyond them amg on a 2D cross-section without augmentation; line "
+                 "unknowns, beyond them amg on a 2D cross-section without augmentation, "
+                 "multigrid with it; line "
                  "otherwise; with solver.coupled lu, or amg where only its GMRES fits in memory)",
                  NULL, PRECOND_DOC)),
     DBL("solver", "augmentation", augmentation, GE0,
