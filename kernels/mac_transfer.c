@@ -207,7 +207,7 @@ void kernel_prolong_weights(const struct grid *fine, const struct boundary *bc, 
                         own = t + 1, cross = t, far = t - 1;
                         outside = t == 0;
                     }
-                    double val = 0.25;
+                    double val = linear == 2 ? 0.0 : 0.25;
                     if (!linear && !(outside && !periodic)) {
                         /* the face of index q lies between cells q - 1 and q */
                         int q[3] = {own, cross, far};

@@ -1209,6 +1209,10 @@ static void test_auto_choice(void **state)
      * 4.25 s and 135 MB, 37 steps each) */
     char *cavity[] = {"domain.nx=90", "domain.nz=90"};
     assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 2, cavity), VISCOUS_CHOLESKY);
+    /* beyond the Cholesky's 1e6 unknowns the velocity multigrid, whose edge
+     * patches take the augmentation (the line blocks do not converge) */
+    char *cavity600[] = {"domain.nx=600", "domain.nz=600"};
+    assert_int_equal(auto_choice("../cases/bingham_cavity.ini", 2, cavity600), VISCOUS_MG);
     /* the coupled step: the LU, or where its estimate exceeds the memory
      * available and the GMRES's does not, the GMRES (the cavity at 64 x 64:
      * estimates 102 and 84 MB); not on mu(I), where the GMRES is refused */

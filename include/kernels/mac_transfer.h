@@ -30,7 +30,11 @@
  * operator-dependent weights of a flux-continuous 1D profile through the
  * node's own couplings (Alcouffe, Brandt, Dendy and Painter 1981): 1/2 and
  * 1/4 where the coefficients are uniform, and a jump in them is followed.
- * A_cell, A_edge, aug: the fine level's coefficients (aug NULL: none). */
+ * A_cell, A_edge, aug: the fine level's coefficients (aug NULL: none).
+ * linear 1: the plain weights 1/2 and 1/4; 2: 1/2 along the component and
+ * 0 across (the fine faces on a coarse face take its value), which keeps a
+ * coarse field's divergence in each fine cell: a divergence-free coarse
+ * correction stays one, as the grad-div augmented operator needs. */
 void kernel_prolong_weights(const struct grid *fine, const struct boundary *bc, const int f[3],
                             int a, const struct box *act_f, const double *const A_cell[3],
                             const double *const A_edge[3], const double *aug, int linear,

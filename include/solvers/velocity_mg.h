@@ -17,7 +17,12 @@
  * approximately by line Gauss-Seidel along every bounded direction in turn
  * (kernels/viscous_stencil.h) on the residual of the whole operator, so
  * the coupling between components enters through the residual, the stiff
- * and anisotropic part along the lines.  Transfers: mac_transfer.h.  The
+ * and anisotropic part along the lines.  With the grad-div augmentation
+ * (and no body or open face) the smoother is the edge patches'
+ * (kernels/patch_smoother.h) instead, and the prolongation keeps the
+ * divergence (linear along a component, constant across): the augmented
+ * operator's near-kernel, the divergence-free fields, is then smoothed and
+ * carried to the coarse levels.  Transfers: mac_transfer.h.  The
  * coarsest level is solved by the probed sparse Cholesky factorisation of
  * its operator (a few hundred unknowns).
  *

@@ -102,7 +102,9 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "and every periodic direction one cell across (a cross-section: the heap, the ducts); not "     \
     "with `coupled`; a failed GMRES gives way to `lu` as above. `multigrid`: matrix-free "          \
     "geometric multigrid of every velocity component together (line Gauss-Seidel over the "        \
-    "components, operator-dependent transfers, rediscretised coarse operators, only the coarsest " \
+    "components, operator-dependent transfers; with the grad-div augmentation, the four faces "    \
+    "around each edge solved together and divergence-keeping transfers; rediscretised coarse "     \
+    "operators, only the coarsest "                                                                  \
     "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
     "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
     "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
@@ -114,7 +116,8 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "augmentation and more than 1e4 unknowns (5e4 where `cholesky` would serve, or with a body); " \
     "else `cholesky` on a 2D cross-section without open or inflow faces or a body up to 1e6 "       \
     "unknowns; else `lu` (`cholesky` without Newton) up to 4e5 unknowns; beyond them `amg` on a "   \
-    "2D cross-section without augmentation; `line` otherwise, and for grids varying in one "        \
+    "2D cross-section without augmentation, `multigrid` with it (no body, open or inflow face); "  \
+    "`line` otherwise, and for grids varying in one "                                               \
     "direction. Without hypre's library, as if there were no `amg`. With `coupled`: `lu`, or "      \
     "`amg` where only its GMRES fits in memory"
 
@@ -372,7 +375,8 @@ const struct key case_core_keys[] = {
                  "amg on a steady 2D cross-section with newton, no augmentation and over 1e4 "
                  "unknowns (5e4 where cholesky would serve or with a body), else cholesky on a 2D "
                  "cross-section without open or inflow faces up to 1e6 unknowns, lu up to 4e5 "
-                 "unknowns, beyond them amg on a 2D cross-section without augmentation; line "
+                 "unknowns, beyond them amg on a 2D cross-section without augmentation, "
+                 "multigrid with it; line "
                  "otherwise; with solver.coupled lu, or amg where only its GMRES fits in memory)",
                  NULL, PRECOND_DOC)),
     DBL("solver", "augmentation", augmentation, GE0,

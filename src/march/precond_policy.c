@@ -111,11 +111,18 @@ enum viscous_precond march_choose_preconditioner(const struct muflow_case *cs,
         unknowns > amg_min && march_amg_allowed(amg))
         return VISCOUS_AMG;
     /* beyond the factorisation's limit a 2D cross-section takes the AMG
-     * (the line blocks do not converge there) */
+     * (the line blocks do not converge there); with the augmentation, which
+     * defeats the AMG, the velocity multigrid's edge patches (the line
+     * blocks: the cavity at 32^2 unsteady after 40 steps, 57 solves at their
+     * cap; the multigrid steady in the Cholesky's 34), where no open or
+     * inflow face stops the patches */
     if (unknowns > (kind == VISCOUS_CHOLESKY && wide == 2 ? CHOLESKY_2D_MAX_UNKNOWNS
-                                                          : FACTOR_MAX_UNKNOWNS))
-        return wide == 2 && !(cs->augmentation > 0.0) && march_amg_allowed(amg)
-                   ? VISCOUS_AMG
-                   : VISCOUS_LINE;
+                                                          : FACTOR_MAX_UNKNOWNS)) {
+        if (wide == 2 && cs->augmentation > 0.0)
+            return !case_obstacle_active(cs) && !bc_passes_flow(&cs->bc) && !grid_stretched(g)
+                       ? VISCOUS_MG
+                       : VISCOUS_LINE;
+        return wide == 2 && march_amg_allowed(amg) ? VISCOUS_AMG : VISCOUS_LINE;
+    }
     return kind;
 }

@@ -2,6 +2,7 @@
 #include "solvers/velocity_mg.h"
 #include "kernels/kernels.h"
 #include "kernels/mac_transfer.h"
+#include "kernels/patch_smoother.h"
 #include "kernels/viscous_stencil.h"
 #include "solvers/sparse_direct.h"
 
@@ -31,6 +32,10 @@ struct mg_level {
     double *pw[3][3];            /* the prolongation's weights to the next coarser level,
                                     per component and direction (kernel_prolong_weights) */
     struct sparse_direct *direct; /* the coarsest level's factorisation */
+    /* the edge patches' factors per plane normal (kernels/patch_smoother.h),
+     * with the augmentation; NULL: the plane carries none */
+    double *patch[3];
+    int patch_on;
 };
 
 struct velocity_mg {
@@ -87,6 +92,7 @@ static void level_free(struct mg_level *l, int finest)
             field_free(l->st[c].cm[d]);
         }
         free(l->held[c]);
+        free(l->patch[c]);
         for (int d = 0; d < 3; d++) {
             field_free(l->pw[c][d]);
             field_free(l->lf[c][d].inv_b);
@@ -231,8 +237,13 @@ static double level_fields(int nlines, int coarse)
 size_t velocity_mg_bytes(const struct velocity_mg *m)
 {
     double bytes = 0.0;
-    for (int l = 0; l < m->nlevels; l++)
-        bytes += level_fields(m->lv[l].nlines, l > 0) * (double)m->lv[l].g.size * sizeof(double);
+    for (int l = 0; l < m->nlevels; l++) {
+        int planes = 0;
+        for (int n = 0; n < 3; n++)
+            planes += m->lv[l].patch[n] != NULL;
+        bytes += (level_fields(m->lv[l].nlines, l > 0) + PATCH_FACTOR * planes) *
+                 (double)m->lv[l].g.size * sizeof(double);
+    }
     return (size_t)bytes;
 }
 
@@ -244,9 +255,14 @@ double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *
         o = *opt;
     else
         velocity_mg_default_options(&o);
-    int lines = 0;
+    int lines = 0, planes = 0;
     for (int d = 0; d < 3; d++)
         lines += (!bc || bc->face[d][0] != BC_PERIODIC) && g->n[d] >= 2;
+    /* the edge patches' factors where the operator is augmented (bc NULL:
+     * counted on every plane of two directions of two cells or more) */
+    for (int n = 0; n < 3; n++)
+        planes += g->n[(n + 1) % 3] >= 2 && g->n[(n + 2) % 3] >= 2 &&
+                  (!bc || kernel_patch_plane_ok(g, bc, n));
     /* the levels as velocity_mg_create builds them */
     int n[3] = {g->n[0], g->n[1], g->n[2]};
     double bytes = 0.0;
@@ -254,7 +270,7 @@ double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *
         double size = 1.0; /* a level's slots: one along a compact direction (grid.h) */
         for (int d = 0; d < 3; d++)
             size *= d < 2 && n[d] == 1 && bc && bc->face[d][0] == BC_PERIODIC ? 1.0 : n[d] + 2.0;
-        bytes += level_fields(lines, l > 0) * size * sizeof(double);
+        bytes += (level_fields(lines, l > 0) + PATCH_FACTOR * planes) * size * sizeof(double);
         int any = 0;
         for (int d = 0; d < 3; d++)
             any |= n[d] >= 4 && !(n[d] & 1);
@@ -385,6 +401,27 @@ static void level_stencils(const struct velocity_mg *m, struct mg_level *lv)
     }
 }
 
+/* The edge patches' factors of level lv where the operator is augmented
+ * (no body: its held nodes and cut cells are not in the patches' rows). */
+static int level_patches(const struct velocity_mg *m, struct mg_level *lv)
+{
+    lv->patch_on = 0;
+    if (!lv->pb.augmentation || m->has_body)
+        return 0;
+    const struct patch_operator op = {lv->st, {lv->pb.A_edge[0], lv->pb.A_edge[1],
+                                               lv->pb.A_edge[2]}, lv->pb.augmentation, 0};
+    for (int n = 0; n < 3; n++) {
+        if (!kernel_patch_plane_ok(&lv->g, m->bc, n))
+            continue;
+        if (!lv->patch[n] &&
+            !(lv->patch[n] = malloc(PATCH_FACTOR * lv->g.size * sizeof(double))))
+            return -1;
+        kernel_patch_factor(&lv->g, lv->periodic, lv->act, n, &op, lv->patch[n]);
+        lv->patch_on = 1;
+    }
+    return 0;
+}
+
 struct level_op {
     const struct velocity_mg *m;
     struct mg_level *lv;
@@ -429,6 +466,10 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
                 m->lv[l].pb.embedded = &m->lv[l].emb;
         }
         level_stencils(m, &m->lv[l]);
+        if (level_patches(m, &m->lv[l]) != 0) {
+            snprintf(err, errlen, "velocity multigrid: out of memory");
+            return -1;
+        }
     }
     for (int l = 0; l + 1 < m->nlevels; l++) {
         struct mg_level *lv = &m->lv[l];
@@ -436,7 +477,7 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
             if (box_size(&lv->act[c]) > 0)
                 kernel_prolong_weights(&lv->g, m->bc, m->lv[l + 1].f, c, &lv->act[c],
                                        lv->pb.A_cell, lv->pb.A_edge, lv->pb.augmentation,
-                                       0, lv->pw[c]);
+                                       lv->patch_on ? 2 : 0, lv->pw[c]);
     }
     struct mg_level *cl = &m->lv[m->nlevels - 1];
     struct level_op op = {m, cl};
@@ -469,7 +510,7 @@ static void zero3(const struct grid *g, double *f[3])
  * by line Gauss-Seidel along the level's line directions on the residual
  * of the whole operator (its rows of that component); reverse: the
  * components, directions and colours in the opposite order. */
-static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
+static void smooth_lines(struct velocity_mg *m, struct mg_level *lv, int reverse)
 {
     const struct grid *g = &lv->g;
     for (int t = 0; t < 3; t++) {
@@ -500,6 +541,31 @@ static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
                     x[p] += d[p];
                 }
     }
+}
+
+/* The edge patches' sweeps over the level's planes (reverse: the planes
+ * and colours in the opposite order). */
+static void smooth_patches(const struct velocity_mg *m, struct mg_level *lv, int reverse)
+{
+    const struct patch_operator op = {lv->st, {lv->pb.A_edge[0], lv->pb.A_edge[1],
+                                               lv->pb.A_edge[2]}, lv->pb.augmentation, m->skip};
+    for (int t = 0; t < 3; t++) {
+        const int n = reverse ? 2 - t : t;
+        if (lv->patch[n])
+            kernel_patch_sweep(&lv->g, lv->periodic, lv->act, n, &op, lv->patch[n], lv->b, lv->x,
+                               reverse);
+    }
+}
+
+/* One smoothing step: the edge patches where the operator is augmented
+ * (the line smoother after them gave the same iterations on the cavity, at
+ * 1.3-1.5x the time), else the component-wise line smoother. */
+static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
+{
+    if (lv->patch_on)
+        smooth_patches(m, lv, reverse);
+    else
+        smooth_lines(m, lv, reverse);
 }
 
 /* x ~ A^-1 b on level l, from x = 0. */
