@@ -46,6 +46,7 @@ static const struct {
     {"cases", group_cases},
     {"velocity_mg", group_velocity_mg},
     {"depth_averaged", group_depth_averaged},
+    {"time_scheme", group_time_scheme},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
