@@ -141,11 +141,23 @@ static void test_taylor_green_variable_step(void **state)
     assert_true(fabs(p - 2.0) < 0.15);
 }
 
+/* bdf2 where it has no meaning or no support: refused naming the key. */
+static void test_bdf2_refused(void **state)
+{
+    (void)state;
+    static const char *const bad[][2] = {
+        {"solver.time_scheme=bdf2", "solver.time_scheme"}, /* couette.ini is steady */
+        {"solver.time_scheme=rk3", "solver.time_scheme"},
+    };
+    test_bad_overrides(CASES_DIR "couette.ini", bad, sizeof bad / sizeof bad[0]);
+}
+
 void group_time_scheme(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_taylor_green_orders),
         cmocka_unit_test(test_taylor_green_variable_step),
+        cmocka_unit_test(test_bdf2_refused),
     };
     RUN_GROUP(t, "time_scheme", tests);
 }

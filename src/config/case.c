@@ -303,8 +303,8 @@ const struct key case_core_keys[] = {
                  "forward-Euler advection, incremental projection); `bdf2`, second order "
                  "(the viscous step by BDF2 with variable-step coefficients, the advection "
                  "extrapolated from the last two steps, the projection with the BDF2 mass; the "
-                 "first step by Euler). Only with `solver.mode = transient`, `solver.coupled = "
-                 "off` and no module that solves the step itself (the bed's second velocity). "
+                 "first step by Euler). Only with `solver.mode = transient` and no module that "
+                 "solves the step itself (the bed's second velocity). "
                  "The body force, the modules' terms and a non-Newtonian viscosity stay first "
                  "order (docs/numerics/time-step.md)")),
     BOOL("solver", "newton", newton,
