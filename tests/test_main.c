@@ -47,6 +47,7 @@ static const struct {
     {"velocity_mg", group_velocity_mg},
     {"depth_averaged", group_depth_averaged},
     {"ngf", group_ngf},
+    {"time_scheme", group_time_scheme},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

@@ -58,5 +58,6 @@ void group_velocity_mg(struct test_tally *t);
 void group_cases(struct test_tally *t);
 void group_depth_averaged(struct test_tally *t);
 void group_ngf(struct test_tally *t);
+void group_time_scheme(struct test_tally *t);
 
 #endif

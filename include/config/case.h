@@ -20,6 +20,8 @@ enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_
                      PRECOND_FOURIER, PRECOND_GMG, PRECOND_MULTIGRID };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
 enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
+/* solver.time_scheme (stage_time_scheme.c) */
+enum time_scheme { TIME_EULER = 0, TIME_BDF2 };
 
 struct muflow_case {
     char name[128];          /* case name: the file's base name without .ini */
@@ -67,6 +69,7 @@ struct muflow_case {
     double dt;               /* initial (steady) or fixed upper bound (transient) */
     double dt_max;           /* steady: cap of the growing pseudo-time step */
     double cfl;              /* advective CFL number (when advection is on) */
+    int time_scheme;         /* enum time_scheme: transient steps' order in time */
     int newton;              /* 1: consistent tangent viscosity; 0: Picard (lagged) */
     double continuation;     /* steady: the regularisation starts at this multiple of
                                 rheology.lambda, lowered 10-fold per stage (1: off) */

@@ -52,7 +52,11 @@ enum run_status { STATUS_RUNNING = 0, STATUS_STEADY, STATUS_FINISHED, STATUS_UNS
     X(increment, FIELD_FACES, 0, "velocity increment of the implicit solve")                       \
     X(advection, FIELD_FACES, 0, "advection term (NULL without physics.advection)")                \
     X(divergence, FIELD_CELLS, 0, "the projection's divergence")                                   \
-    X(phi, FIELD_CELLS, 0, "the projection's potential")
+    X(phi, FIELD_CELLS, 0, "the projection's potential")                                           \
+    X(velocity_previous, FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED | FIELD_START_OPTIONAL,       \
+      "the velocity a step before (solver.time_scheme = bdf2)")                                    \
+    X(advection_previous, FIELD_FACES, FIELD_CHECKPOINT | FIELD_SAVED | FIELD_START_OPTIONAL,      \
+      "the advection term a step before (bdf2 with advection)")
 
 #define MARCH_FIELD_MEMBER_FIELD_CELLS(name) double *name;
 #define MARCH_FIELD_MEMBER_FIELD_FACES(name) double *name[3];
@@ -100,7 +104,9 @@ struct march_state {
     struct coupled_state *coupled; /* solver.coupled's numbering and solver (stage_coupled.c) */
 
     long step;
-    double time, dt;
+    double time, dt;            /* dt: the last step's */
+    long bdf2_steps;            /* steps since velocity_previous holds the state a step
+                                   before (solver.time_scheme = bdf2; 0: the next is Euler's) */
     double residual;            /* max |momentum residual| / (rho g) */
     double residual_excess;     /* the same beyond the round-off of its terms: what the
                                    steady criterion tests */

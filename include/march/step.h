@@ -8,6 +8,8 @@
  *     2. residual     R = f - grad p + div tau - rho div(u u), the modules'
  *                     terms, its norms (stage_residual.c)
  *   advance (one step of size dt from an evaluated state):
+ *    2b. time scheme  BDF2's terms of the previous step added to R, the
+ *                     step's mass rho a0 / dt (stage_time_scheme.c)
  *     3. implicit     (rho_f / dt) du - div(T : grad du) = R, the face
  *                     density rho_f in the mass term (stage_implicit.c)
  *     4. projection   div(beta grad phi) = div du, beta = rho_ref / rho_f;
@@ -42,6 +44,11 @@ void stage_residual(struct march_state *st);
  * what a stiff region (a plug, eta ~ mu p / lambda) keeps of the solves'
  * round-off.  Overwrites st->field.increment (scratch after the residual stage). */
 double stage_residual_velocity_roundoff(struct march_state *st);
+/* solver.time_scheme = bdf2: adds BDF2's terms of the state a step before to
+ * the residual and keeps the state for the next step; returns dt / a0, the dt
+ * that the implicit step's mass rho / dt and the projection take (dt itself
+ * for Euler's step, and with euler). */
+double stage_time_scheme(struct march_state *st, double dt);
 int stage_implicit(struct march_state *st, double dt);
 /* solver.coupled: the steady step's velocity and pressure increments from
  * one saddle-point system (stage_coupled.c), in place of the implicit

@@ -166,6 +166,9 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
  * plus 2; a failed solve rebuilds it (0: one every call, the default).  For
  * the AMG it sets viscous_amg's reuse (a later viscous_set_amg replaces it). */
 void viscous_set_reuse(struct viscous_solver *s, int steps);
+/* The kept factorisation or hierarchy is built anew at the next
+ * viscous_precondition call (the caller changed the operator's mass term). */
+void viscous_renew(struct viscous_solver *s);
 
 /* When on, an AMG solver whose GMRES fails on a fresh hierarchy (its
  * iteration cap, or a breakdown) gives way for good to the probed sparse LU

@@ -38,6 +38,8 @@ static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL
 static const struct choice advection_choices[] = {
     {"centred", ADVECTION_CENTRED}, {"upwind", ADVECTION_UPWIND},
     {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
+static const struct choice time_scheme_choices[] = {
+    {"euler", TIME_EULER}, {"bdf2", TIME_BDF2}, {NULL, 0}};
 static const struct choice precond_choices[] = {
     {"auto", PRECOND_AUTO}, {"line", PRECOND_LINE}, {"cholesky", PRECOND_CHOLESKY},
     {"lu", PRECOND_LU}, {"amg", PRECOND_AMG}, {"fourier", PRECOND_FOURIER},
@@ -310,6 +312,18 @@ const struct key case_core_keys[] = {
     DBL("solver", "dt_max", dt_max, GT0,
         KEY_HELP("steady: cap of the growing pseudo-time step (>= dt)", "time", NULL)),
     DBL("solver", "cfl", cfl, RANGE(0, 2, 0, 1), "advective CFL number (with physics.advection)"),
+    CHO("solver", "time_scheme", time_scheme, time_scheme_choices,
+        KEY_HELP("transient: euler (first order: backward-Euler viscous step, explicit "
+                 "advection) or bdf2 (second order: BDF2 with the advection extrapolated)",
+                 NULL,
+                 "Transient steps: `euler`, first order (backward-Euler viscous step, "
+                 "forward-Euler advection, incremental projection); `bdf2`, second order "
+                 "(the viscous step by BDF2 with variable-step coefficients, the advection "
+                 "extrapolated from the last two steps, the projection with the BDF2 mass; the "
+                 "first step by Euler). Only with `solver.mode = transient` and no module that "
+                 "solves the step itself (the bed's second velocity). "
+                 "The body force, the modules' terms and a non-Newtonian viscosity stay first "
+                 "order (docs/numerics/time-step.md)")),
     BOOL("solver", "newton", newton,
          KEY_HELP("consistent tangent viscosity in steady mode (off: Picard, lagged viscosity; a "
                   "transient step always lags it)",

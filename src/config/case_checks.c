@@ -338,6 +338,12 @@ static int check_solver(struct case_ctx *x)
             return 1;
         }
     }
+    /* (the coupled step needs the steady mode: refused above) */
+    if (c->time_scheme == TIME_BDF2 && c->mode != MODE_TRANSIENT) {
+        case_refuse(x, "solver.time_scheme = bdf2 needs solver.mode = transient (or set "
+                       "solver.time_scheme = euler)");
+        return 1;
+    }
     const struct case_checks *above = case_registered_checks();
     char msg[512];
     if (above->preconditioner && above->preconditioner(c, msg, sizeof msg) != 0) {

@@ -51,6 +51,7 @@ static const struct {
     {"recent_residual", offsetof(struct march_state, recent_residual), S_DOUBLE, 1, MARCH_RECENT},
     {"peak_residual", offsetof(struct march_state, peak_residual), S_DOUBLE, 1, 0},
     {"sane_velocity", offsetof(struct march_state, sane_velocity), S_DOUBLE, 1, 0},
+    {"bdf2_steps", offsetof(struct march_state, bdf2_steps), S_LONG, 1, 0},
 };
 #define NSTATE ((int)(sizeof loop_state / sizeof loop_state[0]))
 

@@ -31,11 +31,17 @@ const size_t march_nspecs = NSPECS;
 enum { MARCH_CORE_FIELDS(INDEX) CORE_COUNT };
 _Static_assert(CORE_COUNT == NSPECS, "one index each");
 
-/* Whether the run needs the array: the advection term's only without
+/* Whether the run needs the array: not the advection term's without
  * advection (its pointers stay NULL; only stage_residual reads it, when
- * physics.advection is on). */
+ * physics.advection is on), nor the previous step's fields but for BDF2
+ * (stage_time_scheme.c). */
 int march_spec_wanted(const struct muflow_case *cs, const struct field_spec *spec)
 {
+    int bdf2 = cs->time_scheme == TIME_BDF2;
+    if (strcmp(spec->name, "velocity_previous") == 0)
+        return bdf2;
+    if (strcmp(spec->name, "advection_previous") == 0)
+        return bdf2 && cs->advection;
     return cs->advection || strcmp(spec->name, "advection") != 0;
 }
 

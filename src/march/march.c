@@ -54,6 +54,7 @@ int march_reforce(struct march_state *st, char *err, size_t errlen)
     st->step = 0;
     st->time = 0.0;
     st->dt = st->cs->dt;
+    st->bdf2_steps = 0; /* a new start: its first step is Euler's */
     /* residual0 is kept: it sets the pseudo-time step dt = dt0 r0 / r, and the
      * first residual of a continued solve is already small, so resetting it
      * would hold dt near dt0 and march through the physical transient

@@ -73,12 +73,14 @@ static int implicit_beside_pressure(struct march_state *st, double dt)
 
 int step_advance(struct march_state *st, double dt)
 {
-    if (implicit_beside_pressure(st, dt) != 0)
+    /* the mass term's and the projection's dt: dt / a0 of the time scheme */
+    double dt_mass = stage_time_scheme(st, dt);
+    if (implicit_beside_pressure(st, dt_mass) != 0)
         return -1;
     if (st->cs->coupled)
         stage_coupled_update(st);
     else
-        stage_projection(st, dt);
+        stage_projection(st, dt_mass);
     for (int m = 0; m < st->nmodules; m++)
         if (st->modules[m]->transport &&
             st->modules[m]->transport(st, st->module_state[m], dt) != 0)

@@ -2,6 +2,7 @@
  * settings, the solve and its retries; the preconditioners are built in
  * viscous_precond.c, the Krylov loops run in viscous_krylov.c, the operator
  * is applied in viscous_apply.c (viscous_internal.h). */
+#include <limits.h>
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -22,6 +23,12 @@ void viscous_set_reuse(struct viscous_solver *s, int steps)
 {
     s->direct_reuse = steps > 0 ? steps : 0;
     s->amg_cfg.reuse = s->direct_reuse;
+}
+
+void viscous_renew(struct viscous_solver *s)
+{
+    /* past any limit: kept_serves refuses it, the next build resets it */
+    s->direct_kept.age = s->amg_kept.age = INT_MAX;
 }
 
 static int pick_line_direction(const struct grid *g, const struct boundary *bc, int wanted)
