@@ -18,8 +18,9 @@
  * 0 and +1), so per direction the two measured wavenumbers give both
  * offsets' coefficients and the block at any (t0, t1) follows with its
  * phases (fourier_lines.c).  The preconditioner transforms the planes
- * (FFTW, real), solves each mode's Hermitian block (banded Cholesky) and
- * transforms back.  It is exact for an operator whose coefficients vary
+ * (FFTW, real), solves each mode's Hermitian block (banded Cholesky; with
+ * an open face, whose edges make the operator non-symmetric, the block as
+ * probed, by a banded LU) and transforms back.  It is exact for an operator whose coefficients vary
  * only along the lines (the layer's uniform flow, whatever its viscosity
  * contrast, with the grad-div term of a uniform r), where the line blocks
  * are exact only for the plane-uniform mode and a line smoother for the
@@ -52,7 +53,12 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
 /* z = M^-1 r on each component's box (r is not changed). */
 void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[3]);
 
-/* Bytes fourier_lines_create allocates on g. */
-double fourier_lines_memory_estimate(const struct grid *g);
+/* 1: the blocks are general (an open face makes the operator
+ * non-symmetric: a Krylov method for non-symmetric operators is needed);
+ * 0: Hermitian (CG). */
+int fourier_lines_general(const struct fourier_lines *f);
+
+/* Bytes fourier_lines_create allocates on g with the faces bc. */
+double fourier_lines_memory_estimate(const struct grid *g, const struct boundary *bc);
 
 #endif

@@ -156,9 +156,10 @@ void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond
  * negligible part of the right-hand side; for measurements and tests). */
 void viscous_keep_blocks(struct viscous_solver *s, int on);
 
-/* Bytes viscous_create allocates on g for kind, without the sparse
- * factorisation (sparse_direct_memory_estimate). */
-double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind);
+/* Bytes viscous_create allocates on g with the faces bc for kind, without
+ * the sparse factorisation (sparse_direct_memory_estimate). */
+double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
+                               enum viscous_precond kind);
 
 /* A sparse factorisation (cholesky, lu), the fourier blocks or an AMG
  * hierarchy then precondition up to steps further viscous_precondition calls

@@ -44,7 +44,7 @@ double march_memory_estimate(const struct muflow_case *cs, const struct march_se
     if ((kind == VISCOUS_LU || kind == VISCOUS_AMG || kind == VISCOUS_CHOLESKY) && cs->newton)
         arrays += 4.0; /* the full tangent's b terms */
     double bytes = BASE_BYTES + arrays * (double)g->size * sizeof(double) +
-                   viscous_memory_estimate(g, kind);
+                   viscous_memory_estimate(g, &cs->bc, kind);
     for (int l = 0; l < 3; l++)
         for (const struct module *const *m = su->modules[l]; m && *m; m++)
             if ((*m)->memory_bound)

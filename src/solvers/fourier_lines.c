@@ -22,6 +22,8 @@
 /* unknowns interleaved by line node, (u, v, w) at node m are 3m, 3m+1, 3m+2:
  * a coupling of nodes m and m + BAND lies within this band */
 #define KB (3 * BAND + 2)
+/* a general block's columns: KB entries above the diagonal, KB below */
+#define KW (2 * KB + 1)
 
 typedef double complex cplx;
 
@@ -38,7 +40,15 @@ struct fourier_lines {
     double *sym;
     double *part;                /* n[1] x maxlen partial sums of the averages */
     long *cnt;                   /* n[1] line counts */
-    cplx *band;                  /* modes x nu x (KB + 1): factors L, column-wise lower band */
+    /* An open face makes the operator non-symmetric: the increment's fill
+     * gives the face's normal component the inner face's (boundary.c), and
+     * the edges on the face couple the tangential rows below to it with no
+     * row of its own to return the coupling.  Its blocks are then general
+     * (a banded LU) and the Krylov method BiCGStab; else Hermitian
+     * (a banded Cholesky) for CG. */
+    int general;
+    int width;                   /* entries a block column keeps: KB + 1, or KW */
+    cplx *band;                  /* modes x nu x width: the factors, column-wise */
     /* the spectra, mode-major: mode s's unknowns at spec[s * nu + 3 m + c],
      * as its block numbers them (the transforms write and read them there) */
     fftw_complex *spec;
@@ -61,12 +71,18 @@ static inline ptrdiff_t node(const struct fourier_lines *f, int c, int a, int b,
     return grid_idx(f->g, idx[0], idx[1], idx[2]);
 }
 
-double fourier_lines_memory_estimate(const struct grid *g)
+double fourier_lines_memory_estimate(const struct grid *g, const struct boundary *bc)
 {
     /* the z-lines' case, the largest: n1 (n0/2 + 1) modes of 3 nz unknowns
-     * times KB + 1 complex entries, and the spectra */
+     * times a block column's complex entries, and the spectra */
     double modes = (double)g->n[1] * (g->n[0] / 2 + 1), nu = 3.0 * g->n[2];
-    return modes * nu * (KB + 1) * sizeof(cplx) + modes * nu * sizeof(fftw_complex);
+    double width = bc_has_open(bc) ? KW : KB + 1;
+    return modes * nu * width * sizeof(cplx) + modes * nu * sizeof(fftw_complex);
+}
+
+int fourier_lines_general(const struct fourier_lines *f)
+{
+    return f->general;
 }
 
 void fourier_lines_destroy(struct fourier_lines *f)
@@ -110,6 +126,8 @@ int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
     f->n[1] = g->n[o1];
     f->half0 = f->n[0] / 2 + 1;
     f->modes = (long)f->n[1] * f->half0;
+    f->general = bc_has_open(bc);
+    f->width = f->general ? KW : KB + 1;
     for (int c = 0; c < 3; c++) {
         for (int d = 0; d < 3; d++)
             f->lo[c][d] = act[c].lo[d];
@@ -124,7 +142,7 @@ int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
     int ml = f->maxlen > 0 ? f->maxlen : 1;
     f->nu = 3 * ml;
     f->sym = malloc((size_t)PATTERNS * 9 * ml * PROBES * sizeof(double));
-    f->band = malloc((size_t)f->modes * f->nu * (KB + 1) * sizeof(cplx));
+    f->band = malloc((size_t)f->modes * f->nu * f->width * sizeof(cplx));
     f->part = malloc((size_t)f->n[1] * ml * sizeof(double));
     f->cnt = malloc((size_t)f->n[1] * sizeof(long));
     f->spec = fftw_malloc((size_t)f->modes * f->nu * sizeof(fftw_complex));
@@ -344,6 +362,50 @@ static int cholesky(cplx *band, int n)
     return 0;
 }
 
+/* Banded LU without pivoting in place: band[j * KW + KB + i - j] = A(i, j)
+ * for |i - j| <= KB becomes L (below the diagonal, unit diagonal implied)
+ * and U, but for the diagonal, which holds 1 / U(j, j).  No pivoting: a
+ * block whose Hermitian part is positive definite (the viscous operator's,
+ * the open face's coupling aside) has nonsingular leading blocks.  Returns
+ * 0, or -1 at a zero or non-finite pivot. */
+static int banded_lu(cplx *band, int n)
+{
+#define AT(i, j) band[(size_t)(j) * KW + KB + (i) - (j)]
+    for (int k = 0; k < n; k++) {
+        cplx piv = AT(k, k);
+        if (!(cabs(piv) > 0.0) || !isfinite(cabs(piv)))
+            return -1;
+        cplx inv = 1.0 / piv;
+        int last = k + KB < n - 1 ? k + KB : n - 1;
+        for (int i = k + 1; i <= last; i++) {
+            cplx l = AT(i, k) * inv;
+            AT(i, k) = l;
+            for (int j = k + 1; j <= last; j++)
+                AT(i, j) -= l * AT(k, j);
+        }
+        AT(k, k) = inv;
+    }
+    return 0;
+}
+
+/* x = (L U)^-1 x. */
+static void banded_lu_solve(const cplx *band, int n, cplx *x)
+{
+    for (int k = 0; k < n; k++) {
+        int last = k + KB < n - 1 ? k + KB : n - 1;
+        for (int i = k + 1; i <= last; i++)
+            x[i] -= AT(i, k) * x[k];
+    }
+    for (int k = n - 1; k >= 0; k--) {
+        int last = k + KB < n - 1 ? k + KB : n - 1;
+        cplx s = x[k];
+        for (int j = k + 1; j <= last; j++)
+            s -= AT(k, j) * x[j];
+        x[k] = s * AT(k, k);
+    }
+#undef AT
+}
+
 /* x = (L L^H)^-1 x. */
 static void cholesky_solve(const cplx *band, int n, cplx *x)
 {
@@ -360,6 +422,33 @@ static void cholesky_solve(const cplx *band, int n, cplx *x)
             s -= conj(cj[i - j]) * x[i];
         x[j] = s * creal(cj[0]);
     }
+}
+
+/* The block of a mode (weights w): its lower band made Hermitian (as the
+ * line blocks are made symmetric) and factorised by Cholesky.  Returns 0,
+ * or -1 when it is not positive definite. */
+static int factor_hermitian(const struct fourier_lines *f, const cplx *w, cplx *band)
+{
+    int nu = f->nu;
+    for (int j = 0; j < nu; j++)
+        for (int o = 0; o <= KB; o++) {
+            int i = j + o;
+            band[(size_t)j * (KB + 1) + o] =
+                i < nu ? 0.5 * (entry(f, w, i, j) + conj(entry(f, w, j, i))) : 0.0;
+        }
+    return cholesky(band, nu);
+}
+
+/* The whole band of a mode's block, as probed, factorised by the banded LU. */
+static int factor_general(const struct fourier_lines *f, const cplx *w, cplx *band)
+{
+    int nu = f->nu;
+    for (int j = 0; j < nu; j++)
+        for (int o = -KB; o <= KB; o++) {
+            int i = j + o;
+            band[(size_t)j * KW + KB + o] = i >= 0 && i < nu ? entry(f, w, i, j) : 0.0;
+        }
+    return banded_lu(band, nu);
 }
 
 int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, double *p[3],
@@ -380,25 +469,19 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
     for (long s = 0; s < f->modes; s++) {
         int k0 = (int)(s % f->half0), k1 = (int)(s / f->half0);
         double t0 = 2.0 * pi * k0 / f->n[0], t1 = 2.0 * pi * k1 / f->n[1];
-        cplx *band = f->band + (size_t)s * nu * (KB + 1);
+        cplx *band = f->band + (size_t)s * nu * f->width;
         cplx w[9 * PATTERNS];
         mode_weights(f, t0, t1, w);
-        /* the lower band of the block, made Hermitian as the line blocks
-         * are made symmetric */
-        for (int j = 0; j < nu; j++)
-            for (int o = 0; o <= KB; o++) {
-                int i = j + o;
-                band[(size_t)j * (KB + 1) + o] =
-                    i < nu ? 0.5 * (entry(f, w, i, j) + conj(entry(f, w, j, i))) : 0.0;
-            }
-        if (cholesky(band, nu) != 0) {
-            /* not positive definite: the block's diagonal */
+        if (f->general ? factor_general(f, w, band) : factor_hermitian(f, w, band)) {
+            /* singular, or not positive definite: the block's diagonal */
             failed++;
             for (int j = 0; j < nu; j++) {
                 double d = creal(entry(f, w, j, j));
-                band[(size_t)j * (KB + 1)] = 1.0 / sqrt(d > 0.0 ? d : 1.0);
-                for (int o = 1; o <= KB; o++)
-                    band[(size_t)j * (KB + 1) + o] = 0.0;
+                d = d > 0.0 ? d : 1.0;
+                cplx *col = band + (size_t)j * f->width;
+                for (int o = 0; o < f->width; o++)
+                    col[o] = 0.0;
+                col[f->general ? KB : 0] = f->general ? 1.0 / d : 1.0 / sqrt(d);
             }
         }
     }
@@ -421,7 +504,11 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
 #pragma omp parallel for schedule(static) if (kernel_parallel(g))
     for (long s = 0; s < f->modes; s++) {
         cplx *x = spec + (size_t)s * nu;
-        cholesky_solve(f->band + (size_t)s * nu * (KB + 1), nu, x);
+        const cplx *band = f->band + (size_t)s * nu * f->width;
+        if (f->general)
+            banded_lu_solve(band, nu, x);
+        else
+            cholesky_solve(band, nu, x);
         for (int i = 0; i < nu; i++)
             x[i] *= norm;
     }

@@ -331,7 +331,9 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     if (s->amg_ok)
         return s->amg_cfg.bicgstab ? visc_bicgstab(s, pb, bnorm, x, rtol, maxit, st)
                                    : visc_gmres(s, pb, rhs, x, rtol, maxit, st);
-    if (pb->b_cell && s->pn) /* the full tangent (viscous_apply uses it) */
+    /* the full tangent (viscous_apply uses it), or an open face's
+     * non-symmetric operator on the Fourier blocks */
+    if ((pb->b_cell && s->pn) || (s->fourier_ok && fourier_lines_general(s->fourier)))
         return visc_bicgstab(s, pb, bnorm, x, rtol, maxit, st);
     return visc_pcg(s, pb, bnorm, x, rtol, maxit, st);
 }
@@ -385,7 +387,8 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     return rc;
 }
 
-double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
+double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
+                               enum viscous_precond kind)
 {
     /* as viscous_create allocates: per component r, z, p, q and the
      * divergence buffer; the line blocks' band and probes (BAND + 1 +
@@ -400,7 +403,8 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
         doubles += 3.0 * cells * (BAND + 1 + PROBES);
     else
         doubles += (2.0 + 3.0 * 3.0) * points;
-    if (kind == VISCOUS_LU || kind == VISCOUS_CHOLESKY)
+    if (kind == VISCOUS_LU || kind == VISCOUS_CHOLESKY ||
+        (kind == VISCOUS_FOURIER && bc_has_open(bc))) /* general Fourier blocks */
         doubles += 3.0 * 4.0 * points;
     /* the AMG's GMRES(20) basis (21 vectors of the unknowns, about three a
      * cell) and its gathered right-hand side and correction (hypre's share:
@@ -418,6 +422,6 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
     if (kind == VISCOUS_MG)
         doubles += (2.0 * MG_RESTART + 3.0) * 3.0 * cells;
     return doubles * sizeof(double) +
-           (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0) +
+           (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g, bc) : 0.0) +
            (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL, NULL) : 0.0);
 }
