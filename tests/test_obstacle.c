@@ -310,7 +310,8 @@ static void test_cylinder_coarse(void **state)
  * a z line).  Measured (docs/validation/cylinder_benchmark.md): C_D +0.26 %
  * and +0.40 %, Delta p -3.23 % and -2.70 %, C_L +2.2 % and +35 % (the grid no
  * longer symmetric about the body's axis: a cut-cell error of 7e-4 of the
- * drag across the flow, a third of the lift; on D/20 +6.6 %).  The C_D and
+ * drag across the flow, two fifths of the lift; on D/20 +6.6 %, and -1.2 %
+ * 0.51 off).  The C_D and
  * Delta p bounds are the centred grid's; C_L's are those errors with a
  * margin of a third.  The run across stops at t = 20 (C_D within 3e-5 of
  * its steady value, C_L 3e-7: a slow mode of the cut cells takes the
