@@ -309,13 +309,13 @@ static void test_cylinder_coarse(void **state)
  * lines: nx 223 puts the centre 0.27 of a cell off an x line, nz 42 0.49 off
  * a z line).  Measured (docs/validation/cylinder_benchmark.md): C_D +0.26 %
  * and +0.40 %, Delta p -3.23 % and -2.70 %, C_L +2.2 % and +35 % (the grid no
- * longer symmetric about the body's axis: a cut-cell error of 7e-4 of the
+ * longer symmetric about the body's axis: a cut-cell force of 7e-4 of the
  * drag across the flow, two fifths of the lift; on D/20 +6.6 %, and -1.2 %
- * 0.51 off).  The C_D and
- * Delta p bounds are the centred grid's; C_L's are those errors with a
- * margin of a third.  The run across stops at t = 20 (C_D within 3e-5 of
- * its steady value, C_L 3e-7: a slow mode of the cut cells takes the
- * residual another 1200 steps). */
+ * 0.51 off).  The C_D and Delta p bounds are the centred grid's; C_L's 10 %
+ * along x (0.45 off: +4.2 %) and 50 % across (35 % with a margin of two
+ * fifths).  The run across stops at t = 20 (C_D within 3e-5 of its steady
+ * value, C_L 3e-7: a slow mode of the cut cells takes the residual another
+ * 1200 steps). */
 static void test_cylinder_offsets(void **state)
 {
     (void)state;
