@@ -106,8 +106,9 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "around each edge solved together and divergence-keeping transfers; rediscretised coarse "     \
     "operators, only the coarsest "                                                                  \
     "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
-    "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
-    "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
+    "and no factorisation of a grid-sized matrix; not on stretched grids; with `coupled`, GMRES(64) " \
+    "on the saddle-point system preconditioned by its cycle and the viscosity-scaled pressure "    \
+    "mass, no open face (docs/numerics/velocity-multigrid.md, coupled-step.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
     "cross-section's periodic direction (the heap, the ducts' mixed model, a body included) "      \
     "without augmentation or band; `multigrid` for the time-accurate (Picard) steps of a 2D flow " \
@@ -368,7 +369,9 @@ const struct key case_core_keys[] = {
                  "for periodic directions across the lines), or gmg (geometric multigrid of the "
                  "velocity components along periodic directions inside GMRES, matrix-free: flows "
                  "along a periodic direction such as the heap and the ducts), or multigrid "
-                 "(every component's geometric multigrid, matrix-free) (auto, for grids "
+                 "(every component's geometric multigrid, matrix-free; with solver.coupled, GMRES on "
+                 "the saddle-point system with its cycle and the viscosity-scaled pressure mass) "
+                 "(auto, for grids "
                  "varying in two or more directions: gmg for the steady newton solves of the heap "
                  "and the ducts' mixed model without augmentation or a band, multigrid for the "
                  "transient steps of a 2D flow without augmentation or a band, else "

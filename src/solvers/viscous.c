@@ -414,3 +414,5 @@ double viscous_memory_estimate(const struct grid *g, enum viscous_precond kind)
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g) : 0.0) +
            (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL, NULL) : 0.0);
 }
+
+struct velocity_mg *viscous_velocity_mg(struct viscous_solver *s) { return s->mg; }
