@@ -106,7 +106,7 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "around each edge solved together and divergence-keeping transfers; rediscretised coarse "     \
     "operators, only the coarsest "                                                                  \
     "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
-    "and no factorisation of a grid-sized matrix; not on stretched grids; with `coupled`, GMRES(64) " \
+    "and no factorisation of a grid-sized matrix; not on stretched grids; with `coupled`, GMRES(300) " \
     "on the saddle-point system preconditioned by its cycle and the viscosity-scaled pressure "    \
     "mass, no open face (docs/numerics/velocity-multigrid.md, coupled-step.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
@@ -334,7 +334,9 @@ const struct key case_core_keys[] = {
          KEY_HELP("steady: each step solves velocity and pressure together (the saddle-point "
                   "system of the step by the sparse LU, or with solver.preconditioner = amg by "
                   "GMRES with the AMG of the velocity block and a least-squares commutator for "
-                  "the pressure, which falls back to the LU if it fails) instead of the implicit "
+                  "the pressure, with multigrid by GMRES with the velocity multigrid and the "
+                  "viscosity-scaled pressure mass, either falling back to the LU if it fails) "
+                  "instead of the implicit "
                   "step and the projection; for flows whose pressure the projection's pseudo-time "
                   "march does not converge (around a body, the cavity without augmentation, "
                   "through open faces)",
@@ -345,7 +347,10 @@ const struct key case_core_keys[] = {
                   "of the implicit step and the projection; with `preconditioner = amg` by GMRES "
                   "with BoomerAMG on the velocity block and a least-squares commutator for the "
                   "pressure (`src/solvers/saddle_krylov.c`), which gives way to the LU for the "
-                  "rest of the run if it fails (refused on mu(I) and with open faces). For flows "
+                  "rest of the run if it fails (refused on mu(I) and with open faces); with "
+                  "`preconditioner = multigrid` by GMRES(300) with the velocity multigrid's cycle "
+                  "on the velocity block and the viscosity-scaled pressure mass for the pressure "
+                  "(`src/march/coupled_mg.c`; the same fallback; refused with open faces). For flows "
                   "whose pressure the projection's pseudo-time march does not converge: a flow "
                   "around a body, the Bingham cavity without `augmentation`, a flow through open "
                   "faces (each open face's balance is a row of the system). Needs `mode = "
