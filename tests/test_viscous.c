@@ -1490,6 +1490,23 @@ static void test_coupled_gmres_matches_lu(void **state)
     assert_int_equal(ra.linear_unconverged, 0);
     assert_true(fabs(rf.errors.headline / rl.errors.headline - 1.0) <= 1e-8);
     assert_int_equal(rf.preconditioner_fallbacks, 1);
+    /* solver.preconditioner = multigrid (coupled_mg.h): the velocity
+     * multigrid's cycle and the viscosity-scaled pressure mass; measured 35
+     * steps against the LU's 34, psi_max to ten digits, 24-95 iterations a
+     * step */
+    struct muflow_case cm;
+    struct run_result rm;
+    cavity_coupled("solver.preconditioner=multigrid", "solver.max_linear_iterations=500", &cm,
+                   &rm);
+    print_message("cavity 32 x 32 coupled, multigrid: %s in %ld steps, psi_max %.10f, %ld "
+                  "fallback(s)\n", run_status_name(rm.status), rm.steps, rm.errors.headline,
+                  rm.preconditioner_fallbacks);
+    assert_int_equal(rm.status, STATUS_STEADY);
+    assert_true(fabs(rm.errors.headline / rl.errors.headline - 1.0) <= 1e-8);
+    assert_true(fabs(rm.errors.err_rms / rl.errors.err_rms - 1.0) <= 1e-8);
+    assert_true(labs(rm.steps - rl.steps) <= 3);
+    assert_int_equal(rm.preconditioner_fallbacks, 0);
+    assert_int_equal(rm.linear_unconverged, 0);
     /* refused where it is not measured or failed: mu(I), open faces */
     const char *const bad[][2] = {{"solver.preconditioner=amg", "rheology.law = bingham"}};
     test_bad_overrides("../cases/cylinder.ini", bad, 1);
@@ -1499,6 +1516,9 @@ static void test_coupled_gmres_matches_lu(void **state)
     char err[512];
     assert_int_equal(case_load(&co, "../cases/cylinder.ini", 5, open, err, sizeof err), 2);
     print_message("%s\n", err);
+    assert_non_null(strstr(err, "open face"));
+    open[1] = "solver.preconditioner=multigrid";
+    assert_int_equal(case_load(&co, "../cases/cylinder.ini", 5, open, err, sizeof err), 2);
     assert_non_null(strstr(err, "open face"));
 }
 

@@ -55,8 +55,27 @@ int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, con
                         double *x, double rtol, int maxit, struct saddle_krylov_stats *st,
                         char *err, size_t errlen);
 
+/* The multigrid variant (solver.preconditioner = multigrid): P's velocity
+ * block by the caller's apply (z ~ A^-1 r on the nu velocity unknowns: the
+ * velocity multigrid's cycle), S^-1 on the free rows by schur_weight (per
+ * row beyond nu: the viscosity-scaled pressure mass, 2 eta + (rho / dt) /
+ * diag(-lap) per cell; May and Moresi 2008), on the others by S's diagonal
+ * as above.  No AMG: saddle_krylov_create_mg, saddle_krylov_solve_mg. */
+struct saddle_velocity_precond {
+    void (*apply)(void *ctx, const double *r, double *z);
+    void *ctx;
+    const double *schur_weight;
+};
+int saddle_krylov_create_mg(struct saddle_krylov **out, int n, int nu, char *err, size_t errlen);
+int saddle_krylov_solve_mg(struct saddle_krylov *s, const struct csr_matrix *K,
+                           const struct saddle_velocity_precond *vp, const double *rhs, double *x,
+                           double rtol, int maxit, struct saddle_krylov_stats *st, char *err,
+                           size_t errlen);
+
 /* Bytes of the GMRES basis and work vectors for n unknowns (the AMG's
  * hierarchies are amg_hypre_memory_estimate's). */
 double saddle_krylov_memory_estimate(long n);
+/* The same for the multigrid variant (its longer restart). */
+double saddle_krylov_memory_estimate_mg(long n);
 
 #endif

@@ -33,5 +33,8 @@ int saddle_point_solve_many(struct saddle_point *s, const struct csr_matrix *K, 
  * of dims dimensions (a model fitted to measured peaks, for the run's memory
  * estimate: docs/numerics/memory-estimate.md). */
 double saddle_point_memory_estimate(long unknowns, int dims);
+/* Bytes of the coupled matrices alone (no factorisation): what the coupled
+ * GMRES holds beside its preconditioner. */
+double saddle_point_matrix_estimate(long unknowns, int dims);
 
 #endif

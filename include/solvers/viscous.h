@@ -178,6 +178,11 @@ void viscous_renew(struct viscous_solver *s);
  * it where the LU's factorisation fits (march_create.c).  Off by default. */
 void viscous_allow_lu_fallback(struct viscous_solver *s, int on);
 
+/* The velocity multigrid of a VISCOUS_MG solver (NULL for another kind):
+ * the coupled step's preconditioner sets it up and cycles it itself
+ * (march/coupled_mg.h). */
+struct velocity_mg *viscous_velocity_mg(struct viscous_solver *s);
+
 /* The line direction in use. */
 int viscous_line_direction(const struct viscous_solver *s);
 

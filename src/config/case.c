@@ -108,8 +108,9 @@ _Static_assert(sizeof(enum preconditioner) == sizeof(int), "enum size");
     "around each edge solved together and divergence-keeping transfers; rediscretised coarse "     \
     "operators, only the coarsest "                                                                  \
     "level factorised) preconditioning CG, or GMRES(30) for the full Newton tangent; no probing "   \
-    "and no factorisation of a grid-sized matrix; not on stretched grids nor with `coupled` "       \
-    "(docs/numerics/velocity-multigrid.md). `auto`, for grids varying in two "                      \
+    "and no factorisation of a grid-sized matrix; not on stretched grids; with `coupled`, GMRES(300) " \
+    "on the saddle-point system preconditioned by its cycle and the viscosity-scaled pressure "    \
+    "mass, no open face (docs/numerics/velocity-multigrid.md, coupled-step.md). `auto`, for grids varying in two "                      \
     "or more directions: `gmg` for the steady Newton solves of a scene whose flow runs along its "  \
     "cross-section's periodic direction (the heap, the ducts' mixed model, a body included) "      \
     "without augmentation or band; `multigrid` for the time-accurate (Picard) steps of a 2D flow " \
@@ -347,7 +348,9 @@ const struct key case_core_keys[] = {
          KEY_HELP("steady: each step solves velocity and pressure together (the saddle-point "
                   "system of the step by the sparse LU, or with solver.preconditioner = amg by "
                   "GMRES with the AMG of the velocity block and a least-squares commutator for "
-                  "the pressure, which falls back to the LU if it fails) instead of the implicit "
+                  "the pressure, with multigrid by GMRES with the velocity multigrid and the "
+                  "viscosity-scaled pressure mass, either falling back to the LU if it fails) "
+                  "instead of the implicit "
                   "step and the projection; for flows whose pressure the projection's pseudo-time "
                   "march does not converge (around a body, the cavity without augmentation, "
                   "through open faces)",
@@ -358,7 +361,10 @@ const struct key case_core_keys[] = {
                   "of the implicit step and the projection; with `preconditioner = amg` by GMRES "
                   "with BoomerAMG on the velocity block and a least-squares commutator for the "
                   "pressure (`src/solvers/saddle_krylov.c`), which gives way to the LU for the "
-                  "rest of the run if it fails (refused on mu(I) and with open faces). For flows "
+                  "rest of the run if it fails (refused on mu(I) and with open faces); with "
+                  "`preconditioner = multigrid` by GMRES(300) with the velocity multigrid's cycle "
+                  "on the velocity block and the viscosity-scaled pressure mass for the pressure "
+                  "(`src/march/coupled_mg.c`; the same fallback; refused with open faces). For flows "
                   "whose pressure the projection's pseudo-time march does not converge: a flow "
                   "around a body, the Bingham cavity without `augmentation`, a flow through open "
                   "faces (each open face's balance is a row of the system). Needs `mode = "
@@ -382,7 +388,9 @@ const struct key case_core_keys[] = {
                  "for periodic directions across the lines), or gmg (geometric multigrid of the "
                  "velocity components along periodic directions inside GMRES, matrix-free: flows "
                  "along a periodic direction such as the heap and the ducts), or multigrid "
-                 "(every component's geometric multigrid, matrix-free) (auto, for grids "
+                 "(every component's geometric multigrid, matrix-free; with solver.coupled, GMRES on "
+                 "the saddle-point system with its cycle and the viscosity-scaled pressure mass) "
+                 "(auto, for grids "
                  "varying in two or more directions: gmg for the steady newton solves of the heap "
                  "and the ducts' mixed model without augmentation or a band, multigrid for the "
                  "transient steps of a 2D flow without augmentation or a band, else "

@@ -59,6 +59,9 @@ double march_memory_estimate(const struct muflow_case *cs, const struct march_se
         long unknowns = 4L * (long)grid_cells(g);
         if (kind == VISCOUS_AMG)
             bytes += amg_hypre_memory_estimate(unknowns) + saddle_krylov_memory_estimate(unknowns);
+        else if (kind == VISCOUS_MG) /* the velocity multigrid is viscous_memory_estimate's */
+            bytes += saddle_krylov_memory_estimate_mg(unknowns) +
+                     saddle_point_matrix_estimate(unknowns, dims);
         else
             bytes += saddle_point_memory_estimate(unknowns, dims);
         return bytes;

@@ -13,10 +13,13 @@ int march_preconditioner_refusal(const struct muflow_case *cs, char *msg, size_t
          * by its GMRES with the AMG (stage_coupled.c) */
         const char *why = cs->preconditioner == PRECOND_AMG
                               ? saddle_krylov_refusal(cs->rheo.law, &cs->bc)
-                          : cs->preconditioner == PRECOND_GMG ||
-                                    cs->preconditioner == PRECOND_MULTIGRID
-                              ? "with solver.preconditioner = gmg or multigrid: the coupled step "
-                                "solves its own matrix; set solver.preconditioner = lu or amg"
+                          : cs->preconditioner == PRECOND_GMG
+                              ? "with solver.preconditioner = gmg: the coupled step "
+                                "solves its own matrix; set solver.preconditioner = lu, amg or "
+                                "multigrid"
+                          : cs->preconditioner == PRECOND_MULTIGRID && bc_has_open(&cs->bc)
+                              ? "with solver.preconditioner = multigrid needs no open face (its "
+                                "GMRES is not measured there); set solver.preconditioner = lu"
                               : NULL;
         if (why) {
             snprintf(msg, msglen, "solver.coupled = on %s", why);

@@ -13,8 +13,8 @@
  * face are left out (their dp is 0), and one pressure is pinned (the
  * constant mode of a closed or periodic box) unless the box has an open
  * face.  UMFPACK factorises it (saddle_point.h), or with
- * solver.preconditioner = amg GMRES solves it (saddle_krylov.h), giving way
- * to the LU for the rest of the run if it fails.
+ * solver.preconditioner = amg or multigrid GMRES solves it (saddle_krylov.h,
+ * coupled_mg.h), giving way to the LU for the rest of the run if it fails.
  *
  * A module's border (march/module.h: the prescribed mean velocity, whose
  * force's size is one more unknown) borders K: a second right-hand side of
@@ -38,6 +38,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "march/coupled_mg.h"
 #include "march/coupled_pressure.h"
 #include "march/coupled_open.h"
 #include "march/step.h"
@@ -81,7 +82,9 @@ struct coupled_state {
     long cap;
     double *b, *x;
     struct saddle_point *solver;
-    struct saddle_krylov *krylov;   /* solver.preconditioner = amg: GMRES instead of the LU */
+    struct saddle_krylov *krylov;   /* solver.preconditioner = amg or multigrid: GMRES
+                                       instead of the LU */
+    struct coupled_mg *mg;          /* multigrid: GMRES's preconditioner */
     long fallbacks;                 /* GMRES solves that failed: the LU took over */
     char cause[200];
     struct pressure_columns *pcols; /* a pressure-dependent law's d(div tau)/dp */
@@ -114,6 +117,7 @@ void stage_coupled_destroy(struct coupled_state *c)
     csr_free(&c->K);
     saddle_point_destroy(c->solver);
     saddle_krylov_destroy(c->krylov);
+    coupled_mg_destroy(c->mg);
     pressure_columns_destroy(c->pcols);
     free(c->slot);
     free(c->cell);
@@ -265,6 +269,10 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
                                  &o, err, errlen) != 0)
             goto fail;
     }
+    if (st->precond == VISCOUS_MG &&
+        (saddle_krylov_create_mg(&c->krylov, (int)nall, c->nu, err, errlen) != 0 ||
+         coupled_mg_create(&c->mg, st, c->pm, c->nu, c->nc, c->cell, err, errlen) != 0))
+        goto fail;
     return c;
 oom:
     snprintf(err, errlen, "coupled step: out of memory");
@@ -508,8 +516,18 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     int rc = 1;
     if (c->krylov && !c->bordered) { /* the bordered solve is the LU's */
         double tol = implicit_tolerance(st, pb->b_cell != NULL);
-        rc = saddle_krylov_solve(c->krylov, &c->K, c->b, c->x, tol, st->cs->max_linear_iterations,
-                                 &ks, c->cause, sizeof c->cause);
+        struct saddle_velocity_precond vp;
+        if (!c->mg)
+            rc = saddle_krylov_solve(c->krylov, &c->K, c->b, c->x, tol,
+                                     st->cs->max_linear_iterations, &ks, c->cause,
+                                     sizeof c->cause);
+        else if (coupled_mg_setup(c->mg, st, pb, c->idle, c->nopen, &vp, c->cause,
+                                  sizeof c->cause) != 0)
+            rc = -1;
+        else
+            rc = saddle_krylov_solve_mg(c->krylov, &c->K, &vp, c->b, c->x, tol,
+                                        st->cs->max_linear_iterations, &ks, c->cause,
+                                        sizeof c->cause);
         st->linear_iterations = ks.iterations;
         st->linear_residual = ks.relative_residual;
         /* a GMRES that fails (its cap, a breakdown) leaves this step and
@@ -524,6 +542,8 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
             c->fallbacks++;
             saddle_krylov_destroy(c->krylov);
             c->krylov = NULL;
+            coupled_mg_destroy(c->mg);
+            c->mg = NULL;
         }
     }
     if (rc != 0) {

@@ -150,3 +150,12 @@ double saddle_point_memory_estimate(long unknowns, int dims)
      * keeps UMFPACK from the symmetric ordering's fill. */
     return sparse_fill_bytes(unknowns, dims, 320.0);
 }
+
+double saddle_point_matrix_estimate(long unknowns, int dims)
+{
+    /* the matrices without their factors: the probed velocity block, K and
+     * its assembly's entries, about 40 entries a row in 2D (the full
+     * tangent's stencil and the pressure columns), 70 in 3D, each held
+     * three times at 12-16 bytes */
+    return (double)unknowns * (dims == 3 ? 70.0 : 40.0) * 40.0;
+}

@@ -425,3 +425,5 @@ double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
            (kind == VISCOUS_FOURIER ? fourier_lines_memory_estimate(g, bc) : 0.0) +
            (kind == VISCOUS_MG ? velocity_mg_memory_estimate(g, NULL, NULL) : 0.0);
 }
+
+struct velocity_mg *viscous_velocity_mg(struct viscous_solver *s) { return s->mg; }
