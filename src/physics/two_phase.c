@@ -221,13 +221,13 @@ static void edge_fractions(struct two_phase *tp, const struct grid *g, const str
 }
 
 /* The mixture of the granular viscosity eta_g and the fluid's at fraction
- * t, and its derivative with respect to eta_g (for the tangents).  series:
- * the two in series whatever the law (an edge cut by the interface). */
+ * t, and its derivative with respect to eta_g (for the tangents).  An edge
+ * the interface cuts under the series rule is cut_edge's instead. */
 static inline double mix(const struct two_phase *tp, double rg, double t, double eta_g,
-                         int series, double *deta)
+                         double *deta)
 {
     double ef = tp->p.fluid_viscosity, rf = tp->p.fluid_density;
-    if (series || tp->p.mixture == MIXTURE_HARMONIC) {
+    if (tp->p.mixture == MIXTURE_HARMONIC) {
         double eta = 1.0 / (t / eta_g + (1.0 - t) / ef);
         *deta = t > 0.0 ? eta * eta * t / (eta_g * eta_g) : 0.0;
         return eta;
@@ -251,8 +251,8 @@ static inline double clip(const struct two_phase *tp, double eta_g, int *clipped
 
 /* eta (and the tangent A, the full tangent's b) of one stress location:
  * A = eta + eta_g' x (its derivative part), which scales with d eta / d eta_g. */
-static inline void mix_point(const struct two_phase *tp, double rg, double t, int series,
-                             double *eta, double *const tan[], int ntan, double *b)
+static inline void mix_point(const struct two_phase *tp, double rg, double t, double *eta,
+                             double *const tan[], int ntan, double *b)
 {
     int cut;
     double d, eg = clip(tp, *eta, &cut);
@@ -262,7 +262,7 @@ static inline void mix_point(const struct two_phase *tp, double rg, double t, in
         if (b)
             *b = 0.0;
     }
-    double m = mix(tp, rg, t, eg, series, &d);
+    double m = mix(tp, rg, t, eg, &d);
     for (int a = 0; a < ntan; a++)
         *tan[a] = m + d * (*tan[a] - eg);
     if (b)
@@ -410,7 +410,7 @@ static void properties(struct march_state *st, void *state)
                 if (cs->newton)
                     for (int a = 0; a < 3; a++)
                         tan[a] = &st->field.tangent_cells[a][q];
-                mix_point(tp, rg, tp->T[q], 0, &st->field.viscosity[q], tan, cs->newton ? 3 : 0,
+                mix_point(tp, rg, tp->T[q], &st->field.viscosity[q], tan, cs->newton ? 3 : 0,
                           st->b_c ? &st->b_c[q] : NULL);
             }
     for (int c = 0; c < 3; c++) {
@@ -434,9 +434,8 @@ static void properties(struct march_state *st, void *state)
                         continue;
                     }
                     double *tan[1] = {cs->newton ? &st->field.tangent_edges[c][e] : NULL};
-                    mix_point(tp, rg, t, 0,
-                              &st->field.viscosity_edges[c][e], tan, cs->newton ? 1 : 0,
-                              st->b_e[c] ? &st->b_e[c][e] : NULL);
+                    mix_point(tp, rg, t, &st->field.viscosity_edges[c][e], tan,
+                              cs->newton ? 1 : 0, st->b_e[c] ? &st->b_e[c][e] : NULL);
                 }
     }
     bc_fill_scalar(g, &st->bc, st->field.viscosity);
