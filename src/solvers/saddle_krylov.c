@@ -351,14 +351,14 @@ static void apply_P(void *ctx, const double *v, double *z)
         amg_hypre_apply(s->amg, s->t, z);
 }
 
-int saddle_krylov_solve_mg(struct saddle_krylov *s, const struct csr_matrix *K,
-                           const struct saddle_velocity_precond *vp, const double *rhs, double *x,
-                           double rtol, int maxit, struct saddle_krylov_stats *st, char *err,
-                           size_t errlen)
+/* What both solves begin with: the stats cleared, K's size (and the solver's
+ * kind: kind_ok) checked, K split into its blocks. */
+static int solve_begin(struct saddle_krylov *s, const struct csr_matrix *K, int kind_ok,
+                       struct saddle_krylov_stats *st, char *err, size_t errlen)
 {
     st->iterations = 0;
     st->relative_residual = 0.0;
-    if (K->n != s->n || s->amg) {
+    if (K->n != s->n || !kind_ok) {
         snprintf(err, errlen, "coupled step's GMRES: a system of %d unknowns, %d expected",
                  K->n, s->n);
         return -1;
@@ -368,11 +368,17 @@ int saddle_krylov_solve_mg(struct saddle_krylov *s, const struct csr_matrix *K,
         return -1;
     }
     s->K = K;
-    s->vp = vp;
+    return 0;
+}
+
+/* GMRES from x = 0 with the block preconditioner as set up; the stats, and
+ * a break-down told in err. */
+static int run_gmres(struct saddle_krylov *s, const double *rhs, double *x, double rtol,
+                     int maxit, struct saddle_krylov_stats *st, char *err, size_t errlen)
+{
     memset(x, 0, (size_t)s->n * sizeof *x);
     struct gmres_stats gs;
     int rc = gmres_solve(s->gm, apply_K, apply_P, s, rhs, x, rtol, maxit, &gs);
-    s->vp = NULL;
     st->iterations = gs.iterations;
     st->relative_residual = gs.relative_residual;
     if (rc < 0)
@@ -381,22 +387,25 @@ int saddle_krylov_solve_mg(struct saddle_krylov *s, const struct csr_matrix *K,
     return rc;
 }
 
+int saddle_krylov_solve_mg(struct saddle_krylov *s, const struct csr_matrix *K,
+                           const struct saddle_velocity_precond *vp, const double *rhs, double *x,
+                           double rtol, int maxit, struct saddle_krylov_stats *st, char *err,
+                           size_t errlen)
+{
+    if (solve_begin(s, K, !s->amg, st, err, errlen) != 0)
+        return -1;
+    s->vp = vp;
+    int rc = run_gmres(s, rhs, x, rtol, maxit, st, err, errlen);
+    s->vp = NULL;
+    return rc;
+}
+
 int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, const double *rhs,
                         double *x, double rtol, int maxit, struct saddle_krylov_stats *st,
                         char *err, size_t errlen)
 {
-    st->iterations = 0;
-    st->relative_residual = 0.0;
-    if (K->n != s->n) {
-        snprintf(err, errlen, "coupled step's GMRES: a system of %d unknowns, %d expected",
-                 K->n, s->n);
+    if (solve_begin(s, K, 1, st, err, errlen) != 0)
         return -1;
-    }
-    if (split(s, K) != 0) {
-        snprintf(err, errlen, "coupled step's GMRES: out of memory");
-        return -1;
-    }
-    s->K = K;
     if (s->nf > 0 && !s->amg_m) {
         int *zero = calloc((size_t)s->nf, sizeof *zero);
         struct amg_options o;
@@ -424,17 +433,10 @@ int saddle_krylov_solve(struct saddle_krylov *s, const struct csr_matrix *K, con
         snprintf(err, errlen, "coupled step's GMRES: hypre's BoomerAMG set-up failed");
         return -1;
     }
-    memset(x, 0, (size_t)s->n * sizeof *x);
-    struct gmres_stats gs;
-    int rc = gmres_solve(s->gm, apply_K, apply_P, s, rhs, x, rtol, maxit, &gs);
+    int rc = run_gmres(s, rhs, x, rtol, maxit, st, err, errlen);
     amg_hypre_release(s->amg);
     if (s->amg_m)
         amg_hypre_release(s->amg_m);
-    st->iterations = gs.iterations;
-    st->relative_residual = gs.relative_residual;
-    if (rc < 0)
-        snprintf(err, errlen, "coupled step's GMRES: breakdown after %d iterations (relative "
-                              "residual %.3g)", gs.iterations, gs.relative_residual);
     return rc;
 }
 
