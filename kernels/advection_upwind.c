@@ -74,8 +74,7 @@ void kernel_advection_upwind(const struct grid *g, const struct box act[3], doub
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++) {
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    if (i < bx->lo[0] || i >= bx->hi[0] || j < bx->lo[1] || j >= bx->hi[1] ||
-                        k < bx->lo[2] || k >= bx->hi[2]) {
+                    if (!box_holds(bx, i, j, k)) {
                         res[p] = 0.0;
                         continue;
                     }

@@ -338,11 +338,6 @@ static inline void patch_solve(const struct grid *g, const int periodic[3], cons
             x[pt->c[f]][pt->p[f]] += y[f];
 }
 
-static inline int in_box(const struct box *b, int i, int j, int k)
-{
-    return i >= b->lo[0] && i < b->hi[0] && j >= b->lo[1] && j < b->hi[1] && k >= b->lo[2] &&
-           k < b->hi[2];
-}
 
 /* 1 when the patch at edge idx has its four faces and neither they nor
  * their rows' neighbours wrap a periodic seam: its slots are plain offsets
@@ -356,8 +351,10 @@ static inline int patch_plain(const struct grid *g, const int periodic[3], const
     int lo_a[3] = {idx[0], idx[1], idx[2]}, lo_b[3] = {idx[0], idx[1], idx[2]};
     lo_a[b] -= 1;
     lo_b[a] -= 1;
-    return in_box(&act[a], idx[0], idx[1], idx[2]) && in_box(&act[a], lo_a[0], lo_a[1], lo_a[2]) &&
-           in_box(&act[b], idx[0], idx[1], idx[2]) && in_box(&act[b], lo_b[0], lo_b[1], lo_b[2]);
+    return box_holds(&act[a], idx[0], idx[1], idx[2]) &&
+           box_holds(&act[a], lo_a[0], lo_a[1], lo_a[2]) &&
+           box_holds(&act[b], idx[0], idx[1], idx[2]) &&
+           box_holds(&act[b], lo_b[0], lo_b[1], lo_b[2]);
 }
 
 static inline void patch_solve_plain(const struct grid *g, const struct patch_operator *op,

@@ -80,6 +80,13 @@ struct box {
     int lo[3], hi[3];
 };
 
+/* 1 when slot (i, j, k) lies in box b (lo inclusive, hi exclusive). */
+static inline int box_holds(const struct box *b, int i, int j, int k)
+{
+    return i >= b->lo[0] && i < b->hi[0] && j >= b->lo[1] && j < b->hi[1] && k >= b->lo[2] &&
+           k < b->hi[2];
+}
+
 /* Width of cell i (-1 .. n) of direction d. */
 static inline double grid_hc(const struct grid *g, int d, int i)
 {

@@ -118,8 +118,7 @@ void hydrostatic_force(struct march_state *st)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++) {
                     const struct box *b = &st->act[a];
-                    if (i < b->lo[0] || i >= b->hi[0] || j < b->lo[1] || j >= b->hi[1] ||
-                        k < b->lo[2] || k >= b->hi[2])
+                    if (!box_holds(b, i, j, k))
                         st->field.force[a][grid_idx(g, i, j, k)] = 0.0;
                 }
 }

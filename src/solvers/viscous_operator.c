@@ -66,8 +66,7 @@ static void cut_graddiv(const struct grid *g, const struct boundary *bc,
             const ptrdiff_t q = e->cut_faces[a][n];
             int idx[3];
             grid_slot_index(g, q, idx);
-            if (idx[0] < bx->lo[0] || idx[0] >= bx->hi[0] || idx[1] < bx->lo[1] ||
-                idx[1] >= bx->hi[1] || idx[2] < bx->lo[2] || idx[2] >= bx->hi[2])
+            if (!box_holds(bx, idx[0], idx[1], idx[2]))
                 continue;
             const double ca = g->axis[a] ? neg / grid_hf(g, a, idx[a]) : c;
             out[a][q] -= ca * (w[q] - w[q - o[a]]);
