@@ -524,6 +524,20 @@ bench-illposed: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/illposed_study.py $(BUILD)/muflow $(BENCH_OUT)/illposed
 
+# The implicit step's cost against the grid: 30 steps of the collapse (32,
+# 64, 128 cells per H0), the Bingham cavity (64^2 to 256^2, Bn 10 and 1000),
+# the granular cylinder (D/8 to D/32) and bagnold2 (50 x 100 to 200 x 400)
+# under `auto` and another solver beside it, on one thread: CPU per cell and
+# step, peak memory, Krylov iterations a step ($(BENCH_OUT)/scaling.md).
+# Grids whose estimate passes SCALING_MEMORY bytes are refused, a row each.
+SCALING_STEPS  ?= 30
+SCALING_MEMORY ?= 6000000000
+.PHONY: bench-scaling
+bench-scaling: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	MUFLOW_MEMORY_BOUND=$(SCALING_MEMORY) /usr/bin/python3 bench/scaling.py $(BUILD)/muflow \
+	  $(BENCH_OUT) --steps $(SCALING_STEPS)
+
 # Pictures of the column collapse: cases/collapse.ini with a field file every
 # 0.25 time units to t = 6 (or rest), then tools/collapse_movie.py draws T and
 # |u| per field file (PNG) and the animation (GIF through Pillow; also MP4 when
