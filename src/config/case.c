@@ -21,7 +21,8 @@ static const struct choice profile_choices[] = {
 const struct choice case_plane_choices[] = {
     {"xz", OBSTACLE_XZ}, {"xy", OBSTACLE_XY}, {"yz", OBSTACLE_YZ}, {NULL, 0}};
 static const struct choice obstacle_boundary_choices[] = {
-    {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {NULL, 0}};
+    {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {"cells", OBSTACLE_CELLS},
+    {NULL, 0}};
 static const struct choice law_choices[] = {
     {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN},
     {"ngf", LAW_NGF}, {NULL, 0}};
@@ -207,7 +208,9 @@ const struct key case_core_keys[] = {
          "the fluid is inside the shapes and the solid outside (a duct)"),
     CHO("obstacle", "boundary", obstacle.boundary, obstacle_boundary_choices,
         "no slip on the body: sharp (each grid link the surface cuts ends on the surface, "
-        "second order) or staircase (velocity nodes inside the body held at 0, first order)"),
+        "second order), staircase (velocity nodes inside the body held at 0, first order) or "
+        "cells (a cell whose centre is in the body is solid, its faces closed, no slip on "
+        "them: no cell is cut, so a VOF tracer combines with it; first order)"),
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
          "must be in [-pi/2, pi/2] (radians)",
@@ -495,7 +498,7 @@ static const struct {
      "(with the control-volume cross-check) to the summary, `obstacle_surface.csv` (the "
      "stresses around the body against the angle) and `forces.csv` (the forces through the "
      "run, `output.forces_every`). A case whose scene transports a tracer (the "
-     "collapse) cannot have shapes."},
+     "collapse) can have shapes only with `boundary = cells` (the slope_release's bed)."},
     {"physics", "Gravity, the density and the terms of the momentum equation."},
     {"rheology",
      "The viscosity law. `law = bingham` needs `plastic_viscosity > 0` or `yield_stress > 0`; "
