@@ -188,14 +188,17 @@ const struct key case_core_keys[] = {
 
     STR("obstacle", "shapes", obstacle.shapes,
         KEY_HELP("solid bodies as a union of shapes in the plane's coordinates (A, B), extruded "
-                 "along the third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by "
-                 "';' (empty: none); each must reach into the box and span a cell each way, a "
+                 "along the third direction: 'circle A B R', 'rectangle A0 B0 A1 B1' and 'slope AC BR "
+                 "THETA R' joined by ';' (empty: none); each must reach into the box and span a cell each way, a "
                  "channel's inflow and outlet stay joined by fluid, and the fluid is one region "
                  "or regions that each reach a surface or open face",
                  "length",
                  "Solid bodies inside the box, a union of shapes in the plane's coordinates (A, "
                  "B), extruded along the third direction: `circle A B R` (centre, radius) and "
-                 "`rectangle A0 B0 A1 B1` (two opposite corners), joined by `;`; empty: none. "
+                 "`rectangle A0 B0 A1 B1` (two opposite corners) and `slope AC BR THETA R` (the ground "
+                 "below a bed descending at THETA radians towards +A, bent by an arc of radius "
+                 "R into the level floor B = BR, which it meets at A = AC), joined by `;`; "
+                 "empty: none. "
                  "Refused: a shape that does not reach into the box or spans less than a cell "
                  "along either direction of its plane, shapes that leave no cell centre in the "
                  "fluid, a body that closes the channel (no path of fluid cells between an "

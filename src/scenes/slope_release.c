@@ -12,8 +12,8 @@
  * The two phases and the pressure's gauge are the collapse's (the two_phase
  * module, the top at -rho_f g lz).  Measured every step along the bed's arc
  * length s (from x = 0): the front and the tail (the extreme s of the
- * T = 1/2 contour, its points projected on the bed), the kinetic energy and
- * the grains' volume; per cell, whether the grains there ever yielded (I
+ * T = 1/2 contour, its points projected on the bed), the s behind which 99 %
+ * of the grains lie, the kinetic energy and the grains' volume; per cell, whether the grains there ever yielded (I
  * above the I where the friction curve reaches mu_s).  At the end the
  * depth-averaged model (diagnostics/depth_averaged.h) runs the same release
  * on the same bed (1D along s, the arc through its local slope), with
@@ -104,7 +104,8 @@ SCENE_PARAMS(slope_block, "slope_release",
              "density.  The scene needs `solver.mode = transient`, no tilt, `xlo` and `xhi` "
              "walls, `zlo = wall`, `zhi = surface` or `open`, periodic y, `domain.ny = 1` and "
              "an unstretched grid.  It writes `slope_release.csv` (every step: t, the front "
-             "and tail as arc length along the bed, kinetic energy, grains' volume), "
+             "(the T = 1/2 contour's farthest point) and tail as arc length along the bed, "
+             "kinetic energy, grains' volume, the s behind which 99 % of it lies), "
              "`deposit.csv` (the final grains' columns), `depth_averaged.csv` and "
              "`depth_averaged_deposit.csv` (the depth-averaged model on the same bed); the "
              "summary has both run-outs and times to rest, the volume's error and the area "
@@ -249,14 +250,18 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
 
 /* ---- the record ---- */
 
+/* VOLUME_SHARE of the grains lie at or behind front99 along the bed: a
+ * front that a film thinner than a cell does not move */
+#define VOLUME_SHARE 0.99
+
 struct sample {
-    double t, front, tail, kinetic, volume, t_min, t_max;
+    double t, front, tail, kinetic, volume, t_min, t_max, front99;
 };
 
 struct da_run {
     long n;
     double ds, *h, *m;
-    double front, tail, rest_time, peak, volume0, volume;
+    double front, tail, rest_time, peak, volume0, volume, front99;
     struct sample *s; /* t, front, tail, kinetic, volume */
     long ns;
 };
@@ -266,6 +271,9 @@ struct record {
     long n, cap, last_step;
     double peak, rest_time, volume0;
     unsigned char *solid, *yielded; /* per cell (n[0] n[2]) */
+    double *cell_s;                 /* per cell: the arc length of its centre's bed point */
+    double *bins, bin_ds;           /* the grains' volume per interval of s */
+    long nbins;
     struct bed bed;
     struct da_run da; /* the depth-averaged model's, at step da_step */
     long da_step;
@@ -276,9 +284,19 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     const struct grid *g = &st->g;
     struct record *r = calloc(1, sizeof *r);
     size_t nc = (size_t)g->n[0] * g->n[2];
-    if (r)
+    if (r) {
         r->solid = calloc(2 * nc, 1);
-    if (!r || !r->solid) {
+        r->cell_s = malloc(nc * sizeof *r->cell_s);
+        r->bin_ds = 0.25 * fmin(g->h[0], g->h[2]);
+        r->nbins = (long)(hypot(st->cs->len[0], st->cs->len[2]) * 2.0 / r->bin_ds) + 1;
+        r->bins = malloc((size_t)r->nbins * sizeof *r->bins);
+    }
+    if (!r || !r->solid || !r->cell_s || !r->bins) {
+        if (r) {
+            free(r->solid);
+            free(r->cell_s);
+            free(r->bins);
+        }
         free(r);
         snprintf(err, errlen, "slope_release: out of memory");
         return -1;
@@ -294,6 +312,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         for (int k = 0; k < g->n[2]; k++) {
             double x[3] = {(i + 0.5) * g->h[0], 0.0, (k + 0.5) * g->h[2]};
             r->solid[(size_t)i * g->n[2] + k] = shape_distance(&set, x) <= 0.0;
+            r->cell_s[(size_t)i * g->n[2] + k] = bed_s(&r->bed, x[0], x[2]);
         }
     *state = r;
     return 0;
@@ -305,6 +324,8 @@ static void destroy(void *state)
     if (r) {
         free(r->s);
         free(r->solid);
+        free(r->cell_s);
+        free(r->bins);
         free(r->da.h);
         free(r->da.s);
     }
@@ -370,6 +391,21 @@ static void crossings(const struct record *r, const struct grid *g, const double
             }
 }
 
+/* The s at which the cumulated volume of n intervals of width ds from 0
+ * reaches share of the whole, linear inside an interval. */
+static double volume_front(const double *v, long n, double ds, double share)
+{
+    double total = 0.0, sum = 0.0;
+    for (long i = 0; i < n; i++)
+        total += v[i];
+    for (long i = 0; i < n; i++) {
+        if (v[i] > 0.0 && sum + v[i] >= share * total)
+            return (i + (share * total - sum) / v[i]) * ds;
+        sum += v[i];
+    }
+    return n * ds;
+}
+
 static void measure(struct record *r, const struct march_state *st, const double *T,
                     struct sample *s)
 {
@@ -381,6 +417,8 @@ static void measure(struct record *r, const struct march_state *st, const double
     s->t_min = INFINITY;
     s->t_max = -INFINITY;
     double vol = 0.0;
+    for (long b = 0; b < r->nbins; b++)
+        r->bins[b] = 0.0;
     /* yielded: grains (T >= 1/2) whose I passed the I where the curve
      * reaches mu_s (0 for the jop curve: any motion) */
     const struct rheology *rh = &st->cs->rheo;
@@ -391,6 +429,8 @@ static void measure(struct record *r, const struct march_state *st, const double
             ptrdiff_t p = grid_idx(g, i, 0, k);
             double t = T[p];
             vol += t;
+            long b = (long)(r->cell_s[(size_t)i * g->n[2] + k] / r->bin_ds);
+            r->bins[b < 0 ? 0 : b >= r->nbins ? r->nbins - 1 : b] += t;
             s->t_min = fmin(s->t_min, t);
             s->t_max = fmax(s->t_max, t);
             double pr = st->field.pressure_regularised[p];
@@ -400,6 +440,7 @@ static void measure(struct record *r, const struct march_state *st, const double
                 r->yielded[(size_t)i * g->n[2] + k] = 1;
         }
     s->volume = vol * g->h[0] * g->h[2];
+    s->front99 = volume_front(r->bins, r->nbins, r->bin_ds, VOLUME_SHARE);
     double ke = 0.0;
     for (int c = 0; c < 3; c += 2) {
         const struct box *b = &st->act[c];
@@ -515,6 +556,7 @@ static void da_measure(struct da_run *a, double d, double t, struct sample *s)
     s->front = -INFINITY;
     s->tail = INFINITY;
     s->kinetic = s->volume = 0.0;
+    s->front99 = volume_front(a->h, a->n, a->ds, VOLUME_SHARE);
     for (long i = 0; i < a->n; i++) {
         s->volume += a->h[i] * a->ds;
         if (a->h[i] > 1e-12)
@@ -589,7 +631,7 @@ static int da_run(const struct march_state *st, struct da_run *a, char *err, siz
     }
     da_free(so);
     const struct sample *e = &a->s[a->ns - 1];
-    a->front = e->front, a->tail = e->tail, a->volume = e->volume;
+    a->front = e->front, a->tail = e->tail, a->volume = e->volume, a->front99 = e->front99;
     return rc;
 }
 
@@ -642,6 +684,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     }
     double vol_err = s->volume / r->volume0 - 1.0;
     run_result_add(res, "run_out", "%.10g", s->front);
+    run_result_add(res, "run_out_99", "%.10g", s->front99);
     run_result_add(res, "tail", "%.10g", s->tail);
     run_result_add(res, "time_to_rest", "%.10g", r->rest_time);
     run_result_add(res, "volume_error", "%.6e", vol_err);
@@ -652,6 +695,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     const struct da_run *a = da_result(st);
     if (a) {
         run_result_add(res, "da_run_out", "%.10g", a->front);
+        run_result_add(res, "da_run_out_99", "%.10g", a->front99);
         run_result_add(res, "da_tail", "%.10g", a->tail);
         run_result_add(res, "da_time_to_rest", "%.10g", a->rest_time);
         run_result_add(res, "da_volume_error", "%.6e", a->volume / a->volume0 - 1.0);
@@ -667,10 +711,10 @@ static int write_samples(const char *dir, const char *name, const struct sample 
     struct output_file f;
     if (output_open(&f, dir, name, err, errlen) != 0)
         return -1;
-    fprintf(f.f, "t,s_front,s_tail,kinetic_energy,grains_volume\n");
+    fprintf(f.f, "t,s_front,s_tail,kinetic_energy,grains_volume,s_front_99\n");
     for (long m = 0; m < n; m++)
-        fprintf(f.f, "%.10g,%.10g,%.10g,%.10e,%.16e\n", s[m].t, s[m].front, s[m].tail,
-                s[m].kinetic, s[m].volume);
+        fprintf(f.f, "%.10g,%.10g,%.10g,%.10e,%.16e,%.10g\n", s[m].t, s[m].front, s[m].tail,
+                s[m].kinetic, s[m].volume, s[m].front99);
     return output_commit(&f, err, errlen);
 }
 
