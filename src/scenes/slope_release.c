@@ -90,7 +90,7 @@ static void defaults(void *block)
     p->column_height = 0.01;
     p->fluid_density = 1.0;
     p->fluid_viscosity = 1.48e-5;
-    p->rest_energy = 1e-3;
+    p->rest_energy = 0.05;
     p->vof_cfl = 0.4;
     p->mixture = MIXTURE_WEIGHTED;
     p->da_cells = 2000;
