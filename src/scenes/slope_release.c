@@ -525,8 +525,8 @@ static int drive(struct scene_drive *d)
 static const char *not_restartable(const struct muflow_case *cs)
 {
     (void)cs;
-    return "the slope's record (front, tail, where the grains yielded) covers the run from "
-           "the release and is not in the checkpoint: run it again from the start";
+    return "a slope release cannot continue from a checkpoint (its record of the front, the "
+           "tail and where the grains yielded covers the run from the release): run it again";
 }
 
 /* ---- the depth-averaged model on the same bed ---- */
