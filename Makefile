@@ -193,7 +193,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a
@@ -472,6 +472,19 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	  $(COLLAPSE_DEPOSIT_N)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N) $(COLLAPSE_CLIP) --tag clip
+
+# The column released on a bent incline (cases/slope_release.ini) to rest at
+# SLOPE_RELEASE_N cells per column height, beside the depth-averaged model:
+# run-out, tail, time to rest, volume error per grid
+# ($(BENCH_OUT)/slope_release_table.md), the fronts and tails against t
+# (slope_release_front.png) and the deposits (slope_release_deposit.png).
+# About 15 minutes on 2 idle cores, most of it N = 16.
+SLOPE_RELEASE_N ?= 8 12 16
+.PHONY: bench-slope-release
+bench-slope-release: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/slope_release_study.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(SLOPE_RELEASE_N)
 
 # The collapse beside Gerris 1.3.2 (the code of the published runs; Debian's
 # gerris, and libgfs-dev, whose headers Gerris needs to compile a case's

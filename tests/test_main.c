@@ -48,6 +48,7 @@ static const struct {
     {"depth_averaged", group_depth_averaged},
     {"ngf", group_ngf},
     {"time_scheme", group_time_scheme},
+    {"slope_release", group_slope_release},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

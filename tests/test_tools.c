@@ -488,6 +488,7 @@ static const struct small_case small_cases[] = {
     {"duct_circular", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
     {"duct_square", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
     {"heap", "domain.ny=14 domain.nz=20", "no experimental profiles: muflow alone", 0},
+    {"slope_release", "domain.nx=30 domain.nz=12 domain.ly=0.005 solver.end_time=0.02", NULL, 1},
 };
 #define SMALL_CASES (sizeof small_cases / sizeof small_cases[0])
 #define MAX_CASES 64

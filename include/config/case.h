@@ -14,7 +14,7 @@
 enum obstacle_plane { OBSTACLE_XZ = 0, OBSTACLE_XY, OBSTACLE_YZ };
 /* obstacle.boundary: sharp (cut links, second order) or staircase (nodes in
  * the body held at 0, first order: for comparison) */
-enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE };
+enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE, OBSTACLE_CELLS };
 
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
                      PRECOND_FOURIER, PRECOND_GMG, PRECOND_MULTIGRID };

@@ -3,7 +3,8 @@
  * A shape lives in the plane of two grid directions (plane_a, plane_b: x and
  * z for the 2D scenes, y and z for a duct's cross-section) and is extruded
  * along the third.  Shapes: "circle A B R" (centre, radius) and
- * "rectangle A0 B0 A1 B1" (two opposite corners), in the plane's
+ * "rectangle A0 B0 A1 B1" (two opposite corners) and "slope AC BR THETA R"
+ * (the ground below an incline bent to a level floor, below), in the plane's
  * coordinates, several joined by ';' as a union.  shape_distance is the
  * signed distance to the union's surface, positive in the fluid: outside
  * every shape, or inside one when inverted (a duct's wall is the outside of
@@ -15,11 +16,16 @@
 
 #define SHAPES_MAX 16
 
-enum shape_kind { SHAPE_CIRCLE = 0, SHAPE_RECTANGLE };
+enum shape_kind { SHAPE_CIRCLE = 0, SHAPE_RECTANGLE, SHAPE_SLOPE };
 
+/* slope AC BR THETA R: the ground below a bed that descends at THETA
+ * (radians, towards +a) along a straight incline, bends through a circular
+ * arc of radius R tangent to it and to a level floor b = BR, and meets the
+ * floor at a = AC; unbounded below and along a. */
 struct shape {
     enum shape_kind kind;
-    double v[4]; /* circle: a, b, r; rectangle: a0, b0, a1, b1 (a0 < a1, b0 < b1) */
+    double v[4]; /* circle: a, b, r; rectangle: a0, b0, a1, b1 (a0 < a1, b0 < b1);
+                    slope: ac, br, theta, r */
 };
 
 struct shape_set {
@@ -62,6 +68,9 @@ int shapes_connect(const struct shape_set *set, const int n[3], const double len
  * memory).  Works on the box the case describes, before any grid exists. */
 int shapes_regions(const struct shape_set *set, const int n[3], const double len[3],
                    const int periodic[3], const int fixed[3][2], int *regions, int *floating);
+
+/* The bed's height b at a of a SHAPE_SLOPE. */
+double shape_slope_bed(const struct shape *sh, double a);
 
 /* Signed distance from point x (grid coordinates x, y, z) to the surface of
  * the union, positive in the fluid. */

@@ -21,7 +21,8 @@ static const struct choice profile_choices[] = {
 const struct choice case_plane_choices[] = {
     {"xz", OBSTACLE_XZ}, {"xy", OBSTACLE_XY}, {"yz", OBSTACLE_YZ}, {NULL, 0}};
 static const struct choice obstacle_boundary_choices[] = {
-    {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {NULL, 0}};
+    {"sharp", OBSTACLE_SHARP}, {"staircase", OBSTACLE_STAIRCASE}, {"cells", OBSTACLE_CELLS},
+    {NULL, 0}};
 static const struct choice law_choices[] = {
     {"mui", LAW_MUI}, {"bingham", LAW_BINGHAM}, {"newtonian", LAW_NEWTONIAN},
     {"ngf", LAW_NGF}, {NULL, 0}};
@@ -187,14 +188,17 @@ const struct key case_core_keys[] = {
 
     STR("obstacle", "shapes", obstacle.shapes,
         KEY_HELP("solid bodies as a union of shapes in the plane's coordinates (A, B), extruded "
-                 "along the third direction: 'circle A B R' and 'rectangle A0 B0 A1 B1' joined by "
-                 "';' (empty: none); each must reach into the box and span a cell each way, a "
+                 "along the third direction: 'circle A B R', 'rectangle A0 B0 A1 B1' and 'slope AC BR "
+                 "THETA R' joined by ';' (empty: none); each must reach into the box and span a cell each way, a "
                  "channel's inflow and outlet stay joined by fluid, and the fluid is one region "
                  "or regions that each reach a surface or open face",
                  "length",
                  "Solid bodies inside the box, a union of shapes in the plane's coordinates (A, "
                  "B), extruded along the third direction: `circle A B R` (centre, radius) and "
-                 "`rectangle A0 B0 A1 B1` (two opposite corners), joined by `;`; empty: none. "
+                 "`rectangle A0 B0 A1 B1` (two opposite corners) and `slope AC BR THETA R` (the ground "
+                 "below a bed descending at THETA radians towards +A, bent by an arc of radius "
+                 "R into the level floor B = BR, which it meets at A = AC), joined by `;`; "
+                 "empty: none. "
                  "Refused: a shape that does not reach into the box or spans less than a cell "
                  "along either direction of its plane, shapes that leave no cell centre in the "
                  "fluid, a body that closes the channel (no path of fluid cells between an "
@@ -207,7 +211,9 @@ const struct key case_core_keys[] = {
          "the fluid is inside the shapes and the solid outside (a duct)"),
     CHO("obstacle", "boundary", obstacle.boundary, obstacle_boundary_choices,
         "no slip on the body: sharp (each grid link the surface cuts ends on the surface, "
-        "second order) or staircase (velocity nodes inside the body held at 0, first order)"),
+        "second order), staircase (velocity nodes inside the body held at 0, first order) or "
+        "cells (a cell whose centre is in the body is solid, its faces closed, no slip on "
+        "them: no cell is cut, so a VOF tracer combines with it; first order)"),
 
     DBLT("physics", "tilt", tilt, RANGE(-HALF_PI, HALF_PI, 1, 1),
          "must be in [-pi/2, pi/2] (radians)",
@@ -495,7 +501,7 @@ static const struct {
      "(with the control-volume cross-check) to the summary, `obstacle_surface.csv` (the "
      "stresses around the body against the angle) and `forces.csv` (the forces through the "
      "run, `output.forces_every`). A case whose scene transports a tracer (the "
-     "collapse) cannot have shapes."},
+     "collapse) can have shapes only with `boundary = cells` (the slope_release's bed)."},
     {"physics", "Gravity, the density and the terms of the momentum equation."},
     {"rheology",
      "The viscosity law. `law = bingham` needs `plastic_viscosity > 0` or `yield_stress > 0`; "

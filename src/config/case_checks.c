@@ -117,7 +117,9 @@ static int check_shapes_fit(struct case_ctx *x, struct shape_set *set)
         const int dir[2] = {a, b};
         for (int k = 0; k < 2; k++) {
             int d = dir[k];
-            double span = sh->kind == SHAPE_CIRCLE ? 2.0 * sh->v[2] : sh->v[2 + k] - sh->v[k];
+            double span = sh->kind == SHAPE_CIRCLE  ? 2.0 * sh->v[2]
+                          : sh->kind == SHAPE_SLOPE ? INFINITY /* the ground: unbounded */
+                                                    : sh->v[2 + k] - sh->v[k];
             double h = finest_cell(c, d);
             if (span < h) {
                 case_refuse(x,

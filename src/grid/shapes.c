@@ -7,7 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SHAPES_ALLOWED "allowed: 'circle A B R' or 'rectangle A0 B0 A1 B1', joined by ';'"
+#define SHAPES_ALLOWED                                                                          \
+    "allowed: 'circle A B R', 'rectangle A0 B0 A1 B1' or 'slope AC BR THETA R', joined by ';'"
 
 /* Reads up to want numbers from s; returns how many, or -1 on a word that is
  * not a finite number. */
@@ -45,6 +46,9 @@ static int parse_one(struct shape *sh, char *item, char *msg, size_t msglen)
     } else if (wl == 9 && strncmp(s, "rectangle", 9) == 0) {
         sh->kind = SHAPE_RECTANGLE;
         want = 4;
+    } else if (wl == 5 && strncmp(s, "slope", 5) == 0) {
+        sh->kind = SHAPE_SLOPE;
+        want = 4;
     } else {
         snprintf(msg, msglen, "unknown shape '%.*s' (%s)", (int)(wl < 40 ? wl : 40), s,
                  SHAPES_ALLOWED);
@@ -57,6 +61,12 @@ static int parse_one(struct shape *sh, char *item, char *msg, size_t msglen)
     }
     if (sh->kind == SHAPE_CIRCLE && !(sh->v[2] > 0.0)) {
         snprintf(msg, msglen, "'%.60s': the radius must be > 0 (%s)", s, SHAPES_ALLOWED);
+        return -1;
+    }
+    if (sh->kind == SHAPE_SLOPE && !(sh->v[2] > 0.0 && sh->v[2] < 1.5707963267948966 &&
+                                     sh->v[3] > 0.0)) {
+        snprintf(msg, msglen, "'%.60s': the angle THETA must be in (0, pi/2) radians and the "
+                              "radius R > 0 (%s)", s, SHAPES_ALLOWED);
         return -1;
     }
     if (sh->kind == SHAPE_RECTANGLE) {
@@ -99,11 +109,41 @@ int shapes_parse(struct shape_set *set, const char *text, char *msg, size_t msgl
     return 0;
 }
 
+double shape_slope_bed(const struct shape *sh, double a)
+{
+    double ac = sh->v[0], br = sh->v[1], th = sh->v[2], r = sh->v[3];
+    double at = ac - r * sin(th), bt = br + r * (1.0 - cos(th));
+    if (a >= ac)
+        return br;
+    if (a >= at)
+        return br + r - sqrt(fmax(r * r - (a - ac) * (a - ac), 0.0));
+    return bt + (at - a) * tan(th);
+}
+
+/* The slope's signed distance: the nearest of its three pieces (the floor's
+ * half-line, the arc, the incline's half-line), negative below the bed. */
+static double slope_distance(const struct shape *sh, double a, double b)
+{
+    double ac = sh->v[0], br = sh->v[1], th = sh->v[2], r = sh->v[3];
+    double at = ac - r * sin(th), bt = br + r * (1.0 - cos(th)), bc = br + r;
+    double d = a >= ac ? fabs(b - br) : hypot(a - ac, b - br);
+    double t = -(a - at) * cos(th) + (b - bt) * sin(th); /* along the incline, up */
+    d = fmin(d, t <= 0.0 ? hypot(a - at, b - bt) : fabs((a - at) * sin(th) + (b - bt) * cos(th)));
+    /* the arc runs from the angle -pi/2 - theta (the incline's end) to -pi/2 */
+    double phi = atan2(b - bc, a - ac);
+    const double half_pi = 1.5707963267948966;
+    if (phi <= -half_pi && phi >= -half_pi - th)
+        d = fmin(d, fabs(hypot(a - ac, b - bc) - r));
+    return b < shape_slope_bed(sh, a) ? -d : d;
+}
+
 /* Signed distance to one shape's surface, negative inside it. */
 static double one_distance(const struct shape *sh, double a, double b)
 {
     if (sh->kind == SHAPE_CIRCLE)
         return hypot(a - sh->v[0], b - sh->v[1]) - sh->v[2];
+    if (sh->kind == SHAPE_SLOPE)
+        return slope_distance(sh, a, b);
     /* the box's exact distance: outside, to the nearest point; inside, minus
      * the distance to the nearest side */
     double ca = 0.5 * (sh->v[0] + sh->v[2]), cb = 0.5 * (sh->v[1] + sh->v[3]);
@@ -127,8 +167,9 @@ void shape_normal(const struct shape_set *set, const double x[3], double n[3])
     /* central differences of the distance at a step far below any grid's */
     double e = 1e-7;
     for (int i = 0; i < set->n; i++)
-        e = fmin(e, 1e-6 * (set->s[i].kind == SHAPE_CIRCLE ? set->s[i].v[2]
-                                                              : set->s[i].v[2] - set->s[i].v[0]));
+        e = fmin(e, 1e-6 * (set->s[i].kind == SHAPE_CIRCLE  ? set->s[i].v[2]
+                            : set->s[i].kind == SHAPE_SLOPE ? set->s[i].v[3]
+                                                            : set->s[i].v[2] - set->s[i].v[0]));
     double g[3] = {0.0, 0.0, 0.0}, y[3];
     int dirs[2] = {set->plane_a, set->plane_b};
     for (int k = 0; k < 2; k++) {
@@ -155,6 +196,8 @@ void shapes_set_plane(struct shape_set *set, int plane, int invert)
 /* 1 when shape sh has a point strictly inside [0, la] x [0, lb]. */
 static int reaches_box(const struct shape *sh, double la, double lb)
 {
+    if (sh->kind == SHAPE_SLOPE) /* the bed is highest at a = 0 */
+        return la > 0.0 && lb > 0.0 && shape_slope_bed(sh, 0.0) > 0.0;
     if (sh->kind == SHAPE_RECTANGLE)
         return sh->v[0] < la && sh->v[2] > 0.0 && sh->v[1] < lb && sh->v[3] > 0.0;
     /* the circle's distance to the nearest point of the box */

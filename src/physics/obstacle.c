@@ -91,11 +91,36 @@ static void cell_span(const struct grid *g, int t, int idx, double xt, double *l
  * so nothing varies along the third); a face normal to the extrusion takes
  * the mean of FACE_PARTS such lines.  A held face (its node in the body) is
  * closed. */
-static double face_share(const struct shape_set *set, const struct grid *g, int c, int i, int j,
-                         int k)
+/* obstacle.boundary = cells: whether the cell whose centre is at x shifted
+ * by off along c is solid (its centre in the body). */
+static int cell_solid(const struct shape_set *set, const double x[3], int c, double off)
+{
+    double y[3] = {x[0], x[1], x[2]};
+    y[c] += off;
+    return shape_distance(set, y) <= 0.0;
+}
+
+/* obstacle.boundary = cells: a face is closed when a cell on either side is
+ * solid, so that every cell is whole fluid or whole solid: the open shares
+ * are 0 or 1 and a tracer's fluxes through the faces are the projection's. */
+static int cells_face_closed(const struct shape_set *set, const struct grid *g, int c, int i,
+                             int j, int k)
 {
     double x[3];
     const int idx[3] = {i, j, k};
+    obstacle_node_position(g, c, i, j, k, x);
+    double lo = g->axis[c] ? grid_xc(g, c, idx[c] - 1) - x[c] : -0.5 * g->h[c];
+    double hi = g->axis[c] ? grid_xc(g, c, idx[c]) - x[c] : 0.5 * g->h[c];
+    return cell_solid(set, x, c, lo) || cell_solid(set, x, c, hi);
+}
+
+static double face_share(const struct shape_set *set, const struct grid *g, int c, int i, int j,
+                         int k, int cells)
+{
+    double x[3];
+    const int idx[3] = {i, j, k};
+    if (cells)
+        return cells_face_closed(set, g, c, i, j, k) ? 0.0 : 1.0;
     obstacle_node_position(g, c, i, j, k, x);
     if (shape_distance(set, x) <= 0.0)
         return 0.0;
@@ -174,9 +199,44 @@ static int add_link(struct obstacle *ob, const struct embedded_link *l)
     return 0;
 }
 
+/* obstacle.boundary = cells: the links of the fluid node (i, j, k) of
+ * component c to held nodes across its direction d != c end halfway, on the
+ * solid cell's face (theta = 1/2, the box walls' rule); a held node along c
+ * lies on that face itself (theta = 1: no correction). */
+static int cells_links(struct obstacle *ob, const struct march_state *st, int c, int i, int j,
+                       int k)
+{
+    const struct grid *g = &st->g;
+    const int idx[3] = {i, j, k};
+    for (int d = 0; d < 3; d++) {
+        if (d == c || g->n[d] < 2)
+            continue;
+        for (int side = -1; side <= 1; side += 2) {
+            int nb[3] = {i, j, k};
+            nb[d] += side;
+            if (nb[d] < 0 || nb[d] > g->n[d] - 1) /* beyond the box: the boundary's */
+                continue;
+            if (!cells_face_closed(&ob->set, g, c, nb[0], nb[1], nb[2]))
+                continue;
+            struct embedded_link l = {.p = grid_idx(g, i, j, k), .c = c};
+            double hh = g->h[d] * g->h[d];
+            if (g->axis[d])
+                hh = fabs(grid_xc(g, d, nb[d]) - grid_xc(g, d, idx[d])) *
+                     grid_node_width(g, c, d, idx[d]);
+            l.w = 1.0 / hh; /* (1 - theta) / theta = 1 */
+            l.coef = 3 + (3 - c - d);
+            l.at = side > 0 ? l.p + g->stride[d] : l.p;
+            if (add_link(ob, &l) != 0)
+                return -1;
+        }
+    }
+    return 0;
+}
+
 /* Held nodes of component c (in the unknowns' box) and, for a sharp
  * boundary, the cut links of its fluid nodes. */
-static int build_component(struct obstacle *ob, const struct march_state *st, int c, int sharp)
+static int build_component(struct obstacle *ob, const struct march_state *st, int c, int sharp,
+                           int cells)
 {
     const struct grid *g = &st->g;
     const struct box *bx = &st->act[c];
@@ -191,8 +251,14 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                 double x[3];
                 obstacle_node_position(g, c, i, j, k, x);
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                if (shape_distance(&ob->set, x) <= 0.0) {
+                if (cells ? cells_face_closed(&ob->set, g, c, i, j, k)
+                          : shape_distance(&ob->set, x) <= 0.0) {
                     ob->e.held[c][nh++] = p;
+                    continue;
+                }
+                if (cells) {
+                    if (cells_links(ob, st, c, i, j, k) != 0)
+                        return -1;
                     continue;
                 }
                 if (!sharp)
@@ -312,7 +378,7 @@ static int cut_lists(struct obstacle *ob, const struct grid *g)
 /* The open shares of every face slot (ghosts too: a periodic direction's
  * image face takes its own position's share, the same by periodicity of the
  * grid only when the body does not cross the box's face). */
-static int build_shares(struct obstacle *ob, const struct grid *g)
+static int build_shares(struct obstacle *ob, const struct grid *g, int cells)
 {
     for (int c = 0; c < 3; c++) {
         ob->share[c] = field_alloc(g);
@@ -321,7 +387,8 @@ static int build_shares(struct obstacle *ob, const struct grid *g)
         for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++)
-                    ob->share[c][grid_idx(g, i, j, k)] = face_share(&ob->set, g, c, i, j, k);
+                    ob->share[c][grid_idx(g, i, j, k)] =
+                        face_share(&ob->set, g, c, i, j, k, cells);
         ob->e.share[c] = ob->share[c];
     }
     ob->cut = field_alloc(g);
@@ -354,21 +421,22 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
      * shares to every density a module sets; a module that moves a tracer
      * would move it through the body (its fluxes do not see the cut cells
      * yet), so it is refused rather than run wrong */
-    for (int m = 0; m < st->nmodules; m++)
+    int cells = st->cs->obstacle.boundary == OBSTACLE_CELLS;
+    for (int m = 0; m < st->nmodules && !cells; m++)
         if (st->modules[m]->transport) {
             snprintf(err, errlen, "obstacle.shapes: obstacles do not combine with the physics "
                                   "module '%s' (it transports a tracer, which does not see the "
-                                  "body's cut cells yet)", st->modules[m]->name);
+                                  "body's cut cells yet; obstacle.boundary = cells cuts none)", st->modules[m]->name);
             return -1;
         }
     case_obstacle_shapes(st->cs, &ob->set);
     int sharp = st->cs->obstacle.boundary == OBSTACLE_SHARP;
     for (int c = 0; c < 3; c++)
-        if (build_component(ob, st, c, sharp) != 0) {
+        if (build_component(ob, st, c, sharp, cells) != 0) {
             snprintf(err, errlen, "obstacle: out of memory");
             return -1;
         }
-    if (build_shares(ob, &st->g) != 0) {
+    if (build_shares(ob, &st->g, cells) != 0) {
         snprintf(err, errlen, "obstacle: out of memory");
         return -1;
     }

@@ -160,6 +160,8 @@ static int outline(const struct plane *pl, sample_fn fn, void *ctx)
     int bad = 0;
     for (int i = 0; i < pl->set.n; i++) {
         const struct shape *sh = &pl->set.s[i];
+        if (sh->kind == SHAPE_SLOPE)
+            continue; /* the ground has no closed outline: the discrete force alone */
         double per = sh->kind == SHAPE_CIRCLE ? 2.0 * PI * sh->v[2]
                                               : 2.0 * (sh->v[2] - sh->v[0] + sh->v[3] - sh->v[1]);
         int N = (int)ceil(8.0 * per / h);
@@ -466,8 +468,10 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
     /* the bounding box of the union, and the front and back points of the
      * first shape along a */
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    int ground = 0; /* a slope: unbounded, no front, back or control volume */
     for (int i = 0; i < pl.set.n; i++) {
         const struct shape *sh = &pl.set.s[i];
+        ground |= sh->kind == SHAPE_SLOPE;
         double l0 = sh->kind == SHAPE_CIRCLE ? sh->v[0] - sh->v[2] : sh->v[0];
         double l1 = sh->kind == SHAPE_CIRCLE ? sh->v[1] - sh->v[2] : sh->v[1];
         double h0 = sh->kind == SHAPE_CIRCLE ? sh->v[0] + sh->v[2] : sh->v[2];
@@ -475,7 +479,11 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
         lo[0] = fmin(lo[0], l0), lo[1] = fmin(lo[1], l1);
         hi[0] = fmax(hi[0], h0), hi[1] = fmax(hi[1], h1);
     }
-    if (pl.set.n > 0 && !pl.set.invert) {
+    if (ground) {
+        f->front_back = NAN;
+        for (int k = 0; k < 2; k++)
+            f->control_volume[k] = NAN;
+    } else if (pl.set.n > 0 && !pl.set.invert) {
         const struct shape *sh = &pl.set.s[0];
         double cb = sh->kind == SHAPE_CIRCLE ? sh->v[1] : 0.5 * (sh->v[1] + sh->v[3]);
         double fa = sh->kind == SHAPE_CIRCLE ? sh->v[0] - sh->v[2] : sh->v[0];
@@ -503,7 +511,7 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
                 double mean = bc->inflow_profile == INFLOW_PARABOLIC ? pow(2.0 / 3.0, across) : 1.0;
                 f->u_ref = fabs(bc->inflow_velocity) * mean;
             }
-    f->d_ref = pl.set.n > 0 && !pl.set.invert ? hi[1] - lo[1] : 0.0;
+    f->d_ref = pl.set.n > 0 && !pl.set.invert && !ground ? hi[1] - lo[1] : 0.0;
     return rc;
 }
 
