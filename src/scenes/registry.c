@@ -23,7 +23,8 @@
     X(bedload)             \
     X(collapse)            \
     X(duct)                \
-    X(cylinder)
+    X(cylinder)            \
+    X(front)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)
