@@ -26,9 +26,10 @@ from summary_ini import summary
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "front.ini")
-KEYS = ["front_speed", "front_speed_exact", "front_speed_error", "front_speed_depth_averaged",
-        "h_err_rms", "h_err_max", "h_columns", "h_behind_error", "nose_offset",
-        "profile_err_rms", "steps", "wall_seconds", "status"]
+KEYS = ["front_speed", "front_speed_exact", "front_speed_error", "uniform_speed",
+        "front_speed_depth_averaged", "h_err_rms", "h_err_max", "h_columns", "h_err_rms_body",
+        "h_err_max_body", "h_behind_error", "nose_offset", "profile_err_rms", "steps",
+        "wall_seconds", "status"]
 
 
 def columns(path):
@@ -55,20 +56,22 @@ def run(muflow, outdir, nz, overrides):
 
 def table(runs, path):
     with open(path, "w") as f:
-        f.write("| grid | front speed (m/s) | error | h rms | h max | depth behind | nose "
-                "(h_inf) | profile rms | steps | wall (s) |\n")
+        f.write("| grid | front speed (m/s) | error | h rms / max | body rms / max | depth "
+                "behind | nose (h_inf) | profile rms | steps | wall (s) |\n")
         f.write("|---|---|---|---|---|---|---|---|---|---|\n")
         for r in runs:
-            f.write("| %d x %d | %.5f | %+.2f %% | %.2f %% | %.2f %% | %+.2f %% | %+.2f | %.2f %% "
-                    "| %s | %.0f |\n" % (
-                        r["nx"], r["nz"], float(r["front_speed"]),
-                        100 * float(r["front_speed_error"]), 100 * float(r["h_err_rms"]),
-                        100 * float(r["h_err_max"]), 100 * float(r["h_behind_error"]),
-                        float(r["nose_offset"]), 100 * float(r["profile_err_rms"]), r["steps"],
-                        float(r["wall_seconds"])))
+            pc = lambda k: 100 * float(r[k])
+            f.write("| %d x %d | %.5f | %+.2f %% | %.2f / %.2f %% | %.2f / %.2f %% | %+.2f %% | "
+                    "%+.2f | %.2f %% | %s | %.0f |\n" % (
+                        r["nx"], r["nz"], float(r["front_speed"]), pc("front_speed_error"),
+                        pc("h_err_rms"), pc("h_err_max"), pc("h_err_rms_body"),
+                        pc("h_err_max_body"), pc("h_behind_error"), float(r["nose_offset"]),
+                        pc("profile_err_rms"), r["steps"], float(r["wall_seconds"])))
         r = runs[0]
-        f.write("\nuniform layer's mean speed %.6f m/s; depth-averaged front's u_f %.6f m/s\n"
-                % (float(r["front_speed_exact"]), float(r["front_speed_depth_averaged"])))
+        f.write("\nfront speed by mass conservation %.6f m/s; the uniform layer's mean %.6f m/s; "
+                "the depth-averaged front's u_f %.6f m/s\n"
+                % (float(r["front_speed_exact"]), float(r["uniform_speed"]),
+                   float(r["front_speed_depth_averaged"])))
 
 
 def plot(runs, path, depth):

@@ -12,19 +12,22 @@
 #define CASE "../cases/front.ini"
 
 /* The grid study (make bench-front; docs/validation/front.md), 0.6 s on
- * 166 x 10, 250 x 15 and 400 x 24 cells, measured the errors falling with
- * the grid: front speed -4.34 %, -2.91 %, NZ24_SPEED (against mass
- * conservation across the front; the precursor layer's own flux, a cell
- * thin, runs ahead of its exact one); h(x) rms 2.38 %, 1.00 %, NZ24_RMS and
- * max 10.5 %, 5.83 %, NZ24_MAX of h_inf over the front's length; the profile
- * behind 1.93 %, 0.33 %, NZ24_PROF of the surface speed.  The test runs the
- * coarse grid and asserts its own errors with a margin of a quarter (a
- * regression bound; the finer grids' agreement is the study's). */
+ * 166 x 10, 250 x 15 and 400 x 24 cells, measured: front speed -4.34 %,
+ * -2.91 %, -1.35 % against mass conservation across the front (falling with
+ * the grid: the precursor layer, 0.7 to 2.4 cells thin, flows ahead of its
+ * exact flux); h(x) against Pouliquen's front, in % of h_inf over the
+ * front's length, rms 2.38, 1.00, 1.35 and max 10.5, 5.8, 8.1 (the nose:
+ * the last 3 h_inf), over its body (exact h >= h_inf / 4) max 1.2, 1.5, 2.3;
+ * the profile behind 1.93 %, 0.33 %, 0.32 % of the surface speed.  The test
+ * runs the coarse grid: the body within the 5 % the comparison claims, the
+ * rest within the coarse grid's own errors plus about a sixth (a regression
+ * bound; the finer grids' agreement is the study's). */
 #define COARSE_GRID "domain.nx=166", "domain.nz=10", "domain.ly=2.145e-4"
-#define SPEED_TOL 0.055
-#define H_RMS_TOL 0.030
-#define H_MAX_TOL 0.13
-#define PROFILE_TOL 0.025
+#define SPEED_TOL 0.05
+#define H_RMS_TOL 0.028
+#define H_MAX_TOL 0.12
+#define BODY_MAX_TOL 0.05
+#define PROFILE_TOL 0.023
 
 static void test_coarse_front(void **state)
 {
@@ -36,12 +39,14 @@ static void test_coarse_front(void **state)
     double speed = run_result_value(&r, "front_speed_error");
     double rms = run_result_value(&r, "h_err_rms"), mx = run_result_value(&r, "h_err_max");
     double prof = run_result_value(&r, "profile_err_rms");
-    print_message("front speed error %+.3e, h rms %.3e max %.3e, profile rms %.3e\n", speed,
-                  rms, mx, prof);
+    double body = run_result_value(&r, "h_err_max_body");
+    print_message("front speed error %+.3e, h rms %.3e max %.3e (body %.3e), profile rms "
+                  "%.3e\n", speed, rms, mx, body, prof);
     assert_int_equal(r.status, STATUS_FINISHED);
     assert_true(fabs(speed) < SPEED_TOL);
     assert_true(rms < H_RMS_TOL);
     assert_true(mx < H_MAX_TOL);
+    assert_true(body < BODY_MAX_TOL);
     assert_true(prof < PROFILE_TOL);
 }
 

@@ -45,6 +45,9 @@
 /* the front's length: from the tip back to where the exact h reaches this
  * share of h_inf */
 #define FRONT_SHARE 0.95
+/* the nose: where the exact h is below this share of h_inf (the last 3
+ * h_inf), the body above it */
+#define NOSE_SHARE 0.25
 /* behind the front: columns where the exact h (in the front's frame) is
  * above this share of h_inf, BEHIND_SKIP depths past the feed */
 #define BEHIND_SHARE 0.99
@@ -418,20 +421,22 @@ static double exact_xi(const struct da_front *f, double x, double x_half)
 }
 
 /* |h - h_exact| / h_inf over the front's length (from the tip back to where
- * the exact depth is FRONT_SHARE h_inf), the exact front aligned at x_half:
- * its root mean square, largest value and the count of columns. */
+ * the exact depth is FRONT_SHARE h_inf), the exact front aligned at x_half,
+ * over the columns whose exact depth is at least above h_inf (0: all): its
+ * root mean square, largest value and the count of columns. */
 static int shape_error(const struct muflow_case *cs, const struct da_front *f,
-                       const struct grid *g, const double *h, double x_half, double *rms,
-                       double *max)
+                       const struct grid *g, const double *h, double x_half, double above,
+                       double *rms, double *max)
 {
     double xi_len = da_front_position(f, FRONT_SHARE * f->h_inf), s2 = 0.0;
     int n = 0;
     *max = 0.0;
     for (int i = 0; i < g->n[0]; i++) {
         double xi = exact_xi(f, (i + 0.5) * g->h[0], x_half);
-        if (xi < xi_len || xi > 0.0)
+        double he = exact_depth(cs, f, xi);
+        if (xi < xi_len || xi > 0.0 || he < above * f->h_inf)
             continue;
-        double e = (h[i] - exact_depth(cs, f, xi)) / f->h_inf;
+        double e = (h[i] - he) / f->h_inf;
         s2 += e * e;
         *max = fmax(*max, fabs(e));
         n++;
@@ -458,7 +463,7 @@ static int record_state(struct record *r, const struct march_state *st)
     r->tip[r->n] = crossing(r->h, g->n[0], g->h[0], tip_level(st->cs, hi));
     r->half[r->n] = crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
     r->vol[r->n] = vol;
-    shape_error(st->cs, &r->f, g, r->h, r->half[r->n], &r->rms[r->n], &mx);
+    shape_error(st->cs, &r->f, g, r->h, r->half[r->n], 0.0, &r->rms[r->n], &mx);
     r->n++;
     r->last_step = st->step;
     return 0;
@@ -499,6 +504,7 @@ static int drive(struct scene_drive *d)
 struct front_measures {
     double speed, speed_exact;  /* the fit of x_half(t); front_speed_exact */
     double h_rms, h_max;        /* |h - h_exact| / h_inf over the front's length */
+    double body_rms, body_max;  /* the same without the nose (h_exact < NOSE_SHARE h_inf) */
     double h_behind;            /* the mean depth behind the front */
     double nose;                /* (tip - x_half) - its exact value, in h_inf */
     double u_rms, u_surface;    /* the profile behind: error / u_surface, the exact top */
@@ -562,7 +568,8 @@ static void measure(const struct march_state *st, const struct record *r,
     const struct da_front *f = &r->f;
     *m = (struct front_measures){.speed = speed_fit(r), .speed_exact = front_speed_exact(cs)};
     double hi = f->h_inf, x_half = r->half[r->n - 1], hb = 0.0;
-    m->columns = shape_error(cs, f, g, r->h, x_half, &m->h_rms, &m->h_max);
+    m->columns = shape_error(cs, f, g, r->h, x_half, 0.0, &m->h_rms, &m->h_max);
+    shape_error(cs, f, g, r->h, x_half, NOSE_SHARE, &m->body_rms, &m->body_max);
     for (int i = 0; i < g->n[0]; i++)
         if (column_behind(f, g, i, x_half)) {
             hb += r->h[i];
@@ -606,6 +613,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "h_err_rms", "%.6e", m.h_rms);
     run_result_add(res, "h_err_max", "%.6e", m.h_max);
     run_result_add(res, "h_columns", "%d", m.columns);
+    run_result_add(res, "h_err_rms_body", "%.6e", m.body_rms);
+    run_result_add(res, "h_err_max_body", "%.6e", m.body_max);
     run_result_add(res, "h_behind_error", "%.6e", m.h_behind / params(st->cs)->depth - 1.0);
     run_result_add(res, "nose_offset", "%.6e", m.nose);
     run_result_add(res, "profile_err_rms", "%.6e", m.u_rms);
