@@ -15,18 +15,25 @@
  * under the open top: the bagnold2 solution, Barker & Rauter eqs. 6-11)
  * through the boundary's inflow_shape hook; the VOF lets only air in
  * through an inflow face, so the first column of cells is the feed: its T
- * is reset to the layer after every step.  The run starts from the
- * Pouliquen front with its tip at front.tip, the grains moving with
- * Bagnold's profile at the front's speed, the air with its film.
+ * is reset to the layer after every step.  A precursor layer (front.
+ * precursor h_inf) covers the bed ahead: on a bare bed the nose, moved over
+ * the no-slip bed only by the VOF's fluxes, traps the bed's air under the
+ * grains, which then slide on it (docs/validation/front.md).  The run starts
+ * from the Pouliquen front with its tip at front.tip, over the precursor,
+ * the grains moving with Bagnold's profile at the front's speed, the air
+ * with its film.
  *
- * Measured at every step: the column heights h(x) = sum T dz, the tip (the
- * last column deeper than TIP_SHARE h_inf, linear between centres), x_half
- * (where h crosses h_inf / 2, from downstream); the front speed is the
- * least-squares slope of x_half(t) over the second half of the record; the
- * shape at the end, in the frame of x_half, against the exact shape over
- * the front's length (from the tip back to where the exact depth is
- * FRONT_SHARE h_inf); the velocity profile behind the front, the mean over
- * the uniform columns, against Bagnold's. */
+ * Measured at every step: the column heights h(x) = sum T dz, the tip
+ * (where h falls to TIP_SHARE of the way from the precursor to h_inf,
+ * linear between centres), x_half (where h crosses h_inf / 2, from
+ * downstream), h's error over the front; the front speed is the
+ * least-squares slope of x_half(t) over the second half of the record,
+ * against mass conservation across the front, (q_inf - q_p) / (h_inf -
+ * h_p); the shape at the end, in the frame of x_half, against the exact
+ * shape over the front's length (from the tip back to where the exact depth
+ * is FRONT_SHARE h_inf), and over its body (without the nose); the velocity
+ * profile behind the front, the mean over the uniform columns, against
+ * Bagnold's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -124,8 +131,8 @@ SCENE_PARAMS(front_block, "front",
              "`boundary.xlo = inflow` (the scene gives its profile: the uniform layer's exact "
              "flow), `xhi = open`, `zlo = wall`, `zhi = open`, periodic y, `domain.ny = 1` and "
              "mu_s < tan(physics.tilt) < mu_s + delta_mu.  It writes `front.csv` (every step: t, "
-             "the tip, x_half, the grains' volume), `shape.csv` (h(x) at the end, in the front's "
-             "frame, with the exact shape) and `behind.csv` (the velocity profile behind the "
+             "the tip, x_half, the grains' volume, h's rms error), `shape.csv` (h(x) at the end, "
+             "in the front's frame, with the exact shape) and `behind.csv` (the velocity profile behind the "
              "front with Bagnold's).",
              struct front_params, front_keys, defaults)
 
