@@ -193,7 +193,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse front boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a
@@ -443,6 +443,17 @@ bench-cylinder-continuation: deps $(BUILD)/muflow
 	  cylinder.forcing_end=$(CYLINDER_FORCING_END) cylinder.forcing_step=0.05 \
 	  output.fields=off output.dir=$(BENCH_OUT)/cylinder_continuation
 	@cat $(BENCH_OUT)/cylinder_continuation/cylinder.csv
+
+# The granular front fed by a uniform layer (cases/front.ini) on FRONT_NZ
+# cells over the box's height (nx = 50 nz / 3): the front speed, h(x) in the
+# front's frame against Pouliquen's closed form and the profile behind
+# against Bagnold's ($(BENCH_OUT)/front_table.md, front_compare.png;
+# docs/validation/front.md).
+FRONT_NZ ?= 10 15 24
+.PHONY: bench-front
+bench-front: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/front_study.py $(BUILD)/muflow $(BENCH_OUT) $(FRONT_NZ)
 
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk

@@ -38,6 +38,7 @@ static const struct {
     {"honest", group_honest},
     {"bedload", group_bedload},
     {"collapse", group_collapse},
+    {"front", group_front},
     {"boundary", group_boundary},
     {"duct", group_duct},
     {"obstacle", group_obstacle},

@@ -50,6 +50,7 @@ void group_outputs(struct test_tally *t);
 void group_honest(struct test_tally *t);
 void group_bedload(struct test_tally *t);
 void group_collapse(struct test_tally *t);
+void group_front(struct test_tally *t);
 void group_boundary(struct test_tally *t);
 void group_duct(struct test_tally *t);
 void group_obstacle(struct test_tally *t);

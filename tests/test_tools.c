@@ -487,6 +487,7 @@ static const struct small_case small_cases[] = {
      "against Schaefer & Turek (1996), test 2D-1", 0},
     {"duct_circular", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
     {"duct_square", "domain.ny=10 domain.nz=20", "against the plane channel's exact profile", 1},
+    {"front", "domain.nx=50 domain.nz=6 domain.ly=3.575e-4 solver.end_time=0.01", NULL, 1},
     {"heap", "domain.ny=14 domain.nz=20", "no experimental profiles: muflow alone", 0},
     {"slope_release", "domain.nx=30 domain.nz=12 domain.ly=0.005 solver.end_time=0.02", NULL, 1},
 };

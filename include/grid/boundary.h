@@ -34,6 +34,11 @@ struct boundary {
     int lid_direction;       /* the velocity component it drives (0, 1, 2) */
     double inflow_velocity;  /* normal speed into the domain on inflow faces (peak) */
     enum inflow_profile inflow_profile;
+    /* a scene's inflow (NULL: inflow_velocity times inflow_profile): the
+     * normal speed into the domain at the centre x of a face of direction d,
+     * for a shape no key describes (a granular layer's Bagnold profile) */
+    double (*inflow_shape)(const void *ctx, int d, const double x[3]);
+    const void *inflow_ctx;
 };
 
 const char *bc_kind_name(enum bc_kind kind);
@@ -87,7 +92,8 @@ void bc_periodic_flags(const struct boundary *bc, int periodic[3]);
 int bc_through_flow(const struct boundary *bc, int d);
 
 /* The inflow's normal velocity (into the domain, sign not applied) on face
- * (i, j, k) of direction d: inflow_velocity times the profile. */
+ * (i, j, k) of direction d: inflow_velocity times the profile, or the
+ * scene's inflow_shape at the face's centre. */
 double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k);
 
 /* Like bc_fill_scalar, but extrapolates linearly across non-periodic faces

@@ -83,10 +83,16 @@ static void ghost_plane_add(const struct grid *g, int d, int ghost, double *f, d
 
 double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k)
 {
+    const int idx[3] = {i, j, k};
+    if (bc->inflow_shape) {
+        double x[3];
+        for (int a = 0; a < 3; a++)
+            x[a] = (idx[a] + (a == d ? 0.0 : 0.5)) * g->h[a];
+        return bc->inflow_shape(bc->inflow_ctx, d, x);
+    }
     double v = bc->inflow_velocity;
     if (bc->inflow_profile != INFLOW_PARABOLIC)
         return v;
-    const int idx[3] = {i, j, k};
     for (int a = 0; a < 3; a++) {
         if (a == d || bc->face[a][0] == BC_PERIODIC)
             continue;

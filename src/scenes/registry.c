@@ -24,7 +24,8 @@
     X(collapse)            \
     X(duct)                \
     X(cylinder)            \
-    X(slope_release)
+    X(slope_release)       \
+    X(front)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

@@ -1,0 +1,748 @@
+/* Scene "front": a uniform granular layer fed at the inflow runs down a rough
+ * incline ahead of its front, under air (the two_phase module: grains of
+ * mu(I), air Newtonian, T carried by the geometric VOF; Barker & Rauter 2018,
+ * "Two-fluid regularised mu(I)-rheology with OpenFOAM", sec. 4; cases/front.ini).
+ * In the frame of the front the shape becomes steady; it is compared with
+ * the depth-averaged travelling front of Pouliquen (1999), "On the shape of
+ * granular fronts down rough inclined planes" (diagnostics/
+ * depth_averaged_exact.h), whose friction law mu(I) gives for a Bagnold
+ * profile: mu_b = mu_s + delta_mu / (1 + beta h / (d Fr)), beta = (2/5)
+ * sqrt(phi) I0 (the depth mean of Bagnold's profile, (2/5) I sqrt(phi g
+ * cos zeta) h^{3/2} / d, solved for I).
+ *
+ * The inflow face (x = 0) carries the exact uniform two-layer flow of depth
+ * h_inf (Bagnold in the grains, the air's gravity-driven film above it
+ * under the open top: the bagnold2 solution, Barker & Rauter eqs. 6-11)
+ * through the boundary's inflow_shape hook; the VOF lets only air in
+ * through an inflow face, so the first column of cells is the feed: its T
+ * is reset to the layer after every step.  A precursor layer (front.
+ * precursor h_inf) covers the bed ahead: on a bare bed the nose, moved over
+ * the no-slip bed only by the VOF's fluxes, traps the bed's air under the
+ * grains, which then slide on it (docs/validation/front.md).  The run starts
+ * from the Pouliquen front with its tip at front.tip, over the precursor,
+ * the grains moving with Bagnold's profile at the front's speed, the air
+ * with its film.
+ *
+ * Measured at every step: the column heights h(x) = sum T dz, the tip
+ * (where h falls to TIP_SHARE of the way from the precursor to h_inf,
+ * linear between centres), x_half (where h crosses h_inf / 2, from
+ * downstream), h's error over the front; the front speed is the
+ * least-squares slope of x_half(t) over the second half of the record,
+ * against mass conservation across the front, (q_inf - q_p) / (h_inf -
+ * h_p); the shape at the end, in the frame of x_half, against the exact
+ * shape over the front's length (from the tip back to where the exact depth
+ * is FRONT_SHARE h_inf), and over its body (without the nose); the velocity
+ * profile behind the front, the mean over the uniform columns, against
+ * Bagnold's. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include "diagnostics/depth_averaged_exact.h"
+#include "march/module_record.h"
+#include "io/output.h"
+#include "kernels/rheology.h"
+#include "physics/two_phase.h"
+#include "scenes/collapse.h"
+#include "scenes/scene.h"
+#include "scene_common.h"
+
+/* the tip: where h falls below this share of h_inf */
+#define TIP_SHARE 0.05
+/* the front's length: from the tip back to where the exact h reaches this
+ * share of h_inf */
+#define FRONT_SHARE 0.95
+/* the nose: where the exact h is below this share of h_inf (the last 3
+ * h_inf), the body above it */
+#define NOSE_SHARE 0.25
+/* behind the front: columns where the exact h (in the front's frame) is
+ * above this share of h_inf, BEHIND_SKIP depths past the feed */
+#define BEHIND_SHARE 0.99
+#define BEHIND_SKIP 5.0
+
+struct front_params {
+    double depth;           /* h_inf */
+    double tip;             /* the tip's position at t = 0 */
+    double precursor;       /* the grains' layer ahead of the front, in h_inf */
+    double fluid_density;
+    double fluid_viscosity;
+    int mixture;            /* enum mixture_law */
+    double viscosity_floor; /* the grains' viscosity floor in rho_g d sqrt(g d) */
+    double vof_cfl;
+};
+
+static const struct choice mixture_choices[] = {
+    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
+
+#define T struct front_params
+static const struct key front_keys[] = {
+    KEY_DBL(T, "front", "depth", depth,
+            KEY_HELP("depth h_inf of the uniform layer fed at the inflow: at least two cells, "
+                     "and a cell of air above it",
+                     "length", NULL),
+            KEY_GT0),
+    KEY_DBL(T, "front", "tip", tip,
+            KEY_HELP("position of the front's tip at t = 0 (the Pouliquen shape behind it): "
+                     "inside (2 domain.lx / domain.nx, domain.lx)",
+                     "length", NULL),
+            KEY_GT0),
+    KEY_DBL(T, "front", "precursor", precursor,
+            "depth of a layer of grains on the bed ahead of the front, as a share of "
+            "front.depth (0: a bare bed, whose air the nose overruns and traps at the base)",
+            KEY_RANGE(0.0, 0.5, 1, 0)),
+    KEY_DBL(T, "front", "fluid_density", fluid_density,
+            KEY_HELP("density rho_f of the air", "mass/length^3", NULL), KEY_GT0),
+    KEY_DBL(T, "front", "fluid_viscosity", fluid_viscosity,
+            KEY_HELP("viscosity eta_f of the (Newtonian) air", "pressure time", NULL), KEY_GT0),
+    KEY_CHO(T, "front", "mixture", mixture, mixture_choices,
+            "viscosity of a cell holding both phases: weighted (by density, Barker & Rauter "
+            "2018, eq. 14) or harmonic (eq. 15)"),
+    KEY_DBL(T, "front", "viscosity_floor", viscosity_floor,
+            "the grains' viscosity is at least this many rho_g d sqrt(g d) before it is mixed "
+            "(the thin nose, where the pressure vanishes, keeps a viscosity); 0: no floor",
+            KEY_GE0),
+    KEY_DBL(T, "front", "vof_cfl", vof_cfl,
+            "largest sweep CFL number of the VOF transport that the time step allows (0: no "
+            "limit, the transport's sub-steps alone)",
+            KEY_RANGE(0.0, 0.5, 1, 1)),
+};
+#undef T
+
+/* Table 2 grains at 10 d deep, air of Table 1 (cases/front.ini) */
+static void defaults(void *block)
+{
+    struct front_params *f = block;
+    f->depth = 1.43e-3;
+    f->tip = 0.06;
+    f->precursor = 0.1;
+    f->fluid_density = 1.0;
+    f->fluid_viscosity = 1.48e-5;
+    f->mixture = MIXTURE_WEIGHTED;
+    f->viscosity_floor = 1.0;
+    f->vof_cfl = 0.4;
+}
+
+SCENE_PARAMS(front_block, "front",
+             "A uniform granular layer fed at the inflow (x = 0) runs down a rough incline ahead "
+             "of its front, under air (Barker & Rauter 2018, sec. 4; `cases/front.ini`); its "
+             "steady shape in the front's frame is compared with the depth-averaged front of "
+             "Pouliquen (1999).  The grains are the case's `[rheology]` (mu(I)) with "
+             "`physics.density` = phi rho_s; the scene needs `solver.mode = transient`, "
+             "`boundary.xlo = inflow` (the scene gives its profile: the uniform layer's exact "
+             "flow), `xhi = open`, `zlo = wall`, `zhi = open`, periodic y, `domain.ny = 1` and "
+             "mu_s < tan(physics.tilt) < mu_s + delta_mu.  It writes `front.csv` (every step: t, "
+             "the tip, x_half, the grains' volume, h's rms error), `shape.csv` (h(x) at the end, "
+             "in the front's frame, with the exact shape) and `behind.csv` (the velocity profile behind the "
+             "front with Bagnold's).",
+             struct front_params, front_keys, defaults)
+
+/* ---- the exact uniform layer and the depth-averaged front ---- */
+
+/* I of the uniform flow: the curve's inverse at tan(zeta) */
+static double uniform_i(const struct muflow_case *cs)
+{
+    return rheology_i_of_mu(&cs->rheo, tan(cs->tilt));
+}
+
+/* u(z) of the uniform two-layer flow of depth h under the open top at lz
+ * (bagnold2's solution: the weight above as the stress, Bagnold in the
+ * grains, the air's film above) */
+static double uniform_u(const struct muflow_case *cs, double h, double z)
+{
+    const struct front_params *p = params(cs);
+    const struct rheology *r = &cs->rheo;
+    double L = cs->len[2], rf = p->fluid_density, rg = cs->density, rs = r->grain_density;
+    double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);
+    double k = (2.0 * uniform_i(cs) / (3.0 * r->grain_diameter * rg)) * sqrt(gc / rs);
+    double zz = fmin(fmax(z, 0.0), h);
+    double P0 = rg * h + rf * (L - h), Pz = rg * (h - zz) + rf * (L - h);
+    double u = k * (P0 * sqrt(P0) - Pz * sqrt(Pz));
+    if (z > h)
+        u += (rf * gs / (2.0 * p->fluid_viscosity)) * ((L - h) * (L - h) - (L - z) * (L - z));
+    return u;
+}
+
+/* the grains' mean speed in the uniform layer of depth h (Gauss-Legendre,
+ * 8 points on the smooth profile) */
+static double uniform_mean(const struct muflow_case *cs, double h)
+{
+    static const double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
+                                0.9602898564975363};
+    static const double w[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
+                                0.1012285362903763};
+    double s = 0.0;
+    for (int m = 0; m < 4; m++)
+        s += w[m] * (uniform_u(cs, h, 0.5 * h * (1.0 - x[m])) +
+                     uniform_u(cs, h, 0.5 * h * (1.0 + x[m])));
+    return 0.5 * s;
+}
+
+/* The speed of a front between the uniform layer of depth h_inf behind it
+ * and the precursor's of depth h_p ahead: mass conservation across it,
+ * (q_inf - q_p) / (h_inf - h_p), q = h u_mean(h); the uniform layer's mean
+ * speed on a bare bed. */
+static double front_speed_exact(const struct muflow_case *cs)
+{
+    double h = params(cs)->depth, hp = params(cs)->precursor * h;
+    return (h * uniform_mean(cs, h) - (hp > 0.0 ? hp * uniform_mean(cs, hp) : 0.0)) / (h - hp);
+}
+
+static int front_exact(const struct muflow_case *cs, struct da_front *f)
+{
+    const struct rheology *r = &cs->rheo;
+    double beta = 0.4 * sqrt(r->phi) * r->i0;
+    return da_front_setup(f, cs->gravity, cs->tilt, 1.0, r->mu_s, r->mu_s + r->delta_mu, beta,
+                          r->grain_diameter, params(cs)->depth);
+}
+
+/* The exact depth at xi: the front over the precursor layer */
+static double exact_depth(const struct muflow_case *cs, const struct da_front *f, double xi)
+{
+    return fmax(da_front_depth(f, xi), params(cs)->precursor * f->h_inf);
+}
+
+/* The level of the tip: TIP_SHARE of the way from the precursor to h_inf */
+static double tip_level(const struct muflow_case *cs, double h_inf)
+{
+    double hp = params(cs)->precursor * h_inf;
+    return hp + TIP_SHARE * (h_inf - hp);
+}
+
+/* The inflow's normal velocity at the face centre x: the uniform layer's */
+static double inflow_shape(const void *ctx, int d, const double x[3])
+{
+    const struct muflow_case *cs = ctx;
+    return d == 0 ? uniform_u(cs, params(cs)->depth, x[2]) : 0.0;
+}
+
+/* ---- check ---- */
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    const struct front_params *p = params(c);
+    const struct boundary *b = &c->bc;
+    if (c->rheo.law != LAW_MUI || c->mode != MODE_TRANSIENT) {
+        snprintf(msg, msglen, "case.scene = front needs rheology.law = mui and solver.mode = "
+                              "transient");
+        return 1;
+    }
+    if (b->face[0][0] != BC_INFLOW || b->face[0][1] != BC_OPEN || b->face[2][0] != BC_WALL ||
+        b->face[2][1] != BC_OPEN || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        snprintf(msg, msglen, "case.scene = front needs boundary.xlo = inflow, boundary.xhi = "
+                              "open, boundary.zlo = wall, boundary.zhi = open, boundary.ylo = "
+                              "boundary.yhi = periodic and domain.ny = 1");
+        return 1;
+    }
+    double t = tan(c->tilt), lo = c->rheo.mu_s, hi = c->rheo.mu_s + c->rheo.delta_mu;
+    if (!(t > lo && t < hi)) {
+        snprintf(msg, msglen, "physics.tilt = %s: tan(physics.tilt) = %.6g must be in "
+                              "(rheology.mu_s, rheology.mu_s + rheology.delta_mu) = (%.6g, %.6g): "
+                              "a uniform flow that neither stops nor accelerates",
+                 num_text(c->tilt).s, t, lo, hi);
+        return 1;
+    }
+    /* the depth-averaged friction of a Bagnold layer is Pouliquen's form
+     * (the closed-form front) only for the jop curve's high-I branch */
+    if (c->rheo.curve == CURVE_BARKER_GRAY && c->rheo.mu_inf != 0.0) {
+        snprintf(msg, msglen, "rheology.mu_inf = %s: case.scene = front needs 0 with "
+                              "rheology.curve = barker_gray (the depth-averaged front's friction "
+                              "law is Pouliquen's only for the jop branch above I_1^N)",
+                 num_text(c->rheo.mu_inf).s);
+        return 1;
+    }
+    double dz = c->len[2] / c->n[2], dx = c->len[0] / c->n[0];
+    if (!(scene_at_least_a_cell(p->depth, 2.0 * dz) && scene_at_least_a_cell(c->len[2] - p->depth, dz))) {
+        snprintf(msg, msglen, "front.depth = %s: must be in [%.6g, %.6g]: at least two cells "
+                              "(domain.lz / domain.nz = %.6g) and a cell of air above",
+                 num_text(p->depth).s, 2.0 * dz, c->len[2] - dz, dz);
+        return 1;
+    }
+    if (!(p->tip > 2.0 * dx && p->tip < c->len[0])) {
+        snprintf(msg, msglen, "front.tip = %s: must be in (%.6g, %s): past the feed's column "
+                              "and inside domain.lx",
+                 num_text(p->tip).s, 2.0 * dx, num_text(c->len[0]).s);
+        return 1;
+    }
+    double rg = c->rheo.phi * c->rheo.grain_density;
+    if (fabs(c->density - rg) > 1e-12 * rg) {
+        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
+                              "rheology.phi * rheology.grain_density = %.10g",
+                 num_text(c->density).s, rg);
+        return 1;
+    }
+    return 0;
+}
+
+/* ---- the record: the front's positions at every step ---- */
+
+struct record {
+    double *t, *tip, *half, *vol, *rms;
+    long n, cap;
+    long last_step;
+    double *h; /* column heights, work */
+    struct da_front f; /* the exact front (setup makes sure there is one) */
+};
+
+static int create(struct march_state *st, void **state, char *err, size_t errlen)
+{
+    struct record *r = calloc(1, sizeof *r);
+    if (r)
+        r->h = malloc((size_t)st->g.n[0] * sizeof *r->h);
+    if (!r || !r->h) {
+        free(r);
+        snprintf(err, errlen, "front: out of memory");
+        return -1;
+    }
+    r->last_step = -1;
+    front_exact(st->cs, &r->f);
+    *state = r;
+    return 0;
+}
+
+static void destroy(void *state)
+{
+    struct record *r = state;
+    if (r) {
+        free(r->t);
+        free(r->tip);
+        free(r->half);
+        free(r->vol);
+        free(r->rms);
+        free(r->h);
+    }
+    free(r);
+}
+
+#define NSERIES 5
+static const char *const series_names[NSERIES] = {"t", "x_tip", "x_half", "grains_volume",
+                                                  "h_err_rms"};
+
+static int reserve(struct record *r, long need)
+{
+    if (need <= r->cap)
+        return 0;
+    long c = r->cap ? 2 * r->cap : 1024;
+    while (c < need)
+        c *= 2;
+    double **a[NSERIES] = {&r->t, &r->tip, &r->half, &r->vol, &r->rms};
+    for (int m = 0; m < NSERIES; m++) {
+        double *b = realloc(*a[m], (size_t)c * sizeof **a[m]);
+        if (!b)
+            return -1;
+        *a[m] = b;
+    }
+    r->cap = c;
+    return 0;
+}
+
+/* The layer of depth h in column cells of height dz: the feed's T. */
+static double layer_fraction(double h, int k, double dz)
+{
+    return fmin(1.0, fmax(0.0, (h - k * dz) / dz));
+}
+
+/* The feed: the first column holds the uniform layer after every step (the
+ * VOF brings only air in through an inflow face). */
+static void end_step(struct march_state *st, void *state, double dt)
+{
+    (void)state;
+    (void)dt;
+    int t = fields_find(&st->fields, "tracer");
+    if (t < 0)
+        return;
+    double *T = st->fields.e[t].v[0];
+    const struct grid *g = &st->g;
+    double h = params(st->cs)->depth;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++)
+            T[grid_idx(g, 0, j, k)] = layer_fraction(h, k, g->h[2]);
+}
+
+
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double last = (double)r->last_step;
+    const double *v[NSERIES] = {r->t, r->tip, r->half, r->vol, r->rms};
+    int rc = module_record_put(rec, "last_step", &last, 1);
+    for (int m = 0; rc == 0 && m < NSERIES; m++)
+        rc = module_record_put(rec, series_names[m], v[m], r->n);
+    return rc;
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    struct record *r = state;
+    double last;
+    if (!rec) /* the record covers the run from the initial front */
+        return -1;
+    long n = module_record_count(rec, "t");
+    if (n < 0 || module_record_get(rec, "last_step", &last, 1) != 0)
+        return -1;
+    if (reserve(r, n > 0 ? n : 1) != 0)
+        return module_record_fail(rec, "out of memory for the record");
+    double *v[NSERIES] = {r->t, r->tip, r->half, r->vol, r->rms};
+    for (int m = 0; m < NSERIES; m++)
+        if (module_record_get(rec, series_names[m], v[m], n) != 0)
+            return -1;
+    r->n = n;
+    r->last_step = (long)last;
+    return 0;
+}
+
+static const struct module front_module = {
+    .name = "front",
+    .create = create,
+    .end_step = end_step,
+    .save = save,
+    .load = load,
+    .destroy = destroy,
+};
+
+static struct record *record_of(const struct march_state *st)
+{
+    return march_module_state(st, &front_module);
+}
+
+/* The last x, from downstream, where the column heights h (at the centres
+ * (i + 1/2) dx) reach level; linear between the centres; 0 if none does. */
+static double crossing(const double *h, int n, double dx, double level)
+{
+    for (int i = n - 1; i >= 0; i--) {
+        if (h[i] < level)
+            continue;
+        double xc = (i + 0.5) * dx;
+        if (i == n - 1)
+            return xc;
+        return xc + dx * (h[i] - level) / (h[i] - h[i + 1]);
+    }
+    return 0.0;
+}
+
+/* xi of the exact front for column centre x, aligned at h_inf / 2 */
+static double exact_xi(const struct da_front *f, double x, double x_half)
+{
+    return x - x_half + da_front_position(f, 0.5 * f->h_inf);
+}
+
+/* |h - h_exact| / h_inf over the front's length (from the tip back to where
+ * the exact depth is FRONT_SHARE h_inf), the exact front aligned at x_half,
+ * over the columns whose exact depth is at least above h_inf (0: all): its
+ * root mean square, largest value and the count of columns. */
+static int shape_error(const struct muflow_case *cs, const struct da_front *f,
+                       const struct grid *g, const double *h, double x_half, double above,
+                       double *rms, double *max)
+{
+    double xi_len = da_front_position(f, FRONT_SHARE * f->h_inf), s2 = 0.0;
+    int n = 0;
+    *max = 0.0;
+    for (int i = 0; i < g->n[0]; i++) {
+        double xi = exact_xi(f, (i + 0.5) * g->h[0], x_half);
+        double he = exact_depth(cs, f, xi);
+        if (xi < xi_len || xi > 0.0 || he < above * f->h_inf)
+            continue;
+        double e = (h[i] - he) / f->h_inf;
+        s2 += e * e;
+        *max = fmax(*max, fabs(e));
+        n++;
+    }
+    *rms = n ? sqrt(s2 / n) : NAN;
+    if (!n)
+        *max = NAN;
+    return n;
+}
+
+static int record_state(struct record *r, const struct march_state *st)
+{
+    const double *T = collapse_tracer(st);
+    if (!T || st->step == r->last_step)
+        return 0;
+    if (reserve(r, r->n + 1) != 0)
+        return -1;
+    const struct grid *g = &st->g;
+    double hi = r->f.h_inf, vol = 0.0, mx;
+    collapse_heights(g, T, r->h);
+    for (int i = 0; i < g->n[0]; i++)
+        vol += r->h[i] * g->h[0];
+    r->t[r->n] = st->time;
+    r->tip[r->n] = crossing(r->h, g->n[0], g->h[0], tip_level(st->cs, hi));
+    r->half[r->n] = crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
+    r->vol[r->n] = vol;
+    shape_error(st->cs, &r->f, g, r->h, r->half[r->n], 0.0, &r->rms[r->n], &mx);
+    r->n++;
+    r->last_step = st->step;
+    return 0;
+}
+
+/* ---- the driver: the march, recorded ---- */
+
+struct drive_ctx {
+    struct scene_drive *d;
+    int failed;
+};
+
+static int observe(void *vctx, const struct march_state *st)
+{
+    struct drive_ctx *c = vctx;
+    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
+    if (record_state(record_of(st), st) != 0) {
+        c->failed = 1;
+        return 1;
+    }
+    return stop;
+}
+
+static int drive(struct scene_drive *d)
+{
+    struct drive_ctx c = {.d = d};
+    march_run(d->st, observe, &c);
+    if (c.failed) {
+        d->st->status = STATUS_STOPPED;
+        snprintf(d->st->message, sizeof d->st->message,
+                 "out of memory for the front's record at step %ld", d->st->step);
+    }
+    return 0;
+}
+
+/* ---- the measures at the end ---- */
+
+struct front_measures {
+    double speed, speed_exact;  /* the fit of x_half(t); front_speed_exact */
+    double h_rms, h_max;        /* |h - h_exact| / h_inf over the front's length */
+    double body_rms, body_max;  /* the same without the nose (h_exact < NOSE_SHARE h_inf) */
+    double h_behind;            /* the mean depth behind the front */
+    double nose;                /* (tip - x_half) - its exact value, in h_inf */
+    double u_rms, u_surface;    /* the profile behind: error / u_surface, the exact top */
+    int columns, behind;        /* columns in the front's length, behind it */
+};
+
+/* The least-squares slope of x_half(t) over the second half of the record. */
+static double speed_fit(const struct record *r)
+{
+    if (r->n < 4)
+        return NAN;
+    double t0 = 0.5 * (r->t[0] + r->t[r->n - 1]);
+    double st = 0.0, sx = 0.0, stt = 0.0, stx = 0.0;
+    long m = 0;
+    for (long i = 0; i < r->n; i++) {
+        if (r->t[i] < t0)
+            continue;
+        st += r->t[i];
+        sx += r->half[i];
+        stt += r->t[i] * r->t[i];
+        stx += r->t[i] * r->half[i];
+        m++;
+    }
+    double den = m * stt - st * st;
+    return m >= 2 && den > 0.0 ? (m * stx - st * sx) / den : NAN;
+}
+
+static int column_behind(const struct da_front *f, const struct grid *g, int i, double x_half)
+{
+    double x = (i + 0.5) * g->h[0];
+    return x > BEHIND_SKIP * f->h_inf &&
+           da_front_depth(f, exact_xi(f, x, x_half)) >= BEHIND_SHARE * f->h_inf;
+}
+
+/* The mean u of the columns behind the front at each layer k (u[nz]). */
+static int behind_profile(const struct march_state *st, const struct da_front *f, double x_half,
+                          double *u)
+{
+    const struct grid *g = &st->g;
+    int count = 0;
+    for (int k = 0; k < g->n[2]; k++)
+        u[k] = 0.0;
+    for (int i = 1; i < g->n[0]; i++) {
+        if (!column_behind(f, g, i, x_half))
+            continue;
+        count++;
+        for (int k = 0; k < g->n[2]; k++)
+            u[k] += 0.5 * (st->field.velocity[0][grid_idx(g, i, 0, k)] +
+                           st->field.velocity[0][grid_idx(g, i + 1, 0, k)]);
+    }
+    for (int k = 0; k < g->n[2]; k++)
+        u[k] = count ? u[k] / count : NAN;
+    return count;
+}
+
+static void measure(const struct march_state *st, const struct record *r,
+                    struct front_measures *m)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct grid *g = &st->g;
+    const struct da_front *f = &r->f;
+    *m = (struct front_measures){.speed = speed_fit(r), .speed_exact = front_speed_exact(cs)};
+    double hi = f->h_inf, x_half = r->half[r->n - 1], hb = 0.0;
+    m->columns = shape_error(cs, f, g, r->h, x_half, 0.0, &m->h_rms, &m->h_max);
+    shape_error(cs, f, g, r->h, x_half, NOSE_SHARE, &m->body_rms, &m->body_max);
+    for (int i = 0; i < g->n[0]; i++)
+        if (column_behind(f, g, i, x_half)) {
+            hb += r->h[i];
+            m->behind++;
+        }
+    m->h_behind = m->behind ? hb / m->behind : NAN;
+    m->nose = (r->tip[r->n - 1] - x_half -
+               (da_front_position(f, tip_level(cs, hi)) - da_front_position(f, 0.5 * hi))) / hi;
+    double *u = malloc((size_t)g->n[2] * sizeof *u);
+    m->u_surface = uniform_u(cs, hi, hi);
+    m->u_rms = NAN;
+    if (u && behind_profile(st, f, x_half, u) > 0) {
+        double e2 = 0.0;
+        int n = 0;
+        for (int k = 0; k < g->n[2] && (k + 1) * g->h[2] <= hi * (1.0 + 1e-12); k++, n++) {
+            double e = (u[k] - uniform_u(cs, hi, (k + 0.5) * g->h[2])) / m->u_surface;
+            e2 += e * e;
+        }
+        m->u_rms = n ? sqrt(e2 / n) : NAN;
+    }
+    free(u);
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    const struct record *r = record_of(st);
+    if (!r || r->n == 0)
+        return;
+    struct front_measures m;
+    measure(st, r, &m);
+    double uf = r->f.u_f;
+    run_result_add(res, "front_speed", "%.10g", m.speed);
+    run_result_add(res, "front_speed_exact", "%.10g", m.speed_exact);
+    run_result_add(res, "front_speed_error", "%.6e", m.speed / m.speed_exact - 1.0);
+    run_result_add(res, "uniform_speed", "%.10g", uniform_mean(st->cs, r->f.h_inf));
+    run_result_add(res, "front_speed_depth_averaged", "%.10g", uf);
+    run_result_add(res, "x_tip", "%.10g", r->tip[r->n - 1]);
+    run_result_add(res, "x_half", "%.10g", r->half[r->n - 1]);
+    run_result_add(res, "h_err_rms", "%.6e", m.h_rms);
+    run_result_add(res, "h_err_max", "%.6e", m.h_max);
+    run_result_add(res, "h_columns", "%d", m.columns);
+    run_result_add(res, "h_err_rms_body", "%.6e", m.body_rms);
+    run_result_add(res, "h_err_max_body", "%.6e", m.body_max);
+    run_result_add(res, "h_behind_error", "%.6e", m.h_behind / params(st->cs)->depth - 1.0);
+    run_result_add(res, "nose_offset", "%.6e", m.nose);
+    run_result_add(res, "profile_err_rms", "%.6e", m.u_rms);
+    snprintf(res->scene_line, sizeof res->scene_line,
+             "front speed %.6g (exact %.6g, %+.2f %%)  h(x) rms %.2f %% max %.2f %% of h_inf "
+             "over %d columns  profile behind rms %.2f %%",
+             m.speed, m.speed_exact, 100.0 * (m.speed / m.speed_exact - 1.0), 100.0 * m.h_rms,
+             100.0 * m.h_max, m.columns, 100.0 * m.u_rms);
+}
+
+/* front.csv: the record; shape.csv: h(x) in the front's frame with the
+ * exact shape; behind.csv: the profile behind the front with Bagnold's. */
+static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
+{
+    const struct record *r = record_of(st);
+    if (!r || r->n == 0)
+        return 0;
+    const struct da_front f = r->f;
+    const struct grid *g = &st->g;
+    struct output_file o;
+    if (output_open(&o, dir, "front.csv", err, errlen) != 0)
+        return -1;
+    fprintf(o.f, "t,x_tip,x_half,grains_volume,h_err_rms\n");
+    for (long m = 0; m < r->n; m++)
+        fprintf(o.f, "%.10g,%.10g,%.10g,%.16e,%.6e\n", r->t[m], r->tip[m], r->half[m], r->vol[m],
+                r->rms[m]);
+    if (output_commit(&o, err, errlen) != 0)
+        return -1;
+    double x_half = r->half[r->n - 1];
+    if (output_open(&o, dir, "shape.csv", err, errlen) != 0)
+        return -1;
+    fprintf(o.f, "x,xi,h,h_exact\n");
+    for (int i = 0; i < g->n[0]; i++) {
+        double x = (i + 0.5) * g->h[0], xi = exact_xi(&f, x, x_half);
+        fprintf(o.f, "%.10g,%.10g,%.10g,%.10g\n", x, xi, r->h[i], exact_depth(st->cs, &f, xi));
+    }
+    if (output_commit(&o, err, errlen) != 0)
+        return -1;
+    double *u = malloc((size_t)g->n[2] * sizeof *u);
+    if (!u) {
+        snprintf(err, errlen, "behind.csv: out of memory");
+        return -1;
+    }
+    behind_profile(st, &f, x_half, u);
+    if (output_open(&o, dir, "behind.csv", err, errlen) != 0) {
+        free(u);
+        return -1;
+    }
+    fprintf(o.f, "z,u,u_exact\n");
+    for (int k = 0; k < g->n[2]; k++)
+        fprintf(o.f, "%.10g,%.10g,%.10g\n", (k + 0.5) * g->h[2], u[k],
+                uniform_u(st->cs, f.h_inf, (k + 0.5) * g->h[2]));
+    free(u);
+    return output_commit(&o, err, errlen);
+}
+
+/* ---- set-up: the Pouliquen front, moving with Bagnold's profile ---- */
+
+static int setup(struct march_state *st, char *err, size_t errlen)
+{
+    const struct muflow_case *cs = st->cs;
+    const struct front_params *p = params(cs);
+    double d = cs->rheo.grain_diameter;
+    const struct two_phase_params tp = {
+        .fluid_density = p->fluid_density,
+        .fluid_viscosity = p->fluid_viscosity,
+        .mixture = (enum mixture_law)p->mixture,
+        .transported = 1,
+        .eta_min = p->viscosity_floor * cs->density * d * sqrt(cs->gravity * d),
+        .eta_max = p->viscosity_floor > 0.0 ? HUGE_VAL : 0.0,
+        .step_cfl = p->vof_cfl,
+    };
+    double *T = two_phase_configure(st, &tp, err, errlen);
+    if (!T)
+        return -1;
+    const struct da_front f = record_of(st)->f;
+    st->bc.inflow_shape = inflow_shape;
+    st->bc.inflow_ctx = cs;
+    const struct grid *g = &st->g;
+    double L = cs->len[2], rf = p->fluid_density, gs = cs->gravity * sin(cs->tilt);
+    double ubar = uniform_mean(cs, p->depth), film = rf * gs / (2.0 * p->fluid_viscosity);
+    double hp = p->precursor * p->depth;
+    for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++) {
+        /* the column's depth at its centre (T) and at its low face (u);
+         * the precursor, thinner than the front's, as its own uniform flow */
+        double hc = i == 0 ? p->depth : da_front_depth(&f, (i + 0.5) * g->h[0] - p->tip);
+        double hf = i <= 0 ? p->depth : da_front_depth(&f, i * g->h[0] - p->tip);
+        for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                double z = (k + 0.5) * g->h[2], u;
+                if (hf > hp) {
+                    u = (5.0 / 3.0) * ubar * (1.0 - pow(1.0 - fmin(z / hf, 1.0), 1.5));
+                    if (z > hf)
+                        u += film * ((L - hf) * (L - hf) - (L - z) * (L - z));
+                } else {
+                    u = hp > 0.0 ? uniform_u(cs, hp, z) : film * (L * L - (L - z) * (L - z));
+                }
+                st->field.velocity[0][grid_idx(g, i, j, k)] = u;
+                if (i >= 0 && i < g->n[0])
+                    T[grid_idx(g, i, j, k)] = layer_fraction(fmax(hc, hp), k, g->h[2]);
+            }
+    }
+    return two_phase_tracer_changed(st, err, errlen);
+}
+
+static const struct module *const front_modules[] = {&two_phase_module, &front_module, NULL};
+static const char *const front_files[] = {"front.csv", "shape.csv", "behind.csv", NULL};
+
+const struct scene scene_front = {
+    .name = "front",
+    .title = "a granular front fed by a uniform layer on an incline under air, two phases "
+             "(Pouliquen 1999; Barker & Rauter 2018)",
+    .keys = &front_block,
+    .modules = front_modules,
+    .check = check,
+    .setup = setup,
+    .profile_axis = -1,
+    .profile_component = -1,
+    .drive = drive,
+    .results = results,
+    .write = write,
+    .files = front_files,
+    .write_running = 1,
+};
