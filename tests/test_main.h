@@ -59,5 +59,6 @@ void group_cases(struct test_tally *t);
 void group_depth_averaged(struct test_tally *t);
 void group_ngf(struct test_tally *t);
 void group_time_scheme(struct test_tally *t);
+void group_mpi(struct test_tally *t);
 
 #endif
