@@ -21,9 +21,8 @@ DEB_PKGS += python3-matplotlib python3-h5py
 # builds it with OpenMPI, so MPI's headers and library come along (one rank);
 # the headers give amg_hypre.c its types, the libraries are opened at run time
 DEB_PKGS += libhypre-dev libopenmpi-dev
-# mpirun: the decomposed runs (src/platform/comm.c opens libmpi only under
-# it, so a run without mpirun starts as before) and the tests' mpi group
-DEB_PKGS += openmpi-bin
+# libopenmpi-dev also brings openmpi-bin (mpirun, Depends): the tests' mpi
+# group runs under it; src/platform/comm.c opens libmpi only under mpirun
 PC_PKGS  = fftw3 hdf5 gsl inih
 PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
@@ -205,7 +204,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme mpi
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a

@@ -439,6 +439,10 @@ int multigrid_set_mixed(struct multigrid *mg, int d1, int d2, const double *k1, 
         mg->lev[l].km[0] = mg->lev[l].km[1] = NULL;
     if (!k1 || !k2)
         return 0;
+    if (mg->sub) {
+        mg_set_err(err, errlen, "multigrid: no mixed term on a decomposed grid");
+        return -1;
+    }
     const struct grid *g = &mg->lev[0].g;
     if (d1 == d2 || d1 < 0 || d1 > 2 || d2 < 0 || d2 > 2 || mg->periodic[d1] ||
         mg->periodic[d2]) {
