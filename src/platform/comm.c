@@ -17,8 +17,8 @@
 #define MPI_FUNCTIONS(X)                                                                          \
     X(MPI_Init_thread) X(MPI_Initialized) X(MPI_Finalized) X(MPI_Finalize) X(MPI_Comm_rank)       \
     X(MPI_Comm_size) X(MPI_Allreduce) X(MPI_Barrier) X(MPI_Abort) X(MPI_Dims_create)              \
-    X(MPI_Cart_create) X(MPI_Cart_coords) X(MPI_Cart_shift) X(MPI_Comm_free) X(MPI_Sendrecv)      \
-    X(MPI_Allgatherv)
+    X(MPI_Cart_create) X(MPI_Cart_coords) X(MPI_Cart_shift) X(MPI_Comm_free) X(MPI_Irecv)         \
+    X(MPI_Isend) X(MPI_Waitall) X(MPI_Allgatherv)
 
 /* Open MPI's handles are addresses of objects in libmpi (MPI_COMM_WORLD is
  * &ompi_mpi_comm_world): resolved by name like the functions. */
@@ -223,13 +223,21 @@ void comm_cart_shift(const struct comm_cart *c, int d, const double *to_lo, doub
     if (!c->comm)
         return;
     MPI_Comm cart = (MPI_Comm)c->comm;
-    const int lo = c->nbr[d][0] >= 0 ? c->nbr[d][0] : MPI_PROC_NULL;
-    const int hi = c->nbr[d][1] >= 0 ? c->nbr[d][1] : MPI_PROC_NULL;
-    /* upwards: my top plane to the rank above, the one below's into my low ghosts */
-    mpi.MPI_Sendrecv(to_hi, count, mpi.type_double, hi, 2 * d, from_lo, count, mpi.type_double,
-                     lo, 2 * d, cart, MPI_STATUS_IGNORE);
-    mpi.MPI_Sendrecv(to_lo, count, mpi.type_double, lo, 2 * d + 1, from_hi, count,
-                     mpi.type_double, hi, 2 * d + 1, cart, MPI_STATUS_IGNORE);
+    const int lo = c->nbr[d][0], hi = c->nbr[d][1];
+    /* both ways at once: my top plane up (tag 2d), my bottom plane down (2d + 1);
+     * with two ranks along a periodic d both neighbours are the same rank,
+     * and the tags keep the planes apart */
+    MPI_Request req[4];
+    int nreq = 0;
+    if (lo >= 0)
+        mpi.MPI_Irecv(from_lo, count, mpi.type_double, lo, 2 * d, cart, &req[nreq++]);
+    if (hi >= 0)
+        mpi.MPI_Irecv(from_hi, count, mpi.type_double, hi, 2 * d + 1, cart, &req[nreq++]);
+    if (hi >= 0)
+        mpi.MPI_Isend(to_hi, count, mpi.type_double, hi, 2 * d, cart, &req[nreq++]);
+    if (lo >= 0)
+        mpi.MPI_Isend(to_lo, count, mpi.type_double, lo, 2 * d + 1, cart, &req[nreq++]);
+    mpi.MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
 }
 
 void comm_cart_allgather(const struct comm_cart *c, const double *mine, int count, double *all,
