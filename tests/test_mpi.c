@@ -29,7 +29,9 @@ static int global_index(const struct decomp *dc, int d, int t, int periodic)
 /* Each rank fills its cells with the global pattern and its ghosts with
  * -1, exchanges direction after direction, and checks every ghost slot
  * (edges and corners too): a rank border's holds the neighbour's cell, a
- * periodic end's the wrapped cell, a wall's keeps -1. */
+ * periodic end's the wrapped cell, a wall's keeps -1.  A face array of
+ * normal d is the same check: its slot t along d is global face lo + t
+ * (grid/decomp.h), so the ghost n must hold the next rank's face 0. */
 static void check_exchange(const int dims[3], const int periodic[3], const int n[3])
 {
     struct comm_cart cart;
