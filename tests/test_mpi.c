@@ -278,6 +278,37 @@ static void test_multigrid_periodic(void **state)
     }
 }
 
+/* Started by mpirun on two ranks, muflow refuses the case on every rank
+ * (status 2), says so once and writes nothing (no scene runs decomposed
+ * yet).  Run only outside mpirun (an mpirun does not start another). */
+static void test_muflow_refuses_ranks(void **state)
+{
+    (void)state;
+    if (comm_launched())
+        skip();
+    char bin[4096], dir[4096], cmd[9000], path[4200];
+    test_muflow_bin(bin, sizeof bin);
+    test_tmp_make(dir, sizeof dir, "mpi_refused");
+    snprintf(cmd, sizeof cmd,
+             "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 "
+             "--oversubscribe '%s' ../cases/couette.ini output.dir='%s/out' 2>&1; echo \"rc=$?\"",
+             bin, dir);
+    char *out = NULL;
+    assert_int_equal(test_sh(cmd, &out), 0);
+    int said = 0;
+    for (const char *p = out; (p = strstr(p, "no scene runs decomposed")); p++)
+        said++;
+    snprintf(path, sizeof path, "%s/out/summary.ini", dir);
+    const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
+    if (said != 1 || !status2 || wrote)
+        print_error("%s", out);
+    free(out);
+    test_tmp_remove(dir);
+    assert_int_equal(said, 1);
+    assert_true(status2);
+    assert_false(wrote);
+}
+
 void group_mpi(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -286,6 +317,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_exchange_periodic),
         cmocka_unit_test(test_multigrid_walls),
         cmocka_unit_test(test_multigrid_periodic),
+        cmocka_unit_test(test_muflow_refuses_ranks),
     };
     RUN_GROUP(t, "mpi", tests);
 }
