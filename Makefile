@@ -21,6 +21,8 @@ DEB_PKGS += python3-matplotlib python3-h5py
 # builds it with OpenMPI, so MPI's headers and library come along (one rank);
 # the headers give amg_hypre.c its types, the libraries are opened at run time
 DEB_PKGS += libhypre-dev libopenmpi-dev
+# libopenmpi-dev also brings openmpi-bin (mpirun, Depends): the tests' mpi
+# group runs under it; src/platform/comm.c opens libmpi only under mpirun
 PC_PKGS  = fftw3 hdf5 gsl inih
 PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
@@ -47,6 +49,7 @@ HYPRE_LIB := $(notdir $(realpath $(shell $(CC) -print-file-name=libHYPRE.so)))
 soname = $(shell objdump -p $(shell $(CC) -print-file-name=$(1)) 2>/dev/null | awk '/SONAME/ {print $$2}')
 CHOLMOD_LIB := $(call soname,libcholmod.so)
 UMFPACK_LIB := $(call soname,libumfpack.so)
+MPI_LIB     := $(call soname,libmpi.so)
 BUILD   ?= build
 
 # The version, defined here only: `git describe` of a release tag vX.Y.Z when
@@ -98,6 +101,8 @@ $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_H
 # Debian's serial OpenBLAS, which blas.c opens before the libraries that use
 # a BLAS (the alternatives may point libblas.so.3 to a threaded build)
 $(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
+# the libmpi comm.c opens under mpirun (MPI_LIB above)
+$(BUILD)/obj/src/platform/comm.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
 # the SuiteSparse libraries suitesparse_open.c opens (CHOLMOD_LIB, UMFPACK_LIB above)
 $(BUILD)/obj/src/platform/suitesparse_open.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
                                                          $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')
@@ -120,6 +125,9 @@ $(BUILD)/minimal: $(BUILD)/obj/examples/minimal.o $(BUILD)/libmuflow.a
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) -lcmocka
 
+MPIRUN = OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 \
+         OMP_WAIT_POLICY=passive mpirun -x OMP_NUM_THREADS -x OMP_WAIT_POLICY
+
 run: deps
 	@$(MAKE) --no-print-directory $(BUILD)/muflow
 	$(BUILD)/muflow cases/bagnold.ini
@@ -128,6 +136,9 @@ test: deps
 	@$(MAKE) --no-print-directory $(BUILD)/muflow $(BUILD)/muflow_tests
 	# passive waiting: a busy machine must not turn OpenMP barriers into spin contests
 	cd tests && OMP_WAIT_POLICY=passive ../$(BUILD)/muflow_tests
+	# the decomposition on 2 and 4 ranks (one thread each; as root in CI)
+	cd tests && $(MPIRUN) -np 2 ../$(BUILD)/muflow_tests mpi
+	cd tests && $(MPIRUN) -np 4 --oversubscribe ../$(BUILD)/muflow_tests mpi
 
 clean:
 	rm -rf $(BUILD) out
@@ -193,7 +204,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse front boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse front boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release mpi
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a

@@ -12,6 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 #include "app/run.h" /* run_init */
+#include "platform/comm.h"
 #include "test_main.h"
 
 static const struct {
@@ -50,6 +51,7 @@ static const struct {
     {"ngf", group_ngf},
     {"time_scheme", group_time_scheme},
     {"slope_release", group_slope_release},
+    {"mpi", group_mpi},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
@@ -116,6 +118,17 @@ int main(int argc, char **argv)
             unknown = 1;
         }
     }
+    /* under mpirun only the mpi group: the others would run once per rank
+     * over the same files */
+    char err[256] = "";
+    if (comm_init(err, sizeof err) != 0) {
+        fprintf(stderr, "muflow_tests: %s\n", err);
+        return 2;
+    }
+    if (comm_launched() && (argc != 2 || strcmp(argv[1], "mpi") != 0))
+        comm_exit(2, 1, "muflow_tests: under mpirun only the group mpi runs (muflow_tests mpi)");
+    if (comm_rank() != 0 && !freopen("/dev/null", "w", stdout))
+        return 2; /* the ranks' results are reduced: rank 0 prints them */
     if (unknown) {
         fprintf(stderr, "usage: muflow_tests [group ...] (all groups without one; "
                         "MUFLOW_TEST_FILTER=pattern runs the matching tests only)\n");

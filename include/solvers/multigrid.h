@@ -94,6 +94,18 @@ void multigrid_default_options(struct multigrid_options *o);
 int multigrid_create(struct multigrid **out, const struct grid *g, const enum poisson_bc bc[3][2],
                      const struct multigrid_options *opt, char *err, size_t errlen);
 
+/* multigrid_create over the ranks of a decomposition (grid/decomp.h,
+ * docs/numerics/decomposition.md): g is the global grid (uniform, not
+ * compact), dc this rank's block of it; every array argument of the
+ * functions below is then a field array of the block's local grid
+ * (decomp_local_grid), and every call is collective.  The point smoother
+ * only; no mixed term.  The solves' results equal the undecomposed ones'
+ * up to the order of the dot products' sums. */
+struct decomp;
+int multigrid_create_decomposed(struct multigrid **out, const struct grid *g,
+                                const struct decomp *dc, const enum poisson_bc bc[3][2],
+                                const struct multigrid_options *opt, char *err, size_t errlen);
+
 /* Bytes multigrid_create allocates for g with the options (NULL: the
  * defaults) and the coarsest level's factor, without creating anything:
  * the levels' coefficients, cells and transfer weights, the work arrays

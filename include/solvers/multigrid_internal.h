@@ -21,11 +21,14 @@
  *  - A cell with D = 0 is dead (identity row): its unknown stays 0, its
  *    residual is 0, transfers skip it.
  *  - Every level is a box of local cells with one ghost layer; ghosts are
- *    filled by mg_halo_fill / mg_halo_faces only, which is where a
- *    distributed version would exchange halos.  The red-black colour uses the
- *    local index, which a box decomposition must offset by the box origin.
- *    The only global operation is mg_coarse_solve (a gather of the coarsest
- *    level, as an MPI version would gather it to one rank), and dot products.
+ *    filled by mg_halo_fill / mg_halo_faces only, which exchange them across
+ *    the rank borders of a decomposed level (lv->dc; grid/decomp.h).  The
+ *    red-black colour is that of the global index (lv->parity: the parity
+ *    of the block's origin).  A decomposed hierarchy keeps its levels on the
+ *    ranks while they halve in place; its last level is gathered on every
+ *    rank and cycled by a serial multigrid over the rest (mg->sub), the
+ *    coarsest solve included: docs/numerics/decomposition.md.  The other
+ *    global operations are the dot products (summed over the ranks).
  *  - The level kernels are orphaned worksharing loops (`omp for`): called by
  *    every thread of a team, or outside any parallel region, where they are
  *    plain loops. */
@@ -38,6 +41,7 @@
 #ifdef _OPENMP
 #include <omp.h>
 #endif
+#include "grid/decomp.h"
 #include "solvers/multigrid.h"
 #include "solvers/suitesparse.h"
 
@@ -103,6 +107,8 @@ struct level {
     const double *km[2];
     double *kbuf[2];
     int md[2];
+    const struct decomp *dc; /* this level's block (NULL: the whole grid) */
+    int parity;            /* (i + j + k) of local cell 0 in the global grid, mod 2 */
 };
 
 struct coarse_direct {
@@ -139,7 +145,32 @@ struct multigrid {
                                       (multigrid_set_mixed) */
     int mxlen;                     /* the longest line */
     double partial[MAX_THREADS * PAD];
+    /* decomposed (multigrid_create_decomposed): each level's block, the
+     * serial multigrid of the gathered last level (its global grid gg, its
+     * unknown, right-hand side and the gather's buffer), and the levels of
+     * the whole hierarchy, sub's included; serial: dlev unused, sub NULL,
+     * total_levels = nlev */
+    struct decomp dlev[MAX_LEVELS];
+    struct multigrid *sub;
+    struct grid gg;
+    double *gx, *gb, *gscratch;
+    int total_levels;
 };
+
+/* 1 when side s of direction d of level lv is the domain's boundary (not
+ * periodic, not a rank border). */
+static inline int mg_physical_side(const struct multigrid *mg, const struct level *lv, int d,
+                                   int s)
+{
+    return !mg->periodic[d] && !(lv->dc && lv->dc->border[d][s]);
+}
+
+/* The faces of direction d a level holds: 0 .. n - 1, and n when the high
+ * side is the domain's boundary. */
+static inline int mg_faces_held(const struct multigrid *mg, const struct level *lv, int d)
+{
+    return mg_physical_side(mg, lv, d, 1) ? lv->g.n[d] + 1 : lv->g.n[d];
+}
 
 /* ---- the stencil, inlined into every kernel that reads it ----------------------- */
 
@@ -245,12 +276,23 @@ __attribute__((format(printf, 3, 4))) static inline void mg_set_err(char *err, s
 /* Which directions the level below g halves (halve[d] = 1); 0 when none. */
 int mg_choose_halving(const struct grid *g, long coarse_cells, int full, int halve[3]);
 int mg_build_levels(struct multigrid *mg, const struct grid *g);
+/* The levels kept on the ranks of a decomposed grid (mg_build_levels_decomposed
+ * in multigrid_levels.c): gathered at the first global level of at most
+ * this many cells, or where a block no longer halves in place. */
+#define MG_GATHER_CELLS 4096
+int mg_build_levels_decomposed(struct multigrid *mg, const struct grid *gglobal,
+                               const struct decomp *dc);
 void mg_level_free(struct level *lv, int owns_xb);
 /* The mass term of every level (mass NULL: none). */
 int mg_set_mass(struct multigrid *mg, const double *mass, char *err, size_t errlen);
 /* Level 0's face coefficients from a[] (checked), every coarser level's,
  * the transfer weights and the live cells. */
 int mg_set_faces(struct multigrid *mg, double *const a[3], char *err, size_t errlen);
+/* mg_set_faces after level 0's folded coefficients are in place (a gathered
+ * level): the coarser levels, the weights and the live cells. */
+void mg_coarsen_faces(struct multigrid *mg);
+/* The mass of the levels below 0 from level 0's mbuf, and the pointers. */
+void mg_coarsen_mass(struct multigrid *mg);
 
 /* ---- multigrid_operator.c: ghosts and the operator on a level ------------------- */
 

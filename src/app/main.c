@@ -20,6 +20,7 @@
 #include "io/checkpoint.h"
 #include "app/interrupt.h"
 #include "app/run.h"
+#include "platform/comm.h"
 
 #define EXIT_OUTPUT_FAILED 4
 
@@ -307,6 +308,27 @@ static int refuse_arguments(int argc, char **argv)
     return 0;
 }
 
+/* Under mpirun with several ranks: no scene runs decomposed yet, so every
+ * rank ends with status 2 (rank 0 says why) rather than N copies of the
+ * serial run writing the same files.  One rank (mpirun -np 1) is the
+ * serial run, MPI left alone. */
+static void refuse_ranks(char **argv)
+{
+    const char *ranks = getenv("OMPI_COMM_WORLD_SIZE");
+    if (!comm_launched() || strcmp(ranks, "1") == 0)
+        return;
+    char err[512];
+    if (comm_init(err, sizeof err) != 0) {
+        fprintf(stderr, "muflow: %s\n", err);
+        exit(2);
+    }
+    snprintf(err, sizeof err,
+             "muflow: %s on %d MPI ranks: no scene runs decomposed yet (what is: the "
+             "multigrid Poisson solve, tested by `muflow_tests mpi` under mpirun); run "
+             "muflow without mpirun", argv[1], comm_size());
+    comm_exit(2, 1, err);
+}
+
 int main(int argc, char **argv)
 {
     run_init();
@@ -331,6 +353,7 @@ int main(int argc, char **argv)
         case_write_key_markdown(stdout);
         return 0;
     }
+    refuse_ranks(argv);
     static struct muflow_case cs;
     char err[1024], path[1100];
     struct run_options opt = {.write_output = 1};

@@ -33,6 +33,10 @@ void multigrid_destroy(struct multigrid *mg)
         mg_level_free(&mg->lev[l], l > 0);
     free(mg->mxbuf);
     mg_coarse_free(mg);
+    multigrid_destroy(mg->sub);
+    field_free(mg->gx);
+    field_free(mg->gb);
+    free(mg->gscratch);
     field_free(mg->wr);
     field_free(mg->wz);
     field_free(mg->wp);
@@ -154,6 +158,7 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
         mg->periodic[d] = bc[d][0] == POISSON_PERIODIC;
     }
     int ok = mg_build_levels(mg, g) == 0;
+    mg->total_levels = mg->nlev;
     ok = ok && (mg->wr = field_alloc(g)) && (mg->wz = field_alloc(g)) && (mg->wp = field_alloc(g)) &&
          (mg->wq = field_alloc(g)) && (mg->wbest = field_alloc(g));
     ok = ok && mg_coarse_start(mg) == 0;
@@ -164,6 +169,93 @@ int multigrid_create(struct multigrid **out, const struct grid *g, const enum po
     }
     *out = mg;
     return 0;
+}
+
+/* What the decomposed solver does not take (multigrid.h).  Returns 0, or
+ * -1 with a message. */
+static int check_decomposed(const struct grid *g, const struct decomp *dc,
+                            const enum poisson_bc bc[3][2], const struct multigrid_options *o,
+                            char *err, size_t errlen)
+{
+    for (int d = 0; d < 3; d++) {
+        if (grid_compact(g, d) || g->axis[d]) {
+            mg_set_err(err, errlen, "multigrid: a decomposed grid is uniform and not compact");
+            return -1;
+        }
+        if (dc->n_global[d] != g->n[d] ||
+            (dc->cart->dims[d] > 1 && dc->cart->periodic[d] != (bc[d][0] == POISSON_PERIODIC))) {
+            mg_set_err(err, errlen, "multigrid: the decomposition is not of this grid");
+            return -1;
+        }
+    }
+    if (o->smoother != MG_SMOOTH_POINT) {
+        mg_set_err(err, errlen, "multigrid: a decomposed grid takes the point smoother only");
+        return -1;
+    }
+    return 0;
+}
+
+int multigrid_create_decomposed(struct multigrid **out, const struct grid *g,
+                                const struct decomp *dc, const enum poisson_bc bc[3][2],
+                                const struct multigrid_options *opt, char *err, size_t errlen)
+{
+    *out = NULL;
+    struct multigrid_options o;
+    if (opt)
+        o = *opt;
+    else
+        multigrid_default_options(&o);
+    if (check_problem(g, bc, err, errlen) != 0 || check_options(&o, err, errlen) != 0 ||
+        check_decomposed(g, dc, bc, &o, err, errlen) != 0)
+        return -1;
+    struct multigrid *mg = calloc(1, sizeof(*mg));
+    if (!mg) {
+        mg_set_err(err, errlen, "multigrid: out of memory");
+        return -1;
+    }
+    mg->opt = o;
+    for (int d = 0; d < 3; d++) {
+        mg->bc[d][0] = bc[d][0];
+        mg->bc[d][1] = bc[d][1];
+        mg->periodic[d] = bc[d][0] == POISSON_PERIODIC;
+    }
+    int ok = mg_build_levels_decomposed(mg, g, dc) == 0;
+    const struct grid *g0 = &mg->lev[0].g;
+    ok = ok && (mg->wr = field_alloc(g0)) && (mg->wz = field_alloc(g0)) &&
+         (mg->wp = field_alloc(g0)) && (mg->wq = field_alloc(g0)) && (mg->wbest = field_alloc(g0));
+    ok = ok && (mg->gx = field_alloc(&mg->gg)) && (mg->gb = field_alloc(&mg->gg)) &&
+         (mg->gscratch = malloc(decomp_gather_len(&mg->dlev[mg->nlev - 1]) * sizeof(double)));
+    if (!ok) {
+        multigrid_destroy(mg);
+        mg_set_err(err, errlen, "multigrid: out of memory");
+        return -1;
+    }
+    if (multigrid_create(&mg->sub, &mg->gg, bc, &o, err, errlen) != 0) {
+        multigrid_destroy(mg);
+        return -1;
+    }
+    mg->total_levels = mg->nlev - 1 + mg->sub->nlev;
+    *out = mg;
+    return 0;
+}
+
+/* The gathered level's coefficients and mass into the serial multigrid
+ * below it, coarsened there (decomposed). */
+static void gather_operator(struct multigrid *mg, int with_mass)
+{
+    struct level *lv = &mg->lev[mg->nlev - 1], *s0 = &mg->sub->lev[0];
+    for (int d = 0; d < 3; d++)
+        decomp_gather(lv->dc, &lv->g, lv->a[d], &mg->gg, s0->a[d], mg->gscratch);
+    for (int l = 0; l < mg->sub->nlev; l++)
+        mg->sub->lev[l].m = NULL;
+    if (with_mass) {
+        for (int l = 0; l < mg->sub->nlev; l++)
+            if (!mg->sub->lev[l].mbuf)
+                mg->sub->lev[l].mbuf = field_alloc(&mg->sub->lev[l].g);
+        decomp_gather(lv->dc, &lv->g, lv->mbuf, &mg->gg, s0->mbuf, mg->gscratch);
+        mg_coarsen_mass(mg->sub);
+    }
+    mg_coarsen_faces(mg->sub);
 }
 
 /* ---- the operator --------------------------------------------------------------- */
@@ -187,12 +279,21 @@ int multigrid_set_operator_deferred(struct multigrid *mg, double *const a[3], co
 {
     mg->ready = 0;
     mg->pending = 0;
-    if (mg_set_mass(mg, mass, err, errlen) != 0)
+    long bad = mg_set_mass(mg, mass, err, errlen) != 0;
+    if (mg->sub) /* every rank returns alike */
+        comm_sum_long(&bad, 1);
+    if (bad)
         return -1;
     if (mg_set_faces(mg, a, err, errlen) != 0)
         return -1;
-    if (mg_coarse_assemble(mg, err, errlen) != 0)
+    if (mg->sub) {
+        gather_operator(mg, mass != NULL);
+        mg->sub->ready = 0;
+        if (mg_coarse_assemble(mg->sub, err, errlen) != 0)
+            return -1;
+    } else if (mg_coarse_assemble(mg, err, errlen) != 0) {
         return -1;
+    }
     mg->pending = 1;
     return 0;
 }
@@ -202,8 +303,10 @@ int multigrid_finish_operator(struct multigrid *mg, char *err, size_t errlen)
     if (!mg->pending)
         return 0;
     mg->pending = 0;
-    if (mg_coarse_numeric(mg, err, errlen) != 0)
+    if (mg_coarse_numeric(mg->sub ? mg->sub : mg, err, errlen) != 0)
         return -1;
+    if (mg->sub)
+        mg->sub->ready = 1;
     if (mg->opt.smoother == MG_SMOOTH_LINES)
         for (int l = 0; l < mg->nlev - 1; l++)
             for (int k = 0; k < mg->nline_dirs; k++)

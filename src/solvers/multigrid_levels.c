@@ -148,6 +148,53 @@ int mg_build_levels(struct multigrid *mg, const struct grid *g)
     return ok ? 0 : -1;
 }
 
+/* The levels of a decomposed grid: the global hierarchy planned as
+ * plan_levels plans it, kept on the ranks (each block halved in place)
+ * while the global level above has more than MG_GATHER_CELLS cells and
+ * every block along each halved direction starts and ends on an even cell;
+ * the last level kept is the one gathered (mg->gg its global grid).
+ * Returns 0, or -1 out of memory. */
+int mg_build_levels_decomposed(struct multigrid *mg, const struct grid *gglobal,
+                               const struct decomp *dc)
+{
+    struct grid glob[MAX_LEVELS];
+    int halve_at[MAX_LEVELS][3] = {{0}};
+    glob[0] = *gglobal;
+    int nglob = 1;
+    while (nglob < MAX_LEVELS) {
+        const struct grid *gf = &glob[nglob - 1];
+        int *halve = halve_at[nglob], n[3];
+        if (mg_choose_halving(gf, mg->opt.coarse_cells, mg->opt.full_coarsening, halve) == 0)
+            break;
+        for (int d = 0; d < 3; d++)
+            n[d] = halve[d] ? gf->n[d] / 2 : gf->n[d];
+        if (grid_init_like(&glob[nglob], n, gf->len, gf) != 0)
+            break;
+        nglob++;
+    }
+    mg->dlev[0] = *dc;
+    mg->dlev[0].owns_buf = 0;
+    int kept = 1;
+    while (kept < nglob && (long)grid_cells(&glob[kept - 1]) > MG_GATHER_CELLS &&
+           decomp_coarsen(&mg->dlev[kept - 1], halve_at[kept], &mg->dlev[kept]) == 0)
+        kept++;
+    mg->nlev = kept;
+    for (int l = 0; l < kept; l++) {
+        struct level *lv = &mg->lev[l];
+        if (decomp_local_grid(&mg->dlev[l], &glob[l], &lv->g) != 0)
+            return -1;
+        for (int d = 0; d < 3; d++)
+            lv->coarse[d] = halve_at[l][d];
+        lv->dc = &mg->dlev[l];
+        lv->parity = (mg->dlev[l].lo[0] + mg->dlev[l].lo[1] + mg->dlev[l].lo[2]) & 1;
+    }
+    mg->gg = glob[kept - 1];
+    int ok = 1;
+    for (int l = 0; l < mg->nlev && ok; l++)
+        ok = allocate_level(mg, l);
+    return ok ? 0 : -1;
+}
+
 /* ---- coefficients --------------------------------------------------------------- */
 
 /* 1 / (1/4 a1^-1 + 1/2 a0^-1 + 1/4 a2^-1): the series resistance between two
@@ -193,9 +240,10 @@ static void coarsen_coefficients(const struct multigrid *mg, const struct level 
 {
     const struct grid *gc = &c->g;
     for (int d = 0; d < 3; d++) {
-        const int nc = gc->n[d], per = mg->periodic[d];
+        const int nc = gc->n[d];
+        const int phys_lo = mg_physical_side(mg, c, d, 0), phys_hi = mg_physical_side(mg, c, d, 1);
         int hi[3] = {gc->n[0], gc->n[1], gc->n[2]};
-        hi[d] = per ? nc : nc + 1;
+        hi[d] = mg_faces_held(mg, c, d);
         const double *fa = f->a[d];
         double *ca = c->a[d];
         const int harmonic = mg->opt.average == MG_AVERAGE_HARMONIC && c->coarse[d];
@@ -204,7 +252,7 @@ static void coarsen_coefficients(const struct multigrid *mg, const struct level 
             for (int J = 0; J < hi[1]; J++)
                 for (int K = 0; K < hi[2]; K++) {
                     const int cc[3] = {I, J, K};
-                    const int boundary = !per && (cc[d] == 0 || cc[d] == nc);
+                    const int boundary = (phys_lo && cc[d] == 0) || (phys_hi && cc[d] == nc);
                     ca[grid_idx(gc, I, J, K)] = coarse_face_mean(f, c, d, fa, cc,
                                                                  harmonic && !boundary);
                 }
@@ -242,9 +290,12 @@ static int copy_faces(struct multigrid *mg, int d, const double *src, char *err,
 {
     struct level *l0 = &mg->lev[0];
     const struct grid *g = &l0->g;
-    const int n = g->n[d], per = mg->periodic[d];
+    const int n = g->n[d];
+    const int phys_lo = mg_physical_side(mg, l0, d, 0), phys_hi = mg_physical_side(mg, l0, d, 1);
     int hi[3] = {g->n[0], g->n[1], g->n[2]};
-    hi[d] = per ? n : n + 1; /* the faces read: a periodic direction's face n is face 0 */
+    /* the faces read: a periodic direction's face n is face 0, a rank
+     * border's the next rank's */
+    hi[d] = mg_faces_held(mg, l0, d);
     double *dst = l0->a[d];
     long bad = -1;
 #pragma omp parallel for collapse(2) schedule(static) if (l0->par) reduction(max : bad)
@@ -253,7 +304,7 @@ static int copy_faces(struct multigrid *mg, int d, const double *src, char *err,
             for (int k = 0; k < hi[2]; k++) {
                 const int c[3] = {i, j, k}, t = c[d];
                 const ptrdiff_t p = grid_idx(g, i, j, k);
-                const int boundary = !per && (t == 0 || t == n);
+                const int boundary = (phys_lo && t == 0) || (phys_hi && t == n);
                 double val = src[p];
                 if (boundary && mg->bc[d][t == 0 ? 0 : 1] == POISSON_NEUMANN)
                     val = 0.0; /* not read */
@@ -275,11 +326,24 @@ static int copy_faces(struct multigrid *mg, int d, const double *src, char *err,
 
 int mg_set_faces(struct multigrid *mg, double *const a[3], char *err, size_t errlen)
 {
+    long bad = 0;
+    for (int d = 0; d < 3 && !bad; d++)
+        bad = copy_faces(mg, d, a[d], err, errlen) != 0;
+    if (mg->lev[0].dc) /* every rank returns alike */
+        comm_sum_long(&bad, 1);
+    if (bad) {
+        if (err && !err[0])
+            mg_set_err(err, errlen, "multigrid: a coefficient refused on another rank");
+        return -1;
+    }
+    mg_coarsen_faces(mg);
+    return 0;
+}
+
+void mg_coarsen_faces(struct multigrid *mg)
+{
     struct level *l0 = &mg->lev[0];
     const struct grid *g = &l0->g;
-    for (int d = 0; d < 3; d++)
-        if (copy_faces(mg, d, a[d], err, errlen) != 0)
-            return -1;
     finish_level_coefficients(mg, l0);
     for (int l = 1; l < mg->nlev; l++) {
         coarsen_coefficients(mg, &mg->lev[l - 1], &mg->lev[l]);
@@ -290,8 +354,9 @@ int mg_set_faces(struct multigrid *mg, double *const a[3], char *err, size_t err
 #pragma omp parallel for schedule(static) if (l0->par) reduction(+ : live)
     for (size_t p = 0; p < g->size; p++)
         live += l0->live[p];
+    if (l0->dc)
+        comm_sum_long(&live, 1);
     mg->live = live;
-    return 0;
 }
 
 /* ---- mass and mixed terms ------------------------------------------------------- */
@@ -325,6 +390,12 @@ int mg_set_mass(struct multigrid *mg, const double *mass, char *err, size_t errl
                 }
                 m0[p] = mass[p];
             }
+    mg_coarsen_mass(mg);
+    return 0;
+}
+
+void mg_coarsen_mass(struct multigrid *mg)
+{
     for (int l = 1; l < mg->nlev; l++) {
         const struct level *f = &mg->lev[l - 1];
         struct level *c = &mg->lev[l];
@@ -343,7 +414,6 @@ int mg_set_mass(struct multigrid *mg, const double *mass, char *err, size_t errl
     }
     for (int l = 0; l < mg->nlev; l++)
         mg->lev[l].m = mg->lev[l].mbuf;
-    return 0;
 }
 
 /* Face array km of direction d on level c from level f: the mean of the
@@ -369,6 +439,10 @@ int multigrid_set_mixed(struct multigrid *mg, int d1, int d2, const double *k1, 
         mg->lev[l].km[0] = mg->lev[l].km[1] = NULL;
     if (!k1 || !k2)
         return 0;
+    if (mg->sub) {
+        mg_set_err(err, errlen, "multigrid: no mixed term on a decomposed grid");
+        return -1;
+    }
     const struct grid *g = &mg->lev[0].g;
     if (d1 == d2 || d1 < 0 || d1 > 2 || d2 < 0 || d2 > 2 || mg->periodic[d1] ||
         mg->periodic[d2]) {

@@ -18,6 +18,51 @@ static inline void halo_pair(double *f, const struct grid *g, int d, int e1, int
     f[base + (ptrdiff_t)n * sd] = s_hi * f[base + (ptrdiff_t)src_hi * sd];
 }
 
+/* mg_halo_fill on a decomposed level: direction after direction, each
+ * over the ghost-extended range of those before, the domain's boundary
+ * sides filled here (periodic wrap when one rank holds the direction) and
+ * the rank borders' ghosts exchanged.  Plain loops, on one thread. */
+static void halo_fill_decomposed(const struct multigrid *mg, const struct level *lv, double *f,
+                                 enum halo_kind kind)
+{
+    const struct grid *g = &lv->g;
+    for (int d = 0; d < 3; d++) {
+        const int n = g->n[d];
+        if ((kind == HALO_OPERATOR || kind == HALO_MIRROR) && mg->periodic[d] && n == 1)
+            continue;
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+        const int lo1 = e1 < d ? -1 : 0, hi1 = e1 < d ? g->n[e1] + 1 : g->n[e1];
+        const int lo2 = e2 < d ? -1 : 0, hi2 = e2 < d ? g->n[e2] + 1 : g->n[e2];
+        const ptrdiff_t sd = g->stride[d];
+        for (int s = 0; s < 2; s++) {
+            if (lv->dc->border[d][s])
+                continue;
+            int src;
+            double sign;
+            if (mg->periodic[d]) {
+                src = s ? 0 : n - 1;
+                sign = 1.0;
+            } else {
+                src = s ? n - 1 : 0;
+                sign = kind == HALO_OPERATOR ? 0.0
+                       : kind == HALO_EVEN   ? 1.0
+                       : mg->bc[d][s] == POISSON_DIRICHLET ? -1.0 : 1.0;
+            }
+            const ptrdiff_t ghost = s ? (ptrdiff_t)n * sd : -sd;
+            for (int u = lo1; u < hi1; u++)
+                for (int v = lo2; v < hi2; v++) {
+                    int c[3];
+                    c[e1] = u;
+                    c[e2] = v;
+                    c[d] = 0;
+                    const ptrdiff_t base = grid_idx(g, c[0], c[1], c[2]);
+                    f[base + ghost] = sign * f[base + (ptrdiff_t)src * sd];
+                }
+        }
+        decomp_exchange(lv->dc, g, f, d);
+    }
+}
+
 /* Cell field f on level lv (orphaned worksharing: call it from every thread of
  * a team, or outside a parallel region).  Periodic: wrap; otherwise 0
  * (operator), the conditions' value (mirror) or the mirror whatever the
@@ -27,6 +72,13 @@ static inline void halo_pair(double *f, const struct grid *g, int d, int e1, int
 void mg_halo_fill(const struct multigrid *mg, const struct level *lv, double *f,
                   enum halo_kind kind)
 {
+    if (lv->dc) { /* MPI from the master thread only, the cells written before */
+#pragma omp barrier
+#pragma omp master
+        halo_fill_decomposed(mg, lv, f, kind);
+#pragma omp barrier
+        return;
+    }
     const struct grid *g = &lv->g;
     /* the 7-point operator reads face ghosts only: the three directions then
      * write disjoint ghost sets from interior values and need no barrier
@@ -85,13 +137,27 @@ void mg_halo_fill(const struct multigrid *mg, const struct level *lv, double *f,
 }
 
 /* Face array a (normal d) along its normal: a periodic direction's face n is
- * face 0 and face -1 is face n-1; elsewhere the ghost face -1 is unused (0). */
+ * face 0 and face -1 is face n-1; elsewhere the ghost face -1 is unused (0).
+ * Across a rank border both come from the neighbour (grid/decomp.h). */
 void mg_halo_faces(const struct multigrid *mg, const struct level *lv, double *a, int d)
 {
     const struct grid *g = &lv->g;
     const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = g->n[d];
     const ptrdiff_t sd = g->stride[d];
     const int per = mg->periodic[d];
+    if (lv->dc && (lv->dc->border[d][0] || lv->dc->border[d][1])) {
+        if (!lv->dc->border[d][0])
+            for (int u = 0; u < g->n[e1]; u++)
+                for (int v = 0; v < g->n[e2]; v++) {
+                    int c[3];
+                    c[e1] = u;
+                    c[e2] = v;
+                    c[d] = -1;
+                    a[grid_idx(g, c[0], c[1], c[2])] = 0.0;
+                }
+        decomp_exchange(lv->dc, g, a, d);
+        return;
+    }
     for (int u = 0; u < g->n[e1]; u++)
         for (int v = 0; v < g->n[e2]; v++) {
             int c[3];

@@ -14,9 +14,31 @@
  * the scaled transpose of the prolongation, gamma cycles on the next level
  * (1: V, 2: W; the later ones warm), an exact coarsest solve: a symmetric
  * linear map of b. */
+/* The gathered level of a decomposed hierarchy (the last kept on the
+ * ranks): its right-hand side (and, warm, its unknown) gathered on every
+ * rank, the serial multigrid's cycle from there on (the same cycle as an
+ * undecomposed hierarchy's from that level), this rank's block taken back. */
+static void cycle_from(struct multigrid *mg, int l, int warm);
+static void gathered_cycle(struct multigrid *mg, int warm)
+{
+    struct level *lv = &mg->lev[mg->nlev - 1];
+    struct multigrid *sub = mg->sub;
+    decomp_gather(lv->dc, &lv->g, lv->b, &mg->gg, mg->gb, mg->gscratch);
+    if (warm)
+        decomp_gather(lv->dc, &lv->g, lv->x, &mg->gg, mg->gx, mg->gscratch);
+    sub->lev[0].b = mg->gb;
+    sub->lev[0].x = mg->gx;
+    cycle_from(sub, 0, warm);
+    decomp_scatter(lv->dc, &mg->gg, mg->gx, &lv->g, lv->x);
+}
+
 static void cycle_from(struct multigrid *mg, int l, int warm)
 {
     struct level *lv = &mg->lev[l];
+    if (mg->sub && l == mg->nlev - 1) {
+        gathered_cycle(mg, warm);
+        return;
+    }
     if (l == mg->nlev - 1) {
         mg_coarse_solve(mg);
         return;
@@ -34,7 +56,7 @@ static void cycle_from(struct multigrid *mg, int l, int warm)
         mg_halo_fill(mg, lv, lv->r, HALO_MIRROR);
         mg_restrict_residual(mg, lv, lc);
     });
-    const int visits = l + 1 == mg->nlev - 1 ? 1 : mg->opt.gamma; /* exact there */
+    const int visits = l + 1 == mg->total_levels - 1 ? 1 : mg->opt.gamma; /* exact there */
     for (int v = 0; v < visits; v++)
         cycle_from(mg, l + 1, v > 0);
     REGION(lv->par, {
@@ -111,7 +133,10 @@ level_reduce(struct multigrid *mg, const struct level *lv, enum level_sum kind, 
             }
         part[thread_id() * PAD] = s;
     });
-    return sum_partials(part, nt);
+    double sum = sum_partials(part, nt);
+    if (lv->dc)
+        comm_sum(&sum, 1);
+    return sum;
 }
 
 /* sum over the interior of u v */
@@ -300,7 +325,10 @@ static double cg_update(struct multigrid *mg, const struct level *lv, double alp
             }
         part[thread_id() * PAD] = s;
     });
-    return sum_partials(part, nt);
+    double sum = sum_partials(part, nt);
+    if (lv->dc)
+        comm_sum(&sum, 1);
+    return sum;
 }
 
 /* p = z + beta p */

@@ -181,6 +181,8 @@ void mg_line_factors(const struct level *lv, int k, int d)
  * interior cells only, so once filled it stays filled. */
 int mg_halo_wraps(const struct multigrid *mg, const struct level *lv)
 {
+    if (lv->dc && decomp_split(lv->dc))
+        return 1; /* a rank border's ghosts are the neighbour's cells */
     for (int d = 0; d < 3; d++)
         if (mg->periodic[d] && lv->g.n[d] > 1)
             return 1;
@@ -220,7 +222,7 @@ void mg_smooth(const struct multigrid *mg, const struct level *lv, int first_col
         for (int c = 0; c < 2; c++) {
             if (wraps)
                 mg_halo_fill(mg, lv, lv->x, HALO_OPERATOR);
-            smooth_colour(lv, first_colour ^ c);
+            smooth_colour(lv, first_colour ^ c ^ lv->parity); /* the global colour */
         }
 }
 

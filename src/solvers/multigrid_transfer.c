@@ -197,17 +197,31 @@ void mg_prolong_add(const struct level *f, const struct level *c)
  * the error is reproduced).  A blocked face makes its side infinitely
  * resistant.  Next to a non-periodic boundary the neighbour is the mirror
  * ghost and the linear weight is kept.  Computed at set-up; the periodic wrap
- * reads the faces by index modulo n (a box decomposition would need the
- * neighbour's faces at set-up). */
+ * reads the faces by index modulo n.  On a decomposed level the last cell
+ * before a rank border reads the face n + 1, the next rank's face 1: the
+ * high faces of the cells, exchanged as a cell field into far_faces (the
+ * solver's spare work array), hold it in their ghost slot n. */
 void mg_transfer_weights(const struct multigrid *mg, struct level *f, const struct level *c)
 {
     const struct grid *g = &f->g;
+    double *far_faces = mg->wq;
     for (int d = 0; d < 3; d++) {
         double *w = f->pw[d];
         if (!c->coarse[d])
             continue; /* stays 0 */
         const int n = g->n[d], per = mg->periodic[d];
+        const int out_lo = mg_physical_side(mg, f, d, 0), out_hi = mg_physical_side(mg, f, d, 1);
+        const int border_hi = f->dc && f->dc->border[d][1];
         const ptrdiff_t sd = g->stride[d];
+        if (f->dc && (f->dc->border[d][0] || border_hi)) { /* both sides of a border send */
+            for (int i = 0; i < g->n[0]; i++)
+                for (int j = 0; j < g->n[1]; j++)
+                    for (int k = 0; k < g->n[2]; k++) {
+                        const ptrdiff_t p = grid_idx(g, i, j, k);
+                        far_faces[p] = f->a[d][p + sd];
+                    }
+            decomp_exchange(f->dc, g, far_faces, d);
+        }
 #pragma omp parallel for collapse(2) schedule(static) if (f->par)
         for (int i = 0; i < g->n[0]; i++)
             for (int j = 0; j < g->n[1]; j++)
@@ -223,12 +237,12 @@ void mg_transfer_weights(const struct multigrid *mg, struct level *f, const stru
                         int own, cross, far, outside;
                         if (t & 1) {
                             own = t, cross = t + 1, far = t + 2;
-                            outside = t + 1 >= n;
+                            outside = t + 1 >= n && out_hi;
                         } else {
                             own = t + 1, cross = t, far = t - 1;
-                            outside = t == 0;
+                            outside = t == 0 && out_lo;
                         }
-                        if (mg->opt.prolong == MG_PROLONG_LINEAR || (outside && !per)) {
+                        if (mg->opt.prolong == MG_PROLONG_LINEAR || outside) {
                             val = 0.25;
                         } else {
                             /* faces by index: periodic faces wrap modulo n
@@ -241,7 +255,9 @@ void mg_transfer_weights(const struct multigrid *mg, struct level *f, const stru
                             }
                             const double ao = f->a[d][p0 + (ptrdiff_t)own * sd];
                             const double ac = f->a[d][p0 + (ptrdiff_t)cross * sd];
-                            const double af = f->a[d][p0 + (ptrdiff_t)far * sd];
+                            const double af = far == n + 1 && border_hi
+                                                  ? far_faces[p0 + (ptrdiff_t)n * sd]
+                                                  : f->a[d][p0 + (ptrdiff_t)far * sd];
                             const int ra_inf = !(ao > 0.0), rb_inf = !(ac > 0.0) || !(af > 0.0);
                             if (ra_inf)
                                 val = rb_inf ? 0.0 : 1.0;

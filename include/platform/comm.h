@@ -1,0 +1,65 @@
+/* The processes of a run: one, or the ranks of an MPI job.
+ *
+ * A program started without mpirun is a world of one rank and MPI is never
+ * touched (no library loaded, nothing initialised: the serial start-up is
+ * unchanged).  Started by Open MPI's mpirun (OMPI_COMM_WORLD_SIZE in the
+ * environment), comm_init opens libmpi with dlopen, as hypre and SuiteSparse
+ * are opened (docs/numerics/threads-and-platform.md), and initialises it
+ * with MPI_THREAD_FUNNELED: only the thread that called comm_init (the
+ * master of any OpenMP team) calls MPI.  Everything here is collective over
+ * the world unless said otherwise; with one rank every call is the identity. */
+#ifndef MUFLOW_PLATFORM_COMM_H
+#define MUFLOW_PLATFORM_COMM_H
+
+#include <stddef.h>
+
+/* 0, or -1 with the cause (libmpi missing, MPI_Init failing).  Idempotent;
+ * registers comm_finalize at exit when it initialised MPI. */
+int comm_init(char *err, size_t errlen);
+/* 1 when started by mpirun (whatever the rank count), from the environment
+ * alone: callable before comm_init. */
+int comm_launched(void);
+int comm_rank(void);
+int comm_size(void);
+/* MPI_Finalize once (nothing without MPI). */
+void comm_finalize(void);
+/* Every rank ends here with the status: the message (printed by rank 0
+ * only when all ranks call it, by the caller otherwise: pass all = 1 when
+ * every rank reaches the call).  With all = 0 MPI_Abort ends the job. */
+_Noreturn void comm_exit(int status, int all, const char *msg);
+
+/* Sums and maxima over every rank, in place (n values), the same on every
+ * rank; the order of the sum is MPI's, fixed for a given rank count. */
+void comm_sum(double *v, int n);
+void comm_sum_long(long *v, int n);
+void comm_max(double *v, int n);
+void comm_barrier(void);
+
+/* The Cartesian communicator over every rank: dims[d] ranks along d,
+ * periodic along d when periodic[d], this rank's coords and its neighbours
+ * (nbr[d][0] below, nbr[d][1] above; -1 beyond a non-periodic end, and along
+ * a direction of one rank, whose periodic wrap is the rank's own affair). */
+struct comm_cart {
+    void *comm; /* the MPI_Comm (NULL without MPI) */
+    int dims[3], coords[3], periodic[3];
+    int rank, size;
+    int nbr[3][2];
+};
+
+/* dims[d] given (> 0) or 0 for MPI_Dims_create's choice, fixed to 1 along a
+ * direction with splittable[d] = 0.  Returns 0, or -1 with a message. */
+int comm_cart_create(struct comm_cart *c, const int dims[3], const int periodic[3],
+                     const int splittable[3], char *err, size_t errlen);
+void comm_cart_free(struct comm_cart *c);
+
+/* Along d: sends count doubles to each neighbour (to_lo to nbr[d][0], to_hi
+ * to nbr[d][1]) and receives theirs (from_lo from below, from_hi from
+ * above); a side without a neighbour sends and receives nothing. */
+void comm_cart_shift(const struct comm_cart *c, int d, const double *to_lo, double *from_lo,
+                     const double *to_hi, double *from_hi, int count);
+/* Every rank's count doubles (counts[r] from rank r) into all, rank after
+ * rank (displs[r] its first). */
+void comm_cart_allgather(const struct comm_cart *c, const double *mine, int count, double *all,
+                         const int *counts, const int *displs);
+
+#endif
