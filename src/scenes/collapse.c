@@ -27,6 +27,7 @@
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
 #include "scenes/scene.h"
+#include "scenes/rest_drive.h"
 #include "scene_common.h"
 
 struct collapse_params {
@@ -211,15 +212,7 @@ static void end_step(struct march_state *st, void *state, double dt)
 {
     (void)state;
     (void)dt;
-    const struct grid *g = &st->g;
-    int k = g->n[2] - 1;
-    double s = 0.0;
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            s += st->field.p_dyn[grid_idx(g, i, j, k)];
-    s /= (double)g->n[0] * g->n[1];
-    for (size_t p = 0; p < g->size; p++)
-        st->field.p_dyn[p] -= s;
+    rest_drive_gauge_top(st);
 }
 
 static int grow(void **a, long *cap, long need, size_t each)
@@ -374,47 +367,28 @@ static struct record *record_of(const struct march_state *st)
 
 /* ---- the driver: the march, recorded, until end_time or rest ---- */
 
-struct drive_ctx {
-    struct scene_drive *d;
-    int at_rest, failed;
-};
-
-static int observe(void *vctx, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
-    struct drive_ctx *c = vctx;
-    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
-    struct record *r = record_of(st);
-    if (record_state(r, st) != 0) {
-        c->failed = 1;
-        return 1;
-    }
-    double rest = params(st->cs)->rest_energy;
-    if (!stop && st->status == STATUS_RUNNING && st->step > 0 && rest > 0.0 && r->peak > 0.0 &&
-        r->s[r->n - 1].kinetic < rest * r->peak) {
-        c->at_rest = 1;
-        return 1;
-    }
-    return stop;
+    return record_state(rec, st);
+}
+
+static void energy(const void *rec, double *kinetic, double *peak, double *peak_time)
+{
+    const struct record *r = rec;
+    *kinetic = r->n > 0 ? r->s[r->n - 1].kinetic : NAN;
+    *peak = r->peak;
+    *peak_time = r->peak_time;
 }
 
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
-    struct drive_ctx c = {.d = d};
-    march_run(st, observe, &c);
-    struct record *r = record_of(st);
-    if (c.failed) {
-        st->status = STATUS_STOPPED;
-        snprintf(st->message, sizeof st->message,
-                 "out of memory for the collapse's record at step %ld", st->step);
-    } else if (c.at_rest && st->status == STATUS_STOPPED) {
-        st->status = STATUS_FINISHED;
-        snprintf(st->message, sizeof st->message,
-                 "the grains came to rest at t = %.6g: kinetic energy %.3e below %g of its "
-                 "peak %.3e (t = %.4g)",
-                 st->time, r->s[r->n - 1].kinetic, params(st->cs)->rest_energy, r->peak,
-                 r->peak_time);
-    }
+    struct rest_drive rd = {.record_step = record_step,
+                            .energy = energy,
+                            .rec = record_of(st),
+                            .rest_fraction = params(st->cs)->rest_energy,
+                            .record_name = "the collapse's record"};
+    rest_drive_run(d, &rd);
     return 0;
 }
 

@@ -1,0 +1,69 @@
+/* The march of released grains until the end time or rest
+ * (include/scenes/rest_drive.h). */
+#include "scenes/rest_drive.h"
+
+#include <math.h>
+#include <stdio.h>
+#include "march/march.h"
+
+struct observe_ctx {
+    struct scene_drive *d;
+    struct rest_drive *rd;
+    int failed;
+};
+
+static int observe(void *vctx, const struct march_state *st)
+{
+    struct observe_ctx *c = vctx;
+    struct rest_drive *rd = c->rd;
+    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
+    if (rd->record_step(rd->rec, st) != 0) {
+        c->failed = 1;
+        return 1;
+    }
+    double kinetic, peak, peak_time;
+    rd->energy(rd->rec, &kinetic, &peak, &peak_time);
+    if (!stop && st->status == STATUS_RUNNING && st->step > 0 && rd->rest_fraction > 0.0 &&
+        peak > 0.0 && kinetic < rd->rest_fraction * peak) {
+        rd->at_rest = 1;
+        return 1;
+    }
+    return stop;
+}
+
+void rest_drive_run(struct scene_drive *d, struct rest_drive *rd)
+{
+    struct march_state *st = d->st;
+    struct observe_ctx c = {.d = d, .rd = rd};
+    rd->at_rest = 0;
+    march_run(st, observe, &c);
+    if (c.failed) {
+        rd->at_rest = 0;
+        st->status = STATUS_STOPPED;
+        snprintf(st->message, sizeof st->message, "out of memory for %s at step %ld",
+                 rd->record_name, st->step);
+    } else if (rd->at_rest && st->status == STATUS_STOPPED) {
+        double kinetic, peak, peak_time;
+        rd->energy(rd->rec, &kinetic, &peak, &peak_time);
+        st->status = STATUS_FINISHED;
+        int n = snprintf(st->message, sizeof st->message,
+                         "the grains came to rest at t = %.6g: kinetic energy %.3e below %g of "
+                         "its peak %.3e",
+                         st->time, kinetic, rd->rest_fraction, peak);
+        if (!isnan(peak_time) && n > 0 && (size_t)n < sizeof st->message)
+            snprintf(st->message + n, sizeof st->message - (size_t)n, " (t = %.4g)", peak_time);
+    }
+}
+
+void rest_drive_gauge_top(struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    int k = g->n[2] - 1;
+    double s = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            s += st->field.p_dyn[grid_idx(g, i, j, k)];
+    s /= (double)g->n[0] * g->n[1];
+    for (size_t p = 0; p < g->size; p++)
+        st->field.p_dyn[p] -= s;
+}
