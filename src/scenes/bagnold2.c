@@ -41,6 +41,7 @@
 #include "scenes/bagnold2.h"
 #include "scenes/perturbation.h"
 #include "scenes/scene.h"
+#include "scenes/recorded_drive.h"
 #include "scene_common.h"
 
 struct bagnold2_params {
@@ -450,32 +451,17 @@ static int record_state(struct growth_record *r, const struct march_state *st)
     return 0;
 }
 
-struct drive_ctx {
-    struct scene_drive *d;
-    int failed;
-};
-
-static int observe(void *vctx, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
-    struct drive_ctx *c = vctx;
-    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
-    if (record_state(record_of(st), st) != 0) {
-        c->failed = 1;
-        return 1;
-    }
-    return stop;
+    return record_state(rec, st);
 }
 
 static int drive(struct scene_drive *d)
 {
-    struct march_state *st = d->st;
-    struct drive_ctx c = {.d = d};
-    march_run(st, observe, &c);
-    if (c.failed) {
-        st->status = STATUS_STOPPED;
-        snprintf(st->message, sizeof st->message,
-                 "out of memory for the growth record at step %ld", st->step);
-    }
+    struct recorded_drive rd = {.record_step = record_step,
+                                .rec = record_of(d->st),
+                                .record_name = "the growth record"};
+    recorded_drive_run(d, &rd);
     return 0;
 }
 

@@ -27,7 +27,7 @@
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
 #include "scenes/scene.h"
-#include "scenes/rest_drive.h"
+#include "scenes/recorded_drive.h"
 #include "scene_common.h"
 
 struct collapse_params {
@@ -212,7 +212,7 @@ static void end_step(struct march_state *st, void *state, double dt)
 {
     (void)state;
     (void)dt;
-    rest_drive_gauge_top(st);
+    recorded_drive_gauge_top(st);
 }
 
 static int grow(void **a, long *cap, long need, size_t each)
@@ -383,12 +383,12 @@ static void energy(const void *rec, double *kinetic, double *peak, double *peak_
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
-    struct rest_drive rd = {.record_step = record_step,
+    struct recorded_drive rd = {.record_step = record_step,
                             .energy = energy,
                             .rec = record_of(st),
                             .rest_fraction = params(st->cs)->rest_energy,
                             .record_name = "the collapse's record"};
-    rest_drive_run(d, &rd);
+    recorded_drive_run(d, &rd);
     return 0;
 }
 

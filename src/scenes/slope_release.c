@@ -28,7 +28,7 @@
 #include "io/output.h"
 #include "physics/two_phase.h"
 #include "scenes/scene.h"
-#include "scenes/rest_drive.h"
+#include "scenes/recorded_drive.h"
 #include "scene_common.h"
 
 struct slope_params {
@@ -339,7 +339,7 @@ static void end_step(struct march_state *st, void *state, double dt)
 {
     (void)state;
     (void)dt;
-    rest_drive_gauge_top(st);
+    recorded_drive_gauge_top(st);
 }
 
 static const struct module slope_module = {
@@ -488,12 +488,12 @@ static void energy(const void *rec, double *kinetic, double *peak, double *peak_
 static int drive(struct scene_drive *d)
 {
     struct march_state *st = d->st;
-    struct rest_drive rd = {.record_step = record_step,
+    struct recorded_drive rd = {.record_step = record_step,
                             .energy = energy,
                             .rec = record_of(st),
                             .rest_fraction = params(st->cs)->rest_energy,
                             .record_name = "the slope's record"};
-    rest_drive_run(d, &rd);
+    recorded_drive_run(d, &rd);
     if (rd.at_rest)
         record_of(st)->rest_time = st->time;
     return 0;

@@ -1,6 +1,6 @@
-/* The march of released grains until the end time or rest
- * (include/scenes/rest_drive.h). */
-#include "scenes/rest_drive.h"
+/* The march with a record of its steps, until the end or rest
+ * (include/scenes/recorded_drive.h). */
+#include "scenes/recorded_drive.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -8,19 +8,21 @@
 
 struct observe_ctx {
     struct scene_drive *d;
-    struct rest_drive *rd;
+    struct recorded_drive *rd;
     int failed;
 };
 
 static int observe(void *vctx, const struct march_state *st)
 {
     struct observe_ctx *c = vctx;
-    struct rest_drive *rd = c->rd;
+    struct recorded_drive *rd = c->rd;
     int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
     if (rd->record_step(rd->rec, st) != 0) {
         c->failed = 1;
         return 1;
     }
+    if (!rd->energy)
+        return stop;
     double kinetic, peak, peak_time;
     rd->energy(rd->rec, &kinetic, &peak, &peak_time);
     if (!stop && st->status == STATUS_RUNNING && st->step > 0 && rd->rest_fraction > 0.0 &&
@@ -31,7 +33,7 @@ static int observe(void *vctx, const struct march_state *st)
     return stop;
 }
 
-void rest_drive_run(struct scene_drive *d, struct rest_drive *rd)
+void recorded_drive_run(struct scene_drive *d, struct recorded_drive *rd)
 {
     struct march_state *st = d->st;
     struct observe_ctx c = {.d = d, .rd = rd};
@@ -55,7 +57,7 @@ void rest_drive_run(struct scene_drive *d, struct rest_drive *rd)
     }
 }
 
-void rest_drive_gauge_top(struct march_state *st)
+void recorded_drive_gauge_top(struct march_state *st)
 {
     const struct grid *g = &st->g;
     int k = g->n[2] - 1;
