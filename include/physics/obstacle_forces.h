@@ -49,7 +49,9 @@ struct obstacle_forces {
     double reconstructed[2];  /* the sampled traction's integral */
     double reconstructed_pressure[2];
     double control_volume[2];
-    double front_back;        /* p at the front point less p at the back point */
+    double front_back;        /* p at the front point less p at the back point, each
+                                 by the normal momentum balance from 6 h out
+                                 (uniform eta and rho), else extrapolated */
     double u_ref, d_ref;      /* the coefficients' velocity and length (0: none) */
     int mirror[2];            /* a symmetry plane normal to a / b (-1: the low
                                  face, 1: the high one, 0: none): the run holds
