@@ -50,6 +50,7 @@ static const struct {
     {"ngf", group_ngf},
     {"time_scheme", group_time_scheme},
     {"slope_release", group_slope_release},
+    {"wall_shock", group_wall_shock},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 
