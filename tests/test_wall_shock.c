@@ -12,11 +12,11 @@
 
 /* The grid study (docs/validation/wall_shock.md), 0.45 s on 40 x 30,
  * 80 x 60 and 160 x 120 cells, measured (F = 1.47-1.48):
- *   h2 / h1 against the jump conditions (u2 = 0)  +0.45 %, -3.32 %, GRID3_RATIO
- *   the speed against them (u2 = 0)               -36.0 %, -33.3 %, GRID3_SPEED
+ *   h2 / h1 against the jump conditions (u2 = 0)  +0.45 %, -3.32 %, -3.80 %
+ *   the speed against them (u2 = 0)               -36.0 %, -33.3 %, -31.8 %
  *   the speed against the mass jump with the measured u2
- *                                                 +7.8 %, +4.0 %, GRID3_MASS
- *   u2 / u1 behind the shock                      GRID_U2
+ *                                                 +7.8 %, +4.0 %, +4.9 %
+ *   u2 / u1 behind the shock                      0.136, 0.137, 0.137
  * The grains behind the shock do not stop: the deposit's surface rises at
  * 0.10 towards the wall, less than the (tan zeta - mu_s) / K = 0.17 that
  * holds grains at rest, and they creep into the wall at u2 = 0.14 u1; the
