@@ -355,9 +355,11 @@ static void measure_state(const struct march_state *st, const double *T, const d
      * h1 the mean upstream of it, h2 the line behind it at it; the shock
      * where h crosses (h1 + h2) / 2 */
     int steep = -1;
-    for (int i = i0; i + 1 < n; i++)
-        if (h[i + 1] - h[i] > SEED_RISE * d && (steep < 0 || h[i + 1] - h[i] > h[steep + 1] - h[steep]))
+    for (int i = i0; i + 1 < n; i++) {
+        double rise = h[i + 1] - h[i];
+        if (rise > SEED_RISE * d && (steep < 0 || rise > h[steep + 1] - h[steep]))
             steep = i;
+    }
     double x = NAN, h1 = NAN, h2 = NAN;
     if (steep >= 0) {
         double xc = (steep + 1.0) * dx;
