@@ -1,6 +1,7 @@
 /* Scene "wall_shock": a uniform granular layer fed at the inflow (x = 0)
- * runs down a rough incline under air into an impenetrable wall at x = lx;
- * the grains stop against it and a shock travels back up the slope
+ * runs down a rough incline under a light fluid (air's density; the case's
+ * viscosity: cases/wall_shock.ini) into an impenetrable wall at x = lx; the
+ * grains stop against it and a shock travels back up the slope
  * (Barker & Rauter 2018, "Two-fluid regularised mu(I)-rheology with
  * OpenFOAM", sec. 4.3; cases/wall_shock.ini).  The feed, the uniform
  * layer's exact flow and the records are scenes/layer_feed.h's, as in the
@@ -116,14 +117,15 @@ static void defaults(void *block)
 
 SCENE_PARAMS(wall_shock_block, "wall_shock",
              "A uniform granular layer fed at the inflow (x = 0) runs down a rough incline "
-             "under air into a wall at x = `domain.lx`; a shock travels back up the slope "
+             "under a light fluid into a wall at x = `domain.lx`; a shock travels back up the "
+             "slope "
              "(Barker & Rauter 2018, sec. 4.3; `cases/wall_shock.ini`).  Its speed and depth "
              "ratio are compared with the jump conditions of the depth-averaged equations "
              "from the measured upstream depth and speed.  The scene needs `solver.mode = "
              "transient`, `boundary.xlo = inflow`, `xhi = wall`, `zlo = wall`, `zhi = open`, "
              "periodic y, `domain.ny = 1` and mu_s < tan(physics.tilt) < mu_s + delta_mu.  It "
-             "writes `wall_shock.csv` (every step: t, the shock, h1, h2, u1, the static "
-             "zone's length) and `heights.csv` (h(x) at the end).",
+             "writes `wall_shock.csv` (every step: t, the shock, h1, h2, u1, u2, the "
+             "static zone's length) and `heights.csv` (h(x) at the end).",
              struct wall_shock_params, wall_shock_keys, defaults)
 
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
@@ -572,8 +574,9 @@ static const char *const wall_shock_files[] = {"wall_shock.csv", "heights.csv", 
 
 const struct scene scene_wall_shock = {
     .name = "wall_shock",
-    .title = "a granular layer fed down an incline under air stops against a wall: the shock "
-             "up the slope against the depth-averaged jump conditions (Barker & Rauter 2018)",
+    .title = "a granular layer fed down an incline under a light fluid stops against a wall: "
+             "the shock up the slope against the depth-averaged jump conditions (Barker & "
+             "Rauter 2018)",
     .keys = &wall_shock_block,
     .modules = wall_shock_modules,
     .check = check,
