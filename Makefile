@@ -204,7 +204,7 @@ uninstall:
 ASAN_BUILD  = build/asan
 ASAN_FLAGS  = -O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer \
               -fno-sanitize-recover=all
-ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse front boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release mpi
+ASAN_GROUPS = rheology poisson multigrid case viscous heap io corpus vof architecture two_phase bedload collapse front boundary duct obstacle forces stretched scenes bingham cases depth_averaged ngf time_scheme slope_release mpi wall_shock
 ASAN_ENV    = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
               LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp
 # the tests run the plain build/muflow for their command-line checks (a

@@ -52,6 +52,7 @@ static const struct {
     {"time_scheme", group_time_scheme},
     {"slope_release", group_slope_release},
     {"mpi", group_mpi},
+    {"wall_shock", group_wall_shock},
 };
 #define NGROUPS (sizeof(groups) / sizeof(groups[0]))
 

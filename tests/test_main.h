@@ -62,5 +62,6 @@ void group_ngf(struct test_tally *t);
 void group_time_scheme(struct test_tally *t);
 void group_slope_release(struct test_tally *t);
 void group_mpi(struct test_tally *t);
+void group_wall_shock(struct test_tally *t);
 
 #endif

@@ -41,9 +41,9 @@
 #include "diagnostics/depth_averaged_exact.h"
 #include "march/module_record.h"
 #include "io/output.h"
-#include "kernels/rheology.h"
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
+#include "scenes/layer_feed.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
@@ -138,43 +138,24 @@ SCENE_PARAMS(front_block, "front",
 
 /* ---- the exact uniform layer and the depth-averaged front ---- */
 
-/* I of the uniform flow: the curve's inverse at tan(zeta) */
-static double uniform_i(const struct muflow_case *cs)
-{
-    return rheology_i_of_mu(&cs->rheo, tan(cs->tilt));
-}
-
-/* u(z) of the uniform two-layer flow of depth h under the open top at lz
- * (bagnold2's solution: the weight above as the stress, Bagnold in the
- * grains, the air's film above) */
-static double uniform_u(const struct muflow_case *cs, double h, double z)
+/* The uniform layer of the case (depth, air) */
+static struct layer_feed feed_of(const struct muflow_case *cs)
 {
     const struct front_params *p = params(cs);
-    const struct rheology *r = &cs->rheo;
-    double L = cs->len[2], rf = p->fluid_density, rg = cs->density, rs = r->grain_density;
-    double gc = cs->gravity * cos(cs->tilt), gs = cs->gravity * sin(cs->tilt);
-    double k = (2.0 * uniform_i(cs) / (3.0 * r->grain_diameter * rg)) * sqrt(gc / rs);
-    double zz = fmin(fmax(z, 0.0), h);
-    double P0 = rg * h + rf * (L - h), Pz = rg * (h - zz) + rf * (L - h);
-    double u = k * (P0 * sqrt(P0) - Pz * sqrt(Pz));
-    if (z > h)
-        u += (rf * gs / (2.0 * p->fluid_viscosity)) * ((L - h) * (L - h) - (L - z) * (L - z));
-    return u;
+    return (struct layer_feed){cs, p->depth, p->fluid_density, p->fluid_viscosity};
 }
 
-/* the grains' mean speed in the uniform layer of depth h (Gauss-Legendre,
- * 8 points on the smooth profile) */
+/* u(z) of the uniform two-layer flow of depth h, its grains' mean speed */
+static double uniform_u(const struct muflow_case *cs, double h, double z)
+{
+    struct layer_feed lf = feed_of(cs);
+    return layer_uniform_u(&lf, h, z);
+}
+
 static double uniform_mean(const struct muflow_case *cs, double h)
 {
-    static const double x[4] = {0.1834346424956498, 0.5255324099163290, 0.7966664774136267,
-                                0.9602898564975363};
-    static const double w[4] = {0.3626837833783620, 0.3137066458778873, 0.2223810344533745,
-                                0.1012285362903763};
-    double s = 0.0;
-    for (int m = 0; m < 4; m++)
-        s += w[m] * (uniform_u(cs, h, 0.5 * h * (1.0 - x[m])) +
-                     uniform_u(cs, h, 0.5 * h * (1.0 + x[m])));
-    return 0.5 * s;
+    struct layer_feed lf = feed_of(cs);
+    return layer_uniform_mean(&lf, h);
 }
 
 /* The speed of a front between the uniform layer of depth h_inf behind it
@@ -206,13 +187,6 @@ static double tip_level(const struct muflow_case *cs, double h_inf)
 {
     double hp = params(cs)->precursor * h_inf;
     return hp + TIP_SHARE * (h_inf - hp);
-}
-
-/* The inflow's normal velocity at the face centre x: the uniform layer's */
-static double inflow_shape(const void *ctx, int d, const double x[3])
-{
-    const struct muflow_case *cs = ctx;
-    return d == 0 ? uniform_u(cs, params(cs)->depth, x[2]) : 0.0;
 }
 
 /* ---- check ---- */
@@ -275,12 +249,15 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
 
 /* ---- the record: the front's positions at every step ---- */
 
+enum { S_T, S_TIP, S_HALF, S_VOL, S_RMS, NSERIES };
+static const char *const series_names[NSERIES] = {"t", "x_tip", "x_half", "grains_volume",
+                                                  "h_err_rms"};
+
 struct record {
-    double *t, *tip, *half, *vol, *rms;
-    long n, cap;
-    long last_step;
+    struct layer_series s; /* the columns S_* */
     double *h; /* column heights, work */
     struct da_front f; /* the exact front (setup makes sure there is one) */
+    struct layer_feed feed; /* the inflow's layer (the hook's context) */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -293,8 +270,9 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         snprintf(err, errlen, "front: out of memory");
         return -1;
     }
-    r->last_step = -1;
+    layer_series_init(&r->s, NSERIES, series_names);
     front_exact(st->cs, &r->f);
+    r->feed = feed_of(st->cs);
     *state = r;
     return 0;
 }
@@ -303,93 +281,30 @@ static void destroy(void *state)
 {
     struct record *r = state;
     if (r) {
-        free(r->t);
-        free(r->tip);
-        free(r->half);
-        free(r->vol);
-        free(r->rms);
+        layer_series_free(&r->s);
         free(r->h);
     }
     free(r);
 }
 
-#define NSERIES 5
-static const char *const series_names[NSERIES] = {"t", "x_tip", "x_half", "grains_volume",
-                                                  "h_err_rms"};
-
-static int reserve(struct record *r, long need)
-{
-    if (need <= r->cap)
-        return 0;
-    long c = r->cap ? 2 * r->cap : 1024;
-    while (c < need)
-        c *= 2;
-    double **a[NSERIES] = {&r->t, &r->tip, &r->half, &r->vol, &r->rms};
-    for (int m = 0; m < NSERIES; m++) {
-        double *b = realloc(*a[m], (size_t)c * sizeof **a[m]);
-        if (!b)
-            return -1;
-        *a[m] = b;
-    }
-    r->cap = c;
-    return 0;
-}
-
-/* The layer of depth h in column cells of height dz: the feed's T. */
-static double layer_fraction(double h, int k, double dz)
-{
-    return fmin(1.0, fmax(0.0, (h - k * dz) / dz));
-}
-
-/* The feed: the first column holds the uniform layer after every step (the
- * VOF brings only air in through an inflow face). */
+/* The feed: the first column holds the uniform layer after every step. */
 static void end_step(struct march_state *st, void *state, double dt)
 {
-    (void)state;
     (void)dt;
-    int t = fields_find(&st->fields, "tracer");
-    if (t < 0)
-        return;
-    double *T = st->fields.e[t].v[0];
-    const struct grid *g = &st->g;
-    double h = params(st->cs)->depth;
-    for (int j = 0; j < g->n[1]; j++)
-        for (int k = 0; k < g->n[2]; k++)
-            T[grid_idx(g, 0, j, k)] = layer_fraction(h, k, g->h[2]);
+    layer_feed_hold(st, &((struct record *)state)->feed);
 }
-
 
 static int save(const struct march_state *st, void *state, struct module_record *rec)
 {
     (void)st;
-    struct record *r = state;
-    double last = (double)r->last_step;
-    const double *v[NSERIES] = {r->t, r->tip, r->half, r->vol, r->rms};
-    int rc = module_record_put(rec, "last_step", &last, 1);
-    for (int m = 0; rc == 0 && m < NSERIES; m++)
-        rc = module_record_put(rec, series_names[m], v[m], r->n);
-    return rc;
+    return layer_series_save(&((struct record *)state)->s, rec);
 }
 
+/* the record covers the run from the initial front */
 static int load(struct march_state *st, void *state, struct module_record *rec)
 {
     (void)st;
-    struct record *r = state;
-    double last;
-    if (!rec) /* the record covers the run from the initial front */
-        return -1;
-    long n = module_record_count(rec, "t");
-    if (n < 0 || module_record_get(rec, "last_step", &last, 1) != 0)
-        return -1;
-    if (reserve(r, n > 0 ? n : 1) != 0)
-        return module_record_fail(rec, "out of memory for the record");
-    double *v[NSERIES] = {r->t, r->tip, r->half, r->vol, r->rms};
-    for (int m = 0; m < NSERIES; m++)
-        if (module_record_get(rec, series_names[m], v[m], n) != 0)
-            return -1;
-    r->n = n;
-    r->last_step = (long)last;
-    return 0;
+    return layer_series_load(&((struct record *)state)->s, rec);
 }
 
 static const struct module front_module = {
@@ -404,21 +319,6 @@ static const struct module front_module = {
 static struct record *record_of(const struct march_state *st)
 {
     return march_module_state(st, &front_module);
-}
-
-/* The last x, from downstream, where the column heights h (at the centres
- * (i + 1/2) dx) reach level; linear between the centres; 0 if none does. */
-static double crossing(const double *h, int n, double dx, double level)
-{
-    for (int i = n - 1; i >= 0; i--) {
-        if (h[i] < level)
-            continue;
-        double xc = (i + 0.5) * dx;
-        if (i == n - 1)
-            return xc;
-        return xc + dx * (h[i] - level) / (h[i] - h[i + 1]);
-    }
-    return 0.0;
 }
 
 /* xi of the exact front for column centre x, aligned at h_inf / 2 */
@@ -457,22 +357,22 @@ static int shape_error(const struct muflow_case *cs, const struct da_front *f,
 static int record_state(struct record *r, const struct march_state *st)
 {
     const double *T = collapse_tracer(st);
-    if (!T || st->step == r->last_step)
+    if (!T)
         return 0;
-    if (reserve(r, r->n + 1) != 0)
-        return -1;
+    int rc = layer_series_row(&r->s, st->step);
+    if (rc != 0)
+        return rc > 0 ? 0 : -1;
     const struct grid *g = &st->g;
-    double hi = r->f.h_inf, vol = 0.0, mx;
+    double hi = r->f.h_inf, vol = 0.0, mx, **v = r->s.v;
+    long n = r->s.n - 1;
     collapse_heights(g, T, r->h);
     for (int i = 0; i < g->n[0]; i++)
         vol += r->h[i] * g->h[0];
-    r->t[r->n] = st->time;
-    r->tip[r->n] = crossing(r->h, g->n[0], g->h[0], tip_level(st->cs, hi));
-    r->half[r->n] = crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
-    r->vol[r->n] = vol;
-    shape_error(st->cs, &r->f, g, r->h, r->half[r->n], 0.0, &r->rms[r->n], &mx);
-    r->n++;
-    r->last_step = st->step;
+    v[S_T][n] = st->time;
+    v[S_TIP][n] = layer_crossing(r->h, g->n[0], g->h[0], tip_level(st->cs, hi));
+    v[S_HALF][n] = layer_crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
+    v[S_VOL][n] = vol;
+    shape_error(st->cs, &r->f, g, r->h, v[S_HALF][n], 0.0, &v[S_RMS][n], &mx);
     return 0;
 }
 
@@ -521,22 +421,10 @@ struct front_measures {
 /* The least-squares slope of x_half(t) over the second half of the record. */
 static double speed_fit(const struct record *r)
 {
-    if (r->n < 4)
+    const struct layer_series *s = &r->s;
+    if (s->n < 4)
         return NAN;
-    double t0 = 0.5 * (r->t[0] + r->t[r->n - 1]);
-    double st = 0.0, sx = 0.0, stt = 0.0, stx = 0.0;
-    long m = 0;
-    for (long i = 0; i < r->n; i++) {
-        if (r->t[i] < t0)
-            continue;
-        st += r->t[i];
-        sx += r->half[i];
-        stt += r->t[i] * r->t[i];
-        stx += r->t[i] * r->half[i];
-        m++;
-    }
-    double den = m * stt - st * st;
-    return m >= 2 && den > 0.0 ? (m * stx - st * sx) / den : NAN;
+    return layer_series_slope(s, S_T, S_HALF, 0.5 * (s->v[S_T][0] + s->v[S_T][s->n - 1]));
 }
 
 static int column_behind(const struct da_front *f, const struct grid *g, int i, double x_half)
@@ -574,7 +462,7 @@ static void measure(const struct march_state *st, const struct record *r,
     const struct grid *g = &st->g;
     const struct da_front *f = &r->f;
     *m = (struct front_measures){.speed = speed_fit(r), .speed_exact = front_speed_exact(cs)};
-    double hi = f->h_inf, x_half = r->half[r->n - 1], hb = 0.0;
+    double hi = f->h_inf, x_half = r->s.v[S_HALF][r->s.n - 1], hb = 0.0;
     m->columns = shape_error(cs, f, g, r->h, x_half, 0.0, &m->h_rms, &m->h_max);
     shape_error(cs, f, g, r->h, x_half, NOSE_SHARE, &m->body_rms, &m->body_max);
     for (int i = 0; i < g->n[0]; i++)
@@ -583,7 +471,7 @@ static void measure(const struct march_state *st, const struct record *r,
             m->behind++;
         }
     m->h_behind = m->behind ? hb / m->behind : NAN;
-    m->nose = (r->tip[r->n - 1] - x_half -
+    m->nose = (r->s.v[S_TIP][r->s.n - 1] - x_half -
                (da_front_position(f, tip_level(cs, hi)) - da_front_position(f, 0.5 * hi))) / hi;
     double *u = malloc((size_t)g->n[2] * sizeof *u);
     m->u_surface = uniform_u(cs, hi, hi);
@@ -605,7 +493,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 {
     (void)d;
     const struct record *r = record_of(st);
-    if (!r || r->n == 0)
+    if (!r || r->s.n == 0)
         return;
     struct front_measures m;
     measure(st, r, &m);
@@ -615,8 +503,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "front_speed_error", "%.6e", m.speed / m.speed_exact - 1.0);
     run_result_add(res, "uniform_speed", "%.10g", uniform_mean(st->cs, r->f.h_inf));
     run_result_add(res, "front_speed_depth_averaged", "%.10g", uf);
-    run_result_add(res, "x_tip", "%.10g", r->tip[r->n - 1]);
-    run_result_add(res, "x_half", "%.10g", r->half[r->n - 1]);
+    run_result_add(res, "x_tip", "%.10g", r->s.v[S_TIP][r->s.n - 1]);
+    run_result_add(res, "x_half", "%.10g", r->s.v[S_HALF][r->s.n - 1]);
     run_result_add(res, "h_err_rms", "%.6e", m.h_rms);
     run_result_add(res, "h_err_max", "%.6e", m.h_max);
     run_result_add(res, "h_columns", "%d", m.columns);
@@ -637,7 +525,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
-    if (!r || r->n == 0)
+    if (!r || r->s.n == 0)
         return 0;
     const struct da_front f = r->f;
     const struct grid *g = &st->g;
@@ -645,12 +533,13 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (output_open(&o, dir, "front.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "t,x_tip,x_half,grains_volume,h_err_rms\n");
-    for (long m = 0; m < r->n; m++)
-        fprintf(o.f, "%.10g,%.10g,%.10g,%.16e,%.6e\n", r->t[m], r->tip[m], r->half[m], r->vol[m],
-                r->rms[m]);
+    const struct layer_series *s = &r->s;
+    for (long m = 0; m < s->n; m++)
+        fprintf(o.f, "%.10g,%.10g,%.10g,%.16e,%.6e\n", s->v[S_T][m], s->v[S_TIP][m],
+                s->v[S_HALF][m], s->v[S_VOL][m], s->v[S_RMS][m]);
     if (output_commit(&o, err, errlen) != 0)
         return -1;
-    double x_half = r->half[r->n - 1];
+    double x_half = r->s.v[S_HALF][r->s.n - 1];
     if (output_open(&o, dir, "shape.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "x,xi,h,h_exact\n");
@@ -684,22 +573,12 @@ static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct muflow_case *cs = st->cs;
     const struct front_params *p = params(cs);
-    double d = cs->rheo.grain_diameter;
-    const struct two_phase_params tp = {
-        .fluid_density = p->fluid_density,
-        .fluid_viscosity = p->fluid_viscosity,
-        .mixture = (enum mixture_law)p->mixture,
-        .transported = 1,
-        .eta_min = p->viscosity_floor * cs->density * d * sqrt(cs->gravity * d),
-        .eta_max = p->viscosity_floor > 0.0 ? HUGE_VAL : 0.0,
-        .step_cfl = p->vof_cfl,
-    };
-    double *T = two_phase_configure(st, &tp, err, errlen);
+    struct record *r = record_of(st);
+    double *T = layer_feed_configure(st, &r->feed, p->mixture, p->viscosity_floor, p->vof_cfl,
+                                     err, errlen);
     if (!T)
         return -1;
-    const struct da_front f = record_of(st)->f;
-    st->bc.inflow_shape = inflow_shape;
-    st->bc.inflow_ctx = cs;
+    const struct da_front f = r->f;
     const struct grid *g = &st->g;
     double L = cs->len[2], rf = p->fluid_density, gs = cs->gravity * sin(cs->tilt);
     double ubar = uniform_mean(cs, p->depth), film = rf * gs / (2.0 * p->fluid_viscosity);

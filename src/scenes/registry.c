@@ -25,7 +25,8 @@
     X(duct)                \
     X(cylinder)            \
     X(slope_release)       \
-    X(front)
+    X(front)               \
+    X(wall_shock)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

@@ -1,0 +1,79 @@
+/* A uniform granular layer under air fed at the inflow face x = 0 of a
+ * two-phase incline (scenes front and wall_shock; Barker & Rauter 2018,
+ * "Two-fluid regularised mu(I)-rheology with OpenFOAM", sec. 4): the exact
+ * uniform two-layer flow (Bagnold in the grains, the air's gravity-driven
+ * film above them under the open top), the feed column that holds it, the
+ * column heights' crossings, and the time series a scene records at every
+ * step (saved and restored with a checkpoint). */
+#ifndef MUFLOW_SCENES_LAYER_FEED_H
+#define MUFLOW_SCENES_LAYER_FEED_H
+
+#include "march/march.h"
+#include "march/module_record.h"
+#include "physics/two_phase.h"
+
+/* The layer: the case (its tilt, gravity, grains and box height lz) and
+ * the scene's depth and air.  A scene keeps it for the run: it is the
+ * inflow hook's context. */
+struct layer_feed {
+    const struct muflow_case *cs;
+    double depth;           /* the fed layer's depth */
+    double fluid_density;   /* rho_f of the air */
+    double fluid_viscosity; /* eta_f */
+};
+
+/* I of the uniform flow: the curve's inverse at tan(tilt). */
+double layer_uniform_i(const struct muflow_case *cs);
+
+/* u(z) of the uniform two-layer flow of depth h under the open top at lz
+ * (bagnold2's solution: the weight above as the stress, Bagnold in the
+ * grains, the air's film above). */
+double layer_uniform_u(const struct layer_feed *lf, double h, double z);
+
+/* The grains' mean speed in the uniform layer of depth h. */
+double layer_uniform_mean(const struct layer_feed *lf, double h);
+
+/* The share of cell k (height dz, from the base) under the level h. */
+double layer_fraction(double h, int k, double dz);
+
+/* The two_phase module configured for the layer (the grains' viscosity at
+ * least floor rho_g d sqrt(g d), the VOF's sweep CFL at most vof_cfl) and
+ * the inflow face's normal velocity set to the uniform layer's (ctx lf,
+ * which must outlive the run); T, or NULL with err. */
+double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf, int mixture,
+                             double floor, double vof_cfl, char *err, size_t errlen);
+
+/* The feed: the first column's T back to the layer of depth lf->depth
+ * (the VOF brings only air in through an inflow face).  Call after every
+ * step. */
+void layer_feed_hold(struct march_state *st, const struct layer_feed *lf);
+
+/* The last x, from downstream, where the column heights h (at the centres
+ * (i + 1/2) dx) reach level; linear between the centres; 0 if none does. */
+double layer_crossing(const double *h, int n, double dx, double level);
+
+/* Time series of up to LAYER_SERIES_MAX named columns, one row a step. */
+#define LAYER_SERIES_MAX 8
+struct layer_series {
+    int ncol;
+    const char *const *names;
+    double *v[LAYER_SERIES_MAX];
+    long n, cap;
+    long last_step; /* the step of the last row, -1 before any */
+};
+
+void layer_series_init(struct layer_series *s, int ncol, const char *const *names);
+void layer_series_free(struct layer_series *s);
+/* Room for need rows; 0 or -1 (out of memory). */
+int layer_series_reserve(struct layer_series *s, long need);
+/* A new row for step (its values set by the caller through v[m][n - 1]);
+ * 0, 1 if step is the last row's already, -1 out of memory. */
+int layer_series_row(struct layer_series *s, long step);
+int layer_series_save(const struct layer_series *s, struct module_record *rec);
+/* The series from rec (-1 if there is none: the record covers the run from
+ * its start). */
+int layer_series_load(struct layer_series *s, struct module_record *rec);
+/* The least-squares slope of column y against column x over rows with x >= x0. */
+double layer_series_slope(const struct layer_series *s, int x, int y, double x0);
+
+#endif
