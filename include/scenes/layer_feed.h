@@ -22,6 +22,14 @@ struct layer_feed {
     double fluid_viscosity; /* eta_f */
 };
 
+/* The checks a scene of a fed layer (scene names it) makes of the case:
+ * mu(I) in transient mode; the inflow at x = 0, face xhi at x = lx (its
+ * key's value xhi_name), a wall below, an open top, periodic y of one cell;
+ * a tilt whose uniform flow neither stops nor accelerates; the bulk density
+ * phi rho_s.  0, or 1 with the message naming the key. */
+int layer_feed_check(const struct muflow_case *c, const char *scene, enum bc_kind xhi,
+                     const char *xhi_name, char *msg, size_t msglen);
+
 /* I of the uniform flow: the curve's inverse at tan(tilt). */
 double layer_uniform_i(const struct muflow_case *cs);
 

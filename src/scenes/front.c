@@ -44,6 +44,7 @@
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
 #include "scenes/layer_feed.h"
+#include "scenes/recorded_drive.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
@@ -194,27 +195,8 @@ static double tip_level(const struct muflow_case *cs, double h_inf)
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct front_params *p = params(c);
-    const struct boundary *b = &c->bc;
-    if (c->rheo.law != LAW_MUI || c->mode != MODE_TRANSIENT) {
-        snprintf(msg, msglen, "case.scene = front needs rheology.law = mui and solver.mode = "
-                              "transient");
+    if (layer_feed_check(c, "front", BC_OPEN, "open", msg, msglen))
         return 1;
-    }
-    if (b->face[0][0] != BC_INFLOW || b->face[0][1] != BC_OPEN || b->face[2][0] != BC_WALL ||
-        b->face[2][1] != BC_OPEN || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
-        snprintf(msg, msglen, "case.scene = front needs boundary.xlo = inflow, boundary.xhi = "
-                              "open, boundary.zlo = wall, boundary.zhi = open, boundary.ylo = "
-                              "boundary.yhi = periodic and domain.ny = 1");
-        return 1;
-    }
-    double t = tan(c->tilt), lo = c->rheo.mu_s, hi = c->rheo.mu_s + c->rheo.delta_mu;
-    if (!(t > lo && t < hi)) {
-        snprintf(msg, msglen, "physics.tilt = %s: tan(physics.tilt) = %.6g must be in "
-                              "(rheology.mu_s, rheology.mu_s + rheology.delta_mu) = (%.6g, %.6g): "
-                              "a uniform flow that neither stops nor accelerates",
-                 num_text(c->tilt).s, t, lo, hi);
-        return 1;
-    }
     /* the depth-averaged friction of a Bagnold layer is Pouliquen's form
      * (the closed-form front) only for the jop curve's high-I branch */
     if (c->rheo.curve == CURVE_BARKER_GRAY && c->rheo.mu_inf != 0.0) {
@@ -235,13 +217,6 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         snprintf(msg, msglen, "front.tip = %s: must be in (%.6g, %s): past the feed's column "
                               "and inside domain.lx",
                  num_text(p->tip).s, 2.0 * dx, num_text(c->len[0]).s);
-        return 1;
-    }
-    double rg = c->rheo.phi * c->rheo.grain_density;
-    if (fabs(c->density - rg) > 1e-12 * rg) {
-        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
-                              "rheology.phi * rheology.grain_density = %.10g",
-                 num_text(c->density).s, rg);
         return 1;
     }
     return 0;
@@ -378,31 +353,17 @@ static int record_state(struct record *r, const struct march_state *st)
 
 /* ---- the driver: the march, recorded ---- */
 
-struct drive_ctx {
-    struct scene_drive *d;
-    int failed;
-};
-
-static int observe(void *vctx, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
-    struct drive_ctx *c = vctx;
-    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
-    if (record_state(record_of(st), st) != 0) {
-        c->failed = 1;
-        return 1;
-    }
-    return stop;
+    return record_state(rec, st);
 }
 
 static int drive(struct scene_drive *d)
 {
-    struct drive_ctx c = {.d = d};
-    march_run(d->st, observe, &c);
-    if (c.failed) {
-        d->st->status = STATUS_STOPPED;
-        snprintf(d->st->message, sizeof d->st->message,
-                 "out of memory for the front's record at step %ld", d->st->step);
-    }
+    struct recorded_drive rd = {.record_step = record_step,
+                                .rec = record_of(d->st),
+                                .record_name = "the front's record"};
+    recorded_drive_run(d, &rd);
     return 0;
 }
 

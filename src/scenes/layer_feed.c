@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include "kernels/rheology.h"
 #include "scenes/layer_feed.h"
+#include "platform/num_text.h"
 
 double layer_uniform_i(const struct muflow_case *cs)
 {
@@ -185,4 +186,41 @@ double layer_series_slope(const struct layer_series *s, int x, int y, double x0)
     }
     double den = m * stt - st * st;
     return m >= 2 && den > 0.0 ? (m * stx - st * sx) / den : NAN;
+}
+
+int layer_feed_check(const struct muflow_case *c, const char *scene, enum bc_kind xhi,
+                     const char *xhi_name,
+                     char *msg, size_t msglen)
+{
+    const struct boundary *b = &c->bc;
+    if (c->rheo.law != LAW_MUI || c->mode != MODE_TRANSIENT) {
+        snprintf(msg, msglen, "case.scene = %s needs rheology.law = mui and solver.mode = "
+                              "transient",
+                 scene);
+        return 1;
+    }
+    if (b->face[0][0] != BC_INFLOW || b->face[0][1] != xhi || b->face[2][0] != BC_WALL ||
+        b->face[2][1] != BC_OPEN || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        snprintf(msg, msglen, "case.scene = %s needs boundary.xlo = inflow, boundary.xhi = %s, "
+                              "boundary.zlo = wall, boundary.zhi = open, boundary.ylo = "
+                              "boundary.yhi = periodic and domain.ny = 1",
+                 scene, xhi_name);
+        return 1;
+    }
+    double t = tan(c->tilt), lo = c->rheo.mu_s, hi = c->rheo.mu_s + c->rheo.delta_mu;
+    if (!(t > lo && t < hi)) {
+        snprintf(msg, msglen, "physics.tilt = %s: tan(physics.tilt) = %.6g must be in "
+                              "(rheology.mu_s, rheology.mu_s + rheology.delta_mu) = (%.6g, %.6g): "
+                              "a uniform flow that neither stops nor accelerates",
+                 num_text(c->tilt).s, t, lo, hi);
+        return 1;
+    }
+    double rg = c->rheo.phi * c->rheo.grain_density;
+    if (fabs(c->density - rg) > 1e-12 * rg) {
+        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
+                              "rheology.phi * rheology.grain_density = %.10g",
+                 num_text(c->density).s, rg);
+        return 1;
+    }
+    return 0;
 }

@@ -38,6 +38,7 @@
 #include "physics/two_phase.h"
 #include "scenes/collapse.h"
 #include "scenes/layer_feed.h"
+#include "scenes/recorded_drive.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
@@ -131,27 +132,8 @@ SCENE_PARAMS(wall_shock_block, "wall_shock",
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct wall_shock_params *p = params(c);
-    const struct boundary *b = &c->bc;
-    if (c->rheo.law != LAW_MUI || c->mode != MODE_TRANSIENT) {
-        snprintf(msg, msglen, "case.scene = wall_shock needs rheology.law = mui and "
-                              "solver.mode = transient");
+    if (layer_feed_check(c, "wall_shock", BC_WALL, "wall", msg, msglen))
         return 1;
-    }
-    if (b->face[0][0] != BC_INFLOW || b->face[0][1] != BC_WALL || b->face[2][0] != BC_WALL ||
-        b->face[2][1] != BC_OPEN || b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
-        snprintf(msg, msglen, "case.scene = wall_shock needs boundary.xlo = inflow, "
-                              "boundary.xhi = wall, boundary.zlo = wall, boundary.zhi = open, "
-                              "boundary.ylo = boundary.yhi = periodic and domain.ny = 1");
-        return 1;
-    }
-    double t = tan(c->tilt), lo = c->rheo.mu_s, hi = c->rheo.mu_s + c->rheo.delta_mu;
-    if (!(t > lo && t < hi)) {
-        snprintf(msg, msglen, "physics.tilt = %s: tan(physics.tilt) = %.6g must be in "
-                              "(rheology.mu_s, rheology.mu_s + rheology.delta_mu) = (%.6g, %.6g): "
-                              "a uniform flow that neither stops nor accelerates",
-                 num_text(c->tilt).s, t, lo, hi);
-        return 1;
-    }
     double dz = c->len[2] / c->n[2];
     if (!(scene_at_least_a_cell(p->depth, 2.0 * dz) &&
           scene_at_least_a_cell(c->len[2] - p->depth, 3.0 * dz))) {
@@ -165,13 +147,6 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
                               "the feed, the upstream columns, the shock and the layer behind "
                               "it)",
                  num_text(c->len[0]).s, MIN_LENGTH * p->depth, MIN_LENGTH);
-        return 1;
-    }
-    double rg = c->rheo.phi * c->rheo.grain_density;
-    if (fabs(c->density - rg) > 1e-12 * rg) {
-        snprintf(msg, msglen, "physics.density = %s: the grains' bulk density must be "
-                              "rheology.phi * rheology.grain_density = %.10g",
-                 num_text(c->density).s, rg);
         return 1;
     }
     return 0;
@@ -414,31 +389,17 @@ static int record_state(struct record *r, const struct march_state *st)
 
 /* ---- the driver ---- */
 
-struct drive_ctx {
-    struct scene_drive *d;
-    int failed;
-};
-
-static int observe(void *vctx, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
-    struct drive_ctx *c = vctx;
-    int stop = c->d->observe ? c->d->observe(c->d->observe_ctx, st) : 0;
-    if (record_state(record_of(st), st) != 0) {
-        c->failed = 1;
-        return 1;
-    }
-    return stop;
+    return record_state(rec, st);
 }
 
 static int drive(struct scene_drive *d)
 {
-    struct drive_ctx c = {.d = d};
-    march_run(d->st, observe, &c);
-    if (c.failed) {
-        d->st->status = STATUS_STOPPED;
-        snprintf(d->st->message, sizeof d->st->message,
-                 "out of memory for the wall shock's record at step %ld", d->st->step);
-    }
+    struct recorded_drive rd = {.record_step = record_step,
+                                .rec = record_of(d->st),
+                                .record_name = "the wall shock's record"};
+    recorded_drive_run(d, &rd);
     return 0;
 }
 
