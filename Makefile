@@ -282,6 +282,7 @@ bench: deps bench-deps
 	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive $(BUILD)/bench_multigrid $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bagnold2_study.py $(BUILD)/muflow $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/bedload_study.py $(BUILD)/muflow $(BENCH_OUT)
+	OMP_NUM_THREADS=2 OMP_WAIT_POLICY=passive /usr/bin/python3 bench/scene_times.py $(BUILD)/muflow $(BENCH_OUT)
 	/usr/bin/python3 bench/report.py $(BENCH_OUT)
 
 # Threads on a busy machine: every case file (the long ones bounded: see the

@@ -553,7 +553,10 @@ for name, title, png in [
          None),
         ("amg_table.md", "Preconditioners of the implicit step on whole steady solves "
          "(last `make bench-amg`)", None),
-        ("bagnold3d.md", "A 3D steady flow of a million cells (last `make bench-3d`)", None)]:
+        ("bagnold3d.md", "A 3D steady flow of a million cells (last `make bench-3d`)", None),
+        ("scene_times.md", "The scenes beside the depth-averaged model: whole runs", None),
+        ("scaling.md", "The implicit step's cost against the grid (last `make bench-scaling`)",
+         None)]:
     path = os.path.join(OUT, name)
     if os.path.exists(path):
         md.append(f"## {title}\n")
