@@ -48,6 +48,8 @@ static void test_coarse_front(void **state)
     assert_true(mx < H_MAX_TOL);
     assert_true(body < BODY_MAX_TOL);
     assert_true(prof < PROFILE_TOL);
+    /* matrix-free by default: no grid-sized matrix probed or factorised */
+    assert_true(run_result_value(&r, "grid_matrices") == 0.0);
 }
 
 static void test_bad_input(void **state)

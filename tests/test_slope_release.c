@@ -102,6 +102,8 @@ static void test_release_to_rest(void **state)
     assert_true(run_result_value(&r, "tracer_min") > -BOUND_TOL);
     assert_true(run_result_value(&r, "tracer_max_minus_1") < BOUND_TOL);
     assert_true(isfinite(rest) && isfinite(da_rest));
+    /* matrix-free by default: no grid-sized matrix probed or factorised */
+    assert_true(run_result_value(&r, "grid_matrices") == 0.0);
     assert_true(fabs((da - run_out) - GAP_FINE) < GAP_TOL);
 }
 

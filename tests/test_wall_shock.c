@@ -53,6 +53,8 @@ static void test_coarse_shock(void **state)
     assert_true(fabs(mass) < MASS_TOL);
     assert_true(speed > SPEED_LO && speed < SPEED_HI);
     assert_true(u2 > U2_LO && u2 < U2_HI);
+    /* matrix-free by default: no grid-sized matrix probed or factorised */
+    assert_true(run_result_value(&r, "grid_matrices") == 0.0);
 }
 
 static void test_bad_input(void **state)
