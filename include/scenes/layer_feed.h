@@ -84,4 +84,18 @@ int layer_series_load(struct layer_series *s, struct module_record *rec);
 /* The least-squares slope of column y against column x over rows with x >= x0. */
 double layer_series_slope(const struct layer_series *s, int x, int y, double x0);
 
+/* The head of a fed-layer scene's module state, its first member, so that
+ * the hooks below take the state as the march hands it: the step record
+ * and the feed. */
+struct layer_record {
+    struct layer_series s;
+    struct layer_feed feed;
+};
+/* The module hooks of such a state: the feed held after every step
+ * (layer_feed_hold); the record saved into and loaded from the checkpoint
+ * (a checkpoint without it: -1, the record covers the run from its start). */
+void layer_record_end_step(struct march_state *st, void *state, double dt);
+int layer_record_save(const struct march_state *st, void *state, struct module_record *rec);
+int layer_record_load(struct march_state *st, void *state, struct module_record *rec);
+
 #endif

@@ -229,10 +229,9 @@ static const char *const series_names[NSERIES] = {"t", "x_tip", "x_half", "grain
                                                   "h_err_rms"};
 
 struct record {
-    struct layer_series s; /* the columns S_* */
-    double *h; /* column heights, work */
-    struct da_front f; /* the exact front (setup makes sure there is one) */
-    struct layer_feed feed; /* the inflow's layer (the hook's context) */
+    struct layer_record base; /* the columns S_*, the inflow's layer (the hook's context) */
+    double *h;                /* column heights, work */
+    struct da_front f;        /* the exact front (setup makes sure there is one) */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -245,9 +244,9 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         snprintf(err, errlen, "front: out of memory");
         return -1;
     }
-    layer_series_init(&r->s, NSERIES, series_names);
+    layer_series_init(&r->base.s, NSERIES, series_names);
     front_exact(st->cs, &r->f);
-    r->feed = feed_of(st->cs);
+    r->base.feed = feed_of(st->cs);
     *state = r;
     return 0;
 }
@@ -256,38 +255,18 @@ static void destroy(void *state)
 {
     struct record *r = state;
     if (r) {
-        layer_series_free(&r->s);
+        layer_series_free(&r->base.s);
         free(r->h);
     }
     free(r);
 }
 
-/* The feed: the first column holds the uniform layer after every step. */
-static void end_step(struct march_state *st, void *state, double dt)
-{
-    (void)dt;
-    layer_feed_hold(st, &((struct record *)state)->feed);
-}
-
-static int save(const struct march_state *st, void *state, struct module_record *rec)
-{
-    (void)st;
-    return layer_series_save(&((struct record *)state)->s, rec);
-}
-
-/* the record covers the run from the initial front */
-static int load(struct march_state *st, void *state, struct module_record *rec)
-{
-    (void)st;
-    return layer_series_load(&((struct record *)state)->s, rec);
-}
-
 static const struct module front_module = {
     .name = "front",
     .create = create,
-    .end_step = end_step,
-    .save = save,
-    .load = load,
+    .end_step = layer_record_end_step,
+    .save = layer_record_save,
+    .load = layer_record_load,
     .destroy = destroy,
 };
 
@@ -334,12 +313,12 @@ static int record_state(struct record *r, const struct march_state *st)
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
-    int rc = layer_series_row(&r->s, st->step);
+    int rc = layer_series_row(&r->base.s, st->step);
     if (rc != 0)
         return rc > 0 ? 0 : -1;
     const struct grid *g = &st->g;
-    double hi = r->f.h_inf, vol = 0.0, mx, **v = r->s.v;
-    long n = r->s.n - 1;
+    double hi = r->f.h_inf, vol = 0.0, mx, **v = r->base.s.v;
+    long n = r->base.s.n - 1;
     collapse_heights(g, T, r->h);
     for (int i = 0; i < g->n[0]; i++)
         vol += r->h[i] * g->h[0];
@@ -382,7 +361,7 @@ struct front_measures {
 /* The least-squares slope of x_half(t) over the second half of the record. */
 static double speed_fit(const struct record *r)
 {
-    const struct layer_series *s = &r->s;
+    const struct layer_series *s = &r->base.s;
     if (s->n < 4)
         return NAN;
     return layer_series_slope(s, S_T, S_HALF, 0.5 * (s->v[S_T][0] + s->v[S_T][s->n - 1]));
@@ -423,7 +402,7 @@ static void measure(const struct march_state *st, const struct record *r,
     const struct grid *g = &st->g;
     const struct da_front *f = &r->f;
     *m = (struct front_measures){.speed = speed_fit(r), .speed_exact = front_speed_exact(cs)};
-    double hi = f->h_inf, x_half = r->s.v[S_HALF][r->s.n - 1], hb = 0.0;
+    double hi = f->h_inf, x_half = r->base.s.v[S_HALF][r->base.s.n - 1], hb = 0.0;
     m->columns = shape_error(cs, f, g, r->h, x_half, 0.0, &m->h_rms, &m->h_max);
     shape_error(cs, f, g, r->h, x_half, NOSE_SHARE, &m->body_rms, &m->body_max);
     for (int i = 0; i < g->n[0]; i++)
@@ -432,7 +411,7 @@ static void measure(const struct march_state *st, const struct record *r,
             m->behind++;
         }
     m->h_behind = m->behind ? hb / m->behind : NAN;
-    m->nose = (r->s.v[S_TIP][r->s.n - 1] - x_half -
+    m->nose = (r->base.s.v[S_TIP][r->base.s.n - 1] - x_half -
                (da_front_position(f, tip_level(cs, hi)) - da_front_position(f, 0.5 * hi))) / hi;
     double *u = malloc((size_t)g->n[2] * sizeof *u);
     m->u_surface = uniform_u(cs, hi, hi);
@@ -454,7 +433,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 {
     (void)d;
     const struct record *r = record_of(st);
-    if (!r || r->s.n == 0)
+    if (!r || r->base.s.n == 0)
         return;
     struct front_measures m;
     measure(st, r, &m);
@@ -464,8 +443,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "front_speed_error", "%.6e", m.speed / m.speed_exact - 1.0);
     run_result_add(res, "uniform_speed", "%.10g", uniform_mean(st->cs, r->f.h_inf));
     run_result_add(res, "front_speed_depth_averaged", "%.10g", uf);
-    run_result_add(res, "x_tip", "%.10g", r->s.v[S_TIP][r->s.n - 1]);
-    run_result_add(res, "x_half", "%.10g", r->s.v[S_HALF][r->s.n - 1]);
+    run_result_add(res, "x_tip", "%.10g", r->base.s.v[S_TIP][r->base.s.n - 1]);
+    run_result_add(res, "x_half", "%.10g", r->base.s.v[S_HALF][r->base.s.n - 1]);
     run_result_add(res, "h_err_rms", "%.6e", m.h_rms);
     run_result_add(res, "h_err_max", "%.6e", m.h_max);
     run_result_add(res, "h_columns", "%d", m.columns);
@@ -486,7 +465,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
-    if (!r || r->s.n == 0)
+    if (!r || r->base.s.n == 0)
         return 0;
     const struct da_front f = r->f;
     const struct grid *g = &st->g;
@@ -494,13 +473,13 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (output_open(&o, dir, "front.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "t,x_tip,x_half,grains_volume,h_err_rms\n");
-    const struct layer_series *s = &r->s;
+    const struct layer_series *s = &r->base.s;
     for (long m = 0; m < s->n; m++)
         fprintf(o.f, "%.10g,%.10g,%.10g,%.16e,%.6e\n", s->v[S_T][m], s->v[S_TIP][m],
                 s->v[S_HALF][m], s->v[S_VOL][m], s->v[S_RMS][m]);
     if (output_commit(&o, err, errlen) != 0)
         return -1;
-    double x_half = r->s.v[S_HALF][r->s.n - 1];
+    double x_half = r->base.s.v[S_HALF][r->base.s.n - 1];
     if (output_open(&o, dir, "shape.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "x,xi,h,h_exact\n");
@@ -535,7 +514,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     const struct muflow_case *cs = st->cs;
     const struct front_params *p = params(cs);
     struct record *r = record_of(st);
-    double *T = layer_feed_configure(st, &r->feed, p->mixture, p->viscosity_floor, p->vof_cfl,
+    double *T = layer_feed_configure(st, &r->base.feed, p->mixture, p->viscosity_floor, p->vof_cfl,
                                      err, errlen);
     if (!T)
         return -1;

@@ -224,3 +224,21 @@ int layer_feed_check(const struct muflow_case *c, const char *scene, enum bc_kin
     }
     return 0;
 }
+
+void layer_record_end_step(struct march_state *st, void *state, double dt)
+{
+    (void)dt;
+    layer_feed_hold(st, &((struct layer_record *)state)->feed);
+}
+
+int layer_record_save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    return layer_series_save(&((struct layer_record *)state)->s, rec);
+}
+
+int layer_record_load(struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    return layer_series_load(&((struct layer_record *)state)->s, rec);
+}

@@ -179,9 +179,8 @@ static const char *const series_names[NSERIES] = {"t", "x_shock", "h1", "h2", "u
                                                   "static_length"};
 
 struct record {
-    struct layer_series s;
-    double *h, *q;          /* column heights and grains' fluxes, work */
-    struct layer_feed feed; /* the inflow's layer (the hook's context) */
+    struct layer_record base; /* the columns S_*, the inflow's layer (the hook's context) */
+    double *h, *q;            /* column heights and grains' fluxes, work */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -201,8 +200,8 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     const struct wall_shock_params *p = params(st->cs);
-    layer_series_init(&r->s, NSERIES, series_names);
-    r->feed = (struct layer_feed){st->cs, p->depth, p->fluid_density, p->fluid_viscosity};
+    layer_series_init(&r->base.s, NSERIES, series_names);
+    r->base.feed = (struct layer_feed){st->cs, p->depth, p->fluid_density, p->fluid_viscosity};
     *state = r;
     return 0;
 }
@@ -211,37 +210,19 @@ static void destroy(void *state)
 {
     struct record *r = state;
     if (r) {
-        layer_series_free(&r->s);
+        layer_series_free(&r->base.s);
         free(r->h);
         free(r->q);
     }
     free(r);
 }
 
-static void end_step(struct march_state *st, void *state, double dt)
-{
-    (void)dt;
-    layer_feed_hold(st, &((struct record *)state)->feed);
-}
-
-static int save(const struct march_state *st, void *state, struct module_record *rec)
-{
-    (void)st;
-    return layer_series_save(&((struct record *)state)->s, rec);
-}
-
-static int load(struct march_state *st, void *state, struct module_record *rec)
-{
-    (void)st;
-    return layer_series_load(&((struct record *)state)->s, rec);
-}
-
 static const struct module wall_shock_module = {
     .name = "wall_shock",
     .create = create,
-    .end_step = end_step,
-    .save = save,
-    .load = load,
+    .end_step = layer_record_end_step,
+    .save = layer_record_save,
+    .load = layer_record_load,
     .destroy = destroy,
 };
 
@@ -369,14 +350,14 @@ static int record_state(struct record *r, const struct march_state *st)
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
-    int rc = layer_series_row(&r->s, st->step);
+    int rc = layer_series_row(&r->base.s, st->step);
     if (rc != 0)
         return rc > 0 ? 0 : -1;
     struct shock_state s;
     collapse_heights(&st->g, T, r->h);
     measure_state(st, T, r->h, r->q, &s);
-    double **v = r->s.v;
-    long n = r->s.n - 1;
+    double **v = r->base.s.v;
+    long n = r->base.s.n - 1;
     v[S_T][n] = st->time;
     v[S_SHOCK][n] = s.x_shock;
     v[S_H1][n] = s.h1;
@@ -419,7 +400,7 @@ struct shock_measures {
 static void measure(const struct march_state *st, const struct record *r,
                     struct shock_measures *m)
 {
-    const struct layer_series *s = &r->s;
+    const struct layer_series *s = &r->base.s;
     const struct muflow_case *cs = st->cs;
     double t0 = 0.5 * (s->v[S_T][0] + s->v[S_T][s->n - 1]);
     *m = (struct shock_measures){.speed = -layer_series_slope(s, S_T, S_SHOCK, t0)};
@@ -451,7 +432,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 {
     (void)d;
     const struct record *r = record_of(st);
-    if (!r || r->s.n == 0)
+    if (!r || r->base.s.n == 0)
         return;
     struct shock_measures m;
     measure(st, r, &m);
@@ -468,8 +449,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "h1", "%.10g", m.h1);
     run_result_add(res, "u1", "%.10g", m.u1);
     run_result_add(res, "u2_over_u1", "%.6e", m.u2 / m.u1);
-    run_result_add(res, "uniform_speed", "%.10g", layer_uniform_mean(&r->feed, d0));
-    run_result_add(res, "x_shock", "%.10g", r->s.v[S_SHOCK][r->s.n - 1]);
+    run_result_add(res, "uniform_speed", "%.10g", layer_uniform_mean(&r->base.feed, d0));
+    run_result_add(res, "x_shock", "%.10g", r->base.s.v[S_SHOCK][r->base.s.n - 1]);
     run_result_add(res, "static_length", "%.10g", m.static_length / d0);
     run_result_add(res, "fit_rows", "%d", m.rows);
     snprintf(res->scene_line, sizeof res->scene_line,
@@ -484,9 +465,9 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
-    if (!r || r->s.n == 0)
+    if (!r || r->base.s.n == 0)
         return 0;
-    const struct layer_series *s = &r->s;
+    const struct layer_series *s = &r->base.s;
     struct output_file o;
     if (output_open(&o, dir, "wall_shock.csv", err, errlen) != 0)
         return -1;
@@ -511,7 +492,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct wall_shock_params *p = params(st->cs);
     struct record *r = record_of(st);
-    double *T = layer_feed_configure(st, &r->feed, p->mixture, p->viscosity_floor, p->vof_cfl,
+    double *T = layer_feed_configure(st, &r->base.feed, p->mixture, p->viscosity_floor, p->vof_cfl,
                                      err, errlen);
     if (!T)
         return -1;
@@ -520,7 +501,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
         for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
             for (int k = 0; k < g->n[2]; k++) {
                 /* the wall's face at rest; the rest the uniform flow */
-                double u = i >= g->n[0] ? 0.0 : layer_uniform_u(&r->feed, p->depth,
+                double u = i >= g->n[0] ? 0.0 : layer_uniform_u(&r->base.feed, p->depth,
                                                                (k + 0.5) * g->h[2]);
                 st->field.velocity[0][grid_idx(g, i, j, k)] = u;
                 if (i >= 0 && i < g->n[0])
