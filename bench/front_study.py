@@ -8,8 +8,10 @@ Runs cases/front.ini through the muflow command (the caller's
 OMP_NUM_THREADS, 2 in `make bench-front`) at NZ cells over the box's height
 (default 10 15 24; nx = 50 nz / 3, the case's cell shape), and writes
 OUTDIR/front_table.md (front speed and its error against the uniform
-layer's mean speed, h(x) rms and max error over the front's length, the
-depth behind, the nose's offset, the profile behind, wall time, steps),
+layer's mean speed, h(x) rms and max error over the front's length, over
+its body, over its nose by the depth and by the T = 1/2 contour, the depth
+behind, the tip's offset, the profile behind, the precursor's flux against
+its uniform flow's, wall time, steps),
 front_runs.csv and the plot front_compare.png: h(xi) in the front's frame
 beside the closed form, x_half(t) and the error's history, the velocity
 profile behind the front beside Bagnold's."""
@@ -26,10 +28,12 @@ from summary_ini import summary
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, "..", "cases", "front.ini")
+DEPTH = 1.43e-3  # front.depth, h_inf
 KEYS = ["front_speed", "front_speed_exact", "front_speed_error", "uniform_speed",
         "front_speed_depth_averaged", "h_err_rms", "h_err_max", "h_columns", "h_err_rms_body",
-        "h_err_max_body", "h_behind_error", "nose_offset", "profile_err_rms", "steps",
-        "wall_seconds", "status"]
+        "h_err_max_body", "h_behind_error", "nose_offset", "profile_err_rms", "precursor_flux",
+        "precursor_flux_exact", "steps", "wall_seconds", "status"]
+NOSE_SHARE = 0.25  # the nose: where the exact depth is below this share of h_inf (front.c)
 
 
 def columns(path):
@@ -54,19 +58,34 @@ def run(muflow, outdir, nz, overrides):
     return r
 
 
+def nose_errors(shape, depth):
+    """The largest |h - h_exact| and |h_contour - h_exact| over the nose (the
+    exact depth below NOSE_SHARE h_inf, behind the exact tip), in h_inf: the
+    integrated depth and the T = 1/2 contour, to tell the VOF's smearing
+    from the shape."""
+    rows = [i for i, xi in enumerate(shape["xi"])
+            if xi <= 0 and shape["h_exact"][i] < NOSE_SHARE * depth]
+    err = lambda k: max(abs(shape[k][i] - shape["h_exact"][i]) for i in rows) / depth
+    return err("h"), err("h_contour")
+
+
 def table(runs, path):
     with open(path, "w") as f:
-        f.write("| grid | front speed (m/s) | error | h rms / max | body rms / max | depth "
-                "behind | nose (h_inf) | profile rms | steps | wall (s) |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|\n")
+        f.write("| grid | front speed (m/s) | error | h rms / max | body rms / max | nose max: "
+                "h / contour | depth behind | tip (h_inf) | profile rms | precursor flux / "
+                "exact | steps | wall (s) |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in runs:
             pc = lambda k: 100 * float(r[k])
-            f.write("| %d x %d | %.5f | %+.2f %% | %.2f / %.2f %% | %.2f / %.2f %% | %+.2f %% | "
-                    "%+.2f | %.2f %% | %s | %.0f |\n" % (
+            nose_h, nose_c = nose_errors(r["shape"], DEPTH)
+            f.write("| %d x %d | %.5f | %+.2f %% | %.2f / %.2f %% | %.2f / %.2f %% | %.1f / %.1f %% "
+                    "| %+.2f %% | %+.2f | %.2f %% | %.2f | %s | %.0f |\n" % (
                         r["nx"], r["nz"], float(r["front_speed"]), pc("front_speed_error"),
                         pc("h_err_rms"), pc("h_err_max"), pc("h_err_rms_body"),
-                        pc("h_err_max_body"), pc("h_behind_error"), float(r["nose_offset"]),
-                        pc("profile_err_rms"), r["steps"], float(r["wall_seconds"])))
+                        pc("h_err_max_body"), 100 * nose_h, 100 * nose_c, pc("h_behind_error"),
+                        float(r["nose_offset"]), pc("profile_err_rms"),
+                        float(r["precursor_flux"]) / float(r["precursor_flux_exact"]),
+                        r["steps"], float(r["wall_seconds"])))
         r = runs[0]
         f.write("\nfront speed by mass conservation %.6f m/s; the uniform layer's mean %.6f m/s; "
                 "the depth-averaged front's u_f %.6f m/s\n"
@@ -117,7 +136,7 @@ def main():
         f.write("nx,nz," + ",".join(KEYS) + "\n")
         for r in runs:
             f.write("%d,%d,%s\n" % (r["nx"], r["nz"], ",".join(str(r[k]) for k in KEYS)))
-    plot(runs, os.path.join(outdir, "front_compare.png"), 1.43e-3)
+    plot(runs, os.path.join(outdir, "front_compare.png"), DEPTH)
     with open(os.path.join(outdir, "front_table.md")) as f:
         print(f.read())
 

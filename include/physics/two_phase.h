@@ -56,6 +56,13 @@ struct two_phase_params {
      * flow carries their weight (bagnold2): a cut edge's phases carry the
      * stress and pressure of their own part of its link (series edges) */
     int layered;
+    /* 1: the grains' viscosity on the edges of a no-slip bed at z = 0 at the
+     * bed's hydrostatic pressure (each of the two cells above it: its
+     * pressure plus its mixture's weight over half a cell), not the core's
+     * from a ghost pressure extrapolated linearly from the two cells above
+     * the bed, which across the grains' surface of a layer one or two cells
+     * deep takes the air's pressure slope for the grains' */
+    int bed_pressure;
 };
 
 extern const struct module two_phase_module;

@@ -45,11 +45,13 @@ double layer_uniform_mean(const struct layer_feed *lf, double h);
 double layer_fraction(double h, int k, double dz);
 
 /* The two_phase module configured for the layer (the grains' viscosity at
- * least floor rho_g d sqrt(g d), the VOF's sweep CFL at most vof_cfl) and
+ * least floor rho_g d sqrt(g d), on the bed at its hydrostatic pressure if
+ * bed_pressure, the VOF's sweep CFL at most vof_cfl) and
  * the inflow face's normal velocity set to the uniform layer's (ctx lf,
  * which must outlive the run); T, or NULL with err. */
 double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf, int mixture,
-                             double floor, double vof_cfl, char *err, size_t errlen);
+                             double floor, int bed_pressure, double vof_cfl, char *err,
+                             size_t errlen);
 
 /* The feed: the first column's T back to the layer of depth lf->depth
  * (the VOF brings only air in through an inflow face).  Call after every

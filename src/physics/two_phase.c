@@ -389,6 +389,39 @@ static void cut_edge(const struct two_phase *tp, struct march_state *st, int c, 
         st->b_e[c][e] = G > 0.0 ? deta / (2.0 * G) : 0.0;
 }
 
+/* An edge of the bed (plane c holding z, at face 0 along z, a wall below):
+ * the grains' viscosity, its tangent and full-tangent coefficient (as
+ * kernel_viscosity_edges defines them) at the bed's hydrostatic pressure,
+ * the mean over the edge's two cells of p + rho g_n dz / 2 with each cell's
+ * mixture density.  The core's ghost pressure, extrapolated linearly from
+ * the two cells above the bed, gives a layer one cell deep under air three
+ * quarters of its weight on the bed: less than mu(I) p can carry of its
+ * weight's shear, so it flowed at the viscosity floor's Newtonian rate
+ * (docs/validation/front.md). */
+static void bed_edge(const struct two_phase *tp, struct march_state *st, int c, ptrdiff_t e)
+{
+    const struct grid *g = &st->g;
+    int a = (c + 1) % 3, b = (c + 2) % 3, h = a == 2 ? b : a;
+    double f[3];
+    body_force_vector(st->cs, f);
+    double rg = st->cs->density, rf = tp->p.fluid_density, gn = -f[2] / rg;
+    const ptrdiff_t q[2] = {e, e - g->stride[h]};
+    double p_bed = 0.0;
+    for (int m = 0; m < 2; m++) {
+        double t = tp->T[q[m]], rho = t * rg + (1.0 - t) * rf;
+        p_bed += 0.5 * (st->field.pressure[q[m]] + 0.5 * rho * gn * g->h[2]);
+    }
+    double G = sqrt(kernel_edge_shear2(g, st->field.strain_normal2, st->field.strain_shear2, c, e));
+    struct rheology_point pt;
+    rheology_eval(&st->rheo, G, rheology_pressure(&st->rheo, p_bed, NULL), &pt);
+    st->field.viscosity_edges[c][e] = pt.eta;
+    if (st->cs->newton)
+        st->field.tangent_edges[c][e] =
+            G > 0.0 ? pt.eta + pt.deta_dshear * st->field.strain_shear2[c][e] / G : pt.eta;
+    if (st->b_e[c])
+        st->b_e[c][e] = G > 0.0 ? pt.deta_dshear / (2.0 * G) : 0.0;
+}
+
 static void properties(struct march_state *st, void *state)
 {
     struct two_phase *tp = state;
@@ -399,6 +432,7 @@ static void properties(struct march_state *st, void *state)
     const double rg = cs->density;
     bc_fill_scalar(g, &st->bc, tp->T);
     int series = tp->p.edges == EDGES_SERIES;
+    int bed = tp->p.bed_pressure && st->bc.face[2][0] == BC_WALL && !g->axis[2];
     if (series && tp->edges_stale)
         edge_fractions(tp, g, &st->bc);
     const ptrdiff_t *o = g->stride;
@@ -433,6 +467,8 @@ static void properties(struct march_state *st, void *state)
                         cut_edge(tp, st, c, e, t);
                         continue;
                     }
+                    if (bed && c != 2 && k == 0)
+                        bed_edge(tp, st, c, e);
                     double *tan[1] = {cs->newton ? &st->field.tangent_edges[c][e] : NULL};
                     mix_point(tp, rg, t, &st->field.viscosity_edges[c][e], tan,
                               cs->newton ? 1 : 0, st->b_e[c] ? &st->b_e[c][e] : NULL);

@@ -54,7 +54,8 @@ static double inflow_shape(const void *ctx, int d, const double x[3])
 }
 
 double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf, int mixture,
-                             double floor, double vof_cfl, char *err, size_t errlen)
+                             double floor, int bed_pressure, double vof_cfl, char *err,
+                             size_t errlen)
 {
     const struct muflow_case *cs = st->cs;
     double d = cs->rheo.grain_diameter;
@@ -66,6 +67,7 @@ double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf
         .eta_min = floor * cs->density * d * sqrt(cs->gravity * d),
         .eta_max = floor > 0.0 ? HUGE_VAL : 0.0,
         .step_cfl = vof_cfl,
+        .bed_pressure = bed_pressure,
     };
     double *T = two_phase_configure(st, &tp, err, errlen);
     if (!T)

@@ -492,8 +492,8 @@ static int setup(struct march_state *st, char *err, size_t errlen)
 {
     const struct wall_shock_params *p = params(st->cs);
     struct record *r = record_of(st);
-    double *T = layer_feed_configure(st, &r->base.feed, p->mixture, p->viscosity_floor, p->vof_cfl,
-                                     err, errlen);
+    double *T = layer_feed_configure(st, &r->base.feed, p->mixture, p->viscosity_floor, 0,
+                                     p->vof_cfl, err, errlen);
     if (!T)
         return -1;
     const struct grid *g = &st->g;
