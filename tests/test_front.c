@@ -13,13 +13,13 @@
 
 /* The grid study (make bench-front; docs/validation/front.md), 0.6 s on
  * 166 x 10, 250 x 15 and 400 x 24 cells, measured: front speed -0.65 %,
- * -0.88 %, SPEED24 against mass conservation across the front; h(x) against
+ * -0.88 %, -1.01 % against mass conservation across the front; h(x) against
  * Pouliquen's front, in % of h_inf over the front's length, rms 1.48, 1.55,
- * RMS24, over its body (exact h >= h_inf / 4) max 4.33, 4.59, BODY24; the
+ * 1.46, over its body (exact h >= h_inf / 4) max 4.33, 4.59, 1.90; the
  * nose (the last 3 h_inf) steeper than the closed form, max 8.28, 8.35,
- * MAX24 on every grid (the precursor meets it near the critical Froude
+ * 8.82 on every grid (the precursor meets it near the critical Froude
  * number: the momentum flux the closed form leaves out); the profile
- * behind 1.95 %, 0.34 %, PROF24 of the surface speed.  The test runs the
+ * behind 1.95 %, 0.34 %, 0.32 % of the surface speed.  The test runs the
  * coarse grid against the claims (speed within 2 %, h's rms within 2 %,
  * the body within 5 %), the nose and the profile within the coarse grid's
  * own errors plus about a fifth (regression bounds; their grid independence
