@@ -22,8 +22,8 @@
  * viscosity on the bed is at the bed's hydrostatic pressure (two_phase's
  * bed_pressure): the precursor, a cell or two deep, otherwise carried three
  * quarters of its weight there and flowed at the viscosity floor's rate,
- * 7.6 times its flux, 2.1 of the front speed's 2.9 % on 250 x 15.  The run starts
- * from the Pouliquen front with its tip at front.tip, over the precursor,
+ * 7.6 times its flux, 2.1 of the front speed's 2.9 % on 250 x 15.  The run
+ * starts from the Pouliquen front with its tip at front.tip, over the precursor,
  * the grains moving with Bagnold's profile at the front's speed, the air
  * with its film.
  *
