@@ -330,8 +330,14 @@ static int dataset_differs(hid_t a, hid_t b, const char *name)
     int bad = rank[0] != rank[1] || n[0] != n[1] || rank[0] < 0 ||
               memcmp(dims[0], dims[1], sizeof dims[0]) != 0 ||
               memcmp(v[0], v[1], n[0] * sizeof(double)) != 0;
-    if (bad)
-        print_error("dataset %s differs\n", name);
+    if (bad) {
+        size_t at = 0;
+        while (rank[0] >= 0 && at < n[0] && at < n[1] &&
+               memcmp(&v[0][at], &v[1][at], sizeof(double)) == 0)
+            at++;
+        print_error("dataset %s differs, first at %zu of %zu: %.17g, %.17g\n", name, at, n[0],
+                    at < n[0] ? v[0][at] : 0.0, at < n[1] ? v[1][at] : 0.0);
+    }
     free(v[0]);
     free(v[1]);
     return bad;
@@ -512,7 +518,10 @@ static void test_fields_file_blocks(void **state)
             fields_h5_name(st.step, name, sizeof name);
             snprintf(pa, sizeof pa, "%s/%s", serial, name);
             snprintf(pb, sizeof pb, "%s/%s", ranks, name);
-            bad += fields_files_differ(pa, pb, &st);
+            const int differ = fields_files_differ(pa, pb, &st);
+            if (differ)
+                print_error("split %d x %d x %d\n", cart.dims[0], cart.dims[1], cart.dims[2]);
+            bad += differ;
         }
         block_march_free(loc);
         decomp_free(&dc);

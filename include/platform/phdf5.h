@@ -4,12 +4,11 @@
  * version (libhdf5_openmpi.so.103, needing libmpi), is opened with dlopen
  * under mpirun only, once comm_init has opened libmpi: a run without mpirun
  * loads neither (docs/numerics/decomposition.md).  Both libraries export
- * the same names, and the parallel one reaches its own global ids (the
- * native types, the property classes: H5T_NATIVE_DOUBLE_g ...) through
- * its GOT: RTLD_DEEPBIND binds them to its own copies, not the serial
- * library's.  Its handles (hid_t) are the parallel library's: never
- * passed to the serial one, nor back.  Not under AddressSanitizer, which
- * refuses RTLD_DEEPBIND (check-asan runs no mpirun). */
+ * the same names, under their own symbol versions (HDF5_SERIAL_1.x,
+ * HDF5_MPI_1.x): each binds its calls and global ids (H5T_NATIVE_DOUBLE_g
+ * ...) to itself, and the program's calls, linked against the serial
+ * library, go to it.  The parallel library's handles (hid_t) are its own:
+ * never passed to the serial one, nor back. */
 #ifndef MUFLOW_PLATFORM_PHDF5_H
 #define MUFLOW_PLATFORM_PHDF5_H
 
@@ -29,6 +28,7 @@ struct phdf5 {
     herr_t (*H5Pset_dxpl_mpio)(hid_t dxpl, int collective);
     hid_t native_double, file_access, dataset_xfer; /* its H5T_NATIVE_DOUBLE ... */
     void *info_null;                                /* MPI_INFO_NULL */
+    void *comm_world;                               /* MPI_COMM_WORLD */
 };
 
 /* The parallel library, opened and initialised on the first call; NULL

@@ -56,9 +56,13 @@ int h5blocks_create(struct h5blocks *w, const struct comm_cart *cart, const char
     }
     const struct phdf5 *p = w->p;
     if (rc == 0 && p) {
-        /* MPI-IO over the cart's ranks, collective transfers */
+        /* MPI-IO over every rank (the cart's, in the same order), collective
+         * transfers.  Not the Cartesian communicator itself: Open MPI 4.1's
+         * OMPIO then groups its aggregators by the topology and, measured,
+         * sometimes writes a block of one dataset over another's
+         * (docs/numerics/decomposition.md). */
         hid_t fapl = p->H5Pcreate(p->file_access);
-        if (fapl < 0 || p->H5Pset_fapl_mpio(fapl, cart->comm, p->info_null) < 0 ||
+        if (fapl < 0 || p->H5Pset_fapl_mpio(fapl, p->comm_world, p->info_null) < 0 ||
             (w->file = p->H5Fcreate(w->tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl)) < 0 ||
             (w->dxpl = p->H5Pcreate(p->dataset_xfer)) < 0 ||
             p->H5Pset_dxpl_mpio(w->dxpl, 1 /* H5FD_MPIO_COLLECTIVE */) < 0) {

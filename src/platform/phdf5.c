@@ -1,5 +1,4 @@
 /* Parallel HDF5 opened under mpirun (platform/phdf5.h). */
-#define _GNU_SOURCE /* RTLD_DEEPBIND */
 #include "platform/phdf5.h"
 #include "platform/comm.h"
 #include "platform/dynlib.h"
@@ -37,7 +36,8 @@ const struct phdf5 *phdf5_open(char *err, size_t errlen)
         snprintf(err, errlen, "%s", why);
         return NULL;
     }
-    void *lib = dlopen(MUFLOW_PHDF5_LIB, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+    /* local: its names stay out of the global scope (the serial library's) */
+    void *lib = dlopen(MUFLOW_PHDF5_LIB, RTLD_NOW | RTLD_LOCAL);
     if (!lib) {
         const char *e = dlerror();
         snprintf(err, errlen, "parallel HDF5 %s (Debian: libhdf5-openmpi-dev): %s",
@@ -51,9 +51,12 @@ const struct phdf5 *phdf5_open(char *err, size_t errlen)
     RESOLVE(H5Pset_fapl_mpio)
     RESOLVE(H5Pset_dxpl_mpio)
 #undef RESOLVE
-    /* MPI_INFO_NULL is Open MPI's object of that name (libmpi, its dependency) */
+    /* MPI_INFO_NULL, MPI_COMM_WORLD: Open MPI's objects of those names
+     * (libmpi, its dependency) */
     if (!missing && !(t.info_null = dlsym(lib, "ompi_mpi_info_null")))
         missing = "ompi_mpi_info_null";
+    if (!missing && !(t.comm_world = dlsym(lib, "ompi_mpi_comm_world")))
+        missing = "ompi_mpi_comm_world";
     if (!missing && t.H5open() < 0)
         missing = "H5open";
     if (!missing && global_id(lib, "H5T_NATIVE_DOUBLE_g", &t.native_double) != 0)
