@@ -23,7 +23,11 @@ DEB_PKGS += python3-matplotlib python3-h5py
 DEB_PKGS += libhypre-dev libopenmpi-dev
 # libopenmpi-dev also brings openmpi-bin (mpirun, Depends): the tests' mpi
 # group runs under it; src/platform/comm.c opens libmpi only under mpirun
-PC_PKGS  = fftw3 hdf5 gsl inih
+# the parallel HDF5 of the ranks' field files (src/platform/phdf5.c opens it
+# only under mpirun; muflow links the serial one, named hdf5-serial: this
+# package turns pkg-config's hdf5 to the MPI flavour)
+DEB_PKGS += libhdf5-openmpi-dev
+PC_PKGS  = fftw3 hdf5-serial gsl inih
 PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
              $(shell pkg-config --cflags $(PC_CFLAGS_PKGS) 2>/dev/null) -I/usr/include/suitesparse \
@@ -50,6 +54,7 @@ soname = $(shell objdump -p $(shell $(CC) -print-file-name=$(1)) 2>/dev/null | a
 CHOLMOD_LIB := $(call soname,libcholmod.so)
 UMFPACK_LIB := $(call soname,libumfpack.so)
 MPI_LIB     := $(call soname,libmpi.so)
+PHDF5_LIB   := $(call soname,hdf5/openmpi/libhdf5.so)
 BUILD   ?= build
 
 # The version, defined here only: `git describe` of a release tag vX.Y.Z when
@@ -103,6 +108,8 @@ $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_H
 $(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
 # the libmpi comm.c opens under mpirun (MPI_LIB above)
 $(BUILD)/obj/src/platform/comm.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
+# the parallel HDF5 phdf5.c opens under mpirun (PHDF5_LIB above)
+$(BUILD)/obj/src/platform/phdf5.o: ALL_CFLAGS += $(if $(PHDF5_LIB),-DMUFLOW_PHDF5_LIB='"$(PHDF5_LIB)"')
 # the SuiteSparse libraries suitesparse_open.c opens (CHOLMOD_LIB, UMFPACK_LIB above)
 $(BUILD)/obj/src/platform/suitesparse_open.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
                                                          $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')

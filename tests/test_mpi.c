@@ -2,14 +2,21 @@
  * run under mpirun on 1, 2 and 4 ranks (`make test`) and alone.  Every
  * check reduces its result over the ranks first, so all ranks pass or
  * fail together (no rank waits in a collective for one that failed). */
+#define _POSIX_C_SOURCE 200809L /* getpid, mkdir */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "grid/decomp.h"
+#include "io/fields_h5.h"
+#include "io/h5blocks.h"
 #include "platform/comm.h"
+#include "scenes/scene.h"
 #include "solvers/multigrid.h"
 #include "test_main.h"
+#include "test_util.h"
 
 /* A value no two global slots share (the global ghost slots too). */
 static double pattern(int i, int j, int k)
@@ -278,6 +285,411 @@ static void test_multigrid_periodic(void **state)
     }
 }
 
+/* ---- the ranks' HDF5 files (io/h5blocks.h) ------------------------------------------ */
+
+/* A folder every rank names alike: rank 0's pid, summed over the ranks. */
+static void shared_dir(char *dir, size_t len, const char *tag)
+{
+    long pid = comm_rank() == 0 ? (long)getpid() : 0;
+    comm_sum_long(&pid, 1);
+    snprintf(dir, len, "/tmp/muflow_mpi_%s_%ld", tag, pid);
+    if (comm_rank() == 0)
+        mkdir(dir, 0700);
+    comm_barrier();
+}
+
+static void shared_dir_remove(const char *dir)
+{
+    comm_barrier();
+    if (comm_rank() == 0)
+        test_tmp_remove(dir);
+}
+
+/* Differences between dataset name of files a and b (shape and every
+ * byte); 1 when either lacks it. */
+static int dataset_differs(hid_t a, hid_t b, const char *name)
+{
+    hid_t f[2] = {a, b};
+    double *v[2] = {NULL, NULL};
+    hsize_t dims[2][4] = {{0}};
+    int rank[2] = {-1, -1};
+    size_t n[2] = {0, 0};
+    for (int s = 0; s < 2; s++) {
+        if (H5Lexists(f[s], name, H5P_DEFAULT) <= 0)
+            return 1;
+        hid_t set = H5Dopen2(f[s], name, H5P_DEFAULT), space = H5Dget_space(set);
+        rank[s] = H5Sget_simple_extent_ndims(space);
+        H5Sget_simple_extent_dims(space, dims[s], NULL);
+        n[s] = (size_t)H5Sget_simple_extent_npoints(space);
+        v[s] = malloc(n[s] * sizeof(double) + 1);
+        if (H5Dread(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v[s]) < 0)
+            rank[s] = -2 - s;
+        H5Sclose(space);
+        H5Dclose(set);
+    }
+    int bad = rank[0] != rank[1] || n[0] != n[1] || rank[0] < 0 ||
+              memcmp(dims[0], dims[1], sizeof dims[0]) != 0 ||
+              memcmp(v[0], v[1], n[0] * sizeof(double)) != 0;
+    if (bad) {
+        size_t at = 0;
+        while (rank[0] >= 0 && at < n[0] && at < n[1] &&
+               memcmp(&v[0][at], &v[1][at], sizeof(double)) == 0)
+            at++;
+        print_error("dataset %s differs, first at %zu of %zu: %.17g, %.17g\n", name, at, n[0],
+                    at < n[0] ? v[0][at] : 0.0, at < n[1] ? v[1][at] : 0.0);
+    }
+    free(v[0]);
+    free(v[1]);
+    return bad;
+}
+
+/* Attribute name of a and b: the same type, the same bytes. */
+struct attribute_check {
+    hid_t b;
+    int bad;
+};
+
+static herr_t attribute_differs(hid_t a, const char *name, const H5A_info_t *info, void *vc)
+{
+    (void)info;
+    struct attribute_check *check = vc;
+    hid_t b = check->b;
+    if (H5Aexists(b, name) <= 0) {
+        print_error("attribute %s missing\n", name);
+        check->bad++;
+        return 0;
+    }
+    hid_t at[2] = {H5Aopen(a, name, H5P_DEFAULT), H5Aopen(b, name, H5P_DEFAULT)};
+    hid_t type[2] = {H5Aget_type(at[0]), H5Aget_type(at[1])};
+    hid_t space[2] = {H5Aget_space(at[0]), H5Aget_space(at[1])};
+    size_t size = H5Tget_size(type[0]) * (size_t)H5Sget_simple_extent_npoints(space[0]);
+    char *x = calloc(2, size + 1);
+    int same = H5Tequal(type[0], type[1]) > 0 &&
+               H5Sget_simple_extent_npoints(space[1]) == H5Sget_simple_extent_npoints(space[0]) &&
+               H5Aread(at[0], type[0], x) >= 0 && H5Aread(at[1], type[0], x + size + 1) >= 0 &&
+               memcmp(x, x + size + 1, size) == 0;
+    if (!same) {
+        print_error("attribute %s differs\n", name);
+        check->bad++;
+    }
+    free(x);
+    for (int s = 0; s < 2; s++) {
+        H5Sclose(space[s]);
+        H5Tclose(type[s]);
+        H5Aclose(at[s]);
+    }
+    return 0;
+}
+
+/* Differences between two field files of st's registry: every dataset and
+ * every root attribute (both ways: the same set). */
+static int fields_files_differ(const char *pa, const char *pb, const struct march_state *st)
+{
+    hid_t a = H5Fopen(pa, H5F_ACC_RDONLY, H5P_DEFAULT), b = H5Fopen(pb, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (a < 0 || b < 0) {
+        print_error("cannot open %s or %s\n", pa, pb);
+        return 1;
+    }
+    int bad = 0;
+    const struct field_registry *r = &st->fields;
+    for (int o = 0; o < r->noutputs; o++) {
+        bad += dataset_differs(a, b, r->out[o].name);
+        for (int c = 0; c < 3 && r->out[o].components[c]; c++)
+            bad += dataset_differs(a, b, r->out[o].components[c]);
+    }
+    H5O_info_t ia, ib;
+    H5Oget_info2(a, &ia, H5O_INFO_NUM_ATTRS);
+    H5Oget_info2(b, &ib, H5O_INFO_NUM_ATTRS);
+    bad += ia.num_attrs != ib.num_attrs || ia.num_attrs < 10;
+    struct attribute_check check = {b, 0};
+    H5Aiterate2(a, H5_INDEX_NAME, H5_ITER_INC, NULL, attribute_differs, &check);
+    bad += check.bad;
+    H5Fclose(a);
+    H5Fclose(b);
+    return bad;
+}
+
+/* The global slot of local slot t along d: across a split periodic
+ * direction's end the wrapped one (what the exchange brings). */
+static int wrapped(const struct decomp *dc, int d, int t, int periodic)
+{
+    int G = dc->lo[d] + t, N = dc->n_global[d];
+    return periodic && dc->cart->dims[d] > 1 ? (G + N) % N : G;
+}
+
+/* A rank's march: st's with the block of every field on local grid gl,
+ * ghosts as the exchange leaves them; the maps' context its own. */
+static struct march_state *block_march(const struct march_state *st, const struct decomp *dc,
+                                       const struct grid *gl)
+{
+    struct march_state *loc = malloc(sizeof *loc);
+    assert_non_null(loc);
+    *loc = *st;
+    loc->g = *gl;
+    loc->fields.g = &loc->g;
+    int per[3];
+    for (int d = 0; d < 3; d++)
+        per[d] = st->bc.face[d][0] == BC_PERIODIC;
+    struct field_registry *r = &loc->fields;
+    for (int e = 0; e < r->count; e++)
+        for (int c = 0; c < 3; c++) {
+            const double *src = st->fields.e[e].v[c];
+            if (!src || (c > 0 && r->e[e].spec.where == FIELD_CELLS)) {
+                r->e[e].v[c] = NULL;
+                continue;
+            }
+            double *f = field_alloc(gl);
+            assert_non_null(f);
+            for (int i = -1; i <= gl->n[0]; i++)
+                for (int j = -1; j <= gl->n[1]; j++)
+                    for (int k = -1; k <= gl->n[2]; k++)
+                        f[grid_idx(gl, i, j, k)] =
+                            src[grid_idx(&st->g, wrapped(dc, 0, i, per[0]),
+                                         wrapped(dc, 1, j, per[1]), wrapped(dc, 2, k, per[2]))];
+            r->e[e].v[c] = f;
+            if (src == st->field.pressure_regularised)
+                loc->field.pressure_regularised = f;
+        }
+    for (int o = 0; o < r->noutputs; o++)
+        if (r->out[o].ctx == st)
+            r->out[o].ctx = loc;
+    return loc;
+}
+
+static void block_march_free(struct march_state *loc)
+{
+    struct field_registry *r = &loc->fields;
+    for (int e = 0; e < r->count; e++)
+        for (int c = 0; c < 3; c++)
+            field_free(r->e[e].v[c]);
+    free(loc);
+}
+
+/* The field file written by the ranks' blocks (fields_h5_write_decomposed)
+ * holds every dataset and attribute of the serial writer's file of the
+ * same global state byte for byte: a chute of 8 x 6 x 8 cells (x, z
+ * periodic: as many faces as cells; y walls: 7 faces), every slot of every
+ * field a value of its own, split along x, y, z and all, on this run's
+ * ranks (one: the serial library). */
+static void test_fields_file_blocks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=8", "domain.lx=2.8", "domain.ny=6", "domain.ly=2.1",
+                  "domain.nz=8", "domain.lz=2.8"};
+    struct muflow_case cs;
+    test_load_case(&cs, "../cases/chute.ini", 6, ov);
+    struct march_state st;
+    char err[1024] = "", dir[256], serial[512], ranks[512];
+    assert_int_equal(scene_march_create(&st, &cs, NULL, err, sizeof err), 0);
+    for (int e = 0; e < st.fields.count; e++)
+        for (int c = 0; c < 3; c++)
+            for (size_t p = 0; st.fields.e[e].v[c] && p < st.g.size; p++)
+                st.fields.e[e].v[c][p] = 1e6 * (e + 1) + 1e5 * c + (double)p + 0.125;
+    st.step = 42;
+    st.time = 1.0 / 3.0;
+    st.dt = 0.1;
+    shared_dir(dir, sizeof dir, "fields");
+    snprintf(serial, sizeof serial, "%s/serial", dir);
+    snprintf(ranks, sizeof ranks, "%s/ranks", dir);
+    double bad = 0.0;
+    if (comm_rank() == 0) {
+        mkdir(serial, 0700);
+        mkdir(ranks, 0700);
+        bad += fields_h5_write(serial, &st, err, sizeof err) != 0;
+    }
+    comm_barrier();
+    const int p = comm_size();
+    const int splits[4][3] = {{p, 1, 1}, {1, p, 1}, {1, 1, p}, {0, 0, 0}};
+    const int periodic[3] = {1, 0, 1}, split[3] = {1, 1, 1};
+    for (int s = 0; s < 4; s++) {
+        struct comm_cart cart;
+        struct decomp dc;
+        struct grid gl;
+        assert_int_equal(comm_cart_create(&cart, splits[s], periodic, split, err, sizeof err), 0);
+        assert_int_equal(decomp_create(&dc, &cart, st.g.n, err, sizeof err), 0);
+        assert_int_equal(decomp_local_grid(&dc, &st.g, &gl), 0);
+        struct march_state *loc = block_march(&st, &dc, &gl);
+        int rc = fields_h5_write_decomposed(ranks, loc, &st.g, &dc, err, sizeof err);
+        if (rc != 0)
+            print_error("%s\n", err);
+        bad += rc != 0;
+        if (rc == 0 && comm_rank() == 0) {
+            char pa[700], pb[700], name[64];
+            fields_h5_name(st.step, name, sizeof name);
+            snprintf(pa, sizeof pa, "%s/%s", serial, name);
+            snprintf(pb, sizeof pb, "%s/%s", ranks, name);
+            const int differ = fields_files_differ(pa, pb, &st);
+            if (differ)
+                print_error("split %d x %d x %d\n", cart.dims[0], cart.dims[1], cart.dims[2]);
+            bad += differ;
+        }
+        block_march_free(loc);
+        decomp_free(&dc);
+        comm_cart_free(&cart);
+        comm_barrier(); /* rank 0 has read the file before the next overwrites it */
+    }
+    comm_sum(&bad, 1);
+    march_destroy(&st);
+    shared_dir_remove(dir);
+    assert_true(bad == 0.0);
+}
+
+/* ---- a checkpoint's fields across rank counts -------------------------------------- */
+
+/* Global arrays with every ghost (the checkpoint's layout) of a 12 x 6 x 10
+ * grid periodic along x: a value of its own in each slot, the periodic
+ * ghosts the images of the cells (as the boundary fill leaves them). */
+#define SET_FIELDS 5
+static void fill_global(const struct grid *gg, double *f[SET_FIELDS])
+{
+    for (int s = 0; s < SET_FIELDS; s++)
+        for (int i = -1; i <= gg->n[0]; i++)
+            for (int j = -1; j <= gg->n[1]; j++)
+                for (int k = -1; k <= gg->n[2]; k++) {
+                    const int ii = (i + gg->n[0]) % gg->n[0];
+                    f[s][grid_idx(gg, i, j, k)] = s + 0.01 * ii + 1e-4 * j + 1e-6 * k + 1e-9;
+                }
+}
+
+static const char *const set_names[SET_FIELDS] = {"pressure", "viscosity", "velocity_x",
+                                                  "velocity_y", "velocity_z"};
+
+struct full_set {
+    const struct grid *gg;
+    double *const *f;
+};
+
+static int write_full_set(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct full_set *fs = vctx;
+    hsize_t dims[3];
+    for (int d = 0; d < 3; d++)
+        dims[d] = (hsize_t)fs->gg->n[d] + 2;
+    for (int s = 0; s < SET_FIELDS; s++)
+        if (h5io_write(file, set_names[s], H5T_NATIVE_DOUBLE, 3, dims, fs->f[s], err, errlen))
+            return -1;
+    return 0;
+}
+
+/* Reads the file back as every block of a decomposition of q ranks
+ * (dims), each rank reading them all: the differing slots, ghosts
+ * included, against the global arrays. */
+static double read_as(const char *path, const struct grid *gg, double *const f[SET_FIELDS],
+                      const int dims[3])
+{
+    double bad = 0.0;
+    const int q = dims[0] * dims[1] * dims[2];
+    for (int r = 0; r < q; r++) {
+        struct comm_cart cart = {.dims = {dims[0], dims[1], dims[2]}};
+        cart.coords[0] = r / (dims[1] * dims[2]);
+        cart.coords[1] = r / dims[2] % dims[1];
+        cart.coords[2] = r % dims[2];
+        for (int d = 0; d < 3; d++)
+            cart.nbr[d][0] = cart.nbr[d][1] = -1;
+        struct decomp dc;
+        struct grid g;
+        char err[512];
+        assert_int_equal(decomp_create(&dc, &cart, gg->n, err, sizeof err), 0);
+        assert_int_equal(decomp_local_grid(&dc, gg, &g), 0);
+        double *loc = field_alloc(&g), *buf = field_alloc(&g);
+        for (int s = 0; s < SET_FIELDS; s++) {
+            if (h5blocks_read_full(path, set_names[s], &dc, &g, loc, buf, err, sizeof err)) {
+                print_error("%s\n", err);
+                bad += 1;
+                continue;
+            }
+            for (int i = -1; i <= g.n[0]; i++)
+                for (int j = -1; j <= g.n[1]; j++)
+                    for (int k = -1; k <= g.n[2]; k++) {
+                        const double w = f[s][grid_idx(gg, dc.lo[0] + i, dc.lo[1] + j,
+                                                       dc.lo[2] + k)];
+                        bad += memcmp(&w, &loc[grid_idx(&g, i, j, k)], sizeof w) != 0;
+                    }
+        }
+        field_free(loc);
+        field_free(buf);
+        decomp_free(&dc);
+    }
+    return bad;
+}
+
+/* Fields written by this run's ranks, each its block with the domain's
+ * ghosts (h5blocks_put_full), make the serial writer's file byte for byte,
+ * and read back as the blocks of 1, 2 and 4 ranks, ghosts included, they
+ * are the written arrays bit for bit. */
+static void test_checkpoint_fields_any_ranks(void **state)
+{
+    (void)state;
+    const int n[3] = {12, 6, 10}, periodic[3] = {1, 0, 0}, split[3] = {1, 1, 1};
+    const double len[3] = {1.2, 0.6, 1.0};
+    struct grid gg;
+    assert_int_equal(grid_init(&gg, n, len), 0);
+    double *f[SET_FIELDS];
+    for (int s = 0; s < SET_FIELDS; s++)
+        assert_non_null(f[s] = field_alloc(&gg));
+    fill_global(&gg, f);
+    char dir[256], serial[512], ranks[512], err[1024] = "";
+    shared_dir(dir, sizeof dir, "checkpoint");
+    snprintf(serial, sizeof serial, "%s/serial.h5", dir);
+    snprintf(ranks, sizeof ranks, "%s/ranks.h5", dir);
+    double bad = 0.0;
+    struct full_set fs = {&gg, f};
+    if (comm_rank() == 0) {
+        char tmp[600];
+        snprintf(tmp, sizeof tmp, "%s.tmp", serial);
+        bad += h5io_write_file(tmp, serial, "", write_full_set, &fs, err, sizeof err) != 0;
+    }
+    struct comm_cart cart;
+    struct decomp dc;
+    struct grid g;
+    const int any[3] = {0, 0, 0};
+    assert_int_equal(comm_cart_create(&cart, any, periodic, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    double *loc = field_alloc(&g), *buf = field_alloc(&g);
+    struct h5blocks w;
+    int rc = h5blocks_create(&w, &cart, ranks, err, sizeof err);
+    for (int s = 0; rc == 0 && s < SET_FIELDS; s++) {
+        /* the block, its ghosts as the exchange and the boundary fill leave them */
+        for (int i = -1; i <= g.n[0]; i++)
+            for (int j = -1; j <= g.n[1]; j++)
+                for (int k = -1; k <= g.n[2]; k++)
+                    loc[grid_idx(&g, i, j, k)] =
+                        f[s][grid_idx(&gg, wrapped(&dc, 0, i, 1), dc.lo[1] + j, dc.lo[2] + k)];
+        rc = h5blocks_put_full(&w, set_names[s], &dc, &g, loc, buf, err, sizeof err);
+    }
+    if (rc == 0)
+        rc = h5blocks_finish(&w, "checkpoint", NULL, NULL, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    bad += rc != 0;
+    comm_barrier();
+    if (rc == 0 && comm_rank() == 0) {
+        hid_t a = H5Fopen(serial, H5F_ACC_RDONLY, H5P_DEFAULT);
+        hid_t b = H5Fopen(ranks, H5F_ACC_RDONLY, H5P_DEFAULT);
+        for (int s = 0; s < SET_FIELDS; s++)
+            bad += a < 0 || b < 0 || dataset_differs(a, b, set_names[s]);
+        H5Fclose(a);
+        H5Fclose(b);
+    }
+    const int one[3] = {1, 1, 1}, two_x[3] = {2, 1, 1}, two_z[3] = {1, 1, 2}, four[3] = {2, 1, 2};
+    if (rc == 0)
+        bad += read_as(ranks, &gg, f, one) + read_as(ranks, &gg, f, two_x) +
+               read_as(ranks, &gg, f, two_z) + read_as(ranks, &gg, f, four);
+    comm_sum(&bad, 1);
+    if (comm_rank() == 0)
+        printf("    written on %d ranks (%d x %d x %d), read as 1, 2, 4: %g slots differ\n",
+               comm_size(), cart.dims[0], cart.dims[1], cart.dims[2], bad);
+    field_free(loc);
+    field_free(buf);
+    decomp_free(&dc);
+    comm_cart_free(&cart);
+    for (int s = 0; s < SET_FIELDS; s++)
+        field_free(f[s]);
+    shared_dir_remove(dir);
+    assert_true(bad == 0.0);
+}
+
 /* Started by mpirun on two ranks, muflow refuses the case on every rank
  * (status 2), says so once and writes nothing (no scene runs decomposed
  * yet).  Run only outside mpirun (an mpirun does not start another), in a
@@ -324,6 +736,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_exchange_periodic),
         cmocka_unit_test(test_multigrid_walls),
         cmocka_unit_test(test_multigrid_periodic),
+        cmocka_unit_test(test_fields_file_blocks),
+        cmocka_unit_test(test_checkpoint_fields_any_ranks),
         cmocka_unit_test(test_muflow_refuses_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

@@ -26,6 +26,7 @@
 
 #include <hdf5.h>
 #include <stddef.h>
+#include "grid/decomp.h"
 #include "march/march.h"
 
 #define FIELDS_FORMAT "muflow fields 1"
@@ -38,6 +39,15 @@ void fields_h5_name(long step, char *buf, size_t len);
  * the cause in err (the temporary file removed, an older file of that name
  * untouched). */
 int fields_h5_write(const char *dir, const struct march_state *st, char *err, size_t errlen);
+
+/* The same file written by the ranks of dc together (h5blocks.h), each
+ * its block of every dataset: st is a rank's march (st->g its block of
+ * the global grid gg, ghosts filled: the next rank's face 0 in slot n).
+ * Collective; every rank returns the same status.  Not for a stretched
+ * grid. */
+int fields_h5_write_decomposed(const char *dir, const struct march_state *st,
+                               const struct grid *gg, const struct decomp *dc, char *err,
+                               size_t errlen);
 
 /* Writes the grid attributes and one text attribute per case key on loc
  * (shared with the checkpoints). */

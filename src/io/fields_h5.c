@@ -5,7 +5,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "io/h5blocks.h"
 #include "io/h5io.h"
+#include "platform/comm.h"
 
 void fields_h5_name(long step, char *buf, size_t len)
 {
@@ -58,12 +60,13 @@ static void gather_cells(const struct grid *g, const double *f, field_map map, c
             }
 }
 
-/* Face values of component c, x fastest, over the distinct faces. */
-static void gather_faces(const struct march_state *st, double *const vel[3], int c, double *out)
+/* Face values of component c, x fastest, over the first hi_c faces along c
+ * (the distinct faces of the grid, or of a rank's block). */
+static void gather_faces(const struct grid *g, double *const vel[3], int c, int hi_c,
+                         double *out)
 {
-    const struct grid *g = &st->g;
     int hi[3] = {g->n[0], g->n[1], g->n[2]};
-    hi[c] = faces(st, c);
+    hi[c] = hi_c;
     size_t m = 0;
     for (int k = 0; k < hi[2]; k++)
         for (int j = 0; j < hi[1]; j++)
@@ -72,10 +75,11 @@ static void gather_faces(const struct march_state *st, double *const vel[3], int
 }
 
 /* Cell-centred velocity: mean of the low and high face of each component; the
- * high face of the last cell of a periodic direction is face 0. */
-static void gather_cell_vector(const struct march_state *st, double *const vel[3], double *out)
+ * high face of the last cell along a direction wrap[c] (periodic, held whole)
+ * is face 0, elsewhere the slot n (a rank's block: the next rank's face 0). */
+static void gather_cell_vector(const struct grid *g, double *const vel[3], const int wrap[3],
+                               double *out)
 {
-    const struct grid *g = &st->g;
     size_t m = 0;
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
@@ -83,17 +87,18 @@ static void gather_cell_vector(const struct march_state *st, double *const vel[3
                 for (int c = 0; c < 3; c++) {
                     int lo[3] = {i, j, k}, up[3] = {i, j, k};
                     up[c]++;
-                    if (up[c] == g->n[c] && st->bc.face[c][0] == BC_PERIODIC)
+                    if (up[c] == g->n[c] && wrap[c])
                         up[c] = 0;
                     out[m++] = 0.5 * (vel[c][grid_idx(g, lo[0], lo[1], lo[2])] +
                                       vel[c][grid_idx(g, up[0], up[1], up[2])]);
                 }
 }
 
-static int write_contents(hid_t file, const struct march_state *st, double *buf, char *err,
-                          size_t errlen)
+/* The root attributes of a field file of st, the grid's those of g (the
+ * global grid of a rank's block). */
+static int root_attributes(hid_t file, const struct march_state *st, const struct grid *g,
+                           char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
     long step = st->step;
     if (h5io_attr_write_text(file, "format", FIELDS_FORMAT, err, errlen) != 0 ||
         h5io_attr_write(file, "step", H5T_NATIVE_LONG, 1, &step, err, errlen) != 0 ||
@@ -101,6 +106,15 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
         h5io_attr_write(file, "dt", H5T_NATIVE_DOUBLE, 1, &st->dt, err, errlen) != 0 ||
         h5io_attr_write_text(file, "status", run_status_name(st->status), err, errlen) != 0 ||
         fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0)
+        return -1;
+    return 0;
+}
+
+static int write_contents(hid_t file, const struct march_state *st, double *buf, char *err,
+                          size_t errlen)
+{
+    const struct grid *g = &st->g;
+    if (root_attributes(file, st, g, err, errlen) != 0)
         return -1;
     if (grid_stretched(g)) { /* the faces' coordinates, n + 1 per direction (h is NaN) */
         static const char *const names[3] = {"x_faces", "y_faces", "z_faces"};
@@ -116,6 +130,9 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
      * values and the cell-centred vector, cell fields through their maps */
     const struct field_registry *r = &st->fields;
     hsize_t cdims[4] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0], 3};
+    int wrap[3];
+    for (int c = 0; c < 3; c++)
+        wrap[c] = st->bc.face[c][0] == BC_PERIODIC;
     for (int o = 0; o < r->noutputs; o++) {
         const struct field_output *out = &r->out[o];
         const struct field_entry *e = &r->e[out->source];
@@ -123,12 +140,12 @@ static int write_contents(hid_t file, const struct march_state *st, double *buf,
             for (int c = 0; c < 3; c++) {
                 hsize_t dims[3] = {(hsize_t)g->n[2], (hsize_t)g->n[1], (hsize_t)g->n[0]};
                 dims[2 - c] = (hsize_t)faces(st, c);
-                gather_faces(st, e->v, c, buf);
+                gather_faces(g, e->v, c, faces(st, c), buf);
                 if (h5io_write(file, out->components[c], H5T_NATIVE_DOUBLE, 3, dims, buf, err,
                                errlen) != 0)
                     return -1;
             }
-            gather_cell_vector(st, e->v, buf);
+            gather_cell_vector(g, e->v, wrap, buf);
             if (h5io_write(file, out->name, H5T_NATIVE_DOUBLE, 4, cdims, buf, err, errlen) != 0)
                 return -1;
         } else {
@@ -175,6 +192,108 @@ int fields_h5_write(const char *dir, const struct march_state *st, char *err, si
     }
     struct fields_ctx ctx = {st, buf};
     int rc = h5io_write_file(tmp, path, "", fields_contents, &ctx, err, errlen);
+    free(buf);
+    return rc;
+}
+
+/* ---- the ranks' blocks ------------------------------------------------------------ */
+
+struct block_attributes {
+    const struct march_state *st;
+    const struct grid *gg;
+};
+
+static int block_attributes(hid_t file, void *vctx, char *err, size_t errlen)
+{
+    const struct block_attributes *a = vctx;
+    return root_attributes(file, a->st, a->gg, err, errlen);
+}
+
+/* The (z, y, x[, 3]) box of this rank's cells (face c: faces along c, the
+ * last rank's face N too unless periodic) in a field file's dataset. */
+static void file_box(const struct decomp *dc, const struct march_state *st, int face, int vec,
+                     struct h5box *box)
+{
+    box->rank = vec ? 4 : 3;
+    for (int d = 0; d < 3; d++) {
+        const int periodic = st->bc.face[d][0] == BC_PERIODIC;
+        const int at_hi = dc->cart->coords[d] == dc->cart->dims[d] - 1;
+        const int extra = d == face && !periodic;
+        box->global[2 - d] = (hsize_t)(dc->n_global[d] + extra);
+        box->start[2 - d] = (hsize_t)dc->lo[d];
+        box->count[2 - d] = (hsize_t)(dc->n[d] + (extra && at_hi));
+    }
+    box->global[3] = box->count[3] = 3;
+    box->start[3] = 0;
+}
+
+static int write_blocks(struct h5blocks *w, const struct march_state *st,
+                        const struct decomp *dc, double *buf, char *err, size_t errlen)
+{
+    const struct grid *g = &st->g;
+    int wrap[3];
+    for (int c = 0; c < 3; c++)
+        wrap[c] = st->bc.face[c][0] == BC_PERIODIC && dc->cart->dims[c] == 1;
+    const struct field_registry *r = &st->fields;
+    struct h5box box;
+    for (int o = 0; o < r->noutputs; o++) {
+        const struct field_output *out = &r->out[o];
+        const struct field_entry *e = &r->e[out->source];
+        if (e->spec.where == FIELD_FACES) {
+            for (int c = 0; c < 3; c++) {
+                file_box(dc, st, c, 0, &box);
+                gather_faces(g, e->v, c, (int)box.count[2 - c], buf);
+                if (h5blocks_put(w, out->components[c], &box, buf, err, errlen) != 0)
+                    return -1;
+            }
+            gather_cell_vector(g, e->v, wrap, buf);
+            file_box(dc, st, -1, 1, &box);
+        } else {
+            gather_cells(g, e->v[0], out->map, out->ctx, buf);
+            file_box(dc, st, -1, 0, &box);
+        }
+        if (h5blocks_put(w, out->name, &box, buf, err, errlen) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+int fields_h5_write_decomposed(const char *dir, const struct march_state *st,
+                               const struct grid *gg, const struct decomp *dc, char *err,
+                               size_t errlen)
+{
+    char name[64], path[700];
+    fields_h5_name(st->step, name, sizeof name);
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path) {
+        snprintf(err, errlen, "output path too long in %s", dir);
+        return -1;
+    }
+    if (grid_stretched(gg)) {
+        snprintf(err, errlen, "cannot write %s: a stretched grid is not decomposed", path);
+        return -1;
+    }
+    const struct grid *g = &st->g;
+    /* the cell velocity or one face component of the block (one more plane) */
+    size_t most = 0;
+    for (int c = 0; c < 3; c++) {
+        size_t f = grid_cells(g) / (size_t)g->n[c] * (size_t)(g->n[c] + 1);
+        most = f > most ? f : most;
+    }
+    most = 3 * grid_cells(g) > most ? 3 * grid_cells(g) : most;
+    double *buf = malloc(most * sizeof(double));
+    double lacking = !buf;
+    comm_max(&lacking, 1);
+    if (lacking != 0.0) {
+        snprintf(err, errlen, "cannot write %s: out of memory", path);
+        free(buf);
+        return -1;
+    }
+    struct h5blocks w;
+    int rc = h5blocks_create(&w, dc->cart, path, err, errlen);
+    if (rc == 0 && (rc = write_blocks(&w, st, dc, buf, err, errlen)) == 0) {
+        struct block_attributes a = {st, gg};
+        rc = h5blocks_finish(&w, "", block_attributes, &a, err, errlen);
+    }
     free(buf);
     return rc;
 }
