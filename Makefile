@@ -546,15 +546,18 @@ bench-collapse-gerris: deps bench-deps $(BUILD)/muflow
 # 10 (Gerris's example), van Leer's advection, each code's own step, at
 # 12.8, 25.6, 51.2 cells per H0 (COLLAPSE_FRONT_LEVELS 6 7 8; 9 is 102.4,
 # about 13 minutes more): the largest |x_f(muflow) - x_f(Gerris)| over t in
-# [0, 6], collapse_gerris_front.md in $(BENCH_OUT).  About 4 minutes on 2
-# shared cores with the defaults.
+# [0, 6], and each grid of both codes against Gerris's finest,
+# collapse_gerris_front.md in $(BENCH_OUT).  About 4 minutes on 2 shared
+# cores with the defaults; COLLAPSE_FRONT_ARGS="--advection centred --reuse"
+# runs muflow's other advection beside Gerris's runs already there.
 COLLAPSE_FRONT_LEVELS ?= 6 7 8
+COLLAPSE_FRONT_ARGS ?=
 .PHONY: bench-collapse-gerris-front
 bench-collapse-gerris-front: deps bench-deps $(BUILD)/muflow
 	@$(MAKE) --no-print-directory deps DEB_PKGS="gerris libgfs-dev"
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_gerris_front.py $(BUILD)/muflow $(BENCH_OUT) \
-	  --levels $(COLLAPSE_FRONT_LEVELS)
+	  --levels $(COLLAPSE_FRONT_LEVELS) $(COLLAPSE_FRONT_ARGS)
 
 # The ill-posedness of mu(I) as a measured growth rate: cases/bagnold2.ini in
 # time from the exact solution plus a perturbation, Barker & Rauter (2018), sec. 3.1 (Table
