@@ -454,8 +454,8 @@ static void measure(const struct muflow_case *cs, const struct layer_series *s,
 
 /* Pouliquen's law matched to the case's mu(I) through Bagnold's profile:
  * mu1 = mu_s, mu2 = mu_s + delta_mu, beta / L = (2/5) I0 sqrt(phi) / d,
- * whose steady uniform flow is the jop curve's (Gray & Edwards 2014); the
- * jump conditions' chi; no viscous term */
+ * whose steady uniform flow is the jop curve's (Gray & Edwards 2014; Barker
+ * & Gray's above I_1^N); the jump conditions' chi; no viscous term */
 static struct da_params da_params_of(const struct muflow_case *cs)
 {
     const struct rheology *r = &cs->rheo;
