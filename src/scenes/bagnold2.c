@@ -43,6 +43,7 @@
 #include "scenes/scene.h"
 #include "scenes/recorded_drive.h"
 #include "scene_common.h"
+#include "scenes/two_phase_keys.h"
 
 struct bagnold2_params {
     double interface_height;   /* h0 */
@@ -56,8 +57,6 @@ struct bagnold2_params {
 
 enum start_state { START_REST = 0, START_EXACT };
 
-static const struct choice mixture_choices[] = {
-    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
 /* `mean` (the mixture law at the mean T of an edge's four cells) is the
  * collapse's; here it smeared the interface over two edges and, with the
  * interface 0.3 of a cell above a face, did not settle (u_top 0.46 m/s,
@@ -73,14 +72,9 @@ static const struct key bagnold2_keys[] = {
                      "and the fluid above them each at least a cell, domain.lz / domain.nz",
                      "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_density", fluid_density,
-            KEY_HELP("density rho_f of the fluid above", "mass/length^3", NULL), KEY_GT0),
-    KEY_DBL(T, "bagnold2", "fluid_viscosity", fluid_viscosity,
-            KEY_HELP("viscosity eta_f of the (Newtonian) fluid above", "pressure time", NULL),
-            KEY_GT0),
-    KEY_CHO(T, "bagnold2", "mixture", mixture, mixture_choices,
-            "mixture viscosity of a cell holding both: weighted (Barker & Rauter 2018, eq. 14) "
-            "or harmonic (eq. 15)"),
+    TWO_PHASE_KEY_FLUID_DENSITY(T, "bagnold2"),
+    TWO_PHASE_KEY_FLUID_VISCOSITY(T, "bagnold2"),
+    TWO_PHASE_KEY_MIXTURE(T, "bagnold2", ""),
     KEY_CHO(T, "bagnold2", "interface_edges", interface_edges, edge_choices,
             "viscosity of an edge the interface cuts: series (the two phases in series over "
             "their parts of its link, cut from the reconstructed interface, each at its own "

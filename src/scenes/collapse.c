@@ -29,6 +29,7 @@
 #include "scenes/scene.h"
 #include "scenes/recorded_drive.h"
 #include "scene_common.h"
+#include "scenes/two_phase_keys.h"
 
 struct collapse_params {
     double half_width;       /* R0 */
@@ -44,9 +45,6 @@ struct collapse_params {
     int mixture;             /* enum mixture_law */
 };
 
-static const struct choice mixture_choices[] = {
-    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
-
 #define T struct collapse_params
 static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "half_width", half_width,
@@ -59,11 +57,8 @@ static const struct key collapse_keys[] = {
                      "below domain.lz",
                      "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "collapse", "fluid_density", fluid_density,
-            KEY_HELP("density rho_f of the light phase", "mass/length^3", NULL), KEY_GT0),
-    KEY_DBL(T, "collapse", "fluid_viscosity", fluid_viscosity,
-            KEY_HELP("viscosity eta_f of the (Newtonian) light phase", "pressure time", NULL),
-            KEY_GT0),
+    TWO_PHASE_KEY_FLUID_DENSITY(T, "collapse"),
+    TWO_PHASE_KEY_FLUID_VISCOSITY(T, "collapse"),
     KEY_BOOL(T, "collapse", "viscosity_clip", viscosity_clip,
              "clip the granular viscosity to [rho d sqrt(g d), eta_max] before mixing (the "
              "published runs)"),
@@ -76,21 +71,13 @@ static const struct key collapse_keys[] = {
     KEY_DBL(T, "collapse", "profile_interval", profile_interval,
             KEY_HELP("time between the surface profiles h(x) of surface.csv", "time", NULL),
             KEY_GT0),
-    KEY_DBL(T, "collapse", "vof_cfl", vof_cfl,
-            "largest sweep CFL number of the VOF transport that the time step allows "
-            "(0: the VOF does not bound the step, the transport's sub-steps alone keep "
-            "its sweeps within their limit)",
-            KEY_RANGE(0.0, 0.5, 1, 1)),
+    TWO_PHASE_KEY_VOF_CFL(T, "collapse"),
     KEY_BOOL(T, "collapse", "fluid_weight", fluid_weight,
              "the grains carry the light phase's weight above them up to the top (p = 0 "
              "there; the front then depends on domain.lz); off: the rheology's pressure is "
              "taken with the top at -rho_f g lz, p = -rho_f g z in the light phase at rest, "
              "as in the published runs"),
-    KEY_CHO(T, "collapse", "mixture", mixture, mixture_choices,
-            "viscosity of a cell or edge holding both phases: weighted (by density, Barker & "
-            "Rauter 2018, eq. 14) or harmonic (eq. 15, the published Gerris runs'); weighted "
-            "holds the shipped case's front closer to the reference "
-            "(docs/validation/collapse.md)"),
+    TWO_PHASE_KEY_MIXTURE(T, "collapse", "; the published Gerris runs' is harmonic; weighted holds the shipped case's front closer to the reference (docs/validation/collapse.md)"),
 };
 #undef T
 

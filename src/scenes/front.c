@@ -51,6 +51,7 @@
 #include "scenes/recorded_drive.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
+#include "scenes/two_phase_keys.h"
 
 /* the tip: where h falls below this share of h_inf */
 #define TIP_SHARE 0.05
@@ -76,9 +77,6 @@ struct front_params {
     double vof_cfl;
 };
 
-static const struct choice mixture_choices[] = {
-    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
-
 #define T struct front_params
 static const struct key front_keys[] = {
     KEY_DBL(T, "front", "depth", depth,
@@ -95,21 +93,11 @@ static const struct key front_keys[] = {
             "depth of a layer of grains on the bed ahead of the front, as a share of "
             "front.depth (0: a bare bed, whose air the nose overruns and traps at the base)",
             KEY_RANGE(0.0, 0.5, 1, 0)),
-    KEY_DBL(T, "front", "fluid_density", fluid_density,
-            KEY_HELP("density rho_f of the air", "mass/length^3", NULL), KEY_GT0),
-    KEY_DBL(T, "front", "fluid_viscosity", fluid_viscosity,
-            KEY_HELP("viscosity eta_f of the (Newtonian) air", "pressure time", NULL), KEY_GT0),
-    KEY_CHO(T, "front", "mixture", mixture, mixture_choices,
-            "viscosity of a cell holding both phases: weighted (by density, Barker & Rauter "
-            "2018, eq. 14) or harmonic (eq. 15)"),
-    KEY_DBL(T, "front", "viscosity_floor", viscosity_floor,
-            "the grains' viscosity is at least this many rho_g d sqrt(g d) before it is mixed "
-            "(the thin nose, where the pressure vanishes, keeps a viscosity); 0: no floor",
-            KEY_GE0),
-    KEY_DBL(T, "front", "vof_cfl", vof_cfl,
-            "largest sweep CFL number of the VOF transport that the time step allows (0: no "
-            "limit, the transport's sub-steps alone)",
-            KEY_RANGE(0.0, 0.5, 1, 1)),
+    TWO_PHASE_KEY_FLUID_DENSITY(T, "front"),
+    TWO_PHASE_KEY_FLUID_VISCOSITY(T, "front"),
+    TWO_PHASE_KEY_MIXTURE(T, "front", ""),
+    TWO_PHASE_KEY_VISCOSITY_FLOOR(T, "front"),
+    TWO_PHASE_KEY_VOF_CFL(T, "front"),
 };
 #undef T
 

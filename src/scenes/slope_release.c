@@ -30,6 +30,7 @@
 #include "scenes/scene.h"
 #include "scenes/recorded_drive.h"
 #include "scene_common.h"
+#include "scenes/two_phase_keys.h"
 
 struct slope_params {
     double s_back;        /* arc length of the column's back along the bed */
@@ -42,9 +43,6 @@ struct slope_params {
     int mixture;
     int da_cells;
 };
-
-static const struct choice mixture_choices[] = {
-    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
 
 #define T struct slope_params
 static const struct key slope_keys[] = {
@@ -61,22 +59,14 @@ static const struct key slope_keys[] = {
                      "inside the box",
                      "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "slope_release", "fluid_density", fluid_density,
-            KEY_HELP("density rho_f of the light phase", "mass/length^3", NULL), KEY_GT0),
-    KEY_DBL(T, "slope_release", "fluid_viscosity", fluid_viscosity,
-            KEY_HELP("viscosity eta_f of the (Newtonian) light phase", "pressure time", NULL),
-            KEY_GT0),
+    TWO_PHASE_KEY_FLUID_DENSITY(T, "slope_release"),
+    TWO_PHASE_KEY_FLUID_VISCOSITY(T, "slope_release"),
     KEY_DBL(T, "slope_release", "rest_energy", rest_energy,
             "at rest when the kinetic energy falls below this fraction of its peak (both "
             "models); the run then ends; 0: only at solver.end_time",
             KEY_RANGE(0.0, 1.0, 1, 0)),
-    KEY_DBL(T, "slope_release", "vof_cfl", vof_cfl,
-            "largest sweep CFL number of the VOF transport that the time step allows (0: "
-            "none)",
-            KEY_RANGE(0.0, 0.5, 1, 1)),
-    KEY_CHO(T, "slope_release", "mixture", mixture, mixture_choices,
-            "viscosity of a cell or edge holding both phases: weighted (Barker & Rauter 2018, "
-            "eq. 14) or harmonic (eq. 15)"),
+    TWO_PHASE_KEY_VOF_CFL(T, "slope_release"),
+    TWO_PHASE_KEY_MIXTURE(T, "slope_release", ""),
     KEY_INT(T, "slope_release", "da_cells", da_cells,
             "cells of the depth-averaged model along the bed, from x = 0 to the box's end",
             KEY_RANGE(16, 1e6, 1, 1)),

@@ -49,6 +49,7 @@
 #include "scenes/recorded_drive.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
+#include "scenes/two_phase_keys.h"
 
 /* the upstream columns start FEED_SKIP depths past the feed and end GAP
  * depths before the shock; behind it the line fitted to h (and to the
@@ -75,9 +76,6 @@ struct wall_shock_params {
     double static_speed;  /* the static zone's speed, in u1 */
 };
 
-static const struct choice mixture_choices[] = {
-    {"weighted", MIXTURE_WEIGHTED}, {"harmonic", MIXTURE_HARMONIC}, {NULL, 0}};
-
 #define T struct wall_shock_params
 static const struct key wall_shock_keys[] = {
     KEY_DBL(T, "wall_shock", "depth", depth,
@@ -85,21 +83,11 @@ static const struct key wall_shock_keys[] = {
                      "t = 0: at least two cells, and three cells of air above it",
                      "length", NULL),
             KEY_GT0),
-    KEY_DBL(T, "wall_shock", "fluid_density", fluid_density,
-            KEY_HELP("density rho_f of the air", "mass/length^3", NULL), KEY_GT0),
-    KEY_DBL(T, "wall_shock", "fluid_viscosity", fluid_viscosity,
-            KEY_HELP("viscosity eta_f of the (Newtonian) air", "pressure time", NULL), KEY_GT0),
-    KEY_CHO(T, "wall_shock", "mixture", mixture, mixture_choices,
-            "viscosity of a cell holding both phases: weighted (by density, Barker & Rauter "
-            "2018, eq. 14) or harmonic (eq. 15)"),
-    KEY_DBL(T, "wall_shock", "viscosity_floor", viscosity_floor,
-            "the grains' viscosity is at least this many rho_g d sqrt(g d) before it is mixed; "
-            "0: no floor",
-            KEY_GE0),
-    KEY_DBL(T, "wall_shock", "vof_cfl", vof_cfl,
-            "largest sweep CFL number of the VOF transport that the time step allows (0: no "
-            "limit, the transport's sub-steps alone)",
-            KEY_RANGE(0.0, 0.5, 1, 1)),
+    TWO_PHASE_KEY_FLUID_DENSITY(T, "wall_shock"),
+    TWO_PHASE_KEY_FLUID_VISCOSITY(T, "wall_shock"),
+    TWO_PHASE_KEY_MIXTURE(T, "wall_shock", ""),
+    TWO_PHASE_KEY_VISCOSITY_FLOOR(T, "wall_shock"),
+    TWO_PHASE_KEY_VOF_CFL(T, "wall_shock"),
     KEY_DBL(T, "wall_shock", "shape_factor", shape_factor,
             "shape factor chi of the momentum flux chi h u^2 in the jump conditions (5/4: "
             "Bagnold's profile, 1: a plug)",
