@@ -19,7 +19,12 @@ enum obstacle_boundary { OBSTACLE_SHARP = 0, OBSTACLE_STAIRCASE, OBSTACLE_CELLS 
 enum preconditioner { PRECOND_AUTO = 0, PRECOND_LINE, PRECOND_CHOLESKY, PRECOND_LU, PRECOND_AMG,
                      PRECOND_FOURIER, PRECOND_GMG, PRECOND_MULTIGRID };
 enum solver_mode { MODE_STEADY = 0, MODE_TRANSIENT };
-enum advection_scheme { ADVECTION_CENTRED = 0, ADVECTION_UPWIND, ADVECTION_VANLEER };
+enum advection_scheme {
+    ADVECTION_CENTRED = 0,
+    ADVECTION_UPWIND,
+    ADVECTION_VANLEER,
+    ADVECTION_QUICK
+};
 /* solver.time_scheme (stage_time_scheme.c) */
 enum time_scheme { TIME_EULER = 0, TIME_BDF2 };
 

@@ -180,12 +180,14 @@ void kernel_gradient_update_coef(const struct grid *g, const struct box act[3], 
  * elsewhere; out must not share memory with vel (restrict). */
 void kernel_advection(const struct grid *g, const struct box act[3], double *const vel[3],
                       double *out[3]);
-/* The same in upwind form, first order (limited = 0) or second order with
- * van Leer's limiter (kernels/advection_upwind.c): damps the free surfaces
- * that the centred form, energy-neutral, leaves to grow under a
- * forward-Euler step. */
+/* The same in upwind form (kernels/advection_upwind.c), the face value
+ * first order (donor cell), second order with van Leer's limiter, or
+ * QUICK's unlimited upwind-biased quadratic: damps the free surfaces that
+ * the centred form, energy-neutral, leaves to grow under a forward-Euler
+ * step. */
+enum advection_face { ADVECTION_FACE_DONOR = 0, ADVECTION_FACE_VANLEER, ADVECTION_FACE_QUICK };
 void kernel_advection_upwind(const struct grid *g, const struct box act[3],
-                             double *const vel[3], int limited, double *out[3]);
+                             double *const vel[3], enum advection_face face, double *out[3]);
 
 /* Vector operations over the unknowns of act (three components). */
 double kernel_dot(const struct grid *g, const struct box act[3], double *const a[3],

@@ -38,7 +38,7 @@ static const struct choice dir_choices[] = {
 static const struct choice axis_choices[] = {{"x", 0}, {"y", 1}, {"z", 2}, {NULL, 0}};
 static const struct choice advection_choices[] = {
     {"centred", ADVECTION_CENTRED}, {"upwind", ADVECTION_UPWIND},
-    {"vanleer", ADVECTION_VANLEER}, {NULL, 0}};
+    {"vanleer", ADVECTION_VANLEER}, {"quick", ADVECTION_QUICK}, {NULL, 0}};
 static const struct choice time_scheme_choices[] = {
     {"euler", TIME_EULER}, {"bdf2", TIME_BDF2}, {NULL, 0}};
 static const struct choice precond_choices[] = {
@@ -227,12 +227,16 @@ const struct key case_core_keys[] = {
     BOOL("physics", "advection", advection, "explicit advection of momentum (off: Stokes-like)"),
     CHO("physics", "advection_scheme", advection_scheme, advection_choices,
         KEY_HELP("form of the advection term: centred (second order, energy-neutral), upwind "
-                 "(first order, donor cell) or vanleer (upwind, second order with van Leer's "
-                 "limiter)",
+                 "(first order, donor cell), vanleer (upwind, second order with van Leer's "
+                 "limiter) or quick (upwind-biased, unlimited)",
                  NULL,
                  "Form of the advection term: `centred` (conservative, second order, "
-                 "energy-neutral), `upwind` (conservative donor cell, first order) or `vanleer` "
-                 "(upwind, second order with van Leer's limiter). Under the forward-Euler step the "
+                 "energy-neutral), `upwind` (conservative donor cell, first order), `vanleer` "
+                 "(upwind, second order with van Leer's limiter) or `quick` (Leonard's QUICK, "
+                 "the face value 3/4 of the upwind node, 3/8 of the downwind, -1/8 of the second "
+                 "upwind: unlimited, its error dissipative where the centred form's disperses; "
+                 "the Schaefer-Turek 2D-2 in the benchmark's bands on D/40, "
+                 "docs/validation/cylinder_benchmark.md). Under the forward-Euler step the "
                  "centred form adds energy where no viscosity damps it, such as a granular free "
                  "surface, where the pressure and so the mu(I) viscosity vanish")),
 

@@ -19,11 +19,16 @@ void stage_residual(struct march_state *st)
     bc_fill_pressure(g, &st->bc, st->field.p_dyn);
     kernel_gradient_update(g, st->act, st->field.p_dyn, 1.0, st->field.residual);
     if (cs->advection) {
-        if (cs->advection_scheme != ADVECTION_CENTRED)
-            kernel_advection_upwind(g, st->act, st->field.velocity,
-                                    cs->advection_scheme == ADVECTION_VANLEER, st->field.advection);
-        else
+        if (cs->advection_scheme != ADVECTION_CENTRED) {
+            enum advection_face face = ADVECTION_FACE_QUICK;
+            if (cs->advection_scheme == ADVECTION_UPWIND)
+                face = ADVECTION_FACE_DONOR;
+            else if (cs->advection_scheme == ADVECTION_VANLEER)
+                face = ADVECTION_FACE_VANLEER;
+            kernel_advection_upwind(g, st->act, st->field.velocity, face, st->field.advection);
+        } else {
             kernel_advection(g, st->act, st->field.velocity, st->field.advection);
+        }
         if (st->density_uniform)
             kernel_axpy(g, st->act, cs->density, st->field.advection, st->field.residual);
         else
