@@ -451,7 +451,7 @@ static void test_bad_input(void **state)
         {"collapse.mixture=arithmetic", "collapse.mixture"},
         {"solver.mode=steady", "solver.mode"},
         {"boundary.xlo=wall", "boundary.xlo"},
-        {"physics.advection_scheme=quick", "physics.advection_scheme"},
+        {"physics.advection_scheme=weno", "physics.advection_scheme"},
     };
     test_bad_overrides(CASE, bad, sizeof bad / sizeof bad[0]);
     /* the refusal names the allowed values */

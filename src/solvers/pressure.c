@@ -168,15 +168,21 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
      * 100-fold above its best (returning the best iterate), so a restart comes
      * early, and one already at the residual's rounding level is converged
      * (docs/numerics/pressure.md). */
-    ps->iterations += stats.cycles;
-    for (int restart = 0; rc != 0 && restart < PRESSURE_RESTARTS; restart++) {
+    long cycles = stats.cycles;
+    int restarts = 0;
+    for (; rc != 0 && restarts < PRESSURE_RESTARTS; restarts++) {
         rc = multigrid_pcg(ps->mg, ps->rhs, phi, rtol, PRESSURE_MAX_ITER, &stats);
-        ps->iterations += stats.cycles;
+        cycles += stats.cycles;
     }
+    ps->iterations += cycles;
     if (rc != 0) {
+        /* The tolerance beside the residual: a solve that stalls just above it
+         * (the residual's own rounding on a large grid) reads differently from
+         * one that is far off. */
         snprintf(ps->message, sizeof ps->message,
-                 "pressure solve: relative residual %.2e after %d multigrid-CG iterations",
-                 stats.rel, stats.cycles);
+                 "pressure solve: relative residual %.2e (tolerance %.0e) after %ld "
+                 "multigrid-CG iterations and %d restarts",
+                 stats.rel, rtol, cycles, restarts);
         return -1;
     }
     return 0;
