@@ -31,6 +31,7 @@
 #include "scenes/recorded_drive.h"
 #include "scene_common.h"
 #include "scenes/two_phase_keys.h"
+#include "scenes/da_match.h"
 
 struct slope_params {
     double s_back;        /* arc length of the column's back along the bed */
@@ -499,22 +500,6 @@ static const char *not_restartable(const struct muflow_case *cs)
 /* ---- the depth-averaged model on the same bed ---- */
 
 
-/* Pouliquen's law matched to the case's mu(I) through Bagnold's profile:
- * mu1 = mu_s, mu2 = mu_s + delta_mu, and beta / L = (2/5) I0 sqrt(phi) / d,
- * whose steady uniform flow is the jop curve's (Gray & Edwards 2014). */
-static struct da_params da_params_of(const struct muflow_case *cs)
-{
-    const struct rheology *r = &cs->rheo;
-    struct da_params p = da_params_default();
-    p.g = cs->gravity;
-    p.law = DA_POULIQUEN;
-    p.mu1 = r->mu_s;
-    p.mu2 = r->mu_s + r->delta_mu;
-    p.beta = 1.0;
-    p.L = r->grain_diameter / (0.4 * r->i0 * sqrt(r->phi));
-    return p;
-}
-
 /* The extremes of the cells deeper than a grain, and the layer's kinetic
  * energy per unit density. */
 static void da_measure(struct da_run *a, double d, double t, struct sample *s)
@@ -559,7 +544,7 @@ static int da_run(const struct march_state *st, struct da_run *a, char *err, siz
         double lo = fmax(i * a->ds, p->s_back), hi = fmin((i + 1) * a->ds, p->s_back + p->column_length);
         a->h[i] = hi > lo ? p->column_height * (hi - lo) / a->ds : 0.0;
     }
-    struct da_params dp = da_params_of(cs);
+    struct da_params dp = da_params_matched(cs);
     struct da_bc wall = {.kind = DA_BC_WALL};
     char why[256];
     struct da_solver *so = da_create(a->n, 0.0, a->ds, zeta, &dp, wall, wall, why, sizeof why);

@@ -50,6 +50,7 @@
 #include "scenes/scene.h"
 #include "scene_common.h"
 #include "scenes/two_phase_keys.h"
+#include "scenes/da_match.h"
 
 /* the upstream columns start FEED_SKIP depths past the feed and end GAP
  * depths before the shock; behind it the line fitted to h (and to the
@@ -440,24 +441,6 @@ static void measure(const struct muflow_case *cs, const struct layer_series *s,
 #define DA_CELLS_PER_DEPTH 20
 #define DA_ROWS 400
 
-/* Pouliquen's law matched to the case's mu(I) through Bagnold's profile:
- * mu1 = mu_s, mu2 = mu_s + delta_mu, beta / L = (2/5) I0 sqrt(phi) / d,
- * whose steady uniform flow is the jop curve's (Gray & Edwards 2014; Barker
- * & Gray's above I_1^N); the jump conditions' chi; no viscous term */
-static struct da_params da_params_of(const struct muflow_case *cs)
-{
-    const struct rheology *r = &cs->rheo;
-    struct da_params p = da_params_default();
-    p.g = cs->gravity;
-    p.chi = params(cs)->shape_factor;
-    p.law = DA_POULIQUEN;
-    p.mu1 = r->mu_s;
-    p.mu2 = r->mu_s + r->delta_mu;
-    p.beta = 1.0;
-    p.L = r->grain_diameter / (0.4 * r->i0 * sqrt(r->phi));
-    return p;
-}
-
 /* the uniform flow of depth h fed at the inflow */
 struct da_feed {
     double h, u;
@@ -483,7 +466,8 @@ static int da_shock(const struct muflow_case *cs, struct shock_measures *m)
 {
     static const char *const names[NSERIES] = {"t", "x_shock", "h1", "h2", "u1", "u2", "static"};
     const struct wall_shock_params *wp = params(cs);
-    struct da_params p = da_params_of(cs);
+    struct da_params p = da_params_matched(cs);
+    p.chi = params(cs)->shape_factor; /* the jump conditions' */
     double zeta = cs->tilt, d = wp->depth;
     /* mu_b = tan zeta: 1 + beta h / (L Fr) = (mu2 - mu1) / (tan zeta - mu1) */
     double fr = p.beta * d / (p.L * ((p.mu2 - p.mu1) / (tan(zeta) - p.mu1) - 1.0));
