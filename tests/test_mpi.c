@@ -205,11 +205,9 @@ static struct solve_result solve(const struct grid *gglobal, const struct decomp
  * rank solves that too) to 1e-10 of its largest value: both converge to
  * 1e-12, and their cycles differ only in the order of the dot products'
  * sums, so they also take the same iterations within one. */
-static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int jump)
+static void check_solve_n(const int dims[3], const enum poisson_bc bc[3][2], int jump,
+                          const int n[3])
 {
-    /* three levels on the ranks (48, 24 and 12 cells across, the last
-     * gathered: 576 cells), blocks of 3 cells there on 4 ranks */
-    const int n[3] = {48, 16, 48};
     const double h = 1.0 / 48;
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
     struct grid gg;
@@ -249,6 +247,14 @@ static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int j
     assert_true(abs(part.iterations - whole.iterations) <= 1);
 }
 
+/* 48 x 16 x 48: three levels on the ranks (48, 24 and 12 cells across,
+ * the last gathered: 576 cells), blocks of 3 cells there on 4 ranks */
+static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int jump)
+{
+    const int n[3] = {48, 16, 48};
+    check_solve_n(dims, bc, jump, n);
+}
+
 static void test_multigrid_walls(void **state)
 {
     (void)state;
@@ -283,6 +289,11 @@ static void test_multigrid_periodic(void **state)
         check_solve(along_z, all, jump);
         check_solve(both, jump ? all : per_x, jump);
     }
+    /* 8 x 64 x 64 on 4 ranks along x: the gathered level's blocks hold one
+     * cell of the 4 of the periodic x (coupled across the borders, not the
+     * one-cell periodic direction's decoupled cell: 95 iterations then) */
+    const int thin[3] = {8, 64, 64}, along[3] = {p, 1, 1};
+    check_solve_n(along, per_x, 0, thin);
 }
 
 /* ---- the traffic's model (docs/numerics/decomposition.md) ----------------------------- */
