@@ -48,8 +48,8 @@ static void measure_traffic(struct multigrid *mg, const struct grid *g, const do
 
 /* Every rank's line, printed by rank 0 (the values summed over the ranks
  * into each rank's row). */
-static void report_traffic(const struct decomp *dc, const struct grid *g,
-                           const struct multigrid *mg, int N, int iterations,
+static void report_traffic(const struct decomp *dc, const struct multigrid *mg, int N,
+                           int iterations,
                            const struct traffic_pair *cyc, const struct traffic_pair *sol,
                            const long reductions[2], double solve_s, double cpu_s)
 {
@@ -76,7 +76,6 @@ static void report_traffic(const struct decomp *dc, const struct grid *g,
         1024.0 * (double)ru.ru_maxrss, (double)multigrid_bytes(mg)};
     memcpy(row + (size_t)me * TRAFFIC_KEYS, mine, sizeof mine);
     comm_sum(row, ranks * TRAFFIC_KEYS);
-    (void)g;
     if (me == 0)
         for (int r = 0; r < ranks; r++) {
             printf("traffic N=%d ranks=%d threads=%d rank=%d iterations=%d levels=%d "
@@ -160,7 +159,7 @@ int main(int argc, char **argv)
     /* rank 0's CPU seconds a solve (on one rank of one thread: the work,
      * whatever else the machine runs; under mpirun it counts the polling) */
     const double cpu_s = cpu_total / repeats;
-    report_traffic(&dc, &g, mg, N, st.cycles, &cyc, &sol, reductions,
+    report_traffic(&dc, mg, N, st.cycles, &cyc, &sol, reductions,
                    bench_median(times + 1, repeats), cpu_s);
     free(times);
     for (int d = 0; d < 3; d++)
