@@ -298,6 +298,25 @@ bench: deps bench-deps
 # processes that keep both cores busy; $(BENCH_OUT)/threads_busy.md.  About
 # 15 minutes on 2 cores.
 THREADS_REPEATS ?= 3
+# The decomposed multigrid (bench/bench_decomposed.c): 64^3 and 128^3 on 1,
+# 2 and 4 ranks of one thread, DECOMP_REPEATS solves each: time, halo and
+# gather traffic measured and modelled, memory per cell; 16^3 on one rank
+# (the gathered level's serial cycle alone) (decomposed.txt);
+# then bench/decomposed_scaling.py projects weak and strong scaling to 1,024
+# ranks (decomposed_scaling.md, .png).  A few minutes on 2 cores.
+DECOMP_REPEATS ?= 3
+.PHONY: bench-decomposed
+bench-decomposed: deps bench-deps
+	@$(MAKE) --no-print-directory $(BUILD)/bench_decomposed
+	@mkdir -p $(BENCH_OUT)
+	{ OMP_NUM_THREADS=1 $(BUILD)/bench_decomposed 16 20 || exit 1; \
+	for n in 64 128; do \
+	  OMP_NUM_THREADS=1 $(BUILD)/bench_decomposed $$n $(DECOMP_REPEATS) || exit 1; \
+	  for p in 2 4; do \
+	    $(MPIRUN) -np $$p --oversubscribe $(BUILD)/bench_decomposed $$n $(DECOMP_REPEATS) || exit 1; \
+	  done; done; } > $(BENCH_OUT)/decomposed.txt
+	/usr/bin/python3 bench/decomposed_scaling.py $(BENCH_OUT)
+
 .PHONY: bench-threads
 bench-threads: deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)

@@ -205,11 +205,9 @@ static struct solve_result solve(const struct grid *gglobal, const struct decomp
  * rank solves that too) to 1e-10 of its largest value: both converge to
  * 1e-12, and their cycles differ only in the order of the dot products'
  * sums, so they also take the same iterations within one. */
-static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int jump)
+static void check_solve_n(const int dims[3], const enum poisson_bc bc[3][2], int jump,
+                          const int n[3])
 {
-    /* three levels on the ranks (48, 24 and 12 cells across, the last
-     * gathered: 576 cells), blocks of 3 cells there on 4 ranks */
-    const int n[3] = {48, 16, 48};
     const double h = 1.0 / 48;
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
     struct grid gg;
@@ -249,6 +247,14 @@ static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int j
     assert_true(abs(part.iterations - whole.iterations) <= 1);
 }
 
+/* 48 x 16 x 48: three levels on the ranks (48, 24 and 12 cells across,
+ * the last gathered: 576 cells), blocks of 3 cells there on 4 ranks */
+static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int jump)
+{
+    const int n[3] = {48, 16, 48};
+    check_solve_n(dims, bc, jump, n);
+}
+
 static void test_multigrid_walls(void **state)
 {
     (void)state;
@@ -283,6 +289,121 @@ static void test_multigrid_periodic(void **state)
         check_solve(along_z, all, jump);
         check_solve(both, jump ? all : per_x, jump);
     }
+    /* 8 x 64 x 64 on 4 ranks along x: the gathered level's blocks hold one
+     * cell of the 4 of the periodic x (coupled across the borders, not the
+     * one-cell periodic direction's decoupled cell: 95 iterations then) */
+    const int thin[3] = {8, 64, 64}, along[3] = {p, 1, 1};
+    check_solve_n(along, per_x, 0, thin);
+}
+
+/* ---- the traffic's model (docs/numerics/decomposition.md) ----------------------------- */
+
+/* One exchange per direction sends, per rank border side of d, one plane
+ * of (n_e1 + 2)(n_e2 + 2) doubles: the tally equals that exactly. */
+static double exchange_traffic_misses(const int dims[3], const int periodic[3], const int n[3])
+{
+    struct comm_cart cart;
+    struct decomp dc;
+    char err[256];
+    const int split[3] = {1, 1, 1};
+    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    struct grid g;
+    const double len[3] = {1.0 * dc.n[0], 1.0 * dc.n[1], 1.0 * dc.n[2]};
+    assert_int_equal(grid_init(&g, dc.n, len), 0);
+    double *f = field_alloc(&g);
+    assert_non_null(f);
+    long want_bytes = 0, want_messages = 0;
+    for (int d = 0; d < 3; d++) {
+        const int sides = dc.border[d][0] + dc.border[d][1];
+        const long plane = (long)(dc.n[d == 0 ? 1 : 0] + 2) * (dc.n[d == 2 ? 1 : 2] + 2);
+        want_messages += sides;
+        want_bytes += sides * plane * 8;
+    }
+    decomp_traffic_reset();
+    for (int d = 0; d < 3; d++)
+        decomp_exchange(&dc, &g, f, d);
+    struct decomp_traffic t;
+    decomp_traffic_read(&t);
+    field_free(f);
+    decomp_free(&dc);
+    comm_cart_free(&cart);
+    return (t.bytes != want_bytes) + (t.messages != want_messages) +
+           (comm_size() > 1 && want_bytes == 0); /* every rank has a border */
+}
+
+/* One cycle and one PCG solve of check_solve's problem (three levels on
+ * the ranks, W-cycles, the gathered level cold and warm): the tally, the
+ * gathers and the sums over the ranks equal multigrid_traffic_model. */
+static double multigrid_traffic_misses(const int dims[3], const enum poisson_bc bc[3][2])
+{
+    const int n[3] = {48, 16, 48};
+    const double h = 1.0 / 48;
+    const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
+    struct grid gg, g;
+    assert_int_equal(grid_init(&gg, n, len), 0);
+    int periodic[3], split[3] = {1, 1, 1};
+    for (int d = 0; d < 3; d++)
+        periodic[d] = bc[d][0] == POISSON_PERIODIC;
+    struct comm_cart cart;
+    struct decomp dc;
+    struct multigrid *mg = NULL;
+    char err[256];
+    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    assert_int_equal(multigrid_create_decomposed(&mg, &gg, &dc, bc, NULL, err, sizeof err), 0);
+    double *a[3] = {field_alloc(&g), field_alloc(&g), field_alloc(&g)};
+    double *rhs = field_alloc(&g), *phi = field_alloc(&g);
+    fill_problem(&g, dc.lo, a, rhs, 0);
+    assert_int_equal(multigrid_set_coefficients(mg, a, err, sizeof err), 0);
+    struct decomp_traffic cycle, solve, cycle_model, solve_model;
+    decomp_traffic_reset();
+    multigrid_cycle(mg, rhs, phi);
+    decomp_traffic_read(&cycle);
+    for (size_t p = 0; p < g.size; p++)
+        phi[p] = 0.0;
+    struct multigrid_stats st;
+    decomp_traffic_reset();
+    const long r0 = comm_reductions();
+    assert_int_equal(multigrid_pcg(mg, rhs, phi, 1e-12, 100, &st), 0);
+    const long reductions = comm_reductions() - r0;
+    decomp_traffic_read(&solve);
+    long reductions_model;
+    multigrid_traffic_model(mg, st.cycles, &cycle_model, &solve_model, &reductions_model);
+    const double misses = (memcmp(&cycle, &cycle_model, sizeof cycle) != 0) +
+                          (memcmp(&solve, &solve_model, sizeof solve) != 0) +
+                          (comm_size() > 1 && reductions != reductions_model) +
+                          (comm_size() > 1 && (cycle.gathers == 0 || cycle.bytes == 0));
+    for (int d = 0; d < 3; d++)
+        field_free(a[d]);
+    field_free(rhs);
+    field_free(phi);
+    multigrid_destroy(mg);
+    decomp_free(&dc);
+    comm_cart_free(&cart);
+    return misses;
+}
+
+static void test_traffic_model(void **state)
+{
+    (void)state;
+    const int p = comm_size();
+    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, any[3] = {0, 0, 0};
+    const int walls[3] = {0, 0, 0}, per[3] = {1, 1, 0}, n[3] = {6, 5, 8};
+    const enum poisson_bc neumann[3][2] = {{POISSON_NEUMANN, POISSON_NEUMANN},
+                                           {POISSON_NEUMANN, POISSON_NEUMANN},
+                                           {POISSON_NEUMANN, POISSON_NEUMANN}};
+    const enum poisson_bc per_x[3][2] = {{POISSON_PERIODIC, POISSON_PERIODIC},
+                                         {POISSON_PERIODIC, POISSON_PERIODIC},
+                                         {POISSON_NEUMANN, POISSON_DIRICHLET}};
+    double misses = exchange_traffic_misses(along_x, walls, n) +
+                    exchange_traffic_misses(along_z, walls, n) +
+                    exchange_traffic_misses(any, per, n) +
+                    multigrid_traffic_misses(along_x, neumann) +
+                    multigrid_traffic_misses(any, per_x);
+    comm_sum(&misses, 1);
+    assert_true(misses == 0.0);
 }
 
 /* ---- the ranks' HDF5 files (io/h5blocks.h) ------------------------------------------ */
@@ -736,6 +857,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_exchange_periodic),
         cmocka_unit_test(test_multigrid_walls),
         cmocka_unit_test(test_multigrid_periodic),
+        cmocka_unit_test(test_traffic_model),
         cmocka_unit_test(test_fields_file_blocks),
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
         cmocka_unit_test(test_muflow_refuses_ranks),

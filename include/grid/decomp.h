@@ -65,6 +65,20 @@ int decomp_local_grid(const struct decomp *dc, const struct grid *gg, struct gri
  * thread that initialised MPI calls it. */
 void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, int d);
 
+/* What this rank sent since decomp_traffic_reset (or the start): the
+ * exchanges that crossed a rank border, their messages (one per border
+ * side) and bytes (the ghost-extended plane, (n_e1 + 2)(n_e2 + 2) doubles),
+ * the gathers and their bytes (this rank's block sent, the other ranks'
+ * received).  Counted past the early return of a rank without borders:
+ * nothing counted, nothing spent, without mpirun.  One process-wide tally
+ * (the thread that calls MPI is the only writer). */
+struct decomp_traffic {
+    long exchanges, messages, bytes;
+    long gathers, gather_sent, gather_received;
+};
+void decomp_traffic_read(struct decomp_traffic *t);
+void decomp_traffic_reset(void);
+
 /* Every rank's block of f (local grid g), cells and the ghost slots on the
  * domain's boundary, into global (the global grid gg's layout), on every
  * rank; scratch holds the ranks' whole arrays (decomp_gather_len doubles). */

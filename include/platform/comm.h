@@ -34,6 +34,9 @@ void comm_sum(double *v, int n);
 void comm_sum_long(long *v, int n);
 void comm_max(double *v, int n);
 void comm_barrier(void);
+/* The sums and maxima over several ranks done so far (MPI_Allreduce calls:
+ * none on one rank). */
+long comm_reductions(void);
 
 /* The Cartesian communicator over every rank: dims[d] ranks along d,
  * periodic along d when periodic[d], this rank's coords and its neighbours

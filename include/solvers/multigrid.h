@@ -106,6 +106,22 @@ int multigrid_create_decomposed(struct multigrid **out, const struct grid *g,
                                 const struct decomp *dc, const enum poisson_bc bc[3][2],
                                 const struct multigrid_options *opt, char *err, size_t errlen);
 
+/* This rank's traffic on a decomposed multigrid by its model
+ * (docs/numerics/decomposition.md), in decomp_traffic_read's terms: one
+ * halo fill of level l sends, per rank border side s of direction d, one
+ * plane of (n_e1 + 2)(n_e2 + 2) doubles of l's block (ghost depth 1,
+ * corners included); a visit of a level above the gathered one fills it
+ * 2 (pre + post) + 2 times and the level below once; level l is visited
+ * gamma^l times per cycle (once where the next is the coarsest), the
+ * gathered level's visits gather b (and, warm, x) from every rank.  *cycle:
+ * one multigrid_cycle; *solve: a multigrid_pcg from phi = 0 converged in
+ * `iterations` (iterations cycles, iterations + 2 fills of the finest
+ * level besides); *reductions: that solve's sums over the ranks. */
+struct decomp_traffic;
+void multigrid_traffic_model(const struct multigrid *mg, int iterations,
+                             struct decomp_traffic *cycle, struct decomp_traffic *solve,
+                             long *reductions);
+
 /* Bytes multigrid_create allocates for g with the options (NULL: the
  * defaults) and the coarsest level's factor, without creating anything:
  * the levels' coefficients, cells and transfer weights, the work arrays

@@ -165,6 +165,15 @@ static inline int mg_physical_side(const struct multigrid *mg, const struct leve
     return !mg->periodic[d] && !(lv->dc && lv->dc->border[d][s]);
 }
 
+/* 1 when direction d of level lv is periodic and one cell across the whole
+ * level (its coefficients 0, its ghosts the cell itself): the global count
+ * on a decomposed level, whose blocks may hold one cell of a longer
+ * periodic direction, coupled to the neighbours across the rank borders. */
+static inline int mg_periodic_flat(const struct multigrid *mg, const struct level *lv, int d)
+{
+    return mg->periodic[d] && (lv->dc ? lv->dc->n_global[d] : lv->g.n[d]) == 1;
+}
+
 /* The faces of direction d a level holds: 0 .. n - 1, and n when the high
  * side is the domain's boundary. */
 static inline int mg_faces_held(const struct multigrid *mg, const struct level *lv, int d)

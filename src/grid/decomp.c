@@ -5,6 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
+static struct decomp_traffic traffic;
+
+void decomp_traffic_read(struct decomp_traffic *t)
+{
+    *t = traffic;
+}
+
+void decomp_traffic_reset(void)
+{
+    memset(&traffic, 0, sizeof traffic);
+}
+
 /* Slots of a plane across d: the other two directions' ext. */
 static size_t plane_len(const struct grid *g, int d)
 {
@@ -133,6 +145,10 @@ void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, i
     if (dc->border[d][1])
         plane_copy(g, f, d, n - 1, to_hi, 1);
     comm_cart_shift(dc->cart, d, to_lo, from_lo, to_hi, from_hi, (int)len);
+    const long sides = dc->border[d][0] + dc->border[d][1];
+    traffic.exchanges++;
+    traffic.messages += sides;
+    traffic.bytes += sides * (long)(len * sizeof(double));
     if (dc->border[d][0])
         plane_copy(g, f, d, -1, from_lo, 0);
     if (dc->border[d][1])
@@ -199,6 +215,11 @@ void decomp_gather(const struct decomp *dc, const struct grid *g, const double *
         at += (size_t)cnt[r];
     }
     comm_cart_allgather(cart, f, (int)g->size, scratch, cnt, dsp);
+    if (ranks > 1) {
+        traffic.gathers++;
+        traffic.gather_sent += (long)(g->size * sizeof(double));
+        traffic.gather_received += (long)((at - g->size) * sizeof(double));
+    }
     for (int r = 0; r < ranks; r++) {
         int c[3], lo[3], n[3], a[3], b[3];
         coords_of(cart, r, c);

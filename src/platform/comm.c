@@ -39,6 +39,7 @@ static struct {
 
 static int active; /* MPI initialised by comm_init */
 static int world_rank, world_size = 1;
+static long reductions; /* MPI_Allreduce calls (comm_reductions) */
 
 _Static_assert(sizeof(MPI_Comm) == sizeof(void *), "Open MPI's MPI_Comm, a pointer, expected");
 
@@ -135,20 +136,31 @@ _Noreturn void comm_exit(int status, int all, const char *msg)
 
 void comm_sum(double *v, int n)
 {
-    if (active && world_size > 1)
+    if (active && world_size > 1) {
+        reductions++;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_sum, mpi.comm_world);
+    }
 }
 
 void comm_sum_long(long *v, int n)
 {
-    if (active && world_size > 1)
+    if (active && world_size > 1) {
+        reductions++;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_long, mpi.op_sum, mpi.comm_world);
+    }
 }
 
 void comm_max(double *v, int n)
 {
-    if (active && world_size > 1)
+    if (active && world_size > 1) {
+        reductions++;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_max, mpi.comm_world);
+    }
+}
+
+long comm_reductions(void)
+{
+    return reductions;
 }
 
 void comm_barrier(void)

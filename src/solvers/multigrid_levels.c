@@ -101,7 +101,7 @@ static int allocate_level(struct multigrid *mg, int l)
     lv->par = grid_cells(&lv->g) >= PAR_CELLS;
     lv->flat = -1;
     for (int d = 2; d >= 0; d--)
-        if (mg->periodic[d] && lv->g.n[d] == 1)
+        if (mg_periodic_flat(mg, lv, d))
             lv->flat = d;
     for (int d = 0; d < 3; d++) {
         lv->ih2[d] = 1.0 / (lv->g.h[d] * lv->g.h[d]);
@@ -265,7 +265,7 @@ static void finish_level_coefficients(const struct multigrid *mg, struct level *
 {
     const struct grid *g = &lv->g;
     for (int d = 0; d < 3; d++) {
-        if (mg->periodic[d] && g->n[d] == 1)
+        if (mg_periodic_flat(mg, lv, d))
             for (size_t p = 0; p < g->size; p++)
                 lv->a[d][p] = 0.0;
         mg_halo_faces(mg, lv, lv->a[d], d);

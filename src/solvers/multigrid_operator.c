@@ -28,7 +28,7 @@ static void halo_fill_decomposed(const struct multigrid *mg, const struct level 
     const struct grid *g = &lv->g;
     for (int d = 0; d < 3; d++) {
         const int n = g->n[d];
-        if ((kind == HALO_OPERATOR || kind == HALO_MIRROR) && mg->periodic[d] && n == 1)
+        if ((kind == HALO_OPERATOR || kind == HALO_MIRROR) && mg_periodic_flat(mg, lv, d))
             continue;
         const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
         const int lo1 = e1 < d ? -1 : 0, hi1 = e1 < d ? g->n[e1] + 1 : g->n[e1];

@@ -408,3 +408,63 @@ int multigrid_pcg(struct multigrid *mg, const double *rhs, double *phi, double r
     finish_phi(mg, phi);
     return stats_end(&st, rtol, stats);
 }
+
+/* ---- the traffic's model (multigrid.h) -------------------------------------------- */
+
+/* One halo fill of level l (decomp_exchange's planes, direction after direction). */
+static void fill_traffic(const struct level *lv, long times, struct decomp_traffic *t)
+{
+    const struct grid *g = &lv->g;
+    for (int d = 0; d < 3; d++) {
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
+        const long sides = lv->dc->border[d][0] + lv->dc->border[d][1];
+        if (sides == 0)
+            continue;
+        const long plane = (long)(g->n[e1] + 2) * (g->n[e2] + 2);
+        t->exchanges += times;
+        t->messages += times * sides;
+        t->bytes += times * sides * plane * (long)sizeof(double);
+    }
+}
+
+static void gather_traffic(const struct multigrid *mg, long times, struct decomp_traffic *t)
+{
+    const struct level *lv = &mg->lev[mg->nlev - 1];
+    const long all = (long)decomp_gather_len(lv->dc), own = (long)lv->g.size;
+    if (all == own)
+        return; /* one rank */
+    t->gathers += times;
+    t->gather_sent += times * own * (long)sizeof(double);
+    t->gather_received += times * (all - own) * (long)sizeof(double);
+}
+
+void multigrid_traffic_model(const struct multigrid *mg, int iterations,
+                             struct decomp_traffic *cycle, struct decomp_traffic *solve,
+                             long *reductions)
+{
+    memset(cycle, 0, sizeof *cycle);
+    const int last = mg->nlev - 1; /* the gathered level */
+    const long fills = 2L * (mg->opt.pre + mg->opt.post) + 2;
+    long visits = 1, above = 1; /* of level l; of the level above the gathered one */
+    for (int l = 0; l < last; l++) {
+        fill_traffic(&mg->lev[l], visits * fills, cycle);
+        fill_traffic(&mg->lev[l + 1], visits, cycle); /* the correction's fill */
+        above = visits;
+        visits *= l + 1 == mg->total_levels - 1 ? 1 : mg->opt.gamma;
+    }
+    gather_traffic(mg, visits, cycle);                 /* b at every visit */
+    gather_traffic(mg, last > 0 ? visits - above : 0, cycle); /* x at the warm ones */
+    *solve = *cycle;
+    struct decomp_traffic *s = solve;
+    const long it = iterations;
+    s->exchanges *= it;
+    s->messages *= it;
+    s->bytes *= it;
+    s->gathers *= it;
+    s->gather_sent *= it;
+    s->gather_received *= it;
+    fill_traffic(&mg->lev[0], it + 2, s); /* the first residual, L p, the result */
+    /* |b|, r.r, r.z, per iteration p.q, r.r and (not after the last) r.z;
+     * a singular problem's mean of b and of phi */
+    *reductions = 3 * it + 2 + (singular(mg) ? 2 : 0);
+}
