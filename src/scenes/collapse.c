@@ -43,7 +43,11 @@ struct collapse_params {
     double vof_cfl;
     int fluid_weight;        /* the grains carry the light phase above them */
     int mixture;             /* enum mixture_law */
+    int column;              /* enum collapse_column */
 };
+
+static const struct choice column_choices[] = {
+    {"slab", COLLAPSE_SLAB}, {"square", COLLAPSE_SQUARE}, {NULL, 0}};
 
 #define T struct collapse_params
 static const struct key collapse_keys[] = {
@@ -78,6 +82,11 @@ static const struct key collapse_keys[] = {
              "taken with the top at -rho_f g lz, p = -rho_f g z in the light phase at rest, "
              "as in the published runs"),
     TWO_PHASE_KEY_MIXTURE(T, "collapse", "; the published Gerris runs' is harmonic; weighted holds the shipped case's front closer to the reference (docs/validation/collapse.md)"),
+    KEY_CHO(T, "collapse", "column", column, column_choices,
+            "slab: the column x <= R0, uniform in y (a 2D cross-section: periodic y, "
+            "domain.ny = 1); square: the column x <= R0 and y <= R0, a quarter of a square "
+            "column with the symmetry planes x = 0 and y = 0 (boundary.ylo = slip, yhi not "
+            "periodic, domain.ny >= 1); x_front is then the front along the row at y = 0"),
 };
 #undef T
 
@@ -96,7 +105,9 @@ static void defaults(void *block)
     c->vof_cfl = 0.4;
     c->fluid_weight = 0;
     c->mixture = MIXTURE_WEIGHTED;
+    c->column = COLLAPSE_SLAB;
 }
+
 
 SCENE_PARAMS(collapse_block, "collapse",
              "A rectangular column of grains released on a rough base under a light phase, half "
@@ -104,9 +115,11 @@ SCENE_PARAMS(collapse_block, "collapse",
              "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
              "`physics.density` their density; the scene needs `solver.mode = transient`, "
              "`boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, `zhi = surface` or `open`, "
-             "periodic y and `domain.ny = 1`.  It writes `collapse.csv` (every step: t, x_front, "
-             "h_axis, kinetic energy, grains' volume, extremes of T) and `surface.csv` (h(x) at "
-             "the profile times and at the end); with `case.reference` it compares x_front and "
+             "periodic y and `domain.ny = 1` (`collapse.column = square`: a quarter of a square "
+             "column in 3D, `ylo = slip`).  It writes `collapse.csv` (every step: t, x_front, "
+             "h_axis, kinetic energy, grains' volume, extremes of T; square: then y_front and "
+             "the diagonal's front) and `surface.csv` (h(x) at the profile times and at the "
+             "end; square: along y = 0); with `case.reference` it compares x_front and "
              "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
              struct collapse_params, collapse_keys, defaults)
 
@@ -122,30 +135,42 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
         return 1;
     }
     const struct boundary *b = &c->bc;
+    int square = p->column == COLLAPSE_SQUARE;
     if (b->face[0][0] != BC_SLIP || b->face[0][1] == BC_PERIODIC || b->face[2][0] != BC_WALL ||
-        (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN) ||
-        b->face[1][0] != BC_PERIODIC || c->n[1] != 1) {
+        (b->face[2][1] != BC_SURFACE && b->face[2][1] != BC_OPEN)) {
         snprintf(msg, msglen, "case.scene = collapse needs boundary.xlo = slip (the axis), "
                               "boundary.xhi not periodic, boundary.zlo = wall, boundary.zhi = "
-                              "surface or open, boundary.ylo = boundary.yhi = periodic and "
-                              "domain.ny = 1");
+                              "surface or open");
+        return 1;
+    }
+    if (!square && (b->face[1][0] != BC_PERIODIC || c->n[1] != 1)) {
+        snprintf(msg, msglen, "collapse.column = slab needs boundary.ylo = boundary.yhi = "
+                              "periodic and domain.ny = 1 (a 3D column: collapse.column = "
+                              "square)");
+        return 1;
+    }
+    if (square && (b->face[1][0] != BC_SLIP || b->face[1][1] == BC_PERIODIC)) {
+        snprintf(msg, msglen, "collapse.column = square needs boundary.ylo = slip (the "
+                              "symmetry plane y = 0) and boundary.yhi not periodic");
         return 1;
     }
     /* the column inside the box, and at least a cell across each way (a
      * thinner one is a fraction of a cell's mixture: it ends "finished"
      * with x_front 0) */
-    static const char *const name[2] = {"half_width", "height"}, *const len_key[2] = {"lx", "lz"},
-                             *const n_key[2] = {"nx", "nz"};
-    const double size[2] = {p->half_width, p->height};
-    for (int k = 0; k < 2; k++) {
-        int d = 2 * k; /* x, z */
+    static const char *const name[3] = {"half_width", "half_width", "height"},
+                             *const len_key[3] = {"lx", "ly", "lz"},
+                             *const n_key[3] = {"nx", "ny", "nz"};
+    const double size[3] = {p->half_width, p->half_width, p->height};
+    for (int d = 0; d < 3; d++) {
+        if (d == 1 && !square) /* a slab fills y */
+            continue;
         double h = c->len[d] / c->n[d];
-        if (!(scene_at_least_a_cell(size[k], h) && size[k] < c->len[d])) {
+        if (!(scene_at_least_a_cell(size[d], h) && size[d] < c->len[d])) {
             snprintf(msg, msglen, "collapse.%s = %s: must be in [%.6g, %s): at least a cell "
                                   "(domain.%s / domain.%s = %s / %d = %.6g) and inside "
                                   "domain.%s = %s",
-                     name[k], num_text(size[k]).s, h, num_text(c->len[d]).s, len_key[k], n_key[k],
-                     num_text(c->len[d]).s, c->n[d], h, len_key[k], num_text(c->len[d]).s);
+                     name[d], num_text(size[d]).s, h, num_text(c->len[d]).s, len_key[d], n_key[d],
+                     num_text(c->len[d]).s, c->n[d], h, len_key[d], num_text(c->len[d]).s);
             return 1;
         }
     }
@@ -221,28 +246,36 @@ static int grow(void **a, long *cap, long need, size_t each)
  * surface.csv and results are the uninterrupted run's.  One array per
  * measure of the samples, the profiles' times and heights, and the
  * scalars that decide the next sample and profile and the rest. */
-#define SAMPLE_FIELDS 7
+#define SAMPLE_FIELDS 9
 static const char *const sample_names[SAMPLE_FIELDS] = {
-    "t", "x_front", "h_axis", "kinetic_energy", "grains_volume", "tracer_min", "tracer_max"};
+    "t",          "x_front",    "h_axis",  "kinetic_energy", "grains_volume",
+    "tracer_min", "tracer_max", "y_front", "diagonal_front"};
 static double *sample_field(struct collapse_sample *s, int f)
 {
-    double *const at[SAMPLE_FIELDS] = {&s->t,      &s->x_front, &s->h_axis, &s->kinetic,
-                                       &s->volume, &s->t_min,   &s->t_max};
+    double *const at[SAMPLE_FIELDS] = {&s->t,     &s->x_front, &s->h_axis,
+                                       &s->kinetic, &s->volume, &s->t_min,
+                                       &s->t_max, &s->y_front, &s->d_front};
     return at[f];
+}
+
+/* The measures a column records: the square's two fronts besides. */
+static int sample_fields(const struct muflow_case *cs)
+{
+    return collapse_is_square(cs) ? SAMPLE_FIELDS : SAMPLE_FIELDS - 2;
 }
 enum { SC_LAST_STEP, SC_PEAK, SC_PEAK_TIME, SC_VOLUME0, SC_NEXT_PROFILE, SC_NX, SCALARS };
 
 static int save(const struct march_state *st, void *state, struct module_record *rec)
 {
-    (void)st;
     struct record *r = state;
+    int nf = sample_fields(st->cs);
     double scalars[SCALARS] = {(double)r->last_step, r->peak, r->peak_time, r->volume0,
                                r->next_profile, r->nx};
     double *v = malloc((size_t)(r->n > 0 ? r->n : 1) * sizeof *v);
     if (!v)
         return module_record_fail(rec, "out of memory for the record");
     int rc = module_record_put(rec, "scalars", scalars, SCALARS);
-    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+    for (int f = 0; rc == 0 && f < nf; f++) {
         for (long m = 0; m < r->n; m++)
             v[m] = *sample_field(&r->s[m], f);
         rc = module_record_put(rec, sample_names[f], v, r->n);
@@ -257,8 +290,8 @@ static int save(const struct march_state *st, void *state, struct module_record 
 
 static int load(struct march_state *st, void *state, struct module_record *rec)
 {
-    (void)st;
     struct record *r = state;
+    int nf = sample_fields(st->cs);
     double scalars[SCALARS];
     if (!rec) /* the record covers the run from the initial column */
         return -1;
@@ -281,7 +314,7 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
     r->cap = cap;
     r->pcap = pc;
     int rc = 0;
-    for (int f = 0; rc == 0 && f < SAMPLE_FIELDS; f++) {
+    for (int f = 0; rc == 0 && f < nf; f++) {
         rc = module_record_get(rec, sample_names[f], v, n);
         for (long m = 0; rc == 0 && m < n; m++)
             *sample_field(&r->s[m], f) = v[m];
@@ -312,6 +345,16 @@ static const struct module collapse_module = {
     .destroy = destroy,
 };
 
+/* h(x) of surface.csv: averaged over y (slab), along the row next to y = 0
+ * (square). */
+static void surface_heights(const struct march_state *st, const double *T, double *h)
+{
+    if (collapse_is_square(st->cs))
+        collapse_row_heights(&st->g, T, 0, h);
+    else
+        collapse_heights(&st->g, T, h);
+}
+
 /* Adds the state's sample (once per step) and a profile when one is due. */
 static int record_state(struct record *r, const struct march_state *st)
 {
@@ -338,7 +381,7 @@ static int record_state(struct record *r, const struct march_state *st)
             return -1;
         r->pcap = pc;
         r->ptime[r->np] = s->t;
-        collapse_heights(&st->g, T, r->ph + (size_t)r->np * r->nx);
+        surface_heights(st, T, r->ph + (size_t)r->np * r->nx);
         r->np++;
         double every = params(st->cs)->profile_interval;
         while (r->next_profile <= s->t * (1.0 + 1e-12))
@@ -406,7 +449,7 @@ static double reference_error(const struct muflow_case *cs, const struct record 
                               const char *dataset, int which, int *count)
 {
     *count = 0;
-    if (!cs->reference[0])
+    if (!cs->reference[0] || collapse_is_square(cs)) /* the references are slabs' */
         return NAN;
     const struct collapse_params *p = params(cs);
     struct curve c;
@@ -450,6 +493,10 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     int nx, nh;
     double ex = reference_error(st->cs, r, "x_front", 0, &nx);
     double eh = reference_error(st->cs, r, "h_axis", 1, &nh);
+    if (collapse_is_square(st->cs)) {
+        run_result_add(res, "y_front", "%.10g", s->y_front);
+        run_result_add(res, "diagonal_front", "%.10g", s->d_front);
+    }
     if (nx > 0)
         run_result_add(res, "x_front_err_max", "%.6e", ex);
     if (nh > 0)
@@ -474,11 +521,16 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     struct output_file f;
     if (output_open(&f, dir, "collapse.csv", err, errlen) != 0)
         return -1;
-    fprintf(f.f, "t,x_front,h_axis,kinetic_energy,grains_volume,tracer_min,tracer_max\n");
+    int square = collapse_is_square(st->cs);
+    fprintf(f.f, "t,x_front,h_axis,kinetic_energy,grains_volume,tracer_min,tracer_max%s\n",
+            square ? ",y_front,diagonal_front" : "");
     for (long m = 0; m < r->n; m++) {
         const struct collapse_sample *s = &r->s[m];
-        fprintf(f.f, "%.10g,%.10g,%.10g,%.10e,%.16e,%.6e,%.16e\n", s->t, s->x_front, s->h_axis,
+        fprintf(f.f, "%.10g,%.10g,%.10g,%.10e,%.16e,%.6e,%.16e", s->t, s->x_front, s->h_axis,
                 s->kinetic, s->volume, s->t_min, s->t_max);
+        if (square)
+            fprintf(f.f, ",%.10g,%.10g", s->y_front, s->d_front);
+        fputc('\n', f.f);
     }
     if (output_commit(&f, err, errlen) != 0)
         return -1;
@@ -491,7 +543,7 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
         snprintf(err, errlen, "surface.csv: out of memory");
         return -1;
     }
-    collapse_heights(g, T, h);
+    surface_heights(st, T, h);
     fprintf(f.f, "t,final,x,h\n");
     for (long m = 0; m < r->np; m++)
         for (int i = 0; i < r->nx; i++)
@@ -536,8 +588,13 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
-                T[grid_idx(g, i, j, k)] = collapse_rectangle_fraction(
-                    i * g->h[0], g->h[0], k * g->h[2], g->h[2], p->half_width, p->height);
+                T[grid_idx(g, i, j, k)] =
+                    collapse_rectangle_fraction(i * g->h[0], g->h[0], k * g->h[2], g->h[2],
+                                                p->half_width, p->height) *
+                    (p->column == COLLAPSE_SQUARE
+                         ? collapse_rectangle_fraction(j * g->h[1], g->h[1], 0.0, 1.0,
+                                                       p->half_width, 1.0)
+                         : 1.0);
     return two_phase_tracer_changed(st, err, errlen);
 }
 

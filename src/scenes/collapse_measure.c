@@ -19,34 +19,87 @@ void collapse_heights(const struct grid *g, const double *T, double *h)
     }
 }
 
+/* check() ties the column to its y faces: a slab's are periodic, a
+ * square's low one the symmetry plane (slip). */
+int collapse_is_square(const struct muflow_case *cs)
+{
+    return cs->bc.face[1][0] == BC_SLIP;
+}
+
+void collapse_row_heights(const struct grid *g, const double *T, int j, double *h)
+{
+    for (int i = 0; i < g->n[0]; i++) {
+        double s = 0.0;
+        for (int k = 0; k < g->n[2]; k++)
+            s += T[grid_idx(g, i, j, k)];
+        h[i] = s * g->h[2];
+    }
+}
+
+/* The largest distance from the axis where T crosses 1/2 along the line of
+ * cells (di m, j0 + dj m, k), m = 0 .. n - 1, or 0 when the line has no
+ * grains: linear between the centres, m + 1/2 steps of |(di hx, dj hy)|
+ * from the axis. */
+static double line_front(const struct grid *g, const double *T, int di, int dj, int j0, int k,
+                         int n)
+{
+    double step = hypot(di * g->h[0], dj * g->h[1]);
+    for (int m = n - 1; m >= 0; m--) {
+        double t = T[grid_idx(g, di * m, j0 + dj * m, k)];
+        if (t < 0.5)
+            continue;
+        double xc = (m + 0.5) * step;
+        if (m == n - 1)
+            return xc;
+        double tn = T[grid_idx(g, di * (m + 1), j0 + dj * (m + 1), k)];
+        return xc + step * (t - 0.5) / (t - tn);
+    }
+    return 0.0;
+}
+
 /* The largest x where T crosses 1/2 along a row, or 0 when the row has no
  * grains. */
 static double row_front(const struct grid *g, const double *T, int j, int k)
 {
-    for (int i = g->n[0] - 1; i >= 0; i--) {
-        double t = T[grid_idx(g, i, j, k)];
-        if (t < 0.5)
-            continue;
-        double xc = (i + 0.5) * g->h[0];
-        if (i == g->n[0] - 1)
-            return xc;
-        double tn = T[grid_idx(g, i + 1, j, k)];
-        return xc + g->h[0] * (t - 0.5) / (t - tn);
+    return line_front(g, T, 1, 0, j, k, g->n[0]);
+}
+
+/* The square column's fronts and height on the axis (scenes/collapse.h). */
+static void square_measures(const struct grid *g, const double *T, struct collapse_sample *s)
+{
+    int diagonal = g->n[0] == g->n[1] && g->h[0] == g->h[1];
+    for (int k = 0; k < g->n[2]; k++) {
+        s->x_front = fmax(s->x_front, row_front(g, T, 0, k));
+        s->y_front = fmax(s->y_front, line_front(g, T, 0, 1, 0, k, g->n[1]));
+        if (diagonal)
+            s->d_front = fmax(s->d_front, line_front(g, T, 1, 1, 0, k, g->n[0]));
     }
-    return 0.0;
+    /* h = a + b r^2 through the cell columns (0, 0) at r^2 = h^2 / 2 and
+     * (1, 0) at 5 h^2 / 2: a = (5 h_00 - h_10) / 4 */
+    double h00 = 0.0, h10 = 0.0;
+    for (int k = 0; k < g->n[2]; k++) {
+        h00 += T[grid_idx(g, 0, 0, k)];
+        if (g->n[0] > 1)
+            h10 += T[grid_idx(g, 1, 0, k)];
+    }
+    h00 *= g->h[2];
+    h10 *= g->h[2];
+    s->h_axis = g->n[0] > 1 ? (5.0 * h00 - h10) / 4.0 : h00;
 }
 
 void collapse_measure(const struct march_state *st, const double *T, struct collapse_sample *s)
 {
     const struct grid *g = &st->g;
+    int square = collapse_is_square(st->cs);
     s->t = st->time;
-    s->x_front = 0.0;
+    s->x_front = s->y_front = s->d_front = 0.0;
     s->t_min = INFINITY;
     s->t_max = -INFINITY;
     double vol = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
-            s->x_front = fmax(s->x_front, row_front(g, T, j, k));
+            if (!square)
+                s->x_front = fmax(s->x_front, row_front(g, T, j, k));
             for (int i = 0; i < g->n[0]; i++) {
                 double t = T[grid_idx(g, i, j, k)];
                 vol += t;
@@ -54,9 +107,13 @@ void collapse_measure(const struct march_state *st, const double *T, struct coll
                 s->t_max = fmax(s->t_max, t);
             }
         }
-    s->volume = vol * g->h[0] * g->h[2] / g->n[1];
+    /* per unit width (slab), or the quarter column's (square) */
+    double cell = square ? g->h[0] * g->h[1] * g->h[2] : g->h[0] * g->h[2] / g->n[1];
+    s->volume = vol * cell;
     /* h(x) = a + b x^2 through the first two column heights (x = h/2, 3h/2):
      * a = (9 h_0 - h_1) / 8 */
+    if (square)
+        square_measures(g, T, s);
     double h0 = 0.0, h1 = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
@@ -66,7 +123,8 @@ void collapse_measure(const struct march_state *st, const double *T, struct coll
         }
     h0 *= g->h[2] / g->n[1];
     h1 *= g->h[2] / g->n[1];
-    s->h_axis = g->n[0] > 1 ? (9.0 * h0 - h1) / 8.0 : h0;
+    if (!square)
+        s->h_axis = g->n[0] > 1 ? (9.0 * h0 - h1) / 8.0 : h0;
     /* kinetic energy: each face's velocity with the face density, over the
      * face's share of volume (the velocity unknowns' boxes) */
     double ke = 0.0;
@@ -80,7 +138,7 @@ void collapse_measure(const struct march_state *st, const double *T, struct coll
                           st->field.velocity[c][p];
                 }
     }
-    s->kinetic = ke * g->h[0] * g->h[2] / g->n[1];
+    s->kinetic = ke * cell;
 }
 
 /* Length of [a, a + w] inside [0, r]. */
