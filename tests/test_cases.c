@@ -216,8 +216,10 @@ static void shipped_runs(void)
         char tag[32];
         snprintf(tag, sizeof tag, "cases_%.20s", s->tag);
         test_tmp_make(w->dir, sizeof w->dir, tag);
-        snprintf(w->a, sizeof w->a, "%.63s/a", w->dir);
-        snprintf(w->b, sizeof w->b, "%.63s/b", w->dir);
+        char dir[sizeof w->dir]; /* a copy: the compiler cannot tell w->a from w->dir */
+        memcpy(dir, w->dir, sizeof dir);
+        snprintf(w->a, sizeof w->a, "%.63s/a", dir);
+        snprintf(w->b, sizeof w->b, "%.63s/b", dir);
         char end[64], stop[64];
         load(s, w->a, NULL, &w->cs);
         snprintf(end, sizeof end, "solver.max_steps=%ld", s->end ? s->end : w->cs.max_steps);

@@ -286,7 +286,7 @@ static void test_install(void **state)
      * says: its status, steps and err_rms are the installed command's
      * summary.ini lines for the same case and overrides (its comment's
      * numbers, bagnold at H/10: 15 steps, err_rms 1.935774e-03) */
-    snprintf(cmd, sizeof cmd,
+    int cmd_len = snprintf(cmd, sizeof cmd,
              "cd '%s' && export PKG_CONFIG_PATH='%s/usr/local/lib/pkgconfig' && "
              "${CC:-cc} -std=c11 -Wall -Wextra -Werror '%s/examples/minimal.c' -o minimal "
              "$(pkg-config --define-variable=prefix='%s/usr/local' --cflags --libs muflow) "
@@ -295,6 +295,7 @@ static void test_install(void **state)
              "output.fields=off output.dir=cli >/dev/null && "
              "grep -E '^(status|steps|err_rms) = ' cli/summary.ini",
              tmp, dest, root, dest, root, dest, root);
+    assert_true(cmd_len > 0 && (size_t)cmd_len < sizeof cmd); /* the paths fit */
     out = sh_ok(cmd);
     print_message("%s", out);
     const char *want = "status = steady\nsteps = 15\nerr_rms = 1.935774e-03\n";
