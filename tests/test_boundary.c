@@ -584,7 +584,7 @@ static void top_hook(void *vctx, const struct march_state *st)
     const double *T = collapse_tracer(st);
     assert_non_null(T);
     struct collapse_sample s;
-    collapse_measure(st, T, &s);
+    collapse_measure(st, T, 0, &s); /* a slab */
     if (tr->n++ == 0) {
         tr->v0 = s.volume;
         tr->tmin = s.t_min;

@@ -57,7 +57,7 @@ static void hook(void *vctx, const struct march_state *st)
     const double *T = collapse_tracer(st);
     assert_non_null(T);
     struct collapse_sample s;
-    collapse_measure(st, T, &s);
+    collapse_measure(st, T, 0, &s); /* the slab cases */
     if (tr->n == tr->cap) {
         tr->cap = tr->cap ? 2 * tr->cap : 1024;
         tr->t = realloc(tr->t, (size_t)tr->cap * sizeof(double));
@@ -468,7 +468,7 @@ static void square_hook(void *vctx, const struct march_state *st)
     const double *T = collapse_tracer(st);
     assert_non_null(T);
     struct collapse_sample s;
-    collapse_measure(st, T, &s);
+    collapse_measure(st, T, 1, &s);
     if (tr->samples++ == 0)
         tr->v0 = s.volume;
     tr->dv = fmax(tr->dv, fabs(s.volume / tr->v0 - 1.0));

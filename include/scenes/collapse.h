@@ -35,11 +35,10 @@ struct collapse_sample {
 /* T of the two_phase module (the field "tracer"), or NULL. */
 const double *collapse_tracer(const struct march_state *st);
 
-/* The case (of the collapse scene) has collapse.column = square. */
-int collapse_is_square(const struct muflow_case *cs);
-
-/* The measures of the current state into s (s->t = st->time). */
-void collapse_measure(const struct march_state *st, const double *T, struct collapse_sample *s);
+/* The measures of the current state into s (s->t = st->time); square: the
+ * quarter of a square column (collapse.column = square), else a slab. */
+void collapse_measure(const struct march_state *st, const double *T, int square,
+                      struct collapse_sample *s);
 
 /* Column heights h(x_i) = sum_k T dz at the cell centres x_i (n[0] values,
  * averaged over y). */

@@ -420,8 +420,9 @@ void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap)
     *ap = mp;
 }
 
-static int record_state(struct growth_record *r, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
+    struct growth_record *r = rec;
     if (!r || st->cs->mode != MODE_TRANSIENT || st->step == r->last_step)
         return 0;
     if (r->n == r->cap) {
@@ -443,11 +444,6 @@ static int record_state(struct growth_record *r, const struct march_state *st)
     r->n++;
     r->last_step = st->step;
     return 0;
-}
-
-static int record_step(void *rec, const struct march_state *st)
-{
-    return record_state(rec, st);
 }
 
 static int drive(struct scene_drive *d)

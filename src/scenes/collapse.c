@@ -123,6 +123,12 @@ SCENE_PARAMS(collapse_block, "collapse",
              "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
              struct collapse_params, collapse_keys, defaults)
 
+/* The case's column is the quarter of a square one (collapse.column). */
+static int is_square(const struct muflow_case *cs)
+{
+    return params(cs)->column == COLLAPSE_SQUARE;
+}
+
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct collapse_params *p = params(c);
@@ -261,7 +267,7 @@ static double *sample_field(struct collapse_sample *s, int f)
 /* The measures a column records: the square's two fronts besides. */
 static int sample_fields(const struct muflow_case *cs)
 {
-    return collapse_is_square(cs) ? SAMPLE_FIELDS : SAMPLE_FIELDS - 2;
+    return is_square(cs) ? SAMPLE_FIELDS : SAMPLE_FIELDS - 2;
 }
 enum { SC_LAST_STEP, SC_PEAK, SC_PEAK_TIME, SC_VOLUME0, SC_NEXT_PROFILE, SC_NX, SCALARS };
 
@@ -349,15 +355,16 @@ static const struct module collapse_module = {
  * (square). */
 static void surface_heights(const struct march_state *st, const double *T, double *h)
 {
-    if (collapse_is_square(st->cs))
+    if (is_square(st->cs))
         collapse_row_heights(&st->g, T, 0, h);
     else
         collapse_heights(&st->g, T, h);
 }
 
 /* Adds the state's sample (once per step) and a profile when one is due. */
-static int record_state(struct record *r, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
+    struct record *r = rec;
     const double *T = collapse_tracer(st);
     if (!T || st->step == r->last_step)
         return 0;
@@ -366,7 +373,7 @@ static int record_state(struct record *r, const struct march_state *st)
         return -1;
     r->cap = scap;
     struct collapse_sample *s = &r->s[r->n++];
-    collapse_measure(st, T, s);
+    collapse_measure(st, T, is_square(st->cs), s);
     r->last_step = st->step;
     if (r->n == 1)
         r->volume0 = s->volume;
@@ -396,11 +403,6 @@ static struct record *record_of(const struct march_state *st)
 }
 
 /* ---- the driver: the march, recorded, until end_time or rest ---- */
-
-static int record_step(void *rec, const struct march_state *st)
-{
-    return record_state(rec, st);
-}
 
 static void energy(const void *rec, double *kinetic, double *peak, double *peak_time)
 {
@@ -449,7 +451,7 @@ static double reference_error(const struct muflow_case *cs, const struct record 
                               const char *dataset, int which, int *count)
 {
     *count = 0;
-    if (!cs->reference[0] || collapse_is_square(cs)) /* the references are slabs' */
+    if (!cs->reference[0] || is_square(cs)) /* the references are slabs' */
         return NAN;
     const struct collapse_params *p = params(cs);
     struct curve c;
@@ -493,7 +495,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     int nx, nh;
     double ex = reference_error(st->cs, r, "x_front", 0, &nx);
     double eh = reference_error(st->cs, r, "h_axis", 1, &nh);
-    if (collapse_is_square(st->cs)) {
+    if (is_square(st->cs)) {
         run_result_add(res, "y_front", "%.10g", s->y_front);
         run_result_add(res, "diagonal_front", "%.10g", s->d_front);
     }
@@ -521,7 +523,7 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     struct output_file f;
     if (output_open(&f, dir, "collapse.csv", err, errlen) != 0)
         return -1;
-    int square = collapse_is_square(st->cs);
+    int square = is_square(st->cs);
     fprintf(f.f, "t,x_front,h_axis,kinetic_energy,grains_volume,tracer_min,tracer_max%s\n",
             square ? ",y_front,diagonal_front" : "");
     for (long m = 0; m < r->n; m++) {

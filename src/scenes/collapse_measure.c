@@ -21,11 +21,6 @@ void collapse_heights(const struct grid *g, const double *T, double *h)
 
 /* check() ties the column to its y faces: a slab's are periodic, a
  * square's low one the symmetry plane (slip). */
-int collapse_is_square(const struct muflow_case *cs)
-{
-    return cs->bc.face[1][0] == BC_SLIP;
-}
-
 void collapse_row_heights(const struct grid *g, const double *T, int j, double *h)
 {
     for (int i = 0; i < g->n[0]; i++) {
@@ -87,10 +82,10 @@ static void square_measures(const struct grid *g, const double *T, struct collap
     s->h_axis = g->n[0] > 1 ? (5.0 * h00 - h10) / 4.0 : h00;
 }
 
-void collapse_measure(const struct march_state *st, const double *T, struct collapse_sample *s)
+void collapse_measure(const struct march_state *st, const double *T, int square,
+                      struct collapse_sample *s)
 {
     const struct grid *g = &st->g;
-    int square = collapse_is_square(st->cs);
     s->t = st->time;
     s->x_front = s->y_front = s->d_front = 0.0;
     s->t_min = INFINITY;

@@ -300,8 +300,9 @@ static int shape_error(const struct muflow_case *cs, const struct da_front *f,
     return n;
 }
 
-static int record_state(struct record *r, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
+    struct record *r = rec;
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
@@ -323,11 +324,6 @@ static int record_state(struct record *r, const struct march_state *st)
 }
 
 /* ---- the driver: the march, recorded ---- */
-
-static int record_step(void *rec, const struct march_state *st)
-{
-    return record_state(rec, st);
-}
 
 static int drive(struct scene_drive *d)
 {

@@ -439,8 +439,9 @@ static void measure(struct record *r, const struct march_state *st, const double
     s->kinetic = ke * g->h[0] * g->h[2];
 }
 
-static int record_state(struct record *r, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
+    struct record *r = rec;
     const double *T = tracer(st);
     if (!T || st->step == r->last_step)
         return 0;
@@ -462,11 +463,6 @@ static int record_state(struct record *r, const struct march_state *st)
 }
 
 /* ---- the driver: the march until end_time or rest ---- */
-
-static int record_step(void *rec, const struct march_state *st)
-{
-    return record_state(rec, st);
-}
 
 static void energy(const void *rec, double *kinetic, double *peak, double *peak_time)
 {

@@ -353,8 +353,9 @@ static void measure_state(const struct march_state *st, const double *T, const d
     s->static_length = still * g->h[0];
 }
 
-static int record_state(struct record *r, const struct march_state *st)
+static int record_step(void *rec, const struct march_state *st)
 {
+    struct record *r = rec;
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
@@ -377,11 +378,6 @@ static int record_state(struct record *r, const struct march_state *st)
 }
 
 /* ---- the driver ---- */
-
-static int record_step(void *rec, const struct march_state *st)
-{
-    return record_state(rec, st);
-}
 
 static int drive(struct scene_drive *d)
 {
