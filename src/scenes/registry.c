@@ -26,7 +26,8 @@
     X(cylinder)            \
     X(slope_release)       \
     X(front)               \
-    X(wall_shock)
+    X(wall_shock)          \
+    X(ngf_chute)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)
