@@ -27,7 +27,8 @@
     X(slope_release)       \
     X(front)               \
     X(wall_shock)          \
-    X(ngf_chute)
+    X(ngf_chute)           \
+    X(ngf_shear)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)
