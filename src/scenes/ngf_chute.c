@@ -1,10 +1,9 @@
 /* Scene "ngf_chute": the nonlocal fluidity (rheology.law = ngf, physics/ngf.h)
  * in a vertical chute between rough walls at z = 0 and z = H, gravity along
  * the flow (x, physics.tilt = pi/2), periodic along x and y, the pressure the
- * confining pressure P across the channel (cases/ngf_chute.ini; the
- * geometry of Kamrin & Koval 2012, "Nonlocal constitutive relation for
- * steady granular flow", and of Liu & Henann 2018, "Size-dependence of the
- * flow threshold in dense granular materials").
+ * confining pressure P across the channel (cases/ngf_chute.ini; one of the
+ * geometries of Liu & Henann 2018, "Size-dependence of the flow threshold
+ * in dense granular materials", for this model).
  *
  * The shear stress is rho g |s|, s = z - H/2, so mu = rho g |s| / P: shear
  * bands along the walls where mu > mu_s, and a plug |s| < s_y = mu_s P /

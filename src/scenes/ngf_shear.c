@@ -1,10 +1,9 @@
 /* Scene "ngf_shear": the nonlocal fluidity (rheology.law = ngf, physics/ngf.h)
  * in planar shear under gravity: a layer on a rough wall at z = 0 sheared by
  * a rough lid at z = H moving at U, gravity across the layer (physics.tilt =
- * 0), periodic along x and y (cases/ngf_shear.ini; the geometry of Kamrin &
- * Koval 2012, "Nonlocal constitutive relation for steady granular flow",
- * and of Liu & Henann 2018, "Size-dependence of the flow threshold in dense
- * granular materials").
+ * 0), periodic along x and y (cases/ngf_shear.ini; one of the geometries of
+ * Liu & Henann 2018, "Size-dependence of the flow threshold in dense
+ * granular materials", for this model).
  *
  * The shear stress tau is uniform and the pressure grows with depth, so mu
  * = tau / p falls with depth: a shear band under the lid where mu > mu_s,
