@@ -26,7 +26,9 @@
     X(cylinder)            \
     X(slope_release)       \
     X(front)               \
-    X(wall_shock)
+    X(wall_shock)          \
+    X(ngf_chute)           \
+    X(ngf_shear)
 
 #define DECLARE(s) extern const struct scene scene_##s;
 SCENE_LIST(DECLARE)

@@ -1,0 +1,147 @@
+/* Scene "ngf_shear": the nonlocal fluidity (rheology.law = ngf, physics/ngf.h)
+ * in planar shear under gravity: a layer on a rough wall at z = 0 sheared by
+ * a rough lid at z = H moving at U, gravity across the layer (physics.tilt =
+ * 0), periodic along x and y (cases/ngf_shear.ini; one of the geometries of
+ * Liu & Henann 2018, "Size-dependence of the flow threshold in dense
+ * granular materials", for this model).
+ *
+ * The shear stress tau is uniform and the pressure grows with depth, so mu
+ * = tau / p falls with depth: a shear band under the lid where mu > mu_s,
+ * below it a layer the local law holds at rest, which the band's fluidity
+ * makes creep.  There the fluidity is small, b I negligible against mu_s -
+ * mu, and its equation linear with the base's g = 0:
+ *   A^2 d^2 g'' = (mu_s - tau / p(z)) g,  g(0) = 0,  p(z) = p_top + rho g (H - z)
+ * (Whittaker's equation in p; its solution through g(0) = 0 is the one
+ * integrated here, to round-off).  The measure of the band's reach: the
+ * fluidity's decay length 1 / (ln g)' at z = H / 4, the creeping layer's
+ * (cooperativity length A d / sqrt(mu_s - mu) where mu is uniform), with tau
+ * the measured stress.  The velocity has no closed form (NaN); the headline
+ * is the mid-height velocity. */
+#include <math.h>
+#include <stdio.h>
+#include "march/march.h"
+#include "io/output.h"
+#include "scenes/scene.h"
+#include "scene_common.h"
+
+/* steps of the reference integration per grain diameter (RK4: its error
+ * (h^4) far below the grids' on the scale A d / sqrt(mu_s) = 0.78 d) */
+#define NGF_SHEAR_STEPS_PER_D 2000
+
+static double no_profile(const struct muflow_case *cs, double z)
+{
+    (void)cs;
+    (void)z;
+    return NAN; /* the velocity has no closed form */
+}
+
+POINTWISE_PROFILE(exact_profile, no_profile)
+
+static int check(const struct muflow_case *c, char *msg, size_t msglen)
+{
+    if (c->rheo.law != LAW_NGF) {
+        snprintf(msg, msglen, "case.scene = ngf_shear needs rheology.law = ngf");
+        return 1;
+    }
+    if (c->bc.face[2][0] != BC_WALL || c->bc.face[2][1] != BC_LID || c->bc.lid_direction != 0) {
+        snprintf(msg, msglen, "case.scene = ngf_shear needs boundary.zlo = wall, boundary.zhi = "
+                              "lid and boundary.lid_direction = x (the rough base and the "
+                              "moving rough lid, g = 0 on both)");
+        return 1;
+    }
+    if (c->tilt != 0.0) {
+        snprintf(msg, msglen, "case.scene = ngf_shear needs physics.tilt = 0 (gravity across the "
+                              "layer, none along the flow); got %s",
+                 num_text(c->tilt).s);
+        return 1;
+    }
+    /* the pressure's constant is the layer's mean: p = confining + rho g (H/2 - z) */
+    if (!(c->confining_pressure > 0.5 * c->density * c->gravity * c->len[2])) {
+        snprintf(msg, msglen, "case.scene = ngf_shear needs physics.confining_pressure > rho g H "
+                              "/ 2 = %s (the mid-height pressure: the lid's must be positive)",
+                 num_text(0.5 * c->density * c->gravity * c->len[2]).s);
+        return 1;
+    }
+    return 0;
+}
+
+struct creep_line {
+    double a2, mu_s, tau, p0, k; /* p(z) = p0 - k z */
+};
+
+static double creep_rhs(const struct creep_line *c, double z)
+{
+    return (c->mu_s - c->tau / (c->p0 - c->k * z)) / c->a2;
+}
+
+/* The decay length 1 / (ln g)' at z of the linear equation's solution with
+ * g(0) = 0: RK4 from the base (g, g') = (0, 1), the direction in which it
+ * grows, so the integration is stable. */
+static double decay_length_reference(const struct creep_line *c, double z_end, double d)
+{
+    int n = (int)ceil(z_end / d * NGF_SHEAR_STEPS_PER_D);
+    double h = z_end / n, g = 0.0, q = 1.0;
+    for (int i = 0; i < n; i++) {
+        double z = i * h;
+        double k1g = q, k1q = creep_rhs(c, z) * g;
+        double k2g = q + 0.5 * h * k1q, k2q = creep_rhs(c, z + 0.5 * h) * (g + 0.5 * h * k1g);
+        double k3g = q + 0.5 * h * k2q, k3q = creep_rhs(c, z + 0.5 * h) * (g + 0.5 * h * k2g);
+        double k4g = q + h * k3q, k4q = creep_rhs(c, z + h) * (g + h * k3g);
+        g += h / 6.0 * (k1g + 2.0 * k2g + 2.0 * k3g + k4g);
+        q += h / 6.0 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q);
+    }
+    return g / q;
+}
+
+/* The shear stress tau = eta du/dz on the x-z edge at three quarters of the
+ * height (uniform in a steady layer; there eta and du/dz are of order one). */
+static double shear_stress(const struct march_state *st)
+{
+    const struct grid *g = &st->g;
+    ptrdiff_t e = grid_idx(g, 0, 0, 3 * g->n[2] / 4);
+    return st->field.viscosity_edges[1][e] * sqrt(st->field.strain_shear2[1][e]);
+}
+
+static void results(const struct march_state *st, const struct scene_drive *d,
+                    struct run_result *res)
+{
+    (void)d;
+    const struct muflow_case *cs = st->cs;
+    const struct grid *g = &st->g;
+    const struct rheology *r = &cs->rheo;
+    const int nz = g->n[2];
+    double tau = shear_stress(st), zs = 0.25 * cs->len[2];
+    double measured = NAN, exact = NAN;
+    int idx = fields_find(&st->fields, "fluidity");
+    int k = nz / 4; /* the cells k - 1 and k straddle the face at H / 4 (nz a multiple of 4) */
+    if (idx >= 0 && nz % 4 == 0 && k >= 1) {
+        const double *f = st->fields.e[idx].v[0];
+        double f0 = f[grid_idx(g, 0, 0, k - 1)], f1 = f[grid_idx(g, 0, 0, k)];
+        if (f0 > 0.0 && f1 > 0.0)
+            measured = (grid_xc(g, 2, k) - grid_xc(g, 2, k - 1)) / log(f1 / f0);
+        double kp = cs->density * cs->gravity;
+        /* the cells' pressure is hydrostatic: p at z = 0 from the lowest cell */
+        double pc = st->field.pressure_regularised[grid_idx(g, 0, 0, 0)];
+        struct creep_line c = {r->nonlocal_a * r->nonlocal_a * r->grain_diameter *
+                                   r->grain_diameter,
+                               r->mu_s, tau, pc + kp * grid_xc(g, 2, 0), kp};
+        if (tau / (c.p0 - kp * zs) < r->mu_s)
+            exact = decay_length_reference(&c, zs, r->grain_diameter);
+    }
+    run_result_add(res, "shear_stress", "%.10g", tau);
+    run_result_add(res, "decay_length", "%.10g", measured);
+    run_result_add(res, "decay_length_exact", "%.10g", exact);
+    run_result_add(res, "decay_length_error", "%.6e", measured / exact - 1.0);
+}
+
+const struct scene scene_ngf_shear = {
+    .name = "ngf_shear",
+    .title = "nonlocal fluidity in planar shear under gravity: the creeping layer's decay "
+             "length against its linear equation",
+    .check = check,
+    .profile_axis = 2,
+    .profile_component = 0,
+    .exact_profile = exact_profile,
+    .headline_name = "u_mid",
+    .results = results,
+};
