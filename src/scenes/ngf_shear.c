@@ -19,14 +19,17 @@
  * is the mid-height velocity. */
 #include <math.h>
 #include <stdio.h>
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
 #include "march/march.h"
 #include "io/output.h"
 #include "scenes/scene.h"
 #include "scene_common.h"
 
-/* steps of the reference integration per grain diameter (RK4: its error
- * (h^4) far below the grids' on the scale A d / sqrt(mu_s) = 0.78 d) */
-#define NGF_SHEAR_STEPS_PER_D 2000
+/* the reference integration's relative and absolute error per step (GSL's
+ * Runge-Kutta-Fehlberg 8(9) of Prince-Dormand: far below the grids' error on
+ * the scale A d / sqrt(mu_s) = 0.78 d) */
+#define NGF_SHEAR_ODE_TOL 1e-12
 
 static double no_profile(const struct muflow_case *cs, double z)
 {
@@ -69,28 +72,29 @@ struct creep_line {
     double a2, mu_s, tau, p0, k; /* p(z) = p0 - k z */
 };
 
-static double creep_rhs(const struct creep_line *c, double z)
+/* (g, g')' of the linear equation at z */
+static int creep_ode(double z, const double y[], double dydz[], void *params)
 {
-    return (c->mu_s - c->tau / (c->p0 - c->k * z)) / c->a2;
+    const struct creep_line *c = params;
+    dydz[0] = y[1];
+    dydz[1] = (c->mu_s - c->tau / (c->p0 - c->k * z)) / c->a2 * y[0];
+    return GSL_SUCCESS;
 }
 
 /* The decay length 1 / (ln g)' at z of the linear equation's solution with
- * g(0) = 0: RK4 from the base (g, g') = (0, 1), the direction in which it
- * grows, so the integration is stable. */
-static double decay_length_reference(const struct creep_line *c, double z_end, double d)
+ * g(0) = 0: from the base (g, g') = (0, 1), the direction in which it grows,
+ * so the integration is stable; NaN if GSL's driver fails. */
+static double decay_length_reference(struct creep_line *c, double z_end, double d)
 {
-    int n = (int)ceil(z_end / d * NGF_SHEAR_STEPS_PER_D);
-    double h = z_end / n, g = 0.0, q = 1.0;
-    for (int i = 0; i < n; i++) {
-        double z = i * h;
-        double k1g = q, k1q = creep_rhs(c, z) * g;
-        double k2g = q + 0.5 * h * k1q, k2q = creep_rhs(c, z + 0.5 * h) * (g + 0.5 * h * k1g);
-        double k3g = q + 0.5 * h * k2q, k3q = creep_rhs(c, z + 0.5 * h) * (g + 0.5 * h * k2g);
-        double k4g = q + h * k3q, k4q = creep_rhs(c, z + h) * (g + h * k3g);
-        g += h / 6.0 * (k1g + 2.0 * k2g + 2.0 * k3g + k4g);
-        q += h / 6.0 * (k1q + 2.0 * k2q + 2.0 * k3q + k4q);
-    }
-    return g / q;
+    gsl_odeiv2_system sys = {creep_ode, NULL, 2, c};
+    gsl_odeiv2_driver *drv = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, 1e-3 * d,
+                                                           NGF_SHEAR_ODE_TOL, NGF_SHEAR_ODE_TOL);
+    if (!drv)
+        return NAN;
+    double z = 0.0, y[2] = {0.0, 1.0};
+    int status = gsl_odeiv2_driver_apply(drv, &z, z_end, y);
+    gsl_odeiv2_driver_free(drv);
+    return status == GSL_SUCCESS ? y[0] / y[1] : NAN;
 }
 
 /* The shear stress tau = eta du/dz on the x-z edge at three quarters of the
