@@ -81,7 +81,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                 }
     kernel_divergence(g, flux, st->field.divergence);
     struct pressure_solver *ps;
-    if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
+    if (march_pressure_create(st, &ps, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
         return -1;
     if (!st->density_uniform &&
         pressure_set_coefficient(ps, st->beta, err, errlen) != 0) {

@@ -6,6 +6,7 @@
 #include <string.h>
 #include "kernels/kernels.h"
 #include "solvers/multigrid.h"
+#include "grid/decomp.h"
 #include "solvers/pressure.h"
 
 /* Relative residual of the variable-coefficient solve: the projection then
@@ -34,6 +35,7 @@ struct pressure_solver {
     long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
     int direct;        /* the multigrid is one level: the whole grid factorised */
+    const struct decomp *dc; /* the ranks' decomposition, or NULL (one process) */
 };
 
 int pressure_create(struct pressure_solver **out, const struct grid *g,
@@ -49,6 +51,47 @@ int pressure_create(struct pressure_solver **out, const struct grid *g,
     ps->uniform = 1;
     if (poisson_fft_create(&ps->fft, g, bc, err, errlen) != 0) {
         free(ps);
+        return -1;
+    }
+    *out = ps;
+    return 0;
+}
+
+/* The decomposed multigrid's uniform coefficient: 1 on every face. */
+static int set_uniform(struct pressure_solver *ps, char *err, size_t errlen)
+{
+    double *one[3] = {field_alloc(ps->g), field_alloc(ps->g), field_alloc(ps->g)};
+    int rc = -1;
+    if (one[0] && one[1] && one[2]) {
+        for (int d = 0; d < 3; d++)
+            for (size_t p = 0; p < ps->g->size; p++)
+                one[d][p] = 1.0;
+        rc = multigrid_set_operator(ps->mg, one, NULL, err, errlen);
+    } else {
+        snprintf(err, errlen, "pressure solver: out of memory");
+    }
+    for (int d = 0; d < 3; d++)
+        field_free(one[d]);
+    return rc;
+}
+
+int pressure_create_decomposed(struct pressure_solver **out, const struct grid *g,
+                               const struct grid *gg, const struct decomp *dc,
+                               const enum poisson_bc bc[3][2], char *err, size_t errlen)
+{
+    struct pressure_solver *ps = calloc(1, sizeof *ps);
+    if (!ps) {
+        snprintf(err, errlen, "pressure solver: out of memory");
+        return -1;
+    }
+    ps->g = g;
+    ps->dc = dc;
+    memcpy(ps->bc, bc, sizeof ps->bc);
+    if (multigrid_create_decomposed(&ps->mg, gg, dc, bc, NULL, err, errlen) != 0 ||
+        !(ps->rhs = field_alloc(g)) || set_uniform(ps, err, errlen) != 0) {
+        if (!ps->rhs)
+            snprintf(err, errlen, "pressure solver: out of memory");
+        pressure_destroy(ps);
         return -1;
     }
     *out = ps;
@@ -94,6 +137,9 @@ double pressure_variable_memory_estimate(const struct grid *g)
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen)
 {
+    if (ps->dc) /* the decomposed multigrid takes every coefficient */
+        return beta ? multigrid_set_operator(ps->mg, beta, NULL, err, errlen)
+                    : set_uniform(ps, err, errlen);
     ps->uniform = beta == NULL;
     if (ps->uniform)
         return 0;
@@ -155,6 +201,8 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
         double norm = kernel_norm2_cells(ps->g, ps->rhs);
+        if (ps->dc)
+            norm = sqrt(decomp_sum(ps->dc, norm * norm));
         if (norm <= floor)
             return 0; /* phi = 0: nothing above the floor to project */
         rtol = fmax(rtol, floor / norm);
