@@ -194,6 +194,9 @@ struct march_setup {
     /* 1: the flow runs along the grid's periodic direction of one cell and
      * the implicit step solves it (the scene's cross_section_flow) */
     int cross_section_flow;
+    /* 1: the grid is split over the ranks of the MPI job when it has
+     * several (comm.h; struct march_ranks); 0: this process holds it all */
+    int decompose;
 };
 
 /* Over the ranks of the run (the value itself on one process): a sum, a

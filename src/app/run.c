@@ -312,7 +312,10 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     int threads_then = omp_get_max_threads();
     if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
         return RUN_ERR_SETUP;
-    if (scene_march_create(st, cs, opt->modules, err, errlen) != 0)
+    struct march_setup su;
+    scene_march_setup(cs, opt->modules, &su);
+    su.decompose = !opt->one_process;
+    if (march_create(st, cs, &su, err, errlen) != 0)
         return RUN_ERR_SETUP;
     if (opt->restart_from) {
         if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,

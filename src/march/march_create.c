@@ -125,7 +125,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         st->rheo.lambda *= cs->continuation;
     int wraps[3];
     bc_periodic_flags(&cs->bc, wraps);
-    if (comm_size() > 1) {
+    if (su->decompose && comm_size() > 1) {
         if (march_ranks_refusal(cs, su, err, errlen) != 0 ||
             split_over_ranks(st, cs, err, errlen) != 0) {
             march_destroy(st);
