@@ -815,8 +815,7 @@ static void test_checkpoint_fields_any_ranks(void **state)
 /* A scene split over this run's ranks (run.c: march_setup.decompose) ends
  * as the run of one process, every rank's reference here (one_process): the
  * same status, steps within 1, the [result] errors and headline within
- * 1e-8 relative (the ranks' sums are in MPI's order and the hydrostatic and
- * projection solves the decomposed multigrid's, to 1e-12, not the FFT's);
+ * 1e-8 relative (the ranks' dot products and sums are in MPI's order);
  * the headline within tol of the exact value (the discretisation's error:
  * the reference's own measure).  On one rank both runs are one process. */
 static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol)

@@ -206,10 +206,6 @@ double march_max(const struct march_state *st, double v);
 void march_sum_array(const struct march_state *st, double *v, int n);
 /* The whole domain's grid: st->g, or the global grid of a decomposed run. */
 const struct grid *march_global_grid(const struct march_state *st);
-/* A Poisson solver of st's grid (pressure.h): the FFT's on one process, the
- * decomposed multigrid's over ranks. */
-int march_pressure_create(const struct march_state *st, struct pressure_solver **out,
-                          const enum poisson_bc bc[3][2], char *err, size_t errlen);
 
 /* Creates the march of the case: its grid, fields, solvers and modules,
  * the scene's setup, the hydrostatic split.  Returns 0, or -1 with the

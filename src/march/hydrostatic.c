@@ -1,7 +1,6 @@
 /* The hydrostatic split of the body force (step.h). */
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include "march/step.h"
 
 void body_force_vector(const struct muflow_case *cs, double f[3])
@@ -36,38 +35,6 @@ static void stretched_hydrostatic(struct march_state *st, const double f[3], dou
                         p += f[a] * scale * (grid_xc(g, a, idx[a]) - 0.5 * g->len[a]);
                 st->field.p_hyd[grid_idx(g, i, j, k)] = p;
             }
-}
-
-/* The split's solve of a decomposed run: the ranks' right-hand side
- * gathered on every rank, the global grid's solve (the FFT of one process),
- * each rank's block taken back.  Once a run, so p_hyd is the serial one:
- * the decomposed multigrid's (its red-black sweeps' round-off differs
- * between neighbouring columns) left p_hyd uneven along x at 1e-16, and
- * through it the uniform layer's increments: the projection then had a
- * divergence to solve each step and bagnold's steady residual stalled at
- * 7.4e-13 instead of 8.8e-14, its velocity 1e-11 off the serial run's. */
-static int gathered_solve(struct march_state *st, const enum poisson_bc pbc[3][2], char *err,
-                          size_t errlen)
-{
-    const struct march_ranks *rk = st->ranks;
-    const struct grid *gg = &rk->global;
-    double *rhs = field_alloc(gg), *phi = field_alloc(gg);
-    double *scratch = malloc(decomp_gather_len(&rk->dc) * sizeof(double));
-    struct pressure_solver *ps = NULL;
-    int rc = -1;
-    if (!rhs || !phi || !scratch) {
-        snprintf(err, errlen, "hydrostatic split: out of memory for the gathered grid");
-    } else if (pressure_create(&ps, gg, pbc, err, errlen) == 0) {
-        decomp_gather(&rk->dc, &st->g, st->field.divergence, gg, rhs, scratch);
-        rc = pressure_solve(ps, rhs, phi, 0.0);
-        decomp_scatter(&rk->dc, gg, phi, &st->g, st->field.p_hyd);
-    }
-    pressure_destroy(ps);
-    free(scratch);
-    field_free(rhs);
-    field_free(phi);
-    /* every rank the same: one out of memory is everyone's failure */
-    return march_max(st, rc != 0) != 0.0 ? -1 : 0;
 }
 
 /* Hydrostatic pressure of the body force: the pressure whose gradient removes
@@ -113,18 +80,11 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }
     kernel_divergence(g, flux, st->field.divergence);
-    if (st->ranks) { /* one density (no modules run decomposed) */
-        if (gathered_solve(st, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0) {
-            if (!err[0])
-                snprintf(err, errlen, "hydrostatic split: a rank ran out of memory");
-            return -1;
-        }
-        bc_fill_scalar(g, &st->bc, st->field.p_hyd);
-        hydrostatic_force(st);
-        return 0;
-    }
     struct pressure_solver *ps;
-    if (march_pressure_create(st, &ps, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
+    /* a decomposed run's: the whole grid's FFT on every rank (pressure.h) */
+    if ((st->ranks ? pressure_create_decomposed(&ps, g, &st->ranks->global, &st->ranks->dc,
+                                                (const enum poisson_bc(*)[2])pbc, err, errlen)
+                   : pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen)) != 0)
         return -1;
     if (!st->density_uniform &&
         pressure_set_coefficient(ps, st->beta, err, errlen) != 0) {

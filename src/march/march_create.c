@@ -217,9 +217,11 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
-    if ((!grid_stretched(g) && march_pressure_create(st, &st->pressure_solver,
-                                                     (const enum poisson_bc(*)[2])pbc, err,
-                                                     errlen) != 0) ||
+    const enum poisson_bc(*pb)[2] = (const enum poisson_bc(*)[2])pbc;
+    if ((!grid_stretched(g) &&
+         (st->ranks ? pressure_create_decomposed(&st->pressure_solver, g, &st->ranks->global,
+                                                 &st->ranks->dc, pb, err, errlen)
+                    : pressure_create(&st->pressure_solver, g, pb, err, errlen)) != 0) ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
         add_modules(st, su, err, errlen) != 0 || (su->setup && su->setup(st, err, errlen) != 0) ||

@@ -41,15 +41,6 @@ const struct grid *march_global_grid(const struct march_state *st)
     return st->ranks ? &st->ranks->global : &st->g;
 }
 
-int march_pressure_create(const struct march_state *st, struct pressure_solver **out,
-                          const enum poisson_bc bc[3][2], char *err, size_t errlen)
-{
-    if (st->ranks)
-        return pressure_create_decomposed(out, &st->g, &st->ranks->global, &st->ranks->dc, bc,
-                                          err, errlen);
-    return pressure_create(out, &st->g, bc, err, errlen);
-}
-
 double march_force_scale(const struct march_state *st)
 {
     return st->force_ref > 0.0 ? st->force_ref : 1.0;

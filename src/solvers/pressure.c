@@ -35,7 +35,13 @@ struct pressure_solver {
     long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
     int direct;        /* the multigrid is one level: the whole grid factorised */
-    const struct decomp *dc; /* the ranks' decomposition, or NULL (one process) */
+    /* a grid split over ranks (pressure_create_decomposed): the ranks'
+     * decomposition (NULL: one process), the rank's local grid, the global
+     * right-hand side and solution, the gather's scratch; g is the global
+     * grid */
+    const struct decomp *dc;
+    const struct grid *local;
+    double *phi, *scratch;
 };
 
 int pressure_create(struct pressure_solver **out, const struct grid *g,
@@ -57,44 +63,25 @@ int pressure_create(struct pressure_solver **out, const struct grid *g,
     return 0;
 }
 
-/* The decomposed multigrid's uniform coefficient: 1 on every face. */
-static int set_uniform(struct pressure_solver *ps, char *err, size_t errlen)
-{
-    double *one[3] = {field_alloc(ps->g), field_alloc(ps->g), field_alloc(ps->g)};
-    int rc = -1;
-    if (one[0] && one[1] && one[2]) {
-        for (int d = 0; d < 3; d++)
-            for (size_t p = 0; p < ps->g->size; p++)
-                one[d][p] = 1.0;
-        rc = multigrid_set_operator(ps->mg, one, NULL, err, errlen);
-    } else {
-        snprintf(err, errlen, "pressure solver: out of memory");
-    }
-    for (int d = 0; d < 3; d++)
-        field_free(one[d]);
-    return rc;
-}
-
 int pressure_create_decomposed(struct pressure_solver **out, const struct grid *g,
                                const struct grid *gg, const struct decomp *dc,
                                const enum poisson_bc bc[3][2], char *err, size_t errlen)
 {
-    struct pressure_solver *ps = calloc(1, sizeof *ps);
-    if (!ps) {
-        snprintf(err, errlen, "pressure solver: out of memory");
+    if (pressure_create(out, gg, bc, err, errlen) != 0)
         return -1;
-    }
-    ps->g = g;
+    struct pressure_solver *ps = *out;
     ps->dc = dc;
-    memcpy(ps->bc, bc, sizeof ps->bc);
-    if (multigrid_create_decomposed(&ps->mg, gg, dc, bc, NULL, err, errlen) != 0 ||
-        !(ps->rhs = field_alloc(g)) || set_uniform(ps, err, errlen) != 0) {
-        if (!ps->rhs)
-            snprintf(err, errlen, "pressure solver: out of memory");
+    ps->local = g;
+    ps->rhs = field_alloc(gg);
+    ps->phi = field_alloc(gg);
+    ps->scratch = malloc(decomp_gather_len(dc) * sizeof(double));
+    /* every rank the same: one out of memory is everyone's failure */
+    if (decomp_max(dc, !ps->rhs || !ps->phi || !ps->scratch) != 0.0) {
+        snprintf(err, errlen, "pressure solver: out of memory for the gathered grid");
         pressure_destroy(ps);
+        *out = NULL;
         return -1;
     }
-    *out = ps;
     return 0;
 }
 
@@ -107,6 +94,8 @@ void pressure_destroy(struct pressure_solver *ps)
     if (ps->mg)
         multigrid_destroy(ps->mg);
     field_free(ps->rhs);
+    field_free(ps->phi);
+    free(ps->scratch);
     free(ps);
 }
 
@@ -137,9 +126,10 @@ double pressure_variable_memory_estimate(const struct grid *g)
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen)
 {
-    if (ps->dc) /* the decomposed multigrid takes every coefficient */
-        return beta ? multigrid_set_operator(ps->mg, beta, NULL, err, errlen)
-                    : set_uniform(ps, err, errlen);
+    if (ps->dc && beta) {
+        snprintf(err, errlen, "pressure solver: a variable coefficient on several ranks");
+        return -1;
+    }
     ps->uniform = beta == NULL;
     if (ps->uniform)
         return 0;
@@ -180,6 +170,12 @@ long pressure_iterations(const struct pressure_solver *ps) { return ps->iteratio
 
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor)
 {
+    if (ps->dc) { /* the whole grid's FFT on every rank, each taking its block */
+        decomp_gather(ps->dc, ps->local, rhs, ps->g, ps->rhs, ps->scratch);
+        poisson_fft_solve(ps->fft, ps->rhs, ps->phi);
+        decomp_scatter(ps->dc, ps->g, ps->phi, ps->local, phi);
+        return 0;
+    }
     if (ps->uniform) {
         poisson_fft_solve(ps->fft, rhs, phi);
         return 0;
@@ -201,8 +197,6 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
         double norm = kernel_norm2_cells(ps->g, ps->rhs);
-        if (ps->dc)
-            norm = sqrt(decomp_sum(ps->dc, norm * norm));
         if (norm <= floor)
             return 0; /* phi = 0: nothing above the floor to project */
         rtol = fmax(rtol, floor / norm);
