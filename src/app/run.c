@@ -429,7 +429,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     }
     struct march_state st;
     struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .not_restartable = !!why,
-                              .root = comm_rank() == 0};
+                              .root = opt->one_process || comm_rank() == 0};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {
