@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include "app/run.h"
 #include "grid/decomp.h"
 #include "io/fields_h5.h"
 #include "io/h5blocks.h"
@@ -811,42 +812,121 @@ static void test_checkpoint_fields_any_ranks(void **state)
     assert_true(bad == 0.0);
 }
 
-/* Started by mpirun on two ranks, muflow refuses the case on every rank
- * (status 2), says so once and writes nothing (no scene runs decomposed
- * yet).  Run only outside mpirun (an mpirun does not start another), in a
+/* A scene split over this run's ranks (run.c: march_setup.decompose) ends
+ * as the run of one process, every rank's reference here (one_process): the
+ * same status, steps within 1, the [result] errors and headline within
+ * 1e-8 relative (the ranks' dot products and sums are in MPI's order);
+ * the headline within tol of the exact value (the discretisation's error:
+ * the reference's own measure).  On one rank both runs are one process. */
+static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol)
+{
+    struct muflow_case cs;
+    test_load_case(&cs, file, n, ov);
+    struct run_result one, all;
+    char err[1024] = "";
+    const struct run_options alone = {.one_process = 1}, split = {0};
+    int rc = run_case_opts(&cs, &alone, &one, err, sizeof err);
+    rc |= run_case_opts(&cs, &split, &all, err, sizeof err);
+    if (rc != RUN_OK)
+        print_error("%s\n", err);
+    const double a[4] = {one.errors.err_rms, one.errors.err_max, one.errors.err_rms_paper,
+                         one.errors.headline},
+                 b[4] = {all.errors.err_rms, all.errors.err_max, all.errors.err_rms_paper,
+                         all.errors.headline};
+    double rel = 0.0;
+    for (int v = 0; v < 4; v++)
+        rel = fmax(rel, fabs(b[v] - a[v]) / fabs(a[v]));
+    const double exact = one.errors.headline_exact;
+    double bad = rc != RUN_OK || one.status != STATUS_STEADY || all.status != one.status ||
+                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) ||
+                 !(fabs(one.errors.headline - exact) <= tol * fabs(exact));
+    comm_sum(&bad, 1);
+    if (comm_rank() == 0)
+        printf("    %s on %d ranks: %ld steps (alone %ld), %s %.10g (alone %.10g, exact %.10g), "
+               "errors and headline within %.1e relative\n",
+               cs.name, comm_size(), all.steps, one.steps, run_status_name(all.status),
+               b[3], a[3], exact, rel);
+    assert_true(bad == 0.0);
+}
+
+/* 4 x 2 cells across: 2 ranks split x, 4 split x and y (2 x 2) */
+static void test_couette_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=0.2", "domain.ny=2", "domain.ly=0.1"};
+    /* the parabola and the line are exact on the grid: u_mid to round-off */
+    check_scene_on_ranks("../cases/couette.ini", 4, ov, 1e-12);
+}
+
+static void test_bagnold_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=1.4", "domain.ny=2", "domain.ly=0.7"};
+    /* h = H / 40: u_surface 2.2e-4 above Bagnold's (docs/numerics) */
+    check_scene_on_ranks("../cases/bagnold.ini", 4, ov, 1e-3);
+}
+
+/* mpirun CMD on two ranks in a clean environment (see below): its output
+ * and status line "rc=N" in *out. */
+static void mpirun_two(const char *bin, const char *args, char **out)
+{
+    char cmd[14000];
+    snprintf(cmd, sizeof cmd,
+             "env -i PATH=\"$PATH\" HOME=\"$HOME\" ASAN_OPTIONS=detect_leaks=0 "
+             "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 "
+             "OMP_WAIT_POLICY=passive mpirun -np 2 --oversubscribe '%s' %s 2>&1; "
+             "echo \"rc=$?\"",
+             bin, args);
+    assert_int_equal(test_sh(cmd, out), 0);
+}
+
+/* Started by mpirun on two ranks, muflow refuses a scene that does not run
+ * decomposed on every rank (status 2), says so once, naming those that do,
+ * and writes nothing; couette runs, its header naming the ranks, and
+ * writes its outputs once (rank 0) and its field file (every rank's
+ * block).  Run only outside mpirun (an mpirun does not start another), in a
  * clean environment: hypre's MPI, initialised in this process by the amg
  * group, leaves Open MPI's variables in it, and an mpirun that inherits them
  * fails (status 1, nothing said); under the sanitizers the leak check is
  * off for that muflow (Open MPI's own allocations at exit, as for the amg
  * group in check-asan). */
-static void test_muflow_refuses_ranks(void **state)
+static void test_muflow_on_ranks(void **state)
 {
     (void)state;
     if (comm_launched())
         skip();
-    char bin[4096], dir[4096], cmd[9000], path[4200];
+    char bin[4096], dir[4096], args[9000], path[4200];
     test_muflow_bin(bin, sizeof bin);
-    test_tmp_make(dir, sizeof dir, "mpi_refused");
-    snprintf(cmd, sizeof cmd,
-             "env -i PATH=\"$PATH\" HOME=\"$HOME\" ASAN_OPTIONS=detect_leaks=0 "
-             "OMPI_ALLOW_RUN_AS_ROOT=1 "
-             "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -np 2 "
-             "--oversubscribe '%s' ../cases/couette.ini output.dir='%s/out' 2>&1; echo \"rc=$?\"",
-             bin, dir);
+    test_tmp_make(dir, sizeof dir, "mpi_ranks");
+    snprintf(args, sizeof args, "../cases/heap.ini output.dir='%s/heap'", dir);
     char *out = NULL;
-    assert_int_equal(test_sh(cmd, &out), 0);
+    mpirun_two(bin, args, &out);
     int said = 0;
-    for (const char *p = out; (p = strstr(p, "no scene runs decomposed")); p++)
+    for (const char *p = out; (p = strstr(p, "does not run decomposed (what does: the scenes "
+                                             "bagnold, couette")); p++)
         said++;
-    snprintf(path, sizeof path, "%s/out/summary.ini", dir);
+    snprintf(path, sizeof path, "%s/heap/summary.ini", dir);
     const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
     if (said != 1 || !status2 || wrote)
         print_error("%s", out);
     free(out);
+    snprintf(args, sizeof args, "../cases/couette.ini output.dir='%s/couette'", dir);
+    mpirun_two(bin, args, &out);
+    snprintf(path, sizeof path, "%s/couette/summary.ini", dir);
+    char *summary = test_file_exists(path) ? test_read_file(path, NULL) : NULL;
+    snprintf(path, sizeof path, "%s/couette/fields_000006.h5", dir);
+    const int ran = strstr(out, "rc=0\n") && strstr(out, "ranks 2 (2 x 1 x 1)") &&
+                    strstr(out, "steady after 6 steps") && summary &&
+                    strstr(summary, "status = steady") && test_file_exists(path);
+    if (!ran)
+        print_error("%s", out);
+    free(out);
+    free(summary);
     test_tmp_remove(dir);
     assert_int_equal(said, 1);
     assert_true(status2);
     assert_false(wrote);
+    assert_true(ran);
 }
 
 void group_mpi(struct test_tally *t)
@@ -860,7 +940,9 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_traffic_model),
         cmocka_unit_test(test_fields_file_blocks),
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
-        cmocka_unit_test(test_muflow_refuses_ranks),
+        cmocka_unit_test(test_couette_on_ranks),
+        cmocka_unit_test(test_bagnold_on_ranks),
+        cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);
 }

@@ -768,7 +768,7 @@ static int solve_3d_layer(enum viscous_precond kind, enum bc_kind top, int *iter
                           double *rel_residual, double *emax)
 {
     struct grid g;
-    struct boundary bc;
+    struct boundary bc = {0};
     struct box act[3];
     int n[3] = {12, 8, 24};
     double len[3] = {1.0, 0.75, 1.0};

@@ -39,6 +39,10 @@ struct run_options {
     /* physics modules beside the scene's (NULL-terminated), or NULL: a
      * program that embeds muflow adds its own (march/module.h) */
     const struct module *const *modules;
+    /* 1: this process runs the case alone, also under mpirun with several
+     * ranks (a test's reference); 0: a run under mpirun is split over its
+     * ranks (march_setup.decompose) */
+    int one_process;
 };
 
 /* Returns RUN_OK when the run took place (whatever its status), else an

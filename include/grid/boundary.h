@@ -19,6 +19,7 @@
 #ifndef MUFLOW_BOUNDARY_H
 #define MUFLOW_BOUNDARY_H
 
+#include "grid/decomp.h"
 #include "grid/grid.h"
 
 enum bc_kind { BC_PERIODIC = 0, BC_WALL, BC_SLIP, BC_SURFACE, BC_LID, BC_OPEN, BC_INFLOW };
@@ -39,7 +40,19 @@ struct boundary {
      * for a shape no key describes (a granular layer's Bagnold profile) */
     double (*inflow_shape)(const void *ctx, int d, const double x[3]);
     const void *inflow_ctx;
+    /* the ranks' decomposition of the grid (NULL: one process holds it): a
+     * fill takes a rank border's ghosts from the neighbour (decomp_exchange),
+     * the face's condition on the domain's own faces only; a periodic
+     * direction split over ranks wraps through its ranks */
+    const struct decomp *dc;
 };
+
+/* 1 when direction d of bc's grid is split over ranks (its ghosts on a
+ * rank border are the neighbour's). */
+static inline int bc_split(const struct boundary *bc, int d)
+{
+    return bc->dc && (bc->dc->border[d][0] || bc->dc->border[d][1]);
+}
 
 const char *bc_kind_name(enum bc_kind kind);
 

@@ -51,6 +51,14 @@ void decomp_free(struct decomp *dc);
  * starts at an odd cell or holds an odd count.  coarse shares fine's buffer. */
 int decomp_coarsen(const struct decomp *fine, const int halve[3], struct decomp *coarse);
 
+/* v summed (maximised) over the ranks of dc; v itself when dc is NULL (one
+ * process holds the grid).  Collective. */
+double decomp_sum(const struct decomp *dc, double v);
+double decomp_max(const struct decomp *dc, double v);
+/* The n values of v summed over the ranks of dc, in place (nothing when dc
+ * is NULL). */
+void decomp_sum_array(const struct decomp *dc, double *v, int n);
+
 /* 1 when some side is a rank border. */
 int decomp_split(const struct decomp *dc);
 

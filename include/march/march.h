@@ -68,9 +68,19 @@ struct march_fields {
     MARCH_CORE_FIELDS(MARCH_FIELD_MEMBER)
 };
 
+/* A run over the ranks of an MPI job (docs/numerics/decomposition.md): the
+ * Cartesian communicator, this rank's block, the global grid; the march's
+ * grid g is then the block's local grid and bc.dc points at dc. */
+struct march_ranks {
+    struct comm_cart cart;
+    struct decomp dc;
+    struct grid global;
+};
+
 struct march_state {
     const struct muflow_case *cs;
     struct grid g;
+    struct march_ranks *ranks; /* NULL: one process holds the grid */
     struct grid_axis axes[3]; /* the stretched directions' spacing (g.axis) */
     struct boundary bc;
     struct box act[3];          /* velocity unknowns per component */
@@ -184,7 +194,18 @@ struct march_setup {
     /* 1: the flow runs along the grid's periodic direction of one cell and
      * the implicit step solves it (the scene's cross_section_flow) */
     int cross_section_flow;
+    /* 1: the grid is split over the ranks of the MPI job when it has
+     * several (comm.h; struct march_ranks); 0: this process holds it all */
+    int decompose;
 };
+
+/* Over the ranks of the run (the value itself on one process): a sum, a
+ * maximum (a NaN on any rank is everyone's), n sums in place.  Collective. */
+double march_sum(const struct march_state *st, double v);
+double march_max(const struct march_state *st, double v);
+void march_sum_array(const struct march_state *st, double *v, int n);
+/* The whole domain's grid: st->g, or the global grid of a decomposed run. */
+const struct grid *march_global_grid(const struct march_state *st);
 
 /* Creates the march of the case: its grid, fields, solvers and modules,
  * the scene's setup, the hydrostatic split.  Returns 0, or -1 with the

@@ -185,4 +185,17 @@ int visc_mg_pcg(struct viscous_solver *s, const struct viscous_problem *pb, doub
                 double *x[3], double rtol, int maxit, struct viscous_stats *st);
 long visc_box_unknowns(const struct box act[3]);
 
+/* A dot product and a maximum over the unknowns of every rank (the grid's
+ * decomposition, bc->dc; one process: the kernels' own). */
+static inline double visc_dot(const struct viscous_solver *s, const struct box act[3],
+                              double *const a[3], double *const b[3])
+{
+    return decomp_sum(s->bc->dc, kernel_dot(s->g, act, a, b));
+}
+static inline double visc_max_abs(const struct viscous_solver *s, const struct box act[3],
+                                  double *const a[3])
+{
+    return decomp_max(s->bc->dc, kernel_max_abs(s->g, act, a));
+}
+
 #endif

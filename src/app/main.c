@@ -24,6 +24,8 @@
 
 #define EXIT_OUTPUT_FAILED 4
 
+static int several_ranks(void);
+
 #ifndef MUFLOW_VERSION /* the Makefile's VERSION: git describe, else the VERSION file */
 #error "MUFLOW_VERSION is defined by the Makefile"
 #endif
@@ -268,6 +270,8 @@ static void print_warning(void *ctx, const char *line)
  * libgomp's default count: there it runs on one thread too. */
 static void runtime_defaults_for(const struct muflow_case *cs, char **argv)
 {
+    if (several_ranks()) /* MPI is open: no second start; the ranks' threads as given */
+        return;
     double slots = (double)(cs->n[0] + 2) * (cs->n[1] + 2) * (cs->n[2] + 2);
     if (slots >= PARALLEL_REGION_MIN)
         runtime_defaults(argv, slots, cs->mode == MODE_STEADY);
@@ -308,25 +312,59 @@ static int refuse_arguments(int argc, char **argv)
     return 0;
 }
 
-/* Under mpirun with several ranks: no scene runs decomposed yet, so every
- * rank ends with status 2 (rank 0 says why) rather than N copies of the
- * serial run writing the same files.  One rank (mpirun -np 1) is the
- * serial run, MPI left alone. */
-static void refuse_ranks(char **argv)
+/* 1 when the run has several MPI ranks (mpirun -np N, N > 1); one rank
+ * (mpirun -np 1) is the serial run, MPI left alone. */
+static int several_ranks(void)
 {
     const char *ranks = getenv("OMPI_COMM_WORLD_SIZE");
-    if (!comm_launched() || strcmp(ranks, "1") == 0)
-        return;
+    return comm_launched() && ranks && strcmp(ranks, "1") != 0;
+}
+
+/* A run that cannot start: the message once (rank 0) and status 2 on
+ * every rank of an MPI job, or on stderr. */
+static int refuse(const char *msg)
+{
+    if (several_ranks())
+        comm_exit(2, 1, msg);
+    fprintf(stderr, "%s\n", msg);
+    return 2;
+}
+
+/* Under mpirun with several ranks MPI is opened; the scenes that run
+ * decomposed say so (scene.h: decomposed), every other one ends with status
+ * 2 on every rank (rank 0 says why and what does) rather than N copies of
+ * the serial run writing the same files. */
+static int open_ranks(void)
+{
+    if (!several_ranks())
+        return 0;
     char err[512];
     if (comm_init(err, sizeof err) != 0) {
         fprintf(stderr, "muflow: %s\n", err);
         exit(2);
     }
-    snprintf(err, sizeof err,
-             "muflow: %s on %d MPI ranks: no scene runs decomposed yet (what is: the "
-             "multigrid Poisson solve, tested by `muflow_tests mpi` under mpirun); run "
-             "muflow without mpirun", argv[1], comm_size());
-    comm_exit(2, 1, err);
+    return 1;
+}
+
+static int refuse_scene_on_ranks(const struct muflow_case *cs)
+{
+    const struct scene *sc = case_scene(cs);
+    if (!several_ranks() || (sc->decomposed && sc->decomposed(cs)))
+        return 0;
+    char names[200] = "";
+    for (int i = 0; i < scene_count(); i++) {
+        const struct scene *s = scene_at(i);
+        if (s->decomposed)
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s",
+                     names[0] ? ", " : "", s->name);
+    }
+    char msg[700];
+    snprintf(msg, sizeof msg,
+             "muflow: %s on %d MPI ranks: case.scene = %s%s does not run decomposed (what does: "
+             "the scenes %s; see docs/numerics/decomposition.md); run muflow without mpirun",
+             cs->name, comm_size(), sc->name,
+             sc->decomposed ? " with these keys (bagnold.perturbation > 0)" : "", names);
+    return refuse(msg);
 }
 
 int main(int argc, char **argv)
@@ -353,11 +391,17 @@ int main(int argc, char **argv)
         case_write_key_markdown(stdout);
         return 0;
     }
-    refuse_ranks(argv);
+    const int ranks = open_ranks();
     static struct muflow_case cs;
     char err[1024], path[1100];
     struct run_options opt = {.write_output = 1};
     if (strcmp(argv[1], "--restart") == 0) {
+        if (ranks) {
+            snprintf(err, sizeof err, "muflow: --restart on %d MPI ranks: a decomposed run "
+                                      "writes no checkpoint; run muflow --restart without mpirun",
+                     comm_size());
+            return refuse(err);
+        }
         if (argc < 3) {
             usage(stderr);
             return 2;
@@ -373,18 +417,23 @@ int main(int argc, char **argv)
         /* silently first: a re-executed image loads it again and warns once */
         if (case_load(&cs, argv[1], argc - 2, argv + 2, err, sizeof err) == 0)
             runtime_defaults_for(&cs, argv);
-        if (case_load_warn(&cs, argv[1], argc - 2, argv + 2, print_warning, NULL, err,
+        if (case_load_warn(&cs, argv[1], argc - 2, argv + 2,
+                           ranks && comm_rank() != 0 ? NULL : print_warning, NULL, err,
                            sizeof err) != 0) {
-            fprintf(stderr, "muflow: %s\n", err);
-            return 2;
+            snprintf(path, sizeof path, "muflow: %s", err);
+            return refuse(path);
         }
+        if (refuse_scene_on_ranks(&cs))
+            return 2;
     }
     struct run_result r;
     int rc = run_case_opts(&cs, &opt, &r, err, sizeof err);
     if (rc == RUN_ERR_SETUP) {
-        fprintf(stderr, "muflow: %s\n", err);
-        return 2;
+        snprintf(path, sizeof path, "muflow: %s", err);
+        return refuse(path);
     }
+    if (ranks && comm_rank() != 0) /* rank 0 reports; the status is every rank's */
+        return rc != RUN_OK ? EXIT_OUTPUT_FAILED : run_exit_code(r.status);
     report(&cs, &r);
     if (rc != RUN_OK) {
         fprintf(stderr, "muflow: %s\n", err);

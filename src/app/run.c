@@ -16,6 +16,7 @@
 #include "io/field_series.h"
 #include "scenes/scene.h"
 #include "solvers/pressure.h"
+#include "platform/comm.h"
 
 struct observer_ctx {
     const struct muflow_case *cs;
@@ -35,6 +36,7 @@ struct observer_ctx {
     int failed;            /* an output failed during the run (cause in err) */
     int checkpoint_failed;
     int not_restartable;   /* the scene's run cannot continue from its checkpoint */
+    int root;              /* this process writes the outputs (rank 0 of a decomposed run) */
     char err[1024];
 };
 
@@ -142,21 +144,22 @@ static void warn_preconditioner(struct observer_ctx *ctx, const struct march_sta
                 st->step, info.cause, info.kind == VISCOUS_LU ? "sparse LU" : "line blocks");
 }
 
-static int observe(void *vctx, const struct march_state *st)
+static int observe_here(struct observer_ctx *ctx, const struct march_state *st)
 {
-    struct observer_ctx *ctx = vctx;
     if (ctx->opt->hook)
         ctx->opt->hook(ctx->opt->hook_ctx, st);
     if (!ctx->opt->write_output)
         return 0;
-    warn_pressure(ctx, st);
-    warn_linear(ctx, st);
-    warn_preconditioner(ctx, st);
     struct scene_errors e;
     memset(&e, 0, sizeof e);
     e.err_rms = NAN;
     if (case_scene(ctx->cs)->profile_axis >= 0)
-        scene_errors_of(st, &e);
+        scene_errors_of(st, &e); /* over every rank */
+    if (!ctx->root)
+        return interrupt_signal() && st->status == STATUS_RUNNING;
+    warn_pressure(ctx, st);
+    warn_linear(ctx, st);
+    warn_preconditioner(ctx, st);
     /* the first observation of a restart is the checkpoint's step, whose
      * outputs the run that wrote the checkpoint has written */
     int resumed = st->step == ctx->resume_step;
@@ -178,6 +181,25 @@ static int observe(void *vctx, const struct march_state *st)
         return 1;
     }
     return 0;
+}
+
+/* A decomposed run's ranks stop together: when any one's outputs failed or
+ * a signal came (the status and message are rank 0's). */
+static int observe(void *vctx, const struct march_state *st)
+{
+    struct observer_ctx *ctx = vctx;
+    int stop = observe_here(ctx, st);
+    if (!st->ranks)
+        return stop;
+    if (march_max(st, stop) == 0.0)
+        return 0;
+    if (!ctx->signal && !ctx->failed)
+        ctx->signal = interrupt_signal();
+    if (!ctx->signal && !ctx->failed) {
+        ctx->failed = 1;
+        snprintf(ctx->err, sizeof ctx->err, "an output of rank 0 failed");
+    }
+    return 1;
 }
 
 void run_result_from(const struct march_state *st, struct run_result *res)
@@ -216,11 +238,16 @@ int run_exit_code(enum run_status s)
 static void print_header(const struct muflow_case *cs, const struct march_state *st,
                          const char *restart_from)
 {
-    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %d threads, "
+    const struct grid *g = march_global_grid(st);
+    char ranks[80] = "";
+    if (st->ranks) /* the memory is rank 0's */
+        snprintf(ranks, sizeof ranks, "ranks %d (%d x %d x %d), ", st->ranks->cart.size,
+                 st->ranks->cart.dims[0], st->ranks->cart.dims[1], st->ranks->cart.dims[2]);
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %s%d threads, "
            "memory ~%.0f MB\n",
-           cs->name, case_scene(cs)->name, st->g.n[0], st->g.n[1], st->g.n[2],
+           cs->name, case_scene(cs)->name, g->n[0], g->n[1], g->n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
-           regularisation_name(cs->rheo.reg), cs->rheo.lambda, omp_get_max_threads(),
+           regularisation_name(cs->rheo.reg), cs->rheo.lambda, ranks, omp_get_max_threads(),
            st->memory_estimate / 1e6);
     /* the curve's derived values, which no key shows (jop: nothing to add) */
     if (cs->rheo.law == LAW_MUI && cs->rheo.curve != CURVE_JOP)
@@ -246,6 +273,38 @@ static void warn_threads(const char *restart_from, int threads_then)
                 threads_then, omp_get_max_threads());
 }
 
+/* The output folder, history.csv and forces.csv of a run.  Returns 0, or
+ * -1 with the cause in err (nothing left open). */
+static int open_outputs(const struct march_state *st, struct observer_ctx *ctx,
+                        const struct muflow_case *cs, const struct run_options *opt, char *err,
+                        size_t errlen)
+{
+    if (output_make_dir(cs->output_dir, err, errlen) != 0)
+        return -1;
+    /* a fresh run starts from a folder without an earlier run's files,
+     * whichever scene wrote them; a continued run keeps them (its series
+     * and history go on from them) */
+    const char *names[SCENE_OUTPUT_FILES_MAX];
+    if (!opt->restart_from &&
+        scene_output_files(names, SCENE_OUTPUT_FILES_MAX, opt->modules) < 0) {
+        snprintf(err, errlen, "more than %d names of output files", SCENE_OUTPUT_FILES_MAX - 1);
+        return -1;
+    }
+    if (!opt->restart_from && output_remove_run_files(cs->output_dir, names, err, errlen) < 0)
+        return -1;
+    const char *ename = scene_error_name(case_scene(cs));
+    if ((opt->restart_from
+             ? history_resume(&ctx->hist, cs->output_dir, ename, st->step, err, errlen)
+             : history_open(&ctx->hist, cs->output_dir, ename, err, errlen)) != 0)
+        return -1;
+    if (forces_file_open(&ctx->forces, st, cs->output_dir, opt->restart_from ? st->step : -1,
+                         err, errlen) != 0) {
+        history_close(&ctx->hist, err, 0);
+        return -1;
+    }
+    return 0;
+}
+
 /* Sets up st (and, for a restart, its state) and the output folder. */
 static int start(struct march_state *st, struct observer_ctx *ctx, const struct muflow_case *cs,
                  const struct run_options *opt, char *err, size_t errlen)
@@ -253,7 +312,10 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     int threads_then = omp_get_max_threads();
     if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
         return RUN_ERR_SETUP;
-    if (scene_march_create(st, cs, opt->modules, err, errlen) != 0)
+    struct march_setup su;
+    scene_march_setup(cs, opt->modules, &su);
+    su.decompose = !opt->one_process;
+    if (march_create(st, cs, &su, err, errlen) != 0)
         return RUN_ERR_SETUP;
     if (opt->restart_from) {
         if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,
@@ -266,36 +328,24 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     }
     if (!opt->write_output)
         return RUN_OK;
-    if (output_make_dir(cs->output_dir, err, errlen) != 0)
-        goto fail;
-    /* a fresh run starts from a folder without an earlier run's files,
-     * whichever scene wrote them; a continued run keeps them (its series
-     * and history go on from them) */
-    const char *names[SCENE_OUTPUT_FILES_MAX];
-    if (!opt->restart_from &&
-        scene_output_files(names, SCENE_OUTPUT_FILES_MAX, opt->modules) < 0) {
-        snprintf(err, errlen, "more than %d names of output files", SCENE_OUTPUT_FILES_MAX - 1);
+    /* a decomposed run's files are rank 0's (its field files every rank's,
+     * after rank 0 made the folder: the agreement below waits for it) */
+    int bad = ctx->root && open_outputs(st, ctx, cs, opt, err, errlen) != 0;
+    if (st->ranks && march_max(st, bad) != 0.0 && !bad) {
+        snprintf(err, errlen, "rank 0 could not open the outputs");
         goto fail;
     }
-    if (!opt->restart_from && output_remove_run_files(cs->output_dir, names, err, errlen) < 0)
+    if (bad)
         goto fail;
-    const char *ename = scene_error_name(case_scene(cs));
-    if ((opt->restart_from
-             ? history_resume(&ctx->hist, cs->output_dir, ename, st->step, err, errlen)
-             : history_open(&ctx->hist, cs->output_dir, ename, err, errlen)) != 0)
-        goto fail;
-    if (forces_file_open(&ctx->forces, st, cs->output_dir, opt->restart_from ? st->step : -1,
-                         err, errlen) != 0) {
-        history_close(&ctx->hist, err, 0);
-        goto fail;
-    }
     if (interrupt_install() != 0) {
         snprintf(err, errlen, "cannot install the SIGINT/SIGTERM handler: %s", strerror(errno));
-        history_close(&ctx->hist, err, 0);
-        forces_file_close(&ctx->forces, err, 0);
+        if (ctx->root) {
+            history_close(&ctx->hist, err, 0);
+            forces_file_close(&ctx->forces, err, 0);
+        }
         goto fail;
     }
-    if (!cs->quiet)
+    if (!cs->quiet && ctx->root)
         print_header(cs, st, opt->restart_from);
     warn_threads(opt->restart_from, threads_then);
     return RUN_OK;
@@ -328,6 +378,8 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     if (cs->fields && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
+    if (!ctx->root) /* the field file is every rank's, the rest rank 0's */
+        return rc;
     /* every run ends with a checkpoint of its final state: one that missed its
      * goal (max_steps in either mode, a signal, no steady state, the last
      * sane state of a divergence) continues from it with other keys, and one
@@ -337,7 +389,7 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
      * scene's run that cannot continue from it (a search, a continuation)
      * still leaves its final state there: a new run starts from it with
      * solver.initial_state */
-    if (!ctx->checkpoint_failed) {
+    if (!ctx->checkpoint_failed && !st->ranks) { /* none of a decomposed run (yet) */
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
@@ -376,7 +428,8 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
         return RUN_ERR_SETUP;
     }
     struct march_state st;
-    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .not_restartable = !!why};
+    struct observer_ctx ctx = {.cs = &work, .opt = opt, .resume_step = -1, .last_row = -1, .not_restartable = !!why,
+                              .root = opt->one_process || comm_rank() == 0};
     field_series_init(&ctx.series);
     int rc = start(&st, &ctx, &work, opt, err, errlen);
     if (rc != RUN_OK) {

@@ -14,6 +14,34 @@ void profile_free(struct profile *pr)
     memset(pr, 0, sizeof *pr);
 }
 
+/* The layers' sums and counts of every rank (the profile's axis is not
+ * split: a layer's index is the same on every rank). */
+static int sum_over_ranks(const struct march_state *st, struct profile *pr, long *nodes,
+                          long *cells)
+{
+    const int n = pr->n;
+    double *sums[] = {pr->velocity, pr->pressure, pr->shear_rate, pr->inertial, pr->viscosity};
+    const int m = (int)(sizeof sums / sizeof sums[0]);
+    double *buf = malloc((size_t)(m + 2) * (size_t)n * sizeof(double));
+    if (!buf)
+        return -1;
+    for (int l = 0; l < n; l++) {
+        for (int a = 0; a < m; a++)
+            buf[a * n + l] = sums[a][l];
+        buf[m * n + l] = (double)nodes[l];
+        buf[(m + 1) * n + l] = (double)cells[l];
+    }
+    march_sum_array(st, buf, (m + 2) * n);
+    for (int l = 0; l < n; l++) {
+        for (int a = 0; a < m; a++)
+            sums[a][l] = buf[a * n + l];
+        nodes[l] = (long)buf[m * n + l];
+        cells[l] = (long)buf[(m + 1) * n + l];
+    }
+    free(buf);
+    return 0;
+}
+
 int profile_extract(struct profile *pr, const struct march_state *st,
                     const struct profile_spec *spec)
 {
@@ -73,6 +101,12 @@ int profile_extract(struct profile *pr, const struct march_state *st,
                 pr->viscosity[l] += st->field.viscosity[p];
                 cells[l]++;
             }
+    if (st->ranks && sum_over_ranks(st, pr, nodes, cells) != 0) {
+        free(nodes);
+        free(cells);
+        profile_free(pr);
+        return -1;
+    }
     for (int l = 0; l < n; l++) {
         pr->coord[l] = grid_xc(g, pr->axis, l);
         pr->velocity[l] /= nodes[l] > 0 ? (double)nodes[l] : 1.0;

@@ -139,6 +139,10 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
             if (!(comps >> c & 1))
                 continue;
             double *f = vel[c];
+            if (bc_split(bc, d)) { /* periodic over ranks (march_create splits no other) */
+                decomp_exchange(bc->dc, g, f, d);
+                continue;
+            }
             if (bc->face[d][0] == BC_PERIODIC) {
                 /* faces and cells alike: slot -1 is n-1, slot n is 0 */
                 ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
@@ -215,7 +219,9 @@ static void fill_cells(const struct grid *g, const struct boundary *bc, double *
         int n = g->n[d];
         if (grid_compact(g, d)) /* its ghosts are the node */
             continue;
-        if (bc->face[d][0] == BC_PERIODIC) {
+        if (bc_split(bc, d)) {
+            decomp_exchange(bc->dc, g, f, d);
+        } else if (bc->face[d][0] == BC_PERIODIC) {
             ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
             ghost_plane(g, d, n, 0, f, 1.0, 0);
         } else {
@@ -273,7 +279,9 @@ void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, doub
         int n = g->n[d];
         if (grid_compact(g, d)) /* its ghosts are the node */
             continue;
-        if (bc->face[d][0] == BC_PERIODIC) {
+        if (bc_split(bc, d)) {
+            decomp_exchange(bc->dc, g, f, d);
+        } else if (bc->face[d][0] == BC_PERIODIC) {
             ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
             ghost_plane(g, d, n, 0, f, 1.0, 0);
         } else if (n == 1) {

@@ -1,6 +1,7 @@
 /* A box decomposition of the grid (grid/decomp.h). */
 #include "grid/decomp.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -70,6 +71,30 @@ void decomp_free(struct decomp *dc)
     if (dc->owns_buf)
         free(dc->buf);
     dc->buf = NULL;
+}
+
+double decomp_sum(const struct decomp *dc, double v)
+{
+    if (dc && dc->cart->size > 1)
+        comm_sum(&v, 1);
+    return v;
+}
+
+void decomp_sum_array(const struct decomp *dc, double *v, int n)
+{
+    if (dc && dc->cart->size > 1)
+        comm_sum(v, n);
+}
+
+double decomp_max(const struct decomp *dc, double v)
+{
+    if (!dc || dc->cart->size <= 1)
+        return v;
+    /* MPI's maximum of a NaN is undefined: it is carried apart, so that one
+     * rank's NaN is every rank's */
+    double w[2] = {isnan(v) ? -INFINITY : v, isnan(v) ? 1.0 : 0.0};
+    comm_max(w, 2);
+    return w[1] > 0.0 ? NAN : w[0];
 }
 
 int decomp_split(const struct decomp *dc)

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include "io/fields_h5.h"
 #include "io/xdmf.h"
+#include "platform/comm.h"
 
 /* Times are sums of steps: 10 steps of 0.01 reach 0.09999999999999999, which
  * must count as having reached 0.1.  A relative slack far above the rounding
@@ -70,7 +71,10 @@ int field_series_add(struct field_series *s, long step, double time)
 int field_series_write(struct field_series *s, const char *dir, const struct march_state *st,
                        char *err, size_t errlen)
 {
-    if (fields_h5_write(dir, st, err, errlen) != 0)
+    /* a decomposed run's ranks write their blocks of one file together */
+    if ((st->ranks ? fields_h5_write_decomposed(dir, st, &st->ranks->global, &st->ranks->dc, err,
+                                                errlen)
+                   : fields_h5_write(dir, st, err, errlen)) != 0)
         return -1;
     if (field_series_add(s, st->step, st->time) != 0) {
         snprintf(err, errlen, "out of memory for the list of field files");
@@ -79,5 +83,8 @@ int field_series_write(struct field_series *s, const char *dir, const struct mar
     double T = st->cs->fields_interval;
     if (T > 0.0)
         s->next_time = (floor(st->time / T + TIME_SLACK) + 1.0) * T;
-    return xdmf_write(dir, &st->g, &st->fields, s->count, s->steps, s->times, err, errlen);
+    if (st->ranks && comm_rank() != 0)
+        return 0;
+    return xdmf_write(dir, march_global_grid(st), &st->fields, s->count, s->steps, s->times, err,
+                      errlen);
 }

@@ -172,7 +172,7 @@ void march_check_end(struct march_state *st)
         /* the CFL limit, not the last step to end_time, which may be short */
         long bad = st->step;
         double t = st->time, dt = march_cfl_dt(st),
-               umax = kernel_max_abs(&st->g, st->act, st->field.velocity);
+               umax = march_max(st, kernel_max_abs(&st->g, st->act, st->field.velocity));
         march_restore_good(st);
         st->status = STATUS_DIVERGED;
         snprintf(st->message, sizeof st->message,

@@ -81,7 +81,10 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                 }
     kernel_divergence(g, flux, st->field.divergence);
     struct pressure_solver *ps;
-    if (pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
+    /* a decomposed run's: the whole grid's FFT on every rank (pressure.h) */
+    if ((st->ranks ? pressure_create_decomposed(&ps, g, &st->ranks->global, &st->ranks->dc,
+                                                (const enum poisson_bc(*)[2])pbc, err, errlen)
+                   : pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen)) != 0)
         return -1;
     if (!st->density_uniform &&
         pressure_set_coefficient(ps, st->beta, err, errlen) != 0) {

@@ -59,8 +59,8 @@ double march_cfl_dt(const struct march_state *st)
     const struct muflow_case *cs = st->cs;
     if (!cs->advection)
         return INFINITY;
-    double umax = kernel_max_abs(&st->g, st->act, st->field.velocity);
-    return umax > 0.0 ? cs->cfl * march_min_spacing(&st->g) / umax : INFINITY;
+    double umax = march_max(st, kernel_max_abs(&st->g, st->act, st->field.velocity));
+    return umax > 0.0 ? cs->cfl * march_min_spacing(march_global_grid(st)) / umax : INFINITY;
 }
 
 double march_choose_dt(const struct march_state *st)

@@ -1,5 +1,6 @@
 /* Creating and destroying a march (march.h). */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "march_internal.h"
 
@@ -47,6 +48,72 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
     return 0;
 }
 
+/* What runs over several ranks besides the scene's consent (scene.h:
+ * decomposed): one message naming the first option that does not, and what
+ * does. */
+#define RANKS_RUN "steady mode, solver.coupled = off, physics.advection = off, no physics " \
+                  "modules or bodies, uniform spacing, the line preconditioner (solver." \
+                  "preconditioner = auto or line), no solver.initial_state, output.checkpoint_" \
+                  "every, fields_every, fields_interval = 0"
+
+static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
+{
+    snprintf(err, errlen, "%s on %d MPI ranks: %s does not run decomposed (what does: %s)",
+             cs->name, comm_size(), what, RANKS_RUN);
+    return -1;
+}
+
+static int march_ranks_refusal(const struct muflow_case *cs, const struct march_setup *su,
+                               char *err, size_t errlen)
+{
+    int modules = 0;
+    for (int l = 0; l < 3; l++)
+        modules += su->modules[l] && su->modules[l][0];
+    const char *what = cs->mode != MODE_STEADY ? "solver.mode = transient"
+                       : cs->coupled           ? "solver.coupled = on"
+                       : cs->advection         ? "physics.advection = on"
+                       : modules               ? "a physics module or body"
+                       : cs->initial_state[0]  ? "solver.initial_state"
+                       : cs->checkpoint_every > 0 ? "output.checkpoint_every > 0"
+                       : cs->fields_every > 0 || cs->fields_interval > 0.0
+                           ? "output.fields_every or fields_interval > 0"
+                           : NULL;
+    return what ? ranks_refused(cs, what, err, errlen) : 0;
+}
+
+/* A run over several ranks (comm.h): the Cartesian communicator over the
+ * periodic directions x and y (a z line, the line blocks' and the profile's,
+ * stays whole on a rank), this rank's block, its local grid as st->g, not
+ * compact (the decomposed multigrid takes no compact grid), and the fills'
+ * decomposition.  What runs so is march_ranks_refusal's. */
+static int split_over_ranks(struct march_state *st, const struct muflow_case *cs, char *err,
+                            size_t errlen)
+{
+    struct march_ranks *rk = st->ranks = calloc(1, sizeof *rk);
+    if (!rk) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    int periodic[3], splittable[3], dims[3] = {0, 0, 0};
+    bc_periodic_flags(&cs->bc, periodic);
+    for (int d = 0; d < 3; d++)
+        splittable[d] = d < 2 && periodic[d] && cs->n[d] > 1;
+    char why[300];
+    if (comm_cart_create(&rk->cart, dims, periodic, splittable, why, sizeof why) != 0 ||
+        decomp_create(&rk->dc, &rk->cart, cs->n, why, sizeof why) != 0) {
+        snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic x and y are split, "
+                              "each into at most its cells)", cs->name, comm_size(), why);
+        return -1;
+    }
+    if (grid_init(&rk->global, cs->n, cs->len) != 0 ||
+        decomp_local_grid(&rk->dc, &rk->global, &st->g) != 0) {
+        snprintf(err, errlen, "grid: invalid cell counts or lengths");
+        return -1;
+    }
+    st->bc.dc = &rk->dc;
+    return 0;
+}
+
 int march_create(struct march_state *st, const struct muflow_case *cs,
                  const struct march_setup *su, char *err, size_t errlen)
 {
@@ -58,7 +125,13 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         st->rheo.lambda *= cs->continuation;
     int wraps[3];
     bc_periodic_flags(&cs->bc, wraps);
-    if (grid_init_compact(&st->g, cs->n, cs->len, wraps) != 0) {
+    if (su->decompose && comm_size() > 1) {
+        if (march_ranks_refusal(cs, su, err, errlen) != 0 ||
+            split_over_ranks(st, cs, err, errlen) != 0) {
+            march_destroy(st);
+            return -1;
+        }
+    } else if (grid_init_compact(&st->g, cs->n, cs->len, wraps) != 0) {
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }
@@ -77,6 +150,11 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         }
     }
     const struct grid *g = &st->g;
+    if (st->ranks && grid_stretched(g)) {
+        ranks_refused(cs, "a domain.<d>_band (a stretched grid)", err, errlen);
+        march_destroy(st);
+        return -1;
+    }
     fields_init(&st->fields, g);
     bc_unknown_boxes(g, &st->bc, st->act);
     /* refuse before allocating what the machine does not have (case_load
@@ -85,6 +163,16 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     double avail = march_available_memory();
     st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
+    if (st->ranks && kind != VISCOUS_LINE) {
+        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
+                                            "multigrid"};
+        char what[120];
+        snprintf(what, sizeof what, "the implicit step's %s preconditioner",
+                 kind >= 0 && kind <= VISCOUS_MG ? names[kind] : "?");
+        ranks_refused(cs, what, err, errlen);
+        march_destroy(st);
+        return -1;
+    }
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);
         march_destroy(st);
@@ -129,9 +217,11 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         return -1;
     }
     /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
-    if ((!grid_stretched(g) && pressure_create(&st->pressure_solver, g,
-                                               (const enum poisson_bc(*)[2])pbc, err,
-                                               errlen) != 0) ||
+    const enum poisson_bc(*pb)[2] = (const enum poisson_bc(*)[2])pbc;
+    if ((!grid_stretched(g) &&
+         (st->ranks ? pressure_create_decomposed(&st->pressure_solver, g, &st->ranks->global,
+                                                 &st->ranks->dc, pb, err, errlen)
+                    : pressure_create(&st->pressure_solver, g, pb, err, errlen)) != 0) ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
         add_modules(st, su, err, errlen) != 0 || (su->setup && su->setup(st, err, errlen) != 0) ||
@@ -169,5 +259,10 @@ void march_destroy(struct march_state *st)
     stage_coupled_destroy(st->coupled);
     for (int d = 0; d < 3; d++)
         grid_axis_free(&st->axes[d]);
+    if (st->ranks) {
+        decomp_free(&st->ranks->dc);
+        comm_cart_free(&st->ranks->cart);
+        free(st->ranks);
+    }
     memset(st, 0, sizeof *st);
 }

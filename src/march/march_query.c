@@ -27,6 +27,20 @@ void *march_module_state(const struct march_state *st, const struct module *m)
     return NULL;
 }
 
+double march_sum(const struct march_state *st, double v) { return decomp_sum(st->bc.dc, v); }
+
+double march_max(const struct march_state *st, double v) { return decomp_max(st->bc.dc, v); }
+
+void march_sum_array(const struct march_state *st, double *v, int n)
+{
+    decomp_sum_array(st->bc.dc, v, n);
+}
+
+const struct grid *march_global_grid(const struct march_state *st)
+{
+    return st->ranks ? &st->ranks->global : &st->g;
+}
+
 double march_force_scale(const struct march_state *st)
 {
     return st->force_ref > 0.0 ? st->force_ref : 1.0;
@@ -57,5 +71,13 @@ double march_mean_acceleration(const struct march_state *st)
 {
     /* mean residual per unit mass of the component the body force drives */
     int a = march_driven_component(st);
-    return kernel_component_mean(&st->g, &st->act[a], a, st->field.residual[a]) / st->cs->density;
+    double mean = kernel_component_mean(&st->g, &st->act[a], a, st->field.residual[a]);
+    if (st->ranks) { /* the ranks' means weighted by their nodes */
+        const struct box *b = &st->act[a];
+        double w[2] = {(double)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2])};
+        w[1] = mean * w[0];
+        march_sum_array(st, w, 2);
+        mean = w[0] > 0.0 ? w[1] / w[0] : 0.0;
+    }
+    return mean / st->cs->density;
 }

@@ -128,13 +128,14 @@ void stage_projection(struct march_state *st, double dt)
      * every cell's): solving further changes nothing */
     double floor = pressure_uniform(st->pressure_solver)
                        ? 0.0 /* the FFT path is direct: no floor to pass */
-                       : DIVERGENCE_FLOOR * kernel_max_abs(g, st->act, st->field.velocity) /
-                             march_min_spacing(g);
+                       : DIVERGENCE_FLOOR *
+                             march_max(st, kernel_max_abs(g, st->act, st->field.velocity)) /
+                             march_min_spacing(march_global_grid(st));
     /* div delta exactly 0 (the flow of a cross-section or a profile, whose
      * implicit step moves no component across the grid): phi is 0 and the
      * solve, its fill and the gradient would change nothing (the heap at
      * 140 x 200: 4 % of the run) */
-    const int nothing = all_zero(g, st->field.phi);
+    const int nothing = march_max(st, all_zero(g, st->field.phi) ? 0.0 : 1.0) == 0.0;
     if (nothing) {
         memset(st->field.phi, 0, g->size * sizeof *st->field.phi);
     } else {

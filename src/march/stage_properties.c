@@ -17,10 +17,11 @@ void stage_properties(struct march_state *st)
                            st->field.strain_shear2, st->field.pressure, st->field.viscosity,
                            cs->newton ? st->field.tangent_cells : NULL, st->field.shear2,
                            st->field.pressure_regularised, st->b_c);
-    /* periodic directions: this grid holds each whole (one process) */
+    /* periodic directions this grid holds whole (not split over ranks: there
+     * face n is the next rank's face 0, evaluated from the exchanged ghosts) */
     int wraps = 0;
     for (int d = 0; d < 3; d++)
-        if (st->bc.face[d][0] == BC_PERIODIC)
+        if (st->bc.face[d][0] == BC_PERIODIC && !bc_split(&st->bc, d))
             wraps |= 1 << d;
     kernel_viscosity_edges(g, &st->rheo, st->field.strain_normal2, st->field.strain_shear2,
                            st->field.pressure, st->field.viscosity_edges,

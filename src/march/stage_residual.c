@@ -49,32 +49,30 @@ void stage_residual(struct march_state *st)
          * cell (a pressure mode in a yielded layer is resisted by the plug
          * beside it).  With r = kappa eta_cell a Vola Bn = 1000 cavity
          * contracted by 0.994 per step; with r = kappa max(eta) by < 1/kappa. */
-        double r = cs->augmentation * kernel_max_abs_cells(g, st->field.viscosity);
+        double r = cs->augmentation * march_max(st, kernel_max_abs_cells(g, st->field.viscosity));
         for (size_t p = 0; p < g->size; p++)
             st->aug[p] = r;
     }
     if (st->force_ref == 0.0) {
         double rg = cs->density * cs->gravity;
-        st->force_ref = rg > 0.0 ? rg : kernel_max_abs(g, st->act, st->field.residual);
+        st->force_ref = rg > 0.0 ? rg : march_max(st, kernel_max_abs(g, st->act, st->field.residual));
     }
     double scale = march_force_scale(st);
-    st->residual = kernel_max_abs(g, st->act, st->field.residual) / scale;
+    st->residual = march_max(st, kernel_max_abs(g, st->act, st->field.residual)) / scale;
     {
-        long n = 0;
+        double n = 0.0;
         for (int c = 0; c < 3; c++)
-            n += (long)(st->act[c].hi[0] - st->act[c].lo[0]) * (st->act[c].hi[1] - st->act[c].lo[1]) *
-                 (st->act[c].hi[2] - st->act[c].lo[2]);
-        st->residual_rms =
-            n > 0
-                ? sqrt(kernel_dot(g, st->act, st->field.residual, st->field.residual) / (double)n) /
-                      scale
-                : 0.0;
+            n += (double)(st->act[c].hi[0] - st->act[c].lo[0]) *
+                 (st->act[c].hi[1] - st->act[c].lo[1]) * (st->act[c].hi[2] - st->act[c].lo[2]);
+        double sums[2] = {n, kernel_dot(g, st->act, st->field.residual, st->field.residual)};
+        march_sum_array(st, sums, 2);
+        st->residual_rms = sums[0] > 0.0 ? sqrt(sums[1] / sums[0]) / scale : 0.0;
     }
     kernel_stress_magnitude(g, st->act, eta_cell, (const double *const *)st->field.viscosity_edges,
                             st->field.velocity, st->field.increment);
     st->residual_excess =
-        kernel_residual_excess(g, st->act, st->field.residual, st->field.increment, st->field.force,
-                               ROUNDOFF_EPS) /
+        march_max(st, kernel_residual_excess(g, st->act, st->field.residual, st->field.increment,
+                                             st->field.force, ROUNDOFF_EPS)) /
         scale;
     /* the modules' own equations (a second velocity): both must vanish */
     for (int m = 0; m < st->nmodules; m++)
@@ -85,22 +83,23 @@ void stage_residual(struct march_state *st)
             st->residual_excess = fmax(st->residual_excess, x / scale);
         }
     stage_divergence(st, st->field.velocity, st->field.divergence);
-    double umax = st->velocity_max = kernel_max_abs(g, st->act, st->field.velocity);
-    double dmax = kernel_max_abs_cells(g, st->field.divergence);
-    st->divergence = umax > 0.0 ? dmax * march_min_spacing(g) / umax : dmax;
+    double umax = st->velocity_max = march_max(st, kernel_max_abs(g, st->act, st->field.velocity));
+    double dmax = march_max(st, kernel_max_abs_cells(g, st->field.divergence));
+    st->divergence = umax > 0.0 ? dmax * march_min_spacing(march_global_grid(st)) / umax : dmax;
 }
 
 double stage_residual_velocity_roundoff(struct march_state *st)
 {
     const struct grid *g = &st->g;
     const double *eta_cell[3] = {st->field.viscosity, st->field.viscosity, st->field.viscosity};
-    double umax = kernel_max_abs(g, st->act, st->field.velocity);
+    double umax = march_max(st, kernel_max_abs(g, st->act, st->field.velocity));
     /* st->field.increment is the magnitude's scratch here as in stage_residual */
     kernel_stress_magnitude_at(g, st->act, eta_cell,
                                (const double *const *)st->field.viscosity_edges, st->field.velocity,
                                umax, st->field.increment);
-    double x = kernel_residual_excess(g, st->act, st->field.residual, st->field.increment,
-                                      st->field.force, ROUNDOFF_EPS) /
+    double x = march_max(st, kernel_residual_excess(g, st->act, st->field.residual,
+                                                    st->field.increment, st->field.force,
+                                                    ROUNDOFF_EPS)) /
                march_force_scale(st);
     /* a module's own equations keep their measure */
     for (int m = 0; m < st->nmodules; m++)

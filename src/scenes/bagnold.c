@@ -140,12 +140,20 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     e->headline = surface_velocity(pr, cs->len[2]);
 }
 
+/* the layer from rest: periodic x and y split over ranks (the perturbation
+ * is drawn on the whole grid) */
+static int decomposed(const struct muflow_case *cs)
+{
+    return !(params(cs)->perturbation > 0.0);
+}
+
 const struct scene scene_bagnold = {
     .name = "bagnold",
     .title = "granular layer down a rough inclined plane (Bagnold profile)",
     .keys = &bagnold_block,
     .check = check,
     .setup = setup,
+    .decomposed = decomposed,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

@@ -296,7 +296,7 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
     zero_fields(g, s->z);
     for (int c = 0; c < 3; c++)
         memcpy(s->r[c], rhs[c], g->size * sizeof(double));
-    double bnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+    double bnorm = sqrt(visc_dot(s, act, s->r, s->r));
     st->iterations = 0;
     st->relative_residual = 0.0;
     if (bnorm == 0.0) {

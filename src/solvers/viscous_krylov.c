@@ -15,16 +15,16 @@ int visc_pcg(struct viscous_solver *s, const struct viscous_problem *pb, double 
     visc_precondition_apply(s, s->r, s->z);
     zero_fields(g, s->p);
     kernel_lincomb(g, act, 1.0, s->z, 0.0, s->p);
-    double rz = kernel_dot(g, act, s->r, s->z);
+    double rz = visc_dot(s, act, s->r, s->z);
     for (int it = 1; it <= maxit; it++) {
         viscous_apply(s, pb, s->p, s->q);
-        double pq = kernel_dot(g, act, s->p, s->q);
+        double pq = visc_dot(s, act, s->p, s->q);
         if (!(pq > 0.0) || !isfinite(pq))
             return -1;
         double alpha = rz / pq;
         kernel_axpy(g, act, alpha, s->p, x);
         kernel_axpy(g, act, -alpha, s->q, s->r);
-        double rnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+        double rnorm = sqrt(visc_dot(s, act, s->r, s->r));
         st->iterations = it;
         st->relative_residual = rnorm / bnorm;
         if (!isfinite(rnorm))
@@ -32,7 +32,7 @@ int visc_pcg(struct viscous_solver *s, const struct viscous_problem *pb, double 
         if (rnorm <= rtol * bnorm)
             return 0;
         visc_precondition_apply(s, s->r, s->z);
-        double rz_new = kernel_dot(g, act, s->r, s->z);
+        double rz_new = visc_dot(s, act, s->r, s->z);
         kernel_lincomb(g, act, 1.0, s->z, rz_new / rz, s->p);
         rz = rz_new;
     }
@@ -68,7 +68,7 @@ int visc_bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, do
     }
     double rho = 1.0, alpha = 1.0, omega = 1.0;
     for (int it = 1; it <= maxit; it++) {
-        double rho_new = kernel_dot(g, act, r0, r);
+        double rho_new = visc_dot(s, act, r0, r);
         if (rho_new == 0.0 || !isfinite(rho_new))
             return -1;
         double beta = (rho_new / rho) * (alpha / omega);
@@ -77,26 +77,26 @@ int visc_bicgstab(struct viscous_solver *s, const struct viscous_problem *pb, do
         kernel_lincomb(g, act, 1.0, r, beta, p);
         visc_precondition_apply(s, p, ph);
         viscous_apply(s, pb, ph, v);
-        double r0v = kernel_dot(g, act, r0, v);
+        double r0v = visc_dot(s, act, r0, v);
         if (r0v == 0.0 || !isfinite(r0v))
             return -1;
         alpha = rho / r0v;
         kernel_axpy(g, act, alpha, ph, x);
         kernel_axpy(g, act, -alpha, v, r);      /* r is now s */
-        double snorm = sqrt(kernel_dot(g, act, r, r));
+        double snorm = sqrt(visc_dot(s, act, r, r));
         st->iterations = it;
         st->relative_residual = snorm / bnorm;
         if (snorm <= rtol * bnorm)
             return 0;
         visc_precondition_apply(s, r, sh);
         viscous_apply(s, pb, sh, t);
-        double tt = kernel_dot(g, act, t, t);
+        double tt = visc_dot(s, act, t, t);
         if (!(tt > 0.0) || !isfinite(tt))
             return -1;
-        omega = kernel_dot(g, act, t, r) / tt;
+        omega = visc_dot(s, act, t, r) / tt;
         kernel_axpy(g, act, omega, sh, x);
         kernel_axpy(g, act, -omega, t, r);
-        double rnorm = sqrt(kernel_dot(g, act, r, r));
+        double rnorm = sqrt(visc_dot(s, act, r, r));
         st->relative_residual = rnorm / bnorm;
         if (!isfinite(rnorm))
             return -1;
@@ -356,7 +356,7 @@ int visc_mg_pcg(struct viscous_solver *s, const struct viscous_problem *pb, doub
             continue;
         struct box one[3];
         masked_boxes(s, 1 << c, one);
-        if (kernel_max_abs(s->g, one, s->r) == 0.0)
+        if (visc_max_abs(s, one, s->r) == 0.0)
             s->act[c].hi[0] = s->act[c].lo[0];
     }
     int rc = mg_pcg_boxes(s, pb, bnorm, x, rtol, maxit, st);
@@ -372,16 +372,16 @@ static int mg_pcg_boxes(struct viscous_solver *s, const struct viscous_problem *
     velocity_mg_cycle(s->mg, s->r, s->z);
     zero_fields(g, s->p);
     kernel_lincomb(g, act, 1.0, s->z, 0.0, s->p);
-    double rz = kernel_dot(g, act, s->r, s->z);
+    double rz = visc_dot(s, act, s->r, s->z);
     for (int it = 1; it <= maxit; it++) {
         viscous_apply(s, pb, s->p, s->q);
-        double pq = kernel_dot(g, act, s->p, s->q);
+        double pq = visc_dot(s, act, s->p, s->q);
         if (!(pq > 0.0) || !isfinite(pq))
             return -1;
         double alpha = rz / pq;
         kernel_axpy(g, act, alpha, s->p, x);
         kernel_axpy(g, act, -alpha, s->q, s->r);
-        double rnorm = sqrt(kernel_dot(g, act, s->r, s->r));
+        double rnorm = sqrt(visc_dot(s, act, s->r, s->r));
         st->iterations = it;
         st->relative_residual = rnorm / bnorm;
         if (!isfinite(rnorm))
@@ -389,7 +389,7 @@ static int mg_pcg_boxes(struct viscous_solver *s, const struct viscous_problem *
         if (rnorm <= rtol * bnorm)
             return 0;
         velocity_mg_cycle(s->mg, s->r, s->z);
-        double rz_new = kernel_dot(g, act, s->r, s->z);
+        double rz_new = visc_dot(s, act, s->r, s->z);
         kernel_lincomb(g, act, 1.0, s->z, rz_new / rz, s->p);
         rz = rz_new;
     }

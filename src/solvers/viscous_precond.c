@@ -260,7 +260,7 @@ void visc_gmg_others(struct viscous_solver *s, const struct viscous_problem *pb,
         return;
     struct box part[3];
     masked_boxes(s, others, part);
-    if (negligible >= 0.0 && sqrt(kernel_dot(s->g, part, s->r, s->r)) <=
+    if (negligible >= 0.0 && sqrt(visc_dot(s, part, s->r, s->r)) <=
                                  fmax(negligible, GMG_ROUNDOFF * s->gmg_scale)) {
         s->gmg_mask = covered;
         s->dropped = 1;
