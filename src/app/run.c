@@ -243,12 +243,12 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
     if (st->ranks) /* the memory is rank 0's */
         snprintf(ranks, sizeof ranks, "ranks %d (%d x %d x %d), ", st->ranks->cart.size,
                  st->ranks->cart.dims[0], st->ranks->cart.dims[1], st->ranks->cart.dims[2]);
-    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %s%d threads, "
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %s%d thread%s, "
            "memory ~%.0f MB\n",
            cs->name, case_scene(cs)->name, g->n[0], g->n[1], g->n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
            regularisation_name(cs->rheo.reg), cs->rheo.lambda, ranks, omp_get_max_threads(),
-           st->memory_estimate / 1e6);
+           omp_get_max_threads() == 1 ? "" : "s", st->memory_estimate / 1e6);
     /* the curve's derived values, which no key shows (jop: nothing to add) */
     if (cs->rheo.law == LAW_MUI && cs->rheo.curve != CURVE_JOP)
         printf("muflow %s: mu(I) curve %s: alpha %g, mu_inf %g, I_1^N = %.8g, A_minus = %.8g\n",
