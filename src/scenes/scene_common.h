@@ -34,6 +34,17 @@ static inline int scene_layer_fits(double height, double lz, double h)
             u[i] = f(cs, x[i]);                                                          \
     }
 
+/* The exact profile of a scene whose velocity has no closed form: NaN (its
+ * results name what is checked instead). */
+static inline void scene_no_exact_profile(const struct muflow_case *cs, int n, const double *x,
+                                          double *u)
+{
+    (void)cs;
+    (void)x;
+    for (int i = 0; i < n; i++)
+        u[i] = NAN;
+}
+
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block
  * NAME (parse, check, write back: config/keys.h) with INTRO, the section's
  * description in docs/case_keys.md (Markdown), the compile-time check that
