@@ -11,8 +11,9 @@
  *   on its coarse grid D/10: drag coefficient and pressure difference within
  *   the tolerance the three-grid study justifies, and forces.csv's C_D(t)
  *   settling there, with no grid-sized matrix (the velocity multigrid);
- * - the same with the grid's lines moved off the body's centre (0.27 of a
- *   cell along x, 0.49 across);
+ * - the same with the grid's lines moved off the body's centre (0.25 of a
+ *   cell along x, 0.488 across), and the lift the cut pattern alone gives
+ *   in a stream symmetric about the body's axis;
  * - a body on a symmetry plane: half the box with a slip face through the
  *   body's centre gives the whole box's forces (a Newtonian flow around a
  *   cylinder driven by gravity), to round-off;
@@ -324,27 +325,28 @@ static void test_cylinder_coarse(void **state)
 }
 
 /* The body at two other positions relative to the grid on D/10, the channel
- * and the body where the benchmark puts them (the cell counts move the grid
- * lines: nx 223 puts the centre 0.27 of a cell off an x line, nz 42 0.49 off
- * a z line).  Measured (docs/validation/cylinder_benchmark.md): C_D +0.26 %
- * and +0.40 %, Delta p -0.38 % and -1.17 %, C_L +2.2 % and +35 % (the grid no
- * longer symmetric about the body's axis: a cut-cell force of 7e-4 of the
- * drag across the flow, two fifths of the lift; on D/20 +6.6 %, and -1.2 %
- * 0.51 off).  The C_D and Delta p bounds are the centred grid's; C_L's 10 %
- * along x (0.45 off: +4.2 %) and 50 % across (35 % with a margin of two
- * fifths).  The run across stops at t = 20 (C_D within 3e-5 of its steady
- * value, C_L 3e-7: a slow mode of the cut cells takes the residual another
- * 1200 steps). */
+ * and the body where the benchmark puts them (nx 223 and lx = 223 h, h =
+ * 0.2 / 20.25, put the centre 0.25 of a cell off an x line; nz 42 0.488 off
+ * a z line).  Measured (docs/validation/cylinder_benchmark.md): C_D +0.33 %
+ * and +0.40 %, Delta p -0.49 % and -1.17 %, C_L +1.9 % and +35 % (0.488 off
+ * puts u nodes 1e-4 h from the front and back stagnation points, and the
+ * nodes that near the surface decide the lift: test_cylinder_cut_pattern;
+ * on D/20 +6.6 %, and -1.2 % 0.512 off).  The C_D and Delta p bounds are the
+ * centred grid's; C_L's 10 % along x (0.5 off: +4.4 %) and 50 % across (35 %
+ * with a margin of two fifths).  The run across stops at t = 20 (C_D within
+ * 3e-5 of its steady value, C_L 3e-7: a slow mode of the cut cells takes the
+ * residual another 1200 steps). */
 static void test_cylinder_offsets(void **state)
 {
     (void)state;
     char *cells[2] = {"domain.nx=223", "domain.nz=42"};
+    char *length[2] = {"domain.lx=2.202469135802469", "domain.lx=2.2"};
     const double cl_bound[2] = {0.1, 0.5};
     for (int k = 0; k < 2; k++) {
         char *ov[] = {"solver.steady_tolerance=1e-6", "solver.cfl=2", "solver.dt=0.02",
                       "solver.end_time=20", "solver.preconditioner=cholesky",
                       "solver.preconditioner_reuse=1000000", "output.quiet=on",
-                      cells[k]};
+                      cells[k], length[k]};
         struct muflow_case cs;
         struct run_result res;
         test_load_case(&cs, "../cases/cylinder_benchmark.ini", (int)(sizeof ov / sizeof ov[0]), ov);
@@ -361,6 +363,51 @@ static void test_cylinder_offsets(void **state)
         assert_true(fabs(dp / REF_DP - 1.0) < 0.0175);
         assert_true(fabs(cl / REF_CL - 1.0) < cl_bound[k]);
     }
+}
+
+/* The lift that the grid's cut pattern alone gives: the benchmark's
+ * cylinder in a uniform stream of 0.2 (Re 20) periodic across (channel
+ * 0.4, box 1.0 long, D/10), so that the flow is symmetric about the body's
+ * axis and its lift is 0 wherever the body is, with the centre 0.25 and
+ * 0.75 of a cell off a z line (the two grids are mirror images about the
+ * axis).  Measured (docs/validation/cylinder_benchmark.md): C_L -0.0102 and
+ * +0.0102 to 10 digits (C_D 3.643; 0.5 off 1.1e-4, on the lines 5e-10;
+ * D/20 0.25 off -0.0018), the control volume's lateral force within 5.5e-4
+ * of the surface sum's.  Asserted: the mirror images' lifts opposite to
+ * 1e-6 (the discretisation keeps the mirror symmetry; the positions are
+ * mirrored to round-off), the control volume within 1 % of the surface
+ * sum (the lift is the discrete solution's: the momentum that leaves the
+ * box 0.5 D + 2 h out, not the surface sum's quadrature), and |C_L| / C_D
+ * below 3.5e-3 (2.8e-3 measured, a quarter's margin): a change of the cut
+ * links or cut cells that widens the pattern's error fails it. */
+static void test_cylinder_cut_pattern(void **state)
+{
+    (void)state;
+    const char *centre[2] = {"obstacle.shapes=circle 0.2 0.2025 0.05",
+                             "obstacle.shapes=circle 0.2 0.2075 0.05"};
+    double cl[2], cl_cv = 0.0, cd = 0.0;
+    for (int k = 0; k < 2; k++) {
+        char *ov[] = {"boundary.zlo=periodic", "boundary.zhi=periodic",
+                      "boundary.inflow_profile=uniform", "boundary.inflow_velocity=0.2",
+                      "domain.lx=1.0", "domain.nx=100", "domain.lz=0.4", "domain.nz=40",
+                      "output.quiet=on", (char *)centre[k]};
+        struct muflow_case cs;
+        struct run_result res;
+        test_load_case(&cs, "../cases/cylinder_benchmark.ini", (int)(sizeof ov / sizeof ov[0]), ov);
+        test_run_loaded(&cs, 0, &res);
+        assert_int_equal(res.status, STATUS_STEADY);
+        cl[k] = run_result_value(&res, "lift_coefficient");
+        if (k == 0) {
+            cl_cv = run_result_value(&res, "lift_coefficient_control_volume");
+            cd = run_result_value(&res, "drag_coefficient");
+        }
+        print_message("cylinder D/10 in a symmetric stream, %s: %ld steps, C_L %.10g\n",
+                      centre[k], res.steps, cl[k]);
+    }
+    print_message("C_D %.6f, C_L / C_D %.3g, control volume's C_L %.6g\n", cd, cl[0] / cd, cl_cv);
+    assert_true(fabs(cl[0] + cl[1]) < 1e-6 * fabs(cl[0]));
+    assert_true(fabs(cl_cv / cl[0] - 1.0) < 0.01);
+    assert_true(fabs(cl[0]) / cd < 3.5e-3);
 }
 
 static void run_checked(const char *file, int n, char **ov, struct run_result *res)
@@ -812,6 +859,7 @@ void group_obstacle(struct test_tally *t)
         cmocka_unit_test(test_pipe_stretched),
         cmocka_unit_test(test_cylinder_coarse),
         cmocka_unit_test(test_cylinder_offsets),
+        cmocka_unit_test(test_cylinder_cut_pattern),
         cmocka_unit_test(test_symmetric_half),
         cmocka_unit_test(test_granular_cylinder_newton),
         cmocka_unit_test(test_granular_cylinder_lambda_stages),
