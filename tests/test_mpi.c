@@ -942,6 +942,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
+        cmocka_unit_test(test_bagnold_checkpoint_ranks),
+        cmocka_unit_test(test_checkpoint_fails_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);
