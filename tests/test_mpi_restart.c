@@ -8,6 +8,7 @@
 #include <math.h>
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -33,13 +34,16 @@ static char *bagnold_ov[] = {"domain.nx=4", "domain.lx=1.4", "domain.ny=2", "dom
                              "output.quiet=on", NULL, NULL, NULL};
 #define BAGNOLD_OV 5
 
-static void load_bagnold(struct muflow_case *cs, const char *dir, const char *extra)
+/* With output.dir=dir and the overrides extra (up to 2, NULL-ended). */
+static void load_bagnold(struct muflow_case *cs, const char *dir, char *const extra[])
 {
     static char out[400]; /* read by the case loader only */
     snprintf(out, sizeof out, "output.dir=%s", dir);
-    bagnold_ov[BAGNOLD_OV] = out;
-    bagnold_ov[BAGNOLD_OV + 1] = (char *)extra;
-    test_load_case(cs, "../cases/bagnold.ini", BAGNOLD_OV + 1 + (extra != NULL), bagnold_ov);
+    int n = BAGNOLD_OV;
+    bagnold_ov[n++] = out;
+    for (int e = 0; e < 2 && extra[e]; e++)
+        bagnold_ov[n++] = extra[e];
+    test_load_case(cs, "../cases/bagnold.ini", n, bagnold_ov);
 }
 
 /* A run continued from the checkpoint at path (its case, max_steps back
@@ -133,7 +137,7 @@ void test_bagnold_checkpoint_ranks(void **state)
     static struct muflow_case cs;
     struct run_result one, all, r;
     double bad = 0.0;
-    load_bagnold(&cs, a_dir, "output.checkpoint_every=4");
+    load_bagnold(&cs, a_dir, (char *[]){"output.checkpoint_every=4", "output.fields_every=3", NULL});
     const struct run_options alone = {.one_process = 1}, split = {0};
     bad += run_case_opts(&cs, &alone, &one, err, sizeof err) != RUN_OK;
     bad += run_case_opts(&cs, &split, &all, err, sizeof err) != RUN_OK;
@@ -142,6 +146,13 @@ void test_bagnold_checkpoint_ranks(void **state)
     const struct run_options stopped = {.write_output = 1, .hook = stop_hook, .hook_ctx = &h};
     bad += run_case_opts(&cs, &stopped, &r, err, sizeof err) != RUN_OK;
     bad += r.status != STATUS_STOPPED || r.signal != SIGTERM || r.steps != 6 || !r.checkpointed;
+    /* its field files every 3 steps (the ranks' blocks) and their index */
+    if (comm_rank() == 0) {
+        snprintf(path, sizeof path, "%s/fields_000003.h5", a_dir);
+        char *xdmf = test_read_in(a_dir, "fields.xdmf");
+        bad += !test_file_exists(path) || !strstr(xdmf, "fields_000006.h5");
+        free(xdmf);
+    }
     if (comm_rank() == 0)
         printf("    on %d ranks: %s at step %ld by %s to rank %d, checkpoint %s\n", comm_size(),
                run_status_name(r.status), r.steps, r.signal == SIGTERM ? "SIGTERM" : "?",
@@ -156,7 +167,7 @@ void test_bagnold_checkpoint_ranks(void **state)
                ends_alike("step 4 continued on the same ranks", &all, &r, 1);
     }
     /* B: one process stopped by max_steps, its checkpoint continued on the ranks */
-    load_bagnold(&cs, b_dir, "solver.max_steps=6");
+    load_bagnold(&cs, b_dir, (char *[]){"solver.max_steps=6", NULL});
     const struct run_options alone_out = {.one_process = 1, .write_output = 1};
     if (comm_rank() == 0)
         bad += run_case_opts(&cs, &alone_out, &r, err, sizeof err) != RUN_OK ||
@@ -200,7 +211,7 @@ void test_checkpoint_fails_on_ranks(void **state)
     char dir[256], err[1024] = "";
     shared_dir(dir, sizeof dir, "ckfail");
     static struct muflow_case cs;
-    load_bagnold(&cs, dir, "solver.max_steps=2");
+    load_bagnold(&cs, dir, (char *[]){"solver.max_steps=2", NULL});
     const struct run_options opt = {.write_output = 1, .hook = block_checkpoint,
                                     .hook_ctx = dir};
     struct run_result r;
