@@ -336,7 +336,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
         bad = initial_state_load(cs->initial_state, st, err, errlen) != 0;
     }
     if (st->ranks && march_max(st, bad) != 0.0 && !bad) { /* every rank reads its block */
-        snprintf(err, errlen, "another rank could not read its part of %s", opt->restart_from);
+        snprintf(err, errlen, "another rank could not read its part of %s",
+                 opt->restart_from ? opt->restart_from : cs->initial_state);
         bad = 1;
     }
     if (bad)
