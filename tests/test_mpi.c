@@ -883,8 +883,8 @@ static void mpirun_two(const char *bin, const char *args, char **out)
 /* Started by mpirun on two ranks, muflow refuses a scene that does not run
  * decomposed on every rank (status 2), says so once, naming those that do,
  * and writes nothing; couette runs, its header naming the ranks, and
- * writes its outputs once (rank 0) and its field file (every rank's
- * block).  Run only outside mpirun (an mpirun does not start another), in a
+ * writes its outputs once (rank 0), its field files and checkpoint (every
+ * rank's block), and `mpirun muflow --restart` continues it.  Run only outside mpirun (an mpirun does not start another), in a
  * clean environment: hypre's MPI, initialised in this process by the amg
  * group, leaves Open MPI's variables in it, and an mpirun that inherits them
  * fails (status 1, nothing said); under the sanitizers the leak check is
@@ -910,15 +910,30 @@ static void test_muflow_on_ranks(void **state)
     if (said != 1 || !status2 || wrote)
         print_error("%s", out);
     free(out);
-    snprintf(args, sizeof args, "../cases/couette.ini output.dir='%s/couette'", dir);
+    /* stopped at step 3 (status 3) with a field file every 2 steps and a
+     * checkpoint, continued on the ranks to steady (6 steps, as in one go) */
+    snprintf(args, sizeof args,
+             "../cases/couette.ini output.dir='%s/couette' solver.max_steps=3 "
+             "output.fields_every=2",
+             dir);
+    mpirun_two(bin, args, &out);
+    snprintf(path, sizeof path, "%s/couette/fields_000002.h5", dir);
+    int ran = strstr(out, "rc=3\n") && strstr(out, "ranks 2 (2 x 1 x 1)") &&
+              strstr(out, "unsteady after 3 steps") && test_file_exists(path);
+    snprintf(path, sizeof path, "%s/couette/checkpoint.h5", dir);
+    ran = ran && test_file_exists(path);
+    if (!ran)
+        print_error("%s", out);
+    free(out);
+    snprintf(args, sizeof args, "--restart '%s/couette' solver.max_steps=100", dir);
     mpirun_two(bin, args, &out);
     snprintf(path, sizeof path, "%s/couette/summary.ini", dir);
     char *summary = test_file_exists(path) ? test_read_file(path, NULL) : NULL;
     snprintf(path, sizeof path, "%s/couette/fields_000006.h5", dir);
-    const int ran = strstr(out, "rc=0\n") && strstr(out, "ranks 2 (2 x 1 x 1)") &&
-                    strstr(out, "steady after 6 steps") && summary &&
-                    strstr(summary, "status = steady") && test_file_exists(path);
-    if (!ran)
+    const int continued = strstr(out, "rc=0\n") && strstr(out, "continuing from") &&
+                          strstr(out, "steady after 6 steps") && summary &&
+                          strstr(summary, "status = steady") && test_file_exists(path);
+    if (!continued)
         print_error("%s", out);
     free(out);
     free(summary);
@@ -927,6 +942,7 @@ static void test_muflow_on_ranks(void **state)
     assert_true(status2);
     assert_false(wrote);
     assert_true(ran);
+    assert_true(continued);
 }
 
 void group_mpi(struct test_tally *t)
@@ -942,6 +958,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
+        cmocka_unit_test(test_bagnold_checkpoint_ranks),
+        cmocka_unit_test(test_checkpoint_fails_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

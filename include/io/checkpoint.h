@@ -15,7 +15,9 @@
  *   - FFTW's wisdom: the transform algorithms FFTW_MEASURE chose, so the
  *     restarted run plans the same ones and rounds the same way.
  * The file is written as checkpoint.h5.tmp, synced and renamed: a failed
- * write leaves the previous checkpoint as it was. */
+ * write leaves the previous checkpoint as it was.  A decomposed run's ranks
+ * write it together, the same file (h5blocks.h: each rank its block of the
+ * arrays; rank 0 the rest, which every rank holds alike). */
 #ifndef MUFLOW_CHECKPOINT_H
 #define MUFLOW_CHECKPOINT_H
 
@@ -26,7 +28,8 @@
 #define CHECKPOINT_NAME "checkpoint.h5"
 #define CHECKPOINT_FORMAT "muflow checkpoint 1"
 
-/* Writes dir/checkpoint.h5.  Returns 0, or -1 with the cause in err. */
+/* Writes dir/checkpoint.h5 (collective on ranks: every rank the same
+ * status).  Returns 0, or -1 with the cause in err. */
 int checkpoint_write(const char *dir, const struct march_state *st,
                      const struct field_series *fs, char *err, size_t errlen);
 
@@ -41,11 +44,12 @@ int checkpoint_import_wisdom(const char *path, char *err, size_t errlen);
 
 /* Loads the fields, the loop state and the field-file schedule into st and fs.
  * st must come from march_create for the checkpoint's grid (a different grid
- * is an error).  *threads receives the OpenMP thread count of the run that
- * wrote it (a different count continues, but not bit for bit).  Returns 0, or
- * -1 with the cause. */
+ * is an error); on ranks each reads its block, ghosts included, of the file
+ * any rank count wrote.  writer[0] receives the OpenMP thread count and
+ * writer[1] the MPI rank count of the run that wrote it (other counts
+ * continue, but not bit for bit).  Returns 0, or -1 with the cause. */
 int checkpoint_read_state(const char *path, struct march_state *st, struct field_series *fs,
-                          int *threads, char *err, size_t errlen);
+                          int writer[2], char *err, size_t errlen);
 
 /* The dataset name of array c of a checkpointed field: its name for a
  * cell field, name_x, _y, _z for the three arrays of the others. */

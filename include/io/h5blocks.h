@@ -75,5 +75,9 @@ int h5blocks_put_full(struct h5blocks *w, const char *name, const struct decomp 
  * holds g->size doubles. */
 int h5blocks_read_full(const char *path, const char *name, const struct decomp *dc,
                        const struct grid *g, double *f, double *buf, char *err, size_t errlen);
+/* The same from a file open for reading (serial HDF5: a checkpoint). */
+int h5blocks_read_full_in(hid_t file, const char *name, const struct decomp *dc,
+                          const struct grid *g, double *f, double *buf, char *err,
+                          size_t errlen);
 
 #endif

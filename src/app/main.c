@@ -396,21 +396,19 @@ int main(int argc, char **argv)
     char err[1024], path[1100];
     struct run_options opt = {.write_output = 1};
     if (strcmp(argv[1], "--restart") == 0) {
-        if (ranks) {
-            snprintf(err, sizeof err, "muflow: --restart on %d MPI ranks: a decomposed run "
-                                      "writes no checkpoint; run muflow --restart without mpirun",
-                     comm_size());
-            return refuse(err);
-        }
         if (argc < 3) {
             usage(stderr);
             return 2;
         }
+        /* on any rank count: each rank reads its block of the checkpoint */
         if (load_restart(&cs, argv[2], argc - 3, argv + 3, path, sizeof path, err,
                          sizeof err) != 0) {
-            fprintf(stderr, "muflow: %s\n", err);
-            return 2;
+            char msg[1100];
+            snprintf(msg, sizeof msg, "muflow: %s", err);
+            return refuse(msg);
         }
+        if (refuse_scene_on_ranks(&cs))
+            return 2;
         opt.restart_from = path;
         runtime_defaults_for(&cs, argv);
     } else {

@@ -51,7 +51,9 @@ static void print_progress(const struct march_state *st, const struct scene_erro
 }
 
 /* The outputs due at this step: history row, field file, checkpoint.  Returns
- * non-zero when one failed (the run then stops). */
+ * non-zero when one failed (the run then stops).  On ranks the field file
+ * and the checkpoint are every rank's (collective, one status), the rest
+ * rank 0's, after them (no rank leaves a collective write unreached). */
 static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
                         const struct scene_errors *e)
 {
@@ -59,7 +61,7 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     /* the march observes a step again when it ends on the state it had
      * already observed (a breakdown of the viscous solve restores it): one
      * row per step */
-    if (st->step != ctx->last_row)
+    if (ctx->root && st->step != ctx->last_row)
         history_row(&ctx->hist, st, e);
     ctx->last_row = st->step;
     int field_due = field_series_due(&ctx->series, cs, st) &&
@@ -67,19 +69,21 @@ static int step_outputs(struct observer_ctx *ctx, const struct march_state *st,
     if (field_due &&
         field_series_write(&ctx->series, cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
         return ctx->failed = 1;
+    if (cs->checkpoint_every > 0 && st->step > 0 && st->step % cs->checkpoint_every == 0 &&
+        st->status == STATUS_RUNNING) {
+        if (ctx->root) {
+            history_flush(&ctx->hist); /* a restart after a crash continues these rows */
+            forces_file_flush(&ctx->forces);
+        }
+        if (checkpoint_write(cs->output_dir, st, &ctx->series, ctx->err, sizeof ctx->err) != 0)
+            return ctx->failed = ctx->checkpoint_failed = 1;
+    }
     const struct scene *sc = case_scene(cs);
-    if (sc->write_running && sc->write && st->status == STATUS_RUNNING &&
+    if (ctx->root && sc->write_running && sc->write && st->status == STATUS_RUNNING &&
         (field_due || st->wall_seconds - ctx->last_scene_write >= cs->progress_interval)) {
         if (sc->write(cs->output_dir, st, ctx->err, sizeof ctx->err) != 0)
             return ctx->failed = 1;
         ctx->last_scene_write = st->wall_seconds;
-    }
-    if (cs->checkpoint_every > 0 && st->step > 0 && st->step % cs->checkpoint_every == 0 &&
-        st->status == STATUS_RUNNING) {
-        history_flush(&ctx->hist); /* a restart after a crash continues these rows */
-        forces_file_flush(&ctx->forces);
-        if (checkpoint_write(cs->output_dir, st, &ctx->series, ctx->err, sizeof ctx->err) != 0)
-            return ctx->failed = ctx->checkpoint_failed = 1;
     }
     return 0;
 }
@@ -144,6 +148,7 @@ static void warn_preconditioner(struct observer_ctx *ctx, const struct march_sta
                 st->step, info.cause, info.kind == VISCOUS_LU ? "sparse LU" : "line blocks");
 }
 
+/* This rank's observation: 1 when an output failed (the cause in ctx->err). */
 static int observe_here(struct observer_ctx *ctx, const struct march_state *st)
 {
     if (ctx->opt->hook)
@@ -155,19 +160,19 @@ static int observe_here(struct observer_ctx *ctx, const struct march_state *st)
     e.err_rms = NAN;
     if (case_scene(ctx->cs)->profile_axis >= 0)
         scene_errors_of(st, &e); /* over every rank */
-    if (!ctx->root)
-        return interrupt_signal() && st->status == STATUS_RUNNING;
-    warn_pressure(ctx, st);
-    warn_linear(ctx, st);
-    warn_preconditioner(ctx, st);
+    if (ctx->root) {
+        warn_pressure(ctx, st);
+        warn_linear(ctx, st);
+        warn_preconditioner(ctx, st);
+        forces_file_row(&ctx->forces, st); /* before a checkpoint; once per step */
+    }
     /* the first observation of a restart is the checkpoint's step, whose
      * outputs the run that wrote the checkpoint has written */
     int resumed = st->step == ctx->resume_step;
     ctx->resume_step = -1;
-    forces_file_row(&ctx->forces, st); /* before a checkpoint; once per step */
     if (!resumed && step_outputs(ctx, st, &e) != 0)
         return 1;
-    if (!ctx->cs->quiet) {
+    if (ctx->root && !ctx->cs->quiet) {
         int due = st->step == 0 || resumed || st->status != STATUS_RUNNING ||
                   st->wall_seconds - ctx->last_print >= ctx->cs->progress_interval;
         if (due) {
@@ -175,31 +180,28 @@ static int observe_here(struct observer_ctx *ctx, const struct march_state *st)
             ctx->last_print = st->wall_seconds;
         }
     }
-    int sig = interrupt_signal();
-    if (sig && st->status == STATUS_RUNNING) {
-        ctx->signal = sig;
-        return 1;
-    }
     return 0;
 }
 
-/* A decomposed run's ranks stop together: when any one's outputs failed or
- * a signal came (the status and message are rank 0's). */
+/* Stops the run when an output failed or SIGINT / SIGTERM came; a
+ * decomposed run's ranks agree on both (a maximum over the ranks) and stop
+ * at the same step, whichever rank met it. */
 static int observe(void *vctx, const struct march_state *st)
 {
     struct observer_ctx *ctx = vctx;
-    int stop = observe_here(ctx, st);
-    if (!st->ranks)
-        return stop;
-    if (march_max(st, stop) == 0.0)
-        return 0;
-    if (!ctx->signal && !ctx->failed)
-        ctx->signal = interrupt_signal();
-    if (!ctx->signal && !ctx->failed) {
-        ctx->failed = 1;
-        snprintf(ctx->err, sizeof ctx->err, "an output of rank 0 failed");
+    double stop[2] = {observe_here(ctx, st), 0.0};
+    if (!stop[0] && ctx->opt->write_output && st->status == STATUS_RUNNING)
+        stop[1] = interrupt_signal();
+    if (st->ranks) {
+        comm_max(stop, 2); /* the ranks of the march are every rank */
+        if (stop[0] != 0.0 && !ctx->failed) {
+            ctx->failed = 1;
+            snprintf(ctx->err, sizeof ctx->err, "an output failed on another rank");
+        }
     }
-    return 1;
+    if (stop[0] == 0.0 && stop[1] != 0.0)
+        ctx->signal = (int)stop[1];
+    return stop[0] != 0.0 || stop[1] != 0.0;
 }
 
 void run_result_from(const struct march_state *st, struct run_result *res)
@@ -263,14 +265,20 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
 /* Warnings go to stderr whatever output.quiet says (quiet silences progress,
  * not problems; a restart inherits the checkpoint's quiet, which must not
  * hide this one). */
-static void warn_threads(const char *restart_from, int threads_then)
+static void warn_threads(const char *restart_from, const int writer[2], int ranks)
 {
-    if (restart_from && threads_then != omp_get_max_threads())
+    if (restart_from && writer[0] != omp_get_max_threads())
         fprintf(stderr,
                 "muflow: warning: the checkpoint was written with %d threads, this run has %d: "
                 "the continuation is not bit for bit the uninterrupted run (reductions sum per "
                 "thread)\n",
-                threads_then, omp_get_max_threads());
+                writer[0], omp_get_max_threads());
+    if (restart_from && writer[1] != ranks)
+        fprintf(stderr,
+                "muflow: warning: the checkpoint was written on %d MPI rank%s, this run has %d: "
+                "the continuation is not bit for bit the uninterrupted run (sums over ranks "
+                "in another order)\n",
+                writer[1], writer[1] == 1 ? "" : "s", ranks);
 }
 
 /* The output folder, history.csv and forces.csv of a run.  Returns 0, or
@@ -309,7 +317,7 @@ static int open_outputs(const struct march_state *st, struct observer_ctx *ctx,
 static int start(struct march_state *st, struct observer_ctx *ctx, const struct muflow_case *cs,
                  const struct run_options *opt, char *err, size_t errlen)
 {
-    int threads_then = omp_get_max_threads();
+    int writer[2] = {omp_get_max_threads(), 1}; /* a restart's checkpoint: threads, ranks */
     if (opt->restart_from && checkpoint_import_wisdom(opt->restart_from, err, errlen) != 0)
         return RUN_ERR_SETUP;
     struct march_setup su;
@@ -317,20 +325,29 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     su.decompose = !opt->one_process;
     if (march_create(st, cs, &su, err, errlen) != 0)
         return RUN_ERR_SETUP;
+    const int ranks = st->ranks ? st->ranks->cart.size : 1;
+    writer[1] = ranks;
+    int bad = 0;
     if (opt->restart_from) {
-        if (checkpoint_read_state(opt->restart_from, st, &ctx->series, &threads_then, err,
-                                  errlen) != 0)
-            goto fail;
+        bad = checkpoint_read_state(opt->restart_from, st, &ctx->series, writer, err,
+                                    errlen) != 0;
         ctx->resume_step = st->step;
     } else if (cs->initial_state[0]) {
-        if (initial_state_load(cs->initial_state, st, err, errlen) != 0)
-            goto fail;
+        bad = initial_state_load(cs->initial_state, st, err, errlen) != 0;
     }
+    if (st->ranks && march_max(st, bad) != 0.0 && !bad) { /* every rank reads its block */
+        snprintf(err, errlen, "another rank could not read its part of %s",
+                 opt->restart_from ? opt->restart_from : cs->initial_state);
+        bad = 1;
+    }
+    if (bad)
+        goto fail;
     if (!opt->write_output)
         return RUN_OK;
-    /* a decomposed run's files are rank 0's (its field files every rank's,
-     * after rank 0 made the folder: the agreement below waits for it) */
-    int bad = ctx->root && open_outputs(st, ctx, cs, opt, err, errlen) != 0;
+    /* a decomposed run's files are rank 0's (its field files and checkpoints
+     * every rank's, after rank 0 made the folder: the agreement below waits
+     * for it) */
+    bad = ctx->root && open_outputs(st, ctx, cs, opt, err, errlen) != 0;
     if (st->ranks && march_max(st, bad) != 0.0 && !bad) {
         snprintf(err, errlen, "rank 0 could not open the outputs");
         goto fail;
@@ -347,7 +364,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     }
     if (!cs->quiet && ctx->root)
         print_header(cs, st, opt->restart_from);
-    warn_threads(opt->restart_from, threads_then);
+    if (ctx->root)
+        warn_threads(opt->restart_from, writer, ranks);
     return RUN_OK;
 fail:
     march_destroy(st);
@@ -362,8 +380,34 @@ static void note(int *rc, char *err, size_t errlen, const char *cause)
     *rc = RUN_ERR_OUTPUT;
 }
 
-/* The outputs of the final state: field file, checkpoint,
- * history, profile, summary; each attempted even when an earlier one failed. */
+/* Rank 0's outputs of the final state (a run of one process: its own):
+ * history, forces, profile, the scene's files, summary. */
+static void root_outputs(struct observer_ctx *ctx, const struct march_state *st,
+                         const struct profile *pr, struct run_result *res, int *rc, char *err,
+                         size_t errlen)
+{
+    const struct muflow_case *cs = ctx->cs;
+    char cause[1024];
+    res->restartable = !ctx->not_restartable;
+    if (history_close(&ctx->hist, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+    forces_file_row(&ctx->forces, st); /* the final state's, if no observation wrote it */
+    if (forces_file_close(&ctx->forces, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+    if (pr && profile_write(cs->output_dir, pr, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+    const struct scene *sc = case_scene(cs);
+    if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+    if (case_obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+    if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
+        note(rc, err, errlen, cause);
+}
+
+/* The outputs of the final state: field file, checkpoint (every rank's on
+ * ranks), then rank 0's; each attempted even when an earlier one failed.
+ * On ranks every rank returns the same status (rank 0's err the cause). */
 static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st,
                           const struct profile *pr, struct run_result *res, char *err,
                           size_t errlen)
@@ -378,8 +422,6 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
     if (cs->fields && !field_series_has(&ctx->series, st->step) &&
         field_series_write(&ctx->series, cs->output_dir, st, cause, sizeof cause) != 0)
         note(&rc, err, errlen, cause);
-    if (!ctx->root) /* the field file is every rank's, the rest rank 0's */
-        return rc;
     /* every run ends with a checkpoint of its final state: one that missed its
      * goal (max_steps in either mode, a signal, no steady state, the last
      * sane state of a divergence) continues from it with other keys, and one
@@ -389,27 +431,16 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
      * scene's run that cannot continue from it (a search, a continuation)
      * still leaves its final state there: a new run starts from it with
      * solver.initial_state */
-    if (!ctx->checkpoint_failed && !st->ranks) { /* none of a decomposed run (yet) */
+    if (!ctx->checkpoint_failed) { /* agreed on ranks, as the write's status */
         if (checkpoint_write(cs->output_dir, st, &ctx->series, cause, sizeof cause) != 0)
             note(&rc, err, errlen, cause);
         else
             res->checkpointed = 1;
     }
-    res->restartable = !ctx->not_restartable;
-    if (history_close(&ctx->hist, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
-    forces_file_row(&ctx->forces, st); /* the final state's, if no observation wrote it */
-    if (forces_file_close(&ctx->forces, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
-    if (pr && profile_write(cs->output_dir, pr, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
-    const struct scene *sc = case_scene(cs);
-    if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
-    if (case_obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
-    if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
-        note(&rc, err, errlen, cause);
+    if (ctx->root)
+        root_outputs(ctx, st, pr, res, &rc, err, errlen);
+    if (st->ranks && march_max(st, rc != RUN_OK) != 0.0 && rc == RUN_OK)
+        note(&rc, err, errlen, "an output failed on rank 0");
     return rc;
 }
 

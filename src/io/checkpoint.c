@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "io/fields_h5.h"
+#include "io/h5blocks.h"
 #include "io/h5io.h"
 #include "march/module_record.h"
 #include "march/module.h"
@@ -74,16 +75,19 @@ void checkpoint_dataset_name(const struct field_spec *spec, int c, char *name, s
 /* The checkpointed fields of the registry (march/fields.h), dataset by
  * dataset, named by checkpoint_dataset_name, each in the layout with every
  * ghost (field_to_full: the files of a compact grid are a full grid's).
- * read: 0 to write them, 1 to read them back. */
-static int each_dataset(hid_t file, const struct march_state *st, int read, char *err,
-                        size_t errlen)
+ * read: 0 to write them (through w on ranks: each its block), 1 to read
+ * them back (on ranks each its block with its ghosts, as written: the
+ * neighbours' slots and the images of the domain's ends). */
+static int each_dataset(hid_t file, struct h5blocks *w, const struct march_state *st, int read,
+                        double *given, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
+    const struct decomp *dc = st->ranks ? &st->ranks->dc : NULL;
     hsize_t dims[3];
     for (int d = 0; d < 3; d++)
         dims[d] = (hsize_t)g->n[d] + 2;
-    double *full = NULL;
-    if (g->size != g->padded && !(full = malloc(g->padded * sizeof *full))) {
+    double *full = given; /* a buffer of g->padded doubles, or NULL */
+    if (!full && (dc || g->size != g->padded) && !(full = malloc(g->padded * sizeof *full))) {
         snprintf(err, errlen, "checkpoint: out of memory for a field");
         return -1;
     }
@@ -101,6 +105,11 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
             if (read && (e->spec.flags & FIELD_START_OPTIONAL) &&
                 H5Lexists(file, name, H5P_DEFAULT) <= 0)
                 continue;
+            if (dc) {
+                rc = read ? h5blocks_read_full_in(file, name, dc, g, e->v[c], full, err, errlen)
+                          : h5blocks_put_full(w, name, dc, g, e->v[c], full, err, errlen);
+                continue;
+            }
             double *buf = full ? full : e->v[c];
             if (!read && full)
                 field_to_full(g, e->v[c], full);
@@ -110,7 +119,8 @@ static int each_dataset(hid_t file, const struct march_state *st, int read, char
                 field_from_full(g, full, e->v[c]);
         }
     }
-    free(full);
+    if (full != given)
+        free(full);
     return rc;
 }
 
@@ -236,21 +246,25 @@ static int write_wisdom(hid_t file, char *err, size_t errlen)
     return rc;
 }
 
+/* What one process writes: the case, the loop state (rank 0's on ranks:
+ * every rank holds the same), the modules' records, the field files'
+ * schedule and FFTW's wisdom; arrays: 1 to write the arrays too (one
+ * process), 0 when the ranks wrote them. */
 static int write_contents(hid_t file, const struct march_state *st, const struct field_series *fs,
-                          char *err, size_t errlen)
+                          int arrays, char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
-    int threads = omp_get_max_threads();
+    int threads = omp_get_max_threads(), ranks = st->ranks ? st->ranks->cart.size : 1;
     if (h5io_attr_write_text(file, "format", CHECKPOINT_FORMAT, err, errlen) != 0 ||
-        fields_h5_case_attributes(file, st->cs, g, err, errlen) != 0 ||
-        h5io_attr_write(file, "omp_threads", H5T_NATIVE_INT, 1, &threads, err, errlen) != 0)
+        fields_h5_case_attributes(file, st->cs, march_global_grid(st), err, errlen) != 0 ||
+        h5io_attr_write(file, "omp_threads", H5T_NATIVE_INT, 1, &threads, err, errlen) != 0 ||
+        h5io_attr_write(file, "mpi_ranks", H5T_NATIVE_INT, 1, &ranks, err, errlen) != 0)
         return -1;
     for (int m = 0; m < NSTATE; m++)
         if (h5io_attr_write(file, loop_state[m].name, native(loop_state[m].type),
                             state_count(m), (const char *)st + loop_state[m].off, err,
                             errlen) != 0)
             return -1;
-    if (each_dataset(file, st, 0, err, errlen) != 0 ||
+    if ((arrays && each_dataset(file, NULL, st, 0, NULL, err, errlen) != 0) ||
         modules_save(file, st, err, errlen) != 0)
         return -1;
     hsize_t n = (hsize_t)fs->count;
@@ -268,12 +282,34 @@ static int write_contents(hid_t file, const struct march_state *st, const struct
 struct checkpoint_ctx {
     const struct march_state *st;
     const struct field_series *fs;
+    int arrays;
 };
 
 static int checkpoint_contents(hid_t file, void *vctx, char *err, size_t errlen)
 {
     const struct checkpoint_ctx *ctx = vctx;
-    return write_contents(file, ctx->st, ctx->fs, err, errlen);
+    return write_contents(file, ctx->st, ctx->fs, ctx->arrays, err, errlen);
+}
+
+/* A decomposed run's checkpoint: every rank its block of each array (with
+ * the ghosts at the domain's ends) into one file, then rank 0 the rest
+ * (h5blocks.h); every rank returns the same status. */
+static int write_on_ranks(const char *path, const struct march_state *st,
+                          const struct field_series *fs, char *err, size_t errlen)
+{
+    double *buf = malloc(st->g.padded * sizeof *buf);
+    if (march_max(st, !buf) != 0.0) { /* before the ranks' first collective call */
+        snprintf(err, errlen, "cannot write checkpoint %s: out of memory", path);
+        free(buf);
+        return -1;
+    }
+    struct h5blocks w;
+    struct checkpoint_ctx ctx = {st, fs, 0};
+    int rc = h5blocks_create(&w, &st->ranks->cart, path, err, errlen);
+    if (rc == 0 && (rc = each_dataset(-1, &w, st, 0, buf, err, errlen)) == 0)
+        rc = h5blocks_finish(&w, "checkpoint", checkpoint_contents, &ctx, err, errlen);
+    free(buf);
+    return rc;
 }
 
 int checkpoint_write(const char *dir, const struct march_state *st,
@@ -285,7 +321,9 @@ int checkpoint_write(const char *dir, const struct march_state *st,
         snprintf(err, errlen, "checkpoint path too long in %s", dir);
         return -1;
     }
-    struct checkpoint_ctx ctx = {st, fs};
+    if (st->ranks)
+        return write_on_ranks(path, st, fs, err, errlen);
+    struct checkpoint_ctx ctx = {st, fs, 1};
     return h5io_write_file(tmp, path, "checkpoint", checkpoint_contents, &ctx, err, errlen);
 }
 
@@ -426,9 +464,9 @@ int checkpoint_import_wisdom(const char *path, char *err, size_t errlen)
 }
 
 static int read_contents(hid_t file, struct march_state *st, struct field_series *fs,
-                         int *threads, char *err, size_t errlen)
+                         int writer[2], char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st);
     int n[3];
     if (h5io_attr_read(file, "n", H5T_NATIVE_INT, 3, n, err, errlen) != 0)
         return -1;
@@ -437,14 +475,18 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
                  n[1], n[2], g->n[0], g->n[1], g->n[2]);
         return -1;
     }
-    if (h5io_attr_read(file, "omp_threads", H5T_NATIVE_INT, 1, threads, err, errlen) != 0)
+    if (h5io_attr_read(file, "omp_threads", H5T_NATIVE_INT, 1, &writer[0], err, errlen) != 0)
+        return -1;
+    writer[1] = 1; /* written before decomposed runs wrote checkpoints: one process */
+    if (H5Aexists(file, "mpi_ranks") > 0 &&
+        h5io_attr_read(file, "mpi_ranks", H5T_NATIVE_INT, 1, &writer[1], err, errlen) != 0)
         return -1;
     for (int m = 0; m < NSTATE; m++)
         if (!(loop_state[m].optional && H5Aexists(file, loop_state[m].name) <= 0) &&
             h5io_attr_read(file, loop_state[m].name, native(loop_state[m].type), state_count(m),
                            (char *)st + loop_state[m].off, err, errlen) != 0)
             return -1;
-    if (each_dataset(file, st, 1, err, errlen) != 0 ||
+    if (each_dataset(file, NULL, st, 1, NULL, err, errlen) != 0 ||
         modules_load(file, st, err, errlen) != 0)
         return -1;
     int count;
@@ -478,13 +520,13 @@ static int read_contents(hid_t file, struct march_state *st, struct field_series
 }
 
 int checkpoint_read_state(const char *path, struct march_state *st, struct field_series *fs,
-                          int *threads, char *err, size_t errlen)
+                          int writer[2], char *err, size_t errlen)
 {
     hid_t file = open_checkpoint(path, err, errlen);
     if (file < 0)
         return -1;
     char cause[600];
-    int rc = read_contents(file, st, fs, threads, cause, sizeof cause);
+    int rc = read_contents(file, st, fs, writer, cause, sizeof cause);
     H5Fclose(file);
     if (rc != 0)
         snprintf(err, errlen, "checkpoint %s: %s", path, cause);

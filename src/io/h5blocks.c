@@ -178,22 +178,17 @@ int h5blocks_finish(struct h5blocks *w, const char *label, h5io_contents attribu
     return agree(rc, err, errlen);
 }
 
-int h5blocks_read(const char *path, const char *name, const struct h5box *box, double *data,
-                  char *err, size_t errlen)
+/* The box of dataset name of an open file (serial HDF5); where names the
+ * file in the messages. */
+static int read_box(hid_t file, const char *where, const char *name, const struct h5box *box,
+                    double *data, char *err, size_t errlen)
 {
-    h5io_init();
-    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
-    if (file < 0) {
-        char what[1200];
-        snprintf(what, sizeof what, "cannot open %s", path);
-        h5io_error(err, errlen, what);
-        return -1;
-    }
     hsize_t dims[4];
     int rank = h5io_dims(file, name, 4, dims, err, errlen), rc = rank < 0 ? -1 : 0;
     for (int d = 0; rc == 0 && d < box->rank; d++)
         if (rank != box->rank || dims[d] != box->global[d]) {
-            snprintf(err, errlen, "dataset %s of %s: not of the grid's shape", name, path);
+            snprintf(err, errlen, "dataset %s%s%s: not of the grid's shape", name,
+                     *where ? " of " : "", where);
             rc = -1;
         }
     hid_t set = rc == 0 ? H5Dopen2(file, name, H5P_DEFAULT) : -1;
@@ -214,6 +209,21 @@ int h5blocks_read(const char *path, const char *name, const struct h5box *box, d
         H5Sclose(fspace);
     if (set >= 0)
         H5Dclose(set);
+    return rc;
+}
+
+int h5blocks_read(const char *path, const char *name, const struct h5box *box, double *data,
+                  char *err, size_t errlen)
+{
+    h5io_init();
+    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file < 0) {
+        char what[1200];
+        snprintf(what, sizeof what, "cannot open %s", path);
+        h5io_error(err, errlen, what);
+        return -1;
+    }
+    int rc = read_box(file, path, name, box, data, err, errlen);
     H5Fclose(file);
     return rc;
 }
@@ -260,17 +270,37 @@ int h5blocks_put_full(struct h5blocks *w, const char *name, const struct decomp 
     return h5blocks_put(w, name, &box, buf, err, errlen);
 }
 
+/* Every local slot of the rank's block: global slots lo - 1 .. lo + n. */
+static void local_box(const struct decomp *dc, struct h5box *box)
+{
+    box->rank = 3;
+    for (int d = 0; d < 3; d++) {
+        box->global[d] = (hsize_t)dc->n_global[d] + 2;
+        box->start[d] = (hsize_t)dc->lo[d];
+        box->count[d] = (hsize_t)dc->n[d] + 2;
+    }
+}
+
 int h5blocks_read_full(const char *path, const char *name, const struct decomp *dc,
                        const struct grid *g, double *f, double *buf, char *err, size_t errlen)
 {
-    struct h5box box = {.rank = 3};
+    struct h5box box;
     const int first[3] = {-1, -1, -1};
-    for (int d = 0; d < 3; d++) { /* every local slot: global slots lo - 1 .. lo + n */
-        box.global[d] = (hsize_t)dc->n_global[d] + 2;
-        box.start[d] = (hsize_t)dc->lo[d];
-        box.count[d] = (hsize_t)dc->n[d] + 2;
-    }
+    local_box(dc, &box);
     if (h5blocks_read(path, name, &box, buf, err, errlen) != 0)
+        return -1;
+    h5blocks_full_copy(g, first, &box, f, buf, 0);
+    return 0;
+}
+
+int h5blocks_read_full_in(hid_t file, const char *name, const struct decomp *dc,
+                          const struct grid *g, double *f, double *buf, char *err,
+                          size_t errlen)
+{
+    struct h5box box;
+    const int first[3] = {-1, -1, -1};
+    local_box(dc, &box);
+    if (read_box(file, "", name, &box, buf, err, errlen) != 0)
         return -1;
     h5blocks_full_copy(g, first, &box, f, buf, 0);
     return 0;

@@ -53,8 +53,7 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
  * does. */
 #define RANKS_RUN "steady mode, solver.coupled = off, physics.advection = off, no physics " \
                   "modules or bodies, uniform spacing, the line preconditioner (solver." \
-                  "preconditioner = auto or line), no solver.initial_state, output.checkpoint_" \
-                  "every, fields_every, fields_interval = 0"
+                  "preconditioner = auto or line), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -74,10 +73,7 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
                        : cs->advection         ? "physics.advection = on"
                        : modules               ? "a physics module or body"
                        : cs->initial_state[0]  ? "solver.initial_state"
-                       : cs->checkpoint_every > 0 ? "output.checkpoint_every > 0"
-                       : cs->fields_every > 0 || cs->fields_interval > 0.0
-                           ? "output.fields_every or fields_interval > 0"
-                           : NULL;
+                                               : NULL;
     return what ? ranks_refused(cs, what, err, errlen) : 0;
 }
 
