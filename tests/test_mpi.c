@@ -910,6 +910,20 @@ static void test_chute_on_ranks(void **state)
     check_scene_on_ranks("../cases/chute.ini", 3, ov, 6e-3, STATUS_STEADY);
 }
 
+/* Transient with advection over the ranks: the perturbed layer to t = 0.5
+ * (10 steps of 0.05: the flow varies in x, y and z, and u.grad u with it;
+ * CG converges, 90 iterations a step); far from the steady surface
+ * velocity, the exact value (tol infinite: not compared) */
+static void test_bagnold_transient_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4",          "domain.lx=3.5",     "domain.ny=2",
+                  "domain.ly=1.75",       "domain.nz=16",      "bagnold.perturbation=0.1",
+                  "solver.mode=transient", "solver.end_time=0.5", "solver.dt=0.05",
+                  "physics.advection=on"};
+    check_scene_on_ranks("../cases/bagnold.ini", 10, ov, INFINITY, STATUS_FINISHED);
+}
+
 /* bagnold.perturbation on the ranks: every rank's block of the initial
  * velocity is one process's, bit for bit (the deviates by the global index,
  * the scale by the largest face velocity over the ranks), whose largest
@@ -1051,6 +1065,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_bedload_on_ranks),
         cmocka_unit_test(test_chute_on_ranks),
         cmocka_unit_test(test_bagnold_perturbation_on_ranks),
+        cmocka_unit_test(test_bagnold_transient_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

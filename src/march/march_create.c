@@ -51,8 +51,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
 /* What runs over several ranks besides the scene's consent (scene.h:
  * decomposed): one message naming the first option that does not, and what
  * does. */
-#define RANKS_RUN "steady mode, solver.coupled = off, physics.advection = off, the physics " \
-                  "modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
+#define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
+                  "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
                   "bodies, uniform spacing, the line preconditioner (solver.preconditioner = " \
                   "auto or line), no solver.initial_state, output.checkpoint_every, " \
                   "fields_every, fields_interval = 0"
@@ -82,9 +82,12 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
     char module[120] = "";
     if (m)
         snprintf(module, sizeof module, "the physics module '%s'", m->name);
-    const char *what = cs->mode != MODE_STEADY ? "solver.mode = transient"
-                       : cs->coupled           ? "solver.coupled = on"
-                       : cs->advection         ? "physics.advection = on"
+    /* vanleer's and quick's second upwind node is a ghost beyond the one
+     * layer at a rank border (first order there, not at one process) */
+    const int upwind2 = cs->advection && (cs->advection_scheme == ADVECTION_VANLEER ||
+                                          cs->advection_scheme == ADVECTION_QUICK);
+    const char *what = cs->coupled             ? "solver.coupled = on"
+                       : upwind2               ? "physics.advection_scheme = vanleer or quick"
                        : m                     ? module
                        : cs->initial_state[0]  ? "solver.initial_state"
                        : cs->checkpoint_every > 0 ? "output.checkpoint_every > 0"
