@@ -814,11 +814,14 @@ static void test_checkpoint_fields_any_ranks(void **state)
 
 /* A scene split over this run's ranks (run.c: march_setup.decompose) ends
  * as the run of one process, every rank's reference here (one_process): the
- * same status, steps within 1, the [result] errors and headline within
- * 1e-8 relative (the ranks' dot products and sums are in MPI's order);
- * the headline within tol of the exact value (the discretisation's error:
- * the reference's own measure).  On one rank both runs are one process. */
-static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol)
+ * same status (want), steps within 1, the [result] errors and headline
+ * within 1e-8 relative (the ranks' dot products and sums are in MPI's
+ * order; a NaN where the other has a number fails); the headline within
+ * tol of the exact value (the discretisation's error: the reference's own
+ * measure), or, tol NaN, a scene without one (exact NaN).  On one rank
+ * both runs are one process. */
+static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
+                                 enum run_status want)
 {
     struct muflow_case cs;
     test_load_case(&cs, file, n, ov);
@@ -833,13 +836,15 @@ static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol
                          one.errors.headline},
                  b[4] = {all.errors.err_rms, all.errors.err_max, all.errors.err_rms_paper,
                          all.errors.headline};
-    double rel = 0.0;
+    double rel = isnan(a[3]) ? INFINITY : 0.0;
     for (int v = 0; v < 4; v++)
-        rel = fmax(rel, fabs(b[v] - a[v]) / fabs(a[v]));
+        rel = isnan(a[v]) != isnan(b[v]) ? INFINITY
+                                          : fmax(rel, fabs(b[v] - a[v]) / fabs(a[v]));
     const double exact = one.errors.headline_exact;
-    double bad = rc != RUN_OK || one.status != STATUS_STEADY || all.status != one.status ||
-                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) ||
-                 !(fabs(one.errors.headline - exact) <= tol * fabs(exact));
+    const int near_exact = isnan(tol) ? isnan(exact)
+                                      : fabs(one.errors.headline - exact) <= tol * fabs(exact);
+    double bad = rc != RUN_OK || one.status != want || all.status != one.status ||
+                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) || !near_exact;
     comm_sum(&bad, 1);
     if (comm_rank() == 0)
         printf("    %s on %d ranks: %ld steps (alone %ld), %s %.10g (alone %.10g, exact %.10g), "
@@ -855,7 +860,7 @@ static void test_couette_on_ranks(void **state)
     (void)state;
     char *ov[] = {"domain.nx=4", "domain.lx=0.2", "domain.ny=2", "domain.ly=0.1"};
     /* the parabola and the line are exact on the grid: u_mid to round-off */
-    check_scene_on_ranks("../cases/couette.ini", 4, ov, 1e-12);
+    check_scene_on_ranks("../cases/couette.ini", 4, ov, 1e-12, STATUS_STEADY);
 }
 
 static void test_bagnold_on_ranks(void **state)
@@ -863,7 +868,108 @@ static void test_bagnold_on_ranks(void **state)
     (void)state;
     char *ov[] = {"domain.nx=4", "domain.lx=1.4", "domain.ny=2", "domain.ly=0.7"};
     /* h = H / 40: u_surface 2.2e-4 above Bagnold's (docs/numerics) */
-    check_scene_on_ranks("../cases/bagnold.ini", 4, ov, 1e-3);
+    check_scene_on_ranks("../cases/bagnold.ini", 4, ov, 1e-3, STATUS_STEADY);
+}
+
+static void test_bingham_channel_on_ranks(void **state)
+{
+    (void)state;
+    /* a first step of 1, not 0.01: the same steady state in 11 steps, not 44 */
+    char *ov[] = {"domain.nx=4", "domain.lx=0.1", "domain.ny=2", "domain.ly=0.05", "solver.dt=1"};
+    /* h = H / 40, lambda 1e-4: u_plug 1.5e-3 above the exact plug */
+    check_scene_on_ranks("../cases/bingham_channel.ini", 5, ov, 2e-3, STATUS_STEADY);
+}
+
+/* The nonlocal fluidity's z lines on each rank: 60 of the 285 Picard steps
+ * to steady (the flow still accelerating, residual 2.8 there), so that
+ * the ranks' run is cut at the same step as one process's (status
+ * unsteady: max_steps); no closed form (exact NaN) */
+static void test_ngf_incline_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=1", "domain.ny=2", "domain.ly=0.5",
+                  "solver.max_steps=60"};
+    check_scene_on_ranks("../cases/ngf_incline.ini", 5, ov, NAN, STATUS_UNSTEADY);
+}
+
+static void test_bedload_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=0.0065", "domain.ny=2", "domain.ly=0.00325"};
+    /* h = D / 40: u_max 1.3e-3 above Ouriemi et al.'s */
+    check_scene_on_ranks("../cases/bedload.ini", 4, ov, 2e-3, STATUS_STEADY);
+}
+
+/* periodic x and z (the flow) split: 2 ranks along one, 4 along both */
+static void test_chute_on_ranks(void **state)
+{
+    (void)state;
+    /* a first step of 100, not 1: the same steady state in 10 steps, not 45 */
+    char *ov[] = {"domain.nx=2", "domain.lx=0.7", "solver.dt=100"};
+    /* h = b / 80: u_plug 0.56% above the exact plug (docs/validation/chute.md) */
+    check_scene_on_ranks("../cases/chute.ini", 3, ov, 6e-3, STATUS_STEADY);
+}
+
+/* Transient with advection over the ranks: the perturbed layer to t = 0.5
+ * (10 steps of 0.05: the flow varies in x, y and z, and u.grad u with it;
+ * CG converges, 90 iterations a step); far from the steady surface
+ * velocity, the exact value (tol infinite: not compared) */
+static void test_bagnold_transient_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4",          "domain.lx=3.5",     "domain.ny=2",
+                  "domain.ly=1.75",       "domain.nz=16",      "bagnold.perturbation=0.1",
+                  "solver.mode=transient", "solver.end_time=0.5", "solver.dt=0.05",
+                  "physics.advection=on"};
+    check_scene_on_ranks("../cases/bagnold.ini", 10, ov, INFINITY, STATUS_FINISHED);
+}
+
+/* bagnold.perturbation on the ranks: every rank's block of the initial
+ * velocity is one process's, bit for bit (the deviates by the global index,
+ * the scale by the largest face velocity over the ranks), whose largest
+ * face velocity is the perturbation times the exact surface velocity.  A
+ * run's steady end is not the check (it forgets its start), nor its first
+ * steps: the line-preconditioned CG stops at its 500 iterations there, at
+ * a residual that depends on the order of the ranks' sums. */
+static void test_bagnold_perturbation_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=3.5", "domain.ny=2", "domain.ly=1.75",
+                  "domain.nz=16", "bagnold.perturbation=0.1"};
+    struct muflow_case cs;
+    test_load_case(&cs, "../cases/bagnold.ini", 6, ov);
+    struct march_setup su;
+    scene_march_setup(&cs, NULL, &su);
+    struct march_state one, split;
+    char err[1024] = "";
+    int rc = march_create(&one, &cs, &su, err, sizeof err);
+    su.decompose = 1;
+    rc |= march_create(&split, &cs, &su, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    const int *lo = split.ranks ? split.ranks->dc.lo : (const int[3]){0, 0, 0};
+    const struct grid *g = &split.g;
+    double differ = 0.0, umax = 0.0;
+    for (int c = 0; c < 3; c++)
+        for (int i = 0; i < g->n[0]; i++)
+            for (int j = 0; j < g->n[1]; j++)
+                for (int k = 0; k < g->n[2]; k++) {
+                    double u = split.field.velocity[c][grid_idx(g, i, j, k)];
+                    differ += u != one.field.velocity[c][grid_idx(&one.g, lo[0] + i, lo[1] + j,
+                                                                  lo[2] + k)];
+                    umax = fmax(umax, fabs(u));
+                }
+    comm_sum(&differ, 1);
+    umax = march_max(&split, umax);
+    const double want = 0.1 * scene_exact_at(&cs, cs.len[2]);
+    if (comm_rank() == 0)
+        printf("    perturbation on %d ranks: %g faces differ from one process's, largest "
+               "%.15g (0.1 u(H) %.15g)\n", comm_size(), differ, umax, want);
+    march_destroy(&split);
+    march_destroy(&one);
+    assert_true(differ == 0.0);
+    assert_true(fabs(umax - want) <= 1e-14 * want);
 }
 
 /* mpirun CMD on two ranks in a clean environment (see below): its output
@@ -882,9 +988,11 @@ static void mpirun_two(const char *bin, const char *args, char **out)
 
 /* Started by mpirun on two ranks, muflow refuses a scene that does not run
  * decomposed on every rank (status 2), says so once, naming those that do,
- * and writes nothing; couette runs, its header naming the ranks, and
- * writes its outputs once (rank 0), its field files and checkpoint (every
- * rank's block), and `mpirun muflow --restart` continues it.  Run only outside mpirun (an mpirun does not start another), in a
+ * and writes nothing, and a scene's keys that do not, naming them; couette
+ * runs, its header naming the ranks, and writes its outputs once (rank 0),
+ * its field files and checkpoint (every rank's block), and `mpirun muflow
+ * --restart` continues it.  Run only outside mpirun (an mpirun does not
+ * start another), in a
  * clean environment: hypre's MPI, initialised in this process by the amg
  * group, leaves Open MPI's variables in it, and an mpirun that inherits them
  * fails (status 1, nothing said); under the sanitizers the leak check is
@@ -903,11 +1011,22 @@ static void test_muflow_on_ranks(void **state)
     mpirun_two(bin, args, &out);
     int said = 0;
     for (const char *p = out; (p = strstr(p, "does not run decomposed (what does: the scenes "
-                                             "bagnold, couette")); p++)
+                                             "bagnold, chute, bingham_channel, couette, "
+                                             "bedload;"));
+         p++)
         said++;
     snprintf(path, sizeof path, "%s/heap/summary.ini", dir);
     const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
     if (said != 1 || !status2 || wrote)
+        print_error("%s", out);
+    free(out);
+    /* a scene that runs decomposed but not with these keys names them */
+    snprintf(args, sizeof args, "../cases/bedload.ini bedload.model=two_fluid output.dir='%s/bed'",
+             dir);
+    mpirun_two(bin, args, &out);
+    const int keys_said = strstr(out, "case.scene = bedload with bedload.model = two_fluid does "
+                                      "not run decomposed") && strstr(out, "rc=2\n");
+    if (!keys_said)
         print_error("%s", out);
     free(out);
     /* stopped at step 3 (status 3) with a field file every 2 steps and a
@@ -941,6 +1060,7 @@ static void test_muflow_on_ranks(void **state)
     assert_int_equal(said, 1);
     assert_true(status2);
     assert_false(wrote);
+    assert_true(keys_said);
     assert_true(ran);
     assert_true(continued);
 }
@@ -960,6 +1080,12 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),
         cmocka_unit_test(test_checkpoint_fails_on_ranks),
+        cmocka_unit_test(test_bingham_channel_on_ranks),
+        cmocka_unit_test(test_ngf_incline_on_ranks),
+        cmocka_unit_test(test_bedload_on_ranks),
+        cmocka_unit_test(test_chute_on_ranks),
+        cmocka_unit_test(test_bagnold_perturbation_on_ranks),
+        cmocka_unit_test(test_bagnold_transient_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

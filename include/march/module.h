@@ -54,7 +54,13 @@
  * run file of an earlier run there (io/output.h).
  * coupled_ok: the coupled step (solver.coupled), which solves the velocity
  * and pressure of one density and one velocity field, takes the module (a
- * body, a border); without it a coupled case with the module is refused. */
+ * body, a border); without it a coupled case with the module is refused.
+ * decomposed: the module runs on a rank's block of a decomposed march
+ * (docs/numerics/decomposition.md): its work is per cell or per line along
+ * the unsplit z, its ghosts filled by bc_fill_*, what it sums over the
+ * domain summed over the ranks (march_sum); without it a case that switches
+ * it on is refused on several ranks (a scene's own modules: the scene's
+ * decomposed, scenes/scene.h, which knows those its case leaves idle). */
 #ifndef MUFLOW_MARCH_MODULE_H
 #define MUFLOW_MARCH_MODULE_H
 
@@ -99,6 +105,7 @@ struct module {
     const struct module_border *border;
     const char *const *files;
     int coupled_ok;
+    int decomposed;
 };
 
 #define MODULES_MAX 8

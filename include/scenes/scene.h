@@ -77,10 +77,12 @@ struct scene {
      * the implicit step's geometric multigrid for its steady Newton solves
      * (precond_policy.c); NULL: 0 */
     int (*cross_section_flow)(const struct muflow_case *cs);
-    /* 1: the case runs over the ranks of an MPI job, its periodic x and y
-     * split (docs/numerics/decomposition.md; march_create refuses the
-     * options that do not); NULL: the scene runs on one process only */
+    /* 1: the case runs over the ranks of an MPI job, its periodic
+     * directions split (docs/numerics/decomposition.md; march_create
+     * refuses the options and the case's modules that do not), its own
+     * modules with these keys too; NULL: the scene runs on one process only */
     int (*decomposed)(const struct muflow_case *cs);
+    const char *not_decomposed;    /* the keys for which decomposed is 0 (its refusal) */
     int profile_axis, profile_component; /* -1: no profile */
     /* limits the profile to the faces and cells of index in [lo, hi] (both
      * inclusive) along profile_slab_axis (0: x, the cavity's mid-line; 1: y,

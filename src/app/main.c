@@ -358,12 +358,14 @@ static int refuse_scene_on_ranks(const struct muflow_case *cs)
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s",
                      names[0] ? ", " : "", s->name);
     }
-    char msg[700];
+    char msg[800], keys[120] = "";
+    if (sc->decomposed)
+        snprintf(keys, sizeof keys, " with %s",
+                 sc->not_decomposed ? sc->not_decomposed : "these keys");
     snprintf(msg, sizeof msg,
              "muflow: %s on %d MPI ranks: case.scene = %s%s does not run decomposed (what does: "
              "the scenes %s; see docs/numerics/decomposition.md); run muflow without mpirun",
-             cs->name, comm_size(), sc->name,
-             sc->decomposed ? " with these keys (bagnold.perturbation > 0)" : "", names);
+             cs->name, comm_size(), sc->name, keys, names);
     return refuse(msg);
 }
 

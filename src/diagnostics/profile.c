@@ -47,7 +47,9 @@ int profile_extract(struct profile *pr, const struct march_state *st,
 {
     memset(pr, 0, sizeof *pr);
     const struct muflow_case *cs = st->cs;
-    if (spec->axis < 0 || spec->component < 0)
+    /* the layers' sums over ranks need the axis whole on every rank */
+    if (spec->axis < 0 || spec->component < 0 ||
+        (st->ranks && st->ranks->dc.n[spec->axis] != st->ranks->dc.n_global[spec->axis]))
         return -1;
     pr->axis = spec->axis;
     pr->component = spec->component;

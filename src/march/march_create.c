@@ -51,9 +51,10 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
 /* What runs over several ranks besides the scene's consent (scene.h:
  * decomposed): one message naming the first option that does not, and what
  * does. */
-#define RANKS_RUN "steady mode, solver.coupled = off, physics.advection = off, no physics " \
-                  "modules or bodies, uniform spacing, the line preconditioner (solver." \
-                  "preconditioner = auto or line), no solver.initial_state"
+#define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
+                  "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
+                  "bodies, uniform spacing, the line preconditioner (solver.preconditioner = " \
+                  "auto or line), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -62,24 +63,40 @@ static int ranks_refused(const struct muflow_case *cs, const char *what, char *e
     return -1;
 }
 
+/* The first module of the case (not the scene's own: its consent covers
+ * them) that does not run decomposed (module.h), or NULL. */
+static const struct module *module_not_decomposed(const struct march_setup *su)
+{
+    for (int l = 1; l < 3; l++)
+        for (const struct module *const *m = su->modules[l]; m && *m; m++)
+            if (!(*m)->decomposed)
+                return *m;
+    return NULL;
+}
+
 static int march_ranks_refusal(const struct muflow_case *cs, const struct march_setup *su,
                                char *err, size_t errlen)
 {
-    int modules = 0;
-    for (int l = 0; l < 3; l++)
-        modules += su->modules[l] && su->modules[l][0];
-    const char *what = cs->mode != MODE_STEADY ? "solver.mode = transient"
-                       : cs->coupled           ? "solver.coupled = on"
-                       : cs->advection         ? "physics.advection = on"
-                       : modules               ? "a physics module or body"
+    const struct module *m = module_not_decomposed(su);
+    char module[120] = "";
+    if (m)
+        snprintf(module, sizeof module, "the physics module '%s'", m->name);
+    /* vanleer's and quick's second upwind node is a ghost beyond the one
+     * layer at a rank border (first order there, not at one process) */
+    const int upwind2 = cs->advection && (cs->advection_scheme == ADVECTION_VANLEER ||
+                                          cs->advection_scheme == ADVECTION_QUICK);
+    const char *what = cs->coupled             ? "solver.coupled = on"
+                       : upwind2               ? "physics.advection_scheme = vanleer or quick"
+                       : m                     ? module
                        : cs->initial_state[0]  ? "solver.initial_state"
                                                : NULL;
     return what ? ranks_refused(cs, what, err, errlen) : 0;
 }
 
 /* A run over several ranks (comm.h): the Cartesian communicator over the
- * periodic directions x and y (a z line, the line blocks' and the profile's,
- * stays whole on a rank), this rank's block, its local grid as st->g, not
+ * periodic directions (a line across walls or a surface, the line blocks'
+ * (never periodic: case_checks.c) and the profile's, stays whole on a
+ * rank), this rank's block, its local grid as st->g, not
  * compact (the decomposed multigrid takes no compact grid), and the fills'
  * decomposition.  What runs so is march_ranks_refusal's. */
 static int split_over_ranks(struct march_state *st, const struct muflow_case *cs, char *err,
@@ -93,11 +110,11 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     int periodic[3], splittable[3], dims[3] = {0, 0, 0};
     bc_periodic_flags(&cs->bc, periodic);
     for (int d = 0; d < 3; d++)
-        splittable[d] = d < 2 && periodic[d] && cs->n[d] > 1;
+        splittable[d] = periodic[d] && cs->n[d] > 1;
     char why[300];
     if (comm_cart_create(&rk->cart, dims, periodic, splittable, why, sizeof why) != 0 ||
         decomp_create(&rk->dc, &rk->cart, cs->n, why, sizeof why) != 0) {
-        snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic x and y are split, "
+        snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic directions are split, "
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }

@@ -165,4 +165,5 @@ const struct module bed_module = {
     .create = create,
     .properties = properties,
     .destroy = destroy,
+    .decomposed = 1, /* per cell, by the height z (not split) */
 };

@@ -49,6 +49,10 @@ static void fill_ghosts(const struct march_state *st, double *f)
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
+    if (st->ranks && st->ranks->dc.n[2] != st->ranks->dc.n_global[2]) {
+        snprintf(err, errlen, "ngf: the fluidity's z lines split over MPI ranks (a periodic z)");
+        return -1;
+    }
     struct ngf *m = calloc(1, sizeof *m);
     if (!m) {
         snprintf(err, errlen, "ngf: out of memory");
@@ -230,4 +234,5 @@ const struct module ngf_module = {
     .properties = properties,
     .destroy = destroy,
     .memory_bound = memory_bound,
+    .decomposed = 1, /* per z line, z unsplit; ghosts by bc_fill_scalar */
 };

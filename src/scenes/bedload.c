@@ -225,6 +225,14 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
 
 static const char *const bedload_files[] = {"particles.csv", NULL};
 
+/* the mixed model over ranks (its bed module per cell, the profile's
+ * results summed over them); the two-fluid model's line solves hold whole
+ * planes of one process */
+static int decomposed(const struct muflow_case *cs)
+{
+    return params(cs)->model == BEDLOAD_MIXED;
+}
+
 /* both models' modules: setup configures the one of bedload.model, the other idles */
 static const struct module *const bedload_modules[] = {&bed_module, &two_fluid_module, NULL};
 
@@ -235,6 +243,8 @@ const struct scene scene_bedload = {
     .modules = bedload_modules,
     .check = check,
     .setup = setup,
+    .decomposed = decomposed,
+    .not_decomposed = "bedload.model = two_fluid",
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

@@ -65,14 +65,19 @@ static void curl(const struct grid *g, enum perturbation_shape shape, double hei
     out[2] -= (potential(g, POT_A, i, j + 1, k, zn, height) - a0) / hy;
 }
 
+/* Over the ranks of a decomposed march each rank draws its block's faces
+ * by their global index on the whole grid, and the largest face velocity
+ * is every rank's: the perturbation of one process. */
 void perturbation_add(struct march_state *st, enum perturbation_shape shape, double height,
                       double amplitude)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *whole = march_global_grid(st);
+    const int *lo = st->ranks ? st->ranks->dc.lo : (const int[3]){0, 0, 0};
     double umax = 0.0;
     for (int pass = 0; pass < 2; pass++) {
         double scale = 0.0;
         if (pass == 1) {
+            umax = march_max(st, umax);
             if (!(umax > 0.0))
                 return;
             scale = amplitude / umax;
@@ -81,7 +86,7 @@ void perturbation_add(struct march_state *st, enum perturbation_shape shape, dou
             for (int i = 0; i < g->n[0]; i++)
                 for (int k = 0; k < g->n[2]; k++) {
                     double v[3];
-                    curl(g, shape, height, i, j, k, v);
+                    curl(whole, shape, height, lo[0] + i, lo[1] + j, lo[2] + k, v);
                     if (pass == 0) {
                         umax = fmax(umax, fmax(fabs(v[0]), fmax(fabs(v[1]), fabs(v[2]))));
                     } else {
