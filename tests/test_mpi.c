@@ -929,6 +929,11 @@ static void test_muflow_on_ranks(void **state)
     assert_true(ran);
 }
 
+/* test_mpi_fft.c */
+void test_fft_ranks_periodic(void **state);
+void test_fft_ranks_dirichlet(void **state);
+void test_fft_ranks_uniform(void **state);
+
 void group_mpi(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -940,6 +945,9 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_traffic_model),
         cmocka_unit_test(test_fields_file_blocks),
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
+        cmocka_unit_test(test_fft_ranks_periodic),
+        cmocka_unit_test(test_fft_ranks_dirichlet),
+        cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
