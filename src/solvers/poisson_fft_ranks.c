@@ -100,8 +100,14 @@ int poisson_fft_ranks_create(struct poisson_fft_ranks **out, const struct grid *
         snprintf(err, errlen, "poisson: FFTW's MPI transforms need several ranks");
         return -1;
     }
-    if (fft_ranks_open(err, errlen) != 0)
+    /* every rank alike: one that fails must not leave the others in FFTW's
+     * collectives */
+    const int unopened = fft_ranks_open(err, errlen) != 0;
+    if (decomp_max(dc, unopened) != 0.0) {
+        if (!unopened)
+            snprintf(err, errlen, "poisson: FFTW's MPI transforms failed on another rank");
         return -1;
+    }
     struct poisson_fft_ranks *ps = calloc(1, sizeof *ps);
     if (!ps) {
         snprintf(err, errlen, "poisson: out of memory");
