@@ -27,6 +27,9 @@ DEB_PKGS += libhypre-dev libopenmpi-dev
 # only under mpirun; muflow links the serial one, named hdf5-serial: this
 # package turns pkg-config's hdf5 to the MPI flavour)
 DEB_PKGS += libhdf5-openmpi-dev
+# FFTW's MPI transforms, the ranks' pressure (src/platform/fft_ranks.c opens
+# it only under mpirun: it needs libmpi)
+DEB_PKGS += libfftw3-mpi-dev
 PC_PKGS  = fftw3 hdf5-serial gsl inih
 PC_CFLAGS_PKGS = $(PC_PKGS) ompi-c
 ALL_CFLAGS = -std=c11 -Wall -Wextra -fopenmp -Iinclude $(CFLAGS) \
@@ -55,6 +58,7 @@ CHOLMOD_LIB := $(call soname,libcholmod.so)
 UMFPACK_LIB := $(call soname,libumfpack.so)
 MPI_LIB     := $(call soname,libmpi.so)
 PHDF5_LIB   := $(call soname,hdf5/openmpi/libhdf5.so)
+FFTW_MPI_LIB := $(call soname,libfftw3_mpi.so)
 BUILD   ?= build
 
 # The version, defined here only: `git describe` of a release tag vX.Y.Z when
@@ -110,6 +114,8 @@ $(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/
 $(BUILD)/obj/src/platform/comm.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
 # the parallel HDF5 phdf5.c opens under mpirun (PHDF5_LIB above)
 $(BUILD)/obj/src/platform/phdf5.o: ALL_CFLAGS += $(if $(PHDF5_LIB),-DMUFLOW_PHDF5_LIB='"$(PHDF5_LIB)"')
+# the FFTW MPI library fft_ranks.c opens under mpirun (FFTW_MPI_LIB above)
+$(BUILD)/obj/src/platform/fft_ranks.o: ALL_CFLAGS += $(if $(FFTW_MPI_LIB),-DMUFLOW_FFTW_MPI_LIB='"$(FFTW_MPI_LIB)"')
 # the SuiteSparse libraries suitesparse_open.c opens (CHOLMOD_LIB, UMFPACK_LIB above)
 $(BUILD)/obj/src/platform/suitesparse_open.o: ALL_CFLAGS += $(if $(CHOLMOD_LIB),-DMUFLOW_CHOLMOD_LIB='"$(CHOLMOD_LIB)"') \
                                                          $(if $(UMFPACK_LIB),-DMUFLOW_UMFPACK_LIB='"$(UMFPACK_LIB)"')

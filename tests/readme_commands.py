@@ -20,6 +20,10 @@ cheap ones are run:
       was written by a command run before it
   /usr/bin/python3 tools/SCRIPT ARGS   the script exists; run when its run
       folder was written by a command run before it
+  [VAR=value ...] mpirun OPTIONS build/muflow ...   OPTIONS of the forms
+      -np N, --hostfile FILE, --map-by SPEC; the muflow command as above;
+      run (as root with --allow-run-as-root, without the environment's
+      Open MPI variables) when N <= 2, no hostfile and a quick case
 
 Every picture `![...](path)` and every linked case file `(cases/...)` must
 exist in REPO.  The runs happen in order in a scratch folder holding `cases`, `tools` and
@@ -69,8 +73,34 @@ def expand(line):
     return [re.sub(r"\$\{?%s\}?" % var, v, body) for v in values]
 
 
+MPIRUN_OPTIONS = ("-np", "--hostfile", "--map-by")
+
+
 def is_command(line):
+    words = line.split()
+    while words and re.match(r"^[A-Z_]+=\S+$", words[0]):
+        words = words[1:]
+    if words and words[0] == "mpirun":
+        return True
     return line.startswith(("make", "build/muflow", "/usr/bin/python3 tools/", "for "))
+
+
+def mpirun_split(words):
+    """(environment, mpirun's words, the command's words, why not) of a
+    command under mpirun; (None, None, words, None) for any other."""
+    env, i = {}, 0
+    while i < len(words) and re.match(r"^[A-Z_]+=\S+$", words[i]):
+        k, v = words[i].split("=", 1)
+        env[k] = v
+        i += 1
+    if i >= len(words) or words[i] != "mpirun":
+        return None, None, words, None
+    j = i + 1
+    while j < len(words) and words[j] in MPIRUN_OPTIONS and j + 1 < len(words):
+        j += 2
+    if j >= len(words) or words[j] != "build/muflow":
+        return env, words[i:j], words[j:], "an mpirun option this check does not know"
+    return env, words[i:j], words[j:], None
 
 
 def main():
@@ -100,8 +130,11 @@ def main():
                 failures.append("not a command this check knows: " + line)
                 continue
             for cmd in expand(line):
-                words = shlex.split(cmd)
-                run_it, why = False, None
+                env, mpirun, words, why = mpirun_split(shlex.split(cmd))
+                run_it = False
+                if why:
+                    failures.append("%s: %s" % (cmd, why))
+                    continue
                 if words[0] == "make":
                     targets = [w for w in words[1:] if "=" not in w and not w.startswith("-")]
                     for target in targets:
@@ -140,9 +173,18 @@ def main():
                     failures.append("%s: %s" % (cmd, why))
                     continue
                 checked += 1
+                run_env = None
+                if mpirun is not None:
+                    ranks = int(mpirun[mpirun.index("-np") + 1]) if "-np" in mpirun else 0
+                    run_it = run_it and 0 < ranks <= 2 and "--hostfile" not in mpirun
+                    run_env = {k: v for k, v in os.environ.items()
+                               if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
+                    run_env.update(env)
+                    root = ["--allow-run-as-root"] if os.geteuid() == 0 else []
+                    words = mpirun[:1] + root + mpirun[1:] + words
                 if run_it:
                     r = subprocess.run(words, cwd=scratch, capture_output=True, text=True,
-                                       timeout=TIMEOUT)
+                                       timeout=TIMEOUT, env=run_env)
                     ran += 1
                     if r.returncode != status:
                         failures.append("%s: exit %d\n%s" % (cmd, r.returncode,

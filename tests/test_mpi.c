@@ -1065,6 +1065,11 @@ static void test_muflow_on_ranks(void **state)
     assert_true(continued);
 }
 
+/* test_mpi_fft.c */
+void test_fft_ranks_periodic(void **state);
+void test_fft_ranks_dirichlet(void **state);
+void test_fft_ranks_uniform(void **state);
+
 void group_mpi(struct test_tally *t)
 {
     const struct CMUnitTest tests[] = {
@@ -1076,6 +1081,9 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_traffic_model),
         cmocka_unit_test(test_fields_file_blocks),
         cmocka_unit_test(test_checkpoint_fields_any_ranks),
+        cmocka_unit_test(test_fft_ranks_periodic),
+        cmocka_unit_test(test_fft_ranks_dirichlet),
+        cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),

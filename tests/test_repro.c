@@ -164,7 +164,7 @@ static void test_busy_threads(void **state)
         /* the thin grid is set to one thread in the running image (the
          * run's header says so), the others by the environment */
         if (!cases[c].grid[0])
-            assert_non_null(strstr(text, ", 1 threads,"));
+            assert_non_null(strstr(text, ", 1 thread,"));
         else if (omp_get_num_procs() == 2 || cases[c].threads == 1)
             assert_int_equal(threads, cases[c].threads);
         if (cases[c].spin >= 0)

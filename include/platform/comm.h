@@ -65,4 +65,9 @@ void comm_cart_shift(const struct comm_cart *c, int d, const double *to_lo, doub
 void comm_cart_allgather(const struct comm_cart *c, const double *mine, int count, double *all,
                          const int *counts, const int *displs);
 
+/* Every rank's send_counts[r] doubles from send + send_displs[r] to rank r,
+ * and rank r's recv_counts[r] doubles into recv + recv_displs[r]. */
+void comm_cart_alltoall(const struct comm_cart *c, const double *send, const int *send_counts,
+                        const int *send_displs, double *recv, const int *recv_counts,
+                        const int *recv_displs);
 #endif

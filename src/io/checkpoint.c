@@ -12,6 +12,8 @@
 #include "io/h5io.h"
 #include "march/module_record.h"
 #include "march/module.h"
+#include "platform/comm.h"
+#include "platform/fft_ranks.h"
 
 /* The loop state of march_state a restart must recover (march.h). */
 enum stype { S_DOUBLE, S_LONG, S_INT };
@@ -429,6 +431,27 @@ done:
     return rc;
 }
 
+/* The wisdom of a run on ranks names FFTW's MPI solvers (fftw_mpi_...) and
+ * its header the planner's set of solvers with them: FFTW takes it only once
+ * its MPI part is initialised, done first under mpirun.  One process (no
+ * mpirun) cannot take it at all, nor needs it: its plans are FFTW_ESTIMATE's
+ * (poisson_fft.c), and a continuation on another rank count is not bit for
+ * bit anyway (the sums' order); it plans afresh. */
+static int import_wisdom(const char *w, char *cause, size_t causelen)
+{
+    if (strstr(w, "(fftw_mpi_")) {
+        if (!comm_launched())
+            return 0;
+        if (fft_ranks_open(cause, causelen) != 0)
+            return -1;
+    }
+    if (!fftw_import_wisdom_from_string(w)) {
+        snprintf(cause, causelen, "FFTW rejects the stored wisdom");
+        return -1;
+    }
+    return 0;
+}
+
 int checkpoint_import_wisdom(const char *path, char *err, size_t errlen)
 {
     hid_t file = open_checkpoint(path, err, errlen);
@@ -452,9 +475,8 @@ int checkpoint_import_wisdom(const char *path, char *err, size_t errlen)
         if (!fftw_init_threads()) {
             snprintf(cause, sizeof cause, "fftw_init_threads failed");
             rc = -1;
-        } else if (!fftw_import_wisdom_from_string(w)) {
-            snprintf(cause, sizeof cause, "FFTW rejects the stored wisdom");
-            rc = -1;
+        } else {
+            rc = import_wisdom(w, cause, sizeof cause);
         }
     }
     free(w);

@@ -81,7 +81,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                 }
     kernel_divergence(g, flux, st->field.divergence);
     struct pressure_solver *ps;
-    /* a decomposed run's: the whole grid's FFT on every rank (pressure.h) */
+    /* a decomposed run's: FFTW's MPI transforms over the ranks (pressure.h) */
     if ((st->ranks ? pressure_create_decomposed(&ps, g, &st->ranks->global, &st->ranks->dc,
                                                 (const enum poisson_bc(*)[2])pbc, err, errlen)
                    : pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen)) != 0)

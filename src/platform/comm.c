@@ -18,7 +18,7 @@
     X(MPI_Init_thread) X(MPI_Initialized) X(MPI_Finalized) X(MPI_Finalize) X(MPI_Comm_rank)       \
     X(MPI_Comm_size) X(MPI_Allreduce) X(MPI_Barrier) X(MPI_Abort) X(MPI_Dims_create)              \
     X(MPI_Cart_create) X(MPI_Cart_coords) X(MPI_Cart_shift) X(MPI_Comm_free) X(MPI_Irecv)         \
-    X(MPI_Isend) X(MPI_Waitall) X(MPI_Allgatherv)
+    X(MPI_Isend) X(MPI_Waitall) X(MPI_Allgatherv) X(MPI_Alltoallv)
 
 /* Open MPI's handles are addresses of objects in libmpi (MPI_COMM_WORLD is
  * &ompi_mpi_comm_world): resolved by name like the functions. */
@@ -261,4 +261,17 @@ void comm_cart_allgather(const struct comm_cart *c, const double *mine, int coun
     }
     mpi.MPI_Allgatherv(mine, count, mpi.type_double, all, counts, displs, mpi.type_double,
                        (MPI_Comm)c->comm);
+}
+
+void comm_cart_alltoall(const struct comm_cart *c, const double *send, const int *send_counts,
+                        const int *send_displs, double *recv, const int *recv_counts,
+                        const int *recv_displs)
+{
+    if (!c->comm) {
+        memcpy(recv + recv_displs[0], send + send_displs[0],
+               (size_t)send_counts[0] * sizeof(double));
+        return;
+    }
+    mpi.MPI_Alltoallv(send, send_counts, send_displs, mpi.type_double, recv, recv_counts,
+                      recv_displs, mpi.type_double, (MPI_Comm)c->comm);
 }

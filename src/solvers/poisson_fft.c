@@ -17,6 +17,7 @@
  * it is indexed by the storage index directly.  The transforms are unnormalised:
  * forward followed by backward multiplies by the product of the norms. */
 #include "solvers/poisson.h"
+#include "solvers/poisson_fft_ranks.h"
 
 #include <fftw3.h>
 #include "kernels/kernels.h"
@@ -69,7 +70,7 @@ static int init_threads(void)
  * save (docs/numerics/threads-and-platform.md). */
 #define FFTW_THREADS_MIN 65536
 
-static int fft_threads(const struct grid *g)
+int poisson_fft_threads(const struct grid *g)
 {
 #ifdef _OPENMP
     return grid_cells(g) >= FFTW_THREADS_MIN ? omp_get_max_threads() : 1;
@@ -126,13 +127,15 @@ static int check_problem(const struct grid *g, const enum poisson_bc bc[3][2], c
     return 0;
 }
 
-/* Direction d's transforms, eigenvalues and normalisation (the table
- * above) for the conditions bc of its faces; -1 when out of memory. */
-static int direction_transform(struct poisson_fft *ps, int d, const enum poisson_bc bc[2],
-                               fftw_r2r_kind *fwd_kind, fftw_r2r_kind *bwd_kind)
+/* Direction d's transforms, eigenvalues (eig[d], allocated) and
+ * normalisation (times *norm) for the conditions bc of its faces (the table
+ * above); *singular = 0 with a Dirichlet face; -1 when out of memory. */
+static int direction_transform(const struct grid *g, int d, const enum poisson_bc bc[2],
+                               fftw_r2r_kind *fwd_kind, fftw_r2r_kind *bwd_kind, double **eig,
+                               double *norm, int *singular)
 {
-    int n = ps->g.n[d];
-    double h2 = ps->g.h[d] * ps->g.h[d];
+    int n = g->n[d];
+    double h2 = g->h[d] * g->h[d];
     enum poisson_bc lo = bc[0], hi = bc[1];
     double shift, period; /* eigenvalue k: -4 sin^2(pi (k + shift) / period) / h^2 */
     if (lo == POISSON_PERIODIC) {
@@ -140,9 +143,9 @@ static int direction_transform(struct poisson_fft *ps, int d, const enum poisson
         *bwd_kind = FFTW_HC2R;
         shift = 0.0;
         period = n;
-        ps->norm *= n;
+        *norm *= n;
     } else {
-        ps->norm *= 2.0 * n;
+        *norm *= 2.0 * n;
         period = 2.0 * n;
         if (lo == POISSON_NEUMANN && hi == POISSON_NEUMANN) {
             *fwd_kind = FFTW_REDFT10;
@@ -160,15 +163,32 @@ static int direction_transform(struct poisson_fft *ps, int d, const enum poisson
             shift = 0.5;
         }
         if (lo == POISSON_DIRICHLET || hi == POISSON_DIRICHLET)
-            ps->singular = 0;
+            *singular = 0;
     }
-    ps->eig[d] = malloc((size_t)n * sizeof(double));
-    if (!ps->eig[d])
+    eig[d] = malloc((size_t)n * sizeof(double));
+    if (!eig[d])
         return -1;
     for (int k = 0; k < n; k++) {
         double s = sin(pi * (k + shift) / period);
-        ps->eig[d][k] = -4.0 * s * s / h2; /* exactly 0 for the k = 0 mode of periodic / NN */
+        eig[d][k] = -4.0 * s * s / h2; /* exactly 0 for the k = 0 mode of periodic / NN */
     }
+    return 0;
+}
+
+int poisson_fft_modes(const struct grid *g, const enum poisson_bc bc[3][2],
+                      fftw_r2r_kind fwd_kind[3], fftw_r2r_kind bwd_kind[3], double *eig[3],
+                      double *norm, int *singular, char *err, size_t errlen)
+{
+    if (check_problem(g, bc, err, errlen) != 0)
+        return -1;
+    *norm = 1.0;
+    *singular = 1;
+    for (int d = 0; d < 3; d++)
+        if (direction_transform(g, d, bc[d], &fwd_kind[d], &bwd_kind[d], eig, norm,
+                                singular) != 0) {
+            set_err(err, errlen, "poisson: out of memory");
+            return -1;
+        }
     return 0;
 }
 
@@ -185,7 +205,7 @@ static int make_plans(struct poisson_fft *ps, const fftw_r2r_kind fwd_kind[3],
                       const fftw_r2r_kind bwd_kind[3])
 {
     const struct grid *g = &ps->g;
-    fftw_plan_with_nthreads(fft_threads(g));
+    fftw_plan_with_nthreads(poisson_fft_threads(g));
     ps->fwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
                                fwd_kind[0], fwd_kind[1], fwd_kind[2], FFTW_ESTIMATE);
     ps->bwd = fftw_plan_r2r_3d(g->n[0], g->n[1], g->n[2], ps->buf, ps->buf,
@@ -202,8 +222,6 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
         set_err(err, errlen, "poisson: missing argument");
         return -1;
     }
-    if (check_problem(g, bc, err, errlen) != 0)
-        return -1;
     if (init_threads() != 0) {
         set_err(err, errlen, "poisson: fftw_init_threads failed");
         return -1;
@@ -215,16 +233,11 @@ int poisson_fft_create(struct poisson_fft **out, const struct grid *g,
         return -1;
     }
     ps->g = *g;
-    ps->norm = 1.0;
-    ps->singular = 1;
-
     fftw_r2r_kind fwd_kind[3], bwd_kind[3];
-    for (int d = 0; d < 3; d++) {
-        if (direction_transform(ps, d, bc[d], &fwd_kind[d], &bwd_kind[d]) != 0) {
-            set_err(err, errlen, "poisson: out of memory");
-            poisson_fft_destroy(ps);
-            return -1;
-        }
+    if (poisson_fft_modes(g, bc, fwd_kind, bwd_kind, ps->eig, &ps->norm, &ps->singular, err,
+                          errlen) != 0) {
+        poisson_fft_destroy(ps);
+        return -1;
     }
 
     size_t cells = grid_cells(g);

@@ -7,6 +7,7 @@
 #include "kernels/kernels.h"
 #include "solvers/multigrid.h"
 #include "grid/decomp.h"
+#include "solvers/poisson_fft_ranks.h"
 #include "solvers/pressure.h"
 
 /* Relative residual of the variable-coefficient solve: the projection then
@@ -35,13 +36,9 @@ struct pressure_solver {
     long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
     int direct;        /* the multigrid is one level: the whole grid factorised */
-    /* a grid split over ranks (pressure_create_decomposed): the ranks'
-     * decomposition (NULL: one process), the rank's local grid, the global
-     * right-hand side and solution, the gather's scratch; g is the global
-     * grid */
-    const struct decomp *dc;
-    const struct grid *local;
-    double *phi, *scratch;
+    /* a grid split over ranks (pressure_create_decomposed): FFTW's MPI
+     * transforms (NULL: one process); g is the rank's block */
+    struct poisson_fft_ranks *ranks;
 };
 
 int pressure_create(struct pressure_solver **out, const struct grid *g,
@@ -67,21 +64,21 @@ int pressure_create_decomposed(struct pressure_solver **out, const struct grid *
                                const struct grid *gg, const struct decomp *dc,
                                const enum poisson_bc bc[3][2], char *err, size_t errlen)
 {
-    if (pressure_create(out, gg, bc, err, errlen) != 0)
-        return -1;
-    struct pressure_solver *ps = *out;
-    ps->dc = dc;
-    ps->local = g;
-    ps->rhs = field_alloc(gg);
-    ps->phi = field_alloc(gg);
-    ps->scratch = malloc(decomp_gather_len(dc) * sizeof(double));
-    /* every rank the same: one out of memory is everyone's failure */
-    if (decomp_max(dc, !ps->rhs || !ps->phi || !ps->scratch) != 0.0) {
-        snprintf(err, errlen, "pressure solver: out of memory for the gathered grid");
-        pressure_destroy(ps);
-        *out = NULL;
+    if (!dc->cart->comm) /* no mpirun: the block is the whole grid */
+        return pressure_create(out, g, bc, err, errlen);
+    struct pressure_solver *ps = calloc(1, sizeof *ps);
+    if (!ps) {
+        snprintf(err, errlen, "pressure solver: out of memory");
         return -1;
     }
+    ps->g = g;
+    memcpy(ps->bc, bc, sizeof ps->bc);
+    ps->uniform = 1;
+    if (poisson_fft_ranks_create(&ps->ranks, g, gg, dc, bc, err, errlen) != 0) {
+        free(ps);
+        return -1;
+    }
+    *out = ps;
     return 0;
 }
 
@@ -93,9 +90,8 @@ void pressure_destroy(struct pressure_solver *ps)
         poisson_fft_destroy(ps->fft);
     if (ps->mg)
         multigrid_destroy(ps->mg);
+    poisson_fft_ranks_destroy(ps->ranks);
     field_free(ps->rhs);
-    field_free(ps->phi);
-    free(ps->scratch);
     free(ps);
 }
 
@@ -126,7 +122,7 @@ double pressure_variable_memory_estimate(const struct grid *g)
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen)
 {
-    if (ps->dc && beta) {
+    if (ps->ranks && beta) {
         snprintf(err, errlen, "pressure solver: a variable coefficient on several ranks");
         return -1;
     }
@@ -170,10 +166,8 @@ long pressure_iterations(const struct pressure_solver *ps) { return ps->iteratio
 
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor)
 {
-    if (ps->dc) { /* the whole grid's FFT on every rank, each taking its block */
-        decomp_gather(ps->dc, ps->local, rhs, ps->g, ps->rhs, ps->scratch);
-        poisson_fft_solve(ps->fft, ps->rhs, ps->phi);
-        decomp_scatter(ps->dc, ps->g, ps->phi, ps->local, phi);
+    if (ps->ranks) {
+        poisson_fft_ranks_solve(ps->ranks, rhs, phi);
         return 0;
     }
     if (ps->uniform) {

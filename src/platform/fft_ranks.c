@@ -1,0 +1,76 @@
+/* FFTW's MPI transforms opened under mpirun (platform/fft_ranks.h). */
+#include "platform/fft_ranks.h"
+#include "platform/dynlib.h"
+
+#include <fftw3-mpi.h>
+#include <stdio.h>
+
+/* The Makefile passes the soname of libfftw3-mpi-dev's libfftw3_mpi.so. */
+#ifndef MUFLOW_FFTW_MPI_LIB
+#define MUFLOW_FFTW_MPI_LIB "libfftw3_mpi.so.3"
+#endif
+
+#define FFT_RANKS_FUNCTIONS(X) X(fftw_mpi_init) X(fftw_mpi_local_size_3d_transposed) \
+    X(fftw_mpi_plan_r2r_3d)
+
+static struct {
+#define POINTER(f) __typeof__(f) *f;
+    FFT_RANKS_FUNCTIONS(POINTER)
+#undef POINTER
+} api;
+static int opened;
+
+int fft_ranks_open(char *err, size_t errlen)
+{
+    if (opened)
+        return 0;
+    if (!comm_launched()) {
+        snprintf(err, errlen, "FFTW's MPI transforms: only under mpirun");
+        return -1;
+    }
+    char why[256];
+    if (comm_init(why, sizeof why) != 0) { /* libmpi first, in the global scope */
+        snprintf(err, errlen, "%s", why);
+        return -1;
+    }
+    void *lib = dlopen(MUFLOW_FFTW_MPI_LIB, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        const char *e = dlerror();
+        snprintf(err, errlen, "FFTW's MPI transforms %s (Debian: libfftw3-mpi-dev): %s",
+                 MUFLOW_FFTW_MPI_LIB, e ? e : "not found");
+        return -1;
+    }
+    const char *missing = NULL;
+#define RESOLVE(f) DYNLIB_RESOLVE(lib, api, f, missing)
+    FFT_RANKS_FUNCTIONS(RESOLVE)
+#undef RESOLVE
+    if (missing) {
+        snprintf(err, errlen, "FFTW's MPI transforms %s lack %s", MUFLOW_FFTW_MPI_LIB, missing);
+        dlclose(lib);
+        return -1;
+    }
+    /* FFTW's order: its threads before its MPI (idempotent; the serial
+     * solver calls it too) */
+    if (!fftw_init_threads()) {
+        snprintf(err, errlen, "FFTW's MPI transforms: fftw_init_threads failed");
+        dlclose(lib);
+        return -1;
+    }
+    api.fftw_mpi_init();
+    opened = 1; /* open for the rest of the run */
+    return 0;
+}
+
+void fft_ranks_slab(const struct comm_cart *c, const int n[3], struct fft_ranks_slab *s)
+{
+    s->len = api.fftw_mpi_local_size_3d_transposed(n[0], n[1], n[2], (MPI_Comm)c->comm, &s->nx,
+                                                   &s->x0, &s->ny, &s->y0);
+}
+
+fftw_plan fft_ranks_plan(const struct comm_cart *c, const int n[3], double *buf,
+                         const fftw_r2r_kind kind[3], int inverse, unsigned flags)
+{
+    flags |= inverse ? FFTW_MPI_TRANSPOSED_IN : FFTW_MPI_TRANSPOSED_OUT;
+    return api.fftw_mpi_plan_r2r_3d(n[0], n[1], n[2], buf, buf, (MPI_Comm)c->comm, kind[0],
+                                    kind[1], kind[2], flags);
+}
