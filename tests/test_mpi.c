@@ -991,9 +991,9 @@ static void mpirun_two(const char *bin, const char *args, char **out)
  * and writes nothing, and a scene's keys that do not, naming them; couette
  * runs, its header naming the ranks, and writes its outputs once (rank 0),
  * its field files and checkpoint (every rank's block), and `mpirun muflow
- * --restart` continues it.  Run only outside mpirun (an mpirun does not
- * start another), in a
- * clean environment: hypre's MPI, initialised in this process by the amg
+ * --restart` continues it, as does one process without mpirun (FFTW's
+ * wisdom of the ranks' plans left out).  Run only outside mpirun (an
+ * mpirun does not start another), in a clean environment: hypre's MPI, initialised in this process by the amg
  * group, leaves Open MPI's variables in it, and an mpirun that inherits them
  * fails (status 1, nothing said); under the sanitizers the leak check is
  * off for that muflow (Open MPI's own allocations at exit, as for the amg
@@ -1056,6 +1056,21 @@ static void test_muflow_on_ranks(void **state)
         print_error("%s", out);
     free(out);
     free(summary);
+    /* stopped on the ranks again, continued by one process */
+    snprintf(args, sizeof args,
+             "../cases/couette.ini output.dir='%s/couette1' solver.max_steps=3", dir);
+    mpirun_two(bin, args, &out);
+    free(out);
+    char cmd[9000];
+    snprintf(cmd, sizeof cmd,
+             "env -i PATH=\"$PATH\" HOME=\"$HOME\" OMP_NUM_THREADS=1 '%s' --restart "
+             "'%s/couette1' solver.max_steps=100 2>&1; echo \"rc=$?\"",
+             bin, dir);
+    assert_int_equal(test_sh(cmd, &out), 0);
+    const int serial = strstr(out, "rc=0\n") && strstr(out, "steady after 6 steps");
+    if (!serial)
+        print_error("%s", out);
+    free(out);
     test_tmp_remove(dir);
     assert_int_equal(said, 1);
     assert_true(status2);
@@ -1063,6 +1078,7 @@ static void test_muflow_on_ranks(void **state)
     assert_true(keys_said);
     assert_true(ran);
     assert_true(continued);
+    assert_true(serial);
 }
 
 /* test_mpi_fft.c */
