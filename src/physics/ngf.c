@@ -67,11 +67,13 @@ static void fill_ghosts(const struct march_state *st, double *f)
 }
 
 /* The multigrid solves the box unless the flow is layered (x and y
- * periodic) and the case did not ask for it. */
+ * periodic, z bounded: config/case_checks.c) and the case did not ask for
+ * it. */
 static int box_solve(const struct muflow_case *cs)
 {
     const struct boundary *bc = &cs->bc;
-    const int layered = bc->face[0][0] == BC_PERIODIC && bc->face[1][0] == BC_PERIODIC;
+    const int layered = bc->face[0][0] == BC_PERIODIC && bc->face[1][0] == BC_PERIODIC &&
+                        bc->face[2][0] != BC_PERIODIC;
     return cs->rheo.fluidity_solver == FLUIDITY_MULTIGRID ||
            (cs->rheo.fluidity_solver == FLUIDITY_AUTO && !layered);
 }
