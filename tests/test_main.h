@@ -33,6 +33,8 @@ void group_rheology(struct test_tally *t);
 void group_stretched(struct test_tally *t);
 void group_poisson(struct test_tally *t);
 void group_multigrid(struct test_tally *t);
+/* test_multigrid_screened.c, run in group_multigrid */
+void test_multigrid_screened(void **state);
 void group_case(struct test_tally *t);
 void group_architecture(struct test_tally *t);
 void group_viscous(struct test_tally *t);

@@ -1085,6 +1085,7 @@ void group_multigrid(struct test_tally *t)
         cmocka_unit_test(test_rate_3d),
         cmocka_unit_test(test_mass_and_lines),
         cmocka_unit_test(test_mixed_term),
+        cmocka_unit_test(test_multigrid_screened),
     };
     RUN_GROUP(t, "multigrid", tests);
 }

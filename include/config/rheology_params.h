@@ -9,6 +9,8 @@
 enum rheology_law { LAW_MUI = 0, LAW_BINGHAM, LAW_NEWTONIAN, LAW_NGF };
 enum regularisation { REG_SIMPLE = 0, REG_BERCOVIER, REG_PAPANASTASIOU, REG_MC };
 enum rheology_curve { CURVE_JOP = 0, CURVE_BARKER_GRAY };
+/* ngf: how the fluidity equation is solved (physics/ngf.h) */
+enum fluidity_solver { FLUIDITY_AUTO = 0, FLUIDITY_LINES, FLUIDITY_MULTIGRID };
 
 struct rheology {
     enum rheology_law law;
@@ -34,6 +36,7 @@ struct rheology {
     /* ngf, the nonlocal granular fluidity (with mu_s): the nonlocal
      * amplitude A and the rate sensitivity b (physics/ngf.h) */
     double nonlocal_a, nonlocal_b;
+    enum fluidity_solver fluidity_solver;
 };
 
 #endif

@@ -11,8 +11,9 @@
  * identically, the equation is linear in g:
  *   -A^2 d^2 lap(g) + (mu_s + b I) g = |D|,   I = |D| d sqrt(rho_s / p),
  * so at each evaluation, after the core viscosities, the module solves it
- * for g from the current shear rates (one tridiagonal system per column,
- * solvers/line_screened.h) and replaces the viscosities by
+ * for g from the current shear rates (one tridiagonal system per z column,
+ * solvers/line_screened.h, or the whole box by the multigrid with its
+ * screening term: rheology.fluidity_solver) and replaces the viscosities by
  * eta = p_reg / (g + lambda), their tangents by eta (Picard: the viscosity
  * is a non-local function of the shear rates, with no pointwise tangent).
  * lambda keeps eta finite where g = 0: a layer that cannot flow creeps at
@@ -20,9 +21,10 @@
  * instead (lagged, Newton on g^2) froze the layer: a stress out of
  * equilibrium gives mu < mu_s and g = 0 (docs/numerics/rheology.md).
  * g is the cell field "fluidity" (checkpointed, restored on a rejected
- * step, written to the field files).  Layered flows only so far: periodic
- * x and y, the lateral part of lap(g) left out (zero for a flow uniform
- * along x and y). */
+ * step, written to the field files).  The lines (layered flows: periodic x
+ * and y) leave the lateral part of lap(g) out (zero for a flow uniform along
+ * x and y); the multigrid (uniform grids, one process) keeps it, and the
+ * free surface's edge rule (physics/ngf.c: cell_shear2) is along z only. */
 #ifndef MUFLOW_PHYSICS_NGF_H
 #define MUFLOW_PHYSICS_NGF_H
 

@@ -31,6 +31,9 @@ static const struct choice reg_choices[] = {
     {"papanastasiou", REG_PAPANASTASIOU}, {"mc", REG_MC}, {NULL, 0}};
 static const struct choice curve_choices[] = {
     {"jop", CURVE_JOP}, {"barker_gray", CURVE_BARKER_GRAY}, {NULL, 0}};
+static const struct choice fluidity_solver_choices[] = {
+    {"auto", FLUIDITY_AUTO}, {"lines", FLUIDITY_LINES}, {"multigrid", FLUIDITY_MULTIGRID},
+    {NULL, 0}};
 static const struct choice mode_choices[] = {
     {"steady", MODE_STEADY}, {"transient", MODE_TRANSIENT}, {NULL, 0}};
 static const struct choice dir_choices[] = {
@@ -307,6 +310,14 @@ const struct key case_core_keys[] = {
                  "ngf: the rate sensitivity b of the fluidity equation's b sqrt(rho_s d^2 / p) mu "
                  "g^2 term; the local law it gives is mu = mu_s + b I. Glass beads: 0.9377 "
                  "(Henann & Kamrin 2013)")),
+    CHO("rheology", "fluidity_solver", rheo.fluidity_solver, fluidity_solver_choices,
+        KEY_HELP("ngf: the fluidity equation's solver: auto, lines (along z) or multigrid",
+                 NULL,
+                 "ngf: how the fluidity equation is solved. `lines`: one tridiagonal solve "
+                 "along z per column, the lateral part of lap(g) left out (layered flows: x "
+                 "and y periodic); `multigrid`: the whole box by the cell-centred multigrid "
+                 "with its screening term (uniform grids); `auto`: lines when x and y are "
+                 "periodic, else multigrid")),
 
     CHO("solver", "mode", mode, mode_choices,
         "steady: pseudo-time march to a steady state; transient: march to solver.end_time"),

@@ -411,18 +411,29 @@ static int check_time_step(struct case_ctx *x)
     return 0;
 }
 
-/* The nonlocal fluidity (physics/ngf.h) is solved along z only so far, and
- * its viscosity p / (g + lambda) needs lambda > 0 where g = 0. */
+/* The nonlocal fluidity (physics/ngf.h): along z lines only for layered
+ * flows, the multigrid on uniform grids; its viscosity p / (g + lambda)
+ * needs lambda > 0 where g = 0. */
 static int check_ngf(struct case_ctx *x)
 {
     const struct muflow_case *c = x->c;
-    if (c->bc.face[0][0] != BC_PERIODIC || c->bc.face[1][0] != BC_PERIODIC ||
-        c->bc.face[2][0] == BC_PERIODIC) {
-        case_refuse(x, "rheology.law = ngf solves the fluidity along z only so far (layered "
+    const int layered = c->bc.face[0][0] == BC_PERIODIC && c->bc.face[1][0] == BC_PERIODIC &&
+                        c->bc.face[2][0] != BC_PERIODIC;
+    if (c->rheo.fluidity_solver == FLUIDITY_LINES && !layered) {
+        case_refuse(x, "rheology.fluidity_solver = lines solves the fluidity along z (layered "
                        "flows): it needs boundary.xlo, xhi, ylo, yhi = periodic and boundary.zlo, "
-                       "zhi not periodic");
+                       "zhi not periodic; rheology.fluidity_solver = multigrid solves the box");
         return 1;
     }
+    const int box = c->rheo.fluidity_solver == FLUIDITY_MULTIGRID ||
+                    (c->rheo.fluidity_solver == FLUIDITY_AUTO && !layered);
+    for (int d = 0; d < 3; d++)
+        if (box && c->band[d][0]) {
+            case_refuse(x, "domain.%c_band: rheology.law = ngf solves the fluidity by the "
+                           "multigrid here (rheology.fluidity_solver), on uniform grids only",
+                        "xyz"[d]);
+            return 1;
+        }
     if (!(c->rheo.lambda > 0.0)) {
         case_refuse(x, "rheology.law = ngf needs rheology.lambda > 0 (in (0, 1]): the viscosity "
                        "is p / (g + lambda) and the fluidity g is 0 where the grains rest");

@@ -6,16 +6,28 @@
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 #include "solvers/line_screened.h"
+#include "solvers/multigrid.h"
 
 /* the largest coefficient mu_s + b I taken: beyond it g is 0 to round-off,
  * and the elimination keeps finite numbers */
 #define NGF_COEF_MAX 1e300
+/* the multigrid's cap on it: its residuals' squares (PCG's dot products)
+ * must stay finite; g = |D| / 1e100 is 0 to round-off as well */
+#define NGF_MG_COEF_MAX 1e100
+/* the multigrid's relative residual (of |D|'s 2-norm): below the steady
+ * criterion's effect (docs/numerics/rheology.md) */
+#define NGF_MG_RTOL 1e-12
 
 struct ngf {
     double *fluidity;      /* the registered cell field */
     double *line;          /* 5 arrays of nz: coefficient, |D|, g, work, hc */
     double *hf;            /* nz + 1 centre distances along z */
     struct line_screened L;
+    /* the multigrid's solve of the box (NULL: lines along z): the face
+     * coefficient A^2 d^2, the screening mu_s + b I and the right-hand
+     * side -|D| per cell */
+    struct multigrid *mg;
+    double *face, *screen, *rhs;
 };
 
 /* The four-cell mean of an edge, as the viscosity kernels take it
@@ -30,20 +42,75 @@ static enum line_end end_condition(enum bc_kind k)
     return k == BC_WALL || k == BC_LID ? LINE_ZERO : LINE_NO_FLUX;
 }
 
-/* Ghosts: periodic copies along x and y, then along z the mirror of a zero
- * value (-g) on walls and lids, of a zero gradient elsewhere. */
+/* Ghosts: periodic copies, then the mirror of a zero value (-g) on walls and
+ * lids, of a zero gradient elsewhere. */
 static void fill_ghosts(const struct march_state *st, double *f)
 {
     const struct grid *g = &st->g;
     bc_fill_scalar(g, &st->bc, f);
-    const int nz = g->n[2];
-    for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
-        for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++) {
-            if (end_condition(st->bc.face[2][0]) == LINE_ZERO)
-                f[grid_idx(g, i, j, -1)] = -f[grid_idx(g, i, j, 0)];
-            if (end_condition(st->bc.face[2][1]) == LINE_ZERO)
-                f[grid_idx(g, i, j, nz)] = -f[grid_idx(g, i, j, nz - 1)];
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++) {
+            if (st->bc.face[d][side] == BC_PERIODIC ||
+                end_condition(st->bc.face[d][side]) != LINE_ZERO)
+                continue;
+            const int a = (d + 1) % 3, b = (d + 2) % 3;
+            for (int u = grid_slot_lo(g, a); u <= grid_slot_hi(g, a); u++)
+                for (int v = grid_slot_lo(g, b); v <= grid_slot_hi(g, b); v++) {
+                    int in[3], gh[3];
+                    in[a] = gh[a] = u;
+                    in[b] = gh[b] = v;
+                    in[d] = side ? g->n[d] - 1 : 0;
+                    gh[d] = side ? g->n[d] : -1;
+                    f[grid_idx(g, gh[0], gh[1], gh[2])] = -f[grid_idx(g, in[0], in[1], in[2])];
+                }
         }
+}
+
+/* The multigrid solves the box unless the flow is layered (x and y
+ * periodic, z bounded: config/case_checks.c) and the case did not ask for
+ * it. */
+static int box_solve(const struct muflow_case *cs)
+{
+    const struct boundary *bc = &cs->bc;
+    const int layered = bc->face[0][0] == BC_PERIODIC && bc->face[1][0] == BC_PERIODIC &&
+                        bc->face[2][0] != BC_PERIODIC;
+    return cs->rheo.fluidity_solver == FLUIDITY_MULTIGRID ||
+           (cs->rheo.fluidity_solver == FLUIDITY_AUTO && !layered);
+}
+
+/* The box's multigrid: g = 0 on walls and lids, no flux through the other
+ * faces, periodic images. */
+static int create_box_solver(struct march_state *st, struct ngf *m, double a2, char *err,
+                             size_t errlen)
+{
+    const struct grid *g = &st->g;
+    if (st->ranks) {
+        snprintf(err, errlen, "ngf: rheology.fluidity_solver = multigrid runs on one process");
+        return -1;
+    }
+    enum poisson_bc pbc[3][2];
+    for (int d = 0; d < 3; d++)
+        for (int side = 0; side < 2; side++) {
+            enum bc_kind k = st->bc.face[d][side];
+            pbc[d][side] = k == BC_PERIODIC                   ? POISSON_PERIODIC
+                           : end_condition(k) == LINE_ZERO ? POISSON_DIRICHLET
+                                                            : POISSON_NEUMANN;
+        }
+    char mg_err[256] = "";
+    if (multigrid_create(&m->mg, g, pbc, NULL, mg_err, sizeof mg_err) != 0) {
+        snprintf(err, errlen, "ngf: the fluidity's multigrid: %s", mg_err);
+        return -1;
+    }
+    m->face = field_alloc(g);
+    m->screen = field_alloc(g);
+    m->rhs = field_alloc(g);
+    if (!m->face || !m->screen || !m->rhs) {
+        snprintf(err, errlen, "ngf: out of memory");
+        return -1;
+    }
+    for (size_t q = 0; q < g->size; q++)
+        m->face[q] = a2;
+    return 0;
 }
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -77,9 +144,12 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     for (int k = 0; k <= nz; k++)
         m->hf[k] = grid_hf(g, 2, k);
     const struct rheology *r = &st->rheo;
+    const double a2 = r->nonlocal_a * r->nonlocal_a * r->grain_diameter * r->grain_diameter;
+    if (box_solve(st->cs) && create_box_solver(st, m, a2, err, errlen) != 0)
+        return -1;
     m->L = (struct line_screened){
         .n = nz,
-        .a2 = r->nonlocal_a * r->nonlocal_a * r->grain_diameter * r->grain_diameter,
+        .a2 = a2,
         .hc = hc,
         .hf = m->hf,
         .lo = end_condition(st->bc.face[2][0]),
@@ -177,37 +247,71 @@ static double cell_shear2(const struct march_state *st, int i, int j, int k)
     return s2;
 }
 
+/* b I of cell (i, j, k) and its |D| (*shear); p = 0 (a free surface
+ * without the pressure regularisation) has I infinite and g = 0. */
+static double screening(const struct march_state *st, int i, int j, int k, double *shear)
+{
+    const struct rheology *r = &st->rheo;
+    const double rate = r->nonlocal_b * r->grain_diameter * sqrt(r->grain_density);
+    double p = st->field.pressure_regularised[grid_idx(&st->g, i, j, k)];
+    *shear = sqrt(cell_shear2(st, i, j, k));
+    double bi = p > 0.0 ? rate * *shear / sqrt(p) : (*shear > 0.0 ? INFINITY : 0.0);
+    return fmin(r->mu_s + bi, NGF_COEF_MAX);
+}
+
+/* The box's fluidity by the multigrid, (L - c) g = -|D| with L = div(A^2 d^2
+ * grad), from the last fluidity.  The exact g is >= 0 (an M-matrix and a
+ * source >= 0): the solve's round-off below 0 is cut. */
+static void box_fluidity(struct march_state *st, struct ngf *m)
+{
+    const struct grid *g = &st->g;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                double shear;
+                m->screen[q] = fmin(screening(st, i, j, k, &shear), NGF_MG_COEF_MAX);
+                m->rhs[q] = -shear;
+            }
+    double *face[3] = {m->face, m->face, m->face};
+    char err[256];
+    struct multigrid_stats stats;
+    if (multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) == 0)
+        (void)multigrid_pcg(m->mg, m->rhs, m->fluidity, NGF_MG_RTOL, 200, &stats);
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                m->fluidity[q] = fmax(m->fluidity[q], 0.0);
+            }
+}
+
 /* Every column's fluidity from its shear rates: with mu = |D| / g the steady
  * equation is linear in g,
  *   -A^2 d^2 g'' + (mu_s + b I) g = |D|,  I = |D| d sqrt(rho_s / p_reg),
- * one tridiagonal solve per column (physics/ngf.h says why this form). */
+ * one tridiagonal solve per column (physics/ngf.h says why this form), or
+ * the box's multigrid. */
 static void properties(struct march_state *st, void *state)
 {
     struct ngf *m = state;
     const struct grid *g = &st->g;
-    const struct rheology *r = &st->rheo;
     const int nz = g->n[2];
     double *coef = m->line, *shear = m->line + nz, *gcol = m->line + 2 * (size_t)nz;
     double *work = m->line + 3 * (size_t)nz;
     double *f = m->fluidity;
-    const double rate = r->nonlocal_b * r->grain_diameter * sqrt(r->grain_density);
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++) {
-            for (int k = 0; k < nz; k++) {
-                ptrdiff_t q = grid_idx(g, i, j, k);
-                double p = st->field.pressure_regularised[q];
-                shear[k] = sqrt(cell_shear2(st, i, j, k));
-                /* b I; p = 0 (a free surface without the pressure
-                 * regularisation) has I infinite and g = 0 */
-                double bi = p > 0.0 ? rate * shear[k] / sqrt(p) : (shear[k] > 0.0 ? INFINITY : 0.0);
-                coef[k] = fmin(r->mu_s + bi, NGF_COEF_MAX);
-            }
-            if (line_screened_solve(&m->L, coef, shear, work, gcol) != 0)
+    if (m->mg)
+        box_fluidity(st, m);
+    else
+        for (int i = 0; i < g->n[0]; i++)
+            for (int j = 0; j < g->n[1]; j++) {
                 for (int k = 0; k < nz; k++)
-                    gcol[k] = 0.0; /* not reached: the matrix is diagonally dominant */
-            for (int k = 0; k < nz; k++)
-                f[grid_idx(g, i, j, k)] = gcol[k];
-        }
+                    coef[k] = screening(st, i, j, k, &shear[k]);
+                if (line_screened_solve(&m->L, coef, shear, work, gcol) != 0)
+                    for (int k = 0; k < nz; k++)
+                        gcol[k] = 0.0; /* not reached: the matrix is diagonally dominant */
+                for (int k = 0; k < nz; k++)
+                    f[grid_idx(g, i, j, k)] = gcol[k];
+            }
     fill_ghosts(st, f);
     replace_viscosities(st, f);
 }
@@ -219,13 +323,19 @@ static void destroy(void *state)
         return;
     free(m->line);
     free(m->hf);
+    multigrid_destroy(m->mg);
+    field_free(m->face);
+    field_free(m->screen);
+    field_free(m->rhs);
     free(m);
 }
 
 static double memory_bound(const struct muflow_case *cs, const struct grid *g)
 {
-    (void)cs;
-    return (double)g->size * sizeof(double) + (6.0 * g->n[2] + 1.0) * sizeof(double);
+    double bytes = (double)g->size * sizeof(double) + (6.0 * g->n[2] + 1.0) * sizeof(double);
+    if (box_solve(cs))
+        bytes += multigrid_memory_estimate(g, NULL) + 3.0 * g->size * sizeof(double);
+    return bytes;
 }
 
 const struct module ngf_module = {
