@@ -28,6 +28,7 @@ struct ngf {
      * side -|D| per cell */
     struct multigrid *mg;
     double *face, *screen, *rhs;
+    long unconverged; /* its solves that stopped above NGF_MG_RTOL */
 };
 
 /* The four-cell mean of an edge, as the viscosity kernels take it
@@ -275,9 +276,23 @@ static void box_fluidity(struct march_state *st, struct ngf *m)
             }
     double *face[3] = {m->face, m->face, m->face};
     char err[256];
-    struct multigrid_stats stats;
-    if (multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) == 0)
-        (void)multigrid_pcg(m->mg, m->rhs, m->fluidity, NGF_MG_RTOL, 200, &stats);
+    struct multigrid_stats stats = {0};
+    if (multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) != 0) {
+        /* no fluidity: NaN, so that the step is rejected and the run ends
+         * diverged with its last good state, the cause said here */
+        fprintf(stderr, "muflow: step %ld: the fluidity's multigrid: %s\n", st->step, err);
+        for (size_t q = 0; q < g->size; q++)
+            m->fluidity[q] = NAN;
+        return;
+    }
+    if (multigrid_pcg(m->mg, m->rhs, m->fluidity, NGF_MG_RTOL, 200, &stats) != 0 &&
+        m->unconverged++ == 0)
+        /* the iterate is taken, as the pressure's (never silently: once) */
+        fprintf(stderr,
+                "muflow: warning: step %ld: the fluidity's multigrid stopped at a relative "
+                "residual of %.1e (tolerance %.0e) after %d iterations; the step took that "
+                "iterate (further ones not reported)\n",
+                st->step, stats.rel, NGF_MG_RTOL, stats.cycles);
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
