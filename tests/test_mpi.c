@@ -409,24 +409,6 @@ static void test_traffic_model(void **state)
 
 /* ---- the ranks' HDF5 files (io/h5blocks.h) ------------------------------------------ */
 
-/* A folder every rank names alike: rank 0's pid, summed over the ranks. */
-static void shared_dir(char *dir, size_t len, const char *tag)
-{
-    long pid = comm_rank() == 0 ? (long)getpid() : 0;
-    comm_sum_long(&pid, 1);
-    snprintf(dir, len, "/tmp/muflow_mpi_%s_%ld", tag, pid);
-    if (comm_rank() == 0)
-        mkdir(dir, 0700);
-    comm_barrier();
-}
-
-static void shared_dir_remove(const char *dir)
-{
-    comm_barrier();
-    if (comm_rank() == 0)
-        test_tmp_remove(dir);
-}
-
 /* Differences between dataset name of files a and b (shape and every
  * byte); 1 when either lacks it. */
 static int dataset_differs(hid_t a, hid_t b, const char *name)
@@ -610,7 +592,7 @@ static void test_fields_file_blocks(void **state)
     st.step = 42;
     st.time = 1.0 / 3.0;
     st.dt = 0.1;
-    shared_dir(dir, sizeof dir, "fields");
+    test_ranks_dir(dir, sizeof dir, "fields");
     snprintf(serial, sizeof serial, "%s/serial", dir);
     snprintf(ranks, sizeof ranks, "%s/ranks", dir);
     double bad = 0.0;
@@ -652,7 +634,7 @@ static void test_fields_file_blocks(void **state)
     }
     comm_sum(&bad, 1);
     march_destroy(&st);
-    shared_dir_remove(dir);
+    test_ranks_dir_remove(dir);
     assert_true(bad == 0.0);
 }
 
@@ -751,7 +733,7 @@ static void test_checkpoint_fields_any_ranks(void **state)
         assert_non_null(f[s] = field_alloc(&gg));
     fill_global(&gg, f);
     char dir[256], serial[512], ranks[512], err[1024] = "";
-    shared_dir(dir, sizeof dir, "checkpoint");
+    test_ranks_dir(dir, sizeof dir, "checkpoint");
     snprintf(serial, sizeof serial, "%s/serial.h5", dir);
     snprintf(ranks, sizeof ranks, "%s/ranks.h5", dir);
     double bad = 0.0;
@@ -808,7 +790,7 @@ static void test_checkpoint_fields_any_ranks(void **state)
     comm_cart_free(&cart);
     for (int s = 0; s < SET_FIELDS; s++)
         field_free(f[s]);
-    shared_dir_remove(dir);
+    test_ranks_dir_remove(dir);
     assert_true(bad == 0.0);
 }
 

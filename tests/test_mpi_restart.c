@@ -18,17 +18,6 @@
 #include "test_main.h"
 #include "test_util.h"
 
-/* A folder every rank names alike: rank 0's pid, summed over the ranks. */
-static void shared_dir(char *dir, size_t len, const char *tag)
-{
-    long pid = comm_rank() == 0 ? (long)getpid() : 0;
-    comm_sum_long(&pid, 1);
-    snprintf(dir, len, "/tmp/muflow_mpi_%s_%ld", tag, pid);
-    if (comm_rank() == 0)
-        mkdir(dir, 0700);
-    comm_barrier();
-}
-
 /* bagnold on 4 x 2 x 40 cells (test_mpi.c's): 15 steps to steady */
 static char *bagnold_ov[] = {"domain.nx=4", "domain.lx=1.4", "domain.ny=2", "domain.ly=0.7",
                              "output.quiet=on", NULL, NULL, NULL};
@@ -131,7 +120,7 @@ void test_bagnold_checkpoint_ranks(void **state)
 {
     (void)state;
     char dir[256], a_dir[300], b_dir[300], path[400], err[1024] = "";
-    shared_dir(dir, sizeof dir, "restart");
+    test_ranks_dir(dir, sizeof dir, "restart");
     snprintf(a_dir, sizeof a_dir, "%s/a", dir);
     snprintf(b_dir, sizeof b_dir, "%s/b", dir);
     static struct muflow_case cs;
@@ -209,7 +198,7 @@ void test_checkpoint_fails_on_ranks(void **state)
 {
     (void)state;
     char dir[256], err[1024] = "";
-    shared_dir(dir, sizeof dir, "ckfail");
+    test_ranks_dir(dir, sizeof dir, "ckfail");
     static struct muflow_case cs;
     load_bagnold(&cs, dir, (char *[]){"solver.max_steps=2", NULL});
     const struct run_options opt = {.write_output = 1, .hook = block_checkpoint,

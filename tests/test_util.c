@@ -15,6 +15,7 @@
 #include "io/fields_h5.h"
 #include "march/march.h"
 #include "march/module.h"
+#include "platform/comm.h"
 #include "scenes/scene.h"
 #include "test_main.h"
 #include "test_poisson_kinds.h"
@@ -94,6 +95,23 @@ void test_tmp_remove(const char *dir)
     assert_true(strlen(dir) < 1000);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     assert_int_equal(system(cmd), 0);
+}
+
+void test_ranks_dir(char *dir, size_t len, const char *tag)
+{
+    long pid = comm_rank() == 0 ? (long)getpid() : 0;
+    comm_sum_long(&pid, 1);
+    snprintf(dir, len, "/tmp/muflow_mpi_%s_%ld", tag, pid);
+    if (comm_rank() == 0)
+        mkdir(dir, 0700);
+    comm_barrier();
+}
+
+void test_ranks_dir_remove(const char *dir)
+{
+    comm_barrier();
+    if (comm_rank() == 0)
+        test_tmp_remove(dir);
 }
 
 void test_run_dir_make(struct test_run_dir *d, const char *name)

@@ -62,6 +62,12 @@ void test_tmp_make(char *dir, size_t len, const char *tag);
 /* Deletes dir and all it holds; only a folder under /tmp/muflow_. */
 void test_tmp_remove(const char *dir);
 
+/* A folder every MPI rank names alike, /tmp/muflow_mpi_<tag>_<rank 0's pid>
+ * (made by rank 0; every rank returns once it exists), and its removal once
+ * every rank is done with it. */
+void test_ranks_dir(char *dir, size_t len, const char *tag);
+void test_ranks_dir_remove(const char *dir);
+
 /* A fresh folder for a test's runs (test_tmp_make, named after name), with
  * the overrides that write a run there and start another from it;
  * test_run_dir_remove deletes it and what the runs wrote. */

@@ -41,17 +41,29 @@ struct pressure_solver {
     struct poisson_fft_ranks *ranks;
 };
 
-int pressure_create(struct pressure_solver **out, const struct grid *g,
-                    const enum poisson_bc bc[3][2], char *err, size_t errlen)
+/* A solver of the uniform coefficient on g (the rank's block), its FFT to
+ * be made by the caller; NULL when out of memory. */
+static struct pressure_solver *pressure_alloc(const struct grid *g,
+                                              const enum poisson_bc bc[3][2], char *err,
+                                              size_t errlen)
 {
     struct pressure_solver *ps = calloc(1, sizeof *ps);
     if (!ps) {
         snprintf(err, errlen, "pressure solver: out of memory");
-        return -1;
+        return NULL;
     }
     ps->g = g;
     memcpy(ps->bc, bc, sizeof ps->bc);
     ps->uniform = 1;
+    return ps;
+}
+
+int pressure_create(struct pressure_solver **out, const struct grid *g,
+                    const enum poisson_bc bc[3][2], char *err, size_t errlen)
+{
+    struct pressure_solver *ps = pressure_alloc(g, bc, err, errlen);
+    if (!ps)
+        return -1;
     if (poisson_fft_create(&ps->fft, g, bc, err, errlen) != 0) {
         free(ps);
         return -1;
@@ -66,14 +78,9 @@ int pressure_create_decomposed(struct pressure_solver **out, const struct grid *
 {
     if (!dc->cart->comm) /* no mpirun: the block is the whole grid */
         return pressure_create(out, g, bc, err, errlen);
-    struct pressure_solver *ps = calloc(1, sizeof *ps);
-    if (!ps) {
-        snprintf(err, errlen, "pressure solver: out of memory");
+    struct pressure_solver *ps = pressure_alloc(g, bc, err, errlen);
+    if (!ps)
         return -1;
-    }
-    ps->g = g;
-    memcpy(ps->bc, bc, sizeof ps->bc);
-    ps->uniform = 1;
     if (poisson_fft_ranks_create(&ps->ranks, g, gg, dc, bc, err, errlen) != 0) {
         free(ps);
         return -1;
