@@ -862,6 +862,16 @@ static void test_bingham_channel_on_ranks(void **state)
     check_scene_on_ranks("../cases/bingham_channel.ini", 5, ov, 2e-3, STATUS_STEADY);
 }
 
+/* The fluidity's creeping zones (ngf_chute: 228 steps to steady, ngf_shear:
+ * 108) on the ranks' z lines; no closed-form velocity (exact NaN) */
+static void test_ngf_walls_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=4", "domain.lx=1", "domain.ny=2", "domain.ly=0.5"};
+    check_scene_on_ranks("../cases/ngf_chute.ini", 4, ov, NAN, STATUS_STEADY);
+    check_scene_on_ranks("../cases/ngf_shear.ini", 4, ov, NAN, STATUS_STEADY);
+}
+
 /* The nonlocal fluidity's z lines on each rank: 60 of the 285 Picard steps
  * to steady (the flow still accelerating, residual 2.8 there), so that
  * the ranks' run is cut at the same step as one process's (status
@@ -1088,6 +1098,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_checkpoint_fails_on_ranks),
         cmocka_unit_test(test_bingham_channel_on_ranks),
         cmocka_unit_test(test_ngf_incline_on_ranks),
+        cmocka_unit_test(test_ngf_walls_on_ranks),
         cmocka_unit_test(test_bedload_on_ranks),
         cmocka_unit_test(test_chute_on_ranks),
         cmocka_unit_test(test_bagnold_perturbation_on_ranks),

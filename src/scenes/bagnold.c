@@ -140,21 +140,15 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
     e->headline = surface_velocity(pr, cs->len[2]);
 }
 
-/* periodic x and y split over ranks; the perturbation drawn by the global
- * index (perturbation.c), the nonlocal fluidity on the unsplit z lines */
-static int decomposed(const struct muflow_case *cs)
-{
-    (void)cs;
-    return 1;
-}
-
 const struct scene scene_bagnold = {
     .name = "bagnold",
     .title = "granular layer down a rough inclined plane (Bagnold profile)",
     .keys = &bagnold_block,
     .check = check,
     .setup = setup,
-    .decomposed = decomposed,
+    /* periodic x and y split over ranks; the perturbation drawn by the global
+     * index (perturbation.c), the nonlocal fluidity on the unsplit z lines */
+    .decomposed = scene_decomposed_always,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

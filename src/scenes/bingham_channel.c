@@ -24,18 +24,12 @@ static double channel_u(const struct muflow_case *cs, double z)
 
 POINTWISE_PROFILE(exact_profile, channel_u)
 
-/* the periodic x and y split over ranks: the law is pointwise, the profile
- * and its plug summed over them (profile.c) */
-static int decomposed(const struct muflow_case *cs)
-{
-    (void)cs;
-    return 1;
-}
-
 const struct scene scene_bingham_channel = {
     .name = "bingham_channel",
     .title = "Bingham plane Poiseuille flow (plug-flow profile)",
-    .decomposed = decomposed,
+    /* the periodic x and y split over ranks: the law is pointwise, the profile
+     * and its plug summed over them (profile.c) */
+    .decomposed = scene_decomposed_always,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

@@ -47,19 +47,13 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     return 0;
 }
 
-/* the periodic x and z (the flow) split over ranks, the y lines between
- * the plates whole (the profile's and the line blocks') */
-static int decomposed(const struct muflow_case *cs)
-{
-    (void)cs;
-    return 1;
-}
-
 const struct scene scene_chute = {
     .name = "chute",
     .check = check,
     .title = "vertical chute between rough plates under a confining pressure",
-    .decomposed = decomposed,
+    /* the periodic x and z (the flow) split over ranks, the y lines between
+     * the plates whole (the profile's and the line blocks') */
+    .decomposed = scene_decomposed_always,
     .profile_axis = 1,
     .profile_component = 2,
     .exact_profile = exact_profile,

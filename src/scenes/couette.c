@@ -36,18 +36,12 @@ static int check(const struct muflow_case *c, char *msg, size_t msglen)
     return 0;
 }
 
-/* a profile along z: periodic x and y split over ranks */
-static int decomposed(const struct muflow_case *cs)
-{
-    (void)cs;
-    return 1;
-}
-
 const struct scene scene_couette = {
     .name = "couette",
     .title = "Newtonian plane Couette-Poiseuille flow (linear plus parabolic profile)",
     .check = check,
-    .decomposed = decomposed,
+    /* a profile along z: periodic x and y split over ranks */
+    .decomposed = scene_decomposed_always,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

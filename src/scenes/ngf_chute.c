@@ -148,6 +148,9 @@ const struct scene scene_ngf_chute = {
     .check = check,
     .profile_axis = 2,
     .profile_component = 0,
+    /* periodic x and y split over ranks: the fluidity on the unsplit z
+     * lines; the results read column 0, every column alike */
+    .decomposed = scene_decomposed_always,
     .exact_profile = scene_no_exact_profile,
     .headline_name = "u_centre",
     .results = results,

@@ -45,6 +45,14 @@ static inline void scene_no_exact_profile(const struct muflow_case *cs, int n, c
         u[i] = NAN;
 }
 
+/* A scene that runs decomposed whatever its keys (scene.h: decomposed):
+ * a layered flow whose lines and profile stay whole on a rank. */
+static inline int scene_decomposed_always(const struct muflow_case *cs)
+{
+    (void)cs;
+    return 1;
+}
+
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block
  * NAME (parse, check, write back: config/keys.h) with INTRO, the section's
  * description in docs/case_keys.md (Markdown), the compile-time check that
