@@ -65,6 +65,10 @@ struct run_result {
  * RESULT_VALUES_MAX). */
 void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* A measured value beside its reference: the lines name = value, name_exact
+ * = reference (%.10g) and name_error = value / reference - 1 (%.6e). */
+void run_result_add_compared(struct run_result *r, const char *name, double value,
+                             double reference);
 /* The lines of summary.ini's [result] section, in its order: calls
  * line(ctx, key, text, value) with the text the summary writes and the value
  * as a number (exact for the run's own numbers: steps, time, err_rms, the

@@ -165,6 +165,17 @@ void run_result_add(struct run_result *r, const char *key, const char *fmt, ...)
     va_end(ap);
 }
 
+void run_result_add_compared(struct run_result *r, const char *name, double value,
+                             double reference)
+{
+    char key[96];
+    run_result_add(r, name, "%.10g", value);
+    snprintf(key, sizeof key, "%s_exact", name);
+    run_result_add(r, key, "%.10g", reference);
+    snprintf(key, sizeof key, "%s_error", name);
+    run_result_add(r, key, "%.6e", value / reference - 1.0);
+}
+
 /* A number's line: its text as the summary writes it, its value exact. */
 #define NUMBER_LINE(key, fmt, v)                                                   \
     do {                                                                           \

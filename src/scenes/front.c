@@ -448,9 +448,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     struct front_measures m;
     measure(st, r, &m);
     double uf = r->f.u_f;
-    run_result_add(res, "front_speed", "%.10g", m.speed);
-    run_result_add(res, "front_speed_exact", "%.10g", m.speed_exact);
-    run_result_add(res, "front_speed_error", "%.6e", m.speed / m.speed_exact - 1.0);
+    run_result_add_compared(res, "front_speed", m.speed, m.speed_exact);
     run_result_add(res, "uniform_speed", "%.10g", uniform_mean(st->cs, r->f.h_inf));
     run_result_add(res, "front_speed_depth_averaged", "%.10g", uf);
     run_result_add(res, "x_tip", "%.10g", r->base.s.v[S_TIP][r->base.s.n - 1]);

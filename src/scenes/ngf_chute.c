@@ -133,9 +133,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     double exact = creep_length_exact(cs);
     double sy = cs->rheo.mu_s * cs->confining_pressure / (cs->density * cs->gravity);
     run_result_add(res, "plug_half_width_local", "%.10g", sy);
-    run_result_add(res, "creep_length", "%.10g", measured);
-    run_result_add(res, "creep_length_exact", "%.10g", exact);
-    run_result_add(res, "creep_length_error", "%.6e", measured / exact - 1.0);
+    run_result_add_compared(res, "creep_length", measured, exact);
     snprintf(res->scene_line, sizeof res->scene_line,
              "creep length %.6g (the Airy closed form's %.6g, %+.2f%%)", measured, exact,
              100.0 * (measured / exact - 1.0));

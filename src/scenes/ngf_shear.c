@@ -124,9 +124,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
             exact = decay_length_reference(&c, zs, r->grain_diameter);
     }
     run_result_add(res, "shear_stress", "%.10g", tau);
-    run_result_add(res, "decay_length", "%.10g", measured);
-    run_result_add(res, "decay_length_exact", "%.10g", exact);
-    run_result_add(res, "decay_length_error", "%.6e", measured / exact - 1.0);
+    run_result_add_compared(res, "decay_length", measured, exact);
     snprintf(res->scene_line, sizeof res->scene_line,
              "decay length at H/4 %.6g (its linear equation's %.6g, %+.2f%%)", measured, exact,
              100.0 * (measured / exact - 1.0));
