@@ -19,6 +19,10 @@ int comm_init(char *err, size_t errlen);
 /* 1 when started by mpirun (whatever the rank count), from the environment
  * alone: callable before comm_init. */
 int comm_launched(void);
+/* For a library of MPI's (what names it in the message): 0 once libmpi is
+ * open in the global scope and MPI initialised; -1 with the cause when not
+ * under mpirun or comm_init fails. */
+int comm_require(const char *what, char *err, size_t errlen);
 int comm_rank(void);
 int comm_size(void);
 /* MPI_Finalize once (nothing without MPI). */

@@ -7,6 +7,22 @@
 #define MUFLOW_PLATFORM_DYNLIB_H
 
 #include <dlfcn.h>
+#include <stdio.h>
+
+/* dlopen(soname, RTLD_NOW | scope) (scope: RTLD_LOCAL, or RTLD_GLOBAL for a
+ * library whose plugins or dependants must see its names); NULL with the
+ * message "what soname (Debian: package): why" when it cannot be opened. */
+static inline void *dynlib_open(const char *soname, int scope, const char *what,
+                                const char *package, char *err, size_t errlen)
+{
+    void *lib = dlopen(soname, RTLD_NOW | scope);
+    if (!lib) {
+        const char *why = dlerror();
+        snprintf(err, errlen, "%s %s (Debian: %s): %s", what, soname, package,
+                 why ? why : "not found");
+    }
+    return lib;
+}
 
 /* table.f = the symbol f of lib, unless an earlier symbol was missing
  * (missing: NULL, or the first name not found, which this sets). */

@@ -51,13 +51,11 @@ int comm_launched(void)
 
 static int load_mpi(char *err, size_t errlen)
 {
-    void *lib = dlopen(MUFLOW_MPI_LIB, RTLD_NOW | RTLD_GLOBAL); /* its plugins see it */
-    if (!lib) {
-        const char *why = dlerror();
-        snprintf(err, errlen, "mpirun: Open MPI's %s (Debian: libopenmpi-dev): %s",
-                 MUFLOW_MPI_LIB, why ? why : "not found");
+    /* global: its plugins see it */
+    void *lib = dynlib_open(MUFLOW_MPI_LIB, RTLD_GLOBAL, "mpirun: Open MPI's", "libopenmpi-dev",
+                            err, errlen);
+    if (!lib)
         return -1;
-    }
     const char *missing = NULL;
 #define RESOLVE(f) DYNLIB_RESOLVE(lib, mpi, f, missing)
     MPI_FUNCTIONS(RESOLVE)
@@ -90,6 +88,15 @@ void comm_finalize(void)
     if (!done)
         mpi.MPI_Finalize();
     active = 0;
+}
+
+int comm_require(const char *what, char *err, size_t errlen)
+{
+    if (!comm_launched()) {
+        snprintf(err, errlen, "%s: only under mpirun", what);
+        return -1;
+    }
+    return comm_init(err, errlen);
 }
 
 int comm_init(char *err, size_t errlen)

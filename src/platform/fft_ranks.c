@@ -24,22 +24,13 @@ int fft_ranks_open(char *err, size_t errlen)
 {
     if (opened)
         return 0;
-    if (!comm_launched()) {
-        snprintf(err, errlen, "FFTW's MPI transforms: only under mpirun");
+    /* libmpi first, in the global scope */
+    if (comm_require("FFTW's MPI transforms", err, errlen) != 0)
         return -1;
-    }
-    char why[256];
-    if (comm_init(why, sizeof why) != 0) { /* libmpi first, in the global scope */
-        snprintf(err, errlen, "%s", why);
+    void *lib = dynlib_open(MUFLOW_FFTW_MPI_LIB, RTLD_LOCAL, "FFTW's MPI transforms",
+                            "libfftw3-mpi-dev", err, errlen);
+    if (!lib)
         return -1;
-    }
-    void *lib = dlopen(MUFLOW_FFTW_MPI_LIB, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        const char *e = dlerror();
-        snprintf(err, errlen, "FFTW's MPI transforms %s (Debian: libfftw3-mpi-dev): %s",
-                 MUFLOW_FFTW_MPI_LIB, e ? e : "not found");
-        return -1;
-    }
     const char *missing = NULL;
 #define RESOLVE(f) DYNLIB_RESOLVE(lib, api, f, missing)
     FFT_RANKS_FUNCTIONS(RESOLVE)

@@ -27,23 +27,13 @@ const struct phdf5 *phdf5_open(char *err, size_t errlen)
 {
     if (opened)
         return &api;
-    if (!comm_launched()) {
-        snprintf(err, errlen, "parallel HDF5: only under mpirun");
+    if (comm_require("parallel HDF5", err, errlen) != 0) /* libmpi first, in the global scope */
         return NULL;
-    }
-    char why[256];
-    if (comm_init(why, sizeof why) != 0) { /* libmpi first, in the global scope */
-        snprintf(err, errlen, "%s", why);
-        return NULL;
-    }
     /* local: its names stay out of the global scope (the serial library's) */
-    void *lib = dlopen(MUFLOW_PHDF5_LIB, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        const char *e = dlerror();
-        snprintf(err, errlen, "parallel HDF5 %s (Debian: libhdf5-openmpi-dev): %s",
-                 MUFLOW_PHDF5_LIB, e ? e : "not found");
+    void *lib = dynlib_open(MUFLOW_PHDF5_LIB, RTLD_LOCAL, "parallel HDF5", "libhdf5-openmpi-dev",
+                            err, errlen);
+    if (!lib)
         return NULL;
-    }
     struct phdf5 t = {0};
     const char *missing = NULL;
 #define RESOLVE(f) DYNLIB_RESOLVE(lib, t, f, missing)

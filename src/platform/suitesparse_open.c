@@ -19,14 +19,8 @@ static int loaded;
 
 static void *open_library(const char *name, char *err, size_t errlen)
 {
-    void *lib = dlopen(name, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        const char *why = dlerror();
-        snprintf(err, errlen,
-                 "sparse factorisation needs SuiteSparse's %s (Debian: libsuitesparse-dev): %s",
-                 name, why ? why : "not found");
-    }
-    return lib;
+    return dynlib_open(name, RTLD_LOCAL, "sparse factorisation needs SuiteSparse's",
+                       "libsuitesparse-dev", err, errlen);
 }
 
 int suitesparse_load(char *err, size_t errlen)

@@ -112,14 +112,10 @@ static int load_hypre(char *err, size_t errlen)
     if (!name || !*name)
         name = MUFLOW_HYPRE_LIB;
     blas_prepare(); /* hypre's BLAS and LAPACK: the serial build */
-    void *lib = dlopen(name, RTLD_NOW | RTLD_GLOBAL);
-    if (!lib) {
-        const char *why = dlerror();
-        snprintf(err, errlen,
-                 "solver.preconditioner = amg needs hypre's library %s (Debian: libhypre-dev): %s",
-                 name, why ? why : "not found");
+    void *lib = dynlib_open(name, RTLD_GLOBAL, "solver.preconditioner = amg needs hypre's library",
+                            "libhypre-dev", err, errlen);
+    if (!lib)
         return -1;
-    }
     const char *missing = NULL;
     void *p;
 #define RESOLVE(f) DYNLIB_RESOLVE(lib, hy, f, missing)
