@@ -52,6 +52,21 @@ double bench_max(const double *x, int n)
     return m;
 }
 
+void bench_blocks(const char *program, int N, const int dims[3], const int periodic[3],
+                  const int split[3], struct grid *gg, struct grid *g, struct comm_cart *cart,
+                  struct decomp *dc)
+{
+    char err[256] = "";
+    const int n[3] = {N, N, N};
+    const double len[3] = {1.0, 1.0, 1.0};
+    if (grid_init(gg, n, len) != 0 ||
+        comm_cart_create(cart, dims, periodic, split, err, sizeof err) ||
+        decomp_create(dc, cart, n, err, sizeof err) || decomp_local_grid(dc, gg, g)) {
+        fprintf(stderr, "%s: %s\n", program, err);
+        exit(2);
+    }
+}
+
 void bench_load(struct muflow_case *cs, const char *file, int n, char *const ov[])
 {
     char err[512];

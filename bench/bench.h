@@ -5,6 +5,7 @@
 
 #include <stdio.h>
 #include "config/case.h"
+#include "grid/decomp.h"
 
 /* Median, minimum and maximum of n samples (x is not modified). */
 double bench_median(const double *x, int n);
@@ -14,6 +15,13 @@ double bench_max(const double *x, int n);
 /* Loads a case file with overrides (printf-style list built by the caller);
  * exits with status 2 and the loader's message on failure. */
 void bench_load(struct muflow_case *cs, const char *file, int n, char *const ov[]);
+
+/* The unit cube of N^3 cells (gg) and this rank's block of it (dc, local
+ * grid g) over dims (0: MPI's choice), periodic and split as given; exits
+ * with status 2 and the cause, named after the program, on failure. */
+void bench_blocks(const char *program, int N, const int dims[3], const int periodic[3],
+                  const int split[3], struct grid *gg, struct grid *g, struct comm_cart *cart,
+                  struct decomp *dc);
 
 /* Opens dir/name for writing; exits on failure. */
 FILE *bench_open(const char *dir, const char *name);

@@ -96,8 +96,6 @@ int main(int argc, char **argv)
         return 2;
     }
     const int N = atoi(argv[1]), repeats = atoi(argv[2]);
-    const int n[3] = {N, N, N};
-    const double len[3] = {1.0, 1.0, 1.0};
     const enum poisson_bc bc[3][2] = {{POISSON_NEUMANN, POISSON_NEUMANN},
                                       {POISSON_NEUMANN, POISSON_NEUMANN},
                                       {POISSON_NEUMANN, POISSON_NEUMANN}};
@@ -105,11 +103,7 @@ int main(int argc, char **argv)
     struct comm_cart cart;
     struct decomp dc;
     const int dims[3] = {0, 0, 0}, per[3] = {0, 0, 0}, split[3] = {1, 1, 1};
-    if (grid_init(&gg, n, len) != 0 || comm_cart_create(&cart, dims, per, split, err, sizeof err) ||
-        decomp_create(&dc, &cart, n, err, sizeof err) || decomp_local_grid(&dc, &gg, &g)) {
-        fprintf(stderr, "bench_decomposed: %s\n", err);
-        return 2;
-    }
+    bench_blocks("bench_decomposed", N, dims, per, split, &gg, &g, &cart, &dc);
     struct multigrid *mg;
     double t0 = bench_now();
     if (multigrid_create_decomposed(&mg, &gg, &dc, bc, NULL, err, sizeof err) != 0) {

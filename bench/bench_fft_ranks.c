@@ -25,8 +25,6 @@ int main(int argc, char **argv)
         return 2;
     }
     const int N = atoi(argv[1]), repeats = atoi(argv[2]);
-    const int n[3] = {N, N, N};
-    const double len[3] = {1.0, 1.0, 1.0};
     const enum poisson_bc bc[3][2] = {{POISSON_PERIODIC, POISSON_PERIODIC},
                                       {POISSON_PERIODIC, POISSON_PERIODIC},
                                       {POISSON_NEUMANN, POISSON_DIRICHLET}};
@@ -34,11 +32,7 @@ int main(int argc, char **argv)
     struct comm_cart cart;
     struct decomp dc;
     const int dims[3] = {0, 0, 1}, per[3] = {1, 1, 0}, split[3] = {1, 1, 0};
-    if (grid_init(&gg, n, len) != 0 || comm_cart_create(&cart, dims, per, split, err, sizeof err) ||
-        decomp_create(&dc, &cart, n, err, sizeof err) || decomp_local_grid(&dc, &gg, &g)) {
-        fprintf(stderr, "bench_fft_ranks: %s\n", err);
-        return 2;
-    }
+    bench_blocks("bench_fft_ranks", N, dims, per, split, &gg, &g, &cart, &dc);
     struct poisson_fft *serial = NULL;
     struct poisson_fft_ranks *ranks = NULL;
     if ((cart.comm ? poisson_fft_ranks_create(&ranks, &g, &gg, &dc, bc, err, sizeof err)

@@ -22,17 +22,11 @@ int main(int argc, char **argv)
         return 2;
     }
     const int N = atoi(argv[1]), repeats = atoi(argv[2]);
-    const int n[3] = {N, N, N};
-    const double len[3] = {1.0, 1.0, 1.0};
     struct grid gg, g;
     struct comm_cart cart;
     struct decomp dc;
     const int dims[3] = {comm_size(), 1, 1}, per[3] = {0, 0, 0}, split[3] = {1, 1, 1};
-    if (grid_init(&gg, n, len) != 0 || comm_cart_create(&cart, dims, per, split, err, sizeof err) ||
-        decomp_create(&dc, &cart, n, err, sizeof err) || decomp_local_grid(&dc, &gg, &g)) {
-        fprintf(stderr, "bench_h5blocks: %s\n", err);
-        return 2;
-    }
+    bench_blocks("bench_h5blocks", N, dims, per, split, &gg, &g, &cart, &dc);
     double *f = field_alloc(&g), *buf = field_alloc(&g);
     for (size_t p = 0; p < g.size; p++)
         f[p] = 1.0 + (double)p * 1e-7;

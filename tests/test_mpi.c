@@ -34,6 +34,35 @@ static int global_index(const struct decomp *dc, int d, int t, int periodic)
     return G;
 }
 
+/* This rank's block of the global n cells split over dims (periodic as
+ * given), a local grid of unit spacing and one field on it. */
+struct unit_block {
+    struct comm_cart cart;
+    struct decomp dc;
+    struct grid g;
+    double *f;
+};
+
+static void unit_block_open(struct unit_block *b, const int dims[3], const int periodic[3],
+                            const int n[3])
+{
+    char err[256];
+    const int split[3] = {1, 1, 1};
+    assert_int_equal(comm_cart_create(&b->cart, dims, periodic, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(&b->dc, &b->cart, n, err, sizeof err), 0);
+    const double len[3] = {1.0 * b->dc.n[0], 1.0 * b->dc.n[1], 1.0 * b->dc.n[2]};
+    assert_int_equal(grid_init(&b->g, b->dc.n, len), 0);
+    b->f = field_alloc(&b->g);
+    assert_non_null(b->f);
+}
+
+static void unit_block_close(struct unit_block *b)
+{
+    field_free(b->f);
+    decomp_free(&b->dc);
+    comm_cart_free(&b->cart);
+}
+
 /* Each rank fills its cells with the global pattern and its ghosts with
  * -1, exchanges direction after direction, and checks every ghost slot
  * (edges and corners too): a rank border's holds the neighbour's cell, a
@@ -42,47 +71,39 @@ static int global_index(const struct decomp *dc, int d, int t, int periodic)
  * (grid/decomp.h), so the ghost n must hold the next rank's face 0. */
 static void check_exchange(const int dims[3], const int periodic[3], const int n[3])
 {
-    struct comm_cart cart;
-    struct decomp dc;
-    char err[256];
-    const int split[3] = {1, 1, 1};
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
-    struct grid g;
-    const double len[3] = {1.0 * dc.n[0], 1.0 * dc.n[1], 1.0 * dc.n[2]};
-    assert_int_equal(grid_init(&g, dc.n, len), 0);
-    double *f = field_alloc(&g);
-    assert_non_null(f);
-    for (size_t p = 0; p < g.size; p++)
+    struct unit_block b;
+    unit_block_open(&b, dims, periodic, n);
+    const struct decomp *dc = &b.dc;
+    const struct grid *g = &b.g;
+    double *f = b.f;
+    for (size_t p = 0; p < g->size; p++)
         f[p] = -1.0;
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++)
-                f[grid_idx(&g, i, j, k)] = pattern(dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k);
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                f[grid_idx(g, i, j, k)] = pattern(dc->lo[0] + i, dc->lo[1] + j, dc->lo[2] + k);
     for (int d = 0; d < 3; d++)
-        decomp_exchange(&dc, &g, f, d);
+        decomp_exchange(dc, g, f, d);
     double bad = 0.0;
-    for (int i = -1; i <= g.n[0]; i++)
-        for (int j = -1; j <= g.n[1]; j++)
-            for (int k = -1; k <= g.n[2]; k++) {
+    for (int i = -1; i <= g->n[0]; i++)
+        for (int j = -1; j <= g->n[1]; j++)
+            for (int k = -1; k <= g->n[2]; k++) {
                 const int t[3] = {i, j, k};
                 int G[3], outside = 0;
                 for (int d = 0; d < 3; d++) {
                     /* a slot beyond the local box is the neighbour's only
                      * across a border; else (a wall, a one-rank periodic
                      * direction: local fills) it stays -1 */
-                    const int beyond = t[d] < 0 ? 0 : t[d] >= g.n[d] ? 1 : -1;
-                    if (beyond >= 0 && !dc.border[d][beyond])
+                    const int beyond = t[d] < 0 ? 0 : t[d] >= g->n[d] ? 1 : -1;
+                    if (beyond >= 0 && !dc->border[d][beyond])
                         outside = 1;
-                    G[d] = global_index(&dc, d, t[d], periodic[d]);
+                    G[d] = global_index(dc, d, t[d], periodic[d]);
                 }
                 const double want = outside ? -1.0 : pattern(G[0], G[1], G[2]);
-                bad += f[grid_idx(&g, i, j, k)] != want;
+                bad += f[grid_idx(g, i, j, k)] != want;
             }
     comm_sum(&bad, 1);
-    field_free(f);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    unit_block_close(&b);
     assert_true(bad == 0.0);
 }
 
@@ -213,14 +234,9 @@ static void check_solve_n(const int dims[3], const enum poisson_bc bc[3][2], int
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
     struct grid gg;
     assert_int_equal(grid_init(&gg, n, len), 0);
-    int periodic[3], split[3] = {1, 1, 1};
-    for (int d = 0; d < 3; d++)
-        periodic[d] = bc[d][0] == POISSON_PERIODIC;
     struct comm_cart cart;
     struct decomp dc;
-    char err[256];
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    test_decomp_open(dims, bc, n, &cart, &dc);
     struct solve_result whole = solve(&gg, NULL, bc, jump);
     struct solve_result part = solve(&gg, &dc, bc, jump);
     struct grid g;
@@ -303,32 +319,24 @@ static void test_multigrid_periodic(void **state)
  * of (n_e1 + 2)(n_e2 + 2) doubles: the tally equals that exactly. */
 static double exchange_traffic_misses(const int dims[3], const int periodic[3], const int n[3])
 {
-    struct comm_cart cart;
-    struct decomp dc;
-    char err[256];
-    const int split[3] = {1, 1, 1};
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
-    struct grid g;
-    const double len[3] = {1.0 * dc.n[0], 1.0 * dc.n[1], 1.0 * dc.n[2]};
-    assert_int_equal(grid_init(&g, dc.n, len), 0);
-    double *f = field_alloc(&g);
-    assert_non_null(f);
+    struct unit_block b;
+    unit_block_open(&b, dims, periodic, n);
+    const struct decomp *dc = &b.dc;
+    const struct grid *g = &b.g;
+    double *f = b.f;
     long want_bytes = 0, want_messages = 0;
     for (int d = 0; d < 3; d++) {
-        const int sides = dc.border[d][0] + dc.border[d][1];
-        const long plane = (long)(dc.n[d == 0 ? 1 : 0] + 2) * (dc.n[d == 2 ? 1 : 2] + 2);
+        const int sides = dc->border[d][0] + dc->border[d][1];
+        const long plane = (long)(dc->n[d == 0 ? 1 : 0] + 2) * (dc->n[d == 2 ? 1 : 2] + 2);
         want_messages += sides;
         want_bytes += sides * plane * 8;
     }
     decomp_traffic_reset();
     for (int d = 0; d < 3; d++)
-        decomp_exchange(&dc, &g, f, d);
+        decomp_exchange(dc, g, f, d);
     struct decomp_traffic t;
     decomp_traffic_read(&t);
-    field_free(f);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    unit_block_close(&b);
     return (t.bytes != want_bytes) + (t.messages != want_messages) +
            (comm_size() > 1 && want_bytes == 0); /* every rank has a border */
 }
@@ -343,15 +351,11 @@ static double multigrid_traffic_misses(const int dims[3], const enum poisson_bc 
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
     struct grid gg, g;
     assert_int_equal(grid_init(&gg, n, len), 0);
-    int periodic[3], split[3] = {1, 1, 1};
-    for (int d = 0; d < 3; d++)
-        periodic[d] = bc[d][0] == POISSON_PERIODIC;
     struct comm_cart cart;
     struct decomp dc;
     struct multigrid *mg = NULL;
     char err[256];
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    test_decomp_open(dims, bc, n, &cart, &dc);
     assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
     assert_int_equal(multigrid_create_decomposed(&mg, &gg, &dc, bc, NULL, err, sizeof err), 0);
     double *a[3] = {field_alloc(&g), field_alloc(&g), field_alloc(&g)};

@@ -37,15 +37,10 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
     const double len[3] = {1.0, 0.7, 0.5};
     struct grid gg, g;
     assert_int_equal(grid_init(&gg, n, len), 0);
-    int periodic[3];
-    const int split[3] = {1, 1, 1};
-    for (int d = 0; d < 3; d++)
-        periodic[d] = bc[d][0] == POISSON_PERIODIC;
     struct comm_cart cart;
     struct decomp dc;
     char err[256] = "";
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    test_decomp_open(dims, bc, n, &cart, &dc);
     assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
     double *whole = field_alloc(&gg), *phi = field_alloc(&g);
     assert_true(whole && phi);

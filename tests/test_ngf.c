@@ -246,32 +246,35 @@ static void test_fine_layer_from_rest(void **state)
 
 #define NGF_CHUTE_CASE "../cases/ngf_chute.ini"
 
-/* The chute's creep length on nz cells over 40 d, relative to the closed
- * form's (1.31468 d), minus 1. */
-static double chute_creep_error(int nz)
+/* The steady run of file on nz cells: its measure name against the
+ * reference the scene computes (name_exact), relative error returned. */
+static double steady_error(const char *file, int nz, const char *name)
 {
-    char n[32];
+    char n[32], key[64];
     snprintf(n, sizeof n, "domain.nz=%d", nz);
     char *ov[] = {n};
     struct muflow_case cs;
     struct run_result r;
-    test_run_case(NGF_CHUTE_CASE, 1, ov, &cs, &r);
+    test_run_case(file, 1, ov, &cs, &r);
     assert_int_equal(r.status, STATUS_STEADY);
-    double e = run_result_value(&r, "creep_length_error");
-    print_message("ngf chute on %d cells: creep length %.6f, closed form %.6f (%+.3f%%)\n", nz,
-                  run_result_value(&r, "creep_length"), run_result_value(&r, "creep_length_exact"),
-                  100.0 * e);
+    snprintf(key, sizeof key, "%s_error", name);
+    double e = run_result_value(&r, key);
+    snprintf(key, sizeof key, "%s_exact", name);
+    print_message("%s on %d cells: %s %.6f, reference %.6f (%+.3f%%)\n", cs.name, nz, name,
+                  run_result_value(&r, name), run_result_value(&r, key), 100.0 * e);
     return e;
 }
 
-/* Measured +12.3%, +2.72%, +0.62%, +0.17% on 40, 80, 160, 320 cells (h = 1,
+/* The chute's creep length over 40 d against the closed form's (1.31468 d):
+ * measured +12.3%, +2.72%, +0.62%, +0.17% on 40, 80, 160, 320 cells (h = 1,
  * 1/2, 1/4, 1/8 d against a creep length of 1.31 d): second order.  The
  * shipped 80 cells within 5%, 160 within 1.5%, the error falling more than
  * 3 times. */
 static void test_chute_creep_length(void **state)
 {
     (void)state;
-    double e80 = chute_creep_error(80), e160 = chute_creep_error(160);
+    double e80 = steady_error(NGF_CHUTE_CASE, 80, "creep_length"),
+           e160 = steady_error(NGF_CHUTE_CASE, 160, "creep_length");
     assert_true(fabs(e80) < 0.05 && fabs(e160) < 0.015);
     assert_true(fabs(e80 / e160) > 3.0);
     char *tilted[] = {"physics.tilt=1.5"};
@@ -282,33 +285,16 @@ static void test_chute_creep_length(void **state)
 
 #define NGF_SHEAR_CASE "../cases/ngf_shear.ini"
 
-/* The sheared layer's decay length at H / 4 on nz cells over 20 d, relative
- * to its linear equation's (1.2923 d with the 80 cells' stress), minus 1. */
-static double shear_decay_error(int nz)
-{
-    char n[32];
-    snprintf(n, sizeof n, "domain.nz=%d", nz);
-    char *ov[] = {n};
-    struct muflow_case cs;
-    struct run_result r;
-    test_run_case(NGF_SHEAR_CASE, 1, ov, &cs, &r);
-    assert_int_equal(r.status, STATUS_STEADY);
-    double e = run_result_value(&r, "decay_length_error");
-    print_message("ngf shear on %d cells: tau %.6f, decay length %.6f, linear equation's %.6f "
-                  "(%+.3f%%)\n",
-                  nz, run_result_value(&r, "shear_stress"), run_result_value(&r, "decay_length"),
-                  run_result_value(&r, "decay_length_exact"), 100.0 * e);
-    return e;
-}
-
-/* Measured +5.57%, +1.42%, +0.35%, +0.080% on 40, 80, 160, 320 cells (h =
- * 1/2 .. 1/16 d against a decay length of 1.29 d): second order.  40 cells
- * within 10%, the shipped 80 within 2.5%, the error falling more than 3
- * times. */
+/* The sheared layer's decay length at H / 4 over 20 d against its linear
+ * equation's (1.2923 d with the 80 cells' stress): measured +5.57%, +1.42%,
+ * +0.35%, +0.080% on 40, 80, 160, 320 cells (h = 1/2 .. 1/16 d against a
+ * decay length of 1.29 d): second order.  40 cells within 10%, the shipped
+ * 80 within 2.5%, the error falling more than 3 times. */
 static void test_shear_decay_length(void **state)
 {
     (void)state;
-    double e40 = shear_decay_error(40), e80 = shear_decay_error(80);
+    double e40 = steady_error(NGF_SHEAR_CASE, 40, "decay_length"),
+           e80 = steady_error(NGF_SHEAR_CASE, 80, "decay_length");
     assert_true(fabs(e40) < 0.10 && fabs(e80) < 0.025);
     assert_true(fabs(e40 / e80) > 3.0);
     char *tilted[] = {"physics.tilt=0.1"};

@@ -114,6 +114,18 @@ void test_ranks_dir_remove(const char *dir)
         test_tmp_remove(dir);
 }
 
+void test_decomp_open(const int dims[3], const enum poisson_bc bc[3][2], const int n[3],
+                      struct comm_cart *cart, struct decomp *dc)
+{
+    int periodic[3];
+    const int split[3] = {1, 1, 1};
+    for (int d = 0; d < 3; d++)
+        periodic[d] = bc[d][0] == POISSON_PERIODIC;
+    char err[256] = "";
+    assert_int_equal(comm_cart_create(cart, dims, periodic, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(dc, cart, n, err, sizeof err), 0);
+}
+
 void test_run_dir_make(struct test_run_dir *d, const char *name)
 {
     char tag[24];

@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 #include <hdf5.h>
+#include "grid/decomp.h"
+#include "solvers/poisson.h"
 
 struct muflow_case;
 struct run_result;
@@ -67,6 +69,11 @@ void test_tmp_remove(const char *dir);
  * every rank is done with it. */
 void test_ranks_dir(char *dir, size_t len, const char *tag);
 void test_ranks_dir_remove(const char *dir);
+
+/* The ranks' blocks of the global n cells over dims (0: MPI's choice),
+ * periodic where bc is, every direction free to split. */
+void test_decomp_open(const int dims[3], const enum poisson_bc bc[3][2], const int n[3],
+                      struct comm_cart *cart, struct decomp *dc);
 
 /* A fresh folder for a test's runs (test_tmp_make, named after name), with
  * the overrides that write a run there and start another from it;
