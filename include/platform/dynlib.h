@@ -1,7 +1,7 @@
-/* Symbols of a shared library opened on first use (amg_hypre.c,
- * suitesparse_open.c): the libraries are not linked, so that runs that need
- * none start without them (docs/numerics/threads-and-platform.md); each
- * symbol is resolved into a pointer typed from the library's own
+/* Shared libraries opened on first use (amg_hypre.c, comm.c, phdf5.c,
+ * fft_ranks.c, suitesparse_open.c): they are not linked, so that runs that
+ * need none start without them (docs/numerics/threads-and-platform.md);
+ * each symbol is resolved into a pointer typed from the library's own
  * prototype. */
 #ifndef MUFLOW_PLATFORM_DYNLIB_H
 #define MUFLOW_PLATFORM_DYNLIB_H
