@@ -33,4 +33,17 @@ void fft_ranks_slab(const struct comm_cart *c, const int n[3], struct fft_ranks_
  * Collective. */
 fftw_plan fft_ranks_plan(const struct comm_cart *c, const int n[3], double *buf,
                          const fftw_r2r_kind kind[3], int inverse, unsigned flags);
+
+/* The real 2D transform of n[0] x n[1] points of howmany interleaved values
+ * each (a value's planes: point (a, b)'s values at (a rows + b) howmany, rows
+ * = 2 (n[1] / 2 + 1), FFTW's padding), in place: this rank's slab x0 .. x0 +
+ * nx - 1 along n[0] in, its wavenumbers y0 .. y0 + ny - 1 of n[1]'s half
+ * spectrum out, transposed (wavenumber (k1, k0)'s howmany complex values at
+ * ((k1 - y0) n[0] + k0) howmany); len doubles hold either. */
+void fft_ranks_plane_slab(const struct comm_cart *c, const int n[2], ptrdiff_t howmany,
+                          struct fft_ranks_slab *s);
+/* Its forward (r2c, FFTW_MPI_TRANSPOSED_OUT) or inverse (c2r, unnormalised,
+ * TRANSPOSED_IN) plan on buf; NULL when FFTW cannot make it.  Collective. */
+fftw_plan fft_ranks_plane_plan(const struct comm_cart *c, const int n[2], ptrdiff_t howmany,
+                               double *buf, int inverse, unsigned flags);
 #endif

@@ -176,7 +176,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     double avail = march_available_memory();
     st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
-    if (st->ranks && kind != VISCOUS_LINE) {
+    if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER) {
         static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
                                             "multigrid"};
         char what[120];

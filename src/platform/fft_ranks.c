@@ -11,7 +11,8 @@
 #endif
 
 #define FFT_RANKS_FUNCTIONS(X) X(fftw_mpi_init) X(fftw_mpi_local_size_3d_transposed) \
-    X(fftw_mpi_plan_r2r_3d)
+    X(fftw_mpi_plan_r2r_3d) X(fftw_mpi_local_size_many_transposed) \
+    X(fftw_mpi_plan_many_dft_r2c) X(fftw_mpi_plan_many_dft_c2r)
 
 static struct {
 #define POINTER(f) __typeof__(f) *f;
@@ -64,4 +65,27 @@ fftw_plan fft_ranks_plan(const struct comm_cart *c, const int n[3], double *buf,
     flags |= inverse ? FFTW_MPI_TRANSPOSED_IN : FFTW_MPI_TRANSPOSED_OUT;
     return api.fftw_mpi_plan_r2r_3d(n[0], n[1], n[2], buf, buf, (MPI_Comm)c->comm, kind[0],
                                     kind[1], kind[2], flags);
+}
+
+void fft_ranks_plane_slab(const struct comm_cart *c, const int n[2], ptrdiff_t howmany,
+                          struct fft_ranks_slab *s)
+{
+    /* the complex sizes: the real transform keeps n[1] / 2 + 1 along n[1] */
+    const ptrdiff_t nc[2] = {n[0], n[1] / 2 + 1};
+    s->len = 2 * api.fftw_mpi_local_size_many_transposed(
+                     2, nc, howmany, FFTW_MPI_DEFAULT_BLOCK, FFTW_MPI_DEFAULT_BLOCK,
+                     (MPI_Comm)c->comm, &s->nx, &s->x0, &s->ny, &s->y0);
+}
+
+fftw_plan fft_ranks_plane_plan(const struct comm_cart *c, const int n[2], ptrdiff_t howmany,
+                               double *buf, int inverse, unsigned flags)
+{
+    const ptrdiff_t nr[2] = {n[0], n[1]};
+    if (inverse)
+        return api.fftw_mpi_plan_many_dft_c2r(2, nr, howmany, FFTW_MPI_DEFAULT_BLOCK,
+                                              FFTW_MPI_DEFAULT_BLOCK, (fftw_complex *)buf, buf,
+                                              (MPI_Comm)c->comm, flags | FFTW_MPI_TRANSPOSED_IN);
+    return api.fftw_mpi_plan_many_dft_r2c(2, nr, howmany, FFTW_MPI_DEFAULT_BLOCK,
+                                          FFTW_MPI_DEFAULT_BLOCK, buf, (fftw_complex *)buf,
+                                          (MPI_Comm)c->comm, flags | FFTW_MPI_TRANSPOSED_OUT);
 }

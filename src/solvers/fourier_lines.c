@@ -6,6 +6,8 @@
 #include <string.h>
 #include <fftw3.h>
 #include "kernels/kernels.h"
+#include "platform/fft_ranks.h"
+#include "solvers/block_slabs.h"
 #include "solvers/fourier_lines.h"
 /* last: its macro I would clash with the rheology's parameter names, and
  * FFTW's complex stays double[2] */
@@ -30,16 +32,17 @@ typedef double complex cplx;
 struct fourier_lines {
     const struct grid *g;
     int L, o[2];                 /* line direction, the two periodic ones across */
-    int n[2], half0;             /* cells across; n[0] / 2 + 1 */
+    int n[2], half0;             /* cells across (the global grid's); n[0] / 2 + 1 */
+    int nl[2], first[2];         /* this rank's lines across and the first's global index */
+    long lines[PATTERNS];        /* the lines each pattern's averages count */
     int len[3], lo[3][3];        /* nodes per line (0: none) and box corner per component */
     int maxlen, nu;              /* longest line, unknowns per mode (3 maxlen) */
-    long modes;                  /* n[1] * half0: the real transform's wavenumbers */
+    long modes;                  /* the real transform's wavenumbers (this rank's) */
     /* sym[((P * 3 + row) * 3 + col) * maxlen * PROBES + m * PROBES + off + BAND]:
      * the plane average of row m's coupling to column node m + off, at the
      * plane wavenumber of pattern P */
     double *sym;
-    double *part;                /* n[1] x maxlen partial sums of the averages */
-    long *cnt;                   /* n[1] line counts */
+    double *part;                /* nl[1] x maxlen partial sums of the averages */
     /* An open face makes the operator non-symmetric: the increment's fill
      * gives the face's normal component the inner face's (boundary.c), and
      * the edges on the face couple the tangential rows below to it with no
@@ -53,6 +56,18 @@ struct fourier_lines {
      * as its block numbers them (the transforms write and read them there) */
     fftw_complex *spec;
     fftw_plan fwd[3], bwd[3];    /* per component: every plane of its box at once */
+    /* Over ranks (bc->dc; fwd[0], bwd[0] then FFTW's MPI plans of every
+     * component): FFTW's 2D transform of nu interleaved values a line, its
+     * slabs along across direction o[fa], its output's wavenumbers split
+     * along the other, the longer one's half spectrum: the modes, and so the
+     * blocks, spread over the ranks.  The lines go from the blocks (box:
+     * o[fa] slowest, then o[1 - fa], then the line's nu values) to the slabs
+     * and back by one all-to-all each way; spec is then buf's. */
+    const struct decomp *dc;
+    int fa;
+    struct fft_ranks_slab slab;
+    struct block_slabs xs;
+    double *buf, *box;
 };
 
 static inline int probe_offset(int r, int m)
@@ -69,6 +84,22 @@ static inline ptrdiff_t node(const struct fourier_lines *f, int c, int a, int b,
     idx[f->o[1]] = f->lo[c][f->o[1]] + b;
     idx[f->L] = f->lo[c][f->L] + m;
     return grid_idx(f->g, idx[0], idx[1], idx[2]);
+}
+
+/* The sign of line (a, b) (global indices) in plane pattern P: the wavenumber pi along o[0]
+ * for P = 1, 3 and along o[1] for P = 2, 3. */
+static inline double pattern(int P, int a, int b)
+{
+    int x = ((P & 1) ? a : 0) + ((P & 2) ? b : 0);
+    return (x & 1) ? -1.0 : 1.0;
+}
+
+/* A line whose neighbours across do not alternate in pattern P (the seam of
+ * an odd periodic count) is left out of the averages. */
+static inline int seam(const struct fourier_lines *f, int P, int a, int b)
+{
+    return ((P & 1) && (f->n[0] & 1) && (a == 0 || a == f->n[0] - 1)) ||
+           ((P & 2) && (f->n[1] & 1) && (b == 0 || b == f->n[1] - 1));
 }
 
 double fourier_lines_memory_estimate(const struct grid *g, const struct boundary *bc)
@@ -91,7 +122,6 @@ void fourier_lines_destroy(struct fourier_lines *f)
         return;
     free(f->sym);
     free(f->part);
-    free(f->cnt);
     free(f->band);
     for (int c = 0; c < 3; c++) {
         if (f->fwd[c])
@@ -99,8 +129,91 @@ void fourier_lines_destroy(struct fourier_lines *f)
         if (f->bwd[c])
             fftw_destroy_plan(f->bwd[c]);
     }
-    fftw_free(f->spec);
+    if (f->dc) {
+        fftw_free(f->buf);
+        free(f->box);
+        block_slabs_free(&f->xs);
+    } else {
+        fftw_free(f->spec);
+    }
     free(f);
+}
+
+/* The serial transforms: every plane of a component's box in one plan,
+ * read from the field and written into the modes' vectors where the blocks
+ * want them (FFTW's guru strides): no gathering of planes.  Dimensions:
+ * o[1], then o[0], whose half spectrum is kept (mode s = k1 half0 + k0);
+ * the planes along the lines.  FFTW's own threads (as the pressure's FFT
+ * solver takes them); FFTW_UNALIGNED: the fields passed at execution are
+ * CG's vectors, not the one planned on.  Returns 0, or -1. */
+static int plan_serial(struct fourier_lines *f, double *tmp)
+{
+    const struct grid *g = f->g;
+    int o0 = f->o[0], o1 = f->o[1];
+    f->spec = fftw_malloc((size_t)f->modes * f->nu * sizeof(fftw_complex));
+    if (!f->spec || fftw_init_threads() == 0)
+        return -1;
+    /* a padding node (a shorter line) is never transformed: 0 for good */
+    memset(f->spec, 0, (size_t)f->modes * f->nu * sizeof(fftw_complex));
+    fftw_plan_with_nthreads(grid_cells(g) >= 65536 ? omp_get_max_threads() : 1);
+    unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
+    for (int c = 0; c < 3; c++) {
+        if (f->len[c] == 0)
+            continue;
+        fftw_iodim dims[2] = {{f->n[1], (int)g->stride[o1], f->half0 * f->nu},
+                              {f->n[0], (int)g->stride[o0], f->nu}};
+        fftw_iodim many = {f->len[c], (int)g->stride[f->L], 3};
+        double *in = tmp + node(f, c, 0, 0, 0);
+        f->fwd[c] = fftw_plan_guru_dft_r2c(2, dims, 1, &many, in, f->spec + c, flags);
+        fftw_iodim bdims[2] = {{f->n[1], f->half0 * f->nu, (int)g->stride[o1]},
+                               {f->n[0], f->nu, (int)g->stride[o0]}};
+        fftw_iodim bmany = {f->len[c], 3, (int)g->stride[f->L]};
+        f->bwd[c] = fftw_plan_guru_dft_c2r(2, bdims, 1, &bmany, f->spec + c, in,
+                                           flags | FFTW_DESTROY_INPUT);
+        if (!f->fwd[c] || !f->bwd[c])
+            return -1;
+    }
+    return 0;
+}
+
+/* The transforms over the ranks (struct fourier_lines: dc).  Every rank
+ * alike: 0, or -1 with the cause in err.  Collective. */
+static int plan_ranks(struct fourier_lines *f, char *err, size_t errlen)
+{
+    const struct decomp *dc = f->dc;
+    const int unopened = fft_ranks_open(err, errlen) != 0;
+    if (decomp_max(dc, unopened) != 0.0) {
+        if (!unopened)
+            snprintf(err, errlen, "viscous solver: FFTW's MPI transforms failed on another rank");
+        return -1;
+    }
+    /* B, whose half spectrum is kept, the longer: more modes to spread */
+    const int fa = f->fa = f->n[1] > f->n[0] ? 0 : 1, fb = 1 - fa;
+    const int n[2] = {f->n[fa], f->n[fb]};
+    fft_ranks_plane_slab(dc->cart, n, f->nu, &f->slab);
+    f->modes = (long)f->slab.ny * n[0];
+    const int lo[3] = {f->first[fa], f->first[fb], 0}, nl[3] = {f->nl[fa], f->nl[fb], f->nu},
+              ng[3] = {n[0], n[1], f->nu};
+    const size_t box = (size_t)nl[0] * nl[1] * f->nu;
+    f->buf = fftw_malloc((size_t)(f->slab.len > 0 ? f->slab.len : 1) * sizeof(double));
+    f->box = malloc((box ? box : 1) * sizeof(double));
+    int failed = !f->buf || !f->box ||
+                 block_slabs_init(&f->xs, dc->cart, lo, nl, ng, f->slab.x0, f->slab.nx,
+                                  2 * (n[1] / 2 + 1)) != 0;
+    if (decomp_max(dc, failed) != 0.0) {
+        snprintf(err, errlen, "viscous solver: out of memory for the Fourier line blocks' slabs");
+        return -1;
+    }
+    f->spec = (fftw_complex *)f->buf;
+    fftw_plan_with_nthreads(grid_cells(f->g) >= 65536 ? omp_get_max_threads() : 1);
+    f->fwd[0] = fft_ranks_plane_plan(dc->cart, n, f->nu, f->buf, 0, FFTW_ESTIMATE);
+    f->bwd[0] = fft_ranks_plane_plan(dc->cart, n, f->nu, f->buf, 1, FFTW_ESTIMATE);
+    if (decomp_max(dc, !f->fwd[0] || !f->bwd[0]) != 0.0) {
+        snprintf(err, errlen, "viscous solver: FFTW's MPI planning failed for %d x %d lines",
+                 n[0], n[1]);
+        return -1;
+    }
+    return 0;
 }
 
 int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
@@ -119,11 +232,15 @@ int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
         return -1;
     }
     f->g = g;
+    f->dc = bc->dc;
     f->L = line_dir;
     f->o[0] = o0;
     f->o[1] = o1;
-    f->n[0] = g->n[o0];
-    f->n[1] = g->n[o1];
+    for (int e = 0; e < 2; e++) {
+        f->nl[e] = g->n[f->o[e]];
+        f->n[e] = f->dc ? f->dc->n_global[f->o[e]] : f->nl[e];
+        f->first[e] = f->dc ? f->dc->lo[f->o[e]] : 0;
+    }
     f->half0 = f->n[0] / 2 + 1;
     f->modes = (long)f->n[1] * f->half0;
     f->general = bc_has_open(bc);
@@ -132,75 +249,42 @@ int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
         for (int d = 0; d < 3; d++)
             f->lo[c][d] = act[c].lo[d];
         f->len[c] = act[c].hi[line_dir] - act[c].lo[line_dir];
-        /* a periodic direction's box spans it whole */
-        if (f->len[c] < 0 || act[c].hi[o0] - act[c].lo[o0] != f->n[0] ||
-            act[c].hi[o1] - act[c].lo[o1] != f->n[1])
+        /* a periodic direction's box spans it (the rank's share) whole */
+        if (f->len[c] < 0 || act[c].hi[o0] - act[c].lo[o0] != f->nl[0] ||
+            act[c].hi[o1] - act[c].lo[o1] != f->nl[1])
             f->len[c] = 0;
         if (f->len[c] > f->maxlen)
             f->maxlen = f->len[c];
     }
+    for (int P = 0; P < PATTERNS; P++)
+        for (int b = 0; b < f->n[1]; b++)
+            for (int a = 0; a < f->n[0]; a++)
+                f->lines[P] += !seam(f, P, a, b);
     int ml = f->maxlen > 0 ? f->maxlen : 1;
     f->nu = 3 * ml;
-    f->sym = malloc((size_t)PATTERNS * 9 * ml * PROBES * sizeof(double));
-    f->band = malloc((size_t)f->modes * f->nu * f->width * sizeof(cplx));
-    f->part = malloc((size_t)f->n[1] * ml * sizeof(double));
-    f->cnt = malloc((size_t)f->n[1] * sizeof(long));
-    f->spec = fftw_malloc((size_t)f->modes * f->nu * sizeof(fftw_complex));
     double *tmp = field_alloc(g); /* a field to plan on */
-    int ok = f->sym && f->band && f->part && f->cnt && f->spec && tmp;
-    if (ok) {
-        /* a padding node (a shorter line) is never transformed: 0 for good */
-        memset(f->spec, 0, (size_t)f->modes * f->nu * sizeof(fftw_complex));
-        /* Every plane of a component's box in one plan, read from the field
-         * and written into the modes' vectors where the blocks want them
-         * (FFTW's guru strides): no gathering of planes.  Dimensions: o[1],
-         * then o[0], whose half spectrum is kept (mode s = k1 half0 + k0);
-         * the planes along the lines.  FFTW's own threads (as the pressure's
-         * FFT solver takes them); FFTW_UNALIGNED: the fields passed at
-         * execution are CG's vectors, not the one planned on. */
-        ok = fftw_init_threads() != 0;
-        fftw_plan_with_nthreads(grid_cells(g) >= 65536 ? omp_get_max_threads() : 1);
-        unsigned flags = FFTW_ESTIMATE | FFTW_UNALIGNED;
-        for (int c = 0; c < 3 && ok; c++) {
-            if (f->len[c] == 0)
-                continue;
-            fftw_iodim dims[2] = {{f->n[1], (int)g->stride[o1], f->half0 * f->nu},
-                                  {f->n[0], (int)g->stride[o0], f->nu}};
-            fftw_iodim many = {f->len[c], (int)g->stride[line_dir], 3};
-            double *in = tmp + node(f, c, 0, 0, 0);
-            f->fwd[c] = fftw_plan_guru_dft_r2c(2, dims, 1, &many, in, f->spec + c, flags);
-            fftw_iodim bdims[2] = {{f->n[1], f->half0 * f->nu, (int)g->stride[o1]},
-                                   {f->n[0], f->nu, (int)g->stride[o0]}};
-            fftw_iodim bmany = {f->len[c], 3, (int)g->stride[line_dir]};
-            f->bwd[c] = fftw_plan_guru_dft_c2r(2, bdims, 1, &bmany, f->spec + c, in,
-                                               flags | FFTW_DESTROY_INPUT);
-            ok = f->fwd[c] && f->bwd[c];
+    int ok = tmp != NULL;
+    if (f->dc && ok) {
+        if (plan_ranks(f, err, errlen) != 0) {
+            field_free(tmp);
+            fourier_lines_destroy(f);
+            return -1;
         }
+    } else if (ok) {
+        ok = plan_serial(f, tmp) == 0;
     }
     field_free(tmp);
-    if (!ok) {
+    f->sym = malloc((size_t)PATTERNS * 9 * ml * PROBES * sizeof(double));
+    f->band = malloc((size_t)(f->modes > 0 ? f->modes : 1) * f->nu * f->width * sizeof(cplx));
+    f->part = malloc((size_t)(f->nl[1] > 0 ? f->nl[1] : 1) * ml * sizeof(double));
+    ok = ok && f->sym && f->band && f->part;
+    if (f->dc ? decomp_max(f->dc, !ok) != 0.0 : !ok) {
         fourier_lines_destroy(f);
         snprintf(err, errlen, "viscous solver: out of memory for the Fourier line blocks");
         return -1;
     }
     *out = f;
     return 0;
-}
-
-/* The sign of line (a, b) in plane pattern P: the wavenumber pi along o[0]
- * for P = 1, 3 and along o[1] for P = 2, 3. */
-static inline double pattern(int P, int a, int b)
-{
-    int x = ((P & 1) ? a : 0) + ((P & 2) ? b : 0);
-    return (x & 1) ? -1.0 : 1.0;
-}
-
-/* A line whose neighbours across do not alternate in pattern P (the seam of
- * an odd periodic count) is left out of the averages. */
-static inline int seam(const struct fourier_lines *f, int P, int a, int b)
-{
-    return ((P & 1) && (f->n[0] & 1) && (a == 0 || a == f->n[0] - 1)) ||
-           ((P & 2) && (f->n[1] & 1) && (b == 0 || b == f->n[1] - 1));
 }
 
 static double *sym_at(const struct fourier_lines *f, int P, int row, int col)
@@ -212,31 +296,28 @@ static double *sym_at(const struct fourier_lines *f, int P, int row, int col)
  * response q of comb r: each row node's coupling averaged over the lines.
  * The lines are summed a plane row b at a time (contiguous along the lines
  * when they run along z), each row into its own partial sum, then the
- * partial sums in order: the same bits on any number of threads. */
+ * partial sums in order: the same bits on any number of threads.  Over
+ * ranks, each rank's share of the average (its lines' sum over all the
+ * lines' count), summed over the ranks once every probe is in. */
 static void average_rows(struct fourier_lines *f, int P, int row, int col, int r, const double *q)
 {
-    int n0 = f->n[0], n1 = f->n[1], lr = f->len[row], ml = f->maxlen;
+    int n0 = f->nl[0], n1 = f->nl[1], lr = f->len[row], ml = f->maxlen;
     double *part = f->part;
-    long *cnt = f->cnt;
 #pragma omp parallel for schedule(static) if (kernel_parallel(f->g))
     for (int b = 0; b < n1; b++) {
         double *pb = part + (size_t)b * ml;
-        long nb = 0;
         for (int m = 0; m < lr; m++)
             pb[m] = 0.0;
         for (int a = 0; a < n0; a++) {
-            if (seam(f, P, a, b))
+            int ga = a + f->first[0], gb = b + f->first[1];
+            if (seam(f, P, ga, gb))
                 continue;
-            double sg = pattern(P, a, b);
+            double sg = pattern(P, ga, gb);
             for (int m = 0; m < lr; m++)
                 pb[m] += q[node(f, row, a, b, m)] * sg;
-            nb++;
         }
-        cnt[b] = nb;
     }
-    long total = 0;
-    for (int b = 0; b < n1; b++)
-        total += cnt[b];
+    long total = f->lines[P];
     double *S = sym_at(f, P, row, col);
     for (int m = 0; m < lr; m++) {
         int off = probe_offset(r, m);
@@ -255,14 +336,14 @@ static void probe_column(struct fourier_lines *f, int c, operator_fn op, void *c
                          double *q[3])
 {
     const struct grid *g = f->g;
-    int n0 = f->n[0], n1 = f->n[1];
+    int n0 = f->nl[0], n1 = f->nl[1];
     for (int P = 0; P < PATTERNS; P++) {
         /* one cell across: the wavenumber pi does not exist there; the
          * pattern without it serves (the symbol is then read at 0 only) */
         int Q = P;
-        if (n0 == 1)
+        if (f->n[0] == 1)
             Q &= ~1;
-        if (n1 == 1)
+        if (f->n[1] == 1)
             Q &= ~2;
         if (Q != P) {
             for (int row = 0; row < 3; row++)
@@ -278,7 +359,8 @@ static void probe_column(struct fourier_lines *f, int c, operator_fn op, void *c
             for (int b = 0; b < n1; b++)
                 for (int a = 0; a < n0; a++)
                     for (int m = r; m < f->len[c]; m += PROBES)
-                        p[c][node(f, c, a, b, m)] = pattern(P, a, b);
+                        p[c][node(f, c, a, b, m)] =
+                            pattern(P, a + f->first[0], b + f->first[1]);
             op(ctx, p, q);
             for (int row = 0; row < 3; row++)
                 average_rows(f, P, row, c, r, q[row]);
@@ -451,6 +533,19 @@ static int factor_general(const struct fourier_lines *f, const cplx *w, cplx *ba
     return banded_lu(band, nu);
 }
 
+/* The wavenumbers across, k[e] along o[e], of this rank's mode s. */
+static void mode_wavenumbers(const struct fourier_lines *f, long s, int k[2])
+{
+    if (!f->dc) {
+        k[0] = (int)(s % f->half0);
+        k[1] = (int)(s / f->half0);
+        return;
+    }
+    int na = f->n[f->fa]; /* FFTW's output: o[1 - fa]'s wavenumbers slowest */
+    k[f->fa] = (int)(s % na);
+    k[1 - f->fa] = (int)(f->slab.y0 + s / na);
+}
+
 int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, double *p[3],
                         double *q[3])
 {
@@ -463,12 +558,15 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
             for (int P = 0; P < PATTERNS; P++)
                 for (int row = 0; row < 3; row++)
                     memset(sym_at(f, P, row, c), 0, (size_t)f->maxlen * PROBES * sizeof(double));
+    if (f->dc) /* each rank's shares of the averages */
+        decomp_sum_array(f->dc, f->sym, PATTERNS * 9 * f->maxlen * PROBES);
     const double pi = 3.14159265358979323846;
     int failed = 0, nu = f->nu;
 #pragma omp parallel for schedule(static) reduction(+ : failed) if (kernel_parallel(f->g))
     for (long s = 0; s < f->modes; s++) {
-        int k0 = (int)(s % f->half0), k1 = (int)(s / f->half0);
-        double t0 = 2.0 * pi * k0 / f->n[0], t1 = 2.0 * pi * k1 / f->n[1];
+        int k[2];
+        mode_wavenumbers(f, s, k);
+        double t0 = 2.0 * pi * k[0] / f->n[0], t1 = 2.0 * pi * k[1] / f->n[1];
         cplx *band = f->band + (size_t)s * nu * f->width;
         cplx w[9 * PATTERNS];
         mode_weights(f, t0, t1, w);
@@ -485,7 +583,40 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
             }
         }
     }
-    return failed;
+    return f->dc ? (int)decomp_sum(f->dc, failed) : failed;
+}
+
+/* Over ranks: this rank's lines of r into (to_box) or from FFTW's slabs by
+ * way of the box, every component's nodes interleaved as a mode's vector;
+ * a padding node 0. */
+static void lines_to_slabs(struct fourier_lines *f, double *const r[3])
+{
+    const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++) {
+            double *x = f->box + ((size_t)i * nb + j) * nu;
+            int a = fa ? j : i, b = fa ? i : j; /* along o[0], o[1] */
+            for (int c = 0; c < 3; c++)
+                for (int m = 0; m < nu / 3; m++)
+                    x[3 * m + c] = m < f->len[c] ? r[c][node(f, c, a, b, m)] : 0.0;
+        }
+    block_slabs_to_slab(&f->xs, f->box, f->buf);
+}
+
+static void slabs_to_lines(struct fourier_lines *f, double *z[3])
+{
+    const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
+    block_slabs_to_boxes(&f->xs, f->buf, f->box);
+#pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
+    for (int i = 0; i < na; i++)
+        for (int j = 0; j < nb; j++) {
+            const double *x = f->box + ((size_t)i * nb + j) * nu;
+            int a = fa ? j : i, b = fa ? i : j;
+            for (int c = 0; c < 3; c++)
+                for (int m = 0; m < f->len[c]; m++)
+                    z[c][node(f, c, a, b, m)] = x[3 * m + c];
+        }
 }
 
 void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[3])
@@ -494,9 +625,14 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
     int nu = f->nu;
     if (f->maxlen == 0)
         return;
-    for (int c = 0; c < 3; c++)
-        if (f->len[c] > 0)
-            fftw_execute_dft_r2c(f->fwd[c], r[c] + node(f, c, 0, 0, 0), f->spec + c);
+    if (f->dc) {
+        lines_to_slabs(f, r);
+        fftw_execute(f->fwd[0]);
+    } else {
+        for (int c = 0; c < 3; c++)
+            if (f->len[c] > 0)
+                fftw_execute_dft_r2c(f->fwd[c], r[c] + node(f, c, 0, 0, 0), f->spec + c);
+    }
     /* each mode's vector is contiguous; the inverse transform's 1 / (n0 n1)
      * is taken here */
     double norm = 1.0 / ((double)f->n[0] * f->n[1]);
@@ -511,6 +647,11 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
             cholesky_solve(band, nu, x);
         for (int i = 0; i < nu; i++)
             x[i] *= norm;
+    }
+    if (f->dc) {
+        fftw_execute(f->bwd[0]);
+        slabs_to_lines(f, z);
+        return;
     }
     for (int c = 0; c < 3; c++)
         if (f->len[c] > 0)
