@@ -1081,6 +1081,8 @@ static void test_muflow_on_ranks(void **state)
 void test_fft_ranks_periodic(void **state);
 void test_fft_ranks_dirichlet(void **state);
 void test_fft_ranks_uniform(void **state);
+/* test_mpi_fourier.c */
+void test_fourier_lines_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1096,6 +1098,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_periodic),
         cmocka_unit_test(test_fft_ranks_dirichlet),
         cmocka_unit_test(test_fft_ranks_uniform),
+        cmocka_unit_test(test_fourier_lines_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),
