@@ -806,8 +806,8 @@ static void test_checkpoint_fields_any_ranks(void **state)
  * tol of the exact value (the discretisation's error: the reference's own
  * measure), or, tol NaN, a scene without one (exact NaN).  On one rank
  * both runs are one process. */
-static void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
-                                 enum run_status want)
+void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
+                          enum run_status want)
 {
     struct muflow_case cs;
     test_load_case(&cs, file, n, ov);
@@ -1083,6 +1083,7 @@ void test_fft_ranks_dirichlet(void **state);
 void test_fft_ranks_uniform(void **state);
 /* test_mpi_fourier.c */
 void test_fourier_lines_ranks(void **state);
+void test_bagnold3d_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1101,6 +1102,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fourier_lines_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
+        cmocka_unit_test(test_bagnold3d_on_ranks),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),
         cmocka_unit_test(test_checkpoint_fails_on_ranks),
         cmocka_unit_test(test_bingham_channel_on_ranks),

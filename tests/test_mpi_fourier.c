@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include "app/run.h"
 #include "grid/decomp.h"
 #include "platform/comm.h"
 #include "solvers/fourier_lines.h"
@@ -176,4 +177,24 @@ void test_fourier_lines_ranks(void **state)
              * most; 3.5e-12 with a contrast of 1e4 and a mass of 1e-3) */
             assert_true(apply_on_ranks(dims[s], n, tops[t]) <= 1e-13);
         }
+}
+
+/* test_mpi.c: a scene split over the ranks against one process */
+void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
+                          enum run_status want);
+
+/* bagnold3d's small grid (the case file's) from its 3D perturbation to the
+ * uniform layer, solver.preconditioner = fourier on the ranks' blocks:
+ * split along x (2 ranks) or x and y (2 x 2), along y alone (one cell
+ * along x) and x alone (one along y). */
+void test_bagnold3d_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[3][5] = {
+        {"domain.nx=8", "domain.ny=8", "domain.nz=16", "domain.lx=7", "domain.ly=7"},
+        {"domain.nx=1", "domain.ny=8", "domain.nz=16", "domain.lx=0.875", "domain.ly=7"},
+        {"domain.nx=8", "domain.ny=1", "domain.nz=16", "domain.lx=7", "domain.ly=0.875"}};
+    /* h = H / 16: u_surface 9.6e-4 above Bagnold's */
+    for (int s = 0; s < 3; s++)
+        check_scene_on_ranks("../cases/bagnold3d.ini", 5, ov[s], 1.5e-3, STATUS_STEADY);
 }
