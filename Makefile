@@ -323,6 +323,19 @@ bench-decomposed: deps bench-deps
 	  done; done; } > $(BENCH_OUT)/decomposed.txt
 	/usr/bin/python3 bench/decomposed_scaling.py $(BENCH_OUT)
 
+# The plane Fourier line blocks over ranks (bench/fourier_ranks_bench.py):
+# bagnold3d 128 x 128 x 64 for FOURIER_STEPS steps on 2 ranks x 1 thread
+# and 1 x 2, alternated, FOURIER_REPEATS runs each: medians, peak RSS a rank,
+# load ($(BENCH_OUT)/fourier_ranks.md).  About 5 minutes on 2 cores.
+FOURIER_REPEATS ?= 3
+FOURIER_STEPS ?= 3
+.PHONY: bench-fourier-ranks
+bench-fourier-ranks: deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 /usr/bin/python3 \
+	  bench/fourier_ranks_bench.py $(BUILD)/muflow $(BENCH_OUT) $(FOURIER_REPEATS) \
+	  $(FOURIER_STEPS) mpirun --oversubscribe
+
 .PHONY: bench-threads
 bench-threads: deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)

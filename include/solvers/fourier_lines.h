@@ -24,7 +24,10 @@
  * only along the lines (the layer's uniform flow, whatever its viscosity
  * contrast, with the grad-div term of a uniform r), where the line blocks
  * are exact only for the plane-uniform mode and a line smoother for the
- * others. */
+ * others.  Over the ranks of a decomposition (bc->dc; the lines whole on
+ * every rank): the averages from each rank's lines summed over the ranks,
+ * the planes transformed by FFTW's MPI interface (platform/fft_ranks.h) and
+ * each rank's share of the modes' blocks factorised and solved there. */
 #ifndef MUFLOW_FOURIER_LINES_H
 #define MUFLOW_FOURIER_LINES_H
 
@@ -36,8 +39,9 @@
 struct fourier_lines;
 
 /* Lines along line_dir in each component's box act[c]; the two other
- * directions must be periodic (the boxes span them whole).  Returns 0, or -1
- * with a message in err. */
+ * directions must be periodic (the boxes span them, or the rank's block of
+ * them, whole).  Returns 0, or -1 with a message in err (every rank alike).
+ * Over ranks, this and the calls below are collective. */
 int fourier_lines_create(struct fourier_lines **out, const struct grid *g,
                          const struct boundary *bc, const struct box act[3], int line_dir,
                          char *err, size_t errlen);
@@ -58,7 +62,8 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
  * 0: Hermitian (CG). */
 int fourier_lines_general(const struct fourier_lines *f);
 
-/* Bytes fourier_lines_create allocates on g with the faces bc. */
+/* Bytes fourier_lines_create allocates on g with the faces bc (a rank's
+ * block: about its share). */
 double fourier_lines_memory_estimate(const struct grid *g, const struct boundary *bc);
 
 #endif

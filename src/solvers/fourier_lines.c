@@ -586,9 +586,9 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
     return f->dc ? (int)decomp_sum(f->dc, failed) : failed;
 }
 
-/* Over ranks: this rank's lines of r into (to_box) or from FFTW's slabs by
- * way of the box, every component's nodes interleaved as a mode's vector;
- * a padding node 0. */
+/* Over ranks: this rank's lines of r into FFTW's slabs by way of the box,
+ * every component's nodes interleaved as a mode's vector (a padding node
+ * 0), and back from them into z. */
 static void lines_to_slabs(struct fourier_lines *f, double *const r[3])
 {
     const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
