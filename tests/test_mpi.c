@@ -1081,6 +1081,9 @@ static void test_muflow_on_ranks(void **state)
 void test_fft_ranks_periodic(void **state);
 void test_fft_ranks_dirichlet(void **state);
 void test_fft_ranks_uniform(void **state);
+/* test_mpi_vmg.c */
+void test_vmg_ranks_plane(void **state);
+void test_vmg_ranks_box(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1096,6 +1099,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_periodic),
         cmocka_unit_test(test_fft_ranks_dirichlet),
         cmocka_unit_test(test_fft_ranks_uniform),
+        cmocka_unit_test(test_vmg_ranks_plane),
+        cmocka_unit_test(test_vmg_ranks_box),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),
