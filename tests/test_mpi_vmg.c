@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "app/run.h"
 #include "grid/boundary.h"
 #include "grid/decomp.h"
 #include "platform/comm.h"
@@ -177,7 +178,8 @@ static void check_vmg(const int dims_in[3], const int n[3], const enum bc_kind f
 /* A plane flow (x-z, one periodic cell across y) in a box with walls and a
  * lid, the viscosity over three decades: split along x, along z, and both
  * (two by two on four ranks); 128^2 keeps two levels on the ranks (the
- * second gathered: 64^2 is the pressure multigrid's 4,096 cells). */
+ * second gathered: 64^2 is the pressure multigrid's 4,096 cells), 256^2
+ * three. */
 void test_vmg_ranks_plane(void **state)
 {
     (void)state;
@@ -188,6 +190,8 @@ void test_vmg_ranks_plane(void **state)
     check_vmg(along_x, n, face);
     check_vmg(along_z, n, face);
     check_vmg(both, n, face);
+    const int n3[3] = {256, 1, 256}; /* three levels on the ranks */
+    check_vmg(both, n3, face);
 }
 
 /* A 3D box, walls on every face (an open top), split along x and z. */
@@ -198,4 +202,24 @@ void test_vmg_ranks_box(void **state)
     const int n[3] = {32, 16, 32};
     const int both[3] = {0, 1, 0};
     check_vmg(both, n, face);
+}
+
+/* test_mpi.c's: a scene on this run's ranks against one process */
+void check_scene_on_ranks(const char *file, int n, char *ov[], double tol, enum run_status want);
+
+/* The march on ranks with the velocity multigrid, bounded directions split
+ * (march_create.c): bagnold's layer of one column split along z (wall
+ * below, surface above: the hydrostatic split's and the fills' rank borders,
+ * Newton's GMRES with its dots over the ranks), the chute split across its
+ * walls (y; and its periodic z on four ranks).  Both are under 4,096 cells:
+ * the cycle is the gathered level's, the ranks' part the march around it. */
+void test_vmg_scenes_on_ranks(void **state)
+{
+    (void)state;
+    char *bagnold[] = {"domain.nx=1", "domain.lx=0.35", "solver.preconditioner=multigrid"};
+    /* h = H / 40: u_surface 2.2e-4 above Bagnold's (docs/numerics) */
+    check_scene_on_ranks("../cases/bagnold.ini", 3, bagnold, 1e-3, STATUS_STEADY);
+    char *chute[] = {"solver.dt=100", "solver.preconditioner=multigrid"};
+    /* h = b / 80: u_plug 0.56% above the exact plug (docs/validation/chute.md) */
+    check_scene_on_ranks("../cases/chute.ini", 2, chute, 6e-3, STATUS_STEADY);
 }
