@@ -394,6 +394,11 @@ size_t velocity_mg_bytes(const struct velocity_mg *m)
         bytes += (level_fields(m->lv[l].nlines, l > 0) + PATCH_FACTOR * planes) *
                  (double)m->lv[l].g.size * sizeof(double);
     }
+    if (m->gath) /* the finest edges' copies; the gathered level's 15 arrays and hierarchy */
+        bytes += 3.0 * (double)m->lv[0].g.size * sizeof(double) +
+                 15.0 * (double)m->gath->gg.size * sizeof(double) +
+                 (double)decomp_gather_len(&m->lv[m->nlevels - 1].dc) * sizeof(double) +
+                 (double)velocity_mg_bytes(m->gath->serial);
     return (size_t)bytes;
 }
 
