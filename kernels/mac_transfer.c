@@ -35,11 +35,18 @@ static int taps_1d(const struct grid *coarse, const struct boundary *bc, int coa
         nraw = 2;
     }
     const int n = coarse->n[d];
-    const int periodic = bc->face[d][0] == BC_PERIODIC;
+    const int periodic = bc_wraps(bc, d);
     int m = 0;
     for (int r = 0; r < nraw; r++) {
         int I = raw[r].at;
         double w = raw[r].w;
+        /* past a rank border: the neighbour's node in the ghost slot (a
+         * face along a on the low border, face 0, is this rank's) */
+        const int side = d == a ? (I >= n ? 1 : I <= 0 ? 0 : -1) : (I >= n ? 1 : I < 0 ? 0 : -1);
+        if (side >= 0 && bc_border(bc, d, side)) {
+            t[m++] = (struct tap){I, w};
+            continue;
+        }
         if (periodic) {
             I = I < 0 ? I + n : I >= n ? I - n : I;
         } else if (d == a) {
@@ -120,9 +127,16 @@ void kernel_restrict_velocity(const struct grid *fine, const struct grid *coarse
     for (int d = 0; d < 3; d++)
         if (f[d] == 2)
             scale *= 0.5;
-    for (int I = act_c->lo[0]; I < act_c->hi[0]; I++)
-        for (int J = act_c->lo[1]; J < act_c->hi[1]; J++)
-            for (int K = act_c->lo[2]; K < act_c->hi[2]; K++)
+    /* the box and, past a rank border, its ghost slots (the neighbour's
+     * nodes this rank's fine nodes scatter to: decomp_exchange_add) */
+    struct box out = *act_c;
+    for (int d = 0; d < 3; d++) {
+        out.lo[d] -= bc_border(bc, d, 0);
+        out.hi[d] += bc_border(bc, d, 1);
+    }
+    for (int I = out.lo[0]; I < out.hi[0]; I++)
+        for (int J = out.lo[1]; J < out.hi[1]; J++)
+            for (int K = out.lo[2]; K < out.hi[2]; K++)
                 y[grid_idx(coarse, I, J, K)] = 0.0;
     /* a scatter (the transpose of the gather P): the fine rows of x-index i
      * write the coarse rows of x-index I - 1 .. I + 1 around their home I,
@@ -149,9 +163,9 @@ void kernel_restrict_velocity(const struct grid *fine, const struct grid *coarse
         }
     }
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(coarse))
-    for (int I = act_c->lo[0]; I < act_c->hi[0]; I++)
-        for (int J = act_c->lo[1]; J < act_c->hi[1]; J++)
-            for (int K = act_c->lo[2]; K < act_c->hi[2]; K++)
+    for (int I = out.lo[0]; I < out.hi[0]; I++)
+        for (int J = out.lo[1]; J < out.hi[1]; J++)
+            for (int K = out.lo[2]; K < out.hi[2]; K++)
                 y[grid_idx(coarse, I, J, K)] *= scale;
 }
 
@@ -175,13 +189,18 @@ void kernel_prolong_weights(const struct grid *fine, const struct boundary *bc, 
     for (int d = 0; d < 3; d++) {
         if (f[d] != 2)
             continue;
-        const int n = fine->n[d], periodic = bc->face[d][0] == BC_PERIODIC;
+        const int n = fine->n[d], periodic = bc_wraps(bc, d);
         const ptrdiff_t sd = fine->stride[d];
         double *wd = w[d];
+        /* past a low rank border, the cells' ghost -1 too: the low
+         * neighbour's last cell, whose weight reads a coefficient two cells
+         * beyond that rank's block (the solver hands it over) */
+        struct box bx = *act_f;
+        bx.lo[d] -= d != a && bc_border(bc, d, 0);
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(fine))
-        for (int i = act_f->lo[0]; i < act_f->hi[0]; i++)
-            for (int j = act_f->lo[1]; j < act_f->hi[1]; j++)
-                for (int k = act_f->lo[2]; k < act_f->hi[2]; k++) {
+        for (int i = bx.lo[0]; i < bx.hi[0]; i++)
+            for (int j = bx.lo[1]; j < bx.hi[1]; j++)
+                for (int k = bx.lo[2]; k < bx.hi[2]; k++) {
                     const int idx[3] = {i, j, k};
                     const int t = idx[d];
                     const ptrdiff_t p = grid_idx(fine, i, j, k);

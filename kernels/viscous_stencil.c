@@ -34,8 +34,9 @@ static inline int neighbour(const struct grid *g, const struct box *act, int per
 void kernel_own_stencil(const struct grid *g, const struct boundary *bc, const struct box *act_a,
                         int a, const struct stencil_coefficients *k, struct own_stencil *out)
 {
-    int periodic[3];
-    bc_periodic_flags(bc, periodic);
+    int periodic[3]; /* wrapping here: a direction split over ranks wraps through them */
+    for (int d = 0; d < 3; d++)
+        periodic[d] = bc_wraps(bc, d);
     const ptrdiff_t *o = g->stride;
     const double *cut = k->e ? k->e->cut : NULL;
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
@@ -84,6 +85,11 @@ void kernel_own_stencil(const struct grid *g, const struct boundary *bc, const s
                         int q = neighbour(g, act_a, periodic[d], d, jd, side ? 1 : -1);
                         double *cout = side ? &out->cp[d][p] : &out->cm[d][p];
                         *cout = 0.0;
+                        if (q < 0 && bc_border(bc, d, side)) {
+                            /* a rank border's ghost: the neighbour's unknown */
+                            *cout = c;
+                            continue;
+                        }
                         if (q < 0) {
                             /* a boundary face or a ghost: its value is a share
                              * of v_P, so c (v_P - v_Q) moves into diag */

@@ -805,9 +805,8 @@ static void test_checkpoint_fields_any_ranks(void **state)
  * order; a NaN where the other has a number fails); the headline within
  * tol of the exact value (the discretisation's error: the reference's own
  * measure), or, tol NaN, a scene without one (exact NaN).  On one rank
- * both runs are one process. */
-void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
-                          enum run_status want)
+ * both runs are one process.  Also test_mpi_vmg.c's. */
+void check_scene_on_ranks(const char *file, int n, char *ov[], double tol, enum run_status want)
 {
     struct muflow_case cs;
     test_load_case(&cs, file, n, ov);
@@ -1084,6 +1083,10 @@ void test_fft_ranks_uniform(void **state);
 /* test_mpi_fourier.c */
 void test_fourier_lines_ranks(void **state);
 void test_bagnold3d_on_ranks(void **state);
+/* test_mpi_vmg.c */
+void test_vmg_ranks_plane(void **state);
+void test_vmg_ranks_box(void **state);
+void test_vmg_scenes_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1100,6 +1103,9 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_dirichlet),
         cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_fourier_lines_ranks),
+        cmocka_unit_test(test_vmg_ranks_plane),
+        cmocka_unit_test(test_vmg_ranks_box),
+        cmocka_unit_test(test_vmg_scenes_on_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold3d_on_ranks),

@@ -42,8 +42,9 @@ struct boundary {
     const void *inflow_ctx;
     /* the ranks' decomposition of the grid (NULL: one process holds it): a
      * fill takes a rank border's ghosts from the neighbour (decomp_exchange),
-     * the face's condition on the domain's own faces only; a periodic
-     * direction split over ranks wraps through its ranks */
+     * the face's condition on the domain's own faces only (a bounded
+     * direction split: the condition on its end ranks' outer sides); a
+     * periodic direction split over ranks wraps through its ranks */
     const struct decomp *dc;
 };
 
@@ -52,6 +53,20 @@ struct boundary {
 static inline int bc_split(const struct boundary *bc, int d)
 {
     return bc->dc && (bc->dc->border[d][0] || bc->dc->border[d][1]);
+}
+
+/* 1 when side s of direction d is a rank border: its ghosts are the
+ * neighbour's nodes (unknowns there), not a condition's image. */
+static inline int bc_border(const struct boundary *bc, int d, int s)
+{
+    return bc->dc && bc->dc->border[d][s];
+}
+
+/* 1 when direction d wraps on this grid: periodic and held by one rank
+ * (split over ranks, its wrap goes through the neighbours' ghosts). */
+static inline int bc_wraps(const struct boundary *bc, int d)
+{
+    return bc->face[d][0] == BC_PERIODIC && !bc_split(bc, d);
 }
 
 const char *bc_kind_name(enum bc_kind kind);
@@ -115,7 +130,8 @@ double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, i
 void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, double *f);
 
 /* The boxes of velocity unknowns: for component c, the faces along c that
- * are not prescribed (see bc_face_active) and every cell across. */
+ * are not prescribed (see bc_face_active) and every cell across; on a rank
+ * border's side face 0 is this rank's unknown, face n the neighbour's. */
 void bc_unknown_boxes(const struct grid *g, const struct boundary *bc, struct box act[3]);
 
 /* 1 when face index i along direction d carries an unknown of the velocity

@@ -73,6 +73,14 @@ int decomp_local_grid(const struct decomp *dc, const struct grid *gg, struct gri
  * thread that initialised MPI calls it. */
 void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, int d);
 
+/* The transpose of decomp_exchange along d: the ghost slots of f across
+ * the rank borders added to the neighbours' slots they image (ghost -1 to
+ * the low neighbour's n - 1, ghost n to the high one's 0), then zeroed.  A
+ * sum scattered into ghosts (a restriction's) lands on its owners; direction
+ * after direction, the corners' too.  Only the thread that initialised MPI
+ * calls it. */
+void decomp_exchange_add(const struct decomp *dc, const struct grid *g, double *f, int d);
+
 /* What this rank sent since decomp_traffic_reset (or the start): the
  * exchanges that crossed a rank border, their messages (one per border
  * side) and bytes (the ghost-extended plane, (n_e1 + 2)(n_e2 + 2) doubles),

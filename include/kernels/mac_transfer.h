@@ -9,7 +9,9 @@
  * cells.  A coarse node that is not an unknown is folded in by the rule
  * its ghost follows (boundary.h): 0 on a closed face, the inner face on an
  * open one, -1 or +1 times the mirror for a tangential component, the
- * periodic image.  Restriction is P's transpose over 2^D (D the directions
+ * periodic image; past a rank border (bc->dc) the neighbour's node in the
+ * ghost slot, which the caller fills before a prolongation and hands to its
+ * owner after a restriction (decomp_exchange_add).  Restriction is P's transpose over 2^D (D the directions
  * halved): a weighted mean, as the coarse operator is the fine one
  * rediscretised (not summed over the children).
  *
@@ -34,7 +36,10 @@
  * linear 1: the plain weights 1/2 and 1/4; 2: 1/2 along the component and
  * 0 across (the fine faces on a coarse face take its value), which keeps a
  * coarse field's divergence in each fine cell: a divergence-free coarse
- * correction stays one, as the grad-div augmented operator needs. */
+ * correction stays one, as the grad-div augmented operator needs.  Past a
+ * low rank border w[d] gets the ghost cells' weights too (the low
+ * neighbour's last cells, whose profile reads two cells past its block);
+ * the high border's last cells are left to them. */
 void kernel_prolong_weights(const struct grid *fine, const struct boundary *bc, const int f[3],
                             int a, const struct box *act_f, const double *const A_cell[3],
                             const double *const A_edge[3], const double *aug, int linear,

@@ -13,7 +13,9 @@
  * in: a neighbour that is not an unknown gets coupling 0, and the value a
  * ghost takes (-v_P at a wall, +v_P at a slip face, the inner face's at an
  * open one, 0 on a closed face) moves its share into diag.  A periodic
- * neighbour wraps around.  A body's held node is a row of the mass alone,
+ * neighbour wraps around (on one rank); past a rank border (bc->dc) the
+ * neighbour's node in the ghost slot is coupled as an unknown, and a line
+ * ends at the border (the neighbour's part of a sweep is 0 there).  A body's held node is a row of the mass alone,
  * and its neighbours' couplings to it are 0 (it is held at 0).
  *
  * Nothing is allocated; every array is a field array of g (grid.h). */

@@ -21,6 +21,11 @@ int gmres_create(struct gmres **out, long n, int m);
 int gmres_create_flexible(struct gmres **out, long n, int m);
 void gmres_destroy(struct gmres *g);
 
+/* The vectors as one rank's share of vectors split over the ranks of dc
+ * (grid/decomp.h): every dot product summed over them (NULL: one process). */
+struct decomp;
+void gmres_set_decomp(struct gmres *g, const struct decomp *dc);
+
 struct gmres_stats {
     int iterations;           /* operator applications in the Krylov loop */
     double relative_residual; /* |b - A x| / |b| at the end */

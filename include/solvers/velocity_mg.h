@@ -32,8 +32,13 @@
  * tangent.  The cycle is symmetric (the post-smoother the pre-smoother's
  * reverse), so it preconditions conjugate gradients too.
  *
- * Nothing in it assumes one process owns the grid: every level is a box
- * of local indices, and the transfers and stencils read one ghost layer. */
+ * On MPI ranks (bc->dc split, bounded directions too) the levels are the
+ * ranks' blocks halved in place (decomp_coarsen) while the global level
+ * above has over 4,096 cells; the last kept is gathered on every rank and
+ * cycled by a serial hierarchy of its global grid.  The fills exchange at
+ * rank borders, the lines are cut there, a restriction's sums on ghosts go
+ * to their owners; the cycle is the serial one but for the cut lines
+ * (docs/numerics/velocity-multigrid.md).  No body or augmentation there. */
 #ifndef MUFLOW_VELOCITY_MG_H
 #define MUFLOW_VELOCITY_MG_H
 

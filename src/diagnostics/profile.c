@@ -14,8 +14,8 @@ void profile_free(struct profile *pr)
     memset(pr, 0, sizeof *pr);
 }
 
-/* The layers' sums and counts of every rank (the profile's axis is not
- * split: a layer's index is the same on every rank). */
+/* The layers' sums and counts of every rank (each over the global layers,
+ * its own block's filled, 0 elsewhere). */
 static int sum_over_ranks(const struct march_state *st, struct profile *pr, long *nodes,
                           long *cells)
 {
@@ -47,15 +47,18 @@ int profile_extract(struct profile *pr, const struct march_state *st,
 {
     memset(pr, 0, sizeof *pr);
     const struct muflow_case *cs = st->cs;
-    /* the layers' sums over ranks need the axis whole on every rank */
+    /* a slab's indices are local: its axis whole on every rank */
     if (spec->axis < 0 || spec->component < 0 ||
-        (st->ranks && st->ranks->dc.n[spec->axis] != st->ranks->dc.n_global[spec->axis]))
+        (st->ranks && spec->slab &&
+         st->ranks->dc.n[spec->slab_axis] != st->ranks->dc.n_global[spec->slab_axis]))
         return -1;
     pr->axis = spec->axis;
     pr->component = spec->component;
     pr->exact_name = spec->exact_name;
     const struct grid *g = &st->g;
-    int n = pr->n = g->n[pr->axis];
+    /* the layers over the global axis, this rank's from its block's first */
+    const int n = pr->n = march_global_grid(st)->n[pr->axis];
+    const int l0 = st->ranks ? st->ranks->dc.lo[pr->axis] : 0;
     double **arrays[] = {&pr->coord, &pr->velocity, &pr->pressure, &pr->shear_rate,
                          &pr->inertial, &pr->viscosity, &pr->exact};
     for (size_t m = 0; m < sizeof arrays / sizeof arrays[0]; m++)
@@ -83,7 +86,7 @@ int profile_extract(struct profile *pr, const struct march_state *st,
                 int idx[3] = {i, j, k};
                 if (idx[sa] < faces[0] || idx[sa] > faces[1])
                     continue;
-                int l = idx[pr->axis];
+                int l = l0 + idx[pr->axis];
                 pr->velocity[l] += st->field.velocity[pr->component][grid_idx(g, i, j, k)];
                 nodes[l]++;
             }
@@ -93,7 +96,7 @@ int profile_extract(struct profile *pr, const struct march_state *st,
                 int idx[3] = {i, j, k};
                 if (idx[sa] < cellr[0] || idx[sa] > cellr[1])
                     continue;
-                int l = idx[pr->axis];
+                int l = l0 + idx[pr->axis];
                 ptrdiff_t p = grid_idx(g, i, j, k);
                 double shear = sqrt(st->field.shear2[p]);
                 pr->pressure[l] += st->field.pressure[p];
@@ -110,7 +113,7 @@ int profile_extract(struct profile *pr, const struct march_state *st,
         return -1;
     }
     for (int l = 0; l < n; l++) {
-        pr->coord[l] = grid_xc(g, pr->axis, l);
+        pr->coord[l] = grid_xc(march_global_grid(st), pr->axis, l);
         pr->velocity[l] /= nodes[l] > 0 ? (double)nodes[l] : 1.0;
         double nc = cells[l] > 0 ? (double)cells[l] : 1.0;
         pr->pressure[l] /= nc;

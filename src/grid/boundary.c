@@ -139,11 +139,11 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
             if (!(comps >> c & 1))
                 continue;
             double *f = vel[c];
-            if (bc_split(bc, d)) { /* periodic over ranks (march_create splits no other) */
+            if (bc_split(bc, d)) {
                 decomp_exchange(bc->dc, g, f, d);
-                continue;
-            }
-            if (bc->face[d][0] == BC_PERIODIC) {
+                if (bc->face[d][0] == BC_PERIODIC)
+                    continue;
+            } else if (bc->face[d][0] == BC_PERIODIC) {
                 /* faces and cells alike: slot -1 is n-1, slot n is 0 */
                 ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
                 ghost_plane(g, d, n, 0, f, 1.0, 0);
@@ -157,13 +157,16 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
                  * that the implicit step moves the face with the flow it
                  * solves for (stage_projection.c); an inflow face carries the
                  * profile. */
-                ghost_plane(g, d, -1, -1, f, 0.0, 1);
+                if (!bc_border(bc, d, 0))
+                    ghost_plane(g, d, -1, -1, f, 0.0, 1);
                 for (int side = 0; side < 2; side++) {
                     enum bc_kind kind = bc->face[d][side];
+                    if (bc_border(bc, d, side))
+                        continue;
                     int face = side == 0 ? 0 : n;
                     if (kind == BC_OPEN && mode != FILL_INCREMENT)
                         continue;
-                    if (kind == BC_OPEN && n > 1) {
+                    if (kind == BC_OPEN && (n > 1 || bc_split(bc, d))) {
                         ghost_plane(g, d, face, side == 0 ? 1 : n - 1, f, 1.0, 0);
                         continue;
                     }
@@ -177,6 +180,8 @@ static void fill_velocity(const struct grid *g, const struct boundary *bc, doubl
                      * slip, surface and open: zero normal gradient, so zero shear;
                      * lid: the face value is the lid's velocity. */
                     enum bc_kind kind = bc->face[d][side];
+                    if (bc_border(bc, d, side))
+                        continue;
                     int walled = kind == BC_WALL || kind == BC_LID || kind == BC_INFLOW;
                     double sign = walled ? -1.0 : 1.0;
                     int ghost = side == 0 ? -1 : n, inner = side == 0 ? 0 : n - 1;
@@ -219,15 +224,19 @@ static void fill_cells(const struct grid *g, const struct boundary *bc, double *
         int n = g->n[d];
         if (grid_compact(g, d)) /* its ghosts are the node */
             continue;
-        if (bc_split(bc, d)) {
+        if (bc_split(bc, d))
             decomp_exchange(bc->dc, g, f, d);
-        } else if (bc->face[d][0] == BC_PERIODIC) {
+        if (bc_split(bc, d) && bc->face[d][0] == BC_PERIODIC)
+            continue;
+        if (!bc_split(bc, d) && bc->face[d][0] == BC_PERIODIC) {
             ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
             ghost_plane(g, d, n, 0, f, 1.0, 0);
-        } else {
-            ghost_plane(g, d, -1, 0, f, bc->face[d][0] == BC_OPEN ? open_sign : 1.0, 0);
-            ghost_plane(g, d, n, n - 1, f, bc->face[d][1] == BC_OPEN ? open_sign : 1.0, 0);
+            continue;
         }
+        if (!bc_border(bc, d, 0))
+            ghost_plane(g, d, -1, 0, f, bc->face[d][0] == BC_OPEN ? open_sign : 1.0, 0);
+        if (!bc_border(bc, d, 1))
+            ghost_plane(g, d, n, n - 1, f, bc->face[d][1] == BC_OPEN ? open_sign : 1.0, 0);
     }
 }
 
@@ -279,17 +288,23 @@ void bc_fill_scalar_linear(const struct grid *g, const struct boundary *bc, doub
         int n = g->n[d];
         if (grid_compact(g, d)) /* its ghosts are the node */
             continue;
-        if (bc_split(bc, d)) {
+        if (bc_split(bc, d))
             decomp_exchange(bc->dc, g, f, d);
-        } else if (bc->face[d][0] == BC_PERIODIC) {
+        if (bc_split(bc, d) && bc->face[d][0] == BC_PERIODIC)
+            continue;
+        if (!bc_split(bc, d) && bc->face[d][0] == BC_PERIODIC) {
             ghost_plane(g, d, -1, n - 1, f, 1.0, 0);
             ghost_plane(g, d, n, 0, f, 1.0, 0);
         } else if (n == 1) {
-            ghost_plane(g, d, -1, 0, f, 1.0, 0);
-            ghost_plane(g, d, n, 0, f, 1.0, 0);
+            if (!bc_border(bc, d, 0))
+                ghost_plane(g, d, -1, 0, f, 1.0, 0);
+            if (!bc_border(bc, d, 1))
+                ghost_plane(g, d, n, 0, f, 1.0, 0);
         } else {
-            ghost_plane2(g, d, -1, 0, 1, f, 2.0, -1.0, 0);
-            ghost_plane2(g, d, n, n - 1, n - 2, f, 2.0, -1.0, 0);
+            if (!bc_border(bc, d, 0))
+                ghost_plane2(g, d, -1, 0, 1, f, 2.0, -1.0, 0);
+            if (!bc_border(bc, d, 1))
+                ghost_plane2(g, d, n, n - 1, n - 2, f, 2.0, -1.0, 0);
         }
     }
 }
@@ -298,7 +313,8 @@ void bc_unknown_boxes(const struct grid *g, const struct boundary *bc, struct bo
 {
     for (int c = 0; c < 3; c++)
         for (int d = 0; d < 3; d++) {
-            act[c].lo[d] = (d == c && bc->face[d][0] != BC_PERIODIC) ? 1 : 0;
+            act[c].lo[d] = (d == c && bc->face[d][0] != BC_PERIODIC && !bc_border(bc, d, 0)) ? 1
+                                                                                            : 0;
             act[c].hi[d] = g->n[d];
         }
 }

@@ -73,9 +73,12 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
                     int idx[3] = {i, j, k};
                     int face = idx[a];
                     double v = f[a] * scale;
+                    /* a rank border's faces are the domain's inner ones */
                     if (st->bc.face[a][0] != BC_PERIODIC &&
-                        ((face <= 0 && !zero_pressure(st->bc.face[a][0])) ||
-                         (face >= g->n[a] && !zero_pressure(st->bc.face[a][1]))))
+                        ((face <= 0 && !bc_border(&st->bc, a, 0) &&
+                          !zero_pressure(st->bc.face[a][0])) ||
+                         (face >= g->n[a] && !bc_border(&st->bc, a, 1) &&
+                          !zero_pressure(st->bc.face[a][1]))))
                         v = 0.0;
                     flux[a][grid_idx(g, i, j, k)] = v;
                 }

@@ -53,8 +53,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
  * does. */
 #define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
                   "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
-                  "bodies, uniform spacing, the line preconditioner (solver.preconditioner = " \
-                  "auto or line), no solver.initial_state"
+                  "bodies, uniform spacing, the line or multigrid preconditioner (solver.preconditioner = " \
+                  "auto, line or multigrid), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -96,7 +96,8 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
 /* A run over several ranks (comm.h): the Cartesian communicator over the
  * periodic directions (a line across walls or a surface, the line blocks'
  * (never periodic: case_checks.c) and the profile's, stays whole on a
- * rank), this rank's block, its local grid as st->g, not
+ * rank), and the bounded ones under the velocity multigrid (its lines cut
+ * at rank borders), this rank's block, its local grid as st->g, not
  * compact (the decomposed multigrid takes no compact grid), and the fills'
  * decomposition.  What runs so is march_ranks_refusal's. */
 static int split_over_ranks(struct march_state *st, const struct muflow_case *cs, char *err,
@@ -109,12 +110,16 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     }
     int periodic[3], splittable[3], dims[3] = {0, 0, 0};
     bc_periodic_flags(&cs->bc, periodic);
+    /* the velocity multigrid cuts its lines at rank borders: a bounded
+     * direction splits too */
+    const int bounded = cs->preconditioner == PRECOND_MULTIGRID;
     for (int d = 0; d < 3; d++)
-        splittable[d] = periodic[d] && cs->n[d] > 1;
+        splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
     if (comm_cart_create(&rk->cart, dims, periodic, splittable, why, sizeof why) != 0 ||
         decomp_create(&rk->dc, &rk->cart, cs->n, why, sizeof why) != 0) {
         snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic directions are split, "
+                              "and with solver.preconditioner = multigrid the bounded ones, "
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }
@@ -176,7 +181,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     double avail = march_available_memory();
     st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
-    if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER) {
+    if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_MG) {
         static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
                                             "multigrid"};
         char what[120];

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "solvers/gmres.h"
+#include "grid/decomp.h"
 
 struct gmres {
     long n;
@@ -12,6 +13,7 @@ struct gmres {
     double *H;   /* H[i * m + j], (m + 1) x m, the rotated Hessenberg matrix */
     double *cs, *sn, *e, *y;
     double *r, *z;
+    const struct decomp *dc; /* NULL: one process holds the vectors */
 };
 
 static int create(struct gmres **out, long n, int m, int flexible)
@@ -76,7 +78,7 @@ void gmres_destroy(struct gmres *g)
  * sum is a chain of dependent additions, four let the core overlap them
  * (and the compiler vectorise), and the order stays the same for any
  * thread count. */
-static double dot(long n, const double *a, const double *b)
+static double local_dot(long n, const double *a, const double *b)
 {
     double d[4] = {0.0, 0.0, 0.0, 0.0};
     long k = 0;
@@ -87,6 +89,14 @@ static double dot(long n, const double *a, const double *b)
         d[k & 3] += a[k] * b[k];
     return (d[0] + d[1]) + (d[2] + d[3]);
 }
+
+/* The dot product of the whole vectors (every rank's share). */
+static double dot(const struct gmres *g, const double *a, const double *b)
+{
+    return decomp_sum(g->dc, local_dot(g->n, a, b));
+}
+
+void gmres_set_decomp(struct gmres *g, const struct decomp *dc) { g->dc = dc; }
 
 static void axpy(long n, double a, const double *x, double *y)
 {
@@ -109,7 +119,7 @@ int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *c
     const long n = g->n;
     const int m = g->m;
     double *H = g->H, *cs = g->cs, *sn = g->sn, *e = g->e, *y = g->y;
-    double bnorm = sqrt(dot(n, b, b));
+    double bnorm = sqrt(dot(g, b, b));
     st->iterations = 0;
     st->relative_residual = 0.0;
     if (!isfinite(bnorm))
@@ -129,7 +139,7 @@ int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *c
         residual(g, op, ctx, b, x);
     int it = 0;
     for (;;) {
-        double beta = sqrt(dot(n, g->r, g->r));
+        double beta = sqrt(dot(g, g->r, g->r));
         st->iterations = it;
         st->relative_residual = beta / bnorm;
         if (!isfinite(beta))
@@ -148,11 +158,11 @@ int gmres_solve(struct gmres *g, gmres_apply_fn op, gmres_apply_fn prec, void *c
             op(ctx, zk, w);
             it++;
             for (int i = 0; i <= k; i++) { /* modified Gram-Schmidt */
-                double h = dot(n, w, g->v[i]);
+                double h = dot(g, w, g->v[i]);
                 H[i * m + k] = h;
                 axpy(n, -h, g->v[i], w);
             }
-            double hn = sqrt(dot(n, w, w));
+            double hn = sqrt(dot(g, w, w));
             H[(k + 1) * m + k] = hn;
             if (hn > 0.0)
                 for (long q = 0; q < n; q++)

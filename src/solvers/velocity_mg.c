@@ -12,9 +12,16 @@
 #include <string.h>
 
 #define MAX_LEVELS 24
+/* A decomposed hierarchy keeps a level on the ranks while the global level
+ * above it has more cells than this, the pressure multigrid's threshold
+ * (multigrid_internal.h: MG_GATHER_CELLS); the last kept is gathered. */
+#define GATHER_CELLS 4096
 
 struct mg_level {
     struct grid g;
+    struct boundary bc;          /* the case's conditions, dc this level's blocks */
+    struct decomp dc;            /* this level's blocks (decomposed hierarchy) */
+    int split;                   /* some side of this rank's block is a rank border */
     int f[3];                    /* halved from the finer level along d: 2, else 1 */
     int periodic[3];
     struct box act[3];
@@ -38,9 +45,23 @@ struct mg_level {
     int patch_on;
 };
 
+/* The gathered level of a decomposed hierarchy: the global grid of the last
+ * level kept on the ranks, its coefficients, right-hand side and solution
+ * gathered on every rank, and the serial hierarchy that cycles it. */
+struct gathered {
+    struct grid gg;
+    struct boundary bc;          /* the case's, no decomposition */
+    double *A_cell[3], *A_edge[3], *mass_face[3];
+    double *b[3], *x[3];
+    double *scratch;             /* decomp_gather's */
+    struct velocity_mg *serial;
+};
+
 struct velocity_mg {
     const struct boundary *bc;
     struct velocity_mg_options opt;
+    struct gathered *gath;       /* NULL: one process holds the grid */
+    double *edge0[3];            /* decomposed: the finest edges, ghosts exchanged */
     int nlevels;
     struct mg_level lv[MAX_LEVELS];
     int nthreads;
@@ -116,12 +137,29 @@ static void level_free(struct mg_level *l, int finest)
     memset(l, 0, sizeof *l);
 }
 
+static void gathered_free(struct gathered *gt)
+{
+    if (!gt)
+        return;
+    for (int c = 0; c < 3; c++) {
+        double *fs[] = {gt->A_cell[c], gt->A_edge[c], gt->mass_face[c], gt->b[c], gt->x[c]};
+        for (size_t i = 0; i < sizeof fs / sizeof fs[0]; i++)
+            field_free(fs[i]);
+    }
+    free(gt->scratch);
+    velocity_mg_destroy(gt->serial);
+    free(gt);
+}
+
 void velocity_mg_destroy(struct velocity_mg *m)
 {
     if (!m)
         return;
     for (int l = 0; l < m->nlevels; l++)
         level_free(&m->lv[l], l == 0);
+    for (int c = 0; c < 3; c++)
+        field_free(m->edge0[c]);
+    gathered_free(m->gath);
     free(m);
 }
 
@@ -146,14 +184,122 @@ static int level_alloc(struct mg_level *l)
     return ok ? 0 : -1;
 }
 
-static void level_geometry(struct mg_level *l, const struct boundary *bc)
+/* A level's conditions (bc, its decomposition dc: NULL or shared by every
+ * level of a serial hierarchy), the directions that wrap on it, its unknowns
+ * and its lines: along every bounded direction, cut at the rank borders. */
+static void level_geometry(struct mg_level *l, const struct boundary *bc, const struct decomp *dc)
 {
-    bc_periodic_flags(bc, l->periodic);
-    bc_unknown_boxes(&l->g, bc, l->act);
+    l->bc = *bc;
+    l->bc.dc = dc;
+    l->split = dc && decomp_split(dc);
+    for (int d = 0; d < 3; d++)
+        l->periodic[d] = bc_wraps(&l->bc, d);
+    bc_unknown_boxes(&l->g, &l->bc, l->act);
     l->nlines = 0;
     for (int d = 0; d < 3; d++)
-        if (!l->periodic[d] && l->g.n[d] >= 2)
+        if (bc->face[d][0] != BC_PERIODIC && (l->g.n[d] >= 2 || bc_split(&l->bc, d)))
             l->lines[l->nlines++] = d;
+}
+
+/* The global levels of grid g0 (the case's whole grid): each halves the one
+ * above along coarsening's directions (f[l]), down to coarse_cells.
+ * Returns their count, or -1 (a bad coarse grid). */
+static int plan_levels(const struct grid *g0, long coarse_cells, struct grid glob[MAX_LEVELS],
+                       int f[MAX_LEVELS][3])
+{
+    glob[0] = *g0;
+    f[0][0] = f[0][1] = f[0][2] = 1;
+    int nl = 1;
+    for (; nl < MAX_LEVELS; nl++) {
+        const struct grid *fg = &glob[nl - 1];
+        if ((long)grid_cells(fg) <= coarse_cells || !coarsening(fg, f[nl]))
+            break;
+        int n[3];
+        for (int d = 0; d < 3; d++)
+            n[d] = fg->n[d] / f[nl][d];
+        if (grid_init_like(&glob[nl], n, g0->len, fg) != 0)
+            return -1;
+    }
+    return nl;
+}
+
+/* The gathered level's arrays on its global grid gg and its serial
+ * hierarchy (conditions bc without the decomposition).  Returns 0, or -1
+ * with a message. */
+static int gathered_create(struct velocity_mg *m, const struct grid *gg, const struct boundary *bc,
+                           char *err, size_t errlen)
+{
+    struct gathered *gt = m->gath = calloc(1, sizeof *gt);
+    if (!gt) {
+        snprintf(err, errlen, "velocity multigrid: out of memory");
+        return -1;
+    }
+    gt->gg = *gg;
+    gt->bc = *bc;
+    gt->bc.dc = NULL;
+    int ok = 1;
+    for (int c = 0; c < 3; c++) {
+        double **fs[] = {&gt->A_cell[c], &gt->A_edge[c], &gt->mass_face[c], &gt->b[c], &gt->x[c]};
+        for (size_t i = 0; i < sizeof fs / sizeof fs[0]; i++)
+            ok &= (*fs[i] = field_alloc(gg)) != NULL;
+    }
+    const struct mg_level *last = &m->lv[m->nlevels - 1];
+    ok = ok && (gt->scratch = malloc(decomp_gather_len(&last->dc) * sizeof(double))) != NULL;
+    if (!ok) {
+        snprintf(err, errlen, "velocity multigrid: out of memory");
+        return -1;
+    }
+    struct box act[3];
+    bc_unknown_boxes(gg, &gt->bc, act);
+    return velocity_mg_create(&gt->serial, gg, &gt->bc, act, &m->opt, err, errlen);
+}
+
+/* The levels of a grid split over ranks (bc->dc): the global hierarchy,
+ * each level's blocks halved in place (decomp_coarsen), kept on the ranks
+ * while the global level above has over GATHER_CELLS cells, the last kept
+ * gathered and cycled by a serial hierarchy (gathered_create).  g is this
+ * rank's block of the finest level.  Returns 0, or -1 with a message. */
+static int levels_on_ranks(struct velocity_mg *m, const struct grid *g, const struct boundary *bc,
+                           char *err, size_t errlen)
+{
+    const struct decomp *dc = bc->dc;
+    struct grid g0;
+    double len[3];
+    for (int d = 0; d < 3; d++)
+        len[d] = g->h[d] * dc->n_global[d];
+    struct grid glob[MAX_LEVELS];
+    int f[MAX_LEVELS][3];
+    int nglob = grid_init_like(&g0, dc->n_global, len, g) != 0 ? -1 : 0;
+    if (nglob == 0) {
+        for (int d = 0; d < 3; d++)
+            g0.h[d] = g->h[d]; /* the global spacing to the bit (decomp_local_grid) */
+        nglob = plan_levels(&g0, m->opt.coarse_cells, glob, f);
+    }
+    if (nglob < 0) {
+        snprintf(err, errlen, "velocity multigrid: bad coarse grid");
+        return -1;
+    }
+    int kept = 1, halve[3];
+    while (kept < nglob && (long)grid_cells(&glob[kept - 1]) > GATHER_CELLS &&
+           (halve[0] = f[kept][0] == 2, halve[1] = f[kept][1] == 2, halve[2] = f[kept][2] == 2,
+            decomp_coarsen(&m->lv[kept - 1].dc, halve, &m->lv[kept].dc) == 0))
+        kept++;
+    m->nlevels = kept;
+    for (int l = 1; l < kept; l++) {
+        struct mg_level *c = &m->lv[l];
+        memcpy(c->f, f[l], sizeof c->f);
+        if (decomp_local_grid(&c->dc, &glob[l], &c->g) != 0) {
+            snprintf(err, errlen, "velocity multigrid: bad coarse grid");
+            return -1;
+        }
+        level_geometry(c, bc, &c->dc);
+    }
+    for (int l = 0; l < kept; l++)
+        if (level_alloc(&m->lv[l]) != 0) {
+            snprintf(err, errlen, "velocity multigrid: out of memory");
+            return -1;
+        }
+    return gathered_create(m, &glob[kept - 1], bc, err, errlen);
 }
 
 int velocity_mg_create(struct velocity_mg **out, const struct grid *g, const struct boundary *bc,
@@ -177,37 +323,41 @@ int velocity_mg_create(struct velocity_mg **out, const struct grid *g, const str
         velocity_mg_default_options(&m->opt);
     struct mg_level *l = &m->lv[0];
     l->g = *g;
-    level_geometry(l, bc);
+    const int ranks = bc->dc && decomp_split(bc->dc);
+    if (ranks) {
+        l->dc = *bc->dc;
+        l->dc.owns_buf = 0;
+    }
+    level_geometry(l, bc, ranks ? &l->dc : bc->dc);
     memcpy(l->act, act, sizeof l->act);
-    int maxlen = 1;
-    for (m->nlevels = 1; m->nlevels < MAX_LEVELS; m->nlevels++) {
-        const struct grid *fg = &m->lv[m->nlevels - 1].g;
-        int f[3];
-        if ((long)grid_cells(fg) <= m->opt.coarse_cells || !coarsening(fg, f))
-            break;
-        struct mg_level *c = &m->lv[m->nlevels];
-        int n[3];
-        for (int d = 0; d < 3; d++) {
-            n[d] = fg->n[d] / f[d];
-            c->f[d] = f[d];
-        }
-        if (grid_init_like(&c->g, n, g->len, fg) != 0) {
+    if (ranks) {
+        if (levels_on_ranks(m, g, bc, err, errlen) != 0) {
             velocity_mg_destroy(m);
-            snprintf(err, errlen, "velocity multigrid: bad coarse grid");
             return -1;
         }
-        level_geometry(c, bc);
+        *out = m;
+        return 0;
     }
-    for (int i = 0; i < m->nlevels; i++) {
-        for (int d = 0; d < 3; d++)
-            maxlen = m->lv[i].g.n[d] + 2 > maxlen ? m->lv[i].g.n[d] + 2 : maxlen;
+    struct grid glob[MAX_LEVELS];
+    int f[MAX_LEVELS][3];
+    m->nlevels = plan_levels(g, m->opt.coarse_cells, glob, f);
+    if (m->nlevels < 0) {
+        m->nlevels = 1;
+        velocity_mg_destroy(m);
+        snprintf(err, errlen, "velocity multigrid: bad coarse grid");
+        return -1;
+    }
+    for (int i = 1; i < m->nlevels; i++) {
+        m->lv[i].g = glob[i];
+        memcpy(m->lv[i].f, f[i], sizeof m->lv[i].f);
+        level_geometry(&m->lv[i], bc, bc->dc);
+    }
+    for (int i = 0; i < m->nlevels; i++)
         if (level_alloc(&m->lv[i]) != 0) {
             velocity_mg_destroy(m);
             snprintf(err, errlen, "velocity multigrid: out of memory");
             return -1;
         }
-    }
-    (void)maxlen;
     struct mg_level *cl = &m->lv[m->nlevels - 1];
     if (sparse_direct_create(&cl->direct, &cl->g, cl->periodic, cl->act,
                              1, 1, err, errlen) != 0) {
@@ -244,6 +394,11 @@ size_t velocity_mg_bytes(const struct velocity_mg *m)
         bytes += (level_fields(m->lv[l].nlines, l > 0) + PATCH_FACTOR * planes) *
                  (double)m->lv[l].g.size * sizeof(double);
     }
+    if (m->gath) /* the finest edges' copies; the gathered level's 15 arrays and hierarchy */
+        bytes += 3.0 * (double)m->lv[0].g.size * sizeof(double) +
+                 15.0 * (double)m->gath->gg.size * sizeof(double) +
+                 (double)decomp_gather_len(&m->lv[m->nlevels - 1].dc) * sizeof(double) +
+                 (double)velocity_mg_bytes(m->gath->serial);
     return (size_t)bytes;
 }
 
@@ -342,6 +497,15 @@ static int carry_body(struct velocity_mg *m, int l, const struct embedded *e)
     return ok ? 0 : -1;
 }
 
+/* The ghosts of a level's field across its rank borders, every direction
+ * (nothing on one process). */
+static void exchange_ghosts(const struct mg_level *lv, double *f)
+{
+    for (int d = 0; lv->split && d < 3; d++)
+        if (bc_split(&lv->bc, d))
+            decomp_exchange(&lv->dc, &lv->g, f, d);
+}
+
 /* Level l's coefficients from level l - 1's. */
 static int carry_coefficients(struct velocity_mg *m, int l)
 {
@@ -357,9 +521,10 @@ static int carry_coefficients(struct velocity_mg *m, int l)
             (!lv->A_edge[c] && !(lv->A_edge[c] = field_alloc(g))))
             return -1;
         kernel_coarsen_cells(&fl->g, g, lv->f, 1, fp->A_cell[c], lv->A_cell[c]);
-        bc_fill_scalar(g, m->bc, lv->A_cell[c]);
+        bc_fill_scalar(g, &lv->bc, lv->A_cell[c]);
         pb->A_cell[c] = lv->A_cell[c];
         kernel_coarsen_edges(&fl->g, g, lv->f, c, fp->A_edge[c], lv->A_edge[c]);
+        exchange_ghosts(lv, lv->A_edge[c]);
         pb->A_edge[c] = lv->A_edge[c];
         if (fp->mass_face[c]) {
             if (!lv->mass_face[c] && !(lv->mass_face[c] = field_alloc(g)))
@@ -372,7 +537,7 @@ static int carry_coefficients(struct velocity_mg *m, int l)
         if (!lv->aug && !(lv->aug = field_alloc(g)))
             return -1;
         kernel_coarsen_cells(&fl->g, g, lv->f, 0, fp->augmentation, lv->aug);
-        bc_fill_scalar(g, m->bc, lv->aug);
+        bc_fill_scalar(g, &lv->bc, lv->aug);
         pb->augmentation = lv->aug;
     }
     if (m->has_body)
@@ -394,7 +559,7 @@ static void level_stencils(const struct velocity_mg *m, struct mg_level *lv)
             k.A_cell[a] = pb->A_cell[a];
             k.A_edge[a] = pb->A_edge[a];
         }
-        kernel_own_stencil(&lv->g, m->bc, &lv->act[c], c, &k, &lv->st[c]);
+        kernel_own_stencil(&lv->g, &lv->bc, &lv->act[c], c, &k, &lv->st[c]);
         for (int s = 0; s < lv->nlines; s++)
             kernel_line_factor(&lv->g, &lv->act[c], lv->lines[s], &lv->st[c],
                                &lv->lf[c][lv->lines[s]]);
@@ -411,7 +576,7 @@ static int level_patches(const struct velocity_mg *m, struct mg_level *lv)
     const struct patch_operator op = {lv->st, {lv->pb.A_edge[0], lv->pb.A_edge[1],
                                                lv->pb.A_edge[2]}, lv->pb.augmentation, 0};
     for (int n = 0; n < 3; n++) {
-        if (!kernel_patch_plane_ok(&lv->g, m->bc, n))
+        if (!kernel_patch_plane_ok(&lv->g, &lv->bc, n))
             continue;
         if (!lv->patch[n] &&
             !(lv->patch[n] = malloc(PATCH_FACTOR * lv->g.size * sizeof(double))))
@@ -430,7 +595,74 @@ struct level_op {
 static void level_apply(void *ctx, double *v[3], double *out[3])
 {
     struct level_op *o = ctx;
-    viscous_operator_eval(&o->lv->g, o->m->bc, o->lv->act, &o->lv->work, &o->lv->pb, v, out);
+    viscous_operator_eval(&o->lv->g, &o->lv->bc, o->lv->act, &o->lv->work, &o->lv->pb, v, out);
+}
+
+/* A decomposed finest level's edge coefficients: fp's copied, their ghosts
+ * past the rank borders exchanged (a prolongation weight reads the edge
+ * beyond the ghost cell), fp pointed at the copies. */
+static int finest_edges(struct velocity_mg *m, struct viscous_problem *fp)
+{
+    const struct mg_level *lv = &m->lv[0];
+    for (int a = 0; a < 3; a++) {
+        if (!m->edge0[a] && !(m->edge0[a] = field_alloc(&lv->g)))
+            return -1;
+        memcpy(m->edge0[a], fp->A_edge[a], lv->g.size * sizeof(double));
+        exchange_ghosts(lv, m->edge0[a]);
+        fp->A_edge[a] = m->edge0[a];
+    }
+    return 0;
+}
+
+/* The prolongation's weights of a decomposed level's cells next to a high
+ * rank border (f: the coarser level's halving): their profile reads a
+ * coefficient two cells past the block, so the rank above computed them in
+ * its ghost slot -1 (kernel_prolong_weights); they are handed down. */
+static void border_weights(struct mg_level *lv, const int f[3])
+{
+    for (int d = 0; lv->split && d < 3; d++) {
+        if (f[d] != 2 || !bc_split(&lv->bc, d))
+            continue;
+        for (int c = 0; c < 3; c++) {
+            if (c == d)
+                continue; /* faces along d: no ghost read */
+            double *w = lv->pw[c][d];
+            if (bc_border(&lv->bc, d, 1)) {
+                const struct box *b = &lv->act[c];
+                int idx[3];
+                idx[d] = lv->g.n[d] - 1;
+                const int e1 = (d + 1) % 3, e2 = (d + 2) % 3;
+                for (idx[e1] = b->lo[e1]; idx[e1] < b->hi[e1]; idx[e1]++)
+                    for (idx[e2] = b->lo[e2]; idx[e2] < b->hi[e2]; idx[e2]++)
+                        w[grid_idx(&lv->g, idx[0], idx[1], idx[2])] = 0.0;
+            }
+            decomp_exchange_add(&lv->dc, &lv->g, w, d);
+        }
+    }
+}
+
+/* The gathered level's operator: the last decomposed level's coefficients
+ * gathered on every rank, the serial hierarchy set up on them. */
+static int gathered_setup(struct velocity_mg *m, char *err, size_t errlen)
+{
+    struct gathered *gt = m->gath;
+    const struct mg_level *lv = &m->lv[m->nlevels - 1];
+    struct viscous_problem gp;
+    memset(&gp, 0, sizeof gp);
+    gp.mass = lv->pb.mass;
+    for (int c = 0; c < 3; c++) {
+        decomp_gather(&lv->dc, &lv->g, lv->pb.A_cell[c], &gt->gg, gt->A_cell[c], gt->scratch);
+        bc_fill_scalar(&gt->gg, &gt->bc, gt->A_cell[c]);
+        decomp_gather(&lv->dc, &lv->g, lv->pb.A_edge[c], &gt->gg, gt->A_edge[c], gt->scratch);
+        gp.A_cell[c] = gt->A_cell[c];
+        gp.A_edge[c] = gt->A_edge[c];
+        if (lv->pb.mass_face[c]) {
+            decomp_gather(&lv->dc, &lv->g, lv->pb.mass_face[c], &gt->gg, gt->mass_face[c],
+                          gt->scratch);
+            gp.mass_face[c] = gt->mass_face[c];
+        }
+    }
+    return velocity_mg_setup(gt->serial, &gp, err, errlen);
 }
 
 int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, char *err,
@@ -452,6 +684,15 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
         fp->sym_cell[a] = fp->sym_edge[a] = NULL;
     }
     m->has_body = pb->embedded != NULL;
+    if (m->gath && (m->has_body || pb->augmentation)) {
+        snprintf(err, errlen, "velocity multigrid: %s on MPI ranks is not supported yet",
+                 m->has_body ? "a body" : "the grad-div augmentation");
+        return -1;
+    }
+    if (m->gath && finest_edges(m, fp) != 0) {
+        snprintf(err, errlen, "velocity multigrid: out of memory");
+        return -1;
+    }
     for (int l = 0; l < m->nlevels; l++) {
         if (l > 0 && carry_coefficients(m, l) != 0) {
             snprintf(err, errlen, "velocity multigrid: out of memory");
@@ -475,10 +716,13 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
         struct mg_level *lv = &m->lv[l];
         for (int c = 0; c < 3; c++)
             if (box_size(&lv->act[c]) > 0)
-                kernel_prolong_weights(&lv->g, m->bc, m->lv[l + 1].f, c, &lv->act[c],
+                kernel_prolong_weights(&lv->g, &lv->bc, m->lv[l + 1].f, c, &lv->act[c],
                                        lv->pb.A_cell, lv->pb.A_edge, lv->pb.augmentation,
                                        lv->patch_on ? 2 : 0, lv->pw[c]);
+        border_weights(lv, m->lv[l + 1].f);
     }
+    if (m->gath)
+        return gathered_setup(m, err, errlen);
     struct mg_level *cl = &m->lv[m->nlevels - 1];
     struct level_op op = {m, cl};
     int probed = 0;
@@ -516,10 +760,12 @@ static void smooth_lines(struct velocity_mg *m, struct mg_level *lv, int reverse
     for (int t = 0; t < 3; t++) {
         const int c = reverse ? 2 - t : t;
         const struct box *b = &lv->act[c];
-        if (box_size(b) == 0 || (m->skip >> c & 1))
-            continue;
-        viscous_operator_rows(g, m->bc, lv->act, &lv->work, &lv->pb, c, lv->x, lv->r);
+        if ((box_size(b) == 0 && !lv->split) || (m->skip >> c & 1))
+            continue; /* split: the rows' fills are every rank's exchanges */
+        viscous_operator_rows(g, &lv->bc, lv->act, &lv->work, &lv->pb, c, lv->x, lv->r);
         double *r = lv->r[c], *bb = lv->b[c], *d = lv->d[c], *x = lv->x[c];
+        if (lv->split) /* a rank border's ghosts: the neighbour's part of this sweep is 0 */
+            memset(d, 0, g->size * sizeof(double));
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(g))
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int j = b->lo[1]; j < b->hi[1]; j++)
@@ -568,6 +814,18 @@ static void smooth(struct velocity_mg *m, struct mg_level *lv, int reverse)
         smooth_lines(m, lv, reverse);
 }
 
+/* The gathered level: b gathered on every rank, cycled by the serial
+ * hierarchy, this rank's block of its x. */
+static void gathered_cycle(struct velocity_mg *m, struct mg_level *lv)
+{
+    struct gathered *gt = m->gath;
+    for (int c = 0; c < 3; c++)
+        decomp_gather(&lv->dc, &lv->g, lv->b[c], &gt->gg, gt->b[c], gt->scratch);
+    velocity_mg_cycle(gt->serial, gt->b, gt->x);
+    for (int c = 0; c < 3; c++)
+        decomp_scatter(&lv->dc, &gt->gg, gt->x[c], &lv->g, lv->x[c]);
+}
+
 /* x ~ A^-1 b on level l, from x = 0. */
 static void cycle(struct velocity_mg *m, int l)
 {
@@ -575,7 +833,10 @@ static void cycle(struct velocity_mg *m, int l)
     const struct grid *g = &lv->g;
     if (l == m->nlevels - 1) {
         zero3(g, lv->x);
-        sparse_direct_solve(lv->direct, lv->b, lv->x);
+        if (m->gath)
+            gathered_cycle(m, lv);
+        else
+            sparse_direct_solve(lv->direct, lv->b, lv->x);
         return;
     }
     struct mg_level *cl = &m->lv[l + 1];
@@ -590,10 +851,17 @@ static void cycle(struct velocity_mg *m, int l)
             r[p] = b[p] - r[p];
     }
     zero3(&cl->g, cl->b);
-    for (int c = 0; c < 3; c++)
-        if (box_size(&cl->act[c]) > 0 && !(m->skip >> c & 1))
-            kernel_restrict_velocity(g, &cl->g, m->bc, cl->f, c, &lv->act[c], &cl->act[c],
-                                     lv->pw[c], lv->r[c], cl->b[c]);
+    for (int c = 0; c < 3; c++) {
+        /* split: every rank takes part in the exchange, a block without
+         * coarse unknowns of c too (its fine nodes may scatter past it) */
+        if ((box_size(&cl->act[c]) == 0 && !cl->split) || (m->skip >> c & 1))
+            continue;
+        kernel_restrict_velocity(g, &cl->g, &cl->bc, cl->f, c, &lv->act[c], &cl->act[c],
+                                 lv->pw[c], lv->r[c], cl->b[c]);
+        for (int d = 0; cl->split && d < 3; d++) /* what landed on the ghosts */
+            if (bc_split(&cl->bc, d))
+                decomp_exchange_add(&cl->dc, &cl->g, cl->b[c], d);
+    }
     for (int k = 0; k < m->opt.gamma; k++) {
         if (k == 0) {
             cycle(m, l + 1);
@@ -615,9 +883,11 @@ static void cycle(struct velocity_mg *m, int l)
                     cl->x[c][p] += keep[c][p];
         }
     }
+    if (cl->split) /* the coarse nodes past a rank border */
+        bc_fill_velocity_homogeneous(&cl->g, &cl->bc, cl->x);
     for (int c = 0; c < 3; c++)
         if (box_size(&lv->act[c]) > 0 && !(m->skip >> c & 1))
-            kernel_prolong_velocity(g, &cl->g, m->bc, cl->f, c, &lv->act[c], &cl->act[c],
+            kernel_prolong_velocity(g, &cl->g, &cl->bc, cl->f, c, &lv->act[c], &cl->act[c],
                                     lv->pw[c], cl->x[c], lv->x[c]);
     for (int s = 0; s < m->opt.post; s++)
         smooth(m, lv, 1);
@@ -638,6 +908,9 @@ void velocity_mg_cycle(struct velocity_mg *m, double *const r[3], double *z[3])
                     lv->b[c][p] = r[c][p];
                     zero &= r[c][p] == 0.0;
                 }
+        /* every rank's part of it (a one-cell direction is never split) */
+        if (lv->periodic[c] && lv->g.n[c] == 1 && m->gath)
+            zero = decomp_max(&lv->dc, zero ? 0.0 : 1.0) == 0.0;
         if (zero && lv->periodic[c] && lv->g.n[c] == 1)
             m->skip |= 1 << c;
     }

@@ -53,6 +53,7 @@ static int mg_create(struct viscous_solver *s, char *err, size_t errlen)
         snprintf(err, errlen, "viscous solver: out of memory for the multigrid's GMRES");
         return -1;
     }
+    gmres_set_decomp(s->mg_gm, s->bc->dc); /* its dots over the ranks */
     return 0;
 }
 
