@@ -19,7 +19,7 @@
  *                                                 +7.8 %, +4.0 %, +4.9 %
  *   the speed against the jumps (mass and momentum) with the measured u2
  *                                                 -12.7 %, -8.6 %, -6.8 %
- *     (order 0.7, Richardson's limit 0.0854 m/s: -3.3 % of them)
+ *     (order 0.7, Richardson's limit 0.0853 m/s: -3.4 % of them)
  *   u2 / u1 behind the shock                      0.136, 0.137, 0.137
  *   the speed against the depth-averaged equations' solution (0.07537 m/s,
  *   independent of the grid)                      +2.6 %, +6.8 %, +9.3 %
