@@ -512,6 +512,20 @@ bench-front: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/front_study.py $(BUILD)/muflow $(BENCH_OUT) $(FRONT_NZ)
 
+# The shock from a wall (cases/wall_shock.ini) on WALL_SHOCK_NX cells along
+# the box (nz = 3 nx / 4: 5, 10, 20 cells per h1): its speed and depth ratio
+# against the jump conditions with u2 = 0 and with the measured creep u2,
+# against the depth-averaged equations' solution, the 2D speed's Richardson
+# estimate, and that solution's convergence on 5 to 80 cells per h1
+# ($(BENCH_OUT)/wall_shock_table.md; docs/validation/wall_shock.md).  About
+# 12 minutes on 2 idle cores, most of it nx = 160.
+WALL_SHOCK_NX ?= 40 80 160
+.PHONY: bench-wall-shock
+bench-wall-shock: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=2 /usr/bin/python3 bench/wall_shock_study.py $(BUILD)/muflow $(BENCH_OUT) \
+	  $(WALL_SHOCK_NX)
+
 # The column collapse study: cases/collapse.ini (a = 0.5) to t = 4 at
 # COLLAPSE_N cells per H0, x_f(t) and h(0,t) against the Basilisk
 # reference, the grid convergence of x_f(4), wall time on 2 threads, steps

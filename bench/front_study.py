@@ -9,9 +9,11 @@ OMP_NUM_THREADS, 2 in `make bench-front`) at NZ cells over the box's height
 (default 10 15 24; nx = 50 nz / 3, the case's cell shape), and writes
 OUTDIR/front_table.md (front speed and its error against the uniform
 layer's mean speed, h(x) rms and max error over the front's length, over
-its body, over its nose by the depth and by the T = 1/2 contour, the depth
-behind, the tip's offset, the profile behind, the precursor's flux against
-its uniform flow's, wall time, steps),
+its body, over its nose by the depth and by the T = 1/2 contour, against
+the depth-averaged front over the precursor (rms, body max, nose max; that
+front's own nose against the closed form), the depth behind, the tip's
+offset, the profile behind, the precursor's flux against its uniform
+flow's, wall time, steps),
 front_runs.csv and the plot front_compare.png: h(xi) in the front's frame
 beside the closed form, x_half(t) and the error's history, the velocity
 profile behind the front beside Bagnold's."""
@@ -32,7 +34,9 @@ DEPTH = 1.43e-3  # front.depth, h_inf
 KEYS = ["front_speed", "front_speed_exact", "front_speed_error", "uniform_speed",
         "front_speed_depth_averaged", "h_err_rms", "h_err_max", "h_columns", "h_err_rms_body",
         "h_err_max_body", "h_behind_error", "nose_offset", "profile_err_rms", "precursor_flux",
-        "precursor_flux_exact", "steps", "wall_seconds", "status"]
+        "precursor_flux_exact", "h_err_max_nose", "h_err_rms_depth_averaged",
+        "h_err_max_body_depth_averaged", "h_err_max_nose_depth_averaged",
+        "depth_averaged_nose_err_max", "steps", "wall_seconds", "status"]
 NOSE_SHARE = 0.25  # the nose: where the exact depth is below this share of h_inf (front.c)
 
 
@@ -72,25 +76,29 @@ def nose_errors(shape, depth):
 def table(runs, path):
     with open(path, "w") as f:
         f.write("| grid | front speed (m/s) | error | h rms / max | body rms / max | nose max: "
-                "h / contour | depth behind | tip (h_inf) | profile rms | precursor flux / "
-                "exact | steps | wall (s) |\n")
-        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                "h / contour | model: rms / body / nose | depth behind | tip (h_inf) | "
+                "profile rms | precursor flux / exact | steps | wall (s) |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in runs:
             pc = lambda k: 100 * float(r[k])
             nose_h, nose_c = nose_errors(r["shape"], DEPTH)
             f.write("| %d x %d | %.5f | %+.2f %% | %.2f / %.2f %% | %.2f / %.2f %% | %.1f / %.1f %% "
-                    "| %+.2f %% | %+.2f | %.2f %% | %.2f | %s | %.0f |\n" % (
+                    "| %.2f / %.1f / %.1f %% | %+.2f %% | %+.2f | %.2f %% | %.2f | %s | %.0f |\n" % (
                         r["nx"], r["nz"], float(r["front_speed"]), pc("front_speed_error"),
                         pc("h_err_rms"), pc("h_err_max"), pc("h_err_rms_body"),
-                        pc("h_err_max_body"), 100 * nose_h, 100 * nose_c, pc("h_behind_error"),
+                        pc("h_err_max_body"), 100 * nose_h, 100 * nose_c,
+                        pc("h_err_rms_depth_averaged"), pc("h_err_max_body_depth_averaged"),
+                        pc("h_err_max_nose_depth_averaged"), pc("h_behind_error"),
                         float(r["nose_offset"]), pc("profile_err_rms"),
                         float(r["precursor_flux"]) / float(r["precursor_flux_exact"]),
                         r["steps"], float(r["wall_seconds"])))
         r = runs[0]
         f.write("\nfront speed by mass conservation %.6f m/s; the uniform layer's mean %.6f m/s; "
-                "the depth-averaged front's u_f %.6f m/s\n"
+                "the depth-averaged front's u_f %.6f m/s; the depth-averaged front over the "
+                "precursor against the closed form over the nose %.2f %% of h_inf\n"
                 % (float(r["front_speed_exact"]), float(r["uniform_speed"]),
-                   float(r["front_speed_depth_averaged"])))
+                   float(r["front_speed_depth_averaged"]),
+                   100 * float(r["depth_averaged_nose_err_max"])))
 
 
 def plot(runs, path, depth):
@@ -108,6 +116,8 @@ def plot(runs, path, depth):
     s = runs[-1]["shape"]
     ax[0].plot([x / depth for x in s["xi"]], [h / depth for h in s["h_exact"]], "k--",
                label="Pouliquen (1999)")
+    ax[0].plot([x / depth for x in s["xi"]], [h / depth for h in s["h_depth_averaged"]], "k:",
+               label="depth-averaged, over the precursor")
     ax[0].set_xlim(-60, 5)
     ax[0].set_xlabel("(x - x_tip) / h_inf, exact tip")
     ax[0].set_ylabel("h / h_inf")

@@ -28,7 +28,18 @@
  * (Bagnold) shear rate: its flux is h_p gamma_b dz / 2, dz / (0.8 h_p)
  * times its uniform flow's 0.4 gamma_b h_p^2 (measured 0.992 and 0.990 of
  * that on 166 x 10 and 250 x 15); the bed's pressure extrapolated linearly
- * across the grains' surface gave it 7.6 times its flux on 250 x 15. */
+ * across the grains' surface gave it 7.6 times its flux on 250 x 15.
+ * The depth-averaged front over the precursor (chi = 5/4, the same feed,
+ * precursor and start, front.da_cells = 20; 10 and 80 within 2e-4 of
+ * h_inf) differs from the closed form by 6.1 % of h_inf over the nose: the
+ * momentum flux and the precursor the closed form leaves out (5.8 % at
+ * 0.3 s: both fronts from the same start, compared at the same time); its
+ * precursor started at 0.5 or 1.86 times its uniform flux (the 2D runs
+ * carry 0.87-1.86) relaxes to it within milliseconds: the same nose to
+ * 1e-6 h_inf.  The 2D nose
+ * is further from it (12.9 % on 166 x 10) than from the closed form (8.3 %):
+ * its steeper nose is not theirs.  Asserted: the model's nose within 10 %
+ * of the closed form, the 2D nose nearer the closed form than the model. */
 #define COARSE_GRID "domain.nx=166", "domain.nz=10", "domain.ly=2.145e-4"
 #define SPEED_TOL 0.02
 #define H_RMS_TOL 0.02
@@ -36,6 +47,7 @@
 #define H_MAX_TOL 0.10
 #define PROFILE_TOL 0.023
 #define PRECURSOR_TOL 0.05
+#define DA_NOSE_TOL 0.10
 /* h_p: front.precursor times front.depth in cases/front.ini */
 #define PRECURSOR_DEPTH (0.1 * 1.43e-3)
 
@@ -62,6 +74,14 @@ static void test_coarse_front(void **state)
     assert_true(body < BODY_MAX_TOL);
     assert_true(prof < PROFILE_TOL);
     assert_true(fabs(flux - 1.0) < PRECURSOR_TOL);
+    double nose = run_result_value(&r, "h_err_max_nose");
+    double nose_da = run_result_value(&r, "h_err_max_nose_depth_averaged");
+    double da_model = run_result_value(&r, "depth_averaged_nose_err_max");
+    print_message("nose max %.3e against the closed form, %.3e against the depth-averaged "
+                  "front over the precursor (that front against the closed form %.3e)\n",
+                  nose, nose_da, da_model);
+    assert_true(da_model < DA_NOSE_TOL);
+    assert_true(nose < nose_da);
     /* matrix-free by default: no grid-sized matrix probed or factorised */
     assert_true(run_result_value(&r, "grid_matrices") == 0.0);
 }
@@ -80,6 +100,7 @@ static void test_bad_input(void **state)
         {"front.vof_cfl=0.6", "front.vof_cfl"},
         {"front.precursor=0.5", "front.precursor"},
         {"front.viscosity_floor=-1", "front.viscosity_floor"},
+        {"front.da_cells=2", "front.da_cells"},
         {"front.mixture=mean", "front.mixture"},
         {"physics.density=2500", "physics.density"},
         {"solver.mode=steady", "solver.mode"},

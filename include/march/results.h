@@ -9,7 +9,7 @@ struct result_value {
     char key[40];
     char text[88];
 };
-#define RESULT_VALUES_MAX 24
+#define RESULT_VALUES_MAX 32
 
 struct result_values {
     int n;

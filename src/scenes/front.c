@@ -37,11 +37,15 @@
  * shape over the front's length (from the tip back to where the exact depth
  * is FRONT_SHARE h_inf), and over its body (without the nose); the velocity
  * profile behind the front, the mean over the uniform columns, against
- * Bagnold's; the precursor's flux against its uniform flow's. */
+ * Bagnold's; the precursor's flux against its uniform flow's.  At the end
+ * the depth-averaged equations with the momentum flux, solved on the same
+ * problem (feed, precursor, start: da_reference), give a second reference
+ * of the shape, the closed form's omissions included. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include "diagnostics/depth_averaged.h"
 #include "diagnostics/depth_averaged_exact.h"
 #include "march/module_record.h"
 #include "io/output.h"
@@ -52,6 +56,7 @@
 #include "scenes/scene.h"
 #include "scene_common.h"
 #include "scenes/two_phase_keys.h"
+#include "scenes/da_match.h"
 
 /* the tip: where h falls below this share of h_inf */
 #define TIP_SHARE 0.05
@@ -75,6 +80,7 @@ struct front_params {
     int mixture;            /* enum mixture_law */
     double viscosity_floor; /* the grains' viscosity floor in rho_g d sqrt(g d) */
     double vof_cfl;
+    int da_cells;           /* the depth-averaged reference's cells per h_inf */
 };
 
 #define T struct front_params
@@ -98,6 +104,10 @@ static const struct key front_keys[] = {
     TWO_PHASE_KEY_MIXTURE(T, "front", ""),
     TWO_PHASE_KEY_VISCOSITY_FLOOR(T, "front"),
     TWO_PHASE_KEY_VOF_CFL(T, "front"),
+    KEY_INT(T, "front", "da_cells", da_cells,
+            "cells of the depth-averaged front over the precursor (the nose's reference) per "
+            "front.depth",
+            KEY_RANGE(4, 1000, 1, 1)),
 };
 #undef T
 
@@ -113,6 +123,7 @@ static void defaults(void *block)
     f->mixture = MIXTURE_WEIGHTED;
     f->viscosity_floor = 1.0;
     f->vof_cfl = 0.4;
+    f->da_cells = 20;
 }
 
 SCENE_PARAMS(front_block, "front",
@@ -125,7 +136,8 @@ SCENE_PARAMS(front_block, "front",
              "flow), `xhi = open`, `zlo = wall`, `zhi = open`, periodic y, `domain.ny = 1` and "
              "mu_s < tan(physics.tilt) < mu_s + delta_mu.  It writes `front.csv` (every step: t, "
              "the tip, x_half, the grains' volume, h's rms error), `shape.csv` (h(x) at the end, "
-             "in the front's frame, with the exact shape) and `behind.csv` (the velocity profile behind the "
+             "in the front's frame, with the exact shape and the depth-averaged front over the "
+             "precursor) and `behind.csv` (the velocity profile behind the "
              "front with Bagnold's).",
              struct front_params, front_keys, defaults)
 
@@ -224,6 +236,10 @@ struct record {
     struct layer_record base; /* the columns S_*, the inflow's layer (the hook's context) */
     double *h;                /* column heights, work */
     struct da_front f;        /* the exact front (setup makes sure there is one) */
+    /* the depth-averaged front over the precursor at da_time: da_n depths
+     * on cells of da_dx, its x_half (da_reference) */
+    double *da_h, da_dx, da_half, da_time;
+    int da_n;
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -238,6 +254,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     }
     layer_series_init(&r->base.s, NSERIES, series_names);
     front_exact(st->cs, &r->f);
+    r->da_time = NAN;
     r->base.feed = feed_of(st->cs);
     *state = r;
     return 0;
@@ -249,6 +266,7 @@ static void destroy(void *state)
     if (r) {
         layer_series_free(&r->base.s);
         free(r->h);
+        free(r->da_h);
     }
     free(r);
 }
@@ -300,6 +318,21 @@ static int shape_error(const struct muflow_case *cs, const struct da_front *f,
     return n;
 }
 
+/* The largest |h - h_exact| / h_inf over the nose: the front's length
+ * where the exact depth is below NOSE_SHARE h_inf */
+static double nose_error(const struct muflow_case *cs, const struct da_front *f,
+                         const struct grid *g, const double *h, double x_half)
+{
+    double xi_len = da_front_position(f, FRONT_SHARE * f->h_inf), max = 0.0;
+    for (int i = 0; i < g->n[0]; i++) {
+        double xi = exact_xi(f, (i + 0.5) * g->h[0], x_half);
+        double he = exact_depth(cs, f, xi);
+        if (xi >= xi_len && xi <= 0.0 && he < NOSE_SHARE * f->h_inf)
+            max = fmax(max, fabs(h[i] - he) / f->h_inf);
+    }
+    return max;
+}
+
 static int record_step(void *rec, const struct march_state *st)
 {
     struct record *r = rec;
@@ -334,12 +367,137 @@ static int drive(struct scene_drive *d)
     return 0;
 }
 
+/* ---- the depth-averaged front over the precursor ---- */
+
+/* The closed form leaves out the momentum flux and the precursor, which
+ * the nose meets near the critical Froude number; the depth-averaged
+ * equations (docs/numerics/depth-averaged.md) solved on the scene's
+ * problem keep both: chi = 5/4 (Bagnold's profile, the layer's behind the
+ * front), K = 1, Pouliquen's friction matched to mu(I) (scenes/da_match.h). */
+#define DA_CHI 1.25
+
+struct da_layer {
+    double h, u;
+};
+
+static void da_layer_state(void *ctx, double x, double t, double *h, double *u)
+{
+    (void)x;
+    (void)t;
+    const struct da_layer *l = ctx;
+    *h = l->h;
+    *u = l->u;
+}
+
+/* The model's uniform flow of depth h: mu_b(h, u) = tan zeta */
+static double da_uniform_speed(const struct da_params *p, double g, double zeta, double h)
+{
+    double fr = p->beta * h / (p->L * ((p->mu2 - p->mu1) / (tan(zeta) - p->mu1) - 1.0));
+    return fr * sqrt(g * cos(zeta) * h);
+}
+
+/* The model on [0, lx] at time t: fed with the uniform layer of h_inf at
+ * x = 0, open at lx, from the Pouliquen front with its tip at front.tip
+ * over the precursor, each layer at its own uniform speed (as the 2D run
+ * starts); front.da_cells cells per h_inf.  Fills r->da_*; -1 if the model
+ * cannot be set up or run. */
+static int da_reference(const struct muflow_case *cs, struct record *r, double t)
+{
+    if (r->da_h && r->da_time == t)
+        return 0;
+    const struct front_params *fp = params(cs);
+    struct da_params p = da_params_matched(cs);
+    p.chi = DA_CHI;
+    double zeta = cs->tilt, hi = fp->depth, hp = fp->precursor * hi;
+    struct da_layer feed = {hi, da_uniform_speed(&p, cs->gravity, zeta, hi)};
+    double up = hp > 0.0 ? da_uniform_speed(&p, cs->gravity, zeta, hp) : 0.0;
+    int n = (int)ceil(fp->da_cells * cs->len[0] / hi);
+    double dx = cs->len[0] / n;
+    double *h = realloc(r->da_h, (size_t)n * sizeof *h), *buf = malloc(2 * (size_t)n * sizeof *buf);
+    if (!h || !buf) {
+        free(buf);
+        if (h)
+            r->da_h = h;
+        return -1;
+    }
+    r->da_h = h;
+    double *m = buf, *zetas = buf + n;
+    for (int i = 0; i < n; i++) {
+        double hf = da_front_depth(&r->f, (i + 0.5) * dx - fp->tip);
+        h[i] = fmax(hf, hp);
+        m[i] = hf > hp ? hf * feed.u : hp * up;
+        zetas[i] = zeta;
+    }
+    struct da_bc in = {.kind = DA_BC_GIVEN, .ghost = da_layer_state, .ctx = &feed};
+    struct da_bc out = {.kind = DA_BC_OPEN};
+    struct da_solver *so = da_create(n, 0.0, dx, zetas, &p, in, out, NULL, 0);
+    int rc = so && da_advance(so, h, m, 0.0, t) >= 0 ? 0 : -1;
+    da_free(so);
+    free(buf);
+    r->da_n = n;
+    r->da_dx = dx;
+    r->da_half = layer_crossing(h, n, dx, 0.5 * hi);
+    r->da_time = rc == 0 ? t : NAN;
+    return rc;
+}
+
+/* The model's depth at the 2D column centre x, the two fronts aligned at
+ * h_inf / 2 (the 2D's at x_half): linear between its centres */
+static double da_depth_at(const struct record *r, double x, double x_half)
+{
+    double s = (x - x_half + r->da_half) / r->da_dx - 0.5;
+    if (s <= 0.0)
+        return r->da_h[0];
+    int i = (int)s;
+    if (i >= r->da_n - 1)
+        return r->da_h[r->da_n - 1];
+    return r->da_h[i] + (s - i) * (r->da_h[i + 1] - r->da_h[i]);
+}
+
+/* Over the front's length (the columns shape_error takes), |h - h_da| /
+ * h_inf: its rms, its largest over the body (exact h >= NOSE_SHARE h_inf)
+ * and over the nose (the rest); and the model's own largest |h_da -
+ * h_exact| / h_inf over the nose, on its cells. */
+struct da_errors {
+    double rms, body_max, nose_max, model_nose_max;
+};
+
+static void da_shape_errors(const struct muflow_case *cs, const struct record *r,
+                            const struct grid *g, double x_half, struct da_errors *e)
+{
+    const struct da_front *f = &r->f;
+    double xi_len = da_front_position(f, FRONT_SHARE * f->h_inf), s2 = 0.0;
+    int n = 0;
+    *e = (struct da_errors){0};
+    for (int i = 0; i < g->n[0]; i++) {
+        double x = (i + 0.5) * g->h[0], xi = exact_xi(f, x, x_half);
+        if (xi < xi_len || xi > 0.0)
+            continue;
+        double he = exact_depth(cs, f, xi);
+        double err = fabs(r->h[i] - da_depth_at(r, x, x_half)) / f->h_inf;
+        s2 += err * err;
+        n++;
+        if (he >= NOSE_SHARE * f->h_inf)
+            e->body_max = fmax(e->body_max, err);
+        else
+            e->nose_max = fmax(e->nose_max, err);
+    }
+    e->rms = n ? sqrt(s2 / n) : NAN;
+    /* the model against the closed form on its own cells */
+    for (int j = 0; j < r->da_n; j++) {
+        double xi = exact_xi(f, (j + 0.5) * r->da_dx, r->da_half), he = exact_depth(cs, f, xi);
+        if (xi >= xi_len && xi <= 0.0 && he < NOSE_SHARE * f->h_inf)
+            e->model_nose_max = fmax(e->model_nose_max, fabs(r->da_h[j] - he) / f->h_inf);
+    }
+}
+
 /* ---- the measures at the end ---- */
 
 struct front_measures {
     double speed, speed_exact;  /* the fit of x_half(t); front_speed_exact */
     double h_rms, h_max;        /* |h - h_exact| / h_inf over the front's length */
     double body_rms, body_max;  /* the same without the nose (h_exact < NOSE_SHARE h_inf) */
+    double nose_max;            /* the largest over the nose */
     double h_behind;            /* the mean depth behind the front */
     double nose;                /* (tip - x_half) - its exact value, in h_inf */
     double u_rms, u_surface;    /* the profile behind: error / u_surface, the exact top */
@@ -415,6 +573,7 @@ static void measure(const struct march_state *st, const struct record *r,
     double hi = f->h_inf, x_half = r->base.s.v[S_HALF][r->base.s.n - 1], hb = 0.0;
     m->columns = shape_error(cs, f, g, r->h, x_half, 0.0, &m->h_rms, &m->h_max);
     shape_error(cs, f, g, r->h, x_half, NOSE_SHARE, &m->body_rms, &m->body_max);
+    m->nose_max = nose_error(cs, f, g, r->h, x_half);
     for (int i = 0; i < g->n[0]; i++)
         if (column_behind(f, g, i, x_half)) {
             hb += r->h[i];
@@ -442,7 +601,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
                     struct run_result *res)
 {
     (void)d;
-    const struct record *r = record_of(st);
+    struct record *r = record_of(st);
     if (!r || r->base.s.n == 0)
         return;
     struct front_measures m;
@@ -465,6 +624,17 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "precursor_flux", "%.6e",
                    precursor_flux(st, r->base.s.v[S_TIP][r->base.s.n - 1], r->f.h_inf));
     run_result_add(res, "precursor_flux_exact", "%.6e", hp * uniform_mean(st->cs, hp));
+    /* the nose against the closed form, and the depth-averaged front over
+     * the precursor as the reference of the whole shape */
+    run_result_add(res, "h_err_max_nose", "%.6e", m.nose_max);
+    struct da_errors e;
+    if (da_reference(st->cs, r, st->time) == 0) {
+        da_shape_errors(st->cs, r, &st->g, r->base.s.v[S_HALF][r->base.s.n - 1], &e);
+        run_result_add(res, "h_err_rms_depth_averaged", "%.6e", e.rms);
+        run_result_add(res, "h_err_max_body_depth_averaged", "%.6e", e.body_max);
+        run_result_add(res, "h_err_max_nose_depth_averaged", "%.6e", e.nose_max);
+        run_result_add(res, "depth_averaged_nose_err_max", "%.6e", e.model_nose_max);
+    }
     snprintf(res->scene_line, sizeof res->scene_line,
              "front speed %.6g (exact %.6g, %+.2f %%)  h(x) rms %.2f %% max %.2f %% of h_inf "
              "over %d columns  profile behind rms %.2f %%",
@@ -492,12 +662,14 @@ static double contour_height(const struct grid *g, const double *T, int i)
  * profile behind the front with Bagnold's. */
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
-    const struct record *r = record_of(st);
+    struct record *r = record_of(st);
     if (!r || r->base.s.n == 0)
         return 0;
     const struct da_front f = r->f;
     const struct grid *g = &st->g;
     struct output_file o;
+    /* the depth-averaged front at the end only (a run of its own each time) */
+    int da = st->status != STATUS_RUNNING && da_reference(st->cs, r, st->time) == 0;
     if (output_open(&o, dir, "front.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "t,x_tip,x_half,grains_volume,h_err_rms\n");
@@ -510,12 +682,13 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     double x_half = r->base.s.v[S_HALF][r->base.s.n - 1];
     if (output_open(&o, dir, "shape.csv", err, errlen) != 0)
         return -1;
-    fprintf(o.f, "x,xi,h,h_exact,h_contour\n");
+    fprintf(o.f, "x,xi,h,h_exact,h_contour,h_depth_averaged\n");
     const double *T = collapse_tracer(st);
     for (int i = 0; i < g->n[0]; i++) {
         double x = (i + 0.5) * g->h[0], xi = exact_xi(&f, x, x_half);
-        fprintf(o.f, "%.10g,%.10g,%.10g,%.10g,%.10g\n", x, xi, r->h[i],
-                exact_depth(st->cs, &f, xi), T ? contour_height(g, T, i) : NAN);
+        fprintf(o.f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", x, xi, r->h[i],
+                exact_depth(st->cs, &f, xi), T ? contour_height(g, T, i) : NAN,
+                da ? da_depth_at(r, x, x_half) : NAN);
     }
     if (output_commit(&o, err, errlen) != 0)
         return -1;
