@@ -158,26 +158,41 @@ static void plane_copy(const struct grid *g, double *f, int d, int t, double *bu
         }
 }
 
-void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, int d)
+/* Sends planes `lo` and `hi` across d of f to the neighbours on the low and
+ * high border sides (where there are borders) and receives theirs into
+ * dc->buf: returns the plane's length; *sent[2], *recv[2] the buffers by
+ * side.  Counted in the traffic tally. */
+static size_t shift_planes(const struct decomp *dc, const struct grid *g, double *f, int d,
+                           int lo, int hi, double *sent[2], double *recv[2])
 {
-    if (!dc->border[d][0] && !dc->border[d][1])
-        return;
     const size_t len = plane_len(g, d);
-    double *to_lo = dc->buf, *to_hi = to_lo + len, *from_lo = to_hi + len, *from_hi = from_lo + len;
-    const int n = g->n[d];
+    sent[0] = dc->buf;
+    sent[1] = sent[0] + len;
+    recv[0] = sent[1] + len;
+    recv[1] = recv[0] + len;
     if (dc->border[d][0])
-        plane_copy(g, f, d, 0, to_lo, 1);
+        plane_copy(g, f, d, lo, sent[0], 1);
     if (dc->border[d][1])
-        plane_copy(g, f, d, n - 1, to_hi, 1);
-    comm_cart_shift(dc->cart, d, to_lo, from_lo, to_hi, from_hi, (int)len);
+        plane_copy(g, f, d, hi, sent[1], 1);
+    comm_cart_shift(dc->cart, d, sent[0], recv[0], sent[1], recv[1], (int)len);
     const long sides = dc->border[d][0] + dc->border[d][1];
     traffic.exchanges++;
     traffic.messages += sides;
     traffic.bytes += sides * (long)(len * sizeof(double));
+    return len;
+}
+
+void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, int d)
+{
+    if (!dc->border[d][0] && !dc->border[d][1])
+        return;
+    double *sent[2], *recv[2];
+    const int n = g->n[d];
+    shift_planes(dc, g, f, d, 0, n - 1, sent, recv);
     if (dc->border[d][0])
-        plane_copy(g, f, d, -1, from_lo, 0);
+        plane_copy(g, f, d, -1, recv[0], 0);
     if (dc->border[d][1])
-        plane_copy(g, f, d, n, from_hi, 0);
+        plane_copy(g, f, d, n, recv[1], 0);
 }
 
 /* Plane t across d of f plus buf, every slot of the other two. */
@@ -199,30 +214,17 @@ void decomp_exchange_add(const struct decomp *dc, const struct grid *g, double *
 {
     if (!dc->border[d][0] && !dc->border[d][1])
         return;
-    const size_t len = plane_len(g, d);
-    double *to_lo = dc->buf, *to_hi = to_lo + len, *from_lo = to_hi + len, *from_hi = from_lo + len;
+    double *sent[2], *recv[2];
     const int n = g->n[d];
-    if (dc->border[d][0])
-        plane_copy(g, f, d, -1, to_lo, 1);
-    if (dc->border[d][1])
-        plane_copy(g, f, d, n, to_hi, 1);
-    comm_cart_shift(dc->cart, d, to_lo, from_lo, to_hi, from_hi, (int)len);
-    const long sides = dc->border[d][0] + dc->border[d][1];
-    traffic.exchanges++;
-    traffic.messages += sides;
-    traffic.bytes += sides * (long)(len * sizeof(double));
+    const size_t len = shift_planes(dc, g, f, d, -1, n, sent, recv);
     /* the ghost planes sent are spent: zeroed */
-    if (dc->border[d][0]) {
-        plane_add(g, f, d, 0, from_lo);
+    for (int s = 0; s < 2; s++) {
+        if (!dc->border[d][s])
+            continue;
+        plane_add(g, f, d, s ? n - 1 : 0, recv[s]);
         for (size_t q = 0; q < len; q++)
-            to_lo[q] = 0.0;
-        plane_copy(g, f, d, -1, to_lo, 0);
-    }
-    if (dc->border[d][1]) {
-        plane_add(g, f, d, n - 1, from_hi);
-        for (size_t q = 0; q < len; q++)
-            to_hi[q] = 0.0;
-        plane_copy(g, f, d, n, to_hi, 0);
+            sent[s][q] = 0.0;
+        plane_copy(g, f, d, s ? n : -1, sent[s], 0);
     }
 }
 
