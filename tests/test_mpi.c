@@ -1083,6 +1083,8 @@ void test_fft_ranks_uniform(void **state);
 /* test_mpi_fourier.c */
 void test_fourier_lines_ranks(void **state);
 void test_bagnold3d_on_ranks(void **state);
+/* test_mpi_vof.c */
+void test_vof_ranks(void **state);
 /* test_mpi_vmg.c */
 void test_vmg_ranks_plane(void **state);
 void test_vmg_ranks_box(void **state);
@@ -1103,6 +1105,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_dirichlet),
         cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_fourier_lines_ranks),
+        cmocka_unit_test(test_vof_ranks),
         cmocka_unit_test(test_vmg_ranks_plane),
         cmocka_unit_test(test_vmg_ranks_box),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
