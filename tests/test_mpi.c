@@ -1085,6 +1085,7 @@ void test_fourier_lines_ranks(void **state);
 void test_bagnold3d_on_ranks(void **state);
 /* test_mpi_vof.c */
 void test_vof_ranks(void **state);
+void test_pressure_ranks_variable(void **state);
 /* test_mpi_vmg.c */
 void test_vmg_ranks_plane(void **state);
 void test_vmg_ranks_box(void **state);
@@ -1106,6 +1107,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_fourier_lines_ranks),
         cmocka_unit_test(test_vof_ranks),
+        cmocka_unit_test(test_pressure_ranks_variable),
         cmocka_unit_test(test_vmg_ranks_plane),
         cmocka_unit_test(test_vmg_ranks_box),
         cmocka_unit_test(test_vmg_scenes_on_ranks),

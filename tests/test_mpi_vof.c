@@ -1,14 +1,18 @@
-/* The geometric VOF transport over ranks (physics/vof_transport.h) in the
- * group mpi (test_mpi.c): a disc turned by a closed vortex between slip
- * walls and a square carried across a doubly periodic box, each rank's
- * block against the transport of the whole grid by one process, and the
- * volume over the ranks against the start's.  Each check reduces over the
- * ranks before asserting (all pass or fail together). */
+/* The two phases' parts over ranks in the group mpi (test_mpi.c): the
+ * geometric VOF transport (physics/vof_transport.h), a disc turned by a
+ * closed vortex between slip walls and a square carried across a doubly
+ * periodic box, each rank's block against the transport of the whole grid
+ * by one process and the volume over the ranks against the start's; the
+ * variable-density pressure solve (solvers/pressure.h) against one
+ * process's.  Each check reduces over the ranks before asserting (all pass
+ * or fail together). */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include "grid/decomp.h"
 #include "physics/vof_transport.h"
 #include "platform/comm.h"
+#include "solvers/pressure.h"
 #include "test_main.h"
 #include "test_util.h"
 
@@ -209,4 +213,134 @@ void test_vof_ranks(void **state)
         check_vof(&vortex, dims[s]);
     for (int s = 0; s < 3; s++)
         check_vof(&carry, dims[s]);
+}
+
+/* ---- the variable-density pressure solve ------------------------------------------ */
+
+/* The projection's coefficient beta = rho_ref / rho of a layer of grains
+ * (rho 1) under a light phase (rho 1e-3), its surface wavy along x, the
+ * face's density the mean of its two cells' (two_phase.c's `mean`): at the
+ * global face (I, J, K) of direction d of gg. */
+static double layer_beta(const struct grid *gg, int d, int I, int J, int K)
+{
+    double rho = 0.0;
+    for (int s = 0; s < 2; s++) {
+        int c[3] = {I, J, K};
+        c[d] -= s;
+        const double x = (c[0] + 0.5) * gg->h[0], z = (c[2] + 0.5) * gg->h[2];
+        const double lx = gg->n[0] * gg->h[0], lz = gg->n[2] * gg->h[2];
+        const double surface = lz * (0.45 + 0.2 * cos(2.0 * M_PI * x / lx) + 0.01 * c[1]);
+        rho += 0.5 * (z < surface ? 1.0 : 1e-3);
+    }
+    return 1.0 / rho;
+}
+
+/* The right-hand side at global cell (I, J, K): every wavenumber, no
+ * symmetry (a Dirichlet top: no compatibility needed). */
+static double pressure_rhs(int I, int J, int K)
+{
+    return sin(0.7 * I + 1.3 * J + 0.4 * K) + 0.1 * (double)((I * 7 + J * 13 + K * 5) % 11);
+}
+
+/* pressure_solve of layer_beta on the block of g whose cell 0 is global
+ * cell lo (dc NULL: the whole grid gg): phi, and its iterations. */
+static long pressure_layer(const struct grid *gg, const struct grid *g, const struct decomp *dc,
+                           const int lo[3], double *phi)
+{
+    const enum poisson_bc bc[3][2] = {{POISSON_NEUMANN, POISSON_NEUMANN},
+                                      {POISSON_PERIODIC, POISSON_PERIODIC},
+                                      {POISSON_NEUMANN, POISSON_DIRICHLET}};
+    struct pressure_solver *ps = NULL;
+    char err[256] = "";
+    int rc = dc ? pressure_create_decomposed(&ps, g, gg, dc, bc, err, sizeof err)
+                : pressure_create(&ps, g, bc, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    double *beta[3] = {field_alloc(g), field_alloc(g), field_alloc(g)}, *rhs = field_alloc(g);
+    assert_true(beta[0] && beta[1] && beta[2] && rhs);
+    for (int d = 0; d < 3; d++)
+        for (int i = -1; i <= g->n[0]; i++)
+            for (int j = -1; j <= g->n[1]; j++)
+                for (int k = -1; k <= g->n[2]; k++)
+                    beta[d][grid_idx(g, i, j, k)] =
+                        layer_beta(gg, d, lo[0] + i, (lo[1] + j + gg->n[1]) % gg->n[1], lo[2] + k);
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                rhs[grid_idx(g, i, j, k)] = pressure_rhs(lo[0] + i, lo[1] + j, lo[2] + k);
+    rc = pressure_set_coefficient(ps, beta, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    rc = pressure_solve(ps, rhs, phi, 0.0);
+    if (rc != 0)
+        print_error("%s\n", pressure_message(ps));
+    assert_int_equal(rc, 0);
+    const long it = pressure_iterations(ps);
+    pressure_destroy(ps);
+    for (int d = 0; d < 3; d++)
+        field_free(beta[d]);
+    field_free(rhs);
+    return it;
+}
+
+/* n's layer split as dims asks against one process: phi within 1e-10 of
+ * its largest value, the iterations within one. */
+static void check_pressure(const int n[3], const int dims[3])
+{
+    const double len[3] = {n[0] * 0.05, n[1] * 0.05, n[2] * 0.05};
+    struct grid gg;
+    assert_int_equal(grid_init(&gg, n, len), 0);
+    double *whole = field_alloc(&gg);
+    assert_non_null(whole);
+    const int zero[3] = {0, 0, 0}, per[3] = {0, 1, 0}, split[3] = {1, 1, 1};
+    const long it_whole = pressure_layer(&gg, &gg, NULL, zero, whole);
+    struct comm_cart cart;
+    struct decomp dc;
+    struct grid g;
+    char err[256];
+    assert_int_equal(comm_cart_create(&cart, dims, per, split, err, sizeof err), 0);
+    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    double *phi = field_alloc(&g);
+    assert_non_null(phi);
+    const long it = pressure_layer(&gg, &g, &dc, dc.lo, phi);
+    double m[2] = {0.0, 0.0}; /* max |phi - one process's|, max |phi| */
+    for (int i = 0; i < g.n[0]; i++)
+        for (int j = 0; j < g.n[1]; j++)
+            for (int k = 0; k < g.n[2]; k++) {
+                const double w = whole[grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k)];
+                m[0] = fmax(m[0], fabs(phi[grid_idx(&g, i, j, k)] - w));
+                m[1] = fmax(m[1], fabs(w));
+            }
+    comm_max(m, 2);
+    if (comm_rank() == 0)
+        printf("    density 1 : 1e-3, %d x %d x %d on %d x %d x %d ranks: %ld multigrid-CG "
+               "iterations (one process %ld), phi within %.2e\n",
+               n[0], n[1], n[2], cart.dims[0], cart.dims[1], cart.dims[2], it, it_whole,
+               m[0] / m[1]);
+    field_free(phi);
+    field_free(whole);
+    decomp_free(&dc);
+    comm_cart_free(&cart);
+    assert_true(m[1] > 0.0);
+    assert_true(m[0] <= 1e-10 * m[1]);
+    assert_true(labs(it - it_whole) <= 1);
+}
+
+/* A 2D cross-section (the whole grid factorised: the gathered level is the
+ * finest) and a 3D box (the cycles: its finest level split, 8,192 cells
+ * over the multigrid's 4,096), split along x, z and both. */
+void test_pressure_ranks_variable(void **state)
+{
+    (void)state;
+    const int p = comm_size();
+    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
+    const int *const dims[3] = {along_x, along_z, both};
+    const int plane[3] = {40, 1, 24}, box[3] = {32, 8, 32};
+    for (int s = 0; s < 3; s++)
+        check_pressure(plane, dims[s]);
+    for (int s = 0; s < 3; s++)
+        check_pressure(box, dims[s]);
 }
