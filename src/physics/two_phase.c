@@ -552,7 +552,8 @@ static double max_dt(const struct march_state *st, void *state)
  * faces and the edges' shares, both from T as it was when it last moved by
  * more than TRACER_UNCHANGED (so not always today's T), and the parity of
  * the transport's steps, which orders its sweeps.  A continued run takes
- * them from the checkpoint, not from T: it goes on bit for bit. */
+ * them from the checkpoint, not from T: it goes on bit for bit (on one
+ * process; see load). */
 static const char *const rho_names[3] = {"face_density_x", "face_density_y", "face_density_z"};
 static const char *const edge_names[3] = {"edge_fraction_x", "edge_fraction_y",
                                           "edge_fraction_z"};
@@ -567,7 +568,7 @@ static int save(const struct march_state *st, void *state, struct module_record 
     if (module_record_put(rec, "transport_steps", &steps, 1) != 0 ||
         module_record_put(rec, "edges_stale", &stale, 1) != 0)
         return -1;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 3 && !st->ranks; c++)
         if (module_record_put_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
             (!tp->edges_stale &&
              module_record_put_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
@@ -590,6 +591,11 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
         return -1;
     if (tp->vt_ready)
         tp->vt.steps = (long)steps;
+    /* rank 0 writes the record (io/checkpoint.c): a decomposed run's holds
+     * no fields, and one process's are the whole grid's; the ranks' run, or
+     * one continuing theirs, takes the density of today's T */
+    if (st->ranks || module_record_count(rec, rho_names[0]) < 0)
+        return two_phase_tracer_changed(st, err, sizeof err);
     tp->edges_stale = stale != 0.0;
     for (int c = 0; c < 3; c++)
         if (module_record_get_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
