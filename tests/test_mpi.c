@@ -1182,6 +1182,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_bagnold_perturbation_on_ranks),
         cmocka_unit_test(test_bagnold_transient_on_ranks),
         cmocka_unit_test(test_collapse_on_ranks),
+        cmocka_unit_test(test_collapse_checkpoint_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);
