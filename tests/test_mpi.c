@@ -882,7 +882,9 @@ static void check_scene_lines_on_ranks(const char *file, int n, char *ov[], cons
  * measures over the ranks) at 8 cells per H0 in a box 4 H0 long to t = 0.6
  * (60 steps, the front from the column's 2 to 2.12: across the rank border
  * at x = 2 of a split in two along x; in four, the grains on both sides of
- * the border at 1), split along x, along z and both. */
+ * the border at 1), split along x, along z and both; with an open top
+ * split along z and both (a rank border below the top is no open face: 2 x
+ * 2 ranks diverged at step 5 when it was one). */
 static void test_collapse_on_ranks(void **state)
 {
     (void)state;
@@ -895,6 +897,10 @@ static void test_collapse_on_ranks(void **state)
     check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_x, keys, STATUS_FINISHED);
     check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_z, keys, STATUS_FINISHED);
     check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, both, keys, STATUS_FINISHED);
+    char *open[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.6",
+                    "boundary.zhi=open"};
+    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, along_z, keys, STATUS_FINISHED);
+    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, both, keys, STATUS_FINISHED);
 }
 
 /* 4 x 2 cells across: 2 ranks split x, 4 split x and y (2 x 2) */
