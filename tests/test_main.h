@@ -67,6 +67,7 @@ void group_mpi(struct test_tally *t);
 /* the mpi group's checkpoints on ranks (test_mpi_restart.c) */
 void test_bagnold_checkpoint_ranks(void **state);
 void test_checkpoint_fails_on_ranks(void **state);
+void test_collapse_checkpoint_ranks(void **state);
 void group_wall_shock(struct test_tally *t);
 
 #endif

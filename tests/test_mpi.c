@@ -839,6 +839,70 @@ void check_scene_on_ranks(const char *file, int n, char *ov[], double tol, enum 
     assert_true(bad == 0.0);
 }
 
+/* A scene without a headline (the collapse's measures) split over this
+ * run's ranks as dims asks (0: MPI's choice) against one process: the
+ * same status (want), steps within 1, each of the [result] lines keys
+ * within 1e-8 relative (both 0 alike), mass_error within 1e-13 of one
+ * process's (the volume's round-off, summed in another order). */
+static void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
+                                       const char *const *keys, enum run_status want)
+{
+    struct muflow_case cs;
+    test_load_case(&cs, file, n, ov);
+    struct run_result one, all;
+    char err[1024] = "";
+    const struct run_options alone = {.one_process = 1},
+                             split = {.dims = {dims[0], dims[1], dims[2]}};
+    int rc = run_case_opts(&cs, &alone, &one, err, sizeof err);
+    rc |= run_case_opts(&cs, &split, &all, err, sizeof err);
+    if (rc != RUN_OK)
+        print_error("%s\n", err);
+    double rel = 0.0;
+    for (const char *const *k = keys; *k; k++) {
+        const double a = run_result_value(&one, *k), b = run_result_value(&all, *k);
+        rel = fmax(rel, isnan(a) || isnan(b) ? INFINITY
+                        : a == b             ? 0.0
+                                             : fabs(b - a) / fmax(fabs(a), fabs(b)));
+    }
+    const double mass = fabs(run_result_value(&all, "mass_error") -
+                             run_result_value(&one, "mass_error"));
+    double bad = rc != RUN_OK || one.status != want || all.status != one.status ||
+                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) || !(mass <= 1e-13);
+    comm_sum(&bad, 1);
+    if (comm_rank() == 0)
+        printf("    %s on %d ranks (%d x %d x %d asked): %ld steps (alone %ld), %s %s %.10g "
+               "(alone %.10g), results within %.1e relative, mass_error within %.1e\n",
+               cs.name, comm_size(), dims[0], dims[1], dims[2], all.steps, one.steps,
+               run_status_name(all.status), keys[0], run_result_value(&all, keys[0]),
+               run_result_value(&one, keys[0]), rel, mass);
+    assert_true(bad == 0.0);
+}
+
+/* The collapse (two phases, the VOF, the variable-density pressure, its
+ * measures over the ranks) at 8 cells per H0 in a box 4 H0 long to t = 0.6
+ * (60 steps, the front from the column's 2 to 2.12: across the rank border
+ * at x = 2 of a split in two along x; in four, the grains on both sides of
+ * the border at 1), split along x, along z and both; with an open top
+ * split along z and both (a rank border below the top is no open face: 2 x
+ * 2 ranks diverged at step 5 when it was one). */
+static void test_collapse_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.6"};
+    static const char *const keys[] = {"x_front", "h_axis", "kinetic_energy",
+                                       "kinetic_energy_peak", "x_front_err_max",
+                                       "h_axis_err_max", NULL};
+    const int p = comm_size();
+    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
+    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_x, keys, STATUS_FINISHED);
+    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_z, keys, STATUS_FINISHED);
+    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, both, keys, STATUS_FINISHED);
+    char *open[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.6",
+                    "boundary.zhi=open"};
+    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, along_z, keys, STATUS_FINISHED);
+    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, both, keys, STATUS_FINISHED);
+}
+
 /* 4 x 2 cells across: 2 ranks split x, 4 split x and y (2 x 2) */
 static void test_couette_on_ranks(void **state)
 {
@@ -1083,6 +1147,9 @@ void test_fft_ranks_uniform(void **state);
 /* test_mpi_fourier.c */
 void test_fourier_lines_ranks(void **state);
 void test_bagnold3d_on_ranks(void **state);
+/* test_mpi_vof.c */
+void test_vof_ranks(void **state);
+void test_pressure_ranks_variable(void **state);
 /* test_mpi_vmg.c */
 void test_vmg_ranks_plane(void **state);
 void test_vmg_ranks_box(void **state);
@@ -1103,6 +1170,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fft_ranks_dirichlet),
         cmocka_unit_test(test_fft_ranks_uniform),
         cmocka_unit_test(test_fourier_lines_ranks),
+        cmocka_unit_test(test_vof_ranks),
+        cmocka_unit_test(test_pressure_ranks_variable),
         cmocka_unit_test(test_vmg_ranks_plane),
         cmocka_unit_test(test_vmg_ranks_box),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
@@ -1118,6 +1187,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_chute_on_ranks),
         cmocka_unit_test(test_bagnold_perturbation_on_ranks),
         cmocka_unit_test(test_bagnold_transient_on_ranks),
+        cmocka_unit_test(test_collapse_on_ranks),
+        cmocka_unit_test(test_collapse_checkpoint_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

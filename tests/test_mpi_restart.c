@@ -217,3 +217,75 @@ void test_checkpoint_fails_on_ranks(void **state)
         test_tmp_remove(dir);
     assert_true(bad == 0.0);
 }
+
+/* The collapse's lines of r: x_front, h_axis, the energies, mass_error,
+ * tracer_min, and the final residual and time (doubles, exact). */
+#define COLLAPSE_LINES 8
+static void collapse_lines(const struct run_result *r, double v[COLLAPSE_LINES])
+{
+    static const char *const keys[COLLAPSE_LINES - 2] = {
+        "x_front", "h_axis", "kinetic_energy", "kinetic_energy_peak", "mass_error", "tracer_min"};
+    for (int k = 0; k < COLLAPSE_LINES - 2; k++)
+        v[k] = run_result_value(r, keys[k]);
+    v[COLLAPSE_LINES - 2] = r->residual;
+    v[COLLAPSE_LINES - 1] = r->time;
+}
+
+/* A continued collapse ends as the uninterrupted one: status and steps,
+ * its lines bit for bit (same: on the same ranks) or x_front, h_axis and
+ * the energies within 1e-8 relative. */
+static double collapse_ends_alike(const char *what, const struct run_result *a,
+                                  const struct run_result *b, int same)
+{
+    double x[COLLAPSE_LINES], y[COLLAPSE_LINES], rel = 0.0;
+    collapse_lines(a, x);
+    collapse_lines(b, y);
+    const int identical = memcmp(x, y, sizeof x) == 0;
+    for (int k = 0; k < 4; k++)
+        rel = fmax(rel, isnan(x[k]) || isnan(y[k]) ? INFINITY : fabs(y[k] - x[k]) / fabs(x[k]));
+    if (comm_rank() == 0)
+        printf("    collapse %s: %s after %ld steps (uninterrupted %ld), its lines %s (%.1e "
+               "relative)\n",
+               what, run_status_name(b->status), b->steps, a->steps,
+               identical ? "bit for bit" : "differ", rel);
+    return b->status != a->status || b->steps != a->steps || !(rel <= 1e-8) ||
+           (same && !identical);
+}
+
+/* The collapse (two_phase's record, rank 0's, holds no face density: a
+ * run on ranks rebuilds it from T) at 32 x 12, stopped by max_steps = 30
+ * on this run's ranks, continued on the same ranks: as the uninterrupted
+ * run on them bit for bit; continued on one process: as one process's. */
+void test_collapse_checkpoint_ranks(void **state)
+{
+    (void)state;
+    char dir[256], out[400], path[400], err[1024] = "";
+    test_ranks_dir(dir, sizeof dir, "collapse");
+    snprintf(out, sizeof out, "output.dir=%s", dir);
+    char *ov[] = {"domain.lx=4", "domain.nx=32",    "domain.nz=12",        "solver.end_time=0.6",
+                  out,           "output.quiet=on", "solver.max_steps=30"};
+    static struct muflow_case cs, stop;
+    test_load_case(&cs, "../cases/collapse.ini", 6, ov);
+    test_load_case(&stop, "../cases/collapse.ini", 7, ov);
+    struct run_result one, all, r;
+    const struct run_options alone = {.one_process = 1}, split = {0}, written = {.write_output = 1};
+    double bad = run_case_opts(&cs, &alone, &one, err, sizeof err) != RUN_OK;
+    bad += run_case_opts(&cs, &split, &all, err, sizeof err) != RUN_OK;
+    bad += run_case_opts(&stop, &written, &r, err, sizeof err) != RUN_OK;
+    bad += r.steps != 30 || !r.checkpointed;
+    comm_sum(&bad, 1);
+    if (bad == 0.0) {
+        snprintf(path, sizeof path, "%s/%s", dir, CHECKPOINT_NAME);
+        bad += continue_from(path, 0, &r, err, sizeof err) != 0 ||
+               collapse_ends_alike("continued on the same ranks", &all, &r, 1);
+        bad += continue_from(path, 1, &r, err, sizeof err) != 0 ||
+               collapse_ends_alike("continued on 1 process", &one, &r, comm_size() == 1);
+    }
+    if (bad != 0.0 && err[0])
+        print_error("%s\n", err);
+    comm_sum(&bad, 1);
+    comm_barrier();
+    if (comm_rank() == 0)
+        test_tmp_remove(dir);
+    assert_true(bad == 0.0);
+}

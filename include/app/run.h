@@ -43,6 +43,8 @@ struct run_options {
      * ranks (a test's reference); 0: a run under mpirun is split over its
      * ranks (march_setup.decompose) */
     int one_process;
+    /* the ranks along each direction (march_setup.dims; 0: MPI's choice) */
+    int dims[3];
 };
 
 /* Returns RUN_OK when the run took place (whatever its status), else an

@@ -197,6 +197,9 @@ struct march_setup {
     /* 1: the grid is split over the ranks of the MPI job when it has
      * several (comm.h; struct march_ranks); 0: this process holds it all */
     int decompose;
+    /* the ranks along each direction (0: MPI_Dims_create's choice; a
+     * test's split along one direction) */
+    int dims[3];
 };
 
 /* Over the ranks of the run (the value itself on one process): a sum, a

@@ -12,11 +12,12 @@
 /* Runs BODY on every face of every open boundary with d its direction, pf
  * the face, pi the inner face beside it (face 1 or n - 1), pc the boundary
  * cell between them and s the sign of the outward normal (-1 low, +1 high);
- * the body is the macro's variadic part, so that it may hold commas. */
+ * the body is the macro's variadic part, so that it may hold commas.  A
+ * rank border's side is not the boundary: its faces are inner ones. */
 #define FOR_OPEN_FACES(st, ...)                                                      \
     for (int d = 0; d < 3; d++)                                                       \
         for (int side = 0; side < 2; side++) {                                        \
-            if ((st)->bc.face[d][side] != BC_OPEN)                                    \
+            if ((st)->bc.face[d][side] != BC_OPEN || bc_border(&(st)->bc, d, side))   \
                 continue;                                                             \
             const int a_ = (d + 1) % 3, b_ = (d + 2) % 3;                             \
             const ptrdiff_t od = (st)->g.stride[d];                                   \

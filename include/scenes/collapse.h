@@ -44,6 +44,9 @@ void collapse_measure(const struct march_state *st, const double *T, int square,
  * averaged over y). */
 void collapse_heights(const struct grid *g, const double *T, double *h);
 
+/* collapse_heights over the ranks of st (its global grid's n[0] values,
+ * the same on every rank; collective). */
+void collapse_heights_ranks(const struct march_state *st, const double *T, double *h);
 /* Column heights along the row j of cells: h(x_i, y_j) = sum_k T dz. */
 void collapse_row_heights(const struct grid *g, const double *T, int j, double *h);
 

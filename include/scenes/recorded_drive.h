@@ -28,7 +28,8 @@ void recorded_drive_run(struct scene_drive *d, struct recorded_drive *rd);
 /* The dynamic pressure's mean over the top layer of cells set to 0: the
  * pressure at the top is the hydrostatic one, 0 on the face (the light
  * phase's weight over half a cell in the top cells), plus the scene's gauge
- * in the pressure the rheology reads. */
+ * in the pressure the rheology reads.  Over ranks: the top blocks' layer,
+ * summed over the ranks (collective). */
 void recorded_drive_gauge_top(struct march_state *st);
 
 #endif

@@ -15,10 +15,13 @@ struct pressure_solver;
 int pressure_create(struct pressure_solver **out, const struct grid *g,
                     const enum poisson_bc bc[3][2], char *err, size_t errlen);
 /* The solver of a grid split over ranks (grid/decomp.h): g this rank's
- * local grid (kept), gg the global one.  FFTW's MPI transforms
- * (solvers/poisson_fft_ranks.h): each rank holds its block and its slab,
- * never the global grid (docs/numerics/decomposition.md); a uniform
- * coefficient only.  Every call on it is collective. */
+ * local grid, gg the global one, dc the blocks (all kept).  A uniform
+ * coefficient: FFTW's MPI transforms (solvers/poisson_fft_ranks.h), each
+ * rank holding its block and its slab, never the global grid
+ * (docs/numerics/decomposition.md); a variable one: the decomposed
+ * multigrid with the whole grid's options (a small 2D grid gathered and
+ * factorised on every rank, as one process factorises it).  Every call on
+ * it is collective. */
 struct decomp;
 int pressure_create_decomposed(struct pressure_solver **out, const struct grid *g,
                                const struct grid *gg, const struct decomp *dc,

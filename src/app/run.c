@@ -323,6 +323,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
     struct march_setup su;
     scene_march_setup(cs, opt->modules, &su);
     su.decompose = !opt->one_process;
+    for (int d = 0; d < 3; d++)
+        su.dims[d] = opt->dims[d];
     if (march_create(st, cs, &su, err, errlen) != 0)
         return RUN_ERR_SETUP;
     const int ranks = st->ranks ? st->ranks->cart.size : 1;

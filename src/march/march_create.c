@@ -96,23 +96,29 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
 /* A run over several ranks (comm.h): the Cartesian communicator over the
  * periodic directions (a line across walls or a surface, the line blocks'
  * (never periodic: case_checks.c) and the profile's, stays whole on a
- * rank), and the bounded ones under the velocity multigrid (its lines cut
- * at rank borders), this rank's block, its local grid as st->g, not
- * compact (the decomposed multigrid takes no compact grid), and the fills'
- * decomposition.  What runs so is march_ranks_refusal's. */
-static int split_over_ranks(struct march_state *st, const struct muflow_case *cs, char *err,
-                            size_t errlen)
+ * rank), and the bounded ones under the velocity multigrid, given or
+ * auto's choice on the whole grid (its lines cut at rank borders), this
+ * rank's block, its local grid as st->g, not compact (the decomposed
+ * multigrid takes no compact grid), and the fills' decomposition.  What
+ * runs so is march_ranks_refusal's. */
+static int split_over_ranks(struct march_state *st, const struct muflow_case *cs,
+                            const struct march_setup *su, char *err, size_t errlen)
 {
     struct march_ranks *rk = st->ranks = calloc(1, sizeof *rk);
     if (!rk) {
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    int periodic[3], splittable[3], dims[3] = {0, 0, 0};
+    int periodic[3], splittable[3], dims[3] = {su->dims[0], su->dims[1], su->dims[2]};
     bc_periodic_flags(&cs->bc, periodic);
+    if (grid_init(&rk->global, cs->n, cs->len) != 0) {
+        snprintf(err, errlen, "grid: invalid cell counts or lengths");
+        return -1;
+    }
     /* the velocity multigrid cuts its lines at rank borders: a bounded
-     * direction splits too */
-    const int bounded = cs->preconditioner == PRECOND_MULTIGRID;
+     * direction splits too (auto's choice without the AMG, which does not
+     * run on ranks anyway) */
+    const int bounded = march_choose_preconditioner(cs, su, &rk->global, 0) == VISCOUS_MG;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
@@ -123,8 +129,7 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }
-    if (grid_init(&rk->global, cs->n, cs->len) != 0 ||
-        decomp_local_grid(&rk->dc, &rk->global, &st->g) != 0) {
+    if (decomp_local_grid(&rk->dc, &rk->global, &st->g) != 0) {
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }
@@ -145,7 +150,7 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     bc_periodic_flags(&cs->bc, wraps);
     if (su->decompose && comm_size() > 1) {
         if (march_ranks_refusal(cs, su, err, errlen) != 0 ||
-            split_over_ranks(st, cs, err, errlen) != 0) {
+            split_over_ranks(st, cs, su, err, errlen) != 0) {
             march_destroy(st);
             return -1;
         }
@@ -180,6 +185,10 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     enum viscous_precond kind;
     double avail = march_available_memory();
     st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
+    /* auto chooses for the whole grid: the ranks' blocks take the one
+     * process's preconditioner */
+    if (st->ranks && cs->preconditioner == PRECOND_AUTO)
+        kind = march_choose_preconditioner(cs, su, &st->ranks->global, -1);
     st->precond = kind;
     if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_MG) {
         static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",

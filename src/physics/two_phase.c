@@ -10,6 +10,7 @@
 #include "kernels/vof.h"
 #include "physics/two_phase.h"
 #include "physics/vof_transport.h"
+#include "platform/comm.h"
 
 /* Sub-steps of the transport keep each sweep's CFL number below this
  * (VOF_CFL_MAX with a margin for the rounding of the ratio). */
@@ -90,6 +91,16 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
     }
     tp->edges_stale = 1;
     tp->transported = p->transported;
+    /* the reconstruction's and the sweeps' directions are those of more
+     * than one cell: a rank's block of one cell along a split direction
+     * would drop one that the whole grid has */
+    for (int d = 0; d < 3; d++)
+        if (bc_split(&st->bc, d) && st->g.n[d] < 2) {
+            snprintf(err, errlen, "two phases on %d MPI ranks: a block of %d cell along %c "
+                                  "(domain.n%c over the ranks along it: at least 2 cells each)",
+                     comm_size(), st->g.n[d], "xyz"[d], "xyz"[d]);
+            return NULL;
+        }
     if (tp->transported && !tp->vt_ready) {
         if (vof_transport_init(&tp->vt, &st->g, &st->bc) != 0 ||
             !(tp->before = field_alloc(&st->g))) {
@@ -135,12 +146,13 @@ int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen)
 double two_phase_volume(const struct march_state *st)
 {
     const struct two_phase *tp = march_module_state(st, &two_phase_module);
-    return kernel_sum(&st->g, tp->T);
+    return march_sum(st, kernel_sum(&st->g, tp->T));
 }
 
 /* The grains' share of the box lo <= xi <= lo + width of cell idx (which
- * may be a ghost: a periodic one is its image's, any other counts as
- * uniformly filled with its T). */
+ * may be a ghost: a rank border's is the neighbour's cell, its interface
+ * exchanged; a periodic one is its image's; any other counts as uniformly
+ * filled with its T). */
 static double box_fraction(const struct two_phase *tp, const struct grid *g,
                            const struct boundary *bc, const int idx[3], const double lo[3],
                            const double width[3])
@@ -148,6 +160,8 @@ static double box_fraction(const struct two_phase *tp, const struct grid *g,
     int w[3] = {idx[0], idx[1], idx[2]};
     for (int d = 0; d < 3; d++)
         if (w[d] < 0 || w[d] >= g->n[d]) {
+            if (bc_border(bc, d, w[d] < 0 ? 0 : 1))
+                continue;
             if (bc->face[d][0] != BC_PERIODIC)
                 return tp->T[grid_idx(g, idx[0], idx[1], idx[2])];
             w[d] = (w[d] + g->n[d]) % g->n[d];
@@ -197,6 +211,9 @@ static double face_fraction(const struct two_phase *tp, const struct grid *g,
 static void edge_fractions(struct two_phase *tp, const struct grid *g, const struct boundary *bc)
 {
     vof_reconstruct(g, tp->T, tp->normal, tp->alpha);
+    if (bc->dc) /* the neighbours' interfaces in the rank borders' ghosts */
+        for (int c = 0; c < 4; c++)
+            bc_fill_scalar(g, bc, c < 3 ? tp->normal[c] : tp->alpha);
     for (int c = 0; c < 3; c++) {
         int a = (c + 1) % 3, b = (c + 2) % 3;
         int hi[3] = {g->n[0], g->n[1], g->n[2]};
@@ -490,7 +507,8 @@ static int transport(struct march_state *st, void *state, double dt)
     if (!tp->configured || !tp->transported)
         return 0;
     double cfl[3];
-    long n = (long)ceil(vof_cfl(&st->g, st->field.velocity, dt, cfl) / TRANSPORT_CFL);
+    long n = (long)ceil(march_max(st, vof_cfl(&st->g, st->field.velocity, dt, cfl)) /
+                        TRANSPORT_CFL);
     if (n < 1)
         n = 1;
     bc_fill_velocity(&st->g, &st->bc, st->field.velocity);
@@ -508,7 +526,7 @@ static int transport(struct march_state *st, void *state, double dt)
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 moved = fmax(moved, fabs(tp->T[q] - tp->before[q]));
             }
-    if (moved > TRACER_UNCHANGED) {
+    if (march_max(st, moved) > TRACER_UNCHANGED) {
         char err[256];
         if (two_phase_tracer_changed(st, err, sizeof err) != 0) {
             snprintf(st->step_error, sizeof st->step_error, "the transport: %.140s", err);
@@ -526,7 +544,7 @@ static double max_dt(const struct march_state *st, void *state)
     if (!tp->configured || !tp->transported || !(tp->p.step_cfl > 0.0))
         return INFINITY;
     double cfl[3];
-    double c = vof_cfl(&st->g, st->field.velocity, 1.0, cfl);
+    double c = march_max(st, vof_cfl(&st->g, st->field.velocity, 1.0, cfl));
     return c > 0.0 ? fmin(tp->p.step_cfl, VOF_CFL_MAX) / c : INFINITY;
 }
 
@@ -534,7 +552,8 @@ static double max_dt(const struct march_state *st, void *state)
  * faces and the edges' shares, both from T as it was when it last moved by
  * more than TRACER_UNCHANGED (so not always today's T), and the parity of
  * the transport's steps, which orders its sweeps.  A continued run takes
- * them from the checkpoint, not from T: it goes on bit for bit. */
+ * them from the checkpoint, not from T: it goes on bit for bit (on one
+ * process; see load). */
 static const char *const rho_names[3] = {"face_density_x", "face_density_y", "face_density_z"};
 static const char *const edge_names[3] = {"edge_fraction_x", "edge_fraction_y",
                                           "edge_fraction_z"};
@@ -549,7 +568,7 @@ static int save(const struct march_state *st, void *state, struct module_record 
     if (module_record_put(rec, "transport_steps", &steps, 1) != 0 ||
         module_record_put(rec, "edges_stale", &stale, 1) != 0)
         return -1;
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 3 && !st->ranks; c++)
         if (module_record_put_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
             (!tp->edges_stale &&
              module_record_put_field(rec, edge_names[c], g, tp->edge_t[c]) != 0))
@@ -572,6 +591,11 @@ static int load(struct march_state *st, void *state, struct module_record *rec)
         return -1;
     if (tp->vt_ready)
         tp->vt.steps = (long)steps;
+    /* rank 0 writes the record (io/checkpoint.c): a decomposed run's holds
+     * no fields, and one process's are the whole grid's; the ranks' run, or
+     * one continuing theirs, takes the density of today's T */
+    if (st->ranks || module_record_count(rec, rho_names[0]) < 0)
+        return two_phase_tracer_changed(st, err, sizeof err);
     tp->edges_stale = stale != 0.0;
     for (int c = 0; c < 3; c++)
         if (module_record_get_field(rec, rho_names[c], g, st->field.density_faces[c]) != 0 ||
@@ -592,4 +616,5 @@ const struct module two_phase_module = {
     .save = save,
     .load = load,
     .destroy = destroy,
+    .decomposed = 1,
 };

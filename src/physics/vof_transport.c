@@ -1,5 +1,6 @@
 /* Whole VOF steps over the sweeps of kernels/vof.c (see vof_transport.h). */
 #include "physics/vof_transport.h"
+#include "grid/decomp.h"
 #include "kernels/vof.h"
 
 int vof_transport_init(struct vof_transport *vt, const struct grid *g, const struct boundary *bc)
@@ -38,7 +39,12 @@ void vof_transport_free(struct vof_transport *vt)
  * interior cell, like the mirrored T (zero-gradient), i.e. xi_e -> 1 - xi_e:
  * m_e changes sign and alpha loses m_e.  Closed boundary faces carry no
  * flux, so this only matters to the faces that let fluid through (open,
- * inflow), whose ghost cells hold the light phase: see open_ghosts. */
+ * inflow), whose ghost cells hold the light phase: see open_ghosts.  A rank
+ * border's ghosts are the neighbour's cells, their interface exchanged as
+ * the neighbour reconstructed it: the flux through a border face is then
+ * computed by both ranks from the same upwind data by the same operations,
+ * the same double on both (volume conserved over the ranks, the result the
+ * one process's). */
 
 /* On an open or inflow face the fluid that enters is the light phase
  * (T = 0): the ghost cells there are empty, with no interface (zero normal:
@@ -51,7 +57,7 @@ static void open_ghosts(struct vof_transport *vt, double *T, int which)
     for (int e = 0; e < 3; e++) {
         int a = (e + 1) % 3, b = (e + 2) % 3;
         for (int side = 0; side < 2; side++) {
-            if (!bc_kind_passes_flow(vt->bc->face[e][side]))
+            if (!bc_kind_passes_flow(vt->bc->face[e][side]) || bc_border(vt->bc, e, side))
                 continue;
             int idx[3];
             idx[e] = side == 0 ? -1 : g->n[e];
@@ -81,7 +87,7 @@ static void fill_interface_ghosts(struct vof_transport *vt)
             continue;
         int a = (e + 1) % 3, b = (e + 2) % 3;
         for (int side = 0; side < 2; side++)
-            for (int ia = 0; ia < g->n[a]; ia++)
+            for (int ia = 0; ia < g->n[a] && !bc_border(vt->bc, e, side); ia++)
                 for (int ib = 0; ib < g->n[b]; ib++) {
                     int idx[3];
                     idx[e] = side == 0 ? -1 : g->n[e];
@@ -99,7 +105,8 @@ int vof_transport_step(struct vof_transport *vt, double *T, double *const vel[3]
                        double *max_cfl)
 {
     const struct grid *g = vt->g;
-    double largest = vof_cfl(g, vel, dt, vt->cfl);
+    /* every rank takes the step or refuses it alike */
+    double largest = decomp_max(vt->bc->dc, vof_cfl(g, vel, dt, vt->cfl));
     if (max_cfl)
         *max_cfl = largest;
     if (largest > VOF_CFL_MAX)

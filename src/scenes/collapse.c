@@ -192,10 +192,11 @@ struct record {
     double peak;             /* largest kinetic energy so far, and when */
     double peak_time;
     double volume0;
-    int nx;                  /* profiles: times and nx heights each */
+    int nx;                  /* profiles: times and nx heights each (the whole grid's) */
     double *ptime, *ph;
     long np, pcap;
     double next_profile;
+    double *h_last;          /* on ranks: h(x) at the last sample (rank 0 writes it) */
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -206,8 +207,12 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     r->last_step = -1;
-    r->nx = st->g.n[0];
+    r->nx = march_global_grid(st)->n[0];
     *state = r;
+    if (st->ranks && !(r->h_last = calloc((size_t)r->nx, sizeof *r->h_last))) {
+        snprintf(err, errlen, "collapse: out of memory");
+        return -1;
+    }
     return 0;
 }
 
@@ -218,6 +223,7 @@ static void destroy(void *state)
         free(r->s);
         free(r->ptime);
         free(r->ph);
+        free(r->h_last);
     }
     free(r);
 }
@@ -351,12 +357,14 @@ static const struct module collapse_module = {
     .destroy = destroy,
 };
 
-/* h(x) of surface.csv: averaged over y (slab), along the row next to y = 0
- * (square). */
+/* h(x) of surface.csv: averaged over y (slab; over the ranks, collective),
+ * along the row next to y = 0 (square). */
 static void surface_heights(const struct march_state *st, const double *T, double *h)
 {
     if (is_square(st->cs))
         collapse_row_heights(&st->g, T, 0, h);
+    else if (st->ranks)
+        collapse_heights_ranks(st, T, h);
     else
         collapse_heights(&st->g, T, h);
 }
@@ -375,6 +383,8 @@ static int record_step(void *rec, const struct march_state *st)
     struct collapse_sample *s = &r->s[r->n++];
     collapse_measure(st, T, is_square(st->cs), s);
     r->last_step = st->step;
+    if (r->h_last) /* every rank at every sample: the final deposit's, for rank 0 */
+        surface_heights(st, T, r->h_last);
     if (r->n == 1)
         r->volume0 = s->volume;
     if (s->kinetic > r->peak) {
@@ -388,7 +398,10 @@ static int record_step(void *rec, const struct march_state *st)
             return -1;
         r->pcap = pc;
         r->ptime[r->np] = s->t;
-        surface_heights(st, T, r->ph + (size_t)r->np * r->nx);
+        if (r->h_last)
+            memcpy(r->ph + (size_t)r->np * r->nx, r->h_last, (size_t)r->nx * sizeof *r->h_last);
+        else
+            surface_heights(st, T, r->ph + (size_t)r->np * r->nx);
         r->np++;
         double every = params(st->cs)->profile_interval;
         while (r->next_profile <= s->t * (1.0 + 1e-12))
@@ -538,14 +551,18 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
         return -1;
     if (output_open(&f, dir, "surface.csv", err, errlen) != 0)
         return -1;
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st);
     double *h = malloc((size_t)g->n[0] * sizeof *h);
     if (!h) {
         fclose(f.f);
         snprintf(err, errlen, "surface.csv: out of memory");
         return -1;
     }
-    surface_heights(st, T, h);
+    /* rank 0 alone: the heights every rank reduced at the last sample */
+    if (r->h_last)
+        memcpy(h, r->h_last, (size_t)g->n[0] * sizeof *h);
+    else
+        surface_heights(st, T, h);
     fprintf(f.f, "t,final,x,h\n");
     for (long m = 0; m < r->np; m++)
         for (int i = 0; i < r->nx; i++)
@@ -587,17 +604,26 @@ static int setup(struct march_state *st, char *err, size_t errlen)
      * (docs/numerics/two-phase-and-vof.md, "What the collapse needed"). */
     st->pressure_gauge = p->fluid_weight ? 0.0 : -p->fluid_density * cs->gravity * cs->len[2];
     const struct grid *g = &st->g;
+    const int *lo = st->ranks ? st->ranks->dc.lo : (const int[3]){0, 0, 0};
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
                 T[grid_idx(g, i, j, k)] =
-                    collapse_rectangle_fraction(i * g->h[0], g->h[0], k * g->h[2], g->h[2],
-                                                p->half_width, p->height) *
+                    collapse_rectangle_fraction((lo[0] + i) * g->h[0], g->h[0],
+                                                (lo[2] + k) * g->h[2], g->h[2], p->half_width,
+                                                p->height) *
                     (p->column == COLLAPSE_SQUARE
                          ? collapse_rectangle_fraction(j * g->h[1], g->h[1], 0.0, 1.0,
                                                        p->half_width, 1.0)
                          : 1.0);
     return two_phase_tracer_changed(st, err, errlen);
+}
+
+/* A slab runs over ranks (its measures reduced: collapse_measure.c); the
+ * square's lines along y and the diagonal do not. */
+static int decomposed(const struct muflow_case *cs)
+{
+    return !is_square(cs);
 }
 
 static const struct module *const collapse_modules[] = {&two_phase_module, &collapse_module,
@@ -618,4 +644,6 @@ const struct scene scene_collapse = {
     .write = write,
     .files = collapse_files,
     .write_running = 1,
+    .decomposed = decomposed,
+    .not_decomposed = "collapse.column = square",
 };

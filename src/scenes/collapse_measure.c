@@ -19,6 +19,21 @@ void collapse_heights(const struct grid *g, const double *T, double *h)
     }
 }
 
+void collapse_heights_ranks(const struct march_state *st, const double *T, double *h)
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int lo = st->ranks ? st->ranks->dc.lo[0] : 0;
+    for (int i = 0; i < G->n[0]; i++)
+        h[i] = 0.0;
+    for (int i = 0; i < g->n[0]; i++) /* this rank's part of its columns */
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                h[lo + i] += T[grid_idx(g, i, j, k)];
+    march_sum_array(st, h, G->n[0]);
+    for (int i = 0; i < G->n[0]; i++)
+        h[i] *= G->h[2] / G->n[1];
+}
+
 /* check() ties the column to its y faces: a slab's are periodic, a
  * square's low one the symmetry plane (slip). */
 void collapse_row_heights(const struct grid *g, const double *T, int j, double *h)
@@ -33,30 +48,35 @@ void collapse_row_heights(const struct grid *g, const double *T, int j, double *
 
 /* The largest distance from the axis where T crosses 1/2 along the line of
  * cells (di m, j0 + dj m, k), m = 0 .. n - 1, or 0 when the line has no
- * grains: linear between the centres, m + 1/2 steps of |(di hx, dj hy)|
- * from the axis. */
+ * grains: linear between the centres, m0 + m + 1/2 steps of |(di hx, dj hy)|
+ * from the axis (m0: the global index of the line's cell 0).  A line that
+ * goes on past cell n - 1 (more: a rank border's ghost holds the next
+ * cell) and has grains there gives 0: the crossing is the next rank's. */
 static double line_front(const struct grid *g, const double *T, int di, int dj, int j0, int k,
-                         int n)
+                         int n, int m0, int more)
 {
     double step = hypot(di * g->h[0], dj * g->h[1]);
     for (int m = n - 1; m >= 0; m--) {
         double t = T[grid_idx(g, di * m, j0 + dj * m, k)];
         if (t < 0.5)
             continue;
-        double xc = (m + 0.5) * step;
-        if (m == n - 1)
+        double xc = (m0 + m + 0.5) * step;
+        if (m == n - 1 && !more)
             return xc;
         double tn = T[grid_idx(g, di * (m + 1), j0 + dj * (m + 1), k)];
+        if (tn >= 0.5)
+            return 0.0;
         return xc + step * (t - 0.5) / (t - tn);
     }
     return 0.0;
 }
 
-/* The largest x where T crosses 1/2 along a row, or 0 when the row has no
- * grains. */
-static double row_front(const struct grid *g, const double *T, int j, int k)
+/* The largest x where T crosses 1/2 along a row of this rank's block (m0:
+ * its global x index; more: a rank border above), or 0 when the row has
+ * no grains. */
+static double row_front(const struct grid *g, const double *T, int j, int k, int m0, int more)
 {
-    return line_front(g, T, 1, 0, j, k, g->n[0]);
+    return line_front(g, T, 1, 0, j, k, g->n[0], m0, more);
 }
 
 /* The square column's fronts and height on the axis (scenes/collapse.h). */
@@ -64,10 +84,10 @@ static void square_measures(const struct grid *g, const double *T, struct collap
 {
     int diagonal = g->n[0] == g->n[1] && g->h[0] == g->h[1];
     for (int k = 0; k < g->n[2]; k++) {
-        s->x_front = fmax(s->x_front, row_front(g, T, 0, k));
-        s->y_front = fmax(s->y_front, line_front(g, T, 0, 1, 0, k, g->n[1]));
+        s->x_front = fmax(s->x_front, row_front(g, T, 0, k, 0, 0));
+        s->y_front = fmax(s->y_front, line_front(g, T, 0, 1, 0, k, g->n[1], 0, 0));
         if (diagonal)
-            s->d_front = fmax(s->d_front, line_front(g, T, 1, 1, 0, k, g->n[0]));
+            s->d_front = fmax(s->d_front, line_front(g, T, 1, 1, 0, k, g->n[0], 0, 0));
     }
     /* h = a + b r^2 through the cell columns (0, 0) at r^2 = h^2 / 2 and
      * (1, 0) at 5 h^2 / 2: a = (5 h_00 - h_10) / 4 */
@@ -82,10 +102,27 @@ static void square_measures(const struct grid *g, const double *T, struct collap
     s->h_axis = g->n[0] > 1 ? (5.0 * h00 - h10) / 4.0 : h00;
 }
 
+/* A slab's measures over ranks (the square runs on one process): the
+ * fronts and extremes their maxima, the volume, energy and the axis's
+ * columns their sums; the axis's two columns are one rank's along x
+ * (blocks of two cells at least: two_phase.c), its share of them along z. */
+static void reduce_over_ranks(const struct march_state *st, struct collapse_sample *s,
+                              double sums[4])
+{
+    s->x_front = march_max(st, s->x_front);
+    s->t_min = -march_max(st, -s->t_min);
+    s->t_max = march_max(st, s->t_max);
+    march_sum_array(st, sums, 4);
+}
+
 void collapse_measure(const struct march_state *st, const double *T, int square,
                       struct collapse_sample *s)
 {
     const struct grid *g = &st->g;
+    /* this rank's block: its first global x cell, a rank border above it
+     * along x, the axis's columns here */
+    const int m0 = st->ranks ? st->ranks->dc.lo[0] : 0;
+    const int more = m0 + g->n[0] < march_global_grid(st)->n[0], axis = m0 == 0;
     s->t = st->time;
     s->x_front = s->y_front = s->d_front = 0.0;
     s->t_min = INFINITY;
@@ -94,7 +131,7 @@ void collapse_measure(const struct march_state *st, const double *T, int square,
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
             if (!square)
-                s->x_front = fmax(s->x_front, row_front(g, T, j, k));
+                s->x_front = fmax(s->x_front, row_front(g, T, j, k, m0, more));
             for (int i = 0; i < g->n[0]; i++) {
                 double t = T[grid_idx(g, i, j, k)];
                 vol += t;
@@ -104,22 +141,15 @@ void collapse_measure(const struct march_state *st, const double *T, int square,
         }
     /* per unit width (slab), or the quarter column's (square) */
     double cell = square ? g->h[0] * g->h[1] * g->h[2] : g->h[0] * g->h[2] / g->n[1];
-    s->volume = vol * cell;
-    /* h(x) = a + b x^2 through the first two column heights (x = h/2, 3h/2):
-     * a = (9 h_0 - h_1) / 8 */
     if (square)
         square_measures(g, T, s);
     double h0 = 0.0, h1 = 0.0;
-    for (int j = 0; j < g->n[1]; j++)
+    for (int j = 0; j < g->n[1] && axis; j++)
         for (int k = 0; k < g->n[2]; k++) {
             h0 += T[grid_idx(g, 0, j, k)];
             if (g->n[0] > 1)
                 h1 += T[grid_idx(g, 1, j, k)];
         }
-    h0 *= g->h[2] / g->n[1];
-    h1 *= g->h[2] / g->n[1];
-    if (!square)
-        s->h_axis = g->n[0] > 1 ? (9.0 * h0 - h1) / 8.0 : h0;
     /* kinetic energy: each face's velocity with the face density, over the
      * face's share of volume (the velocity unknowns' boxes) */
     double ke = 0.0;
@@ -133,7 +163,18 @@ void collapse_measure(const struct march_state *st, const double *T, int square,
                           st->field.velocity[c][p];
                 }
     }
-    s->kinetic = ke * cell;
+    double sums[4] = {vol, h0, h1, ke};
+    if (st->ranks)
+        reduce_over_ranks(st, s, sums);
+    const struct grid *G = march_global_grid(st);
+    s->volume = sums[0] * cell;
+    /* h(x) = a + b x^2 through the first two column heights (x = h/2, 3h/2):
+     * a = (9 h_0 - h_1) / 8 */
+    h0 = sums[1] * (g->h[2] / g->n[1]);
+    h1 = sums[2] * (g->h[2] / g->n[1]);
+    if (!square)
+        s->h_axis = G->n[0] > 1 ? (9.0 * h0 - h1) / 8.0 : h0;
+    s->kinetic = sums[3] * cell;
 }
 
 /* Length of [a, a + w] inside [0, r]. */

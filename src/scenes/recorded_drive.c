@@ -59,13 +59,15 @@ void recorded_drive_run(struct scene_drive *d, struct recorded_drive *rd)
 
 void recorded_drive_gauge_top(struct march_state *st)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *G = march_global_grid(st);
     int k = g->n[2] - 1;
+    /* the top layer: the ranks' blocks at the top along z */
+    int top = !st->ranks || st->ranks->dc.lo[2] + g->n[2] == G->n[2];
     double s = 0.0;
-    for (int i = 0; i < g->n[0]; i++)
+    for (int i = 0; i < g->n[0] && top; i++)
         for (int j = 0; j < g->n[1]; j++)
             s += st->field.p_dyn[grid_idx(g, i, j, k)];
-    s /= (double)g->n[0] * g->n[1];
+    s = march_sum(st, s) / ((double)G->n[0] * G->n[1]);
     for (size_t p = 0; p < g->size; p++)
         st->field.p_dyn[p] -= s;
 }

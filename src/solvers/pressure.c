@@ -1,5 +1,6 @@
 /* The projection's Poisson solve: FFT while the coefficient is uniform,
- * multigrid-preconditioned CG otherwise (pressure.h). */
+ * multigrid-preconditioned CG otherwise (pressure.h); over ranks FFTW's
+ * MPI transforms and the decomposed multigrid. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,8 +23,9 @@
  * which makes the CG's preconditioner exact.  Up to this size the
  * factorisation beats the cycles; beyond it its fill overtakes them
  * (docs/numerics/pressure.md).  3D grids keep the cycles: their fill grows
- * faster.  (A grid distributed over ranks would gather its coarsest level to
- * one: there the limit is that of one rank's share.) */
+ * faster.  Over ranks the limit is the whole grid's, as on one process: every
+ * rank gathers it and solves it alike (the decomposed multigrid's gathered
+ * level is then the finest), so the ranks' solve is the one process's. */
 #define PRESSURE_DIRECT_CELLS 32768L
 
 struct pressure_solver {
@@ -39,6 +41,8 @@ struct pressure_solver {
     /* a grid split over ranks (pressure_create_decomposed): FFTW's MPI
      * transforms (NULL: one process); g is the rank's block */
     struct poisson_fft_ranks *ranks;
+    const struct grid *gg;     /* the whole grid and the blocks (ranks only) */
+    const struct decomp *dc;
 };
 
 /* A solver of the uniform coefficient on g (the rank's block), its FFT to
@@ -85,6 +89,8 @@ int pressure_create_decomposed(struct pressure_solver **out, const struct grid *
         free(ps);
         return -1;
     }
+    ps->gg = gg;
+    ps->dc = dc;
     *out = ps;
     return 0;
 }
@@ -129,18 +135,16 @@ double pressure_variable_memory_estimate(const struct grid *g)
 int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], char *err,
                              size_t errlen)
 {
-    if (ps->ranks && beta) {
-        snprintf(err, errlen, "pressure solver: a variable coefficient on several ranks");
-        return -1;
-    }
     ps->uniform = beta == NULL;
     if (ps->uniform)
         return 0;
     if (!ps->mg) {
+        /* the options of the whole grid: the one process's hierarchy */
         struct multigrid_options o;
-        ps->direct = variable_options(ps->g, &o);
-        if (multigrid_create(&ps->mg, ps->g, (const enum poisson_bc(*)[2])ps->bc, &o, err,
-                             errlen) != 0)
+        ps->direct = variable_options(ps->ranks ? ps->gg : ps->g, &o);
+        const enum poisson_bc(*bc)[2] = (const enum poisson_bc(*)[2])ps->bc;
+        if ((ps->ranks ? multigrid_create_decomposed(&ps->mg, ps->gg, ps->dc, bc, &o, err, errlen)
+                       : multigrid_create(&ps->mg, ps->g, bc, &o, err, errlen)) != 0)
             return -1;
         if (!(ps->rhs = field_alloc(ps->g))) {
             snprintf(err, errlen, "pressure solver: out of memory");
@@ -173,12 +177,11 @@ long pressure_iterations(const struct pressure_solver *ps) { return ps->iteratio
 
 int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, double floor)
 {
-    if (ps->ranks) {
-        poisson_fft_ranks_solve(ps->ranks, rhs, phi);
-        return 0;
-    }
     if (ps->uniform) {
-        poisson_fft_solve(ps->fft, rhs, phi);
+        if (ps->ranks)
+            poisson_fft_ranks_solve(ps->ranks, rhs, phi);
+        else
+            poisson_fft_solve(ps->fft, rhs, phi);
         return 0;
     }
     char why[200];
@@ -198,6 +201,8 @@ int pressure_solve(struct pressure_solver *ps, const double *rhs, double *phi, d
     double rtol = PRESSURE_RTOL;
     if (floor > 0.0) {
         double norm = kernel_norm2_cells(ps->g, ps->rhs);
+        if (ps->ranks) /* every rank's cells: the ranks stop alike */
+            norm = sqrt(decomp_sum(ps->dc, norm * norm));
         if (norm <= floor)
             return 0; /* phi = 0: nothing above the floor to project */
         rtol = fmax(rtol, floor / norm);
