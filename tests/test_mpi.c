@@ -1086,6 +1086,7 @@ void test_bagnold3d_on_ranks(void **state);
 /* test_mpi_vmg.c */
 void test_vmg_ranks_plane(void **state);
 void test_vmg_ranks_box(void **state);
+void test_vmg_ranks_augmented(void **state);
 void test_vmg_scenes_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
@@ -1105,6 +1106,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_fourier_lines_ranks),
         cmocka_unit_test(test_vmg_ranks_plane),
         cmocka_unit_test(test_vmg_ranks_box),
+        cmocka_unit_test(test_vmg_ranks_augmented),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
