@@ -53,8 +53,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
  * does. */
 #define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
                   "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
-                  "bodies, uniform spacing, the line or multigrid preconditioner (solver.preconditioner = " \
-                  "auto, line or multigrid), no solver.initial_state"
+                  "bodies, uniform spacing, the line, fourier or multigrid preconditioner " \
+                  "(solver.preconditioner = auto, line, fourier or multigrid), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -99,8 +99,10 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
  * rank), and the bounded ones under the velocity multigrid (its lines cut
  * at rank borders), this rank's block, its local grid as st->g, not
  * compact (the decomposed multigrid takes no compact grid), and the fills'
- * decomposition.  What runs so is march_ranks_refusal's. */
-static int split_over_ranks(struct march_state *st, const struct muflow_case *cs, char *err,
+ * decomposition; *kind the implicit step's preconditioner, chosen on the
+ * whole grid (precond_policy.c).  What runs so is march_ranks_refusal's. */
+static int split_over_ranks(struct march_state *st, const struct muflow_case *cs,
+                            const struct march_setup *su, enum viscous_precond *kind, char *err,
                             size_t errlen)
 {
     struct march_ranks *rk = st->ranks = calloc(1, sizeof *rk);
@@ -110,9 +112,14 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     }
     int periodic[3], splittable[3], dims[3] = {0, 0, 0};
     bc_periodic_flags(&cs->bc, periodic);
+    if (grid_init(&rk->global, cs->n, cs->len) != 0) {
+        snprintf(err, errlen, "grid: invalid cell counts or lengths");
+        return -1;
+    }
+    *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
     /* the velocity multigrid cuts its lines at rank borders: a bounded
      * direction splits too */
-    const int bounded = cs->preconditioner == PRECOND_MULTIGRID;
+    const int bounded = *kind == VISCOUS_MG;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
@@ -123,8 +130,7 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }
-    if (grid_init(&rk->global, cs->n, cs->len) != 0 ||
-        decomp_local_grid(&rk->dc, &rk->global, &st->g) != 0) {
+    if (decomp_local_grid(&rk->dc, &rk->global, &st->g) != 0) {
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }
@@ -143,9 +149,10 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         st->rheo.lambda *= cs->continuation;
     int wraps[3];
     bc_periodic_flags(&cs->bc, wraps);
+    enum viscous_precond kind;
     if (su->decompose && comm_size() > 1) {
         if (march_ranks_refusal(cs, su, err, errlen) != 0 ||
-            split_over_ranks(st, cs, err, errlen) != 0) {
+            split_over_ranks(st, cs, su, &kind, err, errlen) != 0) {
             march_destroy(st);
             return -1;
         }
@@ -177,15 +184,19 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     bc_unknown_boxes(g, &st->bc, st->act);
     /* refuse before allocating what the machine does not have (case_load
      * refuses it first, from the case alone) */
-    enum viscous_precond kind;
     double avail = march_available_memory();
-    st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
+    /* on ranks the kind split_over_ranks chose on the whole grid, this
+     * rank's block's memory */
+    st->memory_estimate = st->ranks ? march_memory_estimate(cs, su, g, kind)
+                                    : march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
     if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_MG) {
         static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
                                             "multigrid"};
         char what[120];
-        snprintf(what, sizeof what, "the implicit step's %s preconditioner",
+        snprintf(what, sizeof what, "%s%s preconditioner",
+                 cs->preconditioner == PRECOND_AUTO ? "the implicit step's "
+                                                    : "solver.preconditioner = ",
                  kind >= 0 && kind <= VISCOUS_MG ? names[kind] : "?");
         ranks_refused(cs, what, err, errlen);
         march_destroy(st);
