@@ -1024,6 +1024,16 @@ static void test_muflow_on_ranks(void **state)
     if (!keys_said)
         print_error("%s", out);
     free(out);
+    /* a preconditioner named that is not decomposed (auto would take the
+     * multigrid) names the key, before the split it would decide */
+    snprintf(args, sizeof args, "../cases/bingham_cavity.ini solver.preconditioner=cholesky "
+             "output.dir='%s/cavity'", dir);
+    mpirun_two(bin, args, &out);
+    const int named = strstr(out, "solver.preconditioner = cholesky does not run decomposed") &&
+                      strstr(out, "rc=2\n");
+    if (!named)
+        print_error("%s", out);
+    free(out);
     /* stopped at step 3 (status 3) with a field file every 2 steps and a
      * checkpoint, continued on the ranks to steady (6 steps, as in one go) */
     snprintf(args, sizeof args,
@@ -1071,6 +1081,7 @@ static void test_muflow_on_ranks(void **state)
     assert_true(status2);
     assert_false(wrote);
     assert_true(keys_said);
+    assert_true(named);
     assert_true(ran);
     assert_true(continued);
     assert_true(serial);

@@ -100,7 +100,8 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
  * at rank borders), this rank's block, its local grid as st->g, not
  * compact (the decomposed multigrid takes no compact grid), and the fills'
  * decomposition; *kind the implicit step's preconditioner, chosen on the
- * whole grid (precond_policy.c).  What runs so is march_ranks_refusal's. */
+ * whole grid (precond_policy.c), refused unless decomposed (before the
+ * split, which it decides).  What runs so is march_ranks_refusal's. */
 static int split_over_ranks(struct march_state *st, const struct muflow_case *cs,
                             const struct march_setup *su, enum viscous_precond *kind, char *err,
                             size_t errlen)
@@ -117,6 +118,16 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
         return -1;
     }
     *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
+    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG) {
+        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
+                                            "multigrid"};
+        char what[120];
+        snprintf(what, sizeof what,
+                 cs->preconditioner == PRECOND_AUTO ? "the implicit step's %s preconditioner"
+                                                    : "solver.preconditioner = %s",
+                 *kind >= 0 && *kind <= VISCOUS_MG ? names[*kind] : "?");
+        return ranks_refused(cs, what, err, errlen);
+    }
     /* the velocity multigrid cuts its lines at rank borders: a bounded
      * direction splits too */
     const int bounded = *kind == VISCOUS_MG;
@@ -190,18 +201,6 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     st->memory_estimate = st->ranks ? march_memory_estimate(cs, su, g, kind)
                                     : march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
-    if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_MG) {
-        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
-                                            "multigrid"};
-        char what[120];
-        snprintf(what, sizeof what, "%s%s preconditioner",
-                 cs->preconditioner == PRECOND_AUTO ? "the implicit step's "
-                                                    : "solver.preconditioner = ",
-                 kind >= 0 && kind <= VISCOUS_MG ? names[kind] : "?");
-        ranks_refused(cs, what, err, errlen);
-        march_destroy(st);
-        return -1;
-    }
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);
         march_destroy(st);
