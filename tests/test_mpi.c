@@ -1088,6 +1088,16 @@ static void test_muflow_on_ranks(void **state)
     if (!keys_said)
         print_error("%s", out);
     free(out);
+    /* a preconditioner named that is not decomposed (auto would take the
+     * multigrid) names the key, before the split it would decide */
+    snprintf(args, sizeof args, "../cases/bingham_cavity.ini solver.preconditioner=cholesky "
+             "output.dir='%s/cavity'", dir);
+    mpirun_two(bin, args, &out);
+    const int named = strstr(out, "solver.preconditioner = cholesky does not run decomposed") &&
+                      strstr(out, "rc=2\n");
+    if (!named)
+        print_error("%s", out);
+    free(out);
     /* stopped at step 3 (status 3) with a field file every 2 steps and a
      * checkpoint, continued on the ranks to steady (6 steps, as in one go) */
     snprintf(args, sizeof args,
@@ -1135,6 +1145,7 @@ static void test_muflow_on_ranks(void **state)
     assert_true(status2);
     assert_false(wrote);
     assert_true(keys_said);
+    assert_true(named);
     assert_true(ran);
     assert_true(continued);
     assert_true(serial);
@@ -1153,6 +1164,8 @@ void test_pressure_ranks_variable(void **state);
 /* test_mpi_vmg.c */
 void test_vmg_ranks_plane(void **state);
 void test_vmg_ranks_box(void **state);
+void test_vmg_ranks_augmented(void **state);
+void test_bingham_cavity_on_ranks(void **state);
 void test_vmg_scenes_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
@@ -1174,6 +1187,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_pressure_ranks_variable),
         cmocka_unit_test(test_vmg_ranks_plane),
         cmocka_unit_test(test_vmg_ranks_box),
+        cmocka_unit_test(test_vmg_ranks_augmented),
+        cmocka_unit_test(test_bingham_cavity_on_ranks),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),

@@ -47,10 +47,7 @@ int profile_extract(struct profile *pr, const struct march_state *st,
 {
     memset(pr, 0, sizeof *pr);
     const struct muflow_case *cs = st->cs;
-    /* a slab's indices are local: its axis whole on every rank */
-    if (spec->axis < 0 || spec->component < 0 ||
-        (st->ranks && spec->slab &&
-         st->ranks->dc.n[spec->slab_axis] != st->ranks->dc.n_global[spec->slab_axis]))
+    if (spec->axis < 0 || spec->component < 0)
         return -1;
     pr->axis = spec->axis;
     pr->component = spec->component;
@@ -78,8 +75,16 @@ int profile_extract(struct profile *pr, const struct march_state *st,
      * mid-plane in y), or every node */
     int sa = spec->slab_axis;
     int faces[2] = {-1, g->n[sa] + 1}, cellr[2] = {-1, g->n[sa] + 1};
-    if (spec->slab)
-        spec->slab(g, faces, cellr);
+    if (spec->slab) {
+        /* the slab's global indices, this block's from its first (each
+         * face and cell of it on the one rank that owns it) */
+        spec->slab(march_global_grid(st), faces, cellr);
+        const int lo = st->ranks ? st->ranks->dc.lo[sa] : 0;
+        for (int s = 0; s < 2; s++) {
+            faces[s] -= lo;
+            cellr[s] -= lo;
+        }
+    }
     for (int i = b->lo[0]; i < b->hi[0]; i++)
         for (int j = b->lo[1]; j < b->hi[1]; j++)
             for (int k = b->lo[2]; k < b->hi[2]; k++) {

@@ -53,8 +53,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
  * does. */
 #define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
                   "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
-                  "bodies, uniform spacing, the line or multigrid preconditioner (solver.preconditioner = " \
-                  "auto, line or multigrid), no solver.initial_state"
+                  "bodies, uniform spacing, the line, fourier or multigrid preconditioner " \
+                  "(solver.preconditioner = auto, line, fourier or multigrid), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -96,13 +96,15 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
 /* A run over several ranks (comm.h): the Cartesian communicator over the
  * periodic directions (a line across walls or a surface, the line blocks'
  * (never periodic: case_checks.c) and the profile's, stays whole on a
- * rank), and the bounded ones under the velocity multigrid, given or
- * auto's choice on the whole grid (its lines cut at rank borders), this
- * rank's block, its local grid as st->g, not compact (the decomposed
- * multigrid takes no compact grid), and the fills' decomposition.  What
- * runs so is march_ranks_refusal's. */
+ * rank), and the bounded ones under the velocity multigrid (its lines cut
+ * at rank borders), this rank's block, its local grid as st->g, not
+ * compact (the decomposed multigrid takes no compact grid), and the fills'
+ * decomposition; *kind the implicit step's preconditioner, chosen on the
+ * whole grid (precond_policy.c), refused unless decomposed (before the
+ * split, which it decides).  What runs so is march_ranks_refusal's. */
 static int split_over_ranks(struct march_state *st, const struct muflow_case *cs,
-                            const struct march_setup *su, char *err, size_t errlen)
+                            const struct march_setup *su, enum viscous_precond *kind, char *err,
+                            size_t errlen)
 {
     struct march_ranks *rk = st->ranks = calloc(1, sizeof *rk);
     if (!rk) {
@@ -115,10 +117,20 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
         snprintf(err, errlen, "grid: invalid cell counts or lengths");
         return -1;
     }
+    *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
+    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG) {
+        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
+                                            "multigrid"};
+        char what[120];
+        snprintf(what, sizeof what,
+                 cs->preconditioner == PRECOND_AUTO ? "the implicit step's %s preconditioner"
+                                                    : "solver.preconditioner = %s",
+                 *kind >= 0 && *kind <= VISCOUS_MG ? names[*kind] : "?");
+        return ranks_refused(cs, what, err, errlen);
+    }
     /* the velocity multigrid cuts its lines at rank borders: a bounded
-     * direction splits too (auto's choice without the AMG, which does not
-     * run on ranks anyway) */
-    const int bounded = march_choose_preconditioner(cs, su, &rk->global, 0) == VISCOUS_MG;
+     * direction splits too */
+    const int bounded = *kind == VISCOUS_MG;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
@@ -148,9 +160,10 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
         st->rheo.lambda *= cs->continuation;
     int wraps[3];
     bc_periodic_flags(&cs->bc, wraps);
+    enum viscous_precond kind;
     if (su->decompose && comm_size() > 1) {
         if (march_ranks_refusal(cs, su, err, errlen) != 0 ||
-            split_over_ranks(st, cs, su, err, errlen) != 0) {
+            split_over_ranks(st, cs, su, &kind, err, errlen) != 0) {
             march_destroy(st);
             return -1;
         }
@@ -182,24 +195,12 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     bc_unknown_boxes(g, &st->bc, st->act);
     /* refuse before allocating what the machine does not have (case_load
      * refuses it first, from the case alone) */
-    enum viscous_precond kind;
     double avail = march_available_memory();
-    st->memory_estimate = march_plan(cs, su, g, -1, avail, &kind);
-    /* auto chooses for the whole grid: the ranks' blocks take the one
-     * process's preconditioner */
-    if (st->ranks && cs->preconditioner == PRECOND_AUTO)
-        kind = march_choose_preconditioner(cs, su, &st->ranks->global, -1);
+    /* on ranks the kind split_over_ranks chose on the whole grid, this
+     * rank's block's memory */
+    st->memory_estimate = st->ranks ? march_memory_estimate(cs, su, g, kind)
+                                    : march_plan(cs, su, g, -1, avail, &kind);
     st->precond = kind;
-    if (st->ranks && kind != VISCOUS_LINE && kind != VISCOUS_FOURIER && kind != VISCOUS_MG) {
-        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
-                                            "multigrid"};
-        char what[120];
-        snprintf(what, sizeof what, "the implicit step's %s preconditioner",
-                 kind >= 0 && kind <= VISCOUS_MG ? names[kind] : "?");
-        ranks_refused(cs, what, err, errlen);
-        march_destroy(st);
-        return -1;
-    }
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);
         march_destroy(st);

@@ -3,6 +3,7 @@
 #include "march_internal.h"
 
 #include "grid/shapes.h"
+#include "platform/comm.h"
 #include "solvers/amg_hypre.h"
 #include "solvers/sparse_direct.h"
 #include "solvers/viscous_gmg.h"
@@ -25,11 +26,10 @@ int march_amg_allowed(int amg)
     return amg >= 0 ? amg : amg_hypre_available(err, sizeof err);
 }
 
-/* The implicit solve's preconditioner for the case on g (amg: see
- * march_amg_allowed). */
-enum viscous_precond march_choose_preconditioner(const struct muflow_case *cs,
-                                                 const struct march_setup *su,
-                                                 const struct grid *g, int amg)
+/* auto's pick on one process. */
+static enum viscous_precond one_process_choice(const struct muflow_case *cs,
+                                               const struct march_setup *su,
+                                               const struct grid *g, int amg)
 {
     switch (cs->preconditioner) {
     case PRECOND_LINE: return VISCOUS_LINE;
@@ -125,4 +125,28 @@ enum viscous_precond march_choose_preconditioner(const struct muflow_case *cs,
         return wide == 2 && march_amg_allowed(amg) ? VISCOUS_AMG : VISCOUS_LINE;
     }
     return kind;
+}
+
+/* Over the ranks of an MPI job no factorisation, AMG or cross-section
+ * multigrid is decomposed: auto takes the velocity multigrid in their place
+ * where it serves the run (it runs decomposed, the Newton tangent's
+ * symmetric part in its cycle, the augmentation's edge patches gathered:
+ * docs/numerics/velocity-multigrid.md), not with a body (its held nodes
+ * and cut links are not decomposed), nor with the augmentation and an open
+ * or inflow face (the edge patches refuse them), nor on a stretched grid.
+ * A preconditioner named by solver.preconditioner is kept (march_create
+ * refuses those that do not run decomposed). */
+enum viscous_precond march_choose_preconditioner(const struct muflow_case *cs,
+                                                 const struct march_setup *su,
+                                                 const struct grid *g, int amg)
+{
+    const enum viscous_precond kind = one_process_choice(cs, su, g, amg);
+    const int ranks = su->decompose && comm_size() > 1;
+    if (!ranks || cs->preconditioner != PRECOND_AUTO || cs->coupled ||
+        !(kind == VISCOUS_CHOLESKY || kind == VISCOUS_LU || kind == VISCOUS_AMG ||
+          kind == VISCOUS_GMG))
+        return kind;
+    const int serves = !case_obstacle_active(cs) && !grid_stretched(g) &&
+                       !(cs->augmentation > 0.0 && bc_passes_flow(&cs->bc));
+    return serves ? VISCOUS_MG : kind;
 }

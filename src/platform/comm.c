@@ -201,7 +201,10 @@ int comm_cart_create(struct comm_cart *c, const int dims[3], const int periodic[
         }
         return 0;
     }
-    if (world_size % given != 0 ||
+    /* every direction fixed: MPI_Dims_create aborts the job unless they
+     * multiply to the ranks */
+    const int free_dims = (d3[0] == 0) + (d3[1] == 0) + (d3[2] == 0);
+    if (world_size % given != 0 || (free_dims == 0 && given != world_size) ||
         mpi.MPI_Dims_create(world_size, 3, d3) != MPI_SUCCESS) {
         snprintf(err, errlen, "decomposition: %d ranks cannot be split as asked (%d x %d x %d)",
                  world_size, dims[0], dims[1], dims[2]);
