@@ -96,6 +96,19 @@ struct stop_hook {
 /* Keeps the checkpoint of step 4 as step4.h5 (rank 0, at step 5: every
  * rank has finished writing it) and stops the run at step 6 by SIGTERM to
  * the last rank alone: the ranks must agree to stop at that step. */
+/* Every rank's verdict: the first error said, the folder removed once all
+ * are done, the test failed on every rank if any rank failed. */
+static void ranks_verdict(double bad, const char *err, const char *dir)
+{
+    if (bad != 0.0 && err[0])
+        print_error("%s\n", err);
+    comm_sum(&bad, 1);
+    comm_barrier();
+    if (comm_rank() == 0)
+        test_tmp_remove(dir);
+    assert_true(bad == 0.0);
+}
+
 static void stop_hook(void *ctx, const struct march_state *st)
 {
     struct stop_hook *h = ctx;
@@ -172,13 +185,7 @@ void test_bagnold_checkpoint_ranks(void **state)
         bad += ends_alike("1 process's step 6 continued on the ranks", &all, &r,
                           comm_size() == 1);
     }
-    if (bad != 0.0 && err[0])
-        print_error("%s\n", err);
-    comm_sum(&bad, 1);
-    comm_barrier();
-    if (comm_rank() == 0)
-        test_tmp_remove(dir);
-    assert_true(bad == 0.0);
+    ranks_verdict(bad, err, dir);
 }
 
 /* Makes the final checkpoint's temporary name a folder (rank 0, at step 1):
@@ -281,11 +288,5 @@ void test_collapse_checkpoint_ranks(void **state)
         bad += continue_from(path, 1, &r, err, sizeof err) != 0 ||
                collapse_ends_alike("continued on 1 process", &one, &r, comm_size() == 1);
     }
-    if (bad != 0.0 && err[0])
-        print_error("%s\n", err);
-    comm_sum(&bad, 1);
-    comm_barrier();
-    if (comm_rank() == 0)
-        test_tmp_remove(dir);
-    assert_true(bad == 0.0);
+    ranks_verdict(bad, err, dir);
 }

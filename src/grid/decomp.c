@@ -139,8 +139,13 @@ int decomp_local_grid(const struct decomp *dc, const struct grid *gg, struct gri
     return 0;
 }
 
-/* Plane t (-1 .. n) across d of f to or from buf, every slot of the other two. */
-static void plane_copy(const struct grid *g, double *f, int d, int t, double *buf, int to_buf)
+/* What plane_move does with plane t of f and buf. */
+enum plane_move_kind { PLANE_TO_BUF, PLANE_FROM_BUF, PLANE_ADD_BUF };
+
+/* Plane t (-1 .. n) across d of f to buf, from buf or plus buf, every slot
+ * of the other two. */
+static void plane_move(const struct grid *g, double *f, int d, int t, double *buf,
+                       enum plane_move_kind kind)
 {
     const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
     size_t q = 0;
@@ -151,10 +156,12 @@ static void plane_copy(const struct grid *g, double *f, int d, int t, double *bu
             c[e1] = u;
             c[e2] = v;
             const ptrdiff_t p = grid_idx(g, c[0], c[1], c[2]);
-            if (to_buf)
+            if (kind == PLANE_TO_BUF)
                 buf[q++] = f[p];
-            else
+            else if (kind == PLANE_FROM_BUF)
                 f[p] = buf[q++];
+            else
+                f[p] += buf[q++];
         }
 }
 
@@ -171,9 +178,9 @@ static size_t shift_planes(const struct decomp *dc, const struct grid *g, double
     recv[0] = sent[1] + len;
     recv[1] = recv[0] + len;
     if (dc->border[d][0])
-        plane_copy(g, f, d, lo, sent[0], 1);
+        plane_move(g, f, d, lo, sent[0], PLANE_TO_BUF);
     if (dc->border[d][1])
-        plane_copy(g, f, d, hi, sent[1], 1);
+        plane_move(g, f, d, hi, sent[1], PLANE_TO_BUF);
     comm_cart_shift(dc->cart, d, sent[0], recv[0], sent[1], recv[1], (int)len);
     const long sides = dc->border[d][0] + dc->border[d][1];
     traffic.exchanges++;
@@ -190,24 +197,9 @@ void decomp_exchange(const struct decomp *dc, const struct grid *g, double *f, i
     const int n = g->n[d];
     shift_planes(dc, g, f, d, 0, n - 1, sent, recv);
     if (dc->border[d][0])
-        plane_copy(g, f, d, -1, recv[0], 0);
+        plane_move(g, f, d, -1, recv[0], PLANE_FROM_BUF);
     if (dc->border[d][1])
-        plane_copy(g, f, d, n, recv[1], 0);
-}
-
-/* Plane t across d of f plus buf, every slot of the other two. */
-static void plane_add(const struct grid *g, double *f, int d, int t, const double *buf)
-{
-    const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2;
-    size_t q = 0;
-    for (int u = grid_slot_lo(g, e1); u <= grid_slot_hi(g, e1); u++)
-        for (int v = grid_slot_lo(g, e2); v <= grid_slot_hi(g, e2); v++) {
-            int c[3];
-            c[d] = t;
-            c[e1] = u;
-            c[e2] = v;
-            f[grid_idx(g, c[0], c[1], c[2])] += buf[q++];
-        }
+        plane_move(g, f, d, n, recv[1], PLANE_FROM_BUF);
 }
 
 void decomp_exchange_add(const struct decomp *dc, const struct grid *g, double *f, int d)
@@ -221,10 +213,10 @@ void decomp_exchange_add(const struct decomp *dc, const struct grid *g, double *
     for (int s = 0; s < 2; s++) {
         if (!dc->border[d][s])
             continue;
-        plane_add(g, f, d, s ? n - 1 : 0, recv[s]);
+        plane_move(g, f, d, s ? n - 1 : 0, recv[s], PLANE_ADD_BUF);
         for (size_t q = 0; q < len; q++)
             sent[s][q] = 0.0;
-        plane_copy(g, f, d, s ? n : -1, sent[s], 0);
+        plane_move(g, f, d, s ? n : -1, sent[s], PLANE_FROM_BUF);
     }
 }
 
