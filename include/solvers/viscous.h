@@ -152,6 +152,9 @@ struct viscous_precond_info {
 };
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info);
 
+/* The kind's name as solver.preconditioner spells it ("?" out of range). */
+const char *viscous_precond_name(enum viscous_precond kind);
+
 /* on: every solve keeps every block of components (none left out for a
  * negligible part of the right-hand side; for measurements and tests). */
 void viscous_keep_blocks(struct viscous_solver *s, int on);

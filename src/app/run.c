@@ -16,6 +16,7 @@
 #include "io/field_series.h"
 #include "scenes/scene.h"
 #include "solvers/pressure.h"
+#include "solvers/viscous.h"
 #include "platform/comm.h"
 
 struct observer_ctx {
@@ -245,11 +246,21 @@ static void print_header(const struct muflow_case *cs, const struct march_state 
     if (st->ranks) /* the memory is rank 0's */
         snprintf(ranks, sizeof ranks, "ranks %d (%d x %d x %d), ", st->ranks->cart.size,
                  st->ranks->cart.dims[0], st->ranks->cart.dims[1], st->ranks->cart.dims[2]);
-    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %s%d thread%s, "
+    /* the solver auto took: the coupled step's LU unless GMRES is named */
+    char solver[80];
+    if (cs->coupled)
+        snprintf(solver, sizeof solver, "coupled %s%s",
+                 st->precond == VISCOUS_AMG || st->precond == VISCOUS_MG ? "GMRES + " : "LU",
+                 st->precond == VISCOUS_AMG || st->precond == VISCOUS_MG
+                     ? viscous_precond_name(st->precond) : "");
+    else
+        snprintf(solver, sizeof solver, "implicit %s%s", viscous_precond_name(st->precond),
+                 cs->preconditioner == PRECOND_AUTO ? " (auto)" : "");
+    printf("muflow %s: %s, %d x %d x %d cells, %s mode, %s / %s, lambda %g, %s, %s%d thread%s, "
            "memory ~%.0f MB\n",
            cs->name, case_scene(cs)->name, g->n[0], g->n[1], g->n[2],
            cs->mode == MODE_STEADY ? "steady" : "transient", rheology_law_name(cs->rheo.law),
-           regularisation_name(cs->rheo.reg), cs->rheo.lambda, ranks, omp_get_max_threads(),
+           regularisation_name(cs->rheo.reg), cs->rheo.lambda, solver, ranks, omp_get_max_threads(),
            omp_get_max_threads() == 1 ? "" : "s", st->memory_estimate / 1e6);
     /* the curve's derived values, which no key shows (jop: nothing to add) */
     if (cs->rheo.law == LAW_MUI && cs->rheo.curve != CURVE_JOP)

@@ -119,13 +119,11 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     }
     *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
     if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG) {
-        static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
-                                            "multigrid"};
         char what[120];
         snprintf(what, sizeof what,
                  cs->preconditioner == PRECOND_AUTO ? "the implicit step's %s preconditioner"
                                                     : "solver.preconditioner = %s",
-                 *kind >= 0 && *kind <= VISCOUS_MG ? names[*kind] : "?");
+                 viscous_precond_name(*kind));
         return ranks_refused(cs, what, err, errlen);
     }
     /* the velocity multigrid cuts its lines at rank borders: a bounded

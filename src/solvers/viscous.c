@@ -238,6 +238,13 @@ int viscous_set_amg(struct viscous_solver *s, const struct viscous_amg *c, char 
                             errlen);
 }
 
+const char *viscous_precond_name(enum viscous_precond kind)
+{
+    static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
+                                        "multigrid"};
+    return (int)kind >= 0 && kind <= VISCOUS_MG ? names[kind] : "?";
+}
+
 void viscous_precond_info(const struct viscous_solver *s, struct viscous_precond_info *info)
 {
     *info = s->info;
