@@ -1167,6 +1167,9 @@ void test_vmg_ranks_box(void **state);
 void test_vmg_ranks_augmented(void **state);
 void test_bingham_cavity_on_ranks(void **state);
 void test_vmg_scenes_on_ranks(void **state);
+/* test_mpi_gmg.c */
+void test_gmg_ranks(void **state);
+void test_heap_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1190,6 +1193,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_vmg_ranks_augmented),
         cmocka_unit_test(test_bingham_cavity_on_ranks),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
+        cmocka_unit_test(test_gmg_ranks),
+        cmocka_unit_test(test_heap_on_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold3d_on_ranks),

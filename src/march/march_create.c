@@ -118,7 +118,10 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
         return -1;
     }
     *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
-    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG) {
+    /* gmg gathers its cross-section on every rank (viscous_gmg.c), a body's
+     * nodes not with it */
+    const int gmg = *kind == VISCOUS_GMG && !case_obstacle_active(cs);
+    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG && !gmg) {
         static const char *const names[] = {"line", "cholesky", "lu", "amg", "fourier", "gmg",
                                             "multigrid"};
         char what[120];
@@ -128,16 +131,16 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
                  *kind >= 0 && *kind <= VISCOUS_MG ? names[*kind] : "?");
         return ranks_refused(cs, what, err, errlen);
     }
-    /* the velocity multigrid cuts its lines at rank borders: a bounded
-     * direction splits too */
-    const int bounded = *kind == VISCOUS_MG;
+    /* the velocity multigrid cuts its lines at rank borders, gmg gathers
+     * its cross-section: a bounded direction splits too */
+    const int bounded = *kind == VISCOUS_MG || gmg;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
     if (comm_cart_create(&rk->cart, dims, periodic, splittable, why, sizeof why) != 0 ||
         decomp_create(&rk->dc, &rk->cart, cs->n, why, sizeof why) != 0) {
         snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic directions are split, "
-                              "and with solver.preconditioner = multigrid the bounded ones, "
+                              "and with solver.preconditioner = multigrid or gmg the bounded ones, "
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }
