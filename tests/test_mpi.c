@@ -1065,7 +1065,7 @@ static void test_muflow_on_ranks(void **state)
     char bin[4096], dir[4096], args[9000], path[4200];
     test_muflow_bin(bin, sizeof bin);
     test_tmp_make(dir, sizeof dir, "mpi_ranks");
-    snprintf(args, sizeof args, "../cases/heap.ini output.dir='%s/heap'", dir);
+    snprintf(args, sizeof args, "../cases/slope_release.ini output.dir='%s/slope'", dir);
     char *out = NULL;
     mpirun_two(bin, args, &out);
     int said = 0;
@@ -1074,7 +1074,7 @@ static void test_muflow_on_ranks(void **state)
                                              "bagnold, chute,"));
          p++)
         said++;
-    snprintf(path, sizeof path, "%s/heap/summary.ini", dir);
+    snprintf(path, sizeof path, "%s/slope/summary.ini", dir);
     const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
     if (said != 1 || !status2 || wrote)
         print_error("%s", out);
