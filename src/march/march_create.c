@@ -203,6 +203,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
      * rank's block's memory */
     st->memory_estimate = st->ranks ? march_memory_estimate(cs, su, g, kind)
                                     : march_plan(cs, su, g, -1, avail, &kind);
+    if (st->ranks && kind == VISCOUS_GMG) /* its cross-section whole on every rank */
+        st->memory_estimate += viscous_gmg_gathered_estimate(&st->ranks->global, g);
     st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);
