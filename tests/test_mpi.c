@@ -1065,7 +1065,7 @@ static void test_muflow_on_ranks(void **state)
     char bin[4096], dir[4096], args[9000], path[4200];
     test_muflow_bin(bin, sizeof bin);
     test_tmp_make(dir, sizeof dir, "mpi_ranks");
-    snprintf(args, sizeof args, "../cases/heap.ini output.dir='%s/heap'", dir);
+    snprintf(args, sizeof args, "../cases/slope_release.ini output.dir='%s/slope'", dir);
     char *out = NULL;
     mpirun_two(bin, args, &out);
     int said = 0;
@@ -1074,7 +1074,7 @@ static void test_muflow_on_ranks(void **state)
                                              "bagnold, chute,"));
          p++)
         said++;
-    snprintf(path, sizeof path, "%s/heap/summary.ini", dir);
+    snprintf(path, sizeof path, "%s/slope/summary.ini", dir);
     const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
     if (said != 1 || !status2 || wrote)
         print_error("%s", out);
@@ -1167,6 +1167,9 @@ void test_vmg_ranks_box(void **state);
 void test_vmg_ranks_augmented(void **state);
 void test_bingham_cavity_on_ranks(void **state);
 void test_vmg_scenes_on_ranks(void **state);
+/* test_mpi_gmg.c */
+void test_gmg_ranks(void **state);
+void test_heap_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1190,6 +1193,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_vmg_ranks_augmented),
         cmocka_unit_test(test_bingham_cavity_on_ranks),
         cmocka_unit_test(test_vmg_scenes_on_ranks),
+        cmocka_unit_test(test_gmg_ranks),
+        cmocka_unit_test(test_heap_on_ranks),
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold3d_on_ranks),

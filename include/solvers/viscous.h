@@ -163,6 +163,10 @@ void viscous_keep_blocks(struct viscous_solver *s, int on);
  * the sparse factorisation (sparse_direct_memory_estimate). */
 double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
                                enum viscous_precond kind);
+/* Bytes gmg adds to viscous_memory_estimate of a rank's block g of the
+ * split grid gg: its hierarchies on gg, not g, and the gathered arrays
+ * (its cross-section whole on every rank: viscous_gmg.h). */
+double viscous_gmg_gathered_estimate(const struct grid *gg, const struct grid *g);
 
 /* A sparse factorisation (cholesky, lu), the fourier blocks or an AMG
  * hierarchy then precondition up to steps further viscous_precondition calls

@@ -69,7 +69,11 @@ const char *viscous_gmg_refusal(const int n[3], const struct boundary *bc);
 /* Builds the hierarchies of the components along periodic directions whose
  * unknowns fill the cell box (act[c] of bc_unknown_boxes).  Returns 0, or -1
  * with a message naming the cause (no periodic direction, an open or
- * inflow face across a covered component, a stretched grid, no memory). */
+ * inflow face across a covered component, a stretched grid, no memory).
+ * On a grid split over ranks (bc->dc; g, act the rank's block) the
+ * hierarchies are the whole cross-section's, on every rank: setup gathers
+ * the operator's arrays (no body), apply each right-hand side, and a cycle
+ * is one process's to the bit; setup and apply are then collective. */
 int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const struct boundary *bc,
                        const struct box act[3], char *err, size_t errlen);
 void viscous_gmg_destroy(struct viscous_gmg *m);

@@ -483,7 +483,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     ctx.unconverged = st.pressure_unconverged; /* a restart's were reported before */
     ctx.linear_unconverged = st.linear_unconverged;
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
-                                .verbose = opt->write_output && !work.quiet,
+                                .verbose = opt->write_output && !work.quiet && ctx.root,
                                 .restarted = opt->restart_from != NULL,
                                 .dir = opt->write_output ? work.output_dir : NULL};
     if (sc->drive)

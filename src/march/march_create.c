@@ -118,7 +118,10 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
         return -1;
     }
     *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
-    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG) {
+    /* gmg gathers its cross-section on every rank (viscous_gmg.c), a body's
+     * nodes not with it */
+    const int gmg = *kind == VISCOUS_GMG && !case_obstacle_active(cs);
+    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG && !gmg) {
         char what[120];
         snprintf(what, sizeof what,
                  cs->preconditioner == PRECOND_AUTO ? "the implicit step's %s preconditioner"
@@ -126,16 +129,16 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
                  viscous_precond_name(*kind));
         return ranks_refused(cs, what, err, errlen);
     }
-    /* the velocity multigrid cuts its lines at rank borders: a bounded
-     * direction splits too */
-    const int bounded = *kind == VISCOUS_MG;
+    /* the velocity multigrid cuts its lines at rank borders, gmg gathers
+     * its cross-section: a bounded direction splits too */
+    const int bounded = *kind == VISCOUS_MG || gmg;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
     if (comm_cart_create(&rk->cart, dims, periodic, splittable, why, sizeof why) != 0 ||
         decomp_create(&rk->dc, &rk->cart, cs->n, why, sizeof why) != 0) {
         snprintf(err, errlen, "%s on %d MPI ranks: %s (only the periodic directions are split, "
-                              "and with solver.preconditioner = multigrid the bounded ones, "
+                              "and with solver.preconditioner = multigrid or gmg the bounded ones, "
                               "each into at most its cells)", cs->name, comm_size(), why);
         return -1;
     }
@@ -198,6 +201,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
      * rank's block's memory */
     st->memory_estimate = st->ranks ? march_memory_estimate(cs, su, g, kind)
                                     : march_plan(cs, su, g, -1, avail, &kind);
+    if (st->ranks && kind == VISCOUS_GMG) /* its cross-section whole on every rank */
+        st->memory_estimate += viscous_gmg_gathered_estimate(&st->ranks->global, g);
     st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);

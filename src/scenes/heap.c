@@ -15,45 +15,69 @@
 #include "scenes/tilt_search.h"
 
 
-/* u of column j, layer k: the mean over the x-faces of the periodic x. */
-static double column_u(const struct march_state *st, int j, int k)
+/* The whole cross-section's columns: u of column j, layer k, the mean
+ * over the x-faces of the periodic x, at t[j * nz + k] (nz the global
+ * count).  On ranks each rank's block in place, the sums over x summed
+ * over the ranks (a column's other slots are zeros: its own sum to the
+ * bit), so every rank holds one process's table.  NULL out of memory.
+ * Collective on ranks. */
+static double *column_table(const struct march_state *st)
 {
-    const struct grid *g = &st->g;
-    double s = 0.0;
-    for (int i = 0; i < g->n[0]; i++)
-        s += st->field.velocity[0][grid_idx(g, i, j, k)];
-    return s / g->n[0];
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int *lo = st->ranks ? st->ranks->dc.lo : (const int[3]){0, 0, 0};
+    const size_t cells = (size_t)G->n[1] * (size_t)G->n[2];
+    double *t = calloc(cells, sizeof *t);
+    if (!t)
+        return NULL;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++) {
+            double s = 0.0;
+            for (int i = 0; i < g->n[0]; i++)
+                s += st->field.velocity[0][grid_idx(g, i, j, k)];
+            t[(size_t)(lo[1] + j) * G->n[2] + (lo[2] + k)] = s;
+        }
+    march_sum_array(st, t, (int)cells);
+    for (size_t q = 0; q < cells; q++)
+        t[q] /= G->n[0];
+    return t;
+}
+
+static double table_flow_rate(const struct march_state *st, const double *t)
+{
+    const struct grid *G = march_global_grid(st);
+    const struct muflow_case *cs = st->cs;
+    double flux = 0.0;
+    for (int j = 0; j < G->n[1]; j++)
+        for (int k = 0; k < G->n[2]; k++)
+            flux += t[(size_t)j * G->n[2] + k];
+    flux *= G->h[1] * G->h[2];
+    double d = cs->rheo.grain_diameter;
+    return flux / G->len[1] / (d * sqrt(cs->gravity * d));
 }
 
 double heap_flow_rate(const struct march_state *st)
 {
-    const struct grid *g = &st->g;
-    const struct muflow_case *cs = st->cs;
-    double flux = 0.0;
-    for (int j = 0; j < g->n[1]; j++)
-        for (int k = 0; k < g->n[2]; k++)
-            flux += column_u(st, j, k);
-    flux *= g->h[1] * g->h[2];
-    double d = cs->rheo.grain_diameter;
-    return flux / g->len[1] / (d * sqrt(cs->gravity * d));
+    double *t = column_table(st);
+    const double q = t ? table_flow_rate(st, t) : NAN;
+    free(t);
+    return q;
 }
 
-/* Depth below the surface where u first falls to target, scanning down. */
-static double column_depth(const struct march_state *st, int j, double target)
+/* Depth below the surface where u of column u (nz layers of height h,
+ * the domain lz high) first falls to target, scanning down. */
+static double column_depth(const double *u, int nz, double h, double lz, double target)
 {
-    const struct grid *g = &st->g;
-    double h = g->h[2], above = column_u(st, j, g->n[2] - 1);
+    double above = u[nz - 1];
     if (!(above > target))
         return 0.0;
-    for (int k = g->n[2] - 2; k >= 0; k--) {
-        double u = column_u(st, j, k);
-        if (u <= target) {
-            double z = (k + 0.5 + (target - u) / (above - u)) * h;
-            return g->len[2] - z;
+    for (int k = nz - 2; k >= 0; k--) {
+        if (u[k] <= target) {
+            double z = (k + 0.5 + (target - u[k]) / (above - u[k])) * h;
+            return lz - z;
         }
-        above = u;
+        above = u[k];
     }
-    return g->len[2];
+    return lz;
 }
 
 void heap_profile_free(struct heap_profile *hp)
@@ -67,23 +91,27 @@ void heap_profile_free(struct heap_profile *hp)
 int heap_profile_extract(struct heap_profile *hp, const struct march_state *st, double fraction)
 {
     memset(hp, 0, sizeof *hp);
-    const struct grid *g = &st->g;
-    int n = g->n[1], top = g->n[2] - 1;
+    const struct grid *g = march_global_grid(st);
+    int n = g->n[1], nz = g->n[2], top = nz - 1;
     if (n < 2 || top < 1)
         return -1;
+    double *t = column_table(st);
     hp->n = n;
     hp->y = malloc((size_t)n * sizeof(double));
     hp->u_surface = malloc((size_t)n * sizeof(double));
     hp->depth = malloc((size_t)n * sizeof(double));
-    if (!hp->y || !hp->u_surface || !hp->depth) {
+    if (!t || !hp->y || !hp->u_surface || !hp->depth) {
+        free(t);
         heap_profile_free(hp);
         return -1;
     }
     for (int j = 0; j < n; j++) {
+        const double *u = t + (size_t)j * nz;
         hp->y[j] = (j + 0.5) * g->h[1];
-        hp->u_surface[j] = profile_zero_slope_end(column_u(st, j, top), column_u(st, j, top - 1));
-        hp->depth[j] = column_depth(st, j, fraction * hp->u_surface[j]);
+        hp->u_surface[j] = profile_zero_slope_end(u[top], u[top - 1]);
+        hp->depth[j] = column_depth(u, nz, g->h[2], g->len[2], fraction * hp->u_surface[j]);
     }
+    free(t);
     /* the free surface carries no shear stress and the mid-plane is a
      * symmetry plane: both have zero slope */
     hp->u_surface_mid = profile_zero_slope_end(hp->u_surface[n - 1], hp->u_surface[n - 2]);
@@ -240,6 +268,10 @@ static int drive(struct scene_drive *d)
     return 0;
 }
 
+/* A decomposed run's profile for heap.csv: rank 0 writes it alone, after
+ * every rank has reduced the columns in results (write may not reduce). */
+static struct heap_profile ranks_profile;
+
 static void results(const struct march_state *st, const struct scene_drive *d,
                     struct run_result *res)
 {
@@ -248,6 +280,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     const struct tilt_search_result *sr = (const struct tilt_search_result *)d->data.bytes;
     struct heap_profile hp;
     int have = heap_profile_extract(&hp, st, h->depth_fraction) == 0;
+    heap_profile_free(&ranks_profile);
     double q = heap_flow_rate(st);
     double u_mid = have ? hp.u_surface_mid : NAN, depth_mid = have ? hp.depth_mid : NAN;
     int solves = sr->searched ? sr->solves : 1;
@@ -272,7 +305,9 @@ static void results(const struct march_state *st, const struct scene_drive *d,
              "flowing depth %.5g",
              cs->tilt, cs->tilt * 180.0 / 3.14159265358979323846, q, solves,
              solves == 1 ? "" : "s", steps, u_mid, depth_mid);
-    if (have)
+    if (have && st->ranks)
+        ranks_profile = hp;
+    else if (have)
         heap_profile_free(&hp);
 }
 
@@ -280,8 +315,14 @@ static void results(const struct march_state *st, const struct scene_drive *d,
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     struct heap_profile hp;
-    if (heap_profile_extract(&hp, st, params(st->cs)->depth_fraction) != 0)
+    if (st->ranks) { /* the profile results reduced (ranks_profile) */
+        if (ranks_profile.n == 0)
+            return 0;
+        hp = ranks_profile;
+        memset(&ranks_profile, 0, sizeof ranks_profile);
+    } else if (heap_profile_extract(&hp, st, params(st->cs)->depth_fraction) != 0) {
         return 0;
+    }
     struct output_file f;
     int rc = output_open(&f, dir, "heap.csv", err, errlen);
     if (rc == 0) {
@@ -308,6 +349,7 @@ const struct scene scene_heap = {
     .keys = &heap_block,
     .check = check,
     .cross_section_flow = along_x,
+    .decomposed = scene_decomposed_always,
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,

@@ -395,6 +395,19 @@ int viscous_solve(struct viscous_solver *s, const struct viscous_problem *pb, do
     return rc;
 }
 
+/* gmg's hierarchies a grid slot (viscous_memory_estimate) */
+#define GMG_HIERARCHY_DOUBLES (2.0 * 12.0 * 4.0 / 3.0 + 4.0)
+
+double viscous_gmg_gathered_estimate(const struct grid *gg, const struct grid *g)
+{
+    /* the hierarchies on the whole cross-section, not the block's, and at
+     * most 16 gathered arrays of the operator, the right-hand side, the
+     * cycle and the gather's buffer (the ranks' blocks, about one field) */
+    return ((GMG_HIERARCHY_DOUBLES + 16.0 + 3.0) * (double)gg->size -
+            GMG_HIERARCHY_DOUBLES * (double)g->size) *
+           sizeof(double);
+}
+
 double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
                                enum viscous_precond kind)
 {
@@ -424,8 +437,7 @@ double viscous_memory_estimate(const struct grid *g, const struct boundary *bc,
      * factors and cycle arrays (about 12 fields), the set-up's four, and
      * the flexible GMRES(20)'s two bases of the covered unknowns */
     if (kind == VISCOUS_GMG)
-        doubles += (2.0 * 12.0 * 4.0 / 3.0 + 4.0) * points +
-                   (2.0 * GMG_RESTART + 3.0) * 2.0 * cells;
+        doubles += GMG_HIERARCHY_DOUBLES * points + (2.0 * GMG_RESTART + 3.0) * 2.0 * cells;
     /* the velocity multigrid's levels and its GMRES(30)'s flexible bases */
     if (kind == VISCOUS_MG)
         doubles += (2.0 * MG_RESTART + 3.0) * 3.0 * cells;

@@ -4,6 +4,7 @@
  * coefficient arrays are shared by the components, since each hierarchy
  * copies what it is given. */
 #include "solvers/viscous_gmg.h"
+#include "grid/decomp.h"
 #include "solvers/multigrid.h"
 #include "kernels/kernels.h"
 
@@ -11,8 +12,26 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The operator's arrays a gathered cross-section takes (struct
+ * viscous_gmg_operator's, in this order): A_cell, A_edge, mass_face, b_edge,
+ * base (three each), the augmentation. */
+#define GATHERED_ARRAYS 16
+
+/* Over the ranks of a split grid (bc->dc) the cross-section is gathered on
+ * every rank and its hierarchies cycled there, serially, as on one process:
+ * the zebra lines and the cross term are not decomposed, and a cross-section
+ * is one plane (the shipped heap's 70 x 100 a 56 kB gather). */
+struct gmg_gathered {
+    const struct decomp *dc;
+    const struct grid *local;    /* this rank's block */
+    struct grid gg;              /* the whole cross-section, the hierarchies' grid */
+    double *op[GATHERED_ARRAYS]; /* the operator's arrays on gg (allocated when given) */
+    double *r, *z, *scratch;     /* a component's right-hand side and cycle; the gather's */
+};
+
 struct viscous_gmg {
-    const struct grid *g;
+    const struct grid *g;        /* the hierarchies' grid (gathered: gath->gg) */
+    struct gmg_gathered *gath;   /* NULL: this process holds the grid */
     struct multigrid *mg[3];     /* NULL: component not covered */
     double *a[3], *mass;         /* the block's face coefficients and mass, set-up work */
     double *km[2];               /* the tangent's cross term (mixed_coefficients) */
@@ -64,6 +83,14 @@ void viscous_gmg_destroy(struct viscous_gmg *m)
     field_free(m->km[1]);
     field_free(m->mass);
     free(m->held);
+    if (m->gath) {
+        for (int a = 0; a < GATHERED_ARRAYS; a++)
+            field_free(m->gath->op[a]);
+        field_free(m->gath->r);
+        field_free(m->gath->z);
+        free(m->gath->scratch);
+        free(m->gath);
+    }
     free(m);
 }
 
@@ -96,6 +123,35 @@ static enum poisson_bc tangential_bc(enum bc_kind k)
     return POISSON_NEUMANN;
 }
 
+/* The gathered cross-section of a split grid (struct gmg_gathered): its
+ * global grid (the global spacing to the bit, as decomp_local_grid), its
+ * conditions without the decomposition and its unknown boxes.  Returns 0,
+ * or -1 out of memory. */
+static int gathered_create(struct viscous_gmg *m, const struct grid *g, const struct boundary *bc,
+                           struct boundary *gbc, struct box gact[3])
+{
+    struct gmg_gathered *gt = m->gath = calloc(1, sizeof *gt);
+    if (!gt)
+        return -1;
+    gt->dc = bc->dc;
+    gt->local = g;
+    double len[3];
+    for (int d = 0; d < 3; d++)
+        len[d] = g->h[d] * gt->dc->n_global[d];
+    if (grid_init_like(&gt->gg, gt->dc->n_global, len, g) != 0)
+        return -1;
+    for (int d = 0; d < 3; d++)
+        gt->gg.h[d] = g->h[d];
+    *gbc = *bc;
+    gbc->dc = NULL;
+    bc_unknown_boxes(&gt->gg, gbc, gact);
+    m->g = &gt->gg;
+    return (gt->r = field_alloc(&gt->gg)) && (gt->z = field_alloc(&gt->gg)) &&
+                   (gt->scratch = malloc(decomp_gather_len(gt->dc) * sizeof(double)))
+               ? 0
+               : -1;
+}
+
 int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const struct boundary *bc,
                        const struct box act[3], char *err, size_t errlen)
 {
@@ -108,7 +164,7 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
     /* past the refusal every periodic direction is one cell across, and a
      * component along one has unknowns on the whole cell box: one at least
      * is covered */
-    const char *refused = viscous_gmg_refusal(g->n, bc);
+    const char *refused = viscous_gmg_refusal(bc->dc ? bc->dc->n_global : g->n, bc);
     if (refused) {
         snprintf(err, errlen, "%s", refused);
         return -1;
@@ -119,6 +175,18 @@ int viscous_gmg_create(struct viscous_gmg **out, const struct grid *g, const str
         return -1;
     }
     m->g = g;
+    struct boundary gbc;
+    struct box gact[3];
+    if (bc->dc && decomp_split(bc->dc)) {
+        if (gathered_create(m, g, bc, &gbc, gact) != 0) {
+            snprintf(err, errlen, "viscous multigrid: out of memory");
+            viscous_gmg_destroy(m);
+            return -1;
+        }
+        g = m->g;
+        bc = &gbc;
+        act = gact;
+    }
     /* the same conditions for every covered component: across it they are
      * a tangential component's, along it periodic */
     enum poisson_bc pbc[3][2];
@@ -270,9 +338,60 @@ static int mixed_coefficients(struct viscous_gmg *m, const struct viscous_gmg_op
     return 1;
 }
 
+/* Array a of the operator gathered on the cross-section (NULL stays
+ * NULL): every slot the serial set-up reads, ghosts included, travels with
+ * its block (decomp_gather: gmg splits no periodic direction).  Returns
+ * 0, or -1 out of memory. */
+static int gather_array(struct gmg_gathered *gt, int a, const double *f, const double **out)
+{
+    *out = NULL;
+    if (!f)
+        return 0;
+    if (!gt->op[a] && !(gt->op[a] = field_alloc(&gt->gg)))
+        return -1;
+    decomp_gather(gt->dc, gt->local, f, &gt->gg, gt->op[a], gt->scratch);
+    *out = gt->op[a];
+    return 0;
+}
+
+/* op's arrays gathered on every rank into gop (struct gmg_gathered).
+ * Returns 0, or -1 with a message. */
+static int gather_operator(struct gmg_gathered *gt, const struct viscous_gmg_operator *op,
+                           struct viscous_gmg_operator *gop, char *err, size_t errlen)
+{
+    if (op->embedded) {
+        snprintf(err, errlen, "the geometric multigrid takes no body over MPI ranks");
+        return -1;
+    }
+    *gop = *op;
+    const double *base[3];
+    int rc = 0;
+    for (int c = 0; c < 3; c++) {
+        rc |= gather_array(gt, c, op->A_cell[c], &gop->A_cell[c]);
+        rc |= gather_array(gt, 3 + c, op->A_edge[c], &gop->A_edge[c]);
+        rc |= gather_array(gt, 6 + c, op->mass_face[c], &gop->mass_face[c]);
+        rc |= gather_array(gt, 9 + c, op->b_edge[c], &gop->b_edge[c]);
+        rc |= gather_array(gt, 12 + c, op->base ? op->base[c] : NULL, &base[c]);
+    }
+    rc |= gather_array(gt, 15, op->augmentation, &gop->augmentation);
+    if (rc != 0) {
+        snprintf(err, errlen, "the geometric multigrid: out of memory for the gathered operator");
+        return -1;
+    }
+    /* the gathered base velocity: op's own arrays on gg (base[c] is op[12 + c]) */
+    gop->base = op->base ? gt->op + 12 : NULL;
+    return 0;
+}
+
 int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *op, char *err,
                       size_t errlen)
 {
+    struct viscous_gmg_operator gop;
+    if (m->gath) {
+        if (gather_operator(m->gath, op, &gop, err, errlen) != 0)
+            return -1;
+        op = &gop;
+    }
     for (int c = 0; c < 3; c++) {
         if (!m->mg[c])
             continue;
@@ -300,21 +419,33 @@ int viscous_gmg_setup(struct viscous_gmg *m, const struct viscous_gmg_operator *
 void viscous_gmg_apply(struct viscous_gmg *m, double *const r[3], double *z[3])
 {
     const struct grid *g = m->g;
+    struct gmg_gathered *gt = m->gath;
     for (int c = 0; c < 3; c++) {
         if (!m->mg[c])
             continue;
         /* the multigrid inverts L - m = -(block) */
-        multigrid_cycle(m->mg[c], r[c], z[c]);
-        double *zc = z[c];
+        double *zc = gt ? gt->z : z[c];
+        if (gt)
+            decomp_gather(gt->dc, gt->local, r[c], g, gt->r, gt->scratch);
+        multigrid_cycle(m->mg[c], gt ? gt->r : r[c], zc);
 #pragma omp parallel for schedule(static) if (kernel_parallel(g))
         for (size_t p = 0; p < g->size; p++)
             zc[p] = -zc[p];
+        if (gt)
+            decomp_scatter(gt->dc, g, zc, gt->local, z[c]);
     }
 }
 
 size_t viscous_gmg_bytes(const struct viscous_gmg *m)
 {
     size_t b = 4 * m->g->size * sizeof(double);
+    if (m->gath) {
+        size_t arrays = 2;
+        for (int a = 0; a < GATHERED_ARRAYS; a++)
+            arrays += m->gath->op[a] != NULL;
+        b += arrays * m->g->size * sizeof(double) +
+             decomp_gather_len(m->gath->dc) * sizeof(double);
+    }
     for (int c = 0; c < 3; c++)
         b += m->mg[c] ? multigrid_bytes(m->mg[c]) : 0;
     return b;

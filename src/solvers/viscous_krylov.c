@@ -248,6 +248,7 @@ int visc_gmg_gmres(struct viscous_solver *s, const struct viscous_problem *pb, d
             (!s->gmg_x && !(s->gmg_x = malloc((size_t)most * sizeof(double)))) ||
             gmres_create_flexible(&s->gmg_gm[all], n, GMG_RESTART) != 0)
             return -1;
+        gmres_set_decomp(s->gmg_gm[all], s->bc->dc); /* its dots over the ranks */
     }
     if (flow_block_serves(s, pb) && pb->b_cell) {
         /* the base strains of the flow block's Newton term, once a solve */
