@@ -112,6 +112,7 @@ $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_H
 $(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
 # the libmpi comm.c opens under mpirun (MPI_LIB above)
 $(BUILD)/obj/src/platform/comm.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
+$(BUILD)/obj/tests/test_mpi_traffic.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
 # the parallel HDF5 phdf5.c opens under mpirun (PHDF5_LIB above)
 $(BUILD)/obj/src/platform/phdf5.o: ALL_CFLAGS += $(if $(PHDF5_LIB),-DMUFLOW_PHDF5_LIB='"$(PHDF5_LIB)"')
 # the FFTW MPI library fft_ranks.c opens under mpirun (FFTW_MPI_LIB above)
@@ -135,8 +136,11 @@ $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 $(BUILD)/minimal: $(BUILD)/obj/examples/minimal.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
+# tests/test_mpi_traffic.c's MPI calls of FFTW's library, seen first
+TEST_EXPORTS = $(foreach f,MPI_Alltoall MPI_Alltoallv MPI_Sendrecv MPI_Send,\
+                 -Wl,--export-dynamic-symbol=$(f))
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
-	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) -lcmocka
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) $(TEST_EXPORTS) -lcmocka
 
 MPIRUN = OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 \
          OMP_WAIT_POLICY=passive mpirun -x OMP_NUM_THREADS -x OMP_WAIT_POLICY

@@ -40,6 +40,7 @@ static struct {
 static int active; /* MPI initialised by comm_init */
 static int world_rank, world_size = 1;
 static long reductions; /* MPI_Allreduce calls (comm_reductions) */
+static struct comm_traffic traffic;
 
 _Static_assert(sizeof(MPI_Comm) == sizeof(void *), "Open MPI's MPI_Comm, a pointer, expected");
 
@@ -145,6 +146,8 @@ void comm_sum(double *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_sum, mpi.comm_world);
     }
 }
@@ -153,6 +156,8 @@ void comm_sum_long(long *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_long, mpi.op_sum, mpi.comm_world);
     }
 }
@@ -161,6 +166,8 @@ void comm_max(double *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_max, mpi.comm_world);
     }
 }
@@ -168,6 +175,22 @@ void comm_max(double *v, int n)
 long comm_reductions(void)
 {
     return reductions;
+}
+
+void comm_traffic_read(struct comm_traffic *t)
+{
+    *t = traffic;
+}
+
+void comm_traffic_reset(void)
+{
+    memset(&traffic, 0, sizeof traffic);
+}
+
+void comm_traffic_fft(void)
+{
+    if (active && world_size > 1)
+        traffic.fft_executions++;
 }
 
 void comm_barrier(void)
@@ -282,6 +305,12 @@ void comm_cart_alltoall(const struct comm_cart *c, const double *send, const int
                (size_t)send_counts[0] * sizeof(double));
         return;
     }
+    traffic.alltoalls++;
+    for (int r = 0; r < c->size; r++)
+        if (r != c->rank && send_counts[r] > 0) {
+            traffic.alltoall_messages++;
+            traffic.alltoall_bytes += (long)send_counts[r] * (long)sizeof(double);
+        }
     mpi.MPI_Alltoallv(send, send_counts, send_displs, mpi.type_double, recv, recv_counts,
                       recv_displs, mpi.type_double, (MPI_Comm)c->comm);
 }

@@ -89,3 +89,9 @@ fftw_plan fft_ranks_plane_plan(const struct comm_cart *c, const int n[2], ptrdif
                                           FFTW_MPI_DEFAULT_BLOCK, buf, (fftw_complex *)buf,
                                           (MPI_Comm)c->comm, flags | FFTW_MPI_TRANSPOSED_OUT);
 }
+
+void fft_ranks_execute(fftw_plan plan)
+{
+    comm_traffic_fft();
+    fftw_execute(plan);
+}

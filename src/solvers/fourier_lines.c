@@ -627,7 +627,7 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
         return;
     if (f->dc) {
         lines_to_slabs(f, r);
-        fftw_execute(f->fwd[0]);
+        fft_ranks_execute(f->fwd[0]);
     } else {
         for (int c = 0; c < 3; c++)
             if (f->len[c] > 0)
@@ -649,7 +649,7 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
             x[i] *= norm;
     }
     if (f->dc) {
-        fftw_execute(f->bwd[0]);
+        fft_ranks_execute(f->bwd[0]);
         slabs_to_lines(f, z);
         return;
     }
