@@ -327,15 +327,20 @@ bench-decomposed: deps bench-deps
 	  done; done; } > $(BENCH_OUT)/decomposed.txt
 	/usr/bin/python3 bench/decomposed_scaling.py $(BENCH_OUT)
 
-# The plane Fourier line blocks over ranks (bench/fourier_ranks_bench.py):
-# bagnold3d 128 x 128 x 64 for FOURIER_STEPS steps on 2 ranks x 1 thread
-# and 1 x 2, alternated, FOURIER_REPEATS runs each: medians, peak RSS a rank,
-# load ($(BENCH_OUT)/fourier_ranks.md).  About 5 minutes on 2 cores.
+# The plane Fourier line blocks over ranks: bagnold3d 128 x 128 x 64 on 2
+# ranks x 1 thread, each step's traffic against its model, its shares in
+# MPI's calls and the peak RSS a rank (bench/bench_step_traffic.c,
+# $(BENCH_OUT)/fourier_traffic.txt); then FOURIER_STEPS steps on 2 x 1 and
+# 1 x 2, alternated, FOURIER_REPEATS runs each (bench/fourier_ranks_bench.py:
+# medians, peak RSS a rank, load, $(BENCH_OUT)/fourier_ranks.md), whose last
+# line is the ratio of the speeds.  About 6 minutes on 2 cores.
 FOURIER_REPEATS ?= 3
 FOURIER_STEPS ?= 3
 .PHONY: bench-fourier-ranks
-bench-fourier-ranks: deps $(BUILD)/muflow
+bench-fourier-ranks: deps $(BUILD)/muflow $(BUILD)/bench_step_traffic
 	@mkdir -p $(BENCH_OUT)
+	$(MPIRUN) -np 2 $(BUILD)/bench_step_traffic cases/bagnold3d.ini \
+	  solver.max_steps=$(FOURIER_STEPS) | tee $(BENCH_OUT)/fourier_traffic.txt
 	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 /usr/bin/python3 \
 	  bench/fourier_ranks_bench.py $(BUILD)/muflow $(BENCH_OUT) $(FOURIER_REPEATS) \
 	  $(FOURIER_STEPS) mpirun --oversubscribe

@@ -55,6 +55,17 @@ struct comm_traffic {
 };
 void comm_traffic_read(struct comm_traffic *t);
 void comm_traffic_reset(void);
+/* Wall seconds this process spent in MPI's calls since the start, over
+ * several ranks only: halo shifts (comm_cart_shift, the Waitall with its
+ * sends), sums and maxima, all-to-alls, and FFTW's MPI executions (their
+ * transforms and transposes, fft_ranks_execute); for the benchmarks'
+ * shares of a step spent waiting. */
+struct comm_waits {
+    double shifts, reductions, alltoalls, fft;
+};
+void comm_waits_read(struct comm_waits *w);
+double comm_clock(void); /* seconds of a monotonic clock */
+void comm_waits_add_fft(double seconds);
 /* One FFTW MPI plan executed (fft_ranks_execute's count). */
 void comm_traffic_fft(void);
 
