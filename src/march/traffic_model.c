@@ -148,12 +148,25 @@ int march_step_traffic_model(const struct march_state *st, const struct step_eve
     m->coll.reduced_values = (2 * (4 + aug) + 2) + (3 * ev->iterations + 1) +
                              ev->setups * (sym + 1) + 2;
     /* the blocks: each apply moves the lines (3 maxlen values each) to the
-     * slabs of the plane transform along the longer direction across and
-     * back, FFTW transposing the half spectrum's nu complex values */
-    const int fa = ng[o1] > ng[o0] ? 0 : 1, a = fa ? o1 : o0, b = fa ? o0 : o1;
+     * slabs of the plane transform along a (the direction across split
+     * over the ranks, when one alone is and both hold several lines; else
+     * the shorter) and back, unless every rank's lines are its slab; FFTW
+     * transposes the half spectrum's nu complex values */
+    const int split0 = dc->cart->dims[o0] > 1, split1 = dc->cart->dims[o1] > 1;
+    const int one = split0 != split1 && ng[o0] > 1 && ng[o1] > 1;
+    const int fa = one ? split1 : ng[o1] > ng[o0] ? 0 : 1;
+    const int a = fa ? o1 : o0, b = fa ? o0 : o1;
     const long nu = 3 * (maxlen > 0 ? maxlen : 1);
+    int aligned = dc->cart->dims[b] == 1;
+    for (int r = 0; r < dc->cart->size; r++) {
+        long s0, sn, b0, bn;
+        fftw_block(ng[a], dc->cart->size, r, &s0, &sn);
+        block_along(dc, r, a, &b0, &bn);
+        aligned = aligned && s0 == b0 && sn == bn;
+    }
     for (long k = 0; k < ev->iterations; k++) {
-        block_slab_moves(dc, a, ng[a], dc->n[b] * nu, 0, b, nu, &m->coll);
+        if (!aligned)
+            block_slab_moves(dc, a, ng[a], dc->n[b] * nu, 0, b, nu, &m->coll);
         fftw_transposes(dc, ng[a], ng[b] / 2 + 1, nu * 2 * DOUBLE_BYTES, m);
     }
     /* the pressure's FFT: blocks to x slabs of whole y-z planes and back,
