@@ -607,14 +607,21 @@ static void lines_to_slabs(struct fourier_lines *f, double *const r[3])
     /* aligned: the slab's rows of 2 (n_b / 2 + 1) lines, FFTW's padding */
     double *to = f->aligned ? f->buf : f->box;
     const size_t rows = f->aligned ? 2 * (size_t)(f->n[1 - fa] / 2 + 1) : (size_t)nb;
+    const ptrdiff_t stride = f->g->stride[f->L];
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
     for (int i = 0; i < na; i++)
         for (int j = 0; j < nb; j++) {
             double *x = to + ((size_t)i * rows + j) * nu;
             int a = fa ? j : i, b = fa ? i : j; /* along o[0], o[1] */
-            for (int c = 0; c < 3; c++)
-                for (int m = 0; m < nu / 3; m++)
-                    x[3 * m + c] = m < f->len[c] ? r[c][node(f, c, a, b, m)] : 0.0;
+            for (int c = 0; c < 3; c++) {
+                /* a line's nodes one stride apart: no index per node */
+                const double *line = r[c] + node(f, c, a, b, 0);
+                int m = 0;
+                for (; m < f->len[c]; m++)
+                    x[3 * m + c] = line[m * stride];
+                for (; m < nu / 3; m++)
+                    x[3 * m + c] = 0.0;
+            }
         }
     if (!f->aligned)
         block_slabs_to_slab(&f->xs, f->box, f->buf);
@@ -625,6 +632,7 @@ static void slabs_to_lines(struct fourier_lines *f, double *z[3])
     const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
     const double *from = f->aligned ? f->buf : f->box;
     const size_t rows = f->aligned ? 2 * (size_t)(f->n[1 - fa] / 2 + 1) : (size_t)nb;
+    const ptrdiff_t stride = f->g->stride[f->L];
     if (!f->aligned)
         block_slabs_to_boxes(&f->xs, f->buf, f->box);
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
@@ -632,9 +640,11 @@ static void slabs_to_lines(struct fourier_lines *f, double *z[3])
         for (int j = 0; j < nb; j++) {
             const double *x = from + ((size_t)i * rows + j) * nu;
             int a = fa ? j : i, b = fa ? i : j;
-            for (int c = 0; c < 3; c++)
+            for (int c = 0; c < 3; c++) {
+                double *line = z[c] + node(f, c, a, b, 0);
                 for (int m = 0; m < f->len[c]; m++)
-                    z[c][node(f, c, a, b, m)] = x[3 * m + c];
+                    line[m * stride] = x[3 * m + c];
+            }
         }
 }
 
