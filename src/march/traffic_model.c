@@ -50,12 +50,12 @@ static void block_along(const struct decomp *dc, int r, int d, long *first, long
     *count = dc->start[d][c + 1] - dc->start[d][c];
 }
 
-/* One all-to-all each way between the blocks (the rows along a, `rest`
- * values each, rest_r for rank r's block) and FFTW's slabs along a of n_a
- * rows of `row` values (block_slabs.c): adds both ways' messages and bytes
- * of this rank. */
-static void block_slab_moves(const struct decomp *dc, int a, long n_a, long rest, long row,
-                             int other_dir, long other_row_values, struct comm_traffic *t)
+/* One all-to-all each way between the blocks and FFTW's slabs along a
+ * (n_a rows; block_slabs.c): a row of this rank's block holds `rest`
+ * values, one of rank r's its count along b times b_values.  Adds both
+ * ways' messages and bytes of this rank. */
+static void block_slab_moves(const struct decomp *dc, int a, long n_a, long rest, int b,
+                             long b_values, struct comm_traffic *t)
 {
     const int P = dc->cart->size, me = dc->cart->rank;
     long s0, sn;
@@ -63,16 +63,12 @@ static void block_slab_moves(const struct decomp *dc, int a, long n_a, long rest
     for (int r = 0; r < P; r++) {
         if (r == me)
             continue;
-        long r0, rn, b0, bn, o0, on;
+        long r0, rn, a0, an, b0, bn;
         fftw_block(n_a, P, r, &r0, &rn);
-        block_along(dc, r, a, &b0, &bn);
+        block_along(dc, r, a, &a0, &an);
+        block_along(dc, r, b, &b0, &bn);
         const long to_slab = overlap(dc->lo[a], dc->n[a], r0, rn) * rest;
-        long rest_r = row;
-        if (other_dir >= 0) {
-            block_along(dc, r, other_dir, &o0, &on);
-            rest_r = on * other_row_values;
-        }
-        const long back = overlap(s0, sn, b0, bn) * rest_r;
+        const long back = overlap(s0, sn, a0, an) * bn * b_values;
         t->alltoall_messages += (to_slab > 0) + (back > 0);
         t->alltoall_bytes += (to_slab + back) * DOUBLE_BYTES;
     }
@@ -166,13 +162,13 @@ int march_step_traffic_model(const struct march_state *st, const struct step_eve
     }
     for (long k = 0; k < ev->iterations; k++) {
         if (!aligned)
-            block_slab_moves(dc, a, ng[a], dc->n[b] * nu, 0, b, nu, &m->coll);
+            block_slab_moves(dc, a, ng[a], dc->n[b] * nu, b, nu, &m->coll);
         fftw_transposes(dc, ng[a], ng[b] / 2 + 1, nu * 2 * DOUBLE_BYTES, m);
     }
     /* the pressure's FFT: blocks to x slabs of whole y-z planes and back,
      * FFTW's 3D transform transposing x and y */
     for (long k = 0; k < ev->pressure_solves; k++) {
-        block_slab_moves(dc, 0, ng[0], (long)dc->n[1] * dc->n[2], 0, 1, dc->n[2], &m->coll);
+        block_slab_moves(dc, 0, ng[0], (long)dc->n[1] * dc->n[2], 1, dc->n[2], &m->coll);
         fftw_transposes(dc, ng[0], ng[1], (long)ng[2] * DOUBLE_BYTES, m);
     }
     return 0;
