@@ -340,7 +340,8 @@ FOURIER_STEPS ?= 3
 bench-fourier-ranks: deps $(BUILD)/muflow $(BUILD)/bench_step_traffic
 	@mkdir -p $(BENCH_OUT)
 	$(MPIRUN) -np 2 $(BUILD)/bench_step_traffic cases/bagnold3d.ini \
-	  solver.max_steps=$(FOURIER_STEPS) | tee $(BENCH_OUT)/fourier_traffic.txt
+	  solver.max_steps=$(FOURIER_STEPS) > $(BENCH_OUT)/fourier_traffic.txt
+	cat $(BENCH_OUT)/fourier_traffic.txt
 	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 /usr/bin/python3 \
 	  bench/fourier_ranks_bench.py $(BUILD)/muflow $(BENCH_OUT) $(FOURIER_REPEATS) \
 	  $(FOURIER_STEPS) mpirun --oversubscribe
