@@ -112,6 +112,7 @@ $(BUILD)/obj/src/solvers/amg_hypre.o: ALL_CFLAGS += $(if $(HYPRE_LIB),-DMUFLOW_H
 $(BUILD)/obj/src/platform/blas.o: ALL_CFLAGS += -DMUFLOW_SERIAL_BLAS_DIR='"/usr/lib/$(MULTIARCH)/openblas-serial"'
 # the libmpi comm.c opens under mpirun (MPI_LIB above)
 $(BUILD)/obj/src/platform/comm.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
+$(BUILD)/obj/tests/test_mpi_traffic.o: ALL_CFLAGS += $(if $(MPI_LIB),-DMUFLOW_MPI_LIB='"$(MPI_LIB)"')
 # the parallel HDF5 phdf5.c opens under mpirun (PHDF5_LIB above)
 $(BUILD)/obj/src/platform/phdf5.o: ALL_CFLAGS += $(if $(PHDF5_LIB),-DMUFLOW_PHDF5_LIB='"$(PHDF5_LIB)"')
 # the FFTW MPI library fft_ranks.c opens under mpirun (FFTW_MPI_LIB above)
@@ -135,8 +136,11 @@ $(BUILD)/muflow: $(BUILD)/obj/src/app/main.o $(BUILD)/libmuflow.a
 $(BUILD)/minimal: $(BUILD)/obj/examples/minimal.o $(BUILD)/libmuflow.a
 	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS)
 
+# tests/test_mpi_traffic.c's MPI calls of FFTW's library, seen first
+TEST_EXPORTS = $(foreach f,MPI_Alltoall MPI_Alltoallv MPI_Sendrecv MPI_Send,\
+                 -Wl,--export-dynamic-symbol=$(f))
 $(BUILD)/muflow_tests: $(TEST_OBJ) $(BUILD)/libmuflow.a
-	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) -lcmocka
+	$(CC) $(ALL_CFLAGS) -o $@ $^ $(LDLIBS) $(TEST_EXPORTS) -lcmocka
 
 MPIRUN = OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1 \
          OMP_WAIT_POLICY=passive mpirun -x OMP_NUM_THREADS -x OMP_WAIT_POLICY
@@ -323,15 +327,21 @@ bench-decomposed: deps bench-deps
 	  done; done; } > $(BENCH_OUT)/decomposed.txt
 	/usr/bin/python3 bench/decomposed_scaling.py $(BENCH_OUT)
 
-# The plane Fourier line blocks over ranks (bench/fourier_ranks_bench.py):
-# bagnold3d 128 x 128 x 64 for FOURIER_STEPS steps on 2 ranks x 1 thread
-# and 1 x 2, alternated, FOURIER_REPEATS runs each: medians, peak RSS a rank,
-# load ($(BENCH_OUT)/fourier_ranks.md).  About 5 minutes on 2 cores.
+# The plane Fourier line blocks over ranks: bagnold3d 128 x 128 x 64 on 2
+# ranks x 1 thread, each step's traffic against its model, its shares in
+# MPI's calls and the peak RSS a rank (bench/bench_step_traffic.c,
+# $(BENCH_OUT)/fourier_traffic.txt); then FOURIER_STEPS steps on 2 x 1 and
+# 1 x 2, alternated, FOURIER_REPEATS runs each (bench/fourier_ranks_bench.py:
+# medians, peak RSS a rank, load, $(BENCH_OUT)/fourier_ranks.md), whose last
+# line is the ratio of the speeds.  About 6 minutes on 2 cores.
 FOURIER_REPEATS ?= 3
 FOURIER_STEPS ?= 3
 .PHONY: bench-fourier-ranks
-bench-fourier-ranks: deps $(BUILD)/muflow
+bench-fourier-ranks: deps $(BUILD)/muflow $(BUILD)/bench_step_traffic
 	@mkdir -p $(BENCH_OUT)
+	$(MPIRUN) -np 2 $(BUILD)/bench_step_traffic cases/bagnold3d.ini \
+	  solver.max_steps=$(FOURIER_STEPS) > $(BENCH_OUT)/fourier_traffic.txt
+	cat $(BENCH_OUT)/fourier_traffic.txt
 	OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 /usr/bin/python3 \
 	  bench/fourier_ranks_bench.py $(BUILD)/muflow $(BENCH_OUT) $(FOURIER_REPEATS) \
 	  $(FOURIER_STEPS) mpirun --oversubscribe

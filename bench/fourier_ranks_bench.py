@@ -6,7 +6,8 @@ x 2 threads, alternated, REPEATS runs each: the march's wall time (the
 summary's wall_seconds) and the process's, each rank's peak resident
 memory and its bytes per local cell, the 1-minute load before and after
 each run (the machine may be shared).  speed(2 x 1) / speed(1 x 2) is the
-ratio of the medians.  Writes OUT/fourier_ranks.md and prints it.
+ratio of the medians, the last line printed.  Writes OUT/fourier_ranks.md
+and prints it.
 
 usage: fourier_ranks_bench.py MUFLOW OUTDIR REPEATS STEPS [mpirun ...]
        (the mpirun command and its options, default: mpirun --oversubscribe)
@@ -107,6 +108,11 @@ def main():
         % (med[1][0] / med[2][0], med[1][1] / med[2][1], med[1][2] / med[2][2]),
         "residual after %d steps: %s (2 ranks), %s (1 rank)" % (steps, a.get("residual"),
                                                               b.get("residual")), ""])
+    # the line to quote, last
+    text += ("ratio: bagnold3d 128 x 128 x 64, 2 ranks x 1 thread at %.3f of 1 x 2's speed "
+             "(march, medians of %d alternated runs, load %.1f-%.1f)\n"
+             % (med[1][0] / med[2][0], repeats, min(min(x[3], x[4]) for k in runs for x in runs[k]),
+                max(max(x[3], x[4]) for k in runs for x in runs[k])))
     with open(os.path.join(out, "fourier_ranks.md"), "w") as f:
         f.write(text)
     print(text)

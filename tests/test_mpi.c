@@ -1158,6 +1158,8 @@ void test_fft_ranks_uniform(void **state);
 /* test_mpi_fourier.c */
 void test_fourier_lines_ranks(void **state);
 void test_bagnold3d_on_ranks(void **state);
+/* test_mpi_traffic.c */
+void test_bagnold3d_traffic(void **state);
 /* test_mpi_vof.c */
 void test_vof_ranks(void **state);
 void test_pressure_ranks_variable(void **state);
@@ -1198,6 +1200,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_couette_on_ranks),
         cmocka_unit_test(test_bagnold_on_ranks),
         cmocka_unit_test(test_bagnold3d_on_ranks),
+        cmocka_unit_test(test_bagnold3d_traffic),
         cmocka_unit_test(test_bagnold_checkpoint_ranks),
         cmocka_unit_test(test_checkpoint_fails_on_ranks),
         cmocka_unit_test(test_bingham_channel_on_ranks),

@@ -93,7 +93,11 @@ struct decomp_traffic {
     long gathers, gather_sent, gather_received;
 };
 void decomp_traffic_read(struct decomp_traffic *t);
+/* Resets this tally and the collectives' (comm_traffic_reset). */
 void decomp_traffic_reset(void);
+/* The collectives' tally (platform/comm.h: comm_traffic_read), for the
+ * layers above the grid's. */
+void decomp_collectives_read(struct comm_traffic *t);
 
 /* Every rank's block of f (local grid g), cells and the ghost slots on the
  * domain's boundary, into global (the global grid gg's layout), on every

@@ -130,6 +130,12 @@ struct march_state {
     int linear_iterations;      /* of the last step */
     long rejected;              /* pseudo-time steps retried with a smaller dt */
     long pressure_iterations;   /* the projection's multigrid-CG iterations, every step */
+    long pressure_solves;       /* the projection's solves, every step */
+    /* what the last try of a step (its advance and evaluation) sent over the
+     * ranks (grid/decomp.h's tallies; nothing on one process): halo planes
+     * and gathers, the collectives */
+    struct decomp_traffic step_halo;
+    struct comm_traffic step_collectives;
     long pressure_unconverged;  /* its solves that ended above their tolerance */
     long linear_unconverged;    /* implicit solves stopped at solver.max_linear_iterations */
     long grid_matrices;         /* matrices of the grid's unknowns probed for the implicit

@@ -42,6 +42,33 @@ void comm_barrier(void);
  * none on one rank). */
 long comm_reductions(void);
 
+/* What this process's collectives sent since comm_traffic_reset (or the
+ * start), over several ranks only: the sums and maxima (MPI_Allreduce
+ * calls) and their values; the all-to-alls, their messages (the other
+ * ranks sent a piece) and bytes (those pieces); and the executions of
+ * FFTW's MPI plans (fft_ranks_execute), whose own transposes the caller
+ * models.  One process-wide tally: the thread that calls MPI writes it. */
+struct comm_traffic {
+    long reductions, reduced_values;
+    long alltoalls, alltoall_messages, alltoall_bytes;
+    long fft_executions;
+};
+void comm_traffic_read(struct comm_traffic *t);
+void comm_traffic_reset(void);
+/* Wall seconds this process spent in MPI's calls since the start, over
+ * several ranks only: halo shifts (comm_cart_shift, the Waitall with its
+ * sends), sums and maxima, all-to-alls, and FFTW's MPI executions (their
+ * transforms and transposes, fft_ranks_execute); for the benchmarks'
+ * shares of a step spent waiting. */
+struct comm_waits {
+    double shifts, reductions, alltoalls, fft;
+};
+void comm_waits_read(struct comm_waits *w);
+double comm_clock(void); /* seconds of a monotonic clock */
+void comm_waits_add_fft(double seconds);
+/* One FFTW MPI plan executed (fft_ranks_execute's count). */
+void comm_traffic_fft(void);
+
 /* The Cartesian communicator over every rank: dims[d] ranks along d,
  * periodic along d when periodic[d], this rank's coords and its neighbours
  * (nbr[d][0] below, nbr[d][1] above; -1 beyond a non-periodic end, and along

@@ -46,4 +46,7 @@ void fft_ranks_plane_slab(const struct comm_cart *c, const int n[2], ptrdiff_t h
  * TRANSPOSED_IN) plan on buf; NULL when FFTW cannot make it.  Collective. */
 fftw_plan fft_ranks_plane_plan(const struct comm_cart *c, const int n[2], ptrdiff_t howmany,
                                double *buf, int inverse, unsigned flags);
+
+/* fftw_execute of a plan above, counted in comm_traffic's fft_executions. */
+void fft_ranks_execute(fftw_plan plan);
 #endif

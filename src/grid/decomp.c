@@ -16,6 +16,12 @@ void decomp_traffic_read(struct decomp_traffic *t)
 void decomp_traffic_reset(void)
 {
     memset(&traffic, 0, sizeof traffic);
+    comm_traffic_reset();
+}
+
+void decomp_collectives_read(struct comm_traffic *t)
+{
+    comm_traffic_read(t);
 }
 
 /* Slots of a plane across d: the other two directions' ext. */

@@ -165,6 +165,24 @@ static int searched_steps(const struct march_state *st)
     return st->cs->newton_below < 1.0 || march_continuing(st) || module_searches(st);
 }
 
+/* st->step_halo and step_collectives: the tallies' growth since halo0, coll0. */
+static void record_step_traffic(struct march_state *st, const struct decomp_traffic *halo0,
+                                const struct comm_traffic *coll0)
+{
+    struct decomp_traffic h;
+    struct comm_traffic c;
+    decomp_traffic_read(&h);
+    decomp_collectives_read(&c);
+    st->step_halo = (struct decomp_traffic){
+        h.exchanges - halo0->exchanges, h.messages - halo0->messages, h.bytes - halo0->bytes,
+        h.gathers - halo0->gathers, h.gather_sent - halo0->gather_sent,
+        h.gather_received - halo0->gather_received};
+    st->step_collectives = (struct comm_traffic){
+        c.reductions - coll0->reductions, c.reduced_values - coll0->reduced_values,
+        c.alltoalls - coll0->alltoalls, c.alltoall_messages - coll0->alltoall_messages,
+        c.alltoall_bytes - coll0->alltoall_bytes, c.fft_executions - coll0->fft_executions};
+}
+
 enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
 {
     const struct muflow_case *cs = st->cs;
@@ -212,9 +230,14 @@ enum run_status march_run(struct march_state *st, march_observer obs, void *ctx)
             dt = march_choose_dt(st) * st->dt_scale;
             int newton_step = implicit_uses_tangent(st); /* steady mode only */
             st->step_error[0] = '\0';
+            struct decomp_traffic halo0;
+            struct comm_traffic coll0;
+            decomp_traffic_read(&halo0);
+            decomp_collectives_read(&coll0);
             int broke = step_advance(st, dt) != 0;
             if (!broke)
                 step_evaluate(st);
+            record_step_traffic(st, &halo0, &coll0);
             int searched = searched_steps(st);
             if (!broke && newton_step && searched &&
                 isfinite(st->residual) && st->residual_rms > accepted_rms &&

@@ -79,6 +79,7 @@ static void open_correct(struct march_state *st, const double *phi)
 static void project_solve(struct march_state *st, double *rhs_phi, double floor)
 {
     long before = pressure_iterations(st->pressure_solver);
+    st->pressure_solves++;
     if (pressure_solve(st->pressure_solver, rhs_phi, rhs_phi, floor) != 0)
         st->pressure_unconverged++;
     st->pressure_iterations += pressure_iterations(st->pressure_solver) - before;

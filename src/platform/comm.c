@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* The Makefile passes the soname of the -dev package's libmpi.so. */
 #ifndef MUFLOW_MPI_LIB
@@ -40,6 +41,8 @@ static struct {
 static int active; /* MPI initialised by comm_init */
 static int world_rank, world_size = 1;
 static long reductions; /* MPI_Allreduce calls (comm_reductions) */
+static struct comm_traffic traffic;
+static struct comm_waits waits;
 
 _Static_assert(sizeof(MPI_Comm) == sizeof(void *), "Open MPI's MPI_Comm, a pointer, expected");
 
@@ -145,7 +148,11 @@ void comm_sum(double *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
+        const double t0 = comm_clock();
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_sum, mpi.comm_world);
+        waits.reductions += comm_clock() - t0;
     }
 }
 
@@ -153,7 +160,11 @@ void comm_sum_long(long *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
+        const double t0 = comm_clock();
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_long, mpi.op_sum, mpi.comm_world);
+        waits.reductions += comm_clock() - t0;
     }
 }
 
@@ -161,13 +172,50 @@ void comm_max(double *v, int n)
 {
     if (active && world_size > 1) {
         reductions++;
+        traffic.reductions++;
+        traffic.reduced_values += n;
+        const double t0 = comm_clock();
         mpi.MPI_Allreduce(MPI_IN_PLACE, v, n, mpi.type_double, mpi.op_max, mpi.comm_world);
+        waits.reductions += comm_clock() - t0;
     }
 }
 
 long comm_reductions(void)
 {
     return reductions;
+}
+
+void comm_traffic_read(struct comm_traffic *t)
+{
+    *t = traffic;
+}
+
+void comm_traffic_reset(void)
+{
+    memset(&traffic, 0, sizeof traffic);
+}
+
+double comm_clock(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+void comm_waits_read(struct comm_waits *w)
+{
+    *w = waits;
+}
+
+void comm_waits_add_fft(double seconds)
+{
+    waits.fft += seconds;
+}
+
+void comm_traffic_fft(void)
+{
+    if (active && world_size > 1)
+        traffic.fft_executions++;
 }
 
 void comm_barrier(void)
@@ -249,6 +297,7 @@ void comm_cart_shift(const struct comm_cart *c, int d, const double *to_lo, doub
     /* both ways at once: my top plane up (tag 2d), my bottom plane down (2d + 1);
      * with two ranks along a periodic d both neighbours are the same rank,
      * and the tags keep the planes apart */
+    const double t0 = comm_clock();
     MPI_Request req[4];
     int nreq = 0;
     if (lo >= 0)
@@ -260,6 +309,7 @@ void comm_cart_shift(const struct comm_cart *c, int d, const double *to_lo, doub
     if (lo >= 0)
         mpi.MPI_Isend(to_lo, count, mpi.type_double, lo, 2 * d + 1, cart, &req[nreq++]);
     mpi.MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+    waits.shifts += comm_clock() - t0;
 }
 
 void comm_cart_allgather(const struct comm_cart *c, const double *mine, int count, double *all,
@@ -282,6 +332,14 @@ void comm_cart_alltoall(const struct comm_cart *c, const double *send, const int
                (size_t)send_counts[0] * sizeof(double));
         return;
     }
+    traffic.alltoalls++;
+    for (int r = 0; r < c->size; r++)
+        if (r != c->rank && send_counts[r] > 0) {
+            traffic.alltoall_messages++;
+            traffic.alltoall_bytes += (long)send_counts[r] * (long)sizeof(double);
+        }
+    const double t0 = comm_clock();
     mpi.MPI_Alltoallv(send, send_counts, send_displs, mpi.type_double, recv, recv_counts,
                       recv_displs, mpi.type_double, (MPI_Comm)c->comm);
+    waits.alltoalls += comm_clock() - t0;
 }

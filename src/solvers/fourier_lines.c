@@ -62,9 +62,11 @@ struct fourier_lines {
      * along the other, the longer one's half spectrum: the modes, and so the
      * blocks, spread over the ranks.  The lines go from the blocks (box:
      * o[fa] slowest, then o[1 - fa], then the line's nu values) to the slabs
-     * and back by one all-to-all each way; spec is then buf's. */
+     * and back by one all-to-all each way; spec is then buf's.  aligned:
+     * every rank's block of lines is its slab (split along o[fa] alone, as
+     * FFTW's blocks), written and read in buf directly, no all-to-all. */
     const struct decomp *dc;
-    int fa;
+    int fa, aligned;
     struct fft_ranks_slab slab;
     struct block_slabs xs;
     double *buf, *box;
@@ -187,19 +189,29 @@ static int plan_ranks(struct fourier_lines *f, char *err, size_t errlen)
             snprintf(err, errlen, "viscous solver: FFTW's MPI transforms failed on another rank");
         return -1;
     }
-    /* B, whose half spectrum is kept, the longer: more modes to spread */
-    const int fa = f->fa = f->n[1] > f->n[0] ? 0 : 1, fb = 1 - fa;
+    /* The slabs along the one direction across the blocks are split along,
+     * when one is (and the other holds more than one line: FFTW plans no
+     * real transform of one point): the lines stay on their rank (2 ranks
+     * on 128 x 128 lines: half of them sent each way per apply otherwise).
+     * Else B, whose half spectrum is kept, the longer: more modes to spread. */
+    const int split0 = dc->cart->dims[f->o[0]] > 1, split1 = dc->cart->dims[f->o[1]] > 1;
+    const int one = split0 != split1 && f->n[0] > 1 && f->n[1] > 1;
+    const int fa = f->fa = one ? split1 : f->n[1] > f->n[0] ? 0 : 1, fb = 1 - fa;
     const int n[2] = {f->n[fa], f->n[fb]};
     fft_ranks_plane_slab(dc->cart, n, f->nu, &f->slab);
+    const int mine = f->slab.x0 == f->first[fa] && f->slab.nx == f->nl[fa] && f->nl[fb] == n[1];
+    f->aligned = decomp_max(dc, !mine) == 0.0;
     f->modes = (long)f->slab.ny * n[0];
     const int lo[3] = {f->first[fa], f->first[fb], 0}, nl[3] = {f->nl[fa], f->nl[fb], f->nu},
               ng[3] = {n[0], n[1], f->nu};
     const size_t box = (size_t)nl[0] * nl[1] * f->nu;
     f->buf = fftw_malloc((size_t)(f->slab.len > 0 ? f->slab.len : 1) * sizeof(double));
-    f->box = malloc((box ? box : 1) * sizeof(double));
-    int failed = !f->buf || !f->box ||
-                 block_slabs_init(&f->xs, dc->cart, lo, nl, ng, f->slab.x0, f->slab.nx,
-                                  2 * (n[1] / 2 + 1)) != 0;
+    int failed = !f->buf;
+    if (!f->aligned) { /* every rank alike: block_slabs_init is collective */
+        f->box = malloc((box ? box : 1) * sizeof(double));
+        failed |= !f->box || block_slabs_init(&f->xs, dc->cart, lo, nl, ng, f->slab.x0,
+                                              f->slab.nx, 2 * (n[1] / 2 + 1)) != 0;
+    }
     if (decomp_max(dc, failed) != 0.0) {
         snprintf(err, errlen, "viscous solver: out of memory for the Fourier line blocks' slabs");
         return -1;
@@ -592,30 +604,47 @@ int fourier_lines_setup(struct fourier_lines *f, operator_fn op, void *ctx, doub
 static void lines_to_slabs(struct fourier_lines *f, double *const r[3])
 {
     const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
+    /* aligned: the slab's rows of 2 (n_b / 2 + 1) lines, FFTW's padding */
+    double *to = f->aligned ? f->buf : f->box;
+    const size_t rows = f->aligned ? 2 * (size_t)(f->n[1 - fa] / 2 + 1) : (size_t)nb;
+    const ptrdiff_t stride = f->g->stride[f->L];
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
     for (int i = 0; i < na; i++)
         for (int j = 0; j < nb; j++) {
-            double *x = f->box + ((size_t)i * nb + j) * nu;
+            double *x = to + ((size_t)i * rows + j) * nu;
             int a = fa ? j : i, b = fa ? i : j; /* along o[0], o[1] */
-            for (int c = 0; c < 3; c++)
-                for (int m = 0; m < nu / 3; m++)
-                    x[3 * m + c] = m < f->len[c] ? r[c][node(f, c, a, b, m)] : 0.0;
+            for (int c = 0; c < 3; c++) {
+                /* a line's nodes one stride apart: no index per node */
+                const double *line = r[c] + node(f, c, a, b, 0);
+                int m = 0;
+                for (; m < f->len[c]; m++)
+                    x[3 * m + c] = line[m * stride];
+                for (; m < nu / 3; m++)
+                    x[3 * m + c] = 0.0;
+            }
         }
-    block_slabs_to_slab(&f->xs, f->box, f->buf);
+    if (!f->aligned)
+        block_slabs_to_slab(&f->xs, f->box, f->buf);
 }
 
 static void slabs_to_lines(struct fourier_lines *f, double *z[3])
 {
     const int fa = f->fa, na = f->nl[fa], nb = f->nl[1 - fa], nu = f->nu;
-    block_slabs_to_boxes(&f->xs, f->buf, f->box);
+    const double *from = f->aligned ? f->buf : f->box;
+    const size_t rows = f->aligned ? 2 * (size_t)(f->n[1 - fa] / 2 + 1) : (size_t)nb;
+    const ptrdiff_t stride = f->g->stride[f->L];
+    if (!f->aligned)
+        block_slabs_to_boxes(&f->xs, f->buf, f->box);
 #pragma omp parallel for collapse(2) schedule(static) if (kernel_parallel(f->g))
     for (int i = 0; i < na; i++)
         for (int j = 0; j < nb; j++) {
-            const double *x = f->box + ((size_t)i * nb + j) * nu;
+            const double *x = from + ((size_t)i * rows + j) * nu;
             int a = fa ? j : i, b = fa ? i : j;
-            for (int c = 0; c < 3; c++)
+            for (int c = 0; c < 3; c++) {
+                double *line = z[c] + node(f, c, a, b, 0);
                 for (int m = 0; m < f->len[c]; m++)
-                    z[c][node(f, c, a, b, m)] = x[3 * m + c];
+                    line[m * stride] = x[3 * m + c];
+            }
         }
 }
 
@@ -627,7 +656,7 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
         return;
     if (f->dc) {
         lines_to_slabs(f, r);
-        fftw_execute(f->fwd[0]);
+        fft_ranks_execute(f->fwd[0]);
     } else {
         for (int c = 0; c < 3; c++)
             if (f->len[c] > 0)
@@ -649,7 +678,7 @@ void fourier_lines_apply(struct fourier_lines *f, double *const r[3], double *z[
             x[i] *= norm;
     }
     if (f->dc) {
-        fftw_execute(f->bwd[0]);
+        fft_ranks_execute(f->bwd[0]);
         slabs_to_lines(f, z);
         return;
     }

@@ -133,9 +133,9 @@ void poisson_fft_ranks_solve(struct poisson_fft_ranks *ps, const double *rhs, do
                 dst[k] = src[k];
         }
     block_slabs_to_slab(&ps->xs, ps->block, ps->buf);
-    fftw_execute(ps->fwd);
+    fft_ranks_execute(ps->fwd);
     divide(ps);
-    fftw_execute(ps->bwd);
+    fft_ranks_execute(ps->bwd);
     block_slabs_to_boxes(&ps->xs, ps->buf, ps->block);
 #pragma omp parallel for collapse(2) schedule(static) if (par)
     for (int i = 0; i < bx; i++)
