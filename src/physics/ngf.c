@@ -3,10 +3,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "physics/ngf.h"
+#include "physics/fluidity_anderson.h"
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 #include "solvers/line_screened.h"
 #include "solvers/multigrid.h"
+#include "march/step.h"
 
 /* the largest coefficient mu_s + b I taken: beyond it g is 0 to round-off,
  * and the elimination keeps finite numbers */
@@ -14,6 +16,19 @@
 /* the multigrid's cap on it: its residuals' squares (PCG's dot products)
  * must stay finite; g = |D| / 1e100 is 0 to round-off as well */
 #define NGF_MG_COEF_MAX 1e100
+/* A steady step is a Picard step (the momentum solved with the step's
+ * viscosity, its mass term a small perturbation) when rho h^2 / (dt eta)
+ * is below this in every cell */
+#define NGF_PICARD_MASS 1e-2
+/* the Picard steps in a row that must reduce |G(x) - x| before the
+ * acceleration acts */
+#define NGF_CONTRACTING 5
+/* A creeping layer whose fluidity grows (NGF_GROWING Picard steps in a
+ * row that raised |G(x) - x|) while it is below NGF_AMPLIFY_BELOW of the
+ * inertial rate sqrt(p / rho_s) / d is amplified to NGF_AMPLIFY_TO of it */
+#define NGF_GROWING 3
+#define NGF_AMPLIFY_BELOW 1e-2
+#define NGF_AMPLIFY_TO 1e-2
 /* the multigrid's relative residual (of |D|'s 2-norm): below the steady
  * criterion's effect (docs/numerics/rheology.md) */
 #define NGF_MG_RTOL 1e-12
@@ -29,6 +44,18 @@ struct ngf {
     struct multigrid *mg;
     double *face, *screen, *rhs;
     long unconverged; /* its solves that stopped above NGF_MG_RTOL */
+    /* the steady iteration's acceleration (NULL: Picard, and in transient
+     * mode); over the cells in the module's order: the iterate x the last
+     * step took, the map's value G(x) and the next iterate; the lambda its
+     * history is of */
+    struct fluidity_anderson *accel;
+    double *x, *gx, *next;
+    int x_valid;     /* the last step was a Picard step from x */
+    int contracting, contracting_before; /* the Picard steps in a row that
+                                          * reduced |G(x) - x| */
+    double last_fx;  /* the last |G(x) - x| */
+    int growing;     /* the Picard steps in a row that raised it */
+    double accel_lambda;
 };
 
 /* The four-cell mean of an edge, as the viscosity kernels take it
@@ -148,6 +175,17 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     const double a2 = r->nonlocal_a * r->nonlocal_a * r->grain_diameter * r->grain_diameter;
     if (box_solve(st->cs) && create_box_solver(st, m, a2, err, errlen) != 0)
         return -1;
+    if (st->cs->mode == MODE_STEADY && st->cs->rheo.fluidity_anderson > 0) {
+        const size_t cells = (size_t)g->n[0] * g->n[1] * nz;
+        m->accel = fluidity_anderson_create(cells, st->cs->rheo.fluidity_anderson);
+        m->x = malloc(3 * cells * sizeof(double));
+        if (!m->accel || !m->x) {
+            snprintf(err, errlen, "ngf: out of memory");
+            return -1;
+        }
+        m->gx = m->x + cells;
+        m->next = m->gx + cells;
+    }
     m->L = (struct line_screened){
         .n = nz,
         .a2 = a2,
@@ -306,6 +344,21 @@ static void box_fluidity(struct march_state *st, struct ngf *m)
  *   -A^2 d^2 g'' + (mu_s + b I) g = |D|,  I = |D| d sqrt(rho_s / p_reg),
  * one tridiagonal solve per column (physics/ngf.h says why this form), or
  * the box's multigrid. */
+/* The cells of f into the compact array c (out = 0), or back (out = 1). */
+static void cells_copy(const struct grid *g, double *f, double *c, int back)
+{
+    size_t n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++, n++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                if (back)
+                    f[q] = c[n];
+                else
+                    c[n] = f[q];
+            }
+}
+
 static void properties(struct march_state *st, void *state)
 {
     struct ngf *m = state;
@@ -331,6 +384,133 @@ static void properties(struct march_state *st, void *state)
     replace_viscosities(st, f);
 }
 
+/* Whether the step of length dt is a Picard step: its mass term rho / dt
+ * small beside the viscous term eta / h^2 of every cell (the smallest
+ * spacing), so that it solves the momentum with the current viscosity and
+ * the next state is the Picard map's value. */
+static int picard_step(const struct march_state *st, double dt)
+{
+    const struct grid *g = &st->g;
+    double eta_min = INFINITY;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                eta_min = fmin(eta_min, st->field.viscosity[grid_idx(g, i, j, k)]);
+    eta_min = -march_max(st, -eta_min);
+    double h = march_min_spacing(g);
+    return st->cs->density * h * h <= NGF_PICARD_MASS * dt * eta_min;
+}
+
+/* The steady step's viscosity from the accelerated fluidity
+ * (physics/fluidity_anderson.h).  The state's fluidity is G(u), the plain
+ * iteration's (properties: the residual the march judges is the steady
+ * equations' own); a Picard step from x that led to it is one pair (x,
+ * G(u)) of the map, and the step from here takes eta = p_reg / (w + lambda)
+ * of the accelerated w with the momentum residual of that viscosity, so
+ * that a Picard step solves the momentum with w.  A step that is not a
+ * Picard step (a small pseudo-time step: its state is not the map's value)
+ * starts the history again.  Declines the step (1): the viscous solver
+ * takes it. */
+/* A creeping layer that the plain iteration lifts to its flow: at lambda's
+ * scale the map is linear in g (eta = p_reg / (g + lambda), the fluidity
+ * equation linear in |D|), so its growing mode grows by the same factor a
+ * step (1.2 on the shipped incline: some 90 steps from 1e-8 to the flow)
+ * whatever its amplitude.  Far below the flowing scale, the inertial rate
+ * sqrt(p / rho_s) / d, the iterate is scaled up to NGF_AMPLIFY_TO of it
+ * along that mode (the last value G); a layer below its stopping height
+ * contracts to the creep instead and is never amplified.  1 when it
+ * amplified. */
+static int amplify(const struct march_state *st, struct ngf *m)
+{
+    const struct grid *g = &st->g;
+    const struct rheology *r = &st->rheo;
+    double gmax = 0.0, pmax = 0.0;
+    size_t n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++, n++) {
+                gmax = fmax(gmax, m->next[n]);
+                pmax = fmax(pmax, st->field.pressure_regularised[grid_idx(g, i, j, k)]);
+            }
+    gmax = march_max(st, gmax);
+    double rate = sqrt(march_max(st, pmax) / r->grain_density) / r->grain_diameter;
+    if (!(gmax > 0.0 && gmax < NGF_AMPLIFY_BELOW * rate))
+        return 0;
+    const double s = NGF_AMPLIFY_TO * rate / gmax;
+    for (size_t q = 0; q < n; q++)
+        m->next[q] *= s;
+    return 1;
+}
+
+static int implicit(struct march_state *st, void *state, double dt)
+{
+    struct ngf *m = state;
+    if (!m->accel)
+        return 1;
+    const struct grid *g = &st->g;
+    cells_copy(g, m->fluidity, m->gx, 0);
+    if (st->rheo.lambda != m->accel_lambda || !picard_step(st, dt)) {
+        /* a new lambda (a continuation's stage) is a new map */
+        fluidity_anderson_reset(m->accel);
+        m->accel_lambda = st->rheo.lambda;
+        m->x_valid = 0;
+        return 1;
+    }
+    if (fluidity_anderson_newest(m->accel, st, m->gx)) {
+        /* a retried step: the mix was rejected, the plain step is taken */
+        fluidity_anderson_keep_newest(m->accel);
+        m->contracting = m->contracting_before = 0;
+        cells_copy(g, m->fluidity, m->next, 0);
+    } else {
+        /* a new state */
+        m->contracting = 0;
+        if (m->x_valid) {
+            double fx = fluidity_anderson_push(m->accel, st, m->x, m->gx);
+            /* only a contraction is accelerated: from a creeping layer the
+             * map's growing mode leads to the flow, and the combination of
+             * least residual would lead back to the creep (an unstable
+             * fixed point) */
+            m->contracting = fx < m->last_fx ? m->contracting_before + 1 : 0;
+            m->growing = fx > m->last_fx ? m->growing + 1 : 0;
+            m->last_fx = fx;
+        } else {
+            fluidity_anderson_reset(m->accel);
+            m->last_fx = INFINITY;
+            m->growing = 0;
+        }
+        m->contracting_before = m->contracting;
+        if (m->contracting == 0)
+            fluidity_anderson_keep_newest(m->accel);
+        if (m->contracting >= NGF_CONTRACTING)
+            fluidity_anderson_next(m->accel, st, m->next);
+        else
+            cells_copy(g, m->fluidity, m->next, 0);
+        if (m->growing >= NGF_GROWING && amplify(st, m))
+            fluidity_anderson_reset(m->accel);
+    }
+    size_t n = (size_t)g->n[0] * g->n[1] * g->n[2];
+    int same = 1;
+    for (size_t q = 0; q < n; q++) {
+        m->x[q] = m->next[q];
+        same &= m->next[q] == m->gx[q];
+    }
+    m->x_valid = 1;
+    if (march_sum(st, !same) > 0.0) {
+        cells_copy(g, m->fluidity, m->next, 1);
+        fill_ghosts(st, m->fluidity);
+        replace_viscosities(st, m->fluidity);
+        stage_residual(st);
+    }
+    return 1;
+}
+
+static int line_search(const struct march_state *st, void *state)
+{
+    (void)st;
+    const struct ngf *m = state;
+    return m->accel != NULL;
+}
+
 static void destroy(void *state)
 {
     struct ngf *m = state;
@@ -342,6 +522,8 @@ static void destroy(void *state)
     field_free(m->face);
     field_free(m->screen);
     field_free(m->rhs);
+    fluidity_anderson_destroy(m->accel);
+    free(m->x);
     free(m);
 }
 
@@ -350,6 +532,11 @@ static double memory_bound(const struct muflow_case *cs, const struct grid *g)
     double bytes = (double)g->size * sizeof(double) + (6.0 * g->n[2] + 1.0) * sizeof(double);
     if (box_solve(cs))
         bytes += multigrid_memory_estimate(g, NULL) + 3.0 * g->size * sizeof(double);
+    if (cs->mode == MODE_STEADY && cs->rheo.fluidity_anderson > 0) {
+        const size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
+        bytes += fluidity_anderson_bytes(cells, cs->rheo.fluidity_anderson) +
+                 3.0 * cells * sizeof(double);
+    }
     return bytes;
 }
 
@@ -357,6 +544,9 @@ const struct module ngf_module = {
     .name = "ngf",
     .create = create,
     .properties = properties,
+    .implicit = implicit,
+    .line_search = line_search,
+    .implicit_steady = 1, /* transient steps are the plain Picard's */
     .destroy = destroy,
     .memory_bound = memory_bound,
     .decomposed = 1, /* per z line, z unsplit; ghosts by bc_fill_scalar */
