@@ -405,7 +405,7 @@ static void test_bad_input(void **state)
         {"rheology.nonlocal_a=0", "rheology.nonlocal_a"},
         {"rheology.nonlocal_b=-1", "rheology.nonlocal_b"},
         {"solver.coupled=on", "solver.coupled"},
-        {"rheology.fluidity_anderson=17", "rheology.fluidity_anderson"},
+        {"rheology.fluidity_anderson=9", "rheology.fluidity_anderson"},
     };
     test_bad_overrides(NGF_CASE, bad, sizeof bad / sizeof bad[0]);
 }

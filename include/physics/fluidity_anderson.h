@@ -27,6 +27,14 @@ struct fluidity_anderson *fluidity_anderson_create(size_t n, int depth);
 void fluidity_anderson_destroy(struct fluidity_anderson *a);
 /* forgets the history: the next mix starts again */
 void fluidity_anderson_reset(struct fluidity_anderson *a);
+/* A continued run's history (the checkpoint): the compact array of ring
+ * slot 0 .. depth of the residuals (map_value 0) or the map's values (1);
+ * the slot the last push filled; the two counters (pairs held, newest
+ * slot) as doubles, and set back (-1: they do not fit this depth). */
+double *fluidity_anderson_slot(struct fluidity_anderson *a, int map_value, int slot);
+int fluidity_anderson_newest_slot(const struct fluidity_anderson *a);
+void fluidity_anderson_get_state(const struct fluidity_anderson *a, double s[2]);
+int fluidity_anderson_set_state(struct fluidity_anderson *a, const double s[2]);
 /* the bytes it allocates for n cells at that depth */
 double fluidity_anderson_bytes(size_t n, int depth);
 

@@ -318,7 +318,7 @@ const struct key case_core_keys[] = {
                  "and y periodic); `multigrid`: the whole box by the cell-centred multigrid "
                  "with its screening term (uniform grids); `auto`: lines when x and y are "
                  "periodic, else multigrid")),
-    INT("rheology", "fluidity_anderson", rheo.fluidity_anderson, RANGE(0, 16, 1, 1),
+    INT("rheology", "fluidity_anderson", rheo.fluidity_anderson, RANGE(0, 8, 1, 1),
         KEY_HELP("ngf: the steady iteration's Anderson depth (0: plain Picard)", NULL,
                  "ngf, steady mode: a step with dt large beside rho h^2 / eta is one Picard "
                  "iteration of the fluidity (the momentum with eta = p / (g + lambda), then g "

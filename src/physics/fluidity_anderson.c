@@ -45,6 +45,28 @@ void fluidity_anderson_destroy(struct fluidity_anderson *a)
 
 void fluidity_anderson_reset(struct fluidity_anderson *a) { a->count = 0; }
 
+double *fluidity_anderson_slot(struct fluidity_anderson *a, int map_value, int slot)
+{
+    return (map_value ? a->gx : a->f) + (size_t)slot * a->n;
+}
+
+int fluidity_anderson_newest_slot(const struct fluidity_anderson *a) { return a->newest; }
+
+void fluidity_anderson_get_state(const struct fluidity_anderson *a, double s[2])
+{
+    s[0] = a->count;
+    s[1] = a->newest;
+}
+
+int fluidity_anderson_set_state(struct fluidity_anderson *a, const double s[2])
+{
+    if (!(s[0] >= 0 && s[0] <= a->depth + 1 && s[1] >= 0 && s[1] <= a->depth))
+        return -1;
+    a->count = (int)s[0];
+    a->newest = (int)s[1];
+    return 0;
+}
+
 double fluidity_anderson_bytes(size_t n, int depth)
 {
     return 2.0 * (depth + 1) * (double)n * sizeof(double) + sizeof(struct fluidity_anderson);

@@ -9,6 +9,7 @@
 #include "solvers/line_screened.h"
 #include "solvers/multigrid.h"
 #include "march/step.h"
+#include "march/module_record.h"
 
 /* the largest coefficient mu_s + b I taken: beyond it g is 0 to round-off,
  * and the elimination keeps finite numbers */
@@ -50,6 +51,10 @@ struct ngf {
      * history is of */
     struct fluidity_anderson *accel;
     double *x, *gx, *next;
+    /* the checkpoint's copy of the history and of x (cell fields, three a
+     * registry entry): mirror[2 j] the residuals of ring slot j, mirror[2 j
+     * + 1] its map values, mirror[2 (depth + 1)] x */
+    double **mirror;
     int x_valid;     /* the last step was a Picard step from x */
     int contracting, contracting_before; /* the Picard steps in a row that
                                           * reduced |G(x) - x| */
@@ -141,6 +146,43 @@ static int create_box_solver(struct march_state *st, struct ngf *m, double a2, c
     return 0;
 }
 
+/* The cells of f into the compact array c (back 0), or back (1). */
+static void cells_copy(const struct grid *g, double *f, double *c, int back)
+{
+    size_t n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++, n++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                if (back)
+                    f[q] = c[n];
+                else
+                    c[n] = f[q];
+            }
+}
+
+/* The history's cell fields in the checkpoint (a continued run goes on as
+ * the uninterrupted one; a start without them begins with no history). */
+static int register_mirrors(struct march_state *st, struct ngf *m, int depth)
+{
+    static const char *const names[] = {"ngf_history_0", "ngf_history_1", "ngf_history_2",
+                                         "ngf_history_3", "ngf_history_4", "ngf_history_5",
+                                         "ngf_history_6"};
+    const int arrays = 2 * (depth + 1) + 1, entries = (arrays + 2) / 3;
+    if (entries > (int)(sizeof names / sizeof names[0]))
+        return -1;
+    m->mirror = calloc(3 * (size_t)entries, sizeof *m->mirror);
+    if (!m->mirror)
+        return -1;
+    for (int e = 0; e < entries; e++) {
+        const struct field_spec spec = {names[e], FIELD_CELLS3,
+                                        FIELD_CHECKPOINT | FIELD_START_OPTIONAL};
+        if (fields_add(&st->fields, &spec, m->mirror + 3 * e) < 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
@@ -185,6 +227,10 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         }
         m->gx = m->x + cells;
         m->next = m->gx + cells;
+        if (register_mirrors(st, m, st->cs->rheo.fluidity_anderson) != 0) {
+            snprintf(err, errlen, "ngf: cannot register the acceleration's history");
+            return -1;
+        }
     }
     m->L = (struct line_screened){
         .n = nz,
@@ -344,21 +390,6 @@ static void box_fluidity(struct march_state *st, struct ngf *m)
  *   -A^2 d^2 g'' + (mu_s + b I) g = |D|,  I = |D| d sqrt(rho_s / p_reg),
  * one tridiagonal solve per column (physics/ngf.h says why this form), or
  * the box's multigrid. */
-/* The cells of f into the compact array c (out = 0), or back (out = 1). */
-static void cells_copy(const struct grid *g, double *f, double *c, int back)
-{
-    size_t n = 0;
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++, n++) {
-                ptrdiff_t q = grid_idx(g, i, j, k);
-                if (back)
-                    f[q] = c[n];
-                else
-                    c[n] = f[q];
-            }
-}
-
 static void properties(struct march_state *st, void *state)
 {
     struct ngf *m = state;
@@ -466,6 +497,9 @@ static int implicit(struct march_state *st, void *state, double dt)
         m->contracting = 0;
         if (m->x_valid) {
             double fx = fluidity_anderson_push(m->accel, st, m->x, m->gx);
+            int slot = fluidity_anderson_newest_slot(m->accel);
+            cells_copy(g, m->mirror[2 * slot], fluidity_anderson_slot(m->accel, 0, slot), 1);
+            cells_copy(g, m->mirror[2 * slot + 1], fluidity_anderson_slot(m->accel, 1, slot), 1);
             /* only a contraction is accelerated: from a creeping layer the
              * map's growing mode leads to the flow, and the combination of
              * least residual would lead back to the creep (an unstable
@@ -495,6 +529,7 @@ static int implicit(struct march_state *st, void *state, double dt)
         same &= m->next[q] == m->gx[q];
     }
     m->x_valid = 1;
+    cells_copy(g, m->mirror[2 * (st->cs->rheo.fluidity_anderson + 1)], m->x, 1);
     if (march_sum(st, !same) > 0.0) {
         cells_copy(g, m->fluidity, m->next, 1);
         fill_ghosts(st, m->fluidity);
@@ -511,6 +546,46 @@ static int line_search(const struct march_state *st, void *state)
     return m->accel != NULL;
 }
 
+/* The acceleration's counters (the same on every rank: global sums) beside
+ * its history's fields. */
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    const struct ngf *m = state;
+    if (!m->accel)
+        return 0;
+    double v[8] = {m->x_valid, m->contracting, m->contracting_before, m->growing, m->last_fx,
+                   m->accel_lambda};
+    fluidity_anderson_get_state(m->accel, v + 6);
+    return module_record_put(rec, "acceleration", v, 8);
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    struct ngf *m = state;
+    if (!m->accel || !rec || module_record_count(rec, "acceleration") != 8)
+        return 0; /* none: the acceleration starts again from this state */
+    double v[8];
+    if (module_record_get(rec, "acceleration", v, 8) != 0)
+        return -1;
+    if (fluidity_anderson_set_state(m->accel, v + 6) != 0)
+        return module_record_fail(rec, "acceleration: a history of another depth");
+    m->x_valid = v[0] != 0.0;
+    m->contracting = (int)v[1];
+    m->contracting_before = (int)v[2];
+    m->growing = (int)v[3];
+    m->last_fx = v[4];
+    m->accel_lambda = v[5];
+    const struct grid *g = &st->g;
+    const int depth = st->cs->rheo.fluidity_anderson;
+    for (int slot = 0; slot <= depth; slot++) {
+        cells_copy(g, m->mirror[2 * slot], fluidity_anderson_slot(m->accel, 0, slot), 0);
+        cells_copy(g, m->mirror[2 * slot + 1], fluidity_anderson_slot(m->accel, 1, slot), 0);
+    }
+    cells_copy(g, m->mirror[2 * (depth + 1)], m->x, 0);
+    return 0;
+}
+
 static void destroy(void *state)
 {
     struct ngf *m = state;
@@ -524,6 +599,7 @@ static void destroy(void *state)
     field_free(m->rhs);
     fluidity_anderson_destroy(m->accel);
     free(m->x);
+    free(m->mirror);
     free(m);
 }
 
@@ -534,8 +610,9 @@ static double memory_bound(const struct muflow_case *cs, const struct grid *g)
         bytes += multigrid_memory_estimate(g, NULL) + 3.0 * g->size * sizeof(double);
     if (cs->mode == MODE_STEADY && cs->rheo.fluidity_anderson > 0) {
         const size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
+        const int mirrors = 3 * ((2 * (cs->rheo.fluidity_anderson + 1) + 3) / 3);
         bytes += fluidity_anderson_bytes(cells, cs->rheo.fluidity_anderson) +
-                 3.0 * cells * sizeof(double);
+                 3.0 * cells * sizeof(double) + mirrors * (double)g->size * sizeof(double);
     }
     return bytes;
 }
@@ -546,6 +623,8 @@ const struct module ngf_module = {
     .properties = properties,
     .implicit = implicit,
     .line_search = line_search,
+    .save = save,
+    .load = load,
     .implicit_steady = 1, /* transient steps are the plain Picard's */
     .destroy = destroy,
     .memory_bound = memory_bound,
