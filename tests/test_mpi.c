@@ -930,7 +930,7 @@ static void test_bingham_channel_on_ranks(void **state)
 }
 
 /* The fluidity's creeping zones on the ranks' z lines: ngf_chute
- * accelerated (46 steps to steady), ngf_shear by the plain Picard steps
+ * accelerated (50 steps to steady), ngf_shear by the plain Picard steps
  * (108): accelerated, it ends where its residual stalls at the round-off
  * (1e-6), and that stall's step moved with the ranks' order of the sums
  * (39 steps alone, 41 on 2 ranks, the values within 2e-15).  No

@@ -38,10 +38,6 @@ int fluidity_anderson_set_state(struct fluidity_anderson *a, const double s[2]);
 /* the bytes it allocates for n cells at that depth */
 double fluidity_anderson_bytes(size_t n, int depth);
 
-/* 1 when gx is the newest pair's map value on every rank (a step retried
- * from the same state) */
-int fluidity_anderson_newest(const struct fluidity_anderson *a, const struct march_state *st,
-                             const double *gx);
 /* Adds the pair (x, gx): x the iterate a Picard step took (the cells, in
  * the module's order), gx the map's value there; the 2-norm of gx - x over
  * the ranks of st. */

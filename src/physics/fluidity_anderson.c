@@ -161,16 +161,6 @@ static int least_squares(const struct fluidity_anderson *a, const struct march_s
     return 0;
 }
 
-int fluidity_anderson_newest(const struct fluidity_anderson *a, const struct march_state *st,
-                             const double *gx)
-{
-    double differs = a->count == 0;
-    const double *gk = a->gx + (size_t)a->newest * a->n;
-    for (size_t q = 0; q < a->n && differs == 0.0; q++)
-        differs = gx[q] != gk[q];
-    return march_sum(st, differs) == 0.0;
-}
-
 double fluidity_anderson_push(struct fluidity_anderson *a, const struct march_state *st,
                               const double *x, const double *gx)
 {

@@ -55,6 +55,8 @@ struct ngf {
      * registry entry): mirror[2 j] the residuals of ring slot j, mirror[2 j
      * + 1] its map values, mirror[2 (depth + 1)] x */
     double **mirror;
+    double *seen;    /* the fluidity G(u) the last step started from */
+    int seen_valid;
     int x_valid;     /* the last step was a Picard step from x */
     int contracting, contracting_before; /* the Picard steps in a row that
                                           * reduced |G(x) - x| */
@@ -220,13 +222,14 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     if (st->cs->mode == MODE_STEADY && st->cs->rheo.fluidity_anderson > 0) {
         const size_t cells = (size_t)g->n[0] * g->n[1] * nz;
         m->accel = fluidity_anderson_create(cells, st->cs->rheo.fluidity_anderson);
-        m->x = malloc(3 * cells * sizeof(double));
+        m->x = malloc(4 * cells * sizeof(double));
         if (!m->accel || !m->x) {
             snprintf(err, errlen, "ngf: out of memory");
             return -1;
         }
         m->gx = m->x + cells;
         m->next = m->gx + cells;
+        m->seen = m->next + cells;
         if (register_mirrors(st, m, st->cs->rheo.fluidity_anderson) != 0) {
             snprintf(err, errlen, "ngf: cannot register the acceleration's history");
             return -1;
@@ -487,7 +490,14 @@ static int implicit(struct march_state *st, void *state, double dt)
         m->x_valid = 0;
         return 1;
     }
-    if (fluidity_anderson_newest(m->accel, st, m->gx)) {
+    /* the state the last step started from again: a rejected step's retry */
+    int differs = !m->seen_valid;
+    for (size_t q = 0, n = (size_t)g->n[0] * g->n[1] * g->n[2]; q < n; q++) {
+        differs |= m->seen[q] != m->gx[q];
+        m->seen[q] = m->gx[q];
+    }
+    m->seen_valid = 1;
+    if (march_sum(st, differs) == 0.0) {
         /* a retried step: the mix was rejected, the plain step is taken */
         fluidity_anderson_keep_newest(m->accel);
         m->contracting = m->contracting_before = 0;
@@ -612,7 +622,7 @@ static double memory_bound(const struct muflow_case *cs, const struct grid *g)
         const size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
         const int mirrors = 3 * ((2 * (cs->rheo.fluidity_anderson + 1) + 3) / 3);
         bytes += fluidity_anderson_bytes(cells, cs->rheo.fluidity_anderson) +
-                 3.0 * cells * sizeof(double) + mirrors * (double)g->size * sizeof(double);
+                 4.0 * cells * sizeof(double) + mirrors * (double)g->size * sizeof(double);
     }
     return bytes;
 }
