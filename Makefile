@@ -385,12 +385,15 @@ bench-heap: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/heap_study.py $(BUILD)/muflow $(BENCH_OUT)
 
-# The nonlocal fluidity's stopping height at five angles on 10, 20, 40 cells
-# by bisection against the closed form, and the flow rule above it
-# (bench/ngf_hstop.py); bench/out/ngf_hstop.md.  4 minutes on one thread.
+# The nonlocal fluidity's steady cost against the local law's, medians of 5
+# alternated runs on one thread (bench/ngf_cost.py: bench/out/ngf_cost.md),
+# then its stopping height at five angles on 10, 20, 40 cells by bisection
+# against the closed form, and the flow rule above it (bench/ngf_hstop.py);
+# bench/out/ngf_hstop.md.  5 minutes on one thread.
 .PHONY: bench-ngf
 bench-ngf: deps bench-deps $(BUILD)/muflow
 	@mkdir -p $(BENCH_OUT)
+	OMP_NUM_THREADS=1 /usr/bin/python3 bench/ngf_cost.py $(BUILD)/muflow $(BENCH_OUT)
 	OMP_NUM_THREADS=1 /usr/bin/python3 bench/ngf_hstop.py $(BUILD)/muflow $(BENCH_OUT) \
 	  rheology.lambda=1e-12
 

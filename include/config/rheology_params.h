@@ -37,6 +37,7 @@ struct rheology {
      * amplitude A and the rate sensitivity b (physics/ngf.h) */
     double nonlocal_a, nonlocal_b;
     enum fluidity_solver fluidity_solver;
+    int fluidity_anderson; /* the steady iteration's Anderson depth; 0: Picard */
 };
 
 #endif

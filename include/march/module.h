@@ -20,7 +20,9 @@
  *               st->field.residual at pseudo-time step dt, its own
  *               increment kept for end_step;
  *               0, -1 when it broke down, 1 when it declines (an idle
- *               module: the viscous solver takes the step)
+ *               module: the viscous solver takes the step, with the
+ *               viscosities and residual the hook may have set);
+ *               implicit_steady: it acts on steady steps only
  *   transport   after the projection: advects its tracers by the new
  *               velocity over dt; 0, or -1 with the cause in st->step_error
  *               (the step breaks down: the march ends with its last good
@@ -106,6 +108,7 @@ struct module {
     const char *const *files;
     int coupled_ok;
     int decomposed;
+    int implicit_steady;
 };
 
 #define MODULES_MAX 8

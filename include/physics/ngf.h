@@ -16,6 +16,11 @@
  * screening term: rheology.fluidity_solver) and replaces the viscosities by
  * eta = p_reg / (g + lambda), their tangents by eta (Picard: the viscosity
  * is a non-local function of the shear rates, with no pointwise tangent).
+ * A steady step long beside the viscous time is one Picard iteration g ->
+ * G(u(g)); its `implicit` hook (declining the step) gives it the viscosity
+ * of the accelerated fluidity (physics/fluidity_anderson.h,
+ * rheology.fluidity_anderson), while the state's own fluidity stays G(u),
+ * so that the residual the march judges is the steady equations'.
  * lambda keeps eta finite where g = 0: a layer that cannot flow creeps at
  * a speed proportional to lambda.  Solving with mu from the last stress
  * instead (lagged, Newton on g^2) froze the layer: a stress out of

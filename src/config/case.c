@@ -318,6 +318,15 @@ const struct key case_core_keys[] = {
                  "and y periodic); `multigrid`: the whole box by the cell-centred multigrid "
                  "with its screening term (uniform grids); `auto`: lines when x and y are "
                  "periodic, else multigrid")),
+    INT("rheology", "fluidity_anderson", rheo.fluidity_anderson, RANGE(0, 8, 1, 1),
+        KEY_HELP("ngf: the steady iteration's Anderson depth (0: plain Picard)", NULL,
+                 "ngf, steady mode: a step with dt large beside rho h^2 / eta is one Picard "
+                 "iteration of the fluidity (the momentum with eta = p / (g + lambda), then g "
+                 "from the new shear rates); once these contract, the next fluidity is the "
+                 "combination of the last depth + 1 iterations' values whose residual is least "
+                 "(Anderson acceleration), cut at 0, and a creeping layer's growing fluidity is "
+                 "scaled up to 1e-2 of the inertial rate sqrt(p / rho_s) / d. 0: plain Picard. "
+                 "Transient steps are never accelerated")),
 
     CHO("solver", "mode", mode, mode_choices,
         "steady: pseudo-time march to a steady state; transient: march to solver.end_time"),
@@ -588,6 +597,7 @@ void case_defaults(struct muflow_case *c)
     c->rheo.viscosity = 1.0;
     c->rheo.nonlocal_a = 0.48;  /* glass beads, Henann & Kamrin (2013) */
     c->rheo.nonlocal_b = 0.9377;
+    c->rheo.fluidity_anderson = 5;
 
     c->mode = MODE_STEADY;
     c->tolerance = 1e-10;

@@ -33,7 +33,7 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
                 return -1;
             }
             /* its own unknowns would miss BDF2's terms (stage_time_scheme.c) */
-            if (st->cs->time_scheme == TIME_BDF2 && (*m)->implicit) {
+            if (st->cs->time_scheme == TIME_BDF2 && (*m)->implicit && !(*m)->implicit_steady) {
                 snprintf(err, errlen, "solver.time_scheme = bdf2: the physics module '%s' of "
                                       "this scene solves the step itself, with Euler's step only "
                                       "(set solver.time_scheme = euler)",

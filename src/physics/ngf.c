@@ -3,10 +3,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "physics/ngf.h"
+#include "physics/fluidity_anderson.h"
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 #include "solvers/line_screened.h"
 #include "solvers/multigrid.h"
+#include "march/step.h"
+#include "march/module_record.h"
 
 /* the largest coefficient mu_s + b I taken: beyond it g is 0 to round-off,
  * and the elimination keeps finite numbers */
@@ -14,6 +17,19 @@
 /* the multigrid's cap on it: its residuals' squares (PCG's dot products)
  * must stay finite; g = |D| / 1e100 is 0 to round-off as well */
 #define NGF_MG_COEF_MAX 1e100
+/* A steady step is a Picard step (the momentum solved with the step's
+ * viscosity, its mass term a small perturbation) when rho h^2 / (dt eta)
+ * is below this in every cell */
+#define NGF_PICARD_MASS 1e-2
+/* the Picard steps in a row that must reduce |G(x) - x| before the
+ * acceleration acts */
+#define NGF_CONTRACTING 5
+/* A creeping layer whose fluidity grows (NGF_GROWING Picard steps in a
+ * row that raised |G(x) - x|) while it is below NGF_AMPLIFY_BELOW of the
+ * inertial rate sqrt(p / rho_s) / d is amplified to NGF_AMPLIFY_TO of it */
+#define NGF_GROWING 3
+#define NGF_AMPLIFY_BELOW 1e-2
+#define NGF_AMPLIFY_TO 1e-2
 /* the multigrid's relative residual (of |D|'s 2-norm): below the steady
  * criterion's effect (docs/numerics/rheology.md) */
 #define NGF_MG_RTOL 1e-12
@@ -29,6 +45,24 @@ struct ngf {
     struct multigrid *mg;
     double *face, *screen, *rhs;
     long unconverged; /* its solves that stopped above NGF_MG_RTOL */
+    /* the steady iteration's acceleration (NULL: Picard, and in transient
+     * mode); over the cells in the module's order: the iterate x the last
+     * step took, the map's value G(x) and the next iterate; the lambda its
+     * history is of */
+    struct fluidity_anderson *accel;
+    double *x, *gx, *next;
+    /* the checkpoint's copy of the history and of x (cell fields, three a
+     * registry entry): mirror[2 j] the residuals of ring slot j, mirror[2 j
+     * + 1] its map values, mirror[2 (depth + 1)] x */
+    double **mirror;
+    double *seen;    /* the fluidity G(u) the last step started from */
+    int seen_valid;
+    int x_valid;     /* the last step was a Picard step from x */
+    int contracting, contracting_before; /* the Picard steps in a row that
+                                          * reduced |G(x) - x| */
+    double last_fx;  /* the last |G(x) - x| */
+    int growing;     /* the Picard steps in a row that raised it */
+    double accel_lambda;
 };
 
 /* The four-cell mean of an edge, as the viscosity kernels take it
@@ -114,6 +148,43 @@ static int create_box_solver(struct march_state *st, struct ngf *m, double a2, c
     return 0;
 }
 
+/* The cells of f into the compact array c (back 0), or back (1). */
+static void cells_copy(const struct grid *g, double *f, double *c, int back)
+{
+    size_t n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++, n++) {
+                ptrdiff_t q = grid_idx(g, i, j, k);
+                if (back)
+                    f[q] = c[n];
+                else
+                    c[n] = f[q];
+            }
+}
+
+/* The history's cell fields in the checkpoint (a continued run goes on as
+ * the uninterrupted one; a start without them begins with no history). */
+static int register_mirrors(struct march_state *st, struct ngf *m, int depth)
+{
+    static const char *const names[] = {"ngf_history_0", "ngf_history_1", "ngf_history_2",
+                                         "ngf_history_3", "ngf_history_4", "ngf_history_5",
+                                         "ngf_history_6"};
+    const int arrays = 2 * (depth + 1) + 1, entries = (arrays + 2) / 3;
+    if (entries > (int)(sizeof names / sizeof names[0]))
+        return -1;
+    m->mirror = calloc(3 * (size_t)entries, sizeof *m->mirror);
+    if (!m->mirror)
+        return -1;
+    for (int e = 0; e < entries; e++) {
+        const struct field_spec spec = {names[e], FIELD_CELLS3,
+                                        FIELD_CHECKPOINT | FIELD_START_OPTIONAL};
+        if (fields_add(&st->fields, &spec, m->mirror + 3 * e) < 0)
+            return -1;
+    }
+    return 0;
+}
+
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
     const struct grid *g = &st->g;
@@ -148,6 +219,22 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
     const double a2 = r->nonlocal_a * r->nonlocal_a * r->grain_diameter * r->grain_diameter;
     if (box_solve(st->cs) && create_box_solver(st, m, a2, err, errlen) != 0)
         return -1;
+    if (st->cs->mode == MODE_STEADY && st->cs->rheo.fluidity_anderson > 0) {
+        const size_t cells = (size_t)g->n[0] * g->n[1] * nz;
+        m->accel = fluidity_anderson_create(cells, st->cs->rheo.fluidity_anderson);
+        m->x = malloc(4 * cells * sizeof(double));
+        if (!m->accel || !m->x) {
+            snprintf(err, errlen, "ngf: out of memory");
+            return -1;
+        }
+        m->gx = m->x + cells;
+        m->next = m->gx + cells;
+        m->seen = m->next + cells;
+        if (register_mirrors(st, m, st->cs->rheo.fluidity_anderson) != 0) {
+            snprintf(err, errlen, "ngf: cannot register the acceleration's history");
+            return -1;
+        }
+    }
     m->L = (struct line_screened){
         .n = nz,
         .a2 = a2,
@@ -331,6 +418,184 @@ static void properties(struct march_state *st, void *state)
     replace_viscosities(st, f);
 }
 
+/* Whether the step of length dt is a Picard step: its mass term rho / dt
+ * small beside the viscous term eta / h^2 of every cell (the smallest
+ * spacing), so that it solves the momentum with the current viscosity and
+ * the next state is the Picard map's value. */
+static int picard_step(const struct march_state *st, double dt)
+{
+    const struct grid *g = &st->g;
+    double eta_min = INFINITY;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++)
+                eta_min = fmin(eta_min, st->field.viscosity[grid_idx(g, i, j, k)]);
+    eta_min = -march_max(st, -eta_min);
+    double h = march_min_spacing(g);
+    return st->cs->density * h * h <= NGF_PICARD_MASS * dt * eta_min;
+}
+
+/* The steady step's viscosity from the accelerated fluidity
+ * (physics/fluidity_anderson.h).  The state's fluidity is G(u), the plain
+ * iteration's (properties: the residual the march judges is the steady
+ * equations' own); a Picard step from x that led to it is one pair (x,
+ * G(u)) of the map, and the step from here takes eta = p_reg / (w + lambda)
+ * of the accelerated w with the momentum residual of that viscosity, so
+ * that a Picard step solves the momentum with w.  A step that is not a
+ * Picard step (a small pseudo-time step: its state is not the map's value)
+ * starts the history again.  Declines the step (1): the viscous solver
+ * takes it. */
+/* A creeping layer that the plain iteration lifts to its flow: at lambda's
+ * scale the map is linear in g (eta = p_reg / (g + lambda), the fluidity
+ * equation linear in |D|), so its growing mode grows by the same factor a
+ * step (1.2 on the shipped incline: some 90 steps from 1e-8 to the flow)
+ * whatever its amplitude.  Far below the flowing scale, the inertial rate
+ * sqrt(p / rho_s) / d, the iterate is scaled up to NGF_AMPLIFY_TO of it
+ * along that mode (the last value G); a layer below its stopping height
+ * contracts to the creep instead and is never amplified.  1 when it
+ * amplified. */
+static int amplify(const struct march_state *st, struct ngf *m)
+{
+    const struct grid *g = &st->g;
+    const struct rheology *r = &st->rheo;
+    double gmax = 0.0, pmax = 0.0;
+    size_t n = 0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++, n++) {
+                gmax = fmax(gmax, m->next[n]);
+                pmax = fmax(pmax, st->field.pressure_regularised[grid_idx(g, i, j, k)]);
+            }
+    gmax = march_max(st, gmax);
+    double rate = sqrt(march_max(st, pmax) / r->grain_density) / r->grain_diameter;
+    if (!(gmax > 0.0 && gmax < NGF_AMPLIFY_BELOW * rate))
+        return 0;
+    const double s = NGF_AMPLIFY_TO * rate / gmax;
+    for (size_t q = 0; q < n; q++)
+        m->next[q] *= s;
+    return 1;
+}
+
+static int implicit(struct march_state *st, void *state, double dt)
+{
+    struct ngf *m = state;
+    if (!m->accel)
+        return 1;
+    const struct grid *g = &st->g;
+    cells_copy(g, m->fluidity, m->gx, 0);
+    if (st->rheo.lambda != m->accel_lambda || !picard_step(st, dt)) {
+        /* a new lambda (a continuation's stage) is a new map */
+        fluidity_anderson_reset(m->accel);
+        m->accel_lambda = st->rheo.lambda;
+        m->x_valid = 0;
+        return 1;
+    }
+    /* the state the last step started from again: a rejected step's retry */
+    int differs = !m->seen_valid;
+    for (size_t q = 0, n = (size_t)g->n[0] * g->n[1] * g->n[2]; q < n; q++) {
+        differs |= m->seen[q] != m->gx[q];
+        m->seen[q] = m->gx[q];
+    }
+    m->seen_valid = 1;
+    if (march_sum(st, differs) == 0.0) {
+        /* a retried step: the mix was rejected, the plain step is taken */
+        fluidity_anderson_keep_newest(m->accel);
+        m->contracting = m->contracting_before = 0;
+        cells_copy(g, m->fluidity, m->next, 0);
+    } else {
+        /* a new state */
+        m->contracting = 0;
+        if (m->x_valid) {
+            double fx = fluidity_anderson_push(m->accel, st, m->x, m->gx);
+            int slot = fluidity_anderson_newest_slot(m->accel);
+            cells_copy(g, m->mirror[2 * slot], fluidity_anderson_slot(m->accel, 0, slot), 1);
+            cells_copy(g, m->mirror[2 * slot + 1], fluidity_anderson_slot(m->accel, 1, slot), 1);
+            /* only a contraction is accelerated: from a creeping layer the
+             * map's growing mode leads to the flow, and the combination of
+             * least residual would lead back to the creep (an unstable
+             * fixed point) */
+            m->contracting = fx < m->last_fx ? m->contracting_before + 1 : 0;
+            m->growing = fx > m->last_fx ? m->growing + 1 : 0;
+            m->last_fx = fx;
+        } else {
+            fluidity_anderson_reset(m->accel);
+            m->last_fx = INFINITY;
+            m->growing = 0;
+        }
+        m->contracting_before = m->contracting;
+        if (m->contracting == 0)
+            fluidity_anderson_keep_newest(m->accel);
+        if (m->contracting >= NGF_CONTRACTING)
+            fluidity_anderson_next(m->accel, st, m->next);
+        else
+            cells_copy(g, m->fluidity, m->next, 0);
+        if (m->growing >= NGF_GROWING && amplify(st, m))
+            fluidity_anderson_reset(m->accel);
+    }
+    size_t n = (size_t)g->n[0] * g->n[1] * g->n[2];
+    int same = 1;
+    for (size_t q = 0; q < n; q++) {
+        m->x[q] = m->next[q];
+        same &= m->next[q] == m->gx[q];
+    }
+    m->x_valid = 1;
+    cells_copy(g, m->mirror[2 * (st->cs->rheo.fluidity_anderson + 1)], m->x, 1);
+    if (march_sum(st, !same) > 0.0) {
+        cells_copy(g, m->fluidity, m->next, 1);
+        fill_ghosts(st, m->fluidity);
+        replace_viscosities(st, m->fluidity);
+        stage_residual(st);
+    }
+    return 1;
+}
+
+static int line_search(const struct march_state *st, void *state)
+{
+    (void)st;
+    const struct ngf *m = state;
+    return m->accel != NULL;
+}
+
+/* The acceleration's counters (the same on every rank: global sums) beside
+ * its history's fields. */
+static int save(const struct march_state *st, void *state, struct module_record *rec)
+{
+    (void)st;
+    const struct ngf *m = state;
+    if (!m->accel)
+        return 0;
+    double v[8] = {m->x_valid, m->contracting, m->contracting_before, m->growing, m->last_fx,
+                   m->accel_lambda};
+    fluidity_anderson_get_state(m->accel, v + 6);
+    return module_record_put(rec, "acceleration", v, 8);
+}
+
+static int load(struct march_state *st, void *state, struct module_record *rec)
+{
+    struct ngf *m = state;
+    if (!m->accel || !rec || module_record_count(rec, "acceleration") != 8)
+        return 0; /* none: the acceleration starts again from this state */
+    double v[8];
+    if (module_record_get(rec, "acceleration", v, 8) != 0)
+        return -1;
+    if (fluidity_anderson_set_state(m->accel, v + 6) != 0)
+        return module_record_fail(rec, "acceleration: a history of another depth");
+    m->x_valid = v[0] != 0.0;
+    m->contracting = (int)v[1];
+    m->contracting_before = (int)v[2];
+    m->growing = (int)v[3];
+    m->last_fx = v[4];
+    m->accel_lambda = v[5];
+    const struct grid *g = &st->g;
+    const int depth = st->cs->rheo.fluidity_anderson;
+    for (int slot = 0; slot <= depth; slot++) {
+        cells_copy(g, m->mirror[2 * slot], fluidity_anderson_slot(m->accel, 0, slot), 0);
+        cells_copy(g, m->mirror[2 * slot + 1], fluidity_anderson_slot(m->accel, 1, slot), 0);
+    }
+    cells_copy(g, m->mirror[2 * (depth + 1)], m->x, 0);
+    return 0;
+}
+
 static void destroy(void *state)
 {
     struct ngf *m = state;
@@ -342,6 +607,9 @@ static void destroy(void *state)
     field_free(m->face);
     field_free(m->screen);
     field_free(m->rhs);
+    fluidity_anderson_destroy(m->accel);
+    free(m->x);
+    free(m->mirror);
     free(m);
 }
 
@@ -350,6 +618,12 @@ static double memory_bound(const struct muflow_case *cs, const struct grid *g)
     double bytes = (double)g->size * sizeof(double) + (6.0 * g->n[2] + 1.0) * sizeof(double);
     if (box_solve(cs))
         bytes += multigrid_memory_estimate(g, NULL) + 3.0 * g->size * sizeof(double);
+    if (cs->mode == MODE_STEADY && cs->rheo.fluidity_anderson > 0) {
+        const size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
+        const int mirrors = 3 * ((2 * (cs->rheo.fluidity_anderson + 1) + 3) / 3);
+        bytes += fluidity_anderson_bytes(cells, cs->rheo.fluidity_anderson) +
+                 4.0 * cells * sizeof(double) + mirrors * (double)g->size * sizeof(double);
+    }
     return bytes;
 }
 
@@ -357,6 +631,11 @@ const struct module ngf_module = {
     .name = "ngf",
     .create = create,
     .properties = properties,
+    .implicit = implicit,
+    .line_search = line_search,
+    .save = save,
+    .load = load,
+    .implicit_steady = 1, /* transient steps are the plain Picard's */
     .destroy = destroy,
     .memory_bound = memory_bound,
     .decomposed = 1, /* per z line, z unsplit; ghosts by bc_fill_scalar */
