@@ -34,7 +34,10 @@ double stage_time_scheme(struct march_state *st, double dt)
         return dt;
     const struct grid *g = &st->g;
     double *const *u = st->field.velocity, *const *a = st->field.advection;
-    double **u_prev = st->field.velocity_previous, **a_prev = st->field.advection_previous;
+    /* without advection its arrays are not allocated (core_fields.c):
+     * advection_previous is an array of three NULL pointers, not NULL */
+    double **u_prev = st->field.velocity_previous;
+    double **a_prev = st->field.advection_previous[0] ? st->field.advection_previous : NULL;
     double a0 = 1.0;
     if (st->bdf2_steps > 0) {
         double w = dt / st->dt, cu = w * w / ((1.0 + w) * dt);
