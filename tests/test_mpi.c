@@ -1168,6 +1168,7 @@ void test_vmg_ranks_augmented(void **state);
 void test_bingham_cavity_on_ranks(void **state);
 void test_vmg_scenes_on_ranks(void **state);
 void test_cylinder_benchmark_on_ranks(void **state);
+void test_slope_release_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1206,6 +1207,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_collapse_on_ranks),
         cmocka_unit_test(test_collapse_checkpoint_ranks),
         cmocka_unit_test(test_cylinder_benchmark_on_ranks),
+        cmocka_unit_test(test_slope_release_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

@@ -70,3 +70,23 @@ void test_cylinder_benchmark_on_ranks(void **state)
     check_body_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, along_z, keys, STATUS_STEADY);
     check_body_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, both, keys, STATUS_STEADY);
 }
+
+/* The slope release (cases/slope_release.ini: the bed a body of whole
+ * cells, two phases, the VOF) at 2.5 mm cells (60 x 24) to t = 0.1 (100
+ * steps): the bed crosses every rank border; split along x (x = 0.075;
+ * 4 ranks 0.0375 apart), along z (z = 0.03, the bed below the column; 4
+ * ranks: 0.015 apart, 0.045 through the column), both; its measures on the
+ * gathered fields */
+void test_slope_release_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.nx=60", "domain.nz=24", "solver.end_time=0.1",
+                  "slope_release.da_cells=200"};
+    static const char *const keys[] = {"run_out", "run_out_99", "tail", "kinetic_energy_peak",
+                                       "never_yielded_area", NULL};
+    const int p = comm_size();
+    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
+    check_body_on_ranks("../cases/slope_release.ini", 4, ov, along_x, keys, STATUS_FINISHED);
+    check_body_on_ranks("../cases/slope_release.ini", 4, ov, along_z, keys, STATUS_FINISHED);
+    check_body_on_ranks("../cases/slope_release.ini", 4, ov, both, keys, STATUS_FINISHED);
+}
