@@ -86,8 +86,10 @@ void kernel_own_stencil(const struct grid *g, const struct boundary *bc, const s
                         double *cout = side ? &out->cp[d][p] : &out->cm[d][p];
                         *cout = 0.0;
                         if (q < 0 && bc_border(bc, d, side)) {
-                            /* a rank border's ghost: the neighbour's unknown */
-                            *cout = c;
+                            /* a rank border's ghost: the neighbour's unknown
+                             * (a held one read as 0) */
+                            const ptrdiff_t pg = p + (side ? o[d] : -o[d]);
+                            *cout = k->held && k->held[pg] ? 0.0 : c;
                             continue;
                         }
                         if (q < 0) {

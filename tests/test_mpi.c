@@ -1072,16 +1072,16 @@ static void test_muflow_on_ranks(void **state)
     char bin[4096], dir[4096], args[9000], path[4200];
     test_muflow_bin(bin, sizeof bin);
     test_tmp_make(dir, sizeof dir, "mpi_ranks");
-    snprintf(args, sizeof args, "../cases/slope_release.ini output.dir='%s/slope'", dir);
+    snprintf(args, sizeof args, "../cases/cylinder.ini output.dir='%s/cyl'", dir);
     char *out = NULL;
     mpirun_two(bin, args, &out);
     int said = 0;
     /* once, naming the scenes that do (their list grows: its start only) */
     for (const char *p = out; (p = strstr(p, "does not run decomposed (what does: the scenes "
-                                             "bagnold, chute,"));
+                                             "none, bagnold,"));
          p++)
         said++;
-    snprintf(path, sizeof path, "%s/slope/summary.ini", dir);
+    snprintf(path, sizeof path, "%s/cyl/summary.ini", dir);
     const int wrote = test_file_exists(path), status2 = strstr(out, "rc=2\n") != NULL;
     if (said != 1 || !status2 || wrote)
         print_error("%s", out);
@@ -1179,6 +1179,9 @@ void test_vmg_scenes_on_ranks(void **state);
 /* test_mpi_gmg.c */
 void test_gmg_ranks(void **state);
 void test_heap_on_ranks(void **state);
+/* test_mpi_bodies.c */
+void test_cylinder_benchmark_on_ranks(void **state);
+void test_slope_release_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1219,6 +1222,8 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_bagnold_transient_on_ranks),
         cmocka_unit_test(test_collapse_on_ranks),
         cmocka_unit_test(test_collapse_checkpoint_ranks),
+        cmocka_unit_test(test_cylinder_benchmark_on_ranks),
+        cmocka_unit_test(test_slope_release_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

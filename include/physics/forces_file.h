@@ -20,6 +20,8 @@ struct forces_file {
     struct output_file file; /* file.f NULL: no file */
     long every;              /* output.forces_every */
     long last_step;          /* the step of the last row (-1: none) */
+    int collective;          /* on ranks: every rank computes each row (the
+                                forces sum the blocks), rank 0 writes it */
 };
 
 /* Opens dir/forces.csv for the march st (created, its state set; the
@@ -31,8 +33,13 @@ struct forces_file {
  * writes no file), or -1 with the cause in err. */
 int forces_file_open(struct forces_file *ff, const struct march_state *st, const char *dir,
                      long resume, char *err, size_t errlen);
+/* The other ranks' part of rank 0's file (no file): the same rows'
+ * forces, which sum over the blocks. */
+void forces_file_follow(struct forces_file *ff, const struct march_state *st);
+
 /* The row of an evaluated state st: every `every` steps, and the state the
- * march ends on (status not running); once per step. */
+ * march ends on (status not running); once per step.  On ranks every rank
+ * calls it. */
 void forces_file_row(struct forces_file *ff, const struct march_state *st);
 /* Pushes the rows so far to the temporary file (before a checkpoint). */
 void forces_file_flush(struct forces_file *ff);

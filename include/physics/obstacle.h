@@ -33,5 +33,10 @@ double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g)
 /* Position of node (i, j, k) of velocity component c (c = -1: the cell
  * centre), the box's low corner at the origin. */
 void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3]);
+/* The same of a block whose cell 0 is the whole grid's cell lo (a rank's
+ * block, grid/decomp.h): global indices, so every rank places a node as
+ * one process does, to the bit. */
+void obstacle_node_position_at(const struct grid *g, const int lo[3], int c, int i, int j, int k,
+                               double x[3]);
 
 #endif

@@ -69,6 +69,11 @@ int obstacle_forces(const struct march_state *st, struct obstacle_forces *f);
  * its cost (a record of every step). */
 int obstacle_forces_surface(const struct march_state *st, struct obstacle_forces *f);
 
+/* The scales and symmetry planes of obstacle_forces alone (u_ref, d_ref,
+ * mirror; the forces 0), from the case and the grid: what names the
+ * force lines, on one rank of many too (not collective). */
+void obstacle_forces_scales(const struct march_state *st, struct obstacle_forces *f);
+
 /* The mean over the box of the velocity component the body force drives
  * (the body's own faces hold 0), signed along the force: a flow rate per
  * unit area across the flow.  NaN without a force along that component. */
@@ -101,7 +106,9 @@ void obstacle_force_lines(const struct march_state *st, const struct obstacle_fo
                           struct obstacle_force_lines *l);
 
 /* obstacle_surface.csv in dir: per sample, its angle, position, p, the
- * normal and tangential stresses.  Returns 0, or -1 with the cause. */
+ * normal and tangential stresses.  Returns 0, or -1 with the cause.  On
+ * ranks every rank calls it (the samples read every block), rank 0 writes;
+ * so do the forces above, every rank with the same numbers. */
 int obstacle_write(const char *dir, const struct march_state *st, char *err, size_t errlen);
 
 #endif

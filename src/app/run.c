@@ -165,8 +165,8 @@ static int observe_here(struct observer_ctx *ctx, const struct march_state *st)
         warn_pressure(ctx, st);
         warn_linear(ctx, st);
         warn_preconditioner(ctx, st);
-        forces_file_row(&ctx->forces, st); /* before a checkpoint; once per step */
     }
+    forces_file_row(&ctx->forces, st); /* before a checkpoint; once per step; every rank's */
     /* the first observation of a restart is the checkpoint's step, whose
      * outputs the run that wrote the checkpoint has written */
     int resumed = st->step == ctx->resume_step;
@@ -361,6 +361,8 @@ static int start(struct march_state *st, struct observer_ctx *ctx, const struct 
      * every rank's, after rank 0 made the folder: the agreement below waits
      * for it) */
     bad = ctx->root && open_outputs(st, ctx, cs, opt, err, errlen) != 0;
+    if (!ctx->root)
+        forces_file_follow(&ctx->forces, st);
     if (st->ranks && march_max(st, bad) != 0.0 && !bad) {
         snprintf(err, errlen, "rank 0 could not open the outputs");
         goto fail;
@@ -404,15 +406,12 @@ static void root_outputs(struct observer_ctx *ctx, const struct march_state *st,
     res->restartable = !ctx->not_restartable;
     if (history_close(&ctx->hist, cause, sizeof cause) != 0)
         note(rc, err, errlen, cause);
-    forces_file_row(&ctx->forces, st); /* the final state's, if no observation wrote it */
     if (forces_file_close(&ctx->forces, cause, sizeof cause) != 0)
         note(rc, err, errlen, cause);
     if (pr && profile_write(cs->output_dir, pr, cause, sizeof cause) != 0)
         note(rc, err, errlen, cause);
     const struct scene *sc = case_scene(cs);
     if (sc->write && sc->write(cs->output_dir, st, cause, sizeof cause) != 0)
-        note(rc, err, errlen, cause);
-    if (case_obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
         note(rc, err, errlen, cause);
     if (output_summary(cs->output_dir, cs, res, cause, sizeof cause) != 0)
         note(rc, err, errlen, cause);
@@ -450,6 +449,11 @@ static int finish_outputs(struct observer_ctx *ctx, const struct march_state *st
         else
             res->checkpointed = 1;
     }
+    /* the forces' row of the final state (if no observation wrote it) and
+     * the body's surface: every rank's blocks, rank 0's files */
+    forces_file_row(&ctx->forces, st);
+    if (case_obstacle_active(cs) && obstacle_write(cs->output_dir, st, cause, sizeof cause) != 0)
+        note(&rc, err, errlen, cause);
     if (ctx->root)
         root_outputs(ctx, st, pr, res, &rc, err, errlen);
     if (st->ranks && march_max(st, rc != RUN_OK) != 0.0 && rc == RUN_OK)

@@ -83,7 +83,9 @@ static void ghost_plane_add(const struct grid *g, int d, int ghost, double *f, d
 
 double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, int i, int j, int k)
 {
-    const int idx[3] = {i, j, k};
+    /* a rank's block: its indices from the whole grid's origin (decomp.h) */
+    const int *lo = bc->dc ? bc->dc->lo : NULL;
+    const int idx[3] = {i + (lo ? lo[0] : 0), j + (lo ? lo[1] : 0), k + (lo ? lo[2] : 0)};
     if (bc->inflow_shape) {
         double x[3];
         for (int a = 0; a < 3; a++)
@@ -97,7 +99,8 @@ double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, i
         if (a == d || bc->face[a][0] == BC_PERIODIC)
             continue;
         /* the face's centre across a: s = (idx + 1/2) h, in [0, L] */
-        double len = g->len[a], s = (idx[a] + 0.5) * g->h[a];
+        double len = bc->dc ? g->h[a] * bc->dc->n_global[a] : g->len[a],
+               s = (idx[a] + 0.5) * g->h[a];
         if (s < 0.0)
             s = 0.0;
         if (s > len)

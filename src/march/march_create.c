@@ -52,8 +52,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
  * decomposed): one message naming the first option that does not, and what
  * does. */
 #define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
-                  "physics modules that run decomposed (the scenes', the nonlocal fluidity's), no " \
-                  "bodies, uniform spacing, the line, fourier or multigrid preconditioner " \
+                  "physics modules that run decomposed (the scenes', the nonlocal fluidity's, " \
+                  "a body's), uniform spacing, the line, fourier or multigrid preconditioner " \
                   "(solver.preconditioner = auto, line, fourier or multigrid), no solver.initial_state"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)

@@ -28,7 +28,8 @@ int forces_file_open(struct forces_file *ff, const struct march_state *st, const
         return 0; /* no body in a flow */
     struct obstacle_forces f;
     struct obstacle_force_lines l;
-    obstacle_forces_surface(st, &f); /* the columns: the scales decide the coefficients' */
+    ff->collective = st->ranks != NULL;
+    obstacle_forces_scales(st, &f); /* the columns: the scales decide the coefficients' */
     obstacle_force_lines(st, &f, &l);
     FILE *src = resume >= 0 ? output_previous(dir, FORCES_FILE_NAME) : NULL;
     if (output_open(&ff->file, dir, FORCES_FILE_NAME, err, errlen) != 0) {
@@ -50,15 +51,32 @@ int forces_file_open(struct forces_file *ff, const struct march_state *st, const
     return 0;
 }
 
+void forces_file_follow(struct forces_file *ff, const struct march_state *st)
+{
+    memset(ff, 0, sizeof *ff);
+    ff->last_step = -1;
+    ff->every = st->cs->forces_every;
+    ff->collective = st->ranks && ff->every > 0 && case_obstacle_active(st->cs) &&
+                     !st->cs->obstacle.invert;
+}
+
 void forces_file_row(struct forces_file *ff, const struct march_state *st)
 {
-    if (!ff->file.f || st->step == ff->last_step ||
-        (st->step % ff->every != 0 && st->status == STATUS_RUNNING))
+    if (ff->collective) {
+        /* on ranks the forces sum every block: each rank on the same steps,
+         * whether or not rank 0 has the row already */
+        if (st->step % ff->every != 0 && st->status == STATUS_RUNNING)
+            return;
+    } else if (!ff->file.f || st->step == ff->last_step ||
+               (st->step % ff->every != 0 && st->status == STATUS_RUNNING)) {
         return;
+    }
     struct obstacle_forces f;
     struct obstacle_force_lines l;
     obstacle_forces_surface(st, &f);
     obstacle_force_lines(st, &f, &l);
+    if (!ff->file.f || st->step == ff->last_step)
+        return;
     fprintf(ff->file.f, "%ld,%.10g", st->step, st->time);
     for (int i = 0; i < l.n; i++)
         fprintf(ff->file.f, ",%.10g", l.value[i]);

@@ -19,6 +19,11 @@
 struct obstacle {
     struct shape_set set;
     struct embedded e;
+    /* where this block sits in the whole grid (grid/decomp.h): its cell 0
+     * is global cell lo, of n_global; border[d][s] a rank border; gact the
+     * whole grid's unknown boxes.  One process: lo 0, the grid's own. */
+    int lo[3], n_global[3], border[3][2], periodic[3], split;
+    struct box gact[3];
     long links_max;
     double *share[3]; /* the faces' open shares (e.share) */
     double *cut;      /* the cut cells (e.cut) */
@@ -103,25 +108,33 @@ static int cell_solid(const struct shape_set *set, const double x[3], int c, dou
 /* obstacle.boundary = cells: a face is closed when a cell on either side is
  * solid, so that every cell is whole fluid or whole solid: the open shares
  * are 0 or 1 and a tracer's fluxes through the faces are the projection's. */
-static int cells_face_closed(const struct shape_set *set, const struct grid *g, int c, int i,
-                             int j, int k)
+static int face_closed_at(const struct shape_set *set, const int at[3], const struct grid *g,
+                          int c, int i, int j, int k)
 {
     double x[3];
-    const int idx[3] = {i, j, k};
-    obstacle_node_position(g, c, i, j, k, x);
-    double lo = g->axis[c] ? grid_xc(g, c, idx[c] - 1) - x[c] : -0.5 * g->h[c];
-    double hi = g->axis[c] ? grid_xc(g, c, idx[c]) - x[c] : 0.5 * g->h[c];
+    const int t = at[c] + (c == 0 ? i : c == 1 ? j : k);
+    obstacle_node_position_at(g, at, c, i, j, k, x);
+    double lo = g->axis[c] ? grid_xc(g, c, t - 1) - x[c] : -0.5 * g->h[c];
+    double hi = g->axis[c] ? grid_xc(g, c, t) - x[c] : 0.5 * g->h[c];
     return cell_solid(set, x, c, lo) || cell_solid(set, x, c, hi);
 }
 
-static double face_share(const struct shape_set *set, const struct grid *g, int c, int i, int j,
+/* The same of the block's node (i, j, k). */
+static int cells_face_closed(const struct obstacle *ob, const struct grid *g, int c, int i,
+                             int j, int k)
+{
+    return face_closed_at(&ob->set, ob->lo, g, c, i, j, k);
+}
+
+static double face_share(const struct obstacle *ob, const struct grid *g, int c, int i, int j,
                          int k, int cells)
 {
+    const struct shape_set *set = &ob->set;
     double x[3];
-    const int idx[3] = {i, j, k};
+    const int idx[3] = {ob->lo[0] + i, ob->lo[1] + j, ob->lo[2] + k};
     if (cells)
-        return cells_face_closed(set, g, c, i, j, k) ? 0.0 : 1.0;
-    obstacle_node_position(g, c, i, j, k, x);
+        return cells_face_closed(ob, g, c, i, j, k) ? 0.0 : 1.0;
+    obstacle_node_position_at(g, ob->lo, c, i, j, k, x);
     if (shape_distance(set, x) <= 0.0)
         return 0.0;
     int a = set->plane_a, b = set->plane_b;
@@ -171,11 +184,18 @@ double obstacle_memory_bound(const struct muflow_case *cs, const struct grid *g)
     return bytes;
 }
 
-void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3])
+void obstacle_node_position_at(const struct grid *g, const int lo[3], int c, int i, int j, int k,
+                               double x[3])
 {
     int idx[3] = {i, j, k};
     for (int d = 0; d < 3; d++)
-        x[d] = d == c ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
+        x[d] = d == c ? grid_xf(g, d, lo[d] + idx[d]) : grid_xc(g, d, lo[d] + idx[d]);
+}
+
+void obstacle_node_position(const struct grid *g, int c, int i, int j, int k, double x[3])
+{
+    static const int zero[3] = {0, 0, 0};
+    obstacle_node_position_at(g, zero, c, i, j, k, x);
 }
 
 /* The share theta of the segment from x0 (fluid) to x1 (solid) at which
@@ -209,14 +229,15 @@ static int cells_links(struct obstacle *ob, const struct march_state *st, int c,
     const struct grid *g = &st->g;
     const int idx[3] = {i, j, k};
     for (int d = 0; d < 3; d++) {
-        if (d == c || g->n[d] < 2)
+        if (d == c || ob->n_global[d] < 2)
             continue;
         for (int side = -1; side <= 1; side += 2) {
             int nb[3] = {i, j, k};
             nb[d] += side;
-            if (nb[d] < 0 || nb[d] > g->n[d] - 1) /* beyond the box: the boundary's */
+            /* beyond the box: the boundary's (a rank border's ghost is a node) */
+            if (ob->lo[d] + nb[d] < 0 || ob->lo[d] + nb[d] > ob->n_global[d] - 1)
                 continue;
-            if (!cells_face_closed(&ob->set, g, c, nb[0], nb[1], nb[2]))
+            if (!cells_face_closed(ob, g, c, nb[0], nb[1], nb[2]))
                 continue;
             struct embedded_link l = {.p = grid_idx(g, i, j, k), .c = c};
             double hh = g->h[d] * g->h[d];
@@ -233,6 +254,44 @@ static int cells_links(struct obstacle *ob, const struct march_state *st, int c,
     return 0;
 }
 
+/* A block's ghost slots that image a node of the whole grid's unknowns
+ * across a rank border (a periodic wrap's included), held when that node is:
+ * appended to component c's held list after its own nh (the stencils read
+ * the neighbour's held node as 0, as one process does; the forces sum the
+ * block's own alone).  Returns the new count. */
+static long ghost_held(struct obstacle *ob, const struct march_state *st, int c, int cells,
+                       long nh)
+{
+    const struct grid *g = &st->g;
+    const struct box *bx = &st->act[c];
+    for (int i = -1; i <= g->n[0]; i++)
+        for (int j = -1; j <= g->n[1]; j++)
+            for (int k = -1; k <= g->n[2]; k++) {
+                const int idx[3] = {i, j, k};
+                int image = !box_holds(bx, i, j, k), G[3];
+                for (int d = 0; d < 3 && image; d++) {
+                    const int out = idx[d] < bx->lo[d] ? 0 : idx[d] >= bx->hi[d] ? 1 : -1;
+                    if (out >= 0 && !ob->border[d][out])
+                        image = 0; /* a domain's face: the condition's ghost */
+                    G[d] = ob->lo[d] + idx[d];
+                    if (ob->periodic[d])
+                        G[d] = (G[d] + ob->n_global[d]) % ob->n_global[d];
+                    image &= G[d] >= ob->gact[c].lo[d] && G[d] < ob->gact[c].hi[d];
+                }
+                if (!image)
+                    continue;
+                /* the owner's decision, at the node's own global position */
+                double x[3];
+                static const int zero[3] = {0, 0, 0};
+                obstacle_node_position_at(g, zero, c, G[0], G[1], G[2], x);
+                const int held = cells ? face_closed_at(&ob->set, zero, g, c, G[0], G[1], G[2])
+                                       : shape_distance(&ob->set, x) <= 0.0;
+                if (held)
+                    ob->e.held[c][nh++] = grid_idx(g, i, j, k);
+            }
+    return nh;
+}
+
 /* Held nodes of component c (in the unknowns' box) and, for a sharp
  * boundary, the cut links of its fluid nodes. */
 static int build_component(struct obstacle *ob, const struct march_state *st, int c, int sharp,
@@ -241,6 +300,8 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
     const struct grid *g = &st->g;
     const struct box *bx = &st->act[c];
     long nbox = (long)(bx->hi[0] - bx->lo[0]) * (bx->hi[1] - bx->lo[1]) * (bx->hi[2] - bx->lo[2]);
+    if (st->ranks) /* the ghosts' held images too (ghost_held) */
+        nbox = (long)g->size;
     ob->e.held[c] = malloc((size_t)(nbox > 0 ? nbox : 1) * sizeof(ptrdiff_t));
     if (!ob->e.held[c])
         return -1;
@@ -249,9 +310,9 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
         for (int j = bx->lo[1]; j < bx->hi[1]; j++)
             for (int k = bx->lo[2]; k < bx->hi[2]; k++) {
                 double x[3];
-                obstacle_node_position(g, c, i, j, k, x);
+                obstacle_node_position_at(g, ob->lo, c, i, j, k, x);
                 ptrdiff_t p = grid_idx(g, i, j, k);
-                if (cells ? cells_face_closed(&ob->set, g, c, i, j, k)
+                if (cells ? cells_face_closed(ob, g, c, i, j, k)
                           : shape_distance(&ob->set, x) <= 0.0) {
                     ob->e.held[c][nh++] = p;
                     continue;
@@ -265,7 +326,7 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                     continue;
                 int idx[3] = {i, j, k};
                 for (int d = 0; d < 3; d++) {
-                    if (g->n[d] < 2 && d != c)
+                    if (ob->n_global[d] < 2 && d != c)
                         continue; /* one cell across: no link along d */
                     for (int side = -1; side <= 1; side += 2) {
                         double y[3] = {x[0], x[1], x[2]};
@@ -274,9 +335,10 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                                           : grid_xc(g, d, idx[d] + side);
                         else
                             y[d] += side * g->h[d];
-                        /* a neighbour beyond the box is the boundary's */
-                        int nidx = idx[d] + side;
-                        if (nidx < 0 || nidx > g->n[d] - (d == c ? 0 : 1))
+                        /* a neighbour beyond the box is the boundary's (a
+                         * rank border's ghost is the next block's node) */
+                        int nidx = ob->lo[d] + idx[d] + side;
+                        if (nidx < 0 || nidx > ob->n_global[d] - (d == c ? 0 : 1))
                             continue;
                         if (shape_distance(&ob->set, y) > 0.0)
                             continue;
@@ -299,6 +361,8 @@ static int build_component(struct obstacle *ob, const struct march_state *st, in
                     }
                 }
             }
+    if (st->ranks)
+        nh = ghost_held(ob, st, c, cells, nh);
     ob->e.nheld[c] = nh;
     ob->e.saved[c] = malloc((size_t)(nh > 0 ? nh : 1) * sizeof(double));
     return ob->e.saved[c] ? 0 : -1;
@@ -331,14 +395,18 @@ static void destroy(void *state)
  * whole grid. */
 static int cut_lists(struct obstacle *ob, const struct grid *g)
 {
-    long n = 0;
+    long n = 0, ghosts = 0;
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
                 n += ob->cut[grid_idx(g, i, j, k)] != 0.0;
+    /* a rank border's ghost cells (the next block's) give faces too */
+    for (size_t p = 0; ob->split && p < g->size; p++)
+        ghosts += ob->cut[p] != 0.0;
     ob->e.cut_cells = malloc((size_t)(n > 0 ? n : 1) * sizeof(ptrdiff_t));
+    const long room = 3 * (n + ghosts) + 1;
     for (int c = 0; c < 3; c++)
-        ob->e.cut_faces[c] = malloc((size_t)(3 * n + 1) * sizeof(ptrdiff_t));
+        ob->e.cut_faces[c] = malloc((size_t)room * sizeof(ptrdiff_t));
     if (!ob->e.cut_cells || !ob->e.cut_faces[0] || !ob->e.cut_faces[1] || !ob->e.cut_faces[2])
         return -1;
     ob->e.ncut = 0;
@@ -355,17 +423,19 @@ static int cut_lists(struct obstacle *ob, const struct grid *g)
                 for (int k = 0; k < g->n[2] + (c == 2); k++) {
                     int idx[3] = {i, j, k}, t = idx[c], near = 0;
                     /* the cells on the two sides: t - 1 and t, a box end's
-                     * ghost standing for either end's cell */
+                     * ghost standing for either end's cell; a rank
+                     * border's ghost is the next block's cell, its own */
                     for (int side = -1; side <= 0 && !near; side++) {
                         int u = t + side;
-                        int cand[2] = {u < 0 ? nc - 1 : u >= nc ? 0 : u, u < 0 ? 0 : nc - 1};
-                        for (int q = 0; q < (u < 0 || u >= nc ? 2 : 1); q++) {
+                        const int border = (u < 0 && ob->border[c][0]) || (u >= nc && ob->border[c][1]);
+                        int cand[2] = {border ? u : u < 0 ? nc - 1 : u >= nc ? 0 : u, u < 0 ? 0 : nc - 1};
+                        for (int q = 0; q < (!border && (u < 0 || u >= nc) ? 2 : 1); q++) {
                             idx[c] = cand[q];
                             near |= ob->cut[grid_idx(g, idx[0], idx[1], idx[2])] != 0.0;
                         }
                     }
                     if (near) {
-                        if (m == 3 * n + 1) /* two a cut cell, one more at a box end */
+                        if (m == room) /* two a cut cell, one more at a box end */
                             return -1;
                         ob->e.cut_faces[c][m++] = grid_idx(g, i, j, k);
                     }
@@ -388,7 +458,7 @@ static int build_shares(struct obstacle *ob, const struct grid *g, int cells)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = -1; k <= g->n[2]; k++)
                     ob->share[c][grid_idx(g, i, j, k)] =
-                        face_share(&ob->set, g, c, i, j, k, cells);
+                        face_share(ob, g, c, i, j, k, cells);
         ob->e.share[c] = ob->share[c];
     }
     ob->cut = field_alloc(g);
@@ -407,6 +477,23 @@ static int build_shares(struct obstacle *ob, const struct grid *g, int cells)
             }
     ob->e.cut = ob->cut;
     return cut_lists(ob, g);
+}
+
+/* Where st's block sits in the whole grid (struct obstacle: lo, ...). */
+static void place_block(struct obstacle *ob, const struct march_state *st)
+{
+    const struct decomp *dc = st->ranks ? &st->ranks->dc : NULL;
+    struct boundary whole = st->bc;
+    whole.dc = NULL;
+    bc_periodic_flags(&whole, ob->periodic);
+    for (int d = 0; d < 3; d++) {
+        ob->lo[d] = dc ? dc->lo[d] : 0;
+        ob->n_global[d] = dc ? dc->n_global[d] : st->g.n[d];
+        for (int s = 0; s < 2; s++)
+            ob->border[d][s] = dc && dc->border[d][s];
+    }
+    ob->split = dc && decomp_split(dc);
+    bc_unknown_boxes(st->ranks ? &st->ranks->global : &st->g, &whole, ob->gact);
 }
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
@@ -430,6 +517,7 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
             return -1;
         }
     case_obstacle_shapes(st->cs, &ob->set);
+    place_block(ob, st);
     int sharp = st->cs->obstacle.boundary == OBSTACLE_SHARP;
     for (int c = 0; c < 3; c++)
         if (build_component(ob, st, c, sharp, cells) != 0) {
@@ -477,4 +565,5 @@ const struct module obstacle_module = {
     .memory_bound = obstacle_memory_bound,
     .files = obstacle_files,
     .coupled_ok = 1,
+    .decomposed = 1, /* its geometry on every block from global indices */
 };

@@ -4,8 +4,10 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include "kernels/embedded.h"
+#include "platform/comm.h"
 #include "platform/output_file.h"
 #include "march/step.h"
 #include "physics/obstacle.h"
@@ -18,11 +20,17 @@ static const double PI = 3.14159265358979323846;
  * or high face along the plane's k-th direction is a slip face through
  * the centre of every shape (the run holds one half of a symmetric body),
  * else 0. */
+#define PLANE_FIELDS 10
 struct plane {
     const struct march_state *st;
     struct shape_set set;
     int a, b, m, jm;
     int mirror[2];
+    /* the whole grid the samples read and its fields: st's own, or on
+     * ranks every rank's blocks gathered (plane_gather) */
+    const struct grid *g;
+    const double *u[3], *p_dyn, *p_hyd, *eta, *eta_e[3], *rho_a;
+    double *whole[PLANE_FIELDS], *scratch;
 };
 
 /* The centre of shape sh along the plane's k-th coordinate. */
@@ -31,18 +39,88 @@ static double shape_centre(const struct shape *sh, int k)
     return sh->kind == SHAPE_CIRCLE ? sh->v[k] : 0.5 * (sh->v[k] + sh->v[k + 2]);
 }
 
-static void plane_init(struct plane *pl, const struct march_state *st)
+/* The ghost planes of a whole-grid field f along the periodic directions
+ * split over ranks (decomp_gather leaves them): their images'. */
+static void wrap_periodic(const struct grid *gg, const struct comm_cart *cart, double *f)
 {
+    for (int d = 0; d < 3; d++) {
+        if (!(cart->periodic[d] && cart->dims[d] > 1))
+            continue;
+        const int e1 = d == 0 ? 1 : 0, e2 = d == 2 ? 1 : 2, n = gg->n[d];
+        for (int u = -1; u <= gg->n[e1]; u++)
+            for (int v = -1; v <= gg->n[e2]; v++) {
+                int lo[3], hi[3], from_lo[3], from_hi[3];
+                lo[d] = -1, hi[d] = n, from_lo[d] = n - 1, from_hi[d] = 0;
+                lo[e1] = hi[e1] = from_lo[e1] = from_hi[e1] = u;
+                lo[e2] = hi[e2] = from_lo[e2] = from_hi[e2] = v;
+                f[grid_idx(gg, lo[0], lo[1], lo[2])] =
+                    f[grid_idx(gg, from_lo[0], from_lo[1], from_lo[2])];
+                f[grid_idx(gg, hi[0], hi[1], hi[2])] =
+                    f[grid_idx(gg, from_hi[0], from_hi[1], from_hi[2])];
+            }
+    }
+}
+
+/* The samples' view of st: its own grid and fields on one process; on
+ * ranks the whole grid's, every rank's blocks gathered on every rank (a
+ * sample's stencil may straddle a rank border; the arrays are the whole
+ * grid's, a cost of the body's cases, whose planes are small).  Collective.
+ * Returns 0, or -1 when out of memory (the view then st's own block). */
+static int plane_view(struct plane *pl, const struct march_state *st)
+{
+    const struct march_fields *fl = &st->field;
+    const double *src[PLANE_FIELDS] = {fl->velocity[0], fl->velocity[1], fl->velocity[2],
+                                       fl->p_dyn, fl->p_hyd, fl->viscosity,
+                                       fl->viscosity_edges[0], fl->viscosity_edges[1],
+                                       fl->viscosity_edges[2], fl->density_faces[pl->a]};
+    const double **dst[PLANE_FIELDS] = {&pl->u[0], &pl->u[1], &pl->u[2], &pl->p_dyn,
+                                        &pl->p_hyd, &pl->eta, &pl->eta_e[0], &pl->eta_e[1],
+                                        &pl->eta_e[2], &pl->rho_a};
+    pl->g = &st->g;
+    for (int f = 0; f < PLANE_FIELDS; f++)
+        *dst[f] = src[f];
+    if (!st->ranks)
+        return 0;
+    const struct grid *gg = &st->ranks->global;
+    int ok = (pl->scratch = malloc(decomp_gather_len(&st->ranks->dc) * sizeof(double))) != NULL;
+    for (int f = 0; f < PLANE_FIELDS; f++)
+        ok &= (pl->whole[f] = field_alloc(gg)) != NULL;
+    if (march_max(st, !ok) != 0.0)
+        return -1;
+    for (int f = 0; f < PLANE_FIELDS; f++) {
+        decomp_gather(&st->ranks->dc, &st->g, src[f], gg, pl->whole[f], pl->scratch);
+        wrap_periodic(gg, &st->ranks->cart, pl->whole[f]);
+        *dst[f] = pl->whole[f];
+    }
+    pl->g = gg;
+    return 0;
+}
+
+static void plane_free(struct plane *pl)
+{
+    for (int f = 0; f < PLANE_FIELDS; f++)
+        field_free(pl->whole[f]);
+    free(pl->scratch);
+}
+
+/* view 0: the shapes and the symmetry planes alone, no field read (not
+ * collective). */
+static void plane_init_view(struct plane *pl, const struct march_state *st, int view)
+{
+    memset(pl, 0, sizeof *pl);
     pl->st = st;
     case_obstacle_shapes(st->cs, &pl->set);
     pl->a = pl->set.plane_a;
     pl->b = pl->set.plane_b;
     pl->m = 3 - pl->a - pl->b;
-    pl->jm = st->g.n[pl->m] / 2;
+    pl->g = march_global_grid(st);
+    if (view)
+        (void)plane_view(pl, st);
+    pl->jm = pl->g->n[pl->m] / 2;
     const int dd[2] = {pl->a, pl->b};
     for (int k = 0; k < 2; k++) {
         int d = dd[k];
-        double len = st->g.len[d];
+        double len = pl->g->len[d];
         pl->mirror[k] = 0;
         for (int side = 0; side < 2 && pl->set.n > 0 && !pl->set.invert; side++) {
             if (st->bc.face[d][side] != BC_SLIP)
@@ -56,11 +134,16 @@ static void plane_init(struct plane *pl, const struct march_state *st)
     }
 }
 
+static void plane_init(struct plane *pl, const struct march_state *st)
+{
+    plane_init_view(pl, st, 1);
+}
+
 /* Whether x (on the outline) lies in the box along the plane's directions:
  * the half of a mirrored body beyond its symmetry plane does not. */
 static int in_box(const struct plane *pl, const double x[3])
 {
-    const struct grid *g = &pl->st->g;
+    const struct grid *g = pl->g;
     const int dd[2] = {pl->a, pl->b};
     for (int k = 0; k < 2; k++) {
         double len = g->len[dd[k]];
@@ -74,14 +157,14 @@ static ptrdiff_t at(const struct plane *pl, int ia, int ib)
 {
     int idx[3];
     idx[pl->a] = ia, idx[pl->b] = ib, idx[pl->m] = pl->jm;
-    return grid_idx(&pl->st->g, idx[0], idx[1], idx[2]);
+    return grid_idx(pl->g, idx[0], idx[1], idx[2]);
 }
 
 /* Bilinear interpolation in the plane of field f located as component c
  * (-1: cells) at x; -1 when a node of the stencil is in the body. */
 static int interp(const struct plane *pl, const double *f, int c, const double x[3], double *out)
 {
-    const struct grid *g = &pl->st->g;
+    const struct grid *g = pl->g;
     int d2[2] = {pl->a, pl->b}, i0[2];
     double w[2];
     for (int k = 0; k < 2; k++) {
@@ -118,8 +201,7 @@ struct sample {
 
 static int surface_sample(const struct plane *pl, struct sample *s)
 {
-    const struct march_state *st = pl->st;
-    const struct grid *g = &st->g;
+    const struct grid *g = pl->g;
     double h = fmax(g->h[pl->a], g->h[pl->b]);
     if (grid_stretched(g)) /* the cell at the surface point */
         h = fmax(grid_hc(g, pl->a, grid_locate(g, pl->a, s->x[pl->a])),
@@ -131,10 +213,10 @@ static int surface_sample(const struct plane *pl, struct sample *s)
         y[pl->a] += dist * s->n[0];
         y[pl->b] += dist * s->n[1];
         double pd, ph;
-        if (interp(pl, st->field.velocity[pl->a], pl->a, y, &u[q][0]) ||
-            interp(pl, st->field.velocity[pl->b], pl->b, y, &u[q][1]) ||
-            interp(pl, st->field.p_dyn, -1, y, &pd) || interp(pl, st->field.p_hyd, -1, y, &ph) ||
-            (q == 0 && interp(pl, st->field.viscosity, -1, y, &eta)))
+        if (interp(pl, pl->u[pl->a], pl->a, y, &u[q][0]) ||
+            interp(pl, pl->u[pl->b], pl->b, y, &u[q][1]) ||
+            interp(pl, pl->p_dyn, -1, y, &pd) || interp(pl, pl->p_hyd, -1, y, &ph) ||
+            (q == 0 && interp(pl, pl->eta, -1, y, &eta)))
             return -1;
         p[q] = pd + ph;
     }
@@ -180,8 +262,7 @@ static int surface_sample(const struct plane *pl, struct sample *s)
 #define BALANCE_REACH 6.0
 static int velocity_at(const struct plane *pl, const double y[3], double u[2])
 {
-    return interp(pl, pl->st->field.velocity[pl->a], pl->a, y, &u[0]) ||
-           interp(pl, pl->st->field.velocity[pl->b], pl->b, y, &u[1]);
+    return interp(pl, pl->u[pl->a], pl->a, y, &u[0]) || interp(pl, pl->u[pl->b], pl->b, y, &u[1]);
 }
 
 static int along_normal(const struct plane *pl, const struct sample *s, double r, double dt,
@@ -215,14 +296,14 @@ static int wall_pressure_balance(const struct plane *pl, const struct sample *s,
 {
     const struct march_state *st = pl->st;
     const double rho = st->cs->advection ? st->cs->density : 0.0, rs = BALANCE_REACH * h;
-    const double *rho_f = st->field.density_faces[pl->a];
+    const double *rho_f = pl->rho_a;
     /* one viscosity and the case's density over the samples, or no balance */
     double eta = 0.0;
     for (int q = 0; q <= 2 * (int)BALANCE_REACH; q++) {
         double y[3] = {s->x[0], s->x[1], s->x[2]}, e, d;
         y[pl->a] += (0.5 * q + 0.5) * h * s->n[0];
         y[pl->b] += (0.5 * q + 0.5) * h * s->n[1];
-        if (interp(pl, st->field.viscosity, -1, y, &e))
+        if (interp(pl, pl->eta, -1, y, &e))
             continue; /* a cell of the body's stencil: the next ones decide */
         if (eta == 0.0)
             eta = e;
@@ -235,7 +316,7 @@ static int wall_pressure_balance(const struct plane *pl, const struct sample *s,
     double uo[2], ui[2], us[2], ps, y[3] = {s->x[0], s->x[1], s->x[2]};
     y[pl->a] += rs * s->n[0];
     y[pl->b] += rs * s->n[1];
-    if (eta <= 0.0 || interp(pl, st->field.p_dyn, -1, y, &ps) ||
+    if (eta <= 0.0 || interp(pl, pl->p_dyn, -1, y, &ps) ||
         along_normal(pl, s, rs, 0.0, h, us) || along_normal(pl, s, rs + h, 0.0, h, uo) ||
         along_normal(pl, s, rs - h, 0.0, h, ui))
         return 0;
@@ -258,8 +339,7 @@ static int wall_pressure_balance(const struct plane *pl, const struct sample *s,
  * for p_hyd.  -1 when the interpolation reached the body. */
 static int wall_pressure(const struct plane *pl, struct sample *s)
 {
-    const struct march_state *st = pl->st;
-    const struct grid *g = &st->g;
+    const struct grid *g = pl->g;
     if (surface_sample(pl, s) != 0)
         return -1;
     double h = fmax(g->h[pl->a], g->h[pl->b]);
@@ -274,7 +354,7 @@ static int wall_pressure(const struct plane *pl, struct sample *s)
         double y[3] = {s->x[0], s->x[1], s->x[2]};
         y[pl->a] += 1.5 * (q + 1) * h * s->n[0];
         y[pl->b] += 1.5 * (q + 1) * h * s->n[1];
-        if (interp(pl, st->field.p_hyd, -1, y, &ph[q]))
+        if (interp(pl, pl->p_hyd, -1, y, &ph[q]))
             return 0;
     }
     s->p = pd + 2.0 * ph[0] - ph[1];
@@ -287,7 +367,7 @@ typedef void (*sample_fn)(void *ctx, const struct sample *s, double ds, double a
 
 static int outline(const struct plane *pl, sample_fn fn, void *ctx)
 {
-    const struct grid *g = &pl->st->g;
+    const struct grid *g = pl->g;
     double h = fmin(grid_min_width(g, pl->a), grid_min_width(g, pl->b)); /* the finest cell */
     int bad = 0;
     for (int i = 0; i < pl->set.n; i++) {
@@ -356,14 +436,13 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
                     double F[3])
 {
     const struct march_state *st = pl->st;
-    const struct grid *g = &st->g;
+    const struct grid *g = pl->g;
     /* the momentum flux belongs to the balance only when the momentum
      * equation carries it: without advection (a Stokes-like steady flow)
      * it is no force, and at the granular cylinder's large velocities it
      * was most of the difference between the two estimates */
     const double rho = st->cs->advection ? st->cs->density : 0.0;
-    const double *uN = st->field.velocity[N], *uT = st->field.velocity[T],
-                 *etae = st->field.viscosity_edges[3 - N - T];
+    const double *uN = pl->u[N], *uT = pl->u[T], *etae = pl->eta_e[3 - N - T];
     /* the widths and centres' distances where each difference is taken
      * (one size per direction on a uniform grid) */
     /* at(): indices in (a, b) order */
@@ -371,13 +450,13 @@ static void cv_side(const struct plane *pl, int N, int T, int I, int K0, int K1,
 #define IX(iN, iT) (N == pl->a ? at(pl, (iN), (iT)) : at(pl, (iT), (iN)))
         double un = uN[IX(I, k)];
         double ut = 0.25 * (uT[IX(I - 1, k)] + uT[IX(I, k)] + uT[IX(I - 1, k + 1)] + uT[IX(I, k + 1)]);
-        double p = 0.5 * (st->field.p_dyn[IX(I - 1, k)] + st->field.p_dyn[IX(I, k)] +
-                          st->field.p_hyd[IX(I - 1, k)] + st->field.p_hyd[IX(I, k)]);
+        double p = 0.5 * (pl->p_dyn[IX(I - 1, k)] + pl->p_dyn[IX(I, k)] +
+                          pl->p_hyd[IX(I - 1, k)] + pl->p_hyd[IX(I, k)]);
         const double hNm = grid_hc(g, N, I - 1), hNp = grid_hc(g, N, I), hNf = grid_hf(g, N, I);
         const double hT = grid_hc(g, T, k);
         /* the mean of 2 eta dudn */
-        double tnn = st->field.viscosity[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
-                     st->field.viscosity[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp;
+        double tnn = pl->eta[IX(I - 1, k)] * (uN[IX(I, k)] - uN[IX(I - 1, k)]) / hNm +
+                     pl->eta[IX(I, k)] * (uN[IX(I + 1, k)] - uN[IX(I, k)]) / hNp;
         double t0 = etae[IX(I, k)] * ((uN[IX(I, k)] - uN[IX(I, k - 1)]) / grid_hf(g, T, k) +
                                       (uT[IX(I, k)] - uT[IX(I - 1, k)]) / hNf);
         double t1 = etae[IX(I, k + 1)] * ((uN[IX(I, k + 1)] - uN[IX(I, k)]) / grid_hf(g, T, k + 1) +
@@ -408,7 +487,7 @@ static void symmetric_whole(const int mirror[2], double F[2])
  * cell along the outline, cancels to a small fraction of h^2). */
 static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2])
 {
-    const struct grid *g = &pl->st->g;
+    const struct grid *g = pl->g;
     if (grid_stretched(g)) { /* each cell's share of its own area */
         double area = 0.0;
         for (int i = I0[0]; i < I1[0]; i++)
@@ -448,7 +527,7 @@ static double fluid_area(const struct plane *pl, const int I0[2], const int I1[2
  * along c.  The residual is a flux difference over that area's widths. */
 static double node_area(const struct plane *pl, int c, ptrdiff_t p)
 {
-    const struct grid *g = &pl->st->g;
+    const struct grid *g = &pl->st->g; /* the block's own slot p */
     int idx[3];
     grid_slot_index(g, p, idx);
     return grid_node_width(g, c, pl->a, idx[pl->a]) * grid_node_width(g, c, pl->b, idx[pl->b]);
@@ -497,11 +576,16 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
             kernel_multiply_add(g, st->act, (double *const *)st->field.density_faces,
                                 (double *const *)st->field.advection, r);
     }
-    const double vol = g->h[0] * g->h[1] * g->h[2] / (g->n[pl->m] * g->h[pl->m]);
+    const int nm = march_global_grid(st)->n[pl->m]; /* per unit length of the whole */
+    const double vol = g->h[0] * g->h[1] * g->h[2] / (nm * g->h[pl->m]);
     double Fd[3] = {0.0, 0.0, 0.0}, Fpd[3] = {0.0, 0.0, 0.0};
     for (int c = 0; c < 3; c++)
         for (long i = 0; i < e->nheld[c]; i++) {
             ptrdiff_t S = e->held[c][i];
+            int at[3];
+            grid_slot_index(g, S, at);
+            if (st->ranks && !box_holds(&st->act[c], at[0], at[1], at[2]))
+                continue; /* a ghost's image of the next block's node: its own */
             double v = grid_stretched(g) ? node_area(pl, c, S) : vol;
             Fd[c] += (r[c][S] + rp[c][S]) * v;
             Fpd[c] += rp[c][S] * v;
@@ -512,6 +596,12 @@ static int discrete_force(const struct plane *pl, double F[2], double Fp[2])
                                : st->field.viscosity_edges[l->coef - 3][l->at];
         double v = grid_stretched(g) ? node_area(pl, l->c, l->p) : vol;
         Fd[l->c] += A * l->w * st->field.velocity[l->c][l->p] * v;
+    }
+    if (st->ranks) { /* every block's nodes */
+        double both[6] = {Fd[0], Fd[1], Fd[2], Fpd[0], Fpd[1], Fpd[2]};
+        march_sum_array(st, both, 6);
+        for (int c = 0; c < 3; c++)
+            Fd[c] = both[c], Fpd[c] = both[3 + c];
     }
     F[0] = Fd[pl->a], F[1] = Fd[pl->b];
     Fp[0] = Fpd[pl->a], Fp[1] = Fpd[pl->b];
@@ -531,7 +621,7 @@ static void control_volume(const struct plane *pl, const double lo[2], const dou
                            struct obstacle_forces *f)
 {
     const struct march_state *st = pl->st;
-    const struct grid *g = &st->g;
+    const struct grid *g = pl->g;
     double margin[2] = {0.5 * (hi[0] - lo[0]) + 2.0 * g->h[pl->a],
                         0.5 * (hi[1] - lo[1]) + 2.0 * g->h[pl->b]}; /* NaN if stretched */
     int dd[2] = {pl->a, pl->b}, I0[2], I1[2];
@@ -583,15 +673,15 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
 {
     memset(f, 0, sizeof *f);
     struct plane pl;
-    plane_init(&pl, st);
+    plane_init_view(&pl, st, all >= 0);
     struct sums S = {{0.0, 0.0}, {0.0, 0.0}};
-    int rc = all ? outline(&pl, add_sample, &S) : 0;
+    int rc = all > 0 ? outline(&pl, add_sample, &S) : 0;
     for (int k = 0; k < 2; k++) {
         f->reconstructed[k] = S.f[k];
         f->reconstructed_pressure[k] = S.fp[k];
         f->mirror[k] = pl.mirror[k];
     }
-    if (discrete_force(&pl, f->surface, f->pressure_part) != 0)
+    if (all >= 0 && discrete_force(&pl, f->surface, f->pressure_part) != 0)
         rc = -2;
     symmetric_whole(pl.mirror, f->surface);
     symmetric_whole(pl.mirror, f->pressure_part);
@@ -624,11 +714,13 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
         front.x[pl.a] = fa, front.x[pl.b] = cb, back.x[pl.a] = ba, back.x[pl.b] = cb;
         if (pl.mirror[0]) /* one of the two points is beyond the symmetry plane */
             f->front_back = NAN;
+        else if (all < 0)
+            f->front_back = 0.0;
         else if (wall_pressure(&pl, &front) == 0 && wall_pressure(&pl, &back) == 0)
             f->front_back = front.p - back.p;
         else
             rc = -1;
-        if (all)
+        if (all > 0)
             control_volume(&pl, lo, hi, f);
     }
     /* the coefficients' scales: the inflow's mean velocity, the extent across */
@@ -644,6 +736,7 @@ static int forces_of(const struct march_state *st, struct obstacle_forces *f, in
                 f->u_ref = fabs(bc->inflow_velocity) * mean;
             }
     f->d_ref = pl.set.n > 0 && !pl.set.invert && !ground ? hi[1] - lo[1] : 0.0;
+    plane_free(&pl);
     return rc;
 }
 
@@ -657,6 +750,11 @@ int obstacle_forces_surface(const struct march_state *st, struct obstacle_forces
     return forces_of(st, f, 0);
 }
 
+void obstacle_forces_scales(const struct march_state *st, struct obstacle_forces *f)
+{
+    (void)forces_of(st, f, -1);
+}
+
 /* The mean over the box of the velocity component the body force drives
  * (march_driven_component; the body's own faces hold 0), signed along the
  * force: a flow rate per unit area across the flow, Q / (L_x L_y) for a
@@ -668,8 +766,15 @@ double obstacle_mean_velocity(const struct march_state *st)
     int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
-    return copysign(1.0, f[a]) *
-           kernel_component_mean(&st->g, &st->act[a], a, st->field.velocity[a]);
+    double mean = kernel_component_mean(&st->g, &st->act[a], a, st->field.velocity[a]);
+    if (st->ranks) { /* the blocks' means weighted by their nodes */
+        const struct box *b = &st->act[a];
+        double w[2] = {(double)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2])};
+        w[1] = mean * w[0];
+        march_sum_array(st, w, 2);
+        mean = w[0] > 0.0 ? w[1] / w[0] : 0.0;
+    }
+    return copysign(1.0, f[a]) * mean;
 }
 
 /* The flow's direction: an inflow face's (into the box), else the
@@ -818,13 +923,19 @@ static void write_sample(void *ctx, const struct sample *s, double ds, double an
 
 int obstacle_write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
-    struct output_file o;
-    if (output_open(&o, dir, "obstacle_surface.csv", err, errlen) != 0)
-        return -1;
-    fprintf(o.f, "angle_deg,x,y,z,pressure,normal_stress,tangential_stress\n");
     struct plane pl;
-    plane_init(&pl, st);
-    struct csv_ctx c = {o.f, 0.0};
-    (void)outline(&pl, write_sample, &c);
-    return output_commit(&o, err, errlen);
+    plane_init(&pl, st); /* every rank's part (collective), rank 0 writes */
+    int rc = 0;
+    if (!st->ranks || comm_rank() == 0) {
+        struct output_file o;
+        rc = output_open(&o, dir, "obstacle_surface.csv", err, errlen);
+        if (rc == 0) {
+            fprintf(o.f, "angle_deg,x,y,z,pressure,normal_stress,tangential_stress\n");
+            struct csv_ctx c = {o.f, 0.0};
+            (void)outline(&pl, write_sample, &c);
+            rc = output_commit(&o, err, errlen);
+        }
+    }
+    plane_free(&pl);
+    return rc;
 }

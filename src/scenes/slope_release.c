@@ -269,13 +269,28 @@ struct record {
     struct bed bed;
     struct da_run da; /* the depth-averaged model's, at step da_step */
     long da_step;
+    /* on ranks: the whole grid's T, p and |D|^2 gathered for the measures
+     * (whole_fields; T the last gathered, deposit.csv's), decomp_gather's
+     * scratch */
+    double *whole[3], *scratch;
 };
+
+static void destroy(void *state);
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st); /* the records are the whole grid's */
     struct record *r = calloc(1, sizeof *r);
     size_t nc = (size_t)g->n[0] * g->n[2];
+    if (r && st->ranks) {
+        int ok = (r->scratch = malloc(decomp_gather_len(&st->ranks->dc) * sizeof(double))) != NULL;
+        for (int f = 0; f < 3; f++)
+            ok &= (r->whole[f] = field_alloc(g)) != NULL;
+        if (!ok) {
+            destroy(r);
+            r = NULL;
+        }
+    }
     if (r) {
         r->solid = calloc(2 * nc, 1);
         r->cell_s = malloc(nc * sizeof *r->cell_s);
@@ -320,6 +335,9 @@ static void destroy(void *state)
         free(r->bins);
         free(r->da.h);
         free(r->da.s);
+        for (int f = 0; f < 3; f++)
+            field_free(r->whole[f]);
+        free(r->scratch);
     }
     free(r);
 }
@@ -349,6 +367,27 @@ static const double *tracer(const struct march_state *st)
 {
     int t = fields_find(&st->fields, "tracer");
     return t >= 0 ? st->fields.e[t].v[0] : NULL;
+}
+
+/* The whole grid's T, and with all its pressure and |D|^2 (*pr, *sh): the
+ * march's own on one process, on ranks every block gathered into r->whole
+ * (collective).  NULL without a tracer. */
+static const double *whole_fields(struct record *r, const struct march_state *st, int all,
+                                  const double **pr, const double **sh)
+{
+    const double *f[3] = {tracer(st), st->field.pressure_regularised, st->field.shear2};
+    if (!f[0])
+        return NULL;
+    for (int q = 0; st->ranks && q < (all ? 3 : 1); q++) {
+        decomp_gather(&st->ranks->dc, &st->g, f[q], &st->ranks->global, r->whole[q],
+                      r->scratch);
+        f[q] = r->whole[q];
+    }
+    if (all) {
+        *pr = f[1];
+        *sh = f[2];
+    }
+    return f[0];
 }
 
 /* The front's and tail's candidates: where T crosses 1/2 between two fluid
@@ -391,10 +430,10 @@ static double volume_front(const double *v, long n, double ds, double share)
     return n * ds;
 }
 
-static void measure(struct record *r, const struct march_state *st, const double *T,
-                    struct sample *s)
+static void measure(struct record *r, const struct march_state *st, struct sample *s)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st);
+    const double *pres = NULL, *shear2 = NULL, *T = whole_fields(r, st, 1, &pres, &shear2);
     s->t = st->time;
     s->front = -INFINITY;
     s->tail = INFINITY;
@@ -418,32 +457,31 @@ static void measure(struct record *r, const struct march_state *st, const double
             r->bins[b < 0 ? 0 : b >= r->nbins ? r->nbins - 1 : b] += t;
             s->t_min = fmin(s->t_min, t);
             s->t_max = fmax(s->t_max, t);
-            double pr = st->field.pressure_regularised[p];
+            double pr = pres[p];
             if (t >= 0.5 && pr > 0.0 &&
-                sqrt(st->field.shear2[p]) * rh->grain_diameter * sqrt(rh->grain_density / pr) >
+                sqrt(shear2[p]) * rh->grain_diameter * sqrt(rh->grain_density / pr) >
                     i_s)
                 r->yielded[(size_t)i * g->n[2] + k] = 1;
         }
     s->volume = vol * g->h[0] * g->h[2];
     s->front99 = volume_front(r->bins, r->nbins, r->bin_ds, VOLUME_SHARE);
     double ke = 0.0;
-    for (int c = 0; c < 3; c += 2) {
+    for (int c = 0; c < 3; c += 2) { /* this block's faces, summed over the ranks */
         const struct box *b = &st->act[c];
         for (int i = b->lo[0]; i < b->hi[0]; i++)
             for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                ptrdiff_t p = grid_idx(g, i, 0, k);
+                ptrdiff_t p = grid_idx(&st->g, i, 0, k);
                 ke += 0.5 * st->field.density_faces[c][p] * st->field.velocity[c][p] *
                       st->field.velocity[c][p];
             }
     }
-    s->kinetic = ke * g->h[0] * g->h[2];
+    s->kinetic = (st->ranks ? march_sum(st, ke) : ke) * g->h[0] * g->h[2];
 }
 
 static int record_step(void *rec, const struct march_state *st)
 {
     struct record *r = rec;
-    const double *T = tracer(st);
-    if (!T || st->step == r->last_step)
+    if (!tracer(st) || st->step == r->last_step)
         return 0;
     if (r->n == r->cap) {
         long c = r->cap ? 2 * r->cap : 1024;
@@ -454,7 +492,7 @@ static int record_step(void *rec, const struct march_state *st)
         r->cap = c;
     }
     struct sample *s = &r->s[r->n++];
-    measure(r, st, T, s);
+    measure(r, st, s);
     r->last_step = st->step;
     if (r->n == 1)
         r->volume0 = s->volume;
@@ -605,10 +643,10 @@ static const struct da_run *da_result(const struct march_state *st)
 /* ---- results and files ---- */
 
 /* The area of the final deposit (T >= 1/2) that never yielded. */
-static double never_yielded(const struct record *r, const struct march_state *st)
+static double never_yielded(struct record *r, const struct march_state *st)
 {
-    const struct grid *g = &st->g;
-    const double *T = tracer(st);
+    const struct grid *g = march_global_grid(st);
+    const double *T = whole_fields(r, st, 0, NULL, NULL); /* deposit.csv's on ranks too */
     double a = 0.0;
     for (int i = 0; i < g->n[0]; i++)
         for (int k = 0; k < g->n[2]; k++)
@@ -621,7 +659,7 @@ static void results(const struct march_state *st, const struct scene_drive *d,
                     struct run_result *res)
 {
     (void)d;
-    const struct record *r = record_of(st);
+    struct record *r = record_of(st);
     if (!r || r->n == 0)
         return;
     const struct sample *s = &r->s[r->n - 1];
@@ -672,12 +710,13 @@ static int write_samples(const char *dir, const char *name, const struct sample 
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
     const struct record *r = record_of(st);
-    const double *T = tracer(st);
+    /* on ranks (rank 0 alone writes) the T results() gathered */
+    const double *T = !r ? NULL : st->ranks ? r->whole[0] : tracer(st);
     if (!r || !T)
         return 0;
     if (write_samples(dir, "slope_release.csv", r->s, r->n, err, errlen) != 0)
         return -1;
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st);
     struct output_file f;
     if (output_open(&f, dir, "deposit.csv", err, errlen) != 0)
         return -1;
@@ -750,10 +789,14 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     st->pressure_gauge = -p->fluid_density * cs->gravity * cs->len[2];
     const struct record *r = record_of(st);
     const struct grid *g = &st->g;
+    const int *lo = st->ranks ? st->ranks->dc.lo : (const int[3]){0, 0, 0};
+    const int nz = march_global_grid(st)->n[2];
     for (int i = 0; i < g->n[0]; i++)
-        for (int k = 0; k < g->n[2]; k++)
+        for (int k = 0; k < g->n[2]; k++) {
+            const int I = lo[0] + i, K = lo[2] + k; /* the whole grid's cell */
             T[grid_idx(g, i, 0, k)] =
-                r->solid[(size_t)i * g->n[2] + k] ? 0.0 : column_fraction(&r->bed, p, g, i, k);
+                r->solid[(size_t)I * nz + K] ? 0.0 : column_fraction(&r->bed, p, g, I, K);
+        }
     return two_phase_tracer_changed(st, err, errlen);
 }
 
@@ -777,4 +820,5 @@ const struct scene scene_slope_release = {
     .results = results,
     .write = write,
     .files = slope_files,
+    .decomposed = scene_decomposed_always, /* its measures on the gathered fields */
 };

@@ -1,5 +1,6 @@
 /* Geometric multigrid of the implicit viscous step (velocity_mg.h). */
 #include "solvers/velocity_mg.h"
+#include "solvers/velocity_mg_internal.h"
 #include "kernels/kernels.h"
 #include "kernels/mac_transfer.h"
 #include "kernels/patch_smoother.h"
@@ -11,68 +12,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_LEVELS 24
-/* A decomposed hierarchy keeps a level on the ranks while the global level
- * above it has more cells than this, the pressure multigrid's threshold
- * (multigrid_internal.h: MG_GATHER_CELLS); the last kept is gathered. */
-#define GATHER_CELLS 4096
-
-struct mg_level {
-    struct grid g;
-    struct boundary bc;          /* the case's conditions, dc this level's blocks */
-    struct decomp dc;            /* this level's blocks (decomposed hierarchy) */
-    int split;                   /* some side of this rank's block is a rank border */
-    int f[3];                    /* halved from the finer level along d: 2, else 1 */
-    int periodic[3];
-    struct box act[3];
-    int lines[3], nlines;        /* the line directions: bounded, two cells or more */
-    /* coefficients this level owns (the finest reads the caller's) */
-    double *A_cell[3], *A_edge[3], *mass_face[3], *aug;
-    struct viscous_problem pb;   /* the symmetric operator of this level */
-    /* a body's held nodes: the caller's on the finest level, else carried down */
-    struct embedded emb;
-    unsigned char *held[3];      /* 1 at a held node (NULL: no body) */
-    struct viscous_work work;
-    struct own_stencil st[3];
-    double *x[3], *b[3], *r[3], *d[3];
-    struct line_factors lf[3][3]; /* per component, per line direction */
-    double *pw[3][3];            /* the prolongation's weights to the next coarser level,
-                                    per component and direction (kernel_prolong_weights) */
-    struct sparse_direct *direct; /* the coarsest level's factorisation */
-    /* the edge patches' factors per plane normal (kernels/patch_smoother.h),
-     * with the augmentation; NULL: the plane carries none */
-    double *patch[3];
-    int patch_on;
-};
-
-/* The gathered level of a decomposed hierarchy: the global grid of the last
- * level kept on the ranks, its coefficients, right-hand side and solution
- * gathered on every rank, and the serial hierarchy that cycles it. */
-struct gathered {
-    struct grid gg;
-    struct boundary bc;          /* the case's, no decomposition */
-    double *A_cell[3], *A_edge[3], *mass_face[3];
-    double *aug;                 /* the grad-div augmentation's (NULL: none yet) */
-    double *b[3], *x[3];
-    double *scratch;             /* decomp_gather's */
-    struct velocity_mg *serial;
-};
-
-struct velocity_mg {
-    const struct boundary *bc;
-    struct velocity_mg_options opt;
-    struct gathered *gath;       /* NULL: one process holds the grid */
-    double *edge0[3];            /* decomposed: the finest edges, ghosts exchanged */
-    int nlevels;
-    struct mg_level lv[MAX_LEVELS];
-    int nthreads;
-    int has_body;
-    /* the components this cycle leaves out (bit c): a component along a
-     * periodic direction of one cell is coupled to no other (every
-     * derivative along it vanishes), and when its part of the right-hand
-     * side is 0 so is its solution (a flow in a plane: the component across) */
-    int skip;
-};
 
 void velocity_mg_default_options(struct velocity_mg_options *o)
 {
@@ -93,13 +32,6 @@ static int coarsening(const struct grid *g, int f[3])
     return any;
 }
 
-static size_t box_size(const struct box *b)
-{
-    size_t s = 1;
-    for (int d = 0; d < 3; d++)
-        s *= (size_t)(b->hi[d] > b->lo[d] ? b->hi[d] - b->lo[d] : 0);
-    return s;
-}
 
 static void level_free(struct mg_level *l, int finest)
 {
@@ -149,6 +81,10 @@ static void gathered_free(struct gathered *gt)
     }
     field_free(gt->aug);
     free(gt->scratch);
+    for (int c = 0; c < 3; c++) {
+        free(gt->emb.held[c]);
+        free(gt->emb.saved[c]);
+    }
     velocity_mg_destroy(gt->serial);
     free(gt);
 }
@@ -471,73 +407,8 @@ double velocity_mg_memory_estimate(const struct grid *g, const struct boundary *
     return bytes;
 }
 
-/* The held masks and coarse held lists of level l (from level l - 1's). */
-static int carry_body(struct velocity_mg *m, int l, const struct embedded *e)
-{
-    struct mg_level *lv = &m->lv[l];
-    const struct grid *g = &lv->g;
-    if (l == 0) {
-        for (int c = 0; c < 3; c++) {
-            if (!lv->held[c] && !(lv->held[c] = calloc(g->size, 1)))
-                return -1;
-            memset(lv->held[c], 0, g->size);
-            for (long i = 0; i < e->nheld[c]; i++)
-                lv->held[c][e->held[c][i]] = 1;
-        }
-        return 0;
-    }
-    const struct mg_level *fl = &m->lv[l - 1];
-    double *coarse = lv->d[1]; /* work: this level's d is free here */
-    double *fmask = malloc(fl->g.size * sizeof(double));
-    if (!fmask)
-        return -1;
-    int ok = 1;
-    for (int c = 0; c < 3 && ok; c++) {
-        for (size_t p = 0; p < fl->g.size; p++)
-            fmask[p] = fl->held[c][p];
-        kernel_coarsen_faces(&fl->g, g, lv->f, c, fmask, coarse);
-        if (!lv->held[c] && !(lv->held[c] = calloc(g->size, 1))) {
-            ok = 0;
-            break;
-        }
-        memset(lv->held[c], 0, g->size);
-        long n = 0;
-        const struct box *b = &lv->act[c];
-        for (int i = b->lo[0]; i < b->hi[0]; i++)
-            for (int j = b->lo[1]; j < b->hi[1]; j++)
-                for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                    ptrdiff_t p = grid_idx(g, i, j, k);
-                    if (coarse[p] >= 0.5) {
-                        lv->held[c][p] = 1;
-                        n++;
-                    }
-                }
-        free(lv->emb.held[c]);
-        free(lv->emb.saved[c]);
-        lv->emb.held[c] = malloc((size_t)(n > 0 ? n : 1) * sizeof(ptrdiff_t));
-        lv->emb.saved[c] = malloc((size_t)(n > 0 ? n : 1) * sizeof(double));
-        if (!lv->emb.held[c] || !lv->emb.saved[c]) {
-            ok = 0;
-            break;
-        }
-        lv->emb.nheld[c] = 0;
-        for (size_t p = 0; p < g->size; p++)
-            if (lv->held[c][p])
-                lv->emb.held[c][lv->emb.nheld[c]++] = (ptrdiff_t)p;
-        memset(coarse, 0, g->size * sizeof(double));
-    }
-    free(fmask);
-    return ok ? 0 : -1;
-}
 
-/* The ghosts of a level's field across its rank borders, every direction
- * (nothing on one process). */
-static void exchange_ghosts(const struct mg_level *lv, double *f)
-{
-    for (int d = 0; lv->split && d < 3; d++)
-        if (bc_split(&lv->bc, d))
-            decomp_exchange(&lv->dc, &lv->g, f, d);
-}
+
 
 /* Level l's coefficients from level l - 1's. */
 static int carry_coefficients(struct velocity_mg *m, int l)
@@ -557,7 +428,7 @@ static int carry_coefficients(struct velocity_mg *m, int l)
         bc_fill_scalar(g, &lv->bc, lv->A_cell[c]);
         pb->A_cell[c] = lv->A_cell[c];
         kernel_coarsen_edges(&fl->g, g, lv->f, c, fp->A_edge[c], lv->A_edge[c]);
-        exchange_ghosts(lv, lv->A_edge[c]);
+        vmg_exchange_ghosts(lv, lv->A_edge[c]);
         pb->A_edge[c] = lv->A_edge[c];
         if (fp->mass_face[c]) {
             if (!lv->mass_face[c] && !(lv->mass_face[c] = field_alloc(g)))
@@ -583,7 +454,7 @@ static void level_stencils(const struct velocity_mg *m, struct mg_level *lv)
 {
     const struct viscous_problem *pb = &lv->pb;
     for (int c = 0; c < 3; c++) {
-        if (box_size(&lv->act[c]) == 0)
+        if (vmg_box_size(&lv->act[c]) == 0)
             continue;
         struct stencil_coefficients k = {.mass_face = pb->mass_face[c], .mass = pb->mass,
                                          .aug = pb->augmentation, .e = pb->embedded,
@@ -641,7 +512,7 @@ static int finest_edges(struct velocity_mg *m, struct viscous_problem *fp)
         if (!m->edge0[a] && !(m->edge0[a] = field_alloc(&lv->g)))
             return -1;
         memcpy(m->edge0[a], fp->A_edge[a], lv->g.size * sizeof(double));
-        exchange_ghosts(lv, m->edge0[a]);
+        vmg_exchange_ghosts(lv, m->edge0[a]);
         fp->A_edge[a] = m->edge0[a];
     }
     return 0;
@@ -674,6 +545,7 @@ static void border_weights(struct mg_level *lv, const int f[3])
     }
 }
 
+
 /* The gathered level's operator: the last decomposed level's coefficients
  * gathered on every rank, the serial hierarchy set up on them. */
 static int gathered_setup(struct velocity_mg *m, char *err, size_t errlen)
@@ -704,6 +576,11 @@ static int gathered_setup(struct velocity_mg *m, char *err, size_t errlen)
         bc_fill_scalar(&gt->gg, &gt->bc, gt->aug);
         gp.augmentation = gt->aug;
     }
+    if (m->has_body && vmg_gathered_body(m, lv) != 0) {
+        snprintf(err, errlen, "velocity multigrid: out of memory");
+        return -1;
+    }
+    gp.embedded = m->has_body ? &gt->emb : NULL;
     return velocity_mg_setup(gt->serial, &gp, err, errlen);
 }
 
@@ -726,8 +603,9 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
         fp->sym_cell[a] = fp->sym_edge[a] = NULL;
     }
     m->has_body = pb->embedded != NULL;
-    if (m->gath && m->has_body) {
-        snprintf(err, errlen, "velocity multigrid: a body on MPI ranks is not supported yet");
+    if (m->gath && m->has_body && pb->augmentation) { /* gather_finest's level: no cut cells */
+        snprintf(err, errlen, "velocity multigrid: a body with the grad-div augmentation on "
+                              "MPI ranks is not supported");
         return -1;
     }
     if (m->gath && pb->augmentation && m->nlevels > 1 && gather_finest(m, err, errlen) != 0)
@@ -742,7 +620,7 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
             return -1;
         }
         if (m->has_body) {
-            if (carry_body(m, l, pb->embedded) != 0) {
+            if (vmg_carry_body(m, l, pb->embedded) != 0) {
                 snprintf(err, errlen, "velocity multigrid: out of memory");
                 return -1;
             }
@@ -758,7 +636,7 @@ int velocity_mg_setup(struct velocity_mg *m, const struct viscous_problem *pb, c
     for (int l = 0; l + 1 < m->nlevels; l++) {
         struct mg_level *lv = &m->lv[l];
         for (int c = 0; c < 3; c++)
-            if (box_size(&lv->act[c]) > 0)
+            if (vmg_box_size(&lv->act[c]) > 0)
                 kernel_prolong_weights(&lv->g, &lv->bc, m->lv[l + 1].f, c, &lv->act[c],
                                        lv->pb.A_cell, lv->pb.A_edge, lv->pb.augmentation,
                                        lv->patch_on ? 2 : 0, lv->pw[c]);
@@ -803,7 +681,7 @@ static void smooth_lines(struct velocity_mg *m, struct mg_level *lv, int reverse
     for (int t = 0; t < 3; t++) {
         const int c = reverse ? 2 - t : t;
         const struct box *b = &lv->act[c];
-        if ((box_size(b) == 0 && !lv->split) || (m->skip >> c & 1))
+        if ((vmg_box_size(b) == 0 && !lv->split) || (m->skip >> c & 1))
             continue; /* split: the rows' fills are every rank's exchanges */
         viscous_operator_rows(g, &lv->bc, lv->act, &lv->work, &lv->pb, c, lv->x, lv->r);
         double *r = lv->r[c], *bb = lv->b[c], *d = lv->d[c], *x = lv->x[c];
@@ -897,7 +775,7 @@ static void cycle(struct velocity_mg *m, int l)
     for (int c = 0; c < 3; c++) {
         /* split: every rank takes part in the exchange, a block without
          * coarse unknowns of c too (its fine nodes may scatter past it) */
-        if ((box_size(&cl->act[c]) == 0 && !cl->split) || (m->skip >> c & 1))
+        if ((vmg_box_size(&cl->act[c]) == 0 && !cl->split) || (m->skip >> c & 1))
             continue;
         kernel_restrict_velocity(g, &cl->g, &cl->bc, cl->f, c, &lv->act[c], &cl->act[c],
                                  lv->pw[c], lv->r[c], cl->b[c]);
@@ -929,7 +807,7 @@ static void cycle(struct velocity_mg *m, int l)
     if (cl->split) /* the coarse nodes past a rank border */
         bc_fill_velocity_homogeneous(&cl->g, &cl->bc, cl->x);
     for (int c = 0; c < 3; c++)
-        if (box_size(&lv->act[c]) > 0 && !(m->skip >> c & 1))
+        if (vmg_box_size(&lv->act[c]) > 0 && !(m->skip >> c & 1))
             kernel_prolong_velocity(g, &cl->g, &cl->bc, cl->f, c, &lv->act[c], &cl->act[c],
                                     lv->pw[c], cl->x[c], lv->x[c]);
     for (int s = 0; s < m->opt.post; s++)
