@@ -58,6 +58,9 @@ double decomp_max(const struct decomp *dc, double v);
 /* The n values of v summed over the ranks of dc, in place (nothing when dc
  * is NULL). */
 void decomp_sum_array(const struct decomp *dc, double *v, int n);
+/* The n values of v maximised over the ranks of dc, in place (nothing when
+ * dc is NULL); no NaN among them (MPI's maximum of a NaN is undefined). */
+void decomp_max_array(const struct decomp *dc, double *v, int n);
 
 /* 1 when some side is a rank border. */
 int decomp_split(const struct decomp *dc);

@@ -209,10 +209,12 @@ struct march_setup {
 };
 
 /* Over the ranks of the run (the value itself on one process): a sum, a
- * maximum (a NaN on any rank is everyone's), n sums in place.  Collective. */
+ * maximum (a NaN on any rank is everyone's), n sums in place, n maxima in
+ * place (of values that are no NaN).  Collective. */
 double march_sum(const struct march_state *st, double v);
 double march_max(const struct march_state *st, double v);
 void march_sum_array(const struct march_state *st, double *v, int n);
+void march_max_array(const struct march_state *st, double *v, int n);
 /* The whole domain's grid: st->g, or the global grid of a decomposed run. */
 const struct grid *march_global_grid(const struct march_state *st);
 

@@ -49,10 +49,13 @@ double bed_viscosity(const struct bed_params *p, const struct rheology *r, doubl
  * *deta. */
 typedef double (*bed_law)(const void *ctx, double z, double dz, double shear, double *deta);
 
-/* Where bed_fill_viscosities writes; a NULL array is not written. */
+/* Where bed_fill_viscosities writes; a NULL array is not written; k0: the
+ * global index of the grid's first layer (a rank's block split along z:
+ * its heights are the domain's). */
 struct bed_viscosity_out {
     double *eta_c, *tan_c[3], *b_c;    /* cells */
     double *eta_e[3], *tan_e[3], *b_e[3]; /* edges of plane c */
+    int k0;
 };
 
 /* The law at every interior cell (|D| = sqrt(shear2), NULL: 0) and every

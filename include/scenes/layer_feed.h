@@ -58,6 +58,13 @@ double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf
  * step. */
 void layer_feed_hold(struct march_state *st, const struct layer_feed *lf);
 
+/* The column heights h[i] = sum T dz (over k, and y's mean) of the whole
+ * domain's columns (the global grid's n[0]), and with flux the grains'
+ * fluxes h[n[0] + i] = sum_k T u dz (u the mean of the cell's two x faces,
+ * y = 0: domain.ny = 1): this rank's part of each column summed over the
+ * ranks, the same on every rank.  Collective. */
+void layer_columns(const struct march_state *st, const double *T, double *h, int flux);
+
 /* The last x, from downstream, where the column heights h (at the centres
  * (i + 1/2) dx) reach level; linear between the centres; 0 if none does. */
 double layer_crossing(const double *h, int n, double dx, double level);

@@ -92,6 +92,12 @@ void decomp_sum_array(const struct decomp *dc, double *v, int n)
         comm_sum(v, n);
 }
 
+void decomp_max_array(const struct decomp *dc, double *v, int n)
+{
+    if (dc && dc->cart->size > 1)
+        comm_max(v, n);
+}
+
 double decomp_max(const struct decomp *dc, double v)
 {
     if (!dc || dc->cart->size <= 1)

@@ -36,6 +36,11 @@ void march_sum_array(const struct march_state *st, double *v, int n)
     decomp_sum_array(st->bc.dc, v, n);
 }
 
+void march_max_array(const struct march_state *st, double *v, int n)
+{
+    decomp_max_array(st->bc.dc, v, n);
+}
+
 const struct grid *march_global_grid(const struct march_state *st)
 {
     return st->ranks ? &st->ranks->global : &st->g;

@@ -94,7 +94,7 @@ void bed_fill_viscosities(const struct grid *g, bed_law law, const void *ctx,
             for (int k = 0; k < g->n[2]; k++) {
                 ptrdiff_t q = grid_idx(g, i, j, k);
                 double D = shear2 ? sqrt(shear2[q]) : 0.0, de;
-                double eta = law(ctx, (k + 0.5) * dz, dz, D, &de);
+                double eta = law(ctx, (out->k0 + k + 0.5) * dz, dz, D, &de);
                 out->eta_c[q] = eta;
                 if (out->b_c)
                     out->b_c[q] = D > 0.0 ? de / (2.0 * D) : 0.0;
@@ -113,7 +113,7 @@ void bed_fill_viscosities(const struct grid *g, bed_law law, const void *ctx,
                     ptrdiff_t e = grid_idx(g, i, j, k);
                     double own = cn2 ? e2[c][e] : 0.0;
                     double D = cn2 ? sqrt(kernel_edge_shear2(g, cn2, e2, c, e)) : 0.0, de;
-                    double z = c == 2 ? (k + 0.5) * dz : k * dz;
+                    double z = c == 2 ? (out->k0 + k + 0.5) * dz : (out->k0 + k) * dz;
                     double eta = law(ctx, z, dz, D, &de);
                     out->eta_e[c][e] = eta;
                     if (out->tan_e[c])
@@ -145,7 +145,8 @@ static void properties(struct march_state *st, void *state)
     const struct bed_law_ctx l = {&bd->p, &cs->rheo};
     /* cells: |D| is the core's shear2; the tangent coefficients are those of
      * kernel_viscosity_cells with this law's eta and slope */
-    struct bed_viscosity_out out = {.eta_c = st->field.viscosity, .b_c = st->b_c};
+    struct bed_viscosity_out out = {.eta_c = st->field.viscosity, .b_c = st->b_c,
+                                    .k0 = st->ranks ? st->ranks->dc.lo[2] : 0};
     for (int a = 0; a < 3; a++) {
         out.tan_c[a] = cs->newton ? st->field.tangent_cells[a] : NULL;
         out.eta_e[a] = st->field.viscosity_edges[a];
@@ -165,5 +166,5 @@ const struct module bed_module = {
     .create = create,
     .properties = properties,
     .destroy = destroy,
-    .decomposed = 1, /* per cell, by the height z (not split) */
+    .decomposed = 1, /* per cell, by the height z of the domain */
 };

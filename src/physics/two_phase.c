@@ -449,7 +449,10 @@ static void properties(struct march_state *st, void *state)
     const double rg = cs->density;
     bc_fill_scalar(g, &st->bc, tp->T);
     int series = tp->p.edges == EDGES_SERIES;
-    int bed = tp->p.bed_pressure && st->bc.face[2][0] == BC_WALL && !g->axis[2];
+    /* the bed's layer: the first of the block at the domain's foot (a rank
+     * border below is no bed) */
+    int bed = tp->p.bed_pressure && st->bc.face[2][0] == BC_WALL && !g->axis[2] &&
+              !bc_border(&st->bc, 2, 0);
     if (series && tp->edges_stale)
         edge_fractions(tp, g, &st->bc);
     const ptrdiff_t *o = g->stride;

@@ -261,15 +261,17 @@ static int setup(struct march_state *st, char *err, size_t errlen)
         return -1;
     const struct grid *g = &st->g;
     double h = g->h[2];
+    const int k0 = scene_block_lo(st, 2); /* this rank's first layer */
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++)
-                T[grid_idx(g, i, j, k)] = layer_fraction(b->interface_height, k, h);
+                T[grid_idx(g, i, j, k)] = layer_fraction(b->interface_height, k0 + k, h);
     if (b->start == START_EXACT)
         for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
             for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
                 for (int k = 0; k < g->n[2]; k++)
-                    st->field.velocity[0][grid_idx(g, i, j, k)] = bagnold2_u(st->cs, (k + 0.5) * h);
+                    st->field.velocity[0][grid_idx(g, i, j, k)] =
+                        bagnold2_u(st->cs, (k0 + k + 0.5) * h);
     /* the stream function of each x-z plane, in the grains (sin^2(pi z / h0)
      * below the interface, 0 above: the air starts unperturbed), every
      * wavelength of the grid seeded, so which one grows fastest is measured,
@@ -377,47 +379,78 @@ static struct growth_record *record_of(const struct march_state *st)
     return march_module_state(st, &growth_module);
 }
 
+/* The means along x of u, w and p over each row (j, k) of the domain
+ * (rows[3][ny nz], global rows): this rank's part of each, summed over the
+ * ranks.  Collective. */
+static void row_means(const struct march_state *st, double *rows[3])
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int j0 = scene_block_lo(st, 1), k0 = scene_block_lo(st, 2), nrow = G->n[1] * G->n[2];
+    const double *v[3] = {st->field.velocity[0], st->field.velocity[2], st->field.pressure};
+    for (int a = 0; a < 3; a++)
+        for (int r = 0; r < nrow; r++)
+            rows[a][r] = 0.0;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++)
+            for (int a = 0; a < 3; a++) {
+                double *s = &rows[a][(j0 + j) * G->n[2] + k0 + k];
+                for (int i = 0; i < g->n[0]; i++)
+                    *s += v[a][grid_idx(g, i, j, k)];
+            }
+    if (st->ranks)
+        march_sum_array(st, rows[0], 3 * nrow);
+    for (int a = 0; a < 3; a++)
+        for (int r = 0; r < nrow; r++)
+            rows[a][r] /= G->n[0];
+}
+
 /* The amplitudes of the departure from a flow uniform along x, in the
  * grains (T >= 1/2, a face: the mean of its two cells):
  *   au  the largest |v - <v>_x| over the grains' x and z faces, <v>_x the
  *       mean of the velocity component v over its row of faces (a uniform
  *       flow has au = 0: u depends on z only, w = 0);
  *   ap  the largest |p - <p>_x| over the grains' cells, p the total pressure
- *       (hydrostatic while the layer is uniform, so <p>_x is p_hydrostatic). */
+ *       (hydrostatic while the layer is uniform, so <p>_x is p_hydrostatic).
+ * Over ranks: the rows' means and the maxima over every rank's faces (a
+ * face on a rank border reads the cell across it in the ghost).  Collective. */
 void bagnold2_amplitudes(const struct march_state *st, double *au, double *ap)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *G = march_global_grid(st);
     int t = fields_find(&st->fields, "tracer");
     *au = *ap = NAN;
     if (t < 0)
         return;
     const double *T = st->fields.e[t].v[0];
-    double mu = 0.0, mp = 0.0;
-    int nx = g->n[0];
+    const int nrow = G->n[1] * G->n[2], j0 = scene_block_lo(st, 1), k0 = scene_block_lo(st, 2);
+    double *buf = malloc(3 * (size_t)nrow * sizeof *buf);
+    if (!buf)
+        return;
+    double *rows[3] = {buf, buf + nrow, buf + 2 * (size_t)nrow};
+    row_means(st, rows);
+    double m[2] = {0.0, 0.0};
+    int nx = g->n[0], split = nx != G->n[0];
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
-            double su = 0.0, sw = 0.0, sp = 0.0;
-            for (int i = 0; i < nx; i++) {
-                su += st->field.velocity[0][grid_idx(g, i, j, k)];
-                sw += st->field.velocity[2][grid_idx(g, i, j, k)];
-                sp += st->field.pressure[grid_idx(g, i, j, k)];
-            }
-            su /= nx;
-            sw /= nx;
-            sp /= nx;
+            const int r = (j0 + j) * G->n[2] + k0 + k;
+            const double su = rows[0][r], sw = rows[1][r], sp = rows[2][r];
             for (int i = 0; i < nx; i++) {
                 double tc = T[grid_idx(g, i, j, k)];
-                double tx = 0.5 * (tc + T[grid_idx(g, (i + nx - 1) % nx, j, k)]);
+                /* the cell before along the periodic x: a rank border's ghost */
+                int im = i > 0 ? i - 1 : split ? -1 : nx - 1;
+                double tx = 0.5 * (tc + T[grid_idx(g, im, j, k)]);
                 if (tx >= 0.5)
-                    mu = fmax(mu, fabs(st->field.velocity[0][grid_idx(g, i, j, k)] - su));
-                if (k > 0 && 0.5 * (tc + T[grid_idx(g, i, j, k - 1)]) >= 0.5)
-                    mu = fmax(mu, fabs(st->field.velocity[2][grid_idx(g, i, j, k)] - sw));
+                    m[0] = fmax(m[0], fabs(st->field.velocity[0][grid_idx(g, i, j, k)] - su));
+                if (k0 + k > 0 && 0.5 * (tc + T[grid_idx(g, i, j, k - 1)]) >= 0.5)
+                    m[0] = fmax(m[0], fabs(st->field.velocity[2][grid_idx(g, i, j, k)] - sw));
                 if (tc >= 0.5)
-                    mp = fmax(mp, fabs(st->field.pressure[grid_idx(g, i, j, k)] - sp));
+                    m[1] = fmax(m[1], fabs(st->field.pressure[grid_idx(g, i, j, k)] - sp));
             }
         }
-    *au = mu;
-    *ap = mp;
+    free(buf);
+    if (st->ranks)
+        march_max_array(st, m, 2);
+    *au = m[0];
+    *ap = m[1];
 }
 
 static int record_step(void *rec, const struct march_state *st)
@@ -552,10 +585,11 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "u_interface", "%.10g", ui);
     run_result_add(res, "u_interface_exact", "%.10g", ui_exact);
     /* the grains' volume against the initial flat layer's */
+    const struct grid *G = march_global_grid(st);
     double v0 = 0.0;
-    for (int k = 0; k < st->g.n[2]; k++)
-        v0 += layer_fraction(h0, k, st->g.h[2]);
-    v0 *= (double)st->g.n[0] * st->g.n[1];
+    for (int k = 0; k < G->n[2]; k++)
+        v0 += layer_fraction(h0, k, G->h[2]);
+    v0 *= (double)G->n[0] * G->n[1];
     run_result_add(res, "mass_error", "%.6e", two_phase_volume(st) / v0 - 1.0);
     const struct growth_record *r = record_of(st);
     if (r && r->n >= 3) {
@@ -613,6 +647,7 @@ const struct scene scene_bagnold2 = {
     .modules = bagnold2_modules,
     .check = check,
     .setup = setup,
+    .decomposed = scene_decomposed_always,
     .profile_axis = 2,
     .profile_component = 0,
     .exact_profile = exact_profile,

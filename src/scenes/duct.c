@@ -142,21 +142,84 @@ static double column_u(const struct march_state *st, int j, int k)
     return s / g->n[0];
 }
 
+/* The largest u of the cross-section, over the ranks.  Collective. */
 static double largest_u(const struct march_state *st)
 {
     double m = 0.0;
     for (int j = 0; j < st->g.n[1]; j++)
         for (int k = 0; k < st->g.n[2]; k++)
             m = fmax(m, column_u(st, j, k));
-    return m;
+    return march_max(st, m);
 }
 
-/* The mid-plane's velocity on the symmetry plane itself, layer k: zero
- * slope in y there, from the last two columns. */
-static double symmetry_u(const struct march_state *st, int k)
+/* The mid-plane's columns of the last measure, every rank's alike, for
+ * rank 0's midplane.csv: per layer of the domain, u of the last column
+ * (y = W/2 - dy/2) and on the symmetry plane itself (zero slope in y
+ * there, from the last two columns). */
+struct midplane {
+    double *column, *symmetry; /* nz each */
+    int measured;
+};
+
+static int midplane_create(struct march_state *st, void **state, char *err, size_t errlen)
 {
-    int n = st->g.n[1];
-    return profile_zero_slope_end(column_u(st, n - 1, k), column_u(st, n - 2, k));
+    struct midplane *m = calloc(1, sizeof *m);
+    const int nz = march_global_grid(st)->n[2];
+    if (m && !(m->column = malloc(2 * (size_t)nz * sizeof *m->column))) {
+        free(m);
+        m = NULL;
+    }
+    if (!m) {
+        snprintf(err, errlen, "duct: out of memory");
+        return -1;
+    }
+    m->symmetry = m->column + nz;
+    *state = m;
+    return 0;
+}
+
+static void midplane_destroy(void *state)
+{
+    struct midplane *m = state;
+    if (m)
+        free(m->column);
+    free(m);
+}
+
+static const struct module midplane_module = {
+    .name = "duct_midplane",
+    .create = midplane_create,
+    .destroy = midplane_destroy,
+    .decomposed = 1,
+};
+
+/* The mid-plane's columns of this state (struct midplane): the last two
+ * columns of the domain (global j = ny - 1, ny - 2) from the ranks that
+ * hold them, summed over the ranks.  Collective. */
+static void midplane_measure(const struct march_state *st, struct midplane *m)
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int nz = G->n[2], j0 = scene_block_lo(st, 1), k0 = scene_block_lo(st, 2);
+    double *before = malloc((size_t)nz * sizeof *before);
+    if (!before)
+        return; /* not measured: midplane.csv says so */
+    for (int k = 0; k < nz; k++)
+        m->column[k] = before[k] = 0.0;
+    for (int j = 0; j < g->n[1]; j++)
+        for (int k = 0; k < g->n[2]; k++) {
+            if (j0 + j == G->n[1] - 1)
+                m->column[k0 + k] = column_u(st, j, k);
+            else if (j0 + j == G->n[1] - 2)
+                before[k0 + k] = column_u(st, j, k);
+        }
+    if (st->ranks) {
+        march_sum_array(st, m->column, nz);
+        march_sum_array(st, before, nz);
+    }
+    for (int k = 0; k < nz; k++)
+        m->symmetry[k] = profile_zero_slope_end(m->column[k], before[k]);
+    free(before);
+    m->measured = 1;
 }
 
 static void errors(const struct march_state *st, const struct profile *pr, struct scene_errors *e)
@@ -209,9 +272,9 @@ struct duct_measures {
 static void measure(const struct march_state *st, struct duct_measures *m)
 {
     const struct muflow_case *cs = st->cs;
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *G = march_global_grid(st);
     struct bedload_exact x = bedload_exact_of(cs, params(cs));
-    double W = 2.0 * g->len[1], D = g->len[2];
+    double W = 2.0 * G->len[1], D = G->len[2];
     /* the flow rate: with a body (the circular duct) each x-face weighted
      * by its open share, the rest of its cell being wall; the area sampled */
     const double *share = st->embedded ? st->embedded->share[0] : NULL;
@@ -219,7 +282,7 @@ static void measure(const struct march_state *st, struct duct_measures *m)
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++)
             m->q_half += (share ? share[grid_idx(g, 0, j, k)] : 1.0) * column_u(st, j, k);
-    m->q_half *= g->h[1] * g->h[2];
+    m->q_half = march_sum(st, m->q_half) * (g->h[1] * g->h[2]);
     m->q = 2.0 * m->q_half;
     m->area = share ? 2.0 * open_area(st) : W * D;
     /* the plane channel of the duct's height D: its flow rate over the
@@ -227,21 +290,22 @@ static void measure(const struct march_state *st, struct duct_measures *m)
     m->q_plane = bedload_exact_flow_rate(&x) * W;
     m->mean = m->q / m->area;
     m->mean_plane = m->q_plane / (W * D);
-    int n = g->n[2];
-    double *z = malloc((size_t)n * sizeof *z), *u = malloc((size_t)n * sizeof *u);
+    int n = G->n[2];
+    struct midplane *mp = march_module_state(st, &midplane_module);
+    double *z = malloc((size_t)n * sizeof *z);
     m->mobile = m->u_sym_max = NAN;
-    if (z && u) {
+    if (mp)
+        midplane_measure(st, mp);
+    if (z && mp && mp->measured) {
         double umax = 0.0;
         for (int k = 0; k < n; k++) {
-            z[k] = (k + 0.5) * g->h[2];
-            u[k] = symmetry_u(st, k);
-            umax = fmax(umax, u[k]);
+            z[k] = (k + 0.5) * G->h[2];
+            umax = fmax(umax, mp->symmetry[k]);
         }
         m->u_sym_max = umax;
-        m->mobile = params(cs)->bed_height - bedload_bed_top(n, z, u, umax);
+        m->mobile = params(cs)->bed_height - bedload_bed_top(n, z, mp->symmetry, umax);
     }
     free(z);
-    free(u);
     m->mobile_plane = x.delta * x.D;
     /* v and w vanish for the unidirectional flow: their largest size
      * relative to the largest u */
@@ -253,6 +317,7 @@ static void measure(const struct march_state *st, struct duct_measures *m)
                 for (int k = b->lo[2]; k < b->hi[2]; k++)
                     s = fmax(s, fabs(st->field.velocity[c][grid_idx(g, i, j, k)]));
     }
+    s = march_max(st, s);
     double um = largest_u(st);
     m->secondary = um > 0.0 ? s / um : s;
 }
@@ -300,16 +365,22 @@ static void results(const struct march_state *st, const struct scene_drive *d,
  * channel's exact u. */
 static int write(const char *dir, const struct march_state *st, char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
+    /* the columns results measured (rank 0's alone writes: no collective) */
+    const struct grid *G = march_global_grid(st);
+    const struct midplane *m = march_module_state(st, &midplane_module);
+    if (!m || !m->measured) {
+        snprintf(err, errlen, "midplane.csv: the mid-plane was not measured (out of memory)");
+        return -1;
+    }
     struct output_file f;
     int rc = output_open(&f, dir, "midplane.csv", err, errlen);
     if (rc != 0)
         return rc;
     fprintf(f.f, "z,u_column,u_symmetry,u_plane\n");
-    for (int k = 0; k < g->n[2]; k++) {
-        double z = (k + 0.5) * g->h[2];
-        fprintf(f.f, "%.10g,%.12g,%.12g,%.12g\n", z, column_u(st, g->n[1] - 1, k),
-                symmetry_u(st, k), plane_u(st->cs, z));
+    for (int k = 0; k < G->n[2]; k++) {
+        double z = (k + 0.5) * G->h[2];
+        fprintf(f.f, "%.10g,%.12g,%.12g,%.12g\n", z, m->column[k], m->symmetry[k],
+                plane_u(st->cs, z));
     }
     return output_commit(&f, err, errlen);
 }
@@ -323,8 +394,18 @@ static int along_x(const struct muflow_case *cs)
     return params(cs)->model == BEDLOAD_MIXED;
 }
 
-/* both models' modules: setup configures the one of duct.model, the other idles */
-static const struct module *const duct_modules[] = {&bed_module, &two_fluid_module, NULL};
+/* the mixed model over ranks (bedload's: its bed module per cell, the
+ * measures reduced over them); the two-fluid model's line solves hold
+ * whole planes of one process, the circular duct's body is not decomposed */
+static int decomposed(const struct muflow_case *cs)
+{
+    return params(cs)->model == BEDLOAD_MIXED && !case_obstacle_active(cs);
+}
+
+/* both models' modules: setup configures the one of duct.model, the other
+ * idles; the mid-plane's measures */
+static const struct module *const duct_modules[] = {&bed_module, &two_fluid_module,
+                                                    &midplane_module, NULL};
 
 const struct scene scene_duct = {
     .name = "duct",
@@ -334,6 +415,8 @@ const struct scene scene_duct = {
     .check = check,
     .setup = setup,
     .cross_section_flow = along_x,
+    .decomposed = decomposed,
+    .not_decomposed = "duct.model = two_fluid or an [obstacle] body (the circular duct)",
     .profile_axis = 2,
     .profile_component = 0,
     .profile_slab = midplane,

@@ -234,7 +234,12 @@ static const char *const series_names[NSERIES] = {"t", "x_tip", "x_half", "grain
 
 struct record {
     struct layer_record base; /* the columns S_*, the inflow's layer (the hook's context) */
-    double *h;                /* column heights, work */
+    /* of the last state recorded, every rank's alike (the ranks' parts
+     * reduced, so that rank 0 writes them alone): the heights h(x) and the
+     * T = 1/2 contour's height of each column of the domain (nx each), the
+     * mean u of the columns behind the front at each layer (nz; NaN
+     * without such a column) */
+    double *h, *contour, *behind;
     struct da_front f;        /* the exact front (setup makes sure there is one) */
     /* the depth-averaged front over the precursor at da_time: da_n depths
      * on cells of da_dx, its x_half (da_reference) */
@@ -245,14 +250,22 @@ struct record {
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
     struct record *r = calloc(1, sizeof *r);
-    if (r)
-        r->h = malloc((size_t)st->g.n[0] * sizeof *r->h);
-    if (!r || !r->h) {
+    const struct grid *G = march_global_grid(st);
+    if (r) {
+        r->h = malloc(2 * (size_t)G->n[0] * sizeof *r->h);
+        r->behind = malloc((size_t)G->n[2] * sizeof *r->behind);
+    }
+    if (!r || !r->h || !r->behind) {
+        if (r) {
+            free(r->h);
+            free(r->behind);
+        }
         free(r);
         snprintf(err, errlen, "front: out of memory");
         return -1;
     }
     layer_series_init(&r->base.s, NSERIES, series_names);
+    r->contour = r->h + G->n[0];
     front_exact(st->cs, &r->f);
     r->da_time = NAN;
     r->base.feed = feed_of(st->cs);
@@ -266,6 +279,7 @@ static void destroy(void *state)
     if (r) {
         layer_series_free(&r->base.s);
         free(r->h);
+        free(r->behind);
         free(r->da_h);
     }
     free(r);
@@ -333,24 +347,88 @@ static double nose_error(const struct muflow_case *cs, const struct da_front *f,
     return max;
 }
 
+static int column_behind(const struct da_front *f, const struct grid *g, int i, double x_half)
+{
+    double x = (i + 0.5) * g->h[0];
+    return x > BEHIND_SKIP * f->h_inf &&
+           da_front_depth(f, exact_xi(f, x, x_half)) >= BEHIND_SHARE * f->h_inf;
+}
+
+/* The mean u of the columns behind the front at each layer k (u[nz] of the
+ * domain), the columns' count: each rank's columns (global i from 1) at
+ * their global layers, summed over the ranks.  Collective. */
+static int behind_profile(const struct march_state *st, const struct da_front *f, double x_half,
+                          double *u)
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int i0 = scene_block_lo(st, 0), k0 = scene_block_lo(st, 2);
+    int count = 0;
+    for (int k = 0; k < G->n[2]; k++)
+        u[k] = 0.0;
+    for (int i = 1; i < G->n[0]; i++)
+        count += column_behind(f, G, i, x_half);
+    for (int i = i0 ? 0 : 1; i < g->n[0]; i++) {
+        if (!column_behind(f, G, i0 + i, x_half))
+            continue;
+        for (int k = 0; k < g->n[2]; k++)
+            u[k0 + k] += 0.5 * (st->field.velocity[0][grid_idx(g, i, 0, k)] +
+                                st->field.velocity[0][grid_idx(g, i + 1, 0, k)]);
+    }
+    if (st->ranks)
+        march_sum_array(st, u, G->n[2]);
+    for (int k = 0; k < G->n[2]; k++)
+        u[k] = count ? u[k] / count : NAN;
+    return count;
+}
+
+/* The height of each column's T = 1/2 contour (c[nx] of the domain): from
+ * the top down, the first cell at T >= 1/2, linear between its centre and
+ * the one above (beside the integrated depth, it tells the VOF's smearing
+ * from the shape); 0 without one.  A rank's topmost such cell whose
+ * neighbour above (a rank border's ghost) is at T >= 1/2 too gives no
+ * crossing: it is a rank's above; the ranks' largest.  Collective. */
+static void column_contours(const struct march_state *st, const double *T, double *c)
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int i0 = scene_block_lo(st, 0), k0 = scene_block_lo(st, 2);
+    for (int i = 0; i < G->n[0]; i++)
+        c[i] = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int k = g->n[2] - 1; k >= 0; k--) {
+            double t = T[grid_idx(g, i, 0, k)];
+            if (t < 0.5)
+                continue;
+            double above = k0 + k + 1 < G->n[2] ? T[grid_idx(g, i, 0, k + 1)] : 0.0;
+            if (above < 0.5)
+                c[i0 + i] = (k0 + k + 0.5 + (t - 0.5) / (t - above)) * g->h[2];
+            break;
+        }
+    if (st->ranks)
+        march_max_array(st, c, G->n[0]);
+}
+
 static int record_step(void *rec, const struct march_state *st)
 {
     struct record *r = rec;
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
+    /* the columns of this state, on every rank (the write's, rank 0's) */
+    const struct grid *g = march_global_grid(st);
+    double hi = r->f.h_inf, vol = 0.0, mx, **v = r->base.s.v;
+    layer_columns(st, T, r->h, 0);
+    column_contours(st, T, r->contour);
+    const double x_half = layer_crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
+    behind_profile(st, &r->f, x_half, r->behind);
     int rc = layer_series_row(&r->base.s, st->step);
     if (rc != 0)
         return rc > 0 ? 0 : -1;
-    const struct grid *g = &st->g;
-    double hi = r->f.h_inf, vol = 0.0, mx, **v = r->base.s.v;
     long n = r->base.s.n - 1;
-    collapse_heights(g, T, r->h);
     for (int i = 0; i < g->n[0]; i++)
         vol += r->h[i] * g->h[0];
     v[S_T][n] = st->time;
     v[S_TIP][n] = layer_crossing(r->h, g->n[0], g->h[0], tip_level(st->cs, hi));
-    v[S_HALF][n] = layer_crossing(r->h, g->n[0], g->h[0], 0.5 * hi);
+    v[S_HALF][n] = x_half;
     v[S_VOL][n] = vol;
     shape_error(st->cs, &r->f, g, r->h, v[S_HALF][n], 0.0, &v[S_RMS][n], &mx);
     return 0;
@@ -510,19 +588,25 @@ struct front_measures {
  * flow's h_p u_mean(h_p). */
 static double precursor_flux(const struct march_state *st, double x_tip, double h_inf)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *G = march_global_grid(st);
     const double *T = collapse_tracer(st);
+    const double lo = x_tip + BEHIND_SKIP * h_inf, hi = st->cs->len[0] - BEHIND_SKIP * h_inf;
     double q = 0.0;
     int n = 0;
-    for (int i = 1; T && i < g->n[0]; i++) {
-        double x = i * g->h[0];
-        if (x < x_tip + BEHIND_SKIP * h_inf || x > st->cs->len[0] - BEHIND_SKIP * h_inf)
+    for (int i = 1; T && i < G->n[0]; i++)
+        n += !(i * G->h[0] < lo || i * G->h[0] > hi);
+    /* this rank's faces (global index from 1; the cell below a rank
+     * border's face 0 is its ghost), summed over the ranks */
+    const int i0 = scene_block_lo(st, 0);
+    for (int i = i0 ? 0 : 1; T && i < g->n[0]; i++) {
+        double x = (i0 + i) * g->h[0];
+        if (x < lo || x > hi)
             continue;
         for (int k = 0; k < g->n[2]; k++)
             q += 0.5 * (T[grid_idx(g, i - 1, 0, k)] + T[grid_idx(g, i, 0, k)]) *
                  st->field.velocity[0][grid_idx(g, i, 0, k)] * g->h[2];
-        n++;
     }
+    q = march_sum(st, q);
     return n ? q / n : NAN;
 }
 
@@ -535,39 +619,11 @@ static double speed_fit(const struct record *r)
     return layer_series_slope(s, S_T, S_HALF, 0.5 * (s->v[S_T][0] + s->v[S_T][s->n - 1]));
 }
 
-static int column_behind(const struct da_front *f, const struct grid *g, int i, double x_half)
-{
-    double x = (i + 0.5) * g->h[0];
-    return x > BEHIND_SKIP * f->h_inf &&
-           da_front_depth(f, exact_xi(f, x, x_half)) >= BEHIND_SHARE * f->h_inf;
-}
-
-/* The mean u of the columns behind the front at each layer k (u[nz]). */
-static int behind_profile(const struct march_state *st, const struct da_front *f, double x_half,
-                          double *u)
-{
-    const struct grid *g = &st->g;
-    int count = 0;
-    for (int k = 0; k < g->n[2]; k++)
-        u[k] = 0.0;
-    for (int i = 1; i < g->n[0]; i++) {
-        if (!column_behind(f, g, i, x_half))
-            continue;
-        count++;
-        for (int k = 0; k < g->n[2]; k++)
-            u[k] += 0.5 * (st->field.velocity[0][grid_idx(g, i, 0, k)] +
-                           st->field.velocity[0][grid_idx(g, i + 1, 0, k)]);
-    }
-    for (int k = 0; k < g->n[2]; k++)
-        u[k] = count ? u[k] / count : NAN;
-    return count;
-}
-
 static void measure(const struct march_state *st, const struct record *r,
                     struct front_measures *m)
 {
     const struct muflow_case *cs = st->cs;
-    const struct grid *g = &st->g;
+    const struct grid *g = march_global_grid(st);
     const struct da_front *f = &r->f;
     *m = (struct front_measures){.speed = speed_fit(r), .speed_exact = front_speed_exact(cs)};
     double hi = f->h_inf, x_half = r->base.s.v[S_HALF][r->base.s.n - 1], hb = 0.0;
@@ -629,7 +685,8 @@ static void results(const struct march_state *st, const struct scene_drive *d,
     run_result_add(res, "h_err_max_nose", "%.6e", m.nose_max);
     struct da_errors e;
     if (da_reference(st->cs, r, st->time) == 0) {
-        da_shape_errors(st->cs, r, &st->g, r->base.s.v[S_HALF][r->base.s.n - 1], &e);
+        da_shape_errors(st->cs, r, march_global_grid(st), r->base.s.v[S_HALF][r->base.s.n - 1],
+                        &e);
         run_result_add(res, "h_err_rms_depth_averaged", "%.6e", e.rms);
         run_result_add(res, "h_err_max_body_depth_averaged", "%.6e", e.body_max);
         run_result_add(res, "h_err_max_nose_depth_averaged", "%.6e", e.nose_max);
@@ -642,21 +699,6 @@ static void results(const struct march_state *st, const struct scene_drive *d,
              100.0 * m.h_max, m.columns, 100.0 * m.u_rms);
 }
 
-/* The height of column i's T = 1/2 contour: from the top down, the first
- * cell at T >= 1/2, linear between its centre and the one above (beside
- * the integrated depth, it tells the VOF's smearing from the shape). */
-static double contour_height(const struct grid *g, const double *T, int i)
-{
-    for (int k = g->n[2] - 1; k >= 0; k--) {
-        double t = T[grid_idx(g, i, 0, k)];
-        if (t < 0.5)
-            continue;
-        double above = k + 1 < g->n[2] ? T[grid_idx(g, i, 0, k + 1)] : 0.0;
-        return (k + 0.5 + (t - 0.5) / (t - above)) * g->h[2];
-    }
-    return 0.0;
-}
-
 /* front.csv: the record; shape.csv: h(x) (and the T = 1/2 contour's
  * height) in the front's frame with the exact shape; behind.csv: the
  * profile behind the front with Bagnold's. */
@@ -666,7 +708,9 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (!r || r->base.s.n == 0)
         return 0;
     const struct da_front f = r->f;
-    const struct grid *g = &st->g;
+    /* the domain's columns as the last record_step left them: rank 0's
+     * alone writes (no collective here) */
+    const struct grid *g = march_global_grid(st);
     struct output_file o;
     /* the depth-averaged front at the end only (a run of its own each time) */
     int da = st->status != STATUS_RUNNING && da_reference(st->cs, r, st->time) == 0;
@@ -683,30 +727,19 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (output_open(&o, dir, "shape.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "x,xi,h,h_exact,h_contour,h_depth_averaged\n");
-    const double *T = collapse_tracer(st);
     for (int i = 0; i < g->n[0]; i++) {
         double x = (i + 0.5) * g->h[0], xi = exact_xi(&f, x, x_half);
         fprintf(o.f, "%.10g,%.10g,%.10g,%.10g,%.10g,%.10g\n", x, xi, r->h[i],
-                exact_depth(st->cs, &f, xi), T ? contour_height(g, T, i) : NAN,
-                da ? da_depth_at(r, x, x_half) : NAN);
+                exact_depth(st->cs, &f, xi), r->contour[i], da ? da_depth_at(r, x, x_half) : NAN);
     }
     if (output_commit(&o, err, errlen) != 0)
         return -1;
-    double *u = malloc((size_t)g->n[2] * sizeof *u);
-    if (!u) {
-        snprintf(err, errlen, "behind.csv: out of memory");
+    if (output_open(&o, dir, "behind.csv", err, errlen) != 0)
         return -1;
-    }
-    behind_profile(st, &f, x_half, u);
-    if (output_open(&o, dir, "behind.csv", err, errlen) != 0) {
-        free(u);
-        return -1;
-    }
     fprintf(o.f, "z,u,u_exact\n");
     for (int k = 0; k < g->n[2]; k++)
-        fprintf(o.f, "%.10g,%.10g,%.10g\n", (k + 0.5) * g->h[2], u[k],
+        fprintf(o.f, "%.10g,%.10g,%.10g\n", (k + 0.5) * g->h[2], r->behind[k],
                 uniform_u(st->cs, f.h_inf, (k + 0.5) * g->h[2]));
-    free(u);
     return output_commit(&o, err, errlen);
 }
 
@@ -726,14 +759,16 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     double L = cs->len[2], rf = p->fluid_density, gs = cs->gravity * sin(cs->tilt);
     double ubar = uniform_mean(cs, p->depth), film = rf * gs / (2.0 * p->fluid_viscosity);
     double hp = p->precursor * p->depth;
+    const int i0 = scene_block_lo(st, 0), k0 = scene_block_lo(st, 2); /* this rank's block */
     for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++) {
         /* the column's depth at its centre (T) and at its low face (u);
          * the precursor, thinner than the front's, as its own uniform flow */
-        double hc = i == 0 ? p->depth : da_front_depth(&f, (i + 0.5) * g->h[0] - p->tip);
-        double hf = i <= 0 ? p->depth : da_front_depth(&f, i * g->h[0] - p->tip);
+        const int gi = i0 + i;
+        double hc = gi == 0 ? p->depth : da_front_depth(&f, (gi + 0.5) * g->h[0] - p->tip);
+        double hf = gi <= 0 ? p->depth : da_front_depth(&f, gi * g->h[0] - p->tip);
         for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
             for (int k = 0; k < g->n[2]; k++) {
-                double z = (k + 0.5) * g->h[2], u;
+                double z = (k0 + k + 0.5) * g->h[2], u;
                 if (hf > hp) {
                     u = (5.0 / 3.0) * ubar * (1.0 - pow(1.0 - fmin(z / hf, 1.0), 1.5));
                     if (z > hf)
@@ -743,7 +778,7 @@ static int setup(struct march_state *st, char *err, size_t errlen)
                 }
                 st->field.velocity[0][grid_idx(g, i, j, k)] = u;
                 if (i >= 0 && i < g->n[0])
-                    T[grid_idx(g, i, j, k)] = layer_fraction(fmax(hc, hp), k, g->h[2]);
+                    T[grid_idx(g, i, j, k)] = layer_fraction(fmax(hc, hp), k0 + k, g->h[2]);
             }
     }
     return two_phase_tracer_changed(st, err, errlen);
@@ -760,6 +795,7 @@ const struct scene scene_front = {
     .modules = front_modules,
     .check = check,
     .setup = setup,
+    .decomposed = scene_decomposed_always,
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,

@@ -6,6 +6,7 @@
 #include "kernels/rheology.h"
 #include "scenes/layer_feed.h"
 #include "platform/num_text.h"
+#include "scene_common.h"
 
 double layer_uniform_i(const struct muflow_case *cs)
 {
@@ -80,13 +81,39 @@ double *layer_feed_configure(struct march_state *st, const struct layer_feed *lf
 void layer_feed_hold(struct march_state *st, const struct layer_feed *lf)
 {
     int t = fields_find(&st->fields, "tracer");
-    if (t < 0)
+    /* the feed is the domain's first column: the first block's along x */
+    if (t < 0 || scene_block_lo(st, 0) != 0)
         return;
     double *T = st->fields.e[t].v[0];
     const struct grid *g = &st->g;
+    const int k0 = scene_block_lo(st, 2); /* the block's first layer */
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++)
-            T[grid_idx(g, 0, j, k)] = layer_fraction(lf->depth, k, g->h[2]);
+            T[grid_idx(g, 0, j, k)] = layer_fraction(lf->depth, k0 + k, g->h[2]);
+}
+
+void layer_columns(const struct march_state *st, const double *T, double *h, int flux)
+{
+    const struct grid *g = &st->g, *G = march_global_grid(st);
+    const int n = G->n[0], lo = scene_block_lo(st, 0);
+    double *q = h + n;
+    for (int i = 0; i < (flux ? 2 * n : n); i++)
+        h[i] = 0.0;
+    /* this rank's part of its columns, at their global index */
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                ptrdiff_t p = grid_idx(g, i, j, k);
+                h[lo + i] += T[p];
+                if (flux)
+                    q[lo + i] += T[p] * (0.5 * (st->field.velocity[0][p] +
+                                                st->field.velocity[0][p + g->stride[0]])) *
+                                 g->h[2];
+            }
+    if (st->ranks)
+        march_sum_array(st, h, flux ? 2 * n : n);
+    for (int i = 0; i < n; i++)
+        h[i] = h[i] * G->h[2] / G->n[1];
 }
 
 double layer_crossing(const double *h, int n, double dx, double level)

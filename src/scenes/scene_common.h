@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include "config/case.h"
+#include "march/march.h"
 
 /* sqrt(p / rho_s) / d per unit sqrt(p): the shear rate at I = 1 is
  * sqrt(p) * this. */
@@ -51,6 +52,13 @@ static inline int scene_decomposed_always(const struct muflow_case *cs)
 {
     (void)cs;
     return 1;
+}
+
+/* The global index of this rank's first cell along d (0: one process
+ * holds the grid). */
+static inline int scene_block_lo(const struct march_state *st, int d)
+{
+    return st->ranks ? st->ranks->dc.lo[d] : 0;
 }
 
 /* A scene's [SECTION] keys over its parameter struct TYPE: the key block

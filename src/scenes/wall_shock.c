@@ -214,26 +214,26 @@ static const char *const series_names[NSERIES] = {"t", "x_shock", "h1", "h2", "u
 
 struct record {
     struct layer_record base; /* the columns S_*, the inflow's layer (the hook's context) */
-    double *h, *q;            /* column heights and grains' fluxes, work */
+    /* the domain's column heights and grains' fluxes (nx each, q = h + nx)
+     * of the last state recorded, every rank's alike (rank 0 writes h);
+     * the columns moving (1) or still (0), work */
+    double *h, *q, *moving;
 };
 
 static int create(struct march_state *st, void **state, char *err, size_t errlen)
 {
     struct record *r = calloc(1, sizeof *r);
-    if (r) {
-        r->h = malloc((size_t)st->g.n[0] * sizeof *r->h);
-        r->q = malloc((size_t)st->g.n[0] * sizeof *r->q);
-    }
-    if (!r || !r->h || !r->q) {
-        if (r) {
-            free(r->h);
-            free(r->q);
-        }
+    const int nx = march_global_grid(st)->n[0];
+    if (r)
+        r->h = malloc(3 * (size_t)nx * sizeof *r->h);
+    if (!r || !r->h) {
         free(r);
         snprintf(err, errlen, "wall_shock: out of memory");
         return -1;
     }
     const struct wall_shock_params *p = params(st->cs);
+    r->q = r->h + nx;
+    r->moving = r->q + nx;
     layer_series_init(&r->base.s, NSERIES, series_names);
     r->base.feed = (struct layer_feed){st->cs, p->depth, p->fluid_density, p->fluid_viscosity};
     *state = r;
@@ -246,7 +246,6 @@ static void destroy(void *state)
     if (r) {
         layer_series_free(&r->base.s);
         free(r->h);
-        free(r->q);
     }
     free(r);
 }
@@ -324,17 +323,6 @@ static double cell_u(const struct march_state *st, int i, int k)
                   st->field.velocity[0][grid_idx(g, i + 1, 0, k)]);
 }
 
-/* The grains' flux of each column, q[i] = sum T u dz */
-static void column_flux(const struct march_state *st, const double *T, double *q)
-{
-    const struct grid *g = &st->g;
-    for (int i = 0; i < g->n[0]; i++) {
-        q[i] = 0.0;
-        for (int k = 0; k < g->n[2]; k++)
-            q[i] += T[grid_idx(g, i, 0, k)] * cell_u(st, i, k) * g->h[2];
-    }
-}
-
 /* The shock, h1, u1, h2, u2 of the column heights h and fluxes q (n
  * columns of width dx ending at the wall, depth d fed): the scene's and the
  * depth-averaged model's alike; no static zone. */
@@ -367,25 +355,29 @@ static void measure_columns(const double *h, const double *q, int n, double dx, 
     }
 }
 
+/* The shock's measures of the domain's columns h, q (layer_columns) and
+ * the static zone: the columns from the wall whose grains all stand still,
+ * each rank's part of a column moving or not (into moving[nx]), the ranks'
+ * largest.  Collective. */
 static void measure_state(const struct march_state *st, const double *T, const double *h,
-                          double *q, struct shock_state *s)
+                          const double *q, double *moving, struct shock_state *s)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = &st->g, *G = march_global_grid(st);
     const struct wall_shock_params *p = params(st->cs);
-    int n = g->n[0];
-    column_flux(st, T, q);
-    measure_columns(h, q, n, g->h[0], p->depth, s);
-    /* the static zone: columns from the wall whose grains all stand still */
+    int n = G->n[0], i0 = scene_block_lo(st, 0);
+    measure_columns(h, q, n, G->h[0], p->depth, s);
     double slow = p->static_speed * (isfinite(s->u1) ? s->u1 : 0.0);
+    for (int i = 0; i < n; i++)
+        moving[i] = 0.0;
+    for (int i = 0; i < g->n[0]; i++)
+        for (int k = 0; k < g->n[2] && !moving[i0 + i]; k++)
+            moving[i0 + i] = T[grid_idx(g, i, 0, k)] >= 0.5 && fabs(cell_u(st, i, k)) >= slow;
+    if (st->ranks)
+        march_max_array(st, moving, n);
     int still = 0;
-    for (int i = n - 1; i >= 0; i--, still++) {
-        int moving = 0;
-        for (int k = 0; k < g->n[2] && !moving; k++)
-            moving = T[grid_idx(g, i, 0, k)] >= 0.5 && fabs(cell_u(st, i, k)) >= slow;
-        if (moving)
-            break;
-    }
-    s->static_length = still * g->h[0];
+    for (int i = n - 1; i >= 0 && !moving[i]; i--)
+        still++;
+    s->static_length = still * G->h[0];
 }
 
 static int record_step(void *rec, const struct march_state *st)
@@ -394,12 +386,13 @@ static int record_step(void *rec, const struct march_state *st)
     const double *T = collapse_tracer(st);
     if (!T)
         return 0;
+    /* this state's columns on every rank (the write's, rank 0's) */
+    struct shock_state s;
+    layer_columns(st, T, r->h, 1);
+    measure_state(st, T, r->h, r->q, r->moving, &s);
     int rc = layer_series_row(&r->base.s, st->step);
     if (rc != 0)
         return rc > 0 ? 0 : -1;
-    struct shock_state s;
-    collapse_heights(&st->g, T, r->h);
-    measure_state(st, T, r->h, r->q, &s);
     double **v = r->base.s.v;
     long n = r->base.s.n - 1;
     v[S_T][n] = st->time;
@@ -618,8 +611,9 @@ static int write(const char *dir, const struct march_state *st, char *err, size_
     if (output_open(&o, dir, "heights.csv", err, errlen) != 0)
         return -1;
     fprintf(o.f, "x,h\n");
-    for (int i = 0; i < st->g.n[0]; i++)
-        fprintf(o.f, "%.10g,%.10g\n", (i + 0.5) * st->g.h[0], r->h[i]);
+    const struct grid *G = march_global_grid(st);
+    for (int i = 0; i < G->n[0]; i++)
+        fprintf(o.f, "%.10g,%.10g\n", (i + 0.5) * G->h[0], r->h[i]);
     return output_commit(&o, err, errlen);
 }
 
@@ -634,15 +628,18 @@ static int setup(struct march_state *st, char *err, size_t errlen)
     if (!T)
         return -1;
     const struct grid *g = &st->g;
+    /* this rank's block: its first global cells, the domain's cells along x */
+    const int i0 = scene_block_lo(st, 0), k0 = scene_block_lo(st, 2);
+    const int nx = march_global_grid(st)->n[0];
     for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
         for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
             for (int k = 0; k < g->n[2]; k++) {
                 /* the wall's face at rest; the rest the uniform flow */
-                double u = i >= g->n[0] ? 0.0 : layer_uniform_u(&r->base.feed, p->depth,
-                                                               (k + 0.5) * g->h[2]);
+                double u = i0 + i >= nx ? 0.0 : layer_uniform_u(&r->base.feed, p->depth,
+                                                               (k0 + k + 0.5) * g->h[2]);
                 st->field.velocity[0][grid_idx(g, i, j, k)] = u;
                 if (i >= 0 && i < g->n[0])
-                    T[grid_idx(g, i, j, k)] = layer_fraction(p->depth, k, g->h[2]);
+                    T[grid_idx(g, i, j, k)] = layer_fraction(p->depth, k0 + k, g->h[2]);
             }
     return two_phase_tracer_changed(st, err, errlen);
 }
@@ -660,6 +657,7 @@ const struct scene scene_wall_shock = {
     .modules = wall_shock_modules,
     .check = check,
     .setup = setup,
+    .decomposed = scene_decomposed_always,
     .profile_axis = -1,
     .profile_component = -1,
     .drive = drive,
