@@ -623,7 +623,7 @@ static void test_grid_matrices_counted(void **state)
  * test_cylinder_coarse), to the values their own tests take:
  * - bagnold2 (50 x 100, the Fourier modes' line blocks of the symmetric
  *   tangent, general blocks under its open top): steady in as many steps as
- *   with the Cholesky named (12 both, measured; bound a tenth more), every
+ *   with the Cholesky named (12 and 13, measured; bound a tenth more), every
  *   implicit solve converged (one BiCGStab iteration a step, measured; with
  *   the blocks made Hermitian, CG stopped at its cap in the last 5 steps),
  *   the same err_rms to 1e-6 (measured: all 7 printed digits), the errors
