@@ -87,11 +87,10 @@ double bc_inflow_value(const struct grid *g, const struct boundary *bc, int d, i
     const int *lo = bc->dc ? bc->dc->lo : NULL;
     const int idx[3] = {i + (lo ? lo[0] : 0), j + (lo ? lo[1] : 0), k + (lo ? lo[2] : 0)};
     if (bc->inflow_shape) {
-        /* the face's centre in the whole domain (a rank's block from its
-         * first global cell) */
+        /* the face's centre in the whole domain (idx is global) */
         double x[3];
         for (int a = 0; a < 3; a++)
-            x[a] = (idx[a] + (bc->dc ? bc->dc->lo[a] : 0) + (a == d ? 0.0 : 0.5)) * g->h[a];
+            x[a] = (idx[a] + (a == d ? 0.0 : 0.5)) * g->h[a];
         return bc->inflow_shape(bc->inflow_ctx, d, x);
     }
     double v = bc->inflow_velocity;
