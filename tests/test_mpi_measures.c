@@ -152,9 +152,11 @@ void test_duct_circular_on_ranks(void **state)
     char *ov[] = {"output.quiet=on"};
     struct muflow_case cs;
     test_load_case(&cs, "../cases/duct_circular.ini", 1, ov);
-    const int p = comm_size(), across[3] = {1, p, 1}, along[3] = {1, 1, p};
+    const int p = comm_size(), across[3] = {1, p, 1}, along[3] = {1, 1, p}, both[3] = {1, 0, 0};
     check_duct_circular_gmg(&cs, across);
     check_duct_circular_gmg(&cs, along);
+    if (p >= 4)
+        check_duct_circular_gmg(&cs, both);
     static const char *const keys[] = {"u_max",         "diff_plane",  "flow_rate",
                                        "area",          "mean_velocity", "u_max_midplane",
                                        "mobile_layer_midplane", NULL};
