@@ -1189,6 +1189,7 @@ void test_wall_shock_on_ranks(void **state);
 void test_front_on_ranks(void **state);
 void test_bagnold2_on_ranks(void **state);
 void test_duct_square_on_ranks(void **state);
+void test_duct_circular_on_ranks(void **state);
 
 void group_mpi(struct test_tally *t)
 {
@@ -1235,6 +1236,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_front_on_ranks),
         cmocka_unit_test(test_bagnold2_on_ranks),
         cmocka_unit_test(test_duct_square_on_ranks),
+        cmocka_unit_test(test_duct_circular_on_ranks),
         cmocka_unit_test(test_muflow_on_ranks),
     };
     RUN_GROUP(t, "mpi", tests);

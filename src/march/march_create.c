@@ -119,8 +119,8 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     }
     *kind = march_choose_preconditioner(cs, su, &rk->global, -1);
     /* gmg gathers its cross-section on every rank (viscous_gmg.c), a body's
-     * nodes not with it */
-    const int gmg = *kind == VISCOUS_GMG && !case_obstacle_active(cs);
+     * held nodes and cut links with it */
+    const int gmg = *kind == VISCOUS_GMG;
     if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG && !gmg) {
         char what[120];
         snprintf(what, sizeof what,

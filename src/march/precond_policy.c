@@ -128,8 +128,8 @@ static enum viscous_precond one_process_choice(const struct muflow_case *cs,
 }
 
 /* Over the ranks of an MPI job no factorisation or AMG is decomposed, and
- * gmg gathers its cross-section on every rank (viscous_gmg.c; kept, not
- * with a body): auto takes the velocity multigrid in the others' place
+ * gmg gathers its cross-section on every rank (viscous_gmg.c; kept, a
+ * body's held nodes and cut links gathered with it): auto takes the velocity multigrid in the others' place
  * where it serves the run (it runs decomposed, the Newton tangent's
  * symmetric part in its cycle, the augmentation's edge patches gathered:
  * docs/numerics/velocity-multigrid.md), not with a body (its held nodes
@@ -144,9 +144,7 @@ enum viscous_precond march_choose_preconditioner(const struct muflow_case *cs,
     const enum viscous_precond kind = one_process_choice(cs, su, g, amg);
     const int ranks = su->decompose && comm_size() > 1;
     if (!ranks || cs->preconditioner != PRECOND_AUTO || cs->coupled ||
-        !(kind == VISCOUS_CHOLESKY || kind == VISCOUS_LU || kind == VISCOUS_AMG ||
-          kind == VISCOUS_GMG) ||
-        (kind == VISCOUS_GMG && !case_obstacle_active(cs)))
+        !(kind == VISCOUS_CHOLESKY || kind == VISCOUS_LU || kind == VISCOUS_AMG))
         return kind;
     const int serves = !case_obstacle_active(cs) && !grid_stretched(g) &&
                        !(cs->augmentation > 0.0 && bc_passes_flow(&cs->bc));

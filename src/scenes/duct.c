@@ -236,17 +236,19 @@ static void errors(const struct march_state *st, const struct profile *pr, struc
  * circular duct): the cells' fluid shares, exact away from the wall and
  * sampled on AREA_SAMPLES^2 points in the cells it cuts (the faces' open
  * shares of the flux form close a face whose centre is in the wall, so
- * their sum misses O(h) of the area: -1.9% at 10 x 20). */
+ * their sum misses O(h) of the area: -1.9% at 10 x 20); each block's
+ * cells at their global positions, summed over the ranks.  Collective. */
 static double open_area(const struct march_state *st)
 {
     const struct grid *g = &st->g;
     struct shape_set set;
     case_obstacle_shapes(st->cs, &set);
+    const int lo[3] = {0, scene_block_lo(st, 1), scene_block_lo(st, 2)};
     double reach = hypot(g->h[1], g->h[2]), open = 0.0;
     for (int j = 0; j < g->n[1]; j++)
         for (int k = 0; k < g->n[2]; k++) {
             double x[3];
-            obstacle_node_position(g, 0, 0, j, k, x);
+            obstacle_node_position_at(g, lo, 0, 0, j, k, x);
             double d = shape_distance(&set, x);
             if (fabs(d) > reach) {
                 open += d > 0.0;
@@ -255,13 +257,13 @@ static double open_area(const struct march_state *st)
             long in = 0;
             for (int a = 0; a < AREA_SAMPLES; a++)
                 for (int b = 0; b < AREA_SAMPLES; b++) {
-                    double y[3] = {x[0], (j + (a + 0.5) / AREA_SAMPLES) * g->h[1],
-                                   (k + (b + 0.5) / AREA_SAMPLES) * g->h[2]};
+                    double y[3] = {x[0], (lo[1] + j + (a + 0.5) / AREA_SAMPLES) * g->h[1],
+                                   (lo[2] + k + (b + 0.5) / AREA_SAMPLES) * g->h[2]};
                     in += shape_distance(&set, y) > 0.0;
                 }
             open += (double)in / (AREA_SAMPLES * AREA_SAMPLES);
         }
-    return open * g->h[1] * g->h[2];
+    return march_sum(st, open) * g->h[1] * g->h[2];
 }
 
 struct duct_measures {
@@ -395,11 +397,12 @@ static int along_x(const struct muflow_case *cs)
 }
 
 /* the mixed model over ranks (bedload's: its bed module per cell, the
- * measures reduced over them); the two-fluid model's line solves hold
- * whole planes of one process, the circular duct's body is not decomposed */
+ * measures reduced over them; the circular duct's body per block, gmg's
+ * cross-section gathered with it); the two-fluid model's line solves hold
+ * whole planes of one process */
 static int decomposed(const struct muflow_case *cs)
 {
-    return params(cs)->model == BEDLOAD_MIXED && !case_obstacle_active(cs);
+    return params(cs)->model == BEDLOAD_MIXED;
 }
 
 /* both models' modules: setup configures the one of duct.model, the other
@@ -416,7 +419,7 @@ const struct scene scene_duct = {
     .setup = setup,
     .cross_section_flow = along_x,
     .decomposed = decomposed,
-    .not_decomposed = "duct.model = two_fluid or an [obstacle] body (the circular duct)",
+    .not_decomposed = "duct.model = two_fluid",
     .profile_axis = 2,
     .profile_component = 0,
     .profile_slab = midplane,

@@ -27,6 +27,8 @@ struct gmg_gathered {
     struct grid gg;              /* the whole cross-section, the hierarchies' grid */
     double *op[GATHERED_ARRAYS]; /* the operator's arrays on gg (allocated when given) */
     double *r, *z, *scratch;     /* a component's right-hand side and cycle; the gather's */
+    const struct embedded *from; /* the body gathered into body (NULL: none yet) */
+    struct embedded body;        /* its held nodes and cut links on gg (gather_body) */
 };
 
 struct viscous_gmg {
@@ -89,6 +91,9 @@ void viscous_gmg_destroy(struct viscous_gmg *m)
         field_free(m->gath->r);
         field_free(m->gath->z);
         free(m->gath->scratch);
+        for (int c = 0; c < 3; c++)
+            free(m->gath->body.held[c]);
+        free(m->gath->body.links);
         free(m->gath);
     }
     free(m);
@@ -354,16 +359,128 @@ static int gather_array(struct gmg_gathered *gt, int a, const double *f, const d
     return 0;
 }
 
+/* Component c's held nodes of every block on the gathered cross-section,
+ * in slot order as one process lists them (its loops run over the slots):
+ * each block's own travel as a mask (a ghost's held image is its owner's
+ * node, and decomp_gather takes no rank border's ghost).  mask is a field
+ * of the block, gmask of gg.  Returns 0, or -1 out of memory. */
+static int gather_held(struct gmg_gathered *gt, const struct embedded *e, int c, double *mask,
+                       double *gmask)
+{
+    const struct grid *gg = &gt->gg;
+    struct embedded *ge = &gt->body;
+    memset(mask, 0, gt->local->size * sizeof(double));
+    for (long i = 0; i < e->nheld[c]; i++)
+        mask[e->held[c][i]] = 1.0;
+    decomp_gather(gt->dc, gt->local, mask, gg, gmask, gt->scratch);
+    long n = 0;
+    for (size_t p = 0; p < gg->size; p++)
+        n += gmask[p] != 0.0;
+    if (!(ge->held[c] = malloc((size_t)(n > 0 ? n : 1) * sizeof(ptrdiff_t))))
+        return -1;
+    ge->nheld[c] = 0;
+    for (size_t p = 0; p < gg->size; p++)
+        if (gmask[p] != 0.0)
+            ge->held[c][ge->nheld[c]++] = (ptrdiff_t)p;
+    return 0;
+}
+
+/* A slot of the block as the same node's slot on gg. */
+static double global_slot(const struct gmg_gathered *gt, ptrdiff_t p)
+{
+    int idx[3];
+    grid_slot_index(gt->local, p, idx);
+    return (double)grid_idx(&gt->gg, gt->dc->lo[0] + idx[0], gt->dc->lo[1] + idx[1],
+                            gt->dc->lo[2] + idx[2]);
+}
+
+#define LINK_DOUBLES 5 /* a link travels as p, at (gg's slots), c, coef, w */
+
+/* Every block's cut links on gg, rank after rank, each block's in its own
+ * order: a node's links are all its owner's, so fold_body adds them to its
+ * mass in one process's order.  Returns 0, or -1 out of memory. */
+static int gather_links(struct gmg_gathered *gt, const struct embedded *e)
+{
+    const struct comm_cart *cart = gt->dc->cart;
+    const int ranks = cart->dims[0] * cart->dims[1] * cart->dims[2];
+    long *n = calloc((size_t)ranks, sizeof *n);
+    int *cnt = malloc(2 * (size_t)ranks * sizeof *cnt);
+    double *mine = malloc((size_t)(e->nlinks > 0 ? e->nlinks : 1) * LINK_DOUBLES * sizeof *mine);
+    int rc = n && cnt && mine ? 0 : -1;
+    if (rc == 0) {
+        n[cart->rank] = e->nlinks;
+        comm_sum_long(n, ranks);
+        long total = 0;
+        for (int r = 0; r < ranks; r++) {
+            cnt[r] = (int)(n[r] * LINK_DOUBLES);
+            cnt[ranks + r] = (int)(total * LINK_DOUBLES);
+            total += n[r];
+        }
+        for (long i = 0; i < e->nlinks; i++) {
+            const struct embedded_link *l = &e->links[i];
+            double *m = mine + i * LINK_DOUBLES;
+            m[0] = global_slot(gt, l->p);
+            m[1] = global_slot(gt, l->at);
+            m[2] = l->c;
+            m[3] = l->coef;
+            m[4] = l->w;
+        }
+        double *all = malloc((size_t)(total > 0 ? total : 1) * LINK_DOUBLES * sizeof *all);
+        gt->body.links = malloc((size_t)(total > 0 ? total : 1) * sizeof *gt->body.links);
+        rc = all && gt->body.links ? 0 : -1;
+        if (rc == 0) {
+            comm_cart_allgather(cart, mine, (int)(e->nlinks * LINK_DOUBLES), all, cnt,
+                                cnt + ranks);
+            for (long i = 0; i < total; i++) {
+                const double *m = all + i * LINK_DOUBLES;
+                gt->body.links[i] = (struct embedded_link){.p = (ptrdiff_t)m[0],
+                                                           .at = (ptrdiff_t)m[1],
+                                                           .c = (int)m[2],
+                                                           .coef = (int)m[3],
+                                                           .w = m[4]};
+            }
+            gt->body.nlinks = total;
+        }
+        free(all);
+    }
+    free(n);
+    free(cnt);
+    free(mine);
+    return rc;
+}
+
+/* What fold_body and mixed_off_body read of the body (held nodes, cut
+ * links) on the gathered cross-section, as one process has it; once, the
+ * body being fixed.  Collective.  Returns 0, or -1 out of memory. */
+static int gather_body(struct gmg_gathered *gt, const struct embedded *e)
+{
+    if (gt->from == e)
+        return 0;
+    double *mask = field_alloc(gt->local), *gmask = field_alloc(&gt->gg);
+    int rc = mask && gmask ? 0 : -1;
+    for (int c = 0; c < 3 && rc == 0; c++)
+        rc = gather_held(gt, e, c, mask, gmask);
+    if (rc == 0)
+        rc = gather_links(gt, e);
+    field_free(mask);
+    field_free(gmask);
+    gt->from = rc == 0 ? e : NULL;
+    return rc;
+}
+
 /* op's arrays gathered on every rank into gop (struct gmg_gathered).
  * Returns 0, or -1 with a message. */
 static int gather_operator(struct gmg_gathered *gt, const struct viscous_gmg_operator *op,
                            struct viscous_gmg_operator *gop, char *err, size_t errlen)
 {
-    if (op->embedded) {
-        snprintf(err, errlen, "the geometric multigrid takes no body over MPI ranks");
-        return -1;
-    }
     *gop = *op;
+    if (op->embedded) {
+        if (gather_body(gt, op->embedded) != 0) {
+            snprintf(err, errlen, "the geometric multigrid: out of memory for the gathered body");
+            return -1;
+        }
+        gop->embedded = &gt->body;
+    }
     const double *base[3];
     int rc = 0;
     for (int c = 0; c < 3; c++) {
