@@ -138,21 +138,7 @@ static void cycle_gmg(struct section *s)
 /* GMRES with gmg on the operator of pb to rtol into s->x; its iterations. */
 static int solve_gmg(struct section *s, double rtol)
 {
-    struct viscous_solver *vs = NULL;
-    char err[256] = "";
-    int rc = viscous_create(&vs, &s->g, &s->bc, s->act, -1, VISCOUS_GMG, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    assert_int_equal(viscous_precondition(vs, &s->pb), 0);
-    struct viscous_stats st;
-    rc = viscous_solve(vs, &s->pb, s->rhs, s->x, rtol, 300, &st);
-    if (rc != 0)
-        print_error("GMRES stopped at %d iterations, relative residual %.2e\n", st.iterations,
-                    st.relative_residual);
-    assert_int_equal(rc, 0);
-    viscous_destroy(vs);
-    return st.iterations;
+    return test_viscous_solve(&s->g, &s->bc, s->act, VISCOUS_GMG, &s->pb, s->rhs, s->x, rtol);
 }
 
 /* The largest difference of f between the block and the whole, over the

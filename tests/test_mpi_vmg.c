@@ -114,21 +114,7 @@ static void problem_free(struct vmg_problem *p)
 /* CG with the velocity multigrid to rtol; its iterations. */
 static int solve_vmg(struct vmg_problem *p, double rtol)
 {
-    struct viscous_solver *vs = NULL;
-    char err[256] = "";
-    int rc = viscous_create(&vs, &p->g, &p->bc, p->act, -1, VISCOUS_MG, err, sizeof err);
-    if (rc != 0)
-        print_error("%s\n", err);
-    assert_int_equal(rc, 0);
-    assert_int_equal(viscous_precondition(vs, &p->pb), 0);
-    struct viscous_stats st;
-    rc = viscous_solve(vs, &p->pb, p->rhs, p->x, rtol, 300, &st);
-    if (rc != 0)
-        print_error("CG stopped at %d iterations, relative residual %.2e\n", st.iterations,
-                    st.relative_residual);
-    assert_int_equal(rc, 0);
-    viscous_destroy(vs);
-    return st.iterations;
+    return test_viscous_solve(&p->g, &p->bc, p->act, VISCOUS_MG, &p->pb, p->rhs, p->x, rtol);
 }
 
 /* The solve over dims ranks (0: MPI's choice, 1: whole) of the global

@@ -75,6 +75,30 @@ void test_bad_overrides(const char *case_path, const char *const bad[][2], size_
     }
 }
 
+/* ---- linear solves -------------------------------------------------------- */
+
+int test_viscous_solve(const struct grid *g, const struct boundary *bc, const struct box act[3],
+                       enum viscous_precond kind, const struct viscous_problem *pb, double *const rhs[3],
+                       double *x[3], double rtol)
+{
+    struct viscous_solver *vs = NULL;
+    char err[256] = "";
+    int rc = viscous_create(&vs, g, bc, act, -1, kind, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(viscous_precondition(vs, pb), 0);
+    struct viscous_stats st;
+    rc = viscous_solve(vs, pb, rhs, x, rtol, 300, &st);
+    if (rc != 0)
+        print_error("%s stopped at %d iterations, relative residual %.2e\n",
+                    viscous_precond_name(kind), st.iterations,
+                    st.relative_residual);
+    assert_int_equal(rc, 0);
+    viscous_destroy(vs);
+    return st.iterations;
+}
+
 /* ---- temporary folders --------------------------------------------------- */
 
 #define TMP_PREFIX "/tmp/muflow_"

@@ -9,6 +9,7 @@
 #include <hdf5.h>
 #include "grid/decomp.h"
 #include "solvers/poisson.h"
+#include "solvers/viscous.h"
 
 struct muflow_case;
 struct run_result;
@@ -55,6 +56,15 @@ void test_case_refused(const char *file, int n, char *ov[], const char *named);
  * case_load returns 2 with a one-line message containing bad[i][1] (the
  * key it names). */
 void test_bad_overrides(const char *case_path, const char *const bad[][2], size_t n);
+
+/* ---- linear solves -------------------------------------------------------- */
+
+/* A viscous solver of kind on g (faces bc, unknowns act) preconditioned for
+ * pb solves rhs into x to rtol within 300 iterations (else fails, saying
+ * where it stopped); its iterations. */
+int test_viscous_solve(const struct grid *g, const struct boundary *bc, const struct box act[3],
+                       enum viscous_precond kind, const struct viscous_problem *pb, double *const rhs[3],
+                       double *x[3], double rtol);
 
 /* ---- temporary folders --------------------------------------------------- */
 
