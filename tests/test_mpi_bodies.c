@@ -41,6 +41,25 @@ void test_cylinder_benchmark_on_ranks(void **state)
     check_scene_lines_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, both, keys, STATUS_STEADY);
 }
 
+/* The granular cylinder (cases/cylinder.ini: mu(I), the coupled Newton
+ * step with the viscosity's pressure columns, gathered onto every rank and
+ * factorised there) in a box of 5 x 10 D at D/2 (10 x 20) driven by F = 3,
+ * so that it flows (U 1.37) and is steady in 104 steps alone: split along
+ * x (the symmetry plane's block beside the wall's), along z (the border
+ * through the cylinder's centre at z = 5 on 2 ranks), both */
+void test_cylinder_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"domain.lx=5", "domain.nx=10", "domain.lz=10", "domain.nz=20",
+                  "obstacle.shapes=circle 0 5 0.5", "cylinder.forcing=3"};
+    static const char *const keys[] = {"flow_rate", "drag", "drag_surface", "froude", NULL};
+    const int p = comm_size();
+    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
+    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, along_x, keys, STATUS_STEADY);
+    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, along_z, keys, STATUS_STEADY);
+    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, both, keys, STATUS_STEADY);
+}
+
 /* The slope release (cases/slope_release.ini: the bed a body of whole
  * cells, two phases, the VOF) at 2.5 mm cells (60 x 24) to t = 0.1 (100
  * steps): the bed crosses every rank border; split along x (x = 0.075;

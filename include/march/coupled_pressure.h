@@ -22,6 +22,7 @@
 
 #include <stddef.h>
 
+struct coupled_view;
 struct march_state;
 struct probe_matrix;
 struct pressure_columns;
@@ -32,7 +33,7 @@ struct pressure_columns;
  * pressure can move its row, leaving out the cells whose dp is held
  * (held[q]) and the rows of faces held in a body.  cell and held are kept,
  * not copied.  NULL when out of memory. */
-struct pressure_columns *pressure_columns_create(const struct march_state *st,
+struct pressure_columns *pressure_columns_create(struct coupled_view *view,
                                                  const struct probe_matrix *pm,
                                                  const ptrdiff_t *slot, int nu, const int *cell,
                                                  const unsigned char *held);

@@ -53,7 +53,8 @@ struct scene_drive {
                                       loop state is the checkpoint's): go on with
                                       it, do not start it afresh */
     const char *dir;               /* the output folder, NULL when the run writes
-                                      no files (a driver's own record goes there) */
+                                      no files or on a rank other than 0 (a
+                                      driver's own record goes there) */
     union {                        /* the driver's own results, for results() */
         max_align_t align;
         unsigned char bytes[512];

@@ -489,7 +489,7 @@ int run_case_opts(const struct muflow_case *cs, const struct run_options *opt,
     struct scene_drive drive = {.st = &st, .cs = &work, .observe = observe, .observe_ctx = &ctx,
                                 .verbose = opt->write_output && !work.quiet && ctx.root,
                                 .restarted = opt->restart_from != NULL,
-                                .dir = opt->write_output ? work.output_dir : NULL};
+                                .dir = opt->write_output && ctx.root ? work.output_dir : NULL};
     if (sc->drive)
         sc->drive(&drive);
     else

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include "march/coupled_view.h"
 #include "march/step.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/viscous.h"
@@ -28,7 +29,11 @@ struct pressure_columns {
     const int *cell;     /* each cell slot's number, periodic images included */
     const unsigned char *held;
     const struct probe_matrix *pm;
+    struct coupled_view *view;
     double *work[3], *saved_p; /* the viscous residual before it is gathered */
+    /* over ranks (view->gathered): the residual, the pressure and p_dyn on
+     * the whole grid, and p_dyn as it was (NULL on one process) */
+    double *whole[3], *pressure, *p_dyn, *p_dyn0;
     double *r0, *r1, *eps;
 };
 
@@ -82,24 +87,30 @@ void pressure_columns_destroy(struct pressure_columns *pc)
     free(pc->cells);
     free(pc->values);
     free(pc->colour);
-    for (int c = 0; c < 3; c++)
+    for (int c = 0; c < 3; c++) {
         field_free(pc->work[c]);
+        field_free(pc->whole[c]);
+    }
     field_free(pc->saved_p);
+    field_free(pc->pressure);
+    field_free(pc->p_dyn);
+    field_free(pc->p_dyn0);
     free(pc->r0);
     free(pc->r1);
     free(pc->eps);
     free(pc);
 }
 
-struct pressure_columns *pressure_columns_create(const struct march_state *st,
+struct pressure_columns *pressure_columns_create(struct coupled_view *view,
                                                  const struct probe_matrix *pm,
                                                  const ptrdiff_t *slot, int nu, const int *cell,
                                                  const unsigned char *held)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = view->g;
     struct pressure_columns *pc = calloc(1, sizeof *pc);
     if (!pc)
         return NULL;
+    pc->view = view;
     pc->nu = nu;
     pc->nc = g->n[0] * g->n[1] * g->n[2];
     pc->cell = cell;
@@ -107,19 +118,27 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
     pc->pm = pm;
     for (int d = 0; d < 3; d++)
         pc->n[d] = g->n[d];
-    bc_periodic_flags(&st->bc, pc->periodic);
+    memcpy(pc->periodic, view->periodic, sizeof pc->periodic);
     pc->start = malloc(((size_t)nu + 1) * sizeof *pc->start);
     pc->cells = malloc((size_t)nu * MAX_CANDIDATES * sizeof *pc->cells);
     pc->colour = malloc((size_t)pc->nc);
     pc->r0 = malloc((size_t)nu * sizeof *pc->r0);
     pc->r1 = malloc((size_t)nu * sizeof *pc->r1);
     pc->eps = malloc((size_t)pc->nc * sizeof *pc->eps);
-    pc->saved_p = field_alloc(g);
+    pc->saved_p = field_alloc(&view->st->g);
     if (!pc->start || !pc->cells || !pc->colour || !pc->r0 || !pc->r1 || !pc->eps || !pc->saved_p)
         goto fail;
     for (int c = 0; c < 3; c++)
-        if (!(pc->work[c] = field_alloc(g)))
+        if (!(pc->work[c] = field_alloc(&view->st->g)))
             goto fail;
+    if (view->gathered) {
+        for (int c = 0; c < 3; c++)
+            if (!(pc->whole[c] = coupled_view_field(view)))
+                goto fail;
+        if (!(pc->pressure = coupled_view_field(view)) || !(pc->p_dyn = coupled_view_field(view)) ||
+            !(pc->p_dyn0 = coupled_view_field(view)))
+            goto fail;
+    }
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++)
@@ -132,7 +151,7 @@ struct pressure_columns *pressure_columns_create(const struct march_state *st,
         grid_slot_index(g, p, f);
         pc->start[k] = (int)n;
         /* a face held in a body keeps its row, the mass term alone */
-        if (!st->embedded || st->embedded->share[comp[k]][p] > 0.0)
+        if (!view->share[comp[k]] || view->share[comp[k]][p] > 0.0)
             n += candidates(pc, g, comp[k], f, pc->cells + n);
     }
     pc->start[nu] = (int)n;
@@ -171,19 +190,31 @@ static void viscous_part(struct pressure_columns *pc, struct march_state *st, do
         viscous_embedded_terms(&st->g, &st->bc, st->act, st->embedded, eta_cell,
                                (const double *const *)st->field.viscosity_edges, -1.0,
                                st->field.velocity, out);
-    probe_matrix_gather(pc->pm, out, r);
+    double *whole[3];
+    for (int c = 0; c < 3; c++)
+        whole[c] = (double *)coupled_view_whole(pc->view, out[c], pc->whole[c]);
+    probe_matrix_gather(pc->pm, whole, r);
 }
 
 int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
 {
-    const struct grid *g = &st->g;
+    const struct grid *g = pc->view->g; /* the whole grid */
+    const int gathered = pc->view->gathered;
     viscous_part(pc, st, pc->r0);
-    memcpy(pc->saved_p, st->field.p_dyn, g->size * sizeof(double));
+    memcpy(pc->saved_p, st->field.p_dyn, st->g.size * sizeof(double));
+    const double *pressure = coupled_view_whole(pc->view, st->field.pressure, pc->pressure);
+    /* the pressure moved: st's own on one process, the whole grid's over
+     * ranks (each rank's block of it taken back before the properties) */
+    double *p_dyn = st->field.p_dyn;
+    if (gathered) {
+        p_dyn = (double *)coupled_view_whole(pc->view, st->field.p_dyn, pc->p_dyn);
+        memcpy(pc->p_dyn0, p_dyn, g->size * sizeof(double));
+    }
     double pmax = 0.0;
     for (int k = 0; k < g->n[2]; k++)
         for (int j = 0; j < g->n[1]; j++)
             for (int i = 0; i < g->n[0]; i++)
-                pmax = fmax(pmax, fabs(st->field.pressure[grid_idx(g, i, j, k)]));
+                pmax = fmax(pmax, fabs(pressure[grid_idx(g, i, j, k)]));
     for (int colour = 0; colour < RESIDUES * RESIDUES * RESIDUES; colour++) {
         int any = 0;
         for (int k = 0; k < g->n[2]; k++)
@@ -193,15 +224,16 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
                     if (pc->colour[q] != colour || pc->held[q])
                         continue;
                     ptrdiff_t p = grid_idx(g, i, j, k);
-                    double e = PERTURBATION * (fabs(st->field.pressure[p]) + 1e-3 * pmax + 1e-300);
+                    double e = PERTURBATION * (fabs(pressure[p]) + 1e-3 * pmax + 1e-300);
                     /* the perturbation as the sum will hold it */
-                    double moved = st->field.p_dyn[p] + e;
-                    pc->eps[q] = moved - st->field.p_dyn[p];
-                    st->field.p_dyn[p] = moved;
+                    double moved = p_dyn[p] + e;
+                    pc->eps[q] = moved - p_dyn[p];
+                    p_dyn[p] = moved;
                     any = 1;
                 }
         if (!any)
             continue;
+        coupled_view_part(pc->view, p_dyn, st->field.p_dyn);
         stage_properties(st);
         viscous_part(pc, st, pc->r1);
         for (int k = 0; k < pc->nu; k++)
@@ -210,7 +242,9 @@ int pressure_columns_probe(struct pressure_columns *pc, struct march_state *st)
                 if (pc->colour[q] == colour)
                     pc->values[m] = -(pc->r1[k] - pc->r0[k]) / pc->eps[q];
             }
-        memcpy(st->field.p_dyn, pc->saved_p, g->size * sizeof(double));
+        memcpy(st->field.p_dyn, pc->saved_p, st->g.size * sizeof(double));
+        if (gathered)
+            memcpy(p_dyn, pc->p_dyn0, g->size * sizeof(double));
     }
     stage_properties(st);
     return 0;

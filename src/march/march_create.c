@@ -51,7 +51,8 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
 /* What runs over several ranks besides the scene's consent (scene.h:
  * decomposed): one message naming the first option that does not, and what
  * does. */
-#define RANKS_RUN "solver.coupled = off, physics.advection_scheme = centred or upwind, the " \
+#define RANKS_RUN "solver.coupled = off, or on with the LU and no open face, " \
+                  "physics.advection_scheme = centred or upwind, the " \
                   "physics modules that run decomposed (the scenes', the nonlocal fluidity's, " \
                   "a body's), uniform spacing, the line, fourier or multigrid preconditioner " \
                   "(solver.preconditioner = auto, line, fourier or multigrid), no solver.initial_state"
@@ -85,7 +86,13 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
      * layer at a rank border (first order there, not at one process) */
     const int upwind2 = cs->advection && (cs->advection_scheme == ADVECTION_VANLEER ||
                                           cs->advection_scheme == ADVECTION_QUICK);
-    const char *what = cs->coupled             ? "solver.coupled = on"
+    /* the coupled step gathers its matrix onto every rank and factorises it
+     * there (coupled_view.h): the LU's, without open faces' unknowns */
+    const int coupled_lu = cs->preconditioner == PRECOND_AUTO || cs->preconditioner == PRECOND_LU;
+    const char *what = cs->coupled && !coupled_lu
+                           ? "solver.coupled = on with solver.preconditioner = amg or multigrid"
+                       : cs->coupled && bc_has_open(&cs->bc)
+                           ? "solver.coupled = on with an open face"
                        : upwind2               ? "physics.advection_scheme = vanleer or quick"
                        : m                     ? module
                        : cs->initial_state[0]  ? "solver.initial_state"
@@ -121,7 +128,8 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
     /* gmg gathers its cross-section on every rank (viscous_gmg.c), a body's
      * held nodes and cut links with it */
     const int gmg = *kind == VISCOUS_GMG;
-    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG && !gmg) {
+    if (*kind != VISCOUS_LINE && *kind != VISCOUS_FOURIER && *kind != VISCOUS_MG && !gmg &&
+        !cs->coupled) { /* the coupled step's solver is its own (coupled_view.h) */
         char what[120];
         snprintf(what, sizeof what,
                  cs->preconditioner == PRECOND_AUTO ? "the implicit step's %s preconditioner"
@@ -130,8 +138,9 @@ static int split_over_ranks(struct march_state *st, const struct muflow_case *cs
         return ranks_refused(cs, what, err, errlen);
     }
     /* the velocity multigrid cuts its lines at rank borders, gmg gathers
-     * its cross-section: a bounded direction splits too */
-    const int bounded = *kind == VISCOUS_MG || gmg;
+     * its cross-section, so does the coupled step its whole grid: a bounded
+     * direction splits too */
+    const int bounded = *kind == VISCOUS_MG || gmg || cs->coupled;
     for (int d = 0; d < 3; d++)
         splittable[d] = (periodic[d] || bounded) && cs->n[d] > 1;
     char why[300];
@@ -203,6 +212,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
                                     : march_plan(cs, su, g, -1, avail, &kind);
     if (st->ranks && kind == VISCOUS_GMG) /* its cross-section whole on every rank */
         st->memory_estimate += viscous_gmg_gathered_estimate(&st->ranks->global, g);
+    if (st->ranks && cs->coupled) /* its whole grid's matrix on every rank */
+        st->memory_estimate += march_coupled_gathered_estimate(&st->ranks->global);
     st->precond = kind;
     if (avail > 0.0 && st->memory_estimate > avail) {
         march_memory_refusal(err, errlen, g, kind, st->memory_estimate, avail);

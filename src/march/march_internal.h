@@ -49,6 +49,9 @@ int march_register_fields(struct march_state *st);
 /* Bytes the march will allocate on g with the preconditioner kind. */
 double march_memory_estimate(const struct muflow_case *cs, const struct march_setup *su,
                              const struct grid *g, enum viscous_precond kind);
+/* Bytes the coupled step adds on every rank of a decomposed run: the
+ * whole grid gg's matrix, factors and gathered fields (coupled_view.h). */
+double march_coupled_gathered_estimate(const struct grid *gg);
 /* The preconditioner (*kind) and the estimate of the case on g (amg: see
  * march_amg_allowed), within avail where auto has a choice. */
 double march_plan(const struct muflow_case *cs, const struct march_setup *su,

@@ -74,6 +74,17 @@ double march_memory_estimate(const struct muflow_case *cs, const struct march_se
     return bytes;
 }
 
+double march_coupled_gathered_estimate(const struct grid *gg)
+{
+    int dims = 0;
+    for (int d = 0; d < 3; d++)
+        dims += gg->n[d] > 1;
+    /* probes, responses, the gathered residual and increments, shares,
+     * pressures and the pressure columns' copies: 17 arrays of gg */
+    return saddle_point_memory_estimate(4L * (long)grid_cells(gg), dims) +
+           17.0 * (double)gg->size * sizeof(double);
+}
+
 double march_available_memory(void)
 {
     /* MUFLOW_AVAILABLE_MEMORY (bytes) stands in for the machine's, so that

@@ -41,6 +41,7 @@
 #include "march/coupled_mg.h"
 #include "march/coupled_pressure.h"
 #include "march/coupled_open.h"
+#include "march/coupled_view.h"
 #include "march/step.h"
 #include "solvers/probe_matrix.h"
 #include "solvers/saddle_krylov.h"
@@ -63,6 +64,8 @@ struct gradient_face {
 };
 
 struct coupled_state {
+    struct coupled_view *view;   /* the whole grid (st's own on one process) */
+    double *whole[3], *whole_p, *whole_div; /* over ranks: fields gathered onto it */
     struct probe_matrix *pm;
     int pattern;                 /* the kind of operator pm learnt (viscous_learn_pattern) */
     double *probe[3], *resp[3];
@@ -110,7 +113,11 @@ void stage_coupled_destroy(struct coupled_state *c)
     for (int k = 0; k < 3; k++) {
         field_free(c->probe[k]);
         field_free(c->resp[k]);
+        field_free(c->whole[k]);
     }
+    field_free(c->whole_p);
+    field_free(c->whole_div);
+    coupled_view_destroy(c->view);
     if (c->pm)
         probe_matrix_destroy(c->pm);
     csr_free(&c->A);
@@ -154,8 +161,9 @@ static void number_cells(const struct grid *g, const int periodic[3], int *cell)
             }
 }
 
-static int list_gradient_faces(const struct march_state *st, struct coupled_state *c)
+static int list_gradient_faces(struct coupled_state *c)
 {
+    const struct grid *g = c->view->g;
     const int *comp_of = probe_matrix_components(c->pm);
     c->faces = malloc((size_t)c->nu * sizeof *c->faces);
     if (!c->faces)
@@ -164,15 +172,15 @@ static int list_gradient_faces(const struct march_state *st, struct coupled_stat
     for (int k = 0; k < c->nu; k++) {
         int comp = comp_of[k];
         ptrdiff_t p = c->slot[k];
-        double s = st->embedded ? st->embedded->share[comp][p] : 1.0;
-        int hi = c->cell[p], lo = c->cell[p - st->g.stride[comp]];
+        double s = c->view->share[comp] ? c->view->share[comp][p] : 1.0;
+        int hi = c->cell[p], lo = c->cell[p - g->stride[comp]];
         if (s == 0.0 || (hi >= 0 && hi == lo))
             continue;
         int idx[3];
-        grid_slot_index(&st->g, p, idx);
+        grid_slot_index(g, p, idx);
         c->faces[c->nfaces++] = (struct gradient_face){
-            k, lo, hi, s, grid_hf(&st->g, comp, idx[comp]), grid_hc(&st->g, comp, idx[comp] - 1),
-            grid_hc(&st->g, comp, idx[comp])};
+            k, lo, hi, s, grid_hf(g, comp, idx[comp]), grid_hc(g, comp, idx[comp] - 1),
+            grid_hc(g, comp, idx[comp])};
     }
     return 0;
 }
@@ -188,14 +196,23 @@ static int border_module(const struct march_state *st)
 
 static struct coupled_state *create(struct march_state *st, char *err, size_t errlen)
 {
-    const struct grid *g = &st->g;
     struct coupled_state *c = calloc(1, sizeof *c);
     if (!c)
         return NULL;
-    int periodic[3];
-    bc_periodic_flags(&st->bc, periodic);
-    if (probe_matrix_create(&c->pm, g, periodic, st->act, 2, err, errlen) != 0)
+    if (!(c->view = coupled_view_create(st)))
+        goto oom;
+    const struct grid *g = c->view->g;
+    const int *periodic = c->view->periodic;
+    if (probe_matrix_create(&c->pm, g, periodic, c->view->act, 2, err, errlen) != 0)
         goto fail;
+    if (c->view->gathered) {
+        for (int k = 0; k < 3; k++)
+            if (!(c->whole[k] = coupled_view_field(c->view)))
+                goto oom;
+        if (!(c->whole_p = coupled_view_field(c->view)) ||
+            !(c->whole_div = coupled_view_field(c->view)))
+            goto oom;
+    }
     for (int k = 0; k < 3; k++)
         if (!(c->probe[k] = field_alloc(g)) || !(c->resp[k] = field_alloc(g)))
             goto oom;
@@ -221,9 +238,10 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
     /* a cell's dp is free when a gradient face touches it; the first free
      * cell is pinned (the rows of D sum to zero over a closed or periodic
      * box: one of them is redundant) */
-    if (list_gradient_faces(st, c) != 0)
+    if (list_gradient_faces(c) != 0)
         goto oom;
-    int rc = coupled_open_create(&c->open, st, c->pm, c->slot, c->nu, c->cell);
+    /* over ranks no open face (march_create refuses them) */
+    int rc = c->view->gathered ? 0 : coupled_open_create(&c->open, st, c->pm, c->slot, c->nu, c->cell);
     c->nopen = coupled_open_count(c->open);
     if (rc == -2) {
         snprintf(err, errlen, "coupled step: an open face's inner face is held in a body");
@@ -254,7 +272,7 @@ static struct coupled_state *create(struct march_state *st, char *err, size_t er
             break;
         }
     if (st->rheo.law == LAW_MUI && st->cs->newton &&
-        !(c->pcols = pressure_columns_create(st, c->pm, c->slot, c->nu, c->cell, c->held)))
+        !(c->pcols = pressure_columns_create(c->view, c->pm, c->slot, c->nu, c->cell, c->held)))
         goto oom;
     if (saddle_point_create(&c->solver, err, errlen) != 0)
         goto fail;
@@ -444,6 +462,31 @@ static int assemble(struct coupled_state *c)
     return to_csr(c->e, n, nu + nc + c->nopen, &c->K);
 }
 
+/* The increments x of the unknowns into st's field.increment (0 elsewhere). */
+static void scatter_increment(struct march_state *st, struct coupled_state *c, const double *x)
+{
+    for (int k = 0; k < 3; k++)
+        memset(st->field.increment[k], 0, st->g.size * sizeof(double));
+    if (!c->view->gathered) {
+        probe_matrix_scatter(c->pm, x, st->field.increment);
+        return;
+    }
+    for (int k = 0; k < 3; k++)
+        memset(c->whole[k], 0, c->view->g->size * sizeof(double));
+    probe_matrix_scatter(c->pm, x, c->whole);
+    for (int k = 0; k < 3; k++)
+        coupled_view_part(c->view, c->whole[k], st->field.increment[k]);
+}
+
+/* b at the unknowns from a field triple f of st's grid. */
+static void gather_unknowns(struct coupled_state *c, double *const f[3], double *b)
+{
+    double *whole[3];
+    for (int k = 0; k < 3; k++)
+        whole[k] = (double *)coupled_view_whole(c->view, f[k], c->whole[k]);
+    probe_matrix_gather(c->pm, whole, b);
+}
+
 /* The bordered step (march/module.h: module_border): x = x1 + dg x2 with
  * dg such that the border's row of u + x is its target. */
 static void border(struct march_state *st, struct coupled_state *c, double gap)
@@ -455,9 +498,7 @@ static void border(struct march_state *st, struct coupled_state *c, double gap)
     double w[2];
     const double *sol[2] = {c->x, c->x2};
     for (int r = 0; r < 2; r++) {
-        for (int k = 0; k < 3; k++)
-            memset(st->field.increment[k], 0, st->g.size * sizeof(double));
-        probe_matrix_scatter(c->pm, sol[r], st->field.increment);
+        scatter_increment(st, c, sol[r]);
         w[r] = b->row(st, state, st->field.increment);
     }
     double dg = w[1] != 0.0 ? (gap - w[0]) / w[1] : 0.0;
@@ -468,17 +509,23 @@ static void border(struct march_state *st, struct coupled_state *c, double gap)
 
 int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
 {
-    const struct grid *g = &st->g;
     char err[256];
     if (!st->coupled && !(st->coupled = create(st, err, sizeof err))) {
         fprintf(stderr, "muflow: %s\n", err);
         return -1;
     }
     struct coupled_state *c = st->coupled;
+    struct coupled_view *v = c->view;
+    const struct grid *g = v->g; /* the whole grid */
     const int nu = c->nu;
-    struct viscous_operator ctx = {st->viscous, pb};
-    viscous_learn_pattern(st->viscous, c->pm, &c->pattern, pb);
-    if (probe_matrix_assemble(c->pm, viscous_operator_apply, &ctx, c->probe, c->resp, 0, &c->A) != 0)
+    operator_fn op;
+    void *ctx;
+    coupled_view_operator(v, pb, &op, &ctx);
+    /* over ranks the structured colouring: learning the pattern probes
+     * st's block alone (the entries are the same either way) */
+    if (!v->gathered)
+        viscous_learn_pattern(st->viscous, c->pm, &c->pattern, pb);
+    if (probe_matrix_assemble(c->pm, op, ctx, c->probe, c->resp, 0, &c->A) != 0)
         return -1;
     st->grid_matrices++;
     c->pcols_on = c->pcols && implicit_uses_tangent(st);
@@ -486,16 +533,18 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
         return -1;
     if (c->open && coupled_open_probe(c->open, st, pb) != 0)
         return -1;
-    probe_matrix_gather(c->pm, st->field.residual, c->b);
+    gather_unknowns(c, st->field.residual, c->b);
     double gap = 0.0;
     int m = border_module(st);
     c->bordered = c->f && st->modules[m]->border->column(st, st->module_state[m],
                                                          st->field.increment, &gap) == 0;
     if (c->bordered)
-        probe_matrix_gather(c->pm, st->field.increment, c->f); /* its pressure rows stay 0 */
+        gather_unknowns(c, st->field.increment, c->f); /* its pressure rows stay 0 */
     idle_components(c);
     if (assemble(c) != 0)
         return -1;
+    const double *p_dyn = coupled_view_whole(v, st->field.p_dyn, c->whole_p);
+    const double *divergence = coupled_view_whole(v, st->field.divergence, c->whole_div);
     for (int i = 0; i < g->n[0]; i++)
         for (int j = 0; j < g->n[1]; j++)
             for (int k = 0; k < g->n[2]; k++) {
@@ -506,9 +555,7 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
                  * brings its own value, and a pressure-dependent law sees
                  * the level (D/8 from a D/4 state: F_D 57.374 against
                  * 57.658 from rest, both steady to round-off) */
-                c->b[nu + q] = q == c->pinned ? -st->field.p_dyn[p]
-                               : c->held[q]   ? 0.0
-                                              : -st->field.divergence[p];
+                c->b[nu + q] = q == c->pinned ? -p_dyn[p] : c->held[q] ? 0.0 : -divergence[p];
             }
     for (int m = 0; m < c->nopen; m++)
         c->b[nu + c->nc + m] = coupled_open_rhs(c->open, st, m);
@@ -559,18 +606,16 @@ int stage_coupled(struct march_state *st, const struct viscous_problem *pb)
     }
     if (c->bordered)
         border(st, c, gap);
-    for (int k = 0; k < 3; k++)
-        memset(st->field.increment[k], 0, g->size * sizeof(double));
-    probe_matrix_scatter(c->pm, c->x, st->field.increment);
+    scatter_increment(st, c, c->x);
     for (int m = 0; m < c->nopen; m++) {
         const struct open_link *o = coupled_open_link(c->open, m);
         st->field.increment[o->d][o->pf] = c->x[o->ki] + c->x[nu + c->nc + m];
     }
-    for (int i = 0; i < g->n[0]; i++)
-        for (int j = 0; j < g->n[1]; j++)
-            for (int k = 0; k < g->n[2]; k++) {
-                ptrdiff_t p = grid_idx(g, i, j, k);
-                st->field.p_dyn[p] += c->x[nu + c->cell[p]];
+    for (int i = 0; i < st->g.n[0]; i++)
+        for (int j = 0; j < st->g.n[1]; j++)
+            for (int k = 0; k < st->g.n[2]; k++) {
+                ptrdiff_t p = grid_idx(&st->g, i, j, k);
+                st->field.p_dyn[p] += c->x[nu + c->cell[coupled_view_slot(v, p)]];
             }
     return 0;
 }

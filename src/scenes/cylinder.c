@@ -644,4 +644,7 @@ const struct scene scene_cylinder = {
     .results = results,
     .files = cylinder_files,
     .modules = cylinder_modules,
+    /* the coupled step gathers its whole plane onto every rank
+       (march/coupled_view.h), the forces are summed over the ranks */
+    .decomposed = scene_decomposed_always,
 };
