@@ -290,3 +290,41 @@ void test_collapse_checkpoint_ranks(void **state)
     }
     ranks_verdict(bad, err, dir);
 }
+
+void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
+                                const char *const *keys, enum run_status want);
+
+/* solver.initial_state on ranks: the collapse at 16 x 6 to t = 0.3, written
+ * on this run's ranks, starts the collapse at 32 x 12 (every rank reads the
+ * whole source and interpolates to the positions of its block) to t = 0.5,
+ * split along x, z and both against one process: status, steps within 1,
+ * measures within 1e-8, mass_error within 1e-13 (check_scene_lines_on_ranks) */
+void test_initial_state_on_ranks(void **state)
+{
+    (void)state;
+    char dir[256], out[400], from[400], err[1024] = "";
+    test_ranks_dir(dir, sizeof dir, "initial");
+    snprintf(out, sizeof out, "output.dir=%s", dir);
+    char *coarse[] = {"domain.lx=4", "domain.nx=16", "domain.nz=6", "solver.end_time=0.3", out,
+                      "output.quiet=on", "output.fields=off"};
+    static struct muflow_case cs;
+    test_load_case(&cs, "../cases/collapse.ini", 7, coarse);
+    struct run_result r;
+    const struct run_options written = {.write_output = 1};
+    double bad = run_case_opts(&cs, &written, &r, err, sizeof err) != RUN_OK || !r.checkpointed;
+    comm_sum(&bad, 1);
+    if (bad == 0.0) {
+        snprintf(from, sizeof from, "solver.initial_state=%s", dir);
+        char *fine[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.5", from};
+        static const char *const keys[] = {"x_front", "h_axis", "kinetic_energy",
+                                           "kinetic_energy_peak", NULL};
+        const int p = comm_size();
+        const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
+        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, along_x, keys,
+                                   STATUS_FINISHED);
+        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, along_z, keys,
+                                   STATUS_FINISHED);
+        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, both, keys, STATUS_FINISHED);
+    }
+    ranks_verdict(bad, err, dir);
+}

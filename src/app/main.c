@@ -248,9 +248,9 @@ static void report(const struct muflow_case *cs, const struct run_result *r)
     else if (r->checkpointed && r->restartable)
         printf("checkpoint: %s/%s (muflow --restart %s)\n", cs->output_dir, CHECKPOINT_NAME,
                cs->output_dir);
-    else if (r->checkpointed) /* solver.initial_state is read by one process alone */
-        printf("final state: %s/%s (a new run %sstarts from it with solver.initial_state)\n",
-               cs->output_dir, CHECKPOINT_NAME, several_ranks() ? "on one process " : "");
+    else if (r->checkpointed)
+        printf("final state: %s/%s (a new run starts from it with solver.initial_state)\n",
+               cs->output_dir, CHECKPOINT_NAME);
     fflush(stdout);
 }
 

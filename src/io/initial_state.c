@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include "io/checkpoint.h"
 #include "kernels/embedded.h"
+#include "march/march.h"
 
 /* Relative difference of box lengths taken as the same box (a length
  * written to the case file with 17 digits comes back to the last bit). */
@@ -67,9 +68,11 @@ static double sample(const double *src, const struct grid *gs, const double off[
 }
 
 /* Interpolates the source array into f on every slot of g (ghosts too: the
- * march fills them again), the nodes of both at their faces or centres. */
+ * march fills them again), the nodes of both at their faces or centres; g
+ * a block of the whole grid gg whose cell 0 is gg's lo (a rank's; gg = g,
+ * lo = 0 on one process): the positions gg's, as one process takes them. */
 static void interpolate(const double *src, const struct grid *gs, const double off[3],
-                        const struct grid *g, double *f)
+                        const struct grid *g, const struct grid *gg, const int lo[3], double *f)
 {
     for (int i = grid_slot_lo(g, 0); i <= grid_slot_hi(g, 0); i++)
         for (int j = grid_slot_lo(g, 1); j <= grid_slot_hi(g, 1); j++)
@@ -77,7 +80,8 @@ static void interpolate(const double *src, const struct grid *gs, const double o
                 const int idx[3] = {i, j, k};
                 double x[3];
                 for (int d = 0; d < 3; d++) /* off: 0 at faces, 1/2 at centres */
-                    x[d] = off[d] == 0.0 ? grid_xf(g, d, idx[d]) : grid_xc(g, d, idx[d]);
+                    x[d] = off[d] == 0.0 ? grid_xf(gg, d, idx[d] + lo[d])
+                                         : grid_xc(gg, d, idx[d] + lo[d]);
                 f[grid_idx(g, i, j, k)] = sample(src, gs, off, x);
             }
 }
@@ -137,7 +141,12 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
         snprintf(file, sizeof file, "%s/%s", path, CHECKPOINT_NAME);
     else
         snprintf(file, sizeof file, "%s", path);
-    const struct grid *g = &st->g;
+    /* the box and the positions: the whole grid's (every rank reads the
+     * whole source and takes its block's nodes) */
+    const struct grid *g = march_global_grid(st);
+    int lo[3] = {0, 0, 0};
+    for (int d = 0; st->ranks && d < 3; d++)
+        lo[d] = st->ranks->dc.lo[d];
     int ns[3];
     double len[3];
     if (checkpoint_read_grid(file, ns, len, cause, sizeof cause) != 0) {
@@ -201,7 +210,7 @@ int initial_state_load(const char *path, struct march_state *st, char *err, size
             double off[3];
             for (int d = 0; d < 3; d++)
                 off[d] = fe->spec.where == FIELD_FACES && d == c ? 0.0 : 0.5;
-            interpolate(src, &gs, off, g, fe->v[c]);
+            interpolate(src, &gs, off, &st->g, g, lo, fe->v[c]);
         }
     }
     free(src);

@@ -55,7 +55,7 @@ static int add_modules(struct march_state *st, const struct march_setup *su, cha
                   "physics.advection_scheme = centred or upwind, the " \
                   "physics modules that run decomposed (the scenes', the nonlocal fluidity's, " \
                   "a body's), uniform spacing, the line, fourier or multigrid preconditioner " \
-                  "(solver.preconditioner = auto, line, fourier or multigrid), no solver.initial_state"
+                  "(solver.preconditioner = auto, line, fourier or multigrid)"
 
 static int ranks_refused(const struct muflow_case *cs, const char *what, char *err, size_t errlen)
 {
@@ -95,7 +95,6 @@ static int march_ranks_refusal(const struct muflow_case *cs, const struct march_
                            ? "solver.coupled = on with an open face"
                        : upwind2               ? "physics.advection_scheme = vanleer or quick"
                        : m                     ? module
-                       : cs->initial_state[0]  ? "solver.initial_state"
                                                : NULL;
     return what ? ranks_refused(cs, what, err, errlen) : 0;
 }
