@@ -336,7 +336,7 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
      * the flexible GMRES converges them (that step in 24 iterations) */
     if (s->mg_ok)
         return pb->b_cell || bc_has_open(s->bc) ? visc_mg_gmres(s, pb, x, rtol, maxit, st)
-                          : visc_mg_pcg(s, pb, bnorm, x, rtol, maxit, st);
+                                                : visc_mg_pcg(s, pb, bnorm, x, rtol, maxit, st);
     if (s->gmg_ok)
         visc_gmg_others(s, pb, negligible, bnorm);
     st->failed_blocks = s->failed_blocks;
