@@ -13,7 +13,7 @@
 
 /* The grid study (make bench-front; docs/validation/front.md), 0.6 s on
  * 166 x 10, 250 x 15 and 400 x 24 cells, measured: front speed -0.65 %,
- * -0.88 %, -1.01 % against mass conservation across the front; h(x) against
+ * -0.89 %, -1.01 % against mass conservation across the front; h(x) against
  * Pouliquen's front, in % of h_inf over the front's length, rms 1.48, 1.55,
  * 1.46, over its body (exact h >= h_inf / 4) max 4.33, 4.59, 1.90; the
  * nose (the last 3 h_inf) steeper than the closed form, max 8.28, 8.35,

@@ -1192,6 +1192,7 @@ void test_initial_state_on_ranks(void **state);
 /* test_mpi_measures.c */
 void test_wall_shock_on_ranks(void **state);
 void test_front_on_ranks(void **state);
+void test_front_shipped_on_ranks(void **state);
 void test_bagnold2_on_ranks(void **state);
 void test_duct_square_on_ranks(void **state);
 void test_duct_circular_on_ranks(void **state);
@@ -1241,6 +1242,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_initial_state_on_ranks),
         cmocka_unit_test(test_wall_shock_on_ranks),
         cmocka_unit_test(test_front_on_ranks),
+        cmocka_unit_test(test_front_shipped_on_ranks),
         cmocka_unit_test(test_bagnold2_on_ranks),
         cmocka_unit_test(test_duct_square_on_ranks),
         cmocka_unit_test(test_duct_circular_on_ranks),

@@ -327,9 +327,16 @@ static int solve(struct viscous_solver *s, const struct viscous_problem *pb, dou
         s->keep_blocks || s->keep_once ? -1.0 : NEGLIGIBLE_SHARE * rtol * bnorm;
     s->dropped = 0;
     visc_prepare(s, pb, negligible);
+    /* An open face makes the Picard operator non-symmetric too: its normal
+     * component's increment copies the inner face's, and the shear at the
+     * face takes that copy's tangential gradient, a coupling with no
+     * transpose (the front: (u, Av) and (v, Au) of random fields 1e-5 to
+     * 3e-4 apart, the cycle's 2e-2).  CG then stalls on some steps (the
+     * front's step 1018 at its cap of 500, 2.5e-8 alone, 4e-4 on two ranks);
+     * the flexible GMRES converges them (that step in 24 iterations) */
     if (s->mg_ok)
-        return pb->b_cell ? visc_mg_gmres(s, pb, x, rtol, maxit, st)
-                          : visc_mg_pcg(s, pb, bnorm, x, rtol, maxit, st);
+        return pb->b_cell || bc_has_open(s->bc) ? visc_mg_gmres(s, pb, x, rtol, maxit, st)
+                                                : visc_mg_pcg(s, pb, bnorm, x, rtol, maxit, st);
     if (s->gmg_ok)
         visc_gmg_others(s, pb, negligible, bnorm);
     st->failed_blocks = s->failed_blocks;
