@@ -295,6 +295,11 @@ void march_apply_tangent(struct march_state *st, double *v[3], double *out[3]);
  * direction. */
 int march_driven_component(const struct march_state *st);
 
+/* The mean of f (an array of component a's faces) over the unknowns of
+ * component a, over the ranks: each block's mean weighted by its nodes.
+ * Collective. */
+double march_component_mean(const struct march_state *st, int a, const double *f);
+
 /* The mean of the momentum residual along the driven component per unit
  * mass: the mean acceleration of the layer. */
 double march_mean_acceleration(const struct march_state *st);

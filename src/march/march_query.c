@@ -72,11 +72,9 @@ int march_driven_component(const struct march_state *st)
     return a;
 }
 
-double march_mean_acceleration(const struct march_state *st)
+double march_component_mean(const struct march_state *st, int a, const double *f)
 {
-    /* mean residual per unit mass of the component the body force drives */
-    int a = march_driven_component(st);
-    double mean = kernel_component_mean(&st->g, &st->act[a], a, st->field.residual[a]);
+    double mean = kernel_component_mean(&st->g, &st->act[a], a, f);
     if (st->ranks) { /* the ranks' means weighted by their nodes */
         const struct box *b = &st->act[a];
         double w[2] = {(double)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2])};
@@ -84,5 +82,12 @@ double march_mean_acceleration(const struct march_state *st)
         march_sum_array(st, w, 2);
         mean = w[0] > 0.0 ? w[1] / w[0] : 0.0;
     }
-    return mean / st->cs->density;
+    return mean;
+}
+
+double march_mean_acceleration(const struct march_state *st)
+{
+    /* mean residual per unit mass of the component the body force drives */
+    int a = march_driven_component(st);
+    return march_component_mean(st, a, st->field.residual[a]) / st->cs->density;
 }

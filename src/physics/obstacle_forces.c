@@ -766,15 +766,7 @@ double obstacle_mean_velocity(const struct march_state *st)
     int a = march_driven_component(st);
     if (f[a] == 0.0)
         return NAN;
-    double mean = kernel_component_mean(&st->g, &st->act[a], a, st->field.velocity[a]);
-    if (st->ranks) { /* the blocks' means weighted by their nodes */
-        const struct box *b = &st->act[a];
-        double w[2] = {(double)(b->hi[0] - b->lo[0]) * (b->hi[1] - b->lo[1]) * (b->hi[2] - b->lo[2])};
-        w[1] = mean * w[0];
-        march_sum_array(st, w, 2);
-        mean = w[0] > 0.0 ? w[1] / w[0] : 0.0;
-    }
-    return copysign(1.0, f[a]) * mean;
+    return copysign(1.0, f[a]) * march_component_mean(st, a, st->field.velocity[a]);
 }
 
 /* The flow's direction: an inflow face's (into the box), else the
