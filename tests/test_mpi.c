@@ -1188,6 +1188,7 @@ void test_heap_on_ranks(void **state);
 void test_cylinder_benchmark_on_ranks(void **state);
 void test_slope_release_on_ranks(void **state);
 void test_cylinder_on_ranks(void **state);
+void test_cylinder_velocity_on_ranks(void **state);
 void test_initial_state_on_ranks(void **state);
 /* test_mpi_measures.c */
 void test_wall_shock_on_ranks(void **state);
@@ -1239,6 +1240,7 @@ void group_mpi(struct test_tally *t)
         cmocka_unit_test(test_cylinder_benchmark_on_ranks),
         cmocka_unit_test(test_slope_release_on_ranks),
         cmocka_unit_test(test_cylinder_on_ranks),
+        cmocka_unit_test(test_cylinder_velocity_on_ranks),
         cmocka_unit_test(test_initial_state_on_ranks),
         cmocka_unit_test(test_wall_shock_on_ranks),
         cmocka_unit_test(test_front_on_ranks),

@@ -60,6 +60,24 @@ void test_cylinder_on_ranks(void **state)
     check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, both, keys, STATUS_STEADY);
 }
 
+/* The cylinder's continuation in the mean velocity (cylinder.velocity_end:
+ * the flow-rate module's border, its mean summed over the ranks) at D/2
+ * (20 x 60, lambda 1e-2), 3 solves to U = 2 at F 1.20555 alone, split
+ * along z (the rank border through the cylinder's centre on 2 ranks): F,
+ * U and the drag within 1e-8.  With the mean of a rank's block alone the
+ * continuation went to F < 0 and 3,000 unsteady steps a solve. */
+void test_cylinder_velocity_on_ranks(void **state)
+{
+    (void)state;
+    char *ov[] = {"rheology.lambda=1e-2",        "solver.continuation=1",
+                  "domain.nx=20",                "domain.nz=60",
+                  "cylinder.forcing_end=1.15",   "cylinder.forcing_step=0.15",
+                  "cylinder.velocity_end=2",     "cylinder.velocity_ratio=2"};
+    static const char *const keys[] = {"forcing", "mean_velocity", "drag", NULL};
+    const int along_z[3] = {1, 1, comm_size()};
+    check_scene_lines_on_ranks("../cases/cylinder.ini", 8, ov, along_z, keys, STATUS_STEADY);
+}
+
 /* The slope release (cases/slope_release.ini: the bed a body of whole
  * cells, two phases, the VOF) at 2.5 mm cells (60 x 24) to t = 0.1 (100
  * steps): the bed crosses every rank border; split along x (x = 0.075;

@@ -55,8 +55,8 @@ int flow_rate_restart(struct march_state *st, double g, double U, char *err, siz
 int flow_rate_border(struct march_state *st, double *f[3], double *gap);
 
 /* The mean velocity of the face field triple u along the force (the
- * constraint's functional; NAN while idle).  The one sum of the module: a
- * grid distributed over processes sums it over them. */
+ * constraint's functional; NAN while idle), over the whole domain: the one
+ * sum of the module, taken over the ranks (collective). */
 double flow_rate_mean(const struct march_state *st, double *const u[3]);
 
 /* The step's increment of g (applied with the velocity's). */

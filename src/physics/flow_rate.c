@@ -194,9 +194,8 @@ int flow_rate_restart(struct march_state *st, double g, double U, char *err, siz
 double flow_rate_mean(const struct march_state *st, double *const u[3])
 {
     const struct flow_rate *s = state_of(st);
-    return s && s->target > 0.0
-               ? s->sign * kernel_component_mean(&st->g, &st->act[s->a], s->a, u[s->a])
-               : NAN;
+    /* over the ranks: the border's row is the whole domain's mean */
+    return s && s->target > 0.0 ? s->sign * march_component_mean(st, s->a, u[s->a]) : NAN;
 }
 
 int flow_rate_border(struct march_state *st, double *f[3], double *gap)
