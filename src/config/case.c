@@ -443,15 +443,15 @@ const struct key case_core_keys[] = {
     DBL("solver", "linear_tolerance", linear_tolerance, RANGE(0, 1, 0, 0),
         "relative tolerance of the implicit viscous solve"),
     BOOL("solver", "inexact_newton", inexact_newton,
-         KEY_HELP("steady Newton steps solved with amg, cholesky or gmg: the linear tolerance "
-                  "follows the residual's last decrease (Eisenstat-Walker), down to "
+         KEY_HELP("steady Newton steps solved with amg, cholesky, gmg or multigrid: the linear "
+                  "tolerance follows the residual's last decrease (Eisenstat-Walker), down to "
                   "linear_tolerance",
                   NULL,
-                  "Steady Newton steps solved with `amg`, `cholesky` or `gmg`: the linear "
-                  "tolerance follows the residual's last decrease (Eisenstat and Walker's forcing "
-                  "term, gamma 0.9, exponent 2), at most 0.1 (0.01 with `gmg`) and the relative "
-                  "residual, at least `linear_tolerance`; the LU solves exactly whatever the "
-                  "tolerance; `off`: every solve to `linear_tolerance`")),
+                  "Steady Newton steps solved with `amg`, `cholesky`, `gmg` or `multigrid`: the "
+                  "linear tolerance follows the residual's last decrease (Eisenstat and Walker's "
+                  "forcing term, gamma 0.9, exponent 2), at most 0.1 (0.01 with `gmg`) and the "
+                  "relative residual, at least `linear_tolerance`; the LU solves exactly whatever "
+                  "the tolerance; `off`: every solve to `linear_tolerance`")),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),

@@ -10,7 +10,10 @@
  * eta_k = gamma (r_k / r_(k-1))^alpha, which keeps Newton's final rate
  * (alpha = 2: quadratic while the residual falls quadratically).  The
  * probed LU solves exactly in one iteration whatever the tolerance, so
- * only the AMG and Cholesky paths take it. */
+ * only the Krylov paths take it: the AMG, the Cholesky of the diagonal
+ * tangent, the cross-section multigrid and the velocity multigrid (whose
+ * GMRES took 134-500 iterations a Newton step of the Bingham cavity at
+ * 64^2-128^2 solved to 1e-8). */
 #include <math.h>
 #include <stdlib.h>
 #include "march/step.h"
@@ -36,7 +39,7 @@ double implicit_tolerance(struct march_state *st, int tangent)
     double floor = cs->linear_tolerance;
     if (!cs->inexact_newton || !tangent ||
         (st->precond != VISCOUS_AMG && st->precond != VISCOUS_CHOLESKY &&
-         st->precond != VISCOUS_GMG) ||
+         st->precond != VISCOUS_GMG && st->precond != VISCOUS_MG) ||
         cs->mode != MODE_STEADY)
         return floor;
     /* a step retried with a smaller dt (rejected) starts from the same
