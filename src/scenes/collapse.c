@@ -132,8 +132,8 @@ static int is_square(const struct muflow_case *cs)
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct collapse_params *p = params(c);
-    if (c->rheo.law != LAW_MUI) {
-        snprintf(msg, msglen, "case.scene = collapse needs rheology.law = mui");
+    if (c->rheo.law != LAW_MUI && c->rheo.law != LAW_NGF) {
+        snprintf(msg, msglen, "case.scene = collapse needs rheology.law = mui or ngf");
         return 1;
     }
     if (c->mode != MODE_TRANSIENT) {
