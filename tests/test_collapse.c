@@ -559,10 +559,11 @@ static void test_ngf_front(void **state)
  * 32 (ngf's behind, the gap not shrinking with the grid; its cause is not
  * isolated: the two differ in the edges' viscosity, ngf's from the mean of
  * the four cells' fluidities, mu(I)'s from the edge's own shear rate, and
- * in the base's edges, ngf's at half the first cell's fluidity), 0.51 with the published mu(I) (i0 = 0.4, delta_mu = 0.28,
- * whose friction saturates at 0.6).  Asserted: within 0.07 of the local
- * law's front, and 5 times closer to it than to the saturating law's at t
- * = 4 (measured 10 times). */
+ * in the base's edges, ngf's at half the first cell's fluidity), 0.51
+ * with the published mu(I) (i0 = 0.4, delta_mu = 0.28, whose friction
+ * saturates at 0.6).  Asserted: within 0.07 of the local law's front, and
+ * 5 times closer to it than to the saturating law's at t = 4 (measured 10
+ * times). */
 #define NGF_LOCAL_TOL 0.07
 
 static void test_ngf_local_limit(void **state)

@@ -115,7 +115,8 @@ static void fill_ghosts(const struct march_state *st, double *f)
                     in[b] = gh[b] = v;
                     in[d] = side ? g->n[d] - 1 : 0;
                     gh[d] = side ? g->n[d] : -1;
-                    f[grid_idx(g, gh[0], gh[1], gh[2])] = wall * f[grid_idx(g, in[0], in[1], in[2])];
+                    f[grid_idx(g, gh[0], gh[1], gh[2])] =
+                        wall * f[grid_idx(g, in[0], in[1], in[2])];
                 }
         }
 }
@@ -172,7 +173,8 @@ static int create_box_solver(struct march_state *st, struct ngf *m, double a2, c
 /* Whether cell (i, j, k) (an image across a periodic face: its cell; any
  * other outside the grid: the inner cell's) takes part in the grains'
  * fluidity equation under a light phase. */
-static int grains_cell(const struct grid *g, const struct boundary *bc, const double *T, int idx[3])
+static int grains_cell(const struct grid *g, const struct boundary *bc, const double *T,
+                       int idx[3])
 {
     for (int d = 0; d < 3; d++)
         if (idx[d] < 0 || idx[d] >= g->n[d])
@@ -425,14 +427,13 @@ static void box_fluidity(struct march_state *st, struct ngf *m)
             }
     double *face[3] = {m->face, m->face, m->face};
     const double *T = two_phase_fraction(st);
-    char err[256];
-    if (T && grains_faces(st, m, T) != 0)
-        snprintf(err, sizeof err, "out of memory");
-    else if (T)
+    char err[256] = "out of memory for the light phase's faces";
+    const int no_faces = T && grains_faces(st, m, T) != 0;
+    if (T && !no_faces)
         for (int d = 0; d < 3; d++)
             face[d] = m->face3[d];
     struct multigrid_stats stats = {0};
-    if ((T && !face[0]) || multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) != 0) {
+    if (no_faces || multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) != 0) {
         /* no fluidity: NaN, so that the step is rejected and the run ends
          * diverged with its last good state, the cause said here */
         fprintf(stderr, "muflow: step %ld: the fluidity's multigrid: %s\n", st->step, err);

@@ -114,15 +114,16 @@ static void defaults(void *block)
 SCENE_PARAMS(collapse_block, "collapse",
              "A rectangular column of grains released on a rough base under a light phase, half "
              "the column with the symmetry plane at x = 0 (Lagree, Staron & Popinet 2011; "
-             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I), or `law = ngf` on one process) with "
-             "`physics.density` their density; the scene needs `solver.mode = transient`, "
-             "`boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, `zhi = surface` or `open`, "
-             "periodic y and `domain.ny = 1` (`collapse.column = square`: a quarter of a square "
-             "column in 3D, `ylo = slip`).  It writes `collapse.csv` (every step: t, x_front, "
-             "h_axis, kinetic energy, grains' volume, extremes of T; square: then y_front and "
-             "the diagonal's front) and `surface.csv` (h(x) at the profile times and at the "
-             "end; square: along y = 0); with `case.reference` it compares x_front and "
-             "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
+             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I), or `law = "
+             "ngf` on one process) with `physics.density` their density; the scene needs "
+             "`solver.mode = transient`, `boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, "
+             "`zhi = surface` or `open`, periodic y and `domain.ny = 1` (`collapse.column = "
+             "square`: a quarter of a square column in 3D, `ylo = slip`).  It writes "
+             "`collapse.csv` (every step: t, x_front, h_axis, kinetic energy, grains' volume, "
+             "extremes of T; square: then y_front and the diagonal's front) and `surface.csv` "
+             "(h(x) at the profile times and at the end; square: along y = 0); with "
+             "`case.reference` it compares x_front and h_axis with the reference's datasets of the "
+             "same aspect ratio H0/R0.",
              struct collapse_params, collapse_keys, defaults)
 
 /* The case's column is the quarter of a square one (collapse.column). */
