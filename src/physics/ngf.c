@@ -92,11 +92,11 @@ static enum line_end end_condition(enum bc_kind k)
  * at the wall; with the zero it has the mean of g over the link from the
  * wall to the cell's centre (g rising from 0 to g_0 over it: g_0 / 2 for
  * one cell), the slip over that half cell that the fluidity gives.  The
- * collapse's base needs the latter: the rigid edge turned the projection's
- * slip of the first cells (dt grad phi, 1e-5) into a wall stress 20 times
- * the grains' weight, a transient residual that grew to 1e3 times its
- * start by t = 0.07 (docs/numerics/rheology.md); the layered flows keep the
- * mirror, their validated rule. */
+ * collapse's base needs the latter: the rigid edge turned the first cells'
+ * slip after a step (3e-5 to 1e-4) into a wall stress up to 20 times the
+ * grains' weight, a transient residual past 1e3 times its start at t =
+ * 0.07 (docs/numerics/rheology.md); the layered flows keep the mirror,
+ * their validated rule. */
 static void fill_ghosts(const struct march_state *st, double *f)
 {
     const double wall = two_phase_fraction(st) ? 0.0 : -1.0;
