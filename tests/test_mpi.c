@@ -1110,6 +1110,16 @@ static void test_muflow_on_ranks(void **state)
     if (!named)
         print_error("%s", out);
     free(out);
+    /* the collapse under the nonlocal fluidity, whose box multigrid is one
+     * process's, names the fluidity's solver */
+    snprintf(args, sizeof args, "../cases/collapse.ini rheology.law=ngf domain.nx=80 "
+             "domain.nz=24 domain.ly=0.0625 output.dir='%s/ngf'", dir);
+    mpirun_two(bin, args, &out);
+    const int ngf_named = strstr(out, "rheology.fluidity_solver = multigrid") &&
+                          strstr(out, "runs on one process") && strstr(out, "rc=2\n");
+    if (!ngf_named)
+        print_error("%s", out);
+    free(out);
     /* stopped at step 3 (status 3) with a field file every 2 steps and a
      * checkpoint, continued on the ranks to steady (6 steps, as in one go) */
     snprintf(args, sizeof args,
@@ -1158,6 +1168,7 @@ static void test_muflow_on_ranks(void **state)
     assert_false(wrote);
     assert_true(keys_said);
     assert_true(named);
+    assert_true(ngf_named);
     assert_true(ran);
     assert_true(continued);
     assert_true(serial);

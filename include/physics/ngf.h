@@ -29,7 +29,13 @@
  * step, written to the field files).  The lines (layered flows: periodic x
  * and y) leave the lateral part of lap(g) out (zero for a flow uniform along
  * x and y); the multigrid (uniform grids, one process) keeps it, and the
- * free surface's edge rule (physics/ngf.c: cell_shear2) is along z only. */
+ * free surface's edge rule (physics/ngf.c: cell_shear2) is along z only.
+ * Under a light phase (physics/two_phase.h: the collapse) the cells at
+ * least half grains solve the equation with no flux of g to the others
+ * (the grains' free surface, g' = 0, to a cell), which take the local
+ * fluidity; the base's edges take the mean of g over their link (the
+ * first cell's half), and the two_phase module mixes the viscosities
+ * after the fluidity replaced the grains' (two_phase_mix_viscosities). */
 #ifndef MUFLOW_PHYSICS_NGF_H
 #define MUFLOW_PHYSICS_NGF_H
 

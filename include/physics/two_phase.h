@@ -77,6 +77,15 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
  * coefficient from it.  Returns 0, or -1 with the cause. */
 int two_phase_tracer_changed(struct march_state *st, char *err, size_t errlen);
 
+/* T when a scene configured the module, else NULL. */
+const double *two_phase_fraction(const struct march_state *st);
+
+/* The mixture of the viscosities (and tangents) the properties stage holds
+ * as the grains': the module's properties hook does it after the core's
+ * mu(I); with rheology.law = ngf the fluidity module (physics/ngf.h), which
+ * replaces the grains' viscosities after that hook, calls this instead. */
+void two_phase_mix_viscosities(struct march_state *st);
+
 /* Sum of T over the interior cells (the grains' volume in cells). */
 double two_phase_volume(const struct march_state *st);
 

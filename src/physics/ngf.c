@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include "physics/ngf.h"
 #include "physics/fluidity_anderson.h"
+#include "physics/two_phase.h"
 #include "grid/boundary.h"
 #include "kernels/rheology.h"
 #include "solvers/line_screened.h"
@@ -33,6 +34,12 @@
 /* the multigrid's relative residual (of |D|'s 2-norm): below the steady
  * criterion's effect (docs/numerics/rheology.md) */
 #define NGF_MG_RTOL 1e-12
+/* Under a light phase (physics/two_phase.h) a cell takes part in the
+ * grains' fluidity equation when at least this fraction of it is grains;
+ * the others take the local fluidity (no lap(g) term) and no flux of g
+ * crosses a face between the two kinds: the free surface's condition,
+ * g' = 0, on the reconstructed surface to a cell (docs/numerics/rheology.md) */
+#define NGF_GRAINS_CELL 0.5
 
 struct ngf {
     double *fluidity;      /* the registered cell field */
@@ -44,6 +51,7 @@ struct ngf {
      * side -|D| per cell */
     struct multigrid *mg;
     double *face, *screen, *rhs;
+    double *face3[3]; /* under a light phase: each direction's, set per solve */
     long unconverged; /* its solves that stopped above NGF_MG_RTOL */
     /* the steady iteration's acceleration (NULL: Picard, and in transient
      * mode); over the cells in the module's order: the iterate x the last
@@ -77,10 +85,21 @@ static enum line_end end_condition(enum bc_kind k)
     return k == BC_WALL || k == BC_LID ? LINE_ZERO : LINE_NO_FLUX;
 }
 
-/* Ghosts: periodic copies, then the mirror of a zero value (-g) on walls and
- * lids, of a zero gradient elsewhere. */
+/* Ghosts: periodic copies, then on walls and lids the mirror of a zero
+ * value (-g), or under a light phase the zero itself; a zero gradient
+ * elsewhere.  The ghosts enter only the edges' fluidity (edge_mean): with
+ * the mirror a wall's edge has g = 0, eta = p / lambda, a rigid half cell
+ * at the wall; with the zero it has the mean of g over the link from the
+ * wall to the cell's centre (g rising from 0 to g_0 over it: g_0 / 2 for
+ * one cell), the slip over that half cell that the fluidity gives.  The
+ * collapse's base needs the latter: the rigid edge turned the first cells'
+ * slip after a step (3e-5 to 1e-4) into a wall stress up to 20 times the
+ * grains' weight, a transient residual past 1e3 times its start at t =
+ * 0.07 (docs/numerics/rheology.md); the layered flows keep the mirror,
+ * their validated rule. */
 static void fill_ghosts(const struct march_state *st, double *f)
 {
+    const double wall = two_phase_fraction(st) ? 0.0 : -1.0;
     const struct grid *g = &st->g;
     bc_fill_scalar(g, &st->bc, f);
     for (int d = 0; d < 3; d++)
@@ -96,7 +115,8 @@ static void fill_ghosts(const struct march_state *st, double *f)
                     in[b] = gh[b] = v;
                     in[d] = side ? g->n[d] - 1 : 0;
                     gh[d] = side ? g->n[d] : -1;
-                    f[grid_idx(g, gh[0], gh[1], gh[2])] = -f[grid_idx(g, in[0], in[1], in[2])];
+                    f[grid_idx(g, gh[0], gh[1], gh[2])] =
+                        wall * f[grid_idx(g, in[0], in[1], in[2])];
                 }
         }
 }
@@ -120,7 +140,9 @@ static int create_box_solver(struct march_state *st, struct ngf *m, double a2, c
 {
     const struct grid *g = &st->g;
     if (st->ranks) {
-        snprintf(err, errlen, "ngf: rheology.fluidity_solver = multigrid runs on one process");
+        snprintf(err, errlen, "ngf: rheology.fluidity_solver = multigrid (auto's choice unless "
+                              "the flow is layered: x and y periodic) runs on one process; run "
+                              "the case without mpirun");
         return -1;
     }
     enum poisson_bc pbc[3][2];
@@ -145,6 +167,48 @@ static int create_box_solver(struct march_state *st, struct ngf *m, double a2, c
     }
     for (size_t q = 0; q < g->size; q++)
         m->face[q] = a2;
+    return 0;
+}
+
+/* Whether cell (i, j, k) (an image across a periodic face: its cell; any
+ * other outside the grid: the inner cell's) takes part in the grains'
+ * fluidity equation under a light phase. */
+static int grains_cell(const struct grid *g, const struct boundary *bc, const double *T,
+                       int idx[3])
+{
+    for (int d = 0; d < 3; d++)
+        if (idx[d] < 0 || idx[d] >= g->n[d])
+            idx[d] = bc->face[d][0] == BC_PERIODIC ? (idx[d] + g->n[d]) % g->n[d]
+                                                    : (idx[d] < 0 ? 0 : g->n[d] - 1);
+    return T[grid_idx(g, idx[0], idx[1], idx[2])] >= NGF_GRAINS_CELL;
+}
+
+/* The face coefficients under a light phase: A^2 d^2 between two cells of
+ * grains, on a wall below one (g = 0 there), 0 on every face of a cell that
+ * takes no part (no flux through the grains' surface, and that cell's own
+ * equation the local one).  The arrays are made at the first call. */
+static int grains_faces(const struct march_state *st, struct ngf *m, const double *T)
+{
+    const struct grid *g = &st->g;
+    const double a2 = m->face[0];
+    for (int d = 0; d < 3; d++)
+        if (!m->face3[d] && !(m->face3[d] = field_alloc(g)))
+            return -1;
+    for (int d = 0; d < 3; d++)
+        for (int i = 0; i <= g->n[0]; i++)
+            for (int j = 0; j <= g->n[1]; j++)
+                for (int k = 0; k <= g->n[2]; k++) {
+                    int here[3] = {i, j, k}, below[3] = {i, j, k};
+                    int n_other = (d != 0 && i == g->n[0]) || (d != 1 && j == g->n[1]) ||
+                                  (d != 2 && k == g->n[2]);
+                    if (n_other) /* no face of the grid */
+                        continue;
+                    below[d]--;
+                    m->face3[d][grid_idx(g, i, j, k)] =
+                        grains_cell(g, &st->bc, T, here) && grains_cell(g, &st->bc, T, below)
+                            ? a2
+                            : 0.0;
+                }
     return 0;
 }
 
@@ -362,9 +426,14 @@ static void box_fluidity(struct march_state *st, struct ngf *m)
                 m->rhs[q] = -shear;
             }
     double *face[3] = {m->face, m->face, m->face};
-    char err[256];
+    const double *T = two_phase_fraction(st);
+    char err[256] = "out of memory for the light phase's faces";
+    const int no_faces = T && grains_faces(st, m, T) != 0;
+    if (T && !no_faces)
+        for (int d = 0; d < 3; d++)
+            face[d] = m->face3[d];
     struct multigrid_stats stats = {0};
-    if (multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) != 0) {
+    if (no_faces || multigrid_set_operator(m->mg, face, m->screen, err, sizeof err) != 0) {
         /* no fluidity: NaN, so that the step is rejected and the run ends
          * diverged with its last good state, the cause said here */
         fprintf(stderr, "muflow: step %ld: the fluidity's multigrid: %s\n", st->step, err);
@@ -416,6 +485,7 @@ static void properties(struct march_state *st, void *state)
             }
     fill_ghosts(st, f);
     replace_viscosities(st, f);
+    two_phase_mix_viscosities(st); /* under a light phase: the mixture's */
 }
 
 /* Whether the step of length dt is a Picard step: its mass term rho / dt
@@ -544,6 +614,7 @@ static int implicit(struct march_state *st, void *state, double dt)
         cells_copy(g, m->fluidity, m->next, 1);
         fill_ghosts(st, m->fluidity);
         replace_viscosities(st, m->fluidity);
+        two_phase_mix_viscosities(st);
         stage_residual(st);
     }
     return 1;
@@ -605,6 +676,8 @@ static void destroy(void *state)
     free(m->hf);
     multigrid_destroy(m->mg);
     field_free(m->face);
+    for (int d = 0; d < 3; d++)
+        field_free(m->face3[d]);
     field_free(m->screen);
     field_free(m->rhs);
     fluidity_anderson_destroy(m->accel);
@@ -617,7 +690,8 @@ static double memory_bound(const struct muflow_case *cs, const struct grid *g)
 {
     double bytes = (double)g->size * sizeof(double) + (6.0 * g->n[2] + 1.0) * sizeof(double);
     if (box_solve(cs))
-        bytes += multigrid_memory_estimate(g, NULL) + 3.0 * g->size * sizeof(double);
+        /* the light phase's three face arrays counted always */
+        bytes += multigrid_memory_estimate(g, NULL) + 6.0 * g->size * sizeof(double);
     if (cs->mode == MODE_STEADY && cs->rheo.fluidity_anderson > 0) {
         const size_t cells = (size_t)g->n[0] * g->n[1] * g->n[2];
         const int mirrors = 3 * ((2 * (cs->rheo.fluidity_anderson + 1) + 3) / 3);

@@ -74,6 +74,14 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
         snprintf(err, errlen, "two phases: the module is not switched on");
         return NULL;
     }
+    /* the cut and bed edges evaluate mu(I) themselves: the nonlocal
+     * fluidity's viscosity is the module's (physics/ngf.h), mixed at the
+     * cells' and edges' mean fractions only */
+    if (st->rheo.law == LAW_NGF && (p->edges == EDGES_SERIES || p->bed_pressure)) {
+        snprintf(err, errlen, "two phases with rheology.law = ngf: this scene's series or bed "
+                              "edges take mu(I) (rheology.law = mui)");
+        return NULL;
+    }
     tp->p = *p;
     tp->configured = 1;
     int ok = 1;
@@ -439,11 +447,34 @@ static void bed_edge(const struct two_phase *tp, struct march_state *st, int c, 
         st->b_e[c][e] = G > 0.0 ? pt.deta_dshear / (2.0 * G) : 0.0;
 }
 
+const double *two_phase_fraction(const struct march_state *st)
+{
+    const struct two_phase *tp = march_module_state(st, &two_phase_module);
+    return tp && tp->configured ? tp->T : NULL;
+}
+
+static void mix_viscosities(struct march_state *st, struct two_phase *tp);
+
+/* The mixture of the viscosities the core computed, unless the nonlocal
+ * fluidity replaces the grains' after this hook: it mixes them then
+ * (two_phase_mix_viscosities). */
 static void properties(struct march_state *st, void *state)
 {
     struct two_phase *tp = state;
-    if (!tp->configured)
+    if (!tp->configured || st->rheo.law == LAW_NGF)
         return;
+    mix_viscosities(st, tp);
+}
+
+void two_phase_mix_viscosities(struct march_state *st)
+{
+    struct two_phase *tp = march_module_state(st, &two_phase_module);
+    if (tp && tp->configured)
+        mix_viscosities(st, tp);
+}
+
+static void mix_viscosities(struct march_state *st, struct two_phase *tp)
+{
     const struct grid *g = &st->g;
     const struct muflow_case *cs = st->cs;
     const double rg = cs->density;

@@ -10,7 +10,9 @@
  *
  * The two phases are the two_phase module (physics/two_phase.h), T carried
  * by the geometric VOF; the grains' viscosity is the case's mu(I) with the
- * regularised pressure, optionally clipped to [rho d sqrt(g d), eta_max]
+ * regularised pressure, or its nonlocal fluidity's p / (g + lambda)
+ * (rheology.law = ngf: physics/ngf.h, solved on the grains' cells, one
+ * process), optionally clipped to [rho d sqrt(g d), eta_max]
  * as in the published runs.  The scene's own module records the measures
  * of scenes/collapse.h at every step and the surface profile h(x) at given
  * times, and holds the dynamic pressure's level at the top at 0 (the
@@ -112,15 +114,16 @@ static void defaults(void *block)
 SCENE_PARAMS(collapse_block, "collapse",
              "A rectangular column of grains released on a rough base under a light phase, half "
              "the column with the symmetry plane at x = 0 (Lagree, Staron & Popinet 2011; "
-             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I)) with "
-             "`physics.density` their density; the scene needs `solver.mode = transient`, "
-             "`boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, `zhi = surface` or `open`, "
-             "periodic y and `domain.ny = 1` (`collapse.column = square`: a quarter of a square "
-             "column in 3D, `ylo = slip`).  It writes `collapse.csv` (every step: t, x_front, "
-             "h_axis, kinetic energy, grains' volume, extremes of T; square: then y_front and "
-             "the diagonal's front) and `surface.csv` (h(x) at the profile times and at the "
-             "end; square: along y = 0); with `case.reference` it compares x_front and "
-             "h_axis with the reference's datasets of the same aspect ratio H0/R0.",
+             "`cases/collapse.ini`).  The grains are the case's `[rheology]` (mu(I), or `law = "
+             "ngf` on one process) with `physics.density` their density; the scene needs "
+             "`solver.mode = transient`, `boundary.xlo = slip`, `xhi` not periodic, `zlo = wall`, "
+             "`zhi = surface` or `open`, periodic y and `domain.ny = 1` (`collapse.column = "
+             "square`: a quarter of a square column in 3D, `ylo = slip`).  It writes "
+             "`collapse.csv` (every step: t, x_front, h_axis, kinetic energy, grains' volume, "
+             "extremes of T; square: then y_front and the diagonal's front) and `surface.csv` "
+             "(h(x) at the profile times and at the end; square: along y = 0); with "
+             "`case.reference` it compares x_front and h_axis with the reference's datasets of the "
+             "same aspect ratio H0/R0.",
              struct collapse_params, collapse_keys, defaults)
 
 /* The case's column is the quarter of a square one (collapse.column). */
@@ -132,8 +135,8 @@ static int is_square(const struct muflow_case *cs)
 static int check(const struct muflow_case *c, char *msg, size_t msglen)
 {
     const struct collapse_params *p = params(c);
-    if (c->rheo.law != LAW_MUI) {
-        snprintf(msg, msglen, "case.scene = collapse needs rheology.law = mui");
+    if (c->rheo.law != LAW_MUI && c->rheo.law != LAW_NGF) {
+        snprintf(msg, msglen, "case.scene = collapse needs rheology.law = mui or ngf");
         return 1;
     }
     if (c->mode != MODE_TRANSIENT) {
