@@ -17,6 +17,7 @@
 #include "scenes/scene.h"
 #include "solvers/multigrid.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* A value no two global slots share (the global ghost slots too). */
@@ -35,32 +36,25 @@ static int global_index(const struct decomp *dc, int d, int t, int periodic)
 }
 
 /* This rank's block of the global n cells split over dims (periodic as
- * given), a local grid of unit spacing and one field on it. */
+ * given), of unit spacing, and one field on it. */
 struct unit_block {
-    struct comm_cart cart;
-    struct decomp dc;
-    struct grid g;
+    struct test_blocks blocks;
     double *f;
 };
 
 static void unit_block_open(struct unit_block *b, const int dims[3], const int periodic[3],
                             const int n[3])
 {
-    char err[256];
-    const int split[3] = {1, 1, 1};
-    assert_int_equal(comm_cart_create(&b->cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&b->dc, &b->cart, n, err, sizeof err), 0);
-    const double len[3] = {1.0 * b->dc.n[0], 1.0 * b->dc.n[1], 1.0 * b->dc.n[2]};
-    assert_int_equal(grid_init(&b->g, b->dc.n, len), 0);
-    b->f = field_alloc(&b->g);
+    const double len[3] = {n[0], n[1], n[2]};
+    test_blocks_open(&b->blocks, dims, periodic, n, len);
+    b->f = field_alloc(&b->blocks.g);
     assert_non_null(b->f);
 }
 
 static void unit_block_close(struct unit_block *b)
 {
     field_free(b->f);
-    decomp_free(&b->dc);
-    comm_cart_free(&b->cart);
+    test_blocks_close(&b->blocks);
 }
 
 /* Each rank fills its cells with the global pattern and its ghosts with
@@ -73,8 +67,8 @@ static void check_exchange(const int dims[3], const int periodic[3], const int n
 {
     struct unit_block b;
     unit_block_open(&b, dims, periodic, n);
-    const struct decomp *dc = &b.dc;
-    const struct grid *g = &b.g;
+    const struct decomp *dc = &b.blocks.dc;
+    const struct grid *g = &b.blocks.g;
     double *f = b.f;
     for (size_t p = 0; p < g->size; p++)
         f[p] = -1.0;
@@ -232,34 +226,31 @@ static void check_solve_n(const int dims[3], const enum poisson_bc bc[3][2], int
 {
     const double h = 1.0 / 48;
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    struct comm_cart cart;
-    struct decomp dc;
-    test_decomp_open(dims, bc, n, &cart, &dc);
-    struct solve_result whole = solve(&gg, NULL, bc, jump);
-    struct solve_result part = solve(&gg, &dc, bc, jump);
-    struct grid g;
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    int periodic[3];
+    test_poisson_periodic(bc, periodic);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
+    struct solve_result whole = solve(&b.whole, NULL, bc, jump);
+    struct solve_result part = solve(&b.whole, &b.dc, bc, jump);
     double m[2] = {0.0, 0.0}; /* max |difference|, max |phi| */
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++) {
-                const double w = whole.phi[grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k)];
-                const double diff = fabs(part.phi[grid_idx(&g, i, j, k)] - w);
+    for (int i = 0; i < b.g.n[0]; i++)
+        for (int j = 0; j < b.g.n[1]; j++)
+            for (int k = 0; k < b.g.n[2]; k++) {
+                const double w =
+                    whole.phi[grid_idx(&b.whole, b.dc.lo[0] + i, b.dc.lo[1] + j, b.dc.lo[2] + k)];
+                const double diff = fabs(part.phi[grid_idx(&b.g, i, j, k)] - w);
                 m[0] = diff > m[0] ? diff : m[0];
                 m[1] = fabs(w) > m[1] ? fabs(w) : m[1];
             }
     comm_max(m, 2);
     if (comm_rank() == 0)
         printf("    ranks %d x %d x %d, %s: %d iterations (undecomposed %d), %d levels on the "
-               "ranks, difference %.2e\n", cart.dims[0], cart.dims[1], cart.dims[2],
+               "ranks, difference %.2e\n", b.cart.dims[0], b.cart.dims[1], b.cart.dims[2],
                jump ? "jump 100" : "smooth a", part.iterations, whole.iterations, part.levels,
                m[0] / m[1]);
     field_free(whole.phi);
     field_free(part.phi);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     assert_true(m[0] <= 1e-10 * m[1]);
     assert_true(abs(part.iterations - whole.iterations) <= 1);
 }
@@ -272,6 +263,16 @@ static void check_solve(const int dims[3], const enum poisson_bc bc[3][2], int j
     check_solve_n(dims, bc, jump, n);
 }
 
+/* check_solve on each of test_splits(n, ask). */
+static void check_solve_splits(int n, const int ask[][3], const enum poisson_bc bc[3][2],
+                               int jump)
+{
+    int dims[2][3];
+    assert_true(n <= 2);
+    for (int s = 0, count = test_splits(n, ask, dims); s < count; s++)
+        check_solve(dims[s], bc, jump);
+}
+
 static void test_multigrid_walls(void **state)
 {
     (void)state;
@@ -282,11 +283,10 @@ static void test_multigrid_walls(void **state)
                                          {POISSON_NEUMANN, POISSON_NEUMANN},
                                          {POISSON_DIRICHLET, POISSON_NEUMANN}};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    for (int jump = 0; jump < 2; jump++) {
-        check_solve(along_x, neumann, jump);
-        check_solve(along_z, mixed, jump);
-        check_solve(both, jump ? mixed : neumann, jump);
+    const int x_both[2][3] = {{p, 1, 1}, {0, 1, 0}}, z_both[2][3] = {{1, 1, p}, {0, 1, 0}};
+    for (int jump = 0; jump < 2; jump++) { /* both: the walls smooth, the mixed faces jump */
+        check_solve_splits(jump ? 1 : 2, x_both, neumann, jump);
+        check_solve_splits(jump ? 2 : 1, z_both, mixed, jump);
     }
 }
 
@@ -300,11 +300,10 @@ static void test_multigrid_periodic(void **state)
                                        {POISSON_PERIODIC, POISSON_PERIODIC},
                                        {POISSON_PERIODIC, POISSON_PERIODIC}};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    for (int jump = 0; jump < 2; jump++) {
-        check_solve(along_x, per_x, jump);
-        check_solve(along_z, all, jump);
-        check_solve(both, jump ? all : per_x, jump);
+    const int x_both[2][3] = {{p, 1, 1}, {0, 1, 0}}, z_both[2][3] = {{1, 1, p}, {0, 1, 0}};
+    for (int jump = 0; jump < 2; jump++) { /* both: x periodic smooth, all periodic jumps */
+        check_solve_splits(jump ? 1 : 2, x_both, per_x, jump);
+        check_solve_splits(jump ? 2 : 1, z_both, all, jump);
     }
     /* 8 x 64 x 64 on 4 ranks along x: the gathered level's blocks hold one
      * cell of the 4 of the periodic x (coupled across the borders, not the
@@ -321,8 +320,8 @@ static double exchange_traffic_misses(const int dims[3], const int periodic[3], 
 {
     struct unit_block b;
     unit_block_open(&b, dims, periodic, n);
-    const struct decomp *dc = &b.dc;
-    const struct grid *g = &b.g;
+    const struct decomp *dc = &b.blocks.dc;
+    const struct grid *g = &b.blocks.g;
     double *f = b.f;
     long want_bytes = 0, want_messages = 0;
     for (int d = 0; d < 3; d++) {
@@ -349,24 +348,23 @@ static double multigrid_traffic_misses(const int dims[3], const enum poisson_bc 
     const int n[3] = {48, 16, 48};
     const double h = 1.0 / 48;
     const double len[3] = {n[0] * h, n[1] * h, n[2] * h};
-    struct grid gg, g;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    struct comm_cart cart;
-    struct decomp dc;
+    int periodic[3];
+    test_poisson_periodic(bc, periodic);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
     struct multigrid *mg = NULL;
     char err[256];
-    test_decomp_open(dims, bc, n, &cart, &dc);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
-    assert_int_equal(multigrid_create_decomposed(&mg, &gg, &dc, bc, NULL, err, sizeof err), 0);
-    double *a[3] = {field_alloc(&g), field_alloc(&g), field_alloc(&g)};
-    double *rhs = field_alloc(&g), *phi = field_alloc(&g);
-    fill_problem(&g, dc.lo, a, rhs, 0);
+    assert_int_equal(
+        multigrid_create_decomposed(&mg, &b.whole, &b.dc, bc, NULL, err, sizeof err), 0);
+    double *a[3] = {field_alloc(&b.g), field_alloc(&b.g), field_alloc(&b.g)};
+    double *rhs = field_alloc(&b.g), *phi = field_alloc(&b.g);
+    fill_problem(&b.g, b.dc.lo, a, rhs, 0);
     assert_int_equal(multigrid_set_coefficients(mg, a, err, sizeof err), 0);
     struct decomp_traffic cycle, solve, cycle_model, solve_model;
     decomp_traffic_reset();
     multigrid_cycle(mg, rhs, phi);
     decomp_traffic_read(&cycle);
-    for (size_t p = 0; p < g.size; p++)
+    for (size_t p = 0; p < b.g.size; p++)
         phi[p] = 0.0;
     struct multigrid_stats st;
     decomp_traffic_reset();
@@ -385,8 +383,7 @@ static double multigrid_traffic_misses(const int dims[3], const enum poisson_bc 
     field_free(rhs);
     field_free(phi);
     multigrid_destroy(mg);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     return misses;
 }
 
@@ -608,16 +605,13 @@ static void test_fields_file_blocks(void **state)
     comm_barrier();
     const int p = comm_size();
     const int splits[4][3] = {{p, 1, 1}, {1, p, 1}, {1, 1, p}, {0, 0, 0}};
-    const int periodic[3] = {1, 0, 1}, split[3] = {1, 1, 1};
-    for (int s = 0; s < 4; s++) {
-        struct comm_cart cart;
-        struct decomp dc;
-        struct grid gl;
-        assert_int_equal(comm_cart_create(&cart, splits[s], periodic, split, err, sizeof err), 0);
-        assert_int_equal(decomp_create(&dc, &cart, st.g.n, err, sizeof err), 0);
-        assert_int_equal(decomp_local_grid(&dc, &st.g, &gl), 0);
-        struct march_state *loc = block_march(&st, &dc, &gl);
-        int rc = fields_h5_write_decomposed(ranks, loc, &st.g, &dc, err, sizeof err);
+    const int periodic[3] = {1, 0, 1};
+    int dims[4][3];
+    for (int s = 0, count = test_splits(4, splits, dims); s < count; s++) {
+        struct test_blocks b; /* its whole grid the march's: cs.n over cs.len */
+        test_blocks_open(&b, dims[s], periodic, cs.n, cs.len);
+        struct march_state *loc = block_march(&st, &b.dc, &b.g);
+        int rc = fields_h5_write_decomposed(ranks, loc, &st.g, &b.dc, err, sizeof err);
         if (rc != 0)
             print_error("%s\n", err);
         bad += rc != 0;
@@ -628,12 +622,12 @@ static void test_fields_file_blocks(void **state)
             snprintf(pb, sizeof pb, "%s/%s", ranks, name);
             const int differ = fields_files_differ(pa, pb, &st);
             if (differ)
-                print_error("split %d x %d x %d\n", cart.dims[0], cart.dims[1], cart.dims[2]);
+                print_error("split %d x %d x %d\n", b.cart.dims[0], b.cart.dims[1],
+                            b.cart.dims[2]);
             bad += differ;
         }
         block_march_free(loc);
-        decomp_free(&dc);
-        comm_cart_free(&cart);
+        test_blocks_close(&b);
         comm_barrier(); /* rank 0 has read the file before the next overwrites it */
     }
     comm_sum(&bad, 1);
@@ -728,43 +722,36 @@ static double read_as(const char *path, const struct grid *gg, double *const f[S
 static void test_checkpoint_fields_any_ranks(void **state)
 {
     (void)state;
-    const int n[3] = {12, 6, 10}, periodic[3] = {1, 0, 0}, split[3] = {1, 1, 1};
+    const int n[3] = {12, 6, 10}, periodic[3] = {1, 0, 0}, any[3] = {0, 0, 0};
     const double len[3] = {1.2, 0.6, 1.0};
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, n, len), 0);
+    struct test_blocks b;
+    test_blocks_open(&b, any, periodic, n, len);
     double *f[SET_FIELDS];
     for (int s = 0; s < SET_FIELDS; s++)
-        assert_non_null(f[s] = field_alloc(&gg));
-    fill_global(&gg, f);
+        assert_non_null(f[s] = field_alloc(&b.whole));
+    fill_global(&b.whole, f);
     char dir[256], serial[512], ranks[512], err[1024] = "";
     test_ranks_dir(dir, sizeof dir, "checkpoint");
     snprintf(serial, sizeof serial, "%s/serial.h5", dir);
     snprintf(ranks, sizeof ranks, "%s/ranks.h5", dir);
     double bad = 0.0;
-    struct full_set fs = {&gg, f};
+    struct full_set fs = {&b.whole, f};
     if (comm_rank() == 0) {
         char tmp[600];
         snprintf(tmp, sizeof tmp, "%s.tmp", serial);
         bad += h5io_write_file(tmp, serial, "", write_full_set, &fs, err, sizeof err) != 0;
     }
-    struct comm_cart cart;
-    struct decomp dc;
-    struct grid g;
-    const int any[3] = {0, 0, 0};
-    assert_int_equal(comm_cart_create(&cart, any, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
-    double *loc = field_alloc(&g), *buf = field_alloc(&g);
+    double *loc = field_alloc(&b.g), *buf = field_alloc(&b.g);
     struct h5blocks w;
-    int rc = h5blocks_create(&w, &cart, ranks, err, sizeof err);
+    int rc = h5blocks_create(&w, &b.cart, ranks, err, sizeof err);
     for (int s = 0; rc == 0 && s < SET_FIELDS; s++) {
         /* the block, its ghosts as the exchange and the boundary fill leave them */
-        for (int i = -1; i <= g.n[0]; i++)
-            for (int j = -1; j <= g.n[1]; j++)
-                for (int k = -1; k <= g.n[2]; k++)
-                    loc[grid_idx(&g, i, j, k)] =
-                        f[s][grid_idx(&gg, wrapped(&dc, 0, i, 1), dc.lo[1] + j, dc.lo[2] + k)];
-        rc = h5blocks_put_full(&w, set_names[s], &dc, &g, loc, buf, err, sizeof err);
+        for (int i = -1; i <= b.g.n[0]; i++)
+            for (int j = -1; j <= b.g.n[1]; j++)
+                for (int k = -1; k <= b.g.n[2]; k++)
+                    loc[grid_idx(&b.g, i, j, k)] = f[s][grid_idx(
+                        &b.whole, wrapped(&b.dc, 0, i, 1), b.dc.lo[1] + j, b.dc.lo[2] + k)];
+        rc = h5blocks_put_full(&w, set_names[s], &b.dc, &b.g, loc, buf, err, sizeof err);
     }
     if (rc == 0)
         rc = h5blocks_finish(&w, "checkpoint", NULL, NULL, err, sizeof err);
@@ -782,101 +769,18 @@ static void test_checkpoint_fields_any_ranks(void **state)
     }
     const int one[3] = {1, 1, 1}, two_x[3] = {2, 1, 1}, two_z[3] = {1, 1, 2}, four[3] = {2, 1, 2};
     if (rc == 0)
-        bad += read_as(ranks, &gg, f, one) + read_as(ranks, &gg, f, two_x) +
-               read_as(ranks, &gg, f, two_z) + read_as(ranks, &gg, f, four);
+        bad += read_as(ranks, &b.whole, f, one) + read_as(ranks, &b.whole, f, two_x) +
+               read_as(ranks, &b.whole, f, two_z) + read_as(ranks, &b.whole, f, four);
     comm_sum(&bad, 1);
     if (comm_rank() == 0)
         printf("    written on %d ranks (%d x %d x %d), read as 1, 2, 4: %g slots differ\n",
-               comm_size(), cart.dims[0], cart.dims[1], cart.dims[2], bad);
+               comm_size(), b.cart.dims[0], b.cart.dims[1], b.cart.dims[2], bad);
     field_free(loc);
     field_free(buf);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     for (int s = 0; s < SET_FIELDS; s++)
         field_free(f[s]);
     test_ranks_dir_remove(dir);
-    assert_true(bad == 0.0);
-}
-
-/* A scene split over this run's ranks (run.c: march_setup.decompose) ends
- * as the run of one process, every rank's reference here (one_process): the
- * same status (want), steps within 1, the [result] errors and headline
- * within 1e-8 relative (the ranks' dot products and sums are in MPI's
- * order; a NaN where the other has a number fails); the headline within
- * tol of the exact value (the discretisation's error: the reference's own
- * measure), or, tol NaN, a scene without one (exact NaN).  On one rank
- * both runs are one process.  Also test_mpi_vmg.c's. */
-void check_scene_on_ranks(const char *file, int n, char *ov[], double tol, enum run_status want)
-{
-    struct muflow_case cs;
-    test_load_case(&cs, file, n, ov);
-    struct run_result one, all;
-    char err[1024] = "";
-    const struct run_options alone = {.one_process = 1}, split = {0};
-    int rc = run_case_opts(&cs, &alone, &one, err, sizeof err);
-    rc |= run_case_opts(&cs, &split, &all, err, sizeof err);
-    if (rc != RUN_OK)
-        print_error("%s\n", err);
-    const double a[4] = {one.errors.err_rms, one.errors.err_max, one.errors.err_rms_paper,
-                         one.errors.headline},
-                 b[4] = {all.errors.err_rms, all.errors.err_max, all.errors.err_rms_paper,
-                         all.errors.headline};
-    double rel = isnan(a[3]) ? INFINITY : 0.0;
-    for (int v = 0; v < 4; v++)
-        rel = isnan(a[v]) != isnan(b[v]) ? INFINITY
-                                          : fmax(rel, fabs(b[v] - a[v]) / fabs(a[v]));
-    const double exact = one.errors.headline_exact;
-    const int near_exact = isnan(tol) ? isnan(exact)
-                                      : fabs(one.errors.headline - exact) <= tol * fabs(exact);
-    double bad = rc != RUN_OK || one.status != want || all.status != one.status ||
-                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) || !near_exact;
-    comm_sum(&bad, 1);
-    if (comm_rank() == 0)
-        printf("    %s on %d ranks: %ld steps (alone %ld), %s %.10g (alone %.10g, exact %.10g), "
-               "errors and headline within %.1e relative\n",
-               cs.name, comm_size(), all.steps, one.steps, run_status_name(all.status),
-               b[3], a[3], exact, rel);
-    assert_true(bad == 0.0);
-}
-
-/* A scene without a headline (the collapse's measures) split over this
- * run's ranks as dims asks (0: MPI's choice) against one process: the
- * same status (want), steps within 1, each of the [result] lines keys
- * within 1e-8 relative (both 0 alike), mass_error within 1e-13 of one
- * process's (the volume's round-off, summed in another order; a scene
- * without one passes it).  Also test_mpi_measures.c's. */
-void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
-                                const char *const *keys, enum run_status want)
-{
-    struct muflow_case cs;
-    test_load_case(&cs, file, n, ov);
-    struct run_result one, all;
-    char err[1024] = "";
-    const struct run_options alone = {.one_process = 1},
-                             split = {.dims = {dims[0], dims[1], dims[2]}};
-    int rc = run_case_opts(&cs, &alone, &one, err, sizeof err);
-    rc |= run_case_opts(&cs, &split, &all, err, sizeof err);
-    if (rc != RUN_OK)
-        print_error("%s\n", err);
-    double rel = 0.0;
-    for (const char *const *k = keys; *k; k++) {
-        const double a = run_result_value(&one, *k), b = run_result_value(&all, *k);
-        rel = fmax(rel, isnan(a) || isnan(b) ? INFINITY
-                        : a == b             ? 0.0
-                                             : fabs(b - a) / fmax(fabs(a), fabs(b)));
-    }
-    const double m1 = run_result_value(&one, "mass_error"),
-                 m2 = run_result_value(&all, "mass_error");
-    const double mass = isnan(m1) && isnan(m2) ? 0.0 : fabs(m2 - m1); /* none: 0 */
-    double bad = rc != RUN_OK || one.status != want || all.status != one.status ||
-                 labs(all.steps - one.steps) > 1 || !(rel <= 1e-8) || !(mass <= 1e-13);
-    comm_sum(&bad, 1);
-    if (comm_rank() == 0)
-        printf("    %s on %d ranks (%d x %d x %d asked): %ld steps (alone %ld), %s %s %.10g "
-               "(alone %.10g), results within %.1e relative, mass_error within %.1e\n",
-               cs.name, comm_size(), dims[0], dims[1], dims[2], all.steps, one.steps,
-               run_status_name(all.status), keys[0], run_result_value(&all, keys[0]),
-               run_result_value(&one, keys[0]), rel, mass);
     assert_true(bad == 0.0);
 }
 
@@ -894,15 +798,17 @@ static void test_collapse_on_ranks(void **state)
     static const char *const keys[] = {"x_front", "h_axis", "kinetic_energy",
                                        "kinetic_energy_peak", "x_front_err_max",
                                        "h_axis_err_max", NULL};
+    const struct scene_lines closed = {.file = "../cases/collapse.ini", .n = 4, .ov = ov,
+                                       .keys = keys, .want = STATUS_FINISHED};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_x, keys, STATUS_FINISHED);
-    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, along_z, keys, STATUS_FINISHED);
-    check_scene_lines_on_ranks("../cases/collapse.ini", 4, ov, both, keys, STATUS_FINISHED);
-    char *open[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.6",
-                    "boundary.zhi=open"};
-    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, along_z, keys, STATUS_FINISHED);
-    check_scene_lines_on_ranks("../cases/collapse.ini", 5, open, both, keys, STATUS_FINISHED);
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}}; /* x, z, both */
+    check_scene_splits(&closed, 3, splits);
+    char *top[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.6",
+                   "boundary.zhi=open"};
+    struct scene_lines open = closed;
+    open.n = 5;
+    open.ov = top;
+    check_scene_splits(&open, 2, splits + 1);
 }
 
 /* 4 x 2 cells across: 2 ranks split x, 4 split x and y (2 x 2) */

@@ -11,13 +11,8 @@
 #include "app/run.h"
 #include "platform/comm.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
-
-/* test_mpi.c: the case split as dims asks against one process: status,
- * steps within 1, each of keys within 1e-8 relative (slope_release and the
- * cylinder have no mass_error: that check passes) */
-void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
-                                const char *const *keys, enum run_status want);
 
 /* Schaefer & Turek's cylinder (cases/cylinder_benchmark.ini) in a channel
  * cut to 0.4 long, h = D/10 (40 x 41), steady in 373 steps alone: split
@@ -34,11 +29,11 @@ void test_cylinder_benchmark_on_ranks(void **state)
                                        "drag_coefficient_control_volume",
                                        "lift_coefficient_control_volume",
                                        "drag_coefficient_reconstructed", NULL};
+    const struct scene_lines s = {.file = "../cases/cylinder_benchmark.ini", .n = 2, .ov = ov,
+                                  .keys = keys, .want = STATUS_STEADY};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_scene_lines_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, along_x, keys, STATUS_STEADY);
-    check_scene_lines_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, along_z, keys, STATUS_STEADY);
-    check_scene_lines_on_ranks("../cases/cylinder_benchmark.ini", 2, ov, both, keys, STATUS_STEADY);
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}}; /* x, z, both */
+    check_scene_splits(&s, 3, splits);
 }
 
 /* The granular cylinder (cases/cylinder.ini: mu(I), the coupled Newton
@@ -53,11 +48,11 @@ void test_cylinder_on_ranks(void **state)
     char *ov[] = {"domain.lx=5", "domain.nx=10", "domain.lz=10", "domain.nz=20",
                   "obstacle.shapes=circle 0 5 0.5", "cylinder.forcing=3"};
     static const char *const keys[] = {"flow_rate", "drag", "drag_surface", "froude", NULL};
+    const struct scene_lines s = {.file = "../cases/cylinder.ini", .n = 6, .ov = ov,
+                                  .keys = keys, .want = STATUS_STEADY};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, along_x, keys, STATUS_STEADY);
-    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, along_z, keys, STATUS_STEADY);
-    check_scene_lines_on_ranks("../cases/cylinder.ini", 6, ov, both, keys, STATUS_STEADY);
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}}; /* x, z, both */
+    check_scene_splits(&s, 3, splits);
 }
 
 /* The cylinder's continuation in the mean velocity (cylinder.velocity_end:
@@ -74,8 +69,10 @@ void test_cylinder_velocity_on_ranks(void **state)
                   "cylinder.forcing_end=1.15",   "cylinder.forcing_step=0.15",
                   "cylinder.velocity_end=2",     "cylinder.velocity_ratio=2"};
     static const char *const keys[] = {"forcing", "mean_velocity", "drag", NULL};
+    const struct scene_lines s = {.file = "../cases/cylinder.ini", .n = 8, .ov = ov,
+                                  .keys = keys, .want = STATUS_STEADY};
     const int along_z[3] = {1, 1, comm_size()};
-    check_scene_lines_on_ranks("../cases/cylinder.ini", 8, ov, along_z, keys, STATUS_STEADY);
+    check_scene_lines(&s, along_z);
 }
 
 /* The slope release (cases/slope_release.ini: the bed a body of whole
@@ -91,9 +88,9 @@ void test_slope_release_on_ranks(void **state)
                   "slope_release.da_cells=200"};
     static const char *const keys[] = {"run_out", "run_out_99", "tail", "kinetic_energy_peak",
                                        "never_yielded_area", NULL};
+    const struct scene_lines s = {.file = "../cases/slope_release.ini", .n = 4, .ov = ov,
+                                  .keys = keys, .want = STATUS_FINISHED};
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_scene_lines_on_ranks("../cases/slope_release.ini", 4, ov, along_x, keys, STATUS_FINISHED);
-    check_scene_lines_on_ranks("../cases/slope_release.ini", 4, ov, along_z, keys, STATUS_FINISHED);
-    check_scene_lines_on_ranks("../cases/slope_release.ini", 4, ov, both, keys, STATUS_FINISHED);
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}}; /* x, z, both */
+    check_scene_splits(&s, 3, splits);
 }

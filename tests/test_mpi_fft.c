@@ -10,6 +10,7 @@
 #include "platform/comm.h"
 #include "solvers/poisson_fft_ranks.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* A right-hand side with every mode in it (no symmetry across x, y, z),
@@ -35,28 +36,27 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
                                        const enum poisson_bc bc[3][2], int uniform)
 {
     const double len[3] = {1.0, 0.7, 0.5};
-    struct grid gg, g;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    struct comm_cart cart;
-    struct decomp dc;
+    int periodic[3];
+    test_poisson_periodic(bc, periodic);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
+    const int *o = b.dc.lo; /* the global index of this block's cell 0 */
     char err[256] = "";
-    test_decomp_open(dims, bc, n, &cart, &dc);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
-    double *whole = field_alloc(&gg), *phi = field_alloc(&g);
+    double *whole = field_alloc(&b.whole), *phi = field_alloc(&b.g);
     assert_true(whole && phi);
     for (int i = 0; i < n[0]; i++)
         for (int j = 0; j < n[1]; j++)
             for (int k = 0; k < n[2]; k++)
-                whole[grid_idx(&gg, i, j, k)] = manufactured(&gg, i, j, k, uniform);
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++)
-                phi[grid_idx(&g, i, j, k)] =
-                    whole[grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k)];
+                whole[grid_idx(&b.whole, i, j, k)] = manufactured(&b.whole, i, j, k, uniform);
+    for (int i = 0; i < b.g.n[0]; i++)
+        for (int j = 0; j < b.g.n[1]; j++)
+            for (int k = 0; k < b.g.n[2]; k++)
+                phi[grid_idx(&b.g, i, j, k)] =
+                    whole[grid_idx(&b.whole, o[0] + i, o[1] + j, o[2] + k)];
     struct poisson_fft *serial;
     struct poisson_fft_ranks *ranks;
-    assert_int_equal(poisson_fft_create(&serial, &gg, bc, err, sizeof err), 0);
-    if (poisson_fft_ranks_create(&ranks, &g, &gg, &dc, bc, err, sizeof err) != 0)
+    assert_int_equal(poisson_fft_create(&serial, &b.whole, bc, err, sizeof err), 0);
+    if (poisson_fft_ranks_create(&ranks, &b.g, &b.whole, &b.dc, bc, err, sizeof err) != 0)
         print_error("%s\n", err);
     assert_non_null(ranks);
     poisson_fft_solve(serial, whole, whole);
@@ -65,15 +65,15 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
     assert_true(n[2] <= 64);
     for (int k = 0; k < n[2]; k++)
         hi[k] = lo[k] = -INFINITY;
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++) {
-                const double w = whole[grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k)],
-                             v = phi[grid_idx(&g, i, j, k)];
+    for (int i = 0; i < b.g.n[0]; i++)
+        for (int j = 0; j < b.g.n[1]; j++)
+            for (int k = 0; k < b.g.n[2]; k++) {
+                const double w = whole[grid_idx(&b.whole, o[0] + i, o[1] + j, o[2] + k)],
+                             v = phi[grid_idx(&b.g, i, j, k)];
                 m[0] = fmax(m[0], fabs(v - w));
                 m[1] = fmax(m[1], fabs(w));
-                hi[dc.lo[2] + k] = fmax(hi[dc.lo[2] + k], v);
-                lo[dc.lo[2] + k] = fmax(lo[dc.lo[2] + k], -v);
+                hi[o[2] + k] = fmax(hi[o[2] + k], v);
+                lo[o[2] + k] = fmax(lo[o[2] + k], -v);
             }
     comm_max(m, 2);
     comm_max(hi, n[2]);
@@ -83,7 +83,7 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
         c.spread = fmax(c.spread, hi[k] + lo[k]);
     if (comm_rank() == 0) {
         printf("    %d x %d x %d cells on %d x %d x %d ranks: |ranks - serial| %.2e of max "
-               "|phi| %.3g", n[0], n[1], n[2], cart.dims[0], cart.dims[1], cart.dims[2],
+               "|phi| %.3g", n[0], n[1], n[2], b.cart.dims[0], b.cart.dims[1], b.cart.dims[2],
                c.diff / c.size, c.size);
         if (uniform)
             printf("; uniform across x, y: column spread %.2e", c.spread);
@@ -93,8 +93,7 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
     poisson_fft_ranks_destroy(ranks);
     field_free(whole);
     field_free(phi);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     return c;
 }
 
@@ -105,8 +104,10 @@ static struct fft_check solve_on_ranks(const int dims[3], const int n[3],
 static void check_splits(const enum poisson_bc bc[3][2])
 {
     const int n[3] = {10, 6, 8}, P = comm_size();
-    const int dims[5][3] = {{P, 1, 1}, {1, P, 1}, {0, 0, 1}, {1, 1, P}, {0, 1, 0}};
-    for (int s = 0; s < 5; s++) {
+    const int splits[5][3] = {{P, 1, 1}, {1, P, 1}, {0, 0, 1}, {1, 1, P}, {0, 1, 0}};
+    int dims[5][3];
+    const int count = test_splits(5, splits, dims);
+    for (int s = 0; s < count; s++) {
         struct fft_check c = solve_on_ranks(dims[s], n, bc, 0);
         /* the same transforms of the same numbers, FFTW's steps in another
          * order (its MPI plans split the sums differently): round-off of a

@@ -12,6 +12,7 @@
 #include "solvers/fourier_lines.h"
 #include "solvers/viscous.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* A viscosity with a contrast of 100 along z and a 30 % variation across x
@@ -111,37 +112,33 @@ static void precondition(const struct grid *g, const struct boundary *bc, struct
 static double apply_on_ranks(const int dims[3], const int n[3], enum bc_kind top)
 {
     const double len[3] = {1.0, 0.75, 1.0};
-    struct grid gg, g;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    const int periodic[3] = {1, 1, 0}, split[3] = {1, 1, 0};
-    struct comm_cart cart;
-    struct decomp dc;
-    char err[256] = "";
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    const int periodic[3] = {1, 1, 0};
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
+    const struct grid *gg = &b.whole, *g = &b.g;
+    const int *lo = b.dc.lo;
     struct boundary bc = {0};
     for (int d = 0; d < 2; d++)
         bc.face[d][0] = bc.face[d][1] = BC_PERIODIC;
     bc.face[2][0] = BC_WALL;
     bc.face[2][1] = top;
     struct boundary bcg = bc;
-    bc.dc = &dc;
+    bc.dc = &b.dc;
     const int zero[3] = {0, 0, 0};
     struct layer whole, mine;
-    layer_fill(&whole, &gg, &gg, zero);
-    layer_fill(&mine, &g, &gg, dc.lo);
-    precondition(&gg, &bcg, &whole);
-    precondition(&g, &bc, &mine);
+    layer_fill(&whole, gg, gg, zero);
+    layer_fill(&mine, g, gg, lo);
+    precondition(gg, &bcg, &whole);
+    precondition(g, &bc, &mine);
     struct box act[3];
-    bc_unknown_boxes(&g, &bc, act);
+    bc_unknown_boxes(g, &bc, act);
     double m[2] = {0.0, 0.0};
     for (int c = 0; c < 3; c++)
         for (int i = act[c].lo[0]; i < act[c].hi[0]; i++)
             for (int j = act[c].lo[1]; j < act[c].hi[1]; j++)
                 for (int k = act[c].lo[2]; k < act[c].hi[2]; k++) {
-                    const double w = whole.z[c][grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, k)],
-                                 v = mine.z[c][grid_idx(&g, i, j, k)];
+                    const double w = whole.z[c][grid_idx(gg, lo[0] + i, lo[1] + j, k)],
+                                 v = mine.z[c][grid_idx(g, i, j, k)];
                     m[0] = fmax(m[0], fabs(v - w));
                     m[1] = fmax(m[1], fabs(w));
                 }
@@ -149,11 +146,10 @@ static double apply_on_ranks(const int dims[3], const int n[3], enum bc_kind top
     if (comm_rank() == 0)
         printf("    %d x %d x %d cells, %s top, on %d x %d ranks: |ranks - serial| %.2e of max "
                "|z| %.3g\n", n[0], n[1], n[2], top == BC_OPEN ? "open" : "surface",
-               cart.dims[0], cart.dims[1], m[0] / m[1], m[1]);
+               b.cart.dims[0], b.cart.dims[1], m[0] / m[1], m[1]);
     layer_free(&whole);
     layer_free(&mine);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     return m[1] > 0.0 ? m[0] / m[1] : INFINITY;
 }
 
@@ -166,10 +162,12 @@ void test_fourier_lines_ranks(void **state)
     if (comm_size() < 2)
         skip();
     const int n[3] = {10, 6, 12}, P = comm_size();
-    const int dims[3][3] = {{P, 1, 1}, {1, P, 1}, {0, 0, 1}};
+    const int splits[3][3] = {{P, 1, 1}, {1, P, 1}, {0, 0, 1}};
+    int dims[3][3];
+    const int count = test_splits(3, splits, dims);
     const enum bc_kind tops[2] = {BC_SURFACE, BC_OPEN};
     for (int t = 0; t < 2; t++)
-        for (int s = 0; s < 3; s++) {
+        for (int s = 0; s < count; s++) {
             if (dims[s][1] > n[1])
                 continue;
             /* the same averages and transforms in another order: their
@@ -178,10 +176,6 @@ void test_fourier_lines_ranks(void **state)
             assert_true(apply_on_ranks(dims[s], n, tops[t]) <= 1e-13);
         }
 }
-
-/* test_mpi.c: a scene split over the ranks against one process */
-void check_scene_on_ranks(const char *file, int n, char *ov[], double tol,
-                          enum run_status want);
 
 /* bagnold3d's small grid (the case file's) from its 3D perturbation to the
  * uniform layer, solver.preconditioner = fourier on the ranks' blocks:

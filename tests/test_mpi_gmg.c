@@ -16,6 +16,7 @@
 #include "solvers/viscous.h"
 #include "solvers/viscous_gmg.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* log10 of a viscosity over the cross-section (y, z in the unit box): a
@@ -164,36 +165,29 @@ static void differences(const struct section *part, double *const fp[3],
  * arithmetic on the same values), and a GMRES solve to 1e-12 within 1e-12
  * of the largest value (the ranks' dots summed in another order: 6e-16 to
  * 7.4e-16 measured on 2 and 4 ranks), its iterations within one. */
-static void check_gmg(const int dims_in[3], int ny, int nz)
+static void check_gmg(const int dims[3], int ny, int nz)
 {
-    int dims[3] = {dims_in[0], dims_in[1], dims_in[2]};
-    const int periodic[3] = {1, 0, 0}, split[3] = {0, 1, 1}, n[3] = {1, ny, nz};
+    const int periodic[3] = {1, 0, 0}, n[3] = {1, ny, nz};
     const double len[3] = {1.0 / ny, 1.0, (double)nz / ny};
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    struct comm_cart cart;
-    struct decomp dc;
-    char err[256] = "";
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
     struct section whole, part;
-    section_make(&whole, &gg, NULL);
-    section_make(&part, &gg, &dc);
+    section_make(&whole, &b.whole, NULL);
+    section_make(&part, &b.whole, &b.dc);
     cycle_gmg(&whole);
     cycle_gmg(&part);
     double cyc[2], sol[2];
-    differences(&part, part.z, &whole, whole.z, dc.lo, cyc);
+    differences(&part, part.z, &whole, whole.z, b.dc.lo, cyc);
     const int it_whole = solve_gmg(&whole, 1e-12), it_part = solve_gmg(&part, 1e-12);
-    differences(&part, part.x, &whole, whole.x, dc.lo, sol);
+    differences(&part, part.x, &whole, whole.x, b.dc.lo, sol);
     if (comm_rank() == 0)
         printf("    gmg 1 x %d x %d on 1 x %d x %d ranks: a cycle within %.2e, GMRES %d "
                "iterations (one process %d) within %.2e\n",
-               ny, nz, cart.dims[1], cart.dims[2], cyc[0] / cyc[1], it_part, it_whole,
+               ny, nz, b.cart.dims[1], b.cart.dims[2], cyc[0] / cyc[1], it_part, it_whole,
                sol[0] / sol[1]);
     section_free(&whole);
     section_free(&part);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     assert_true(cyc[1] > 0.0 && sol[1] > 0.0);
     assert_true(cyc[0] == 0.0);
     assert_true(sol[0] <= 1e-12 * sol[1]);
@@ -206,59 +200,33 @@ void test_gmg_ranks(void **state)
 {
     (void)state;
     const int p = comm_size();
-    const int along_y[3] = {1, p, 1}, along_z[3] = {1, 1, p}, both[3] = {1, 0, 0};
-    check_gmg(along_y, 40, 56);
-    check_gmg(along_z, 40, 56);
-    check_gmg(both, 40, 56);
+    const int splits[3][3] = {{1, p, 1}, {1, 1, p}, {1, 0, 0}}; /* y, z, both */
+    int dims[3][3];
+    for (int t = 0, n = test_splits(3, splits, dims); t < n; t++)
+        check_gmg(dims[t], 40, 56);
 }
 
-/* The heap (cases/heap.ini) on n x m cells, overrides ov, split as dims
- * asks against one process: the same status, steps within one, its
- * tilt, flow rate, surface velocity and flowing depth at the mid-plane
- * within 1e-8 relative. */
-static void check_heap(char *ov[], int nov, const int dims[3])
-{
-    struct muflow_case cs;
-    test_load_case(&cs, "../cases/heap.ini", nov, ov);
-    struct run_result one, all;
-    char err[1024] = "";
-    const struct run_options alone = {.one_process = 1},
-                             split = {.dims = {dims[0], dims[1], dims[2]}};
-    int rc = run_case_opts(&cs, &alone, &one, err, sizeof err);
-    rc |= run_case_opts(&cs, &split, &all, err, sizeof err);
-    if (rc != RUN_OK)
-        print_error("%s\n", err);
-    static const char *const keys[] = {"tilt", "flow_rate", "u_surface_mid", "depth_mid",
-                                       "steps_total"};
-    double rel = 0.0;
-    for (int v = 0; v < 4; v++) {
-        const double a = run_result_value(&one, keys[v]), b = run_result_value(&all, keys[v]);
-        rel = fmax(rel, isnan(a) || isnan(b) ? INFINITY : fabs(b - a) / fabs(a));
-    }
-    const double steps = fabs(run_result_value(&all, keys[4]) - run_result_value(&one, keys[4]));
-    double bad = rc != RUN_OK || one.status != STATUS_STEADY || all.status != one.status ||
-                 labs(all.steps - one.steps) > 1 || !(steps <= 1.0) || !(rel <= 1e-8);
-    comm_sum(&bad, 1);
-    if (comm_rank() == 0)
-        printf("    heap %s x %s on %d ranks (1 x %d x %d asked): %s, %g steps (alone %g), "
-               "tilt %.10g, Q* %.10g, results within %.1e relative\n",
-               ov[0] + 10, ov[1] + 10, comm_size(), dims[1], dims[2],
-               run_status_name(all.status), run_result_value(&all, keys[4]),
-               run_result_value(&one, keys[4]), run_result_value(&all, "tilt"),
-               run_result_value(&all, "flow_rate"), rel);
-    assert_true(bad == 0.0);
-}
-
-/* The heap at 14 x 20 split along y and along z at a fixed tilt, and its
- * tilt search split along both (MPI's choice): gmg auto's pick on ranks. */
+/* The heap (cases/heap.ini) at 14 x 20 split along y and along z at a
+ * fixed tilt, and its tilt search split along both (MPI's choice): gmg
+ * auto's pick on ranks.  Against one process: the same status, steps
+ * within one, its tilt, flow rate, surface velocity and flowing depth at
+ * the mid-plane within 1e-8 relative, and the search's steps over its
+ * solves (steps_total) within one. */
 void test_heap_on_ranks(void **state)
 {
     (void)state;
-    const int p = comm_size();
-    const int along_y[3] = {1, p, 1}, along_z[3] = {1, 1, p}, both[3] = {1, 0, 0};
+    static const char *const keys[] = {"tilt", "flow_rate", "u_surface_mid", "depth_mid", NULL};
     char *fixed[] = {"domain.ny=14", "domain.nz=20", "heap.flow_rate=0", "physics.tilt=0.405"};
-    check_heap(fixed, 4, along_y);
-    check_heap(fixed, 4, along_z);
+    const struct scene_lines at = {.file = "../cases/heap.ini", .n = 4, .ov = fixed,
+                                   .keys = keys, .count = "steps_total",
+                                   .want = STATUS_STEADY};
+    const int p = comm_size();
+    const int splits[2][3] = {{1, p, 1}, {1, 1, p}}; /* y, z */
+    check_scene_splits(&at, 2, splits);
     char *search[] = {"domain.ny=14", "domain.nz=20"};
-    check_heap(search, 2, both);
+    struct scene_lines searched = at;
+    searched.n = 2;
+    searched.ov = search;
+    const int both[3] = {1, 0, 0};
+    check_scene_lines(&searched, both);
 }

@@ -2,8 +2,8 @@
  * along x, bagnold2's rows along x, the duct's mid-plane columns) split over
  * the ranks in each direction their grid allows, against one process, in
  * the group mpi (test_mpi.c): the same status, steps within 1, the listed
- * [result] lines within 1e-8 relative (check_scene_lines_on_ranks).  On
- * one rank both runs are one process's. */
+ * [result] lines within 1e-8 relative (check_scene_lines, test_mpi.h).
+ * On one rank both runs are one process's. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,27 +11,8 @@
 #include "scenes/scene.h"
 #include "platform/comm.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
-
-void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
-                                const char *const *keys, enum run_status want);
-
-/* Each split of the ranks a case is checked on: along a (and b) alone, and
- * with both set MPI's choice over both on four ranks or more (on two it is
- * one of them). */
-static void check_splits(const char *file, int n, char *ov[], int a, int b, int both_too,
-                         const char *const *keys, enum run_status want)
-{
-    const int p = comm_size();
-    int along_a[3] = {1, 1, 1}, along_b[3] = {1, 1, 1}, both[3] = {1, 1, 1};
-    along_a[a] = along_b[b] = p;
-    both[a] = both[b] = 0;
-    check_scene_lines_on_ranks(file, n, ov, along_a, keys, want);
-    if (p > 1)
-        check_scene_lines_on_ranks(file, n, ov, along_b, keys, want);
-    if (both_too && p >= 4)
-        check_scene_lines_on_ranks(file, n, ov, both, keys, want);
-}
 
 /* 20 x 15 cells to the shipped end (379 steps alone): the shock at 0.052,
  * past the border at x = lx / 2 of a split in two; the speed's fit has too
@@ -44,7 +25,10 @@ void test_wall_shock_on_ranks(void **state)
     static const char *const keys[] = {"x_shock",      "h1",         "u1",
                                        "depth_ratio",  "u2_over_u1", "static_length",
                                        "shock_speed_mass", "fit_rows", NULL};
-    check_splits("../cases/wall_shock.ini", 2, ov, 0, 2, 0, keys, STATUS_FINISHED);
+    const struct scene_lines s = {.file = "../cases/wall_shock.ini", .n = 2, .ov = ov,
+                                  .keys = keys, .want = STATUS_FINISHED};
+    const int splits[2][3] = {{comm_size(), 1, 1}, {1, 1, comm_size()}}; /* x, z */
+    check_scene_splits(&s, 2, splits);
 }
 
 /* 100 x 10 cells to t = 0.05: the tip (0.086) and x_half past the border
@@ -58,7 +42,10 @@ void test_front_on_ranks(void **state)
                                        "h_err_rms",      "h_err_max",       "h_behind_error",
                                        "profile_err_rms", "precursor_flux", "h_err_max_nose",
                                        "h_err_rms_depth_averaged", NULL};
-    check_splits("../cases/front.ini", 4, ov, 0, 2, 0, keys, STATUS_FINISHED);
+    const struct scene_lines s = {.file = "../cases/front.ini", .n = 4, .ov = ov, .keys = keys,
+                                  .want = STATUS_FINISHED};
+    const int splits[2][3] = {{comm_size(), 1, 1}, {1, 1, comm_size()}}; /* x, z */
+    check_scene_splits(&s, 2, splits);
 }
 
 /* The shipped front as it is (250 x 15 to t = 0.6, 1,339 steps): one
@@ -134,14 +121,17 @@ void test_bagnold2_on_ranks(void **state)
     char *ov[] = {"domain.nx=10", "domain.nz=20"};
     static const char *const keys[] = {"u_top", "err_rms", "err_rms_grains", "err_rms_air",
                                        "u_interface", NULL};
-    check_scene_lines_on_ranks("../cases/bagnold2.ini", 2, ov, along_x, keys, STATUS_STEADY);
+    const struct scene_lines steady = {.file = "../cases/bagnold2.ini", .n = 2, .ov = ov,
+                                       .keys = keys, .want = STATUS_STEADY};
+    check_scene_lines(&steady, along_x);
     char *grow[] = {"domain.nx=10",         "domain.nz=20",         "solver.mode=transient",
                     "bagnold2.start=exact", "bagnold2.perturbation=0.01", "solver.dt=1e-4",
                     "solver.end_time=0.002"};
     static const char *const amplitudes[] = {"amplitude_start", "amplitude_end", "growth_rate",
                                              "u_top", NULL};
-    check_scene_lines_on_ranks("../cases/bagnold2.ini", 7, grow, along_x, amplitudes,
-                               STATUS_FINISHED);
+    const struct scene_lines growth = {.file = "../cases/bagnold2.ini", .n = 7, .ov = grow,
+                                       .keys = amplitudes, .want = STATUS_FINISHED};
+    check_scene_lines(&growth, along_x);
 }
 
 /* The shipped 20 x 40 half cross-section (66 steps alone) split across y,
@@ -155,7 +145,11 @@ void test_duct_square_on_ranks(void **state)
     static const char *const keys[] = {"u_max",         "diff_plane",  "flow_rate",
                                        "area",          "mean_velocity", "u_max_midplane",
                                        "mobile_layer_midplane", NULL};
-    check_splits("../cases/duct_square.ini", 1, ov, 1, 2, 1, keys, STATUS_STEADY);
+    const struct scene_lines s = {.file = "../cases/duct_square.ini", .n = 1, .ov = ov,
+                                  .keys = keys, .want = STATUS_STEADY};
+    const int p = comm_size();
+    const int splits[3][3] = {{1, p, 1}, {1, 1, p}, {1, 0, 0}}; /* y, z, both */
+    check_scene_splits(&s, 3, splits);
 }
 
 /* The implicit solves' iterations of a run, summed over its observations
@@ -216,13 +210,15 @@ void test_duct_circular_on_ranks(void **state)
     char *ov[] = {"output.quiet=on"};
     struct muflow_case cs;
     test_load_case(&cs, "../cases/duct_circular.ini", 1, ov);
-    const int p = comm_size(), across[3] = {1, p, 1}, along[3] = {1, 1, p}, both[3] = {1, 0, 0};
-    check_duct_circular_gmg(&cs, across);
-    check_duct_circular_gmg(&cs, along);
-    if (p >= 4)
-        check_duct_circular_gmg(&cs, both);
+    const int p = comm_size();
+    const int splits[3][3] = {{1, p, 1}, {1, 1, p}, {1, 0, 0}}; /* y, z, both */
+    int dims[3][3];
+    for (int t = 0, n = test_splits(3, splits, dims); t < n; t++)
+        check_duct_circular_gmg(&cs, dims[t]);
     static const char *const keys[] = {"u_max",         "diff_plane",  "flow_rate",
                                        "area",          "mean_velocity", "u_max_midplane",
                                        "mobile_layer_midplane", NULL};
-    check_splits("../cases/duct_circular.ini", 1, ov, 1, 2, 1, keys, STATUS_STEADY);
+    const struct scene_lines s = {.file = "../cases/duct_circular.ini", .n = 1, .ov = ov,
+                                  .keys = keys, .want = STATUS_STEADY};
+    check_scene_splits(&s, 3, splits);
 }

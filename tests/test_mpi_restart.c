@@ -16,6 +16,7 @@
 #include "io/checkpoint.h"
 #include "platform/comm.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* bagnold on 4 x 2 x 40 cells (test_mpi.c's): 15 steps to steady */
@@ -291,14 +292,11 @@ void test_collapse_checkpoint_ranks(void **state)
     ranks_verdict(bad, err, dir);
 }
 
-void check_scene_lines_on_ranks(const char *file, int n, char *ov[], const int dims[3],
-                                const char *const *keys, enum run_status want);
-
 /* solver.initial_state on ranks: the collapse at 16 x 6 to t = 0.3, written
  * on this run's ranks, starts the collapse at 32 x 12 (every rank reads the
  * whole source and interpolates to the positions of its block) to t = 0.5,
  * split along x, z and both against one process: status, steps within 1,
- * measures within 1e-8, mass_error within 1e-13 (check_scene_lines_on_ranks) */
+ * measures within 1e-8, mass_error within 1e-13 (check_scene_lines) */
 void test_initial_state_on_ranks(void **state)
 {
     (void)state;
@@ -318,13 +316,11 @@ void test_initial_state_on_ranks(void **state)
         char *fine[] = {"domain.lx=4", "domain.nx=32", "domain.nz=12", "solver.end_time=0.5", from};
         static const char *const keys[] = {"x_front", "h_axis", "kinetic_energy",
                                            "kinetic_energy_peak", NULL};
+        const struct scene_lines s = {.file = "../cases/collapse.ini", .n = 5, .ov = fine,
+                                      .keys = keys, .want = STATUS_FINISHED};
         const int p = comm_size();
-        const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, along_x, keys,
-                                   STATUS_FINISHED);
-        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, along_z, keys,
-                                   STATUS_FINISHED);
-        check_scene_lines_on_ranks("../cases/collapse.ini", 5, fine, both, keys, STATUS_FINISHED);
+        const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}}; /* x, z, both */
+        check_scene_splits(&s, 3, splits);
     }
     ranks_verdict(bad, err, dir);
 }

@@ -15,6 +15,7 @@
 #include "solvers/velocity_mg.h"
 #include "solvers/viscous.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 /* log10 of the viscosity at x, z (unit box): 0 on one side of a wavy front,
@@ -122,39 +123,34 @@ static int solve_vmg(struct vmg_problem *p, double rtol)
  * none) against the one on one process: the largest difference over the
  * unknowns within 1e-10 of the largest value (both converge to 1e-13;
  * their cycles differ in the rank borders' smoothing, lines cut there), iterations within one. */
-static void check_vmg(const int dims_in[3], const int n[3], const enum bc_kind face[3][2],
+static void check_vmg(const int dims[3], const int n[3], const enum bc_kind face[3][2],
                       double aug)
 {
-    int dims[3] = {dims_in[0], dims_in[1], dims_in[2]}, periodic[3];
-    const int split[3] = {1, 1, 1};
+    int periodic[3];
     struct boundary bc;
     memset(&bc, 0, sizeof bc);
     for (int d = 0; d < 3; d++) {
         bc.face[d][0] = face[d][0];
         bc.face[d][1] = face[d][1];
-        periodic[d] = face[d][0] == BC_PERIODIC;
     }
+    bc_periodic_flags(&bc, periodic);
     const double len[3] = {1.0, n[1] / (double)n[0], n[2] / (double)n[0]};
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    struct comm_cart cart;
-    struct decomp dc;
-    char err[256] = "";
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, n, len);
     struct vmg_problem whole, part;
-    problem_make(&whole, &gg, NULL, &bc, aug);
-    problem_make(&part, &gg, &dc, &bc, aug);
+    problem_make(&whole, &b.whole, NULL, &bc, aug);
+    problem_make(&part, &b.whole, &b.dc, &bc, aug);
     const double rtol = 1e-13;
     const int it_whole = solve_vmg(&whole, rtol), it_part = solve_vmg(&part, rtol);
+    const int *lo = b.dc.lo;
     double m[2] = {0.0, 0.0}; /* max |difference|, max |x| */
     for (int c = 0; c < 3; c++) {
-        const struct box *b = &part.act[c];
-        for (int i = b->lo[0]; i < b->hi[0]; i++)
-            for (int j = b->lo[1]; j < b->hi[1]; j++)
-                for (int k = b->lo[2]; k < b->hi[2]; k++) {
-                    const double w = whole.x[c][grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j,
-                                                         dc.lo[2] + k)];
+        const struct box *a = &part.act[c];
+        for (int i = a->lo[0]; i < a->hi[0]; i++)
+            for (int j = a->lo[1]; j < a->hi[1]; j++)
+                for (int k = a->lo[2]; k < a->hi[2]; k++) {
+                    const double w = whole.x[c][grid_idx(&b.whole, lo[0] + i, lo[1] + j,
+                                                         lo[2] + k)];
                     const double diff = fabs(part.x[c][grid_idx(&part.g, i, j, k)] - w);
                     m[0] = diff > m[0] ? diff : m[0];
                     m[1] = fabs(w) > m[1] ? fabs(w) : m[1];
@@ -163,15 +159,25 @@ static void check_vmg(const int dims_in[3], const int n[3], const enum bc_kind f
     comm_max(m, 2);
     if (comm_rank() == 0)
         printf("    %d x %d x %d on %d x %d x %d ranks%s: %d CG iterations (one process %d), "
-               "difference %.2e\n", n[0], n[1], n[2], cart.dims[0], cart.dims[1], cart.dims[2],
-               aug > 0.0 ? ", augmented" : "", it_part, it_whole, m[0] / m[1]);
+               "difference %.2e\n", n[0], n[1], n[2], b.cart.dims[0], b.cart.dims[1],
+               b.cart.dims[2], aug > 0.0 ? ", augmented" : "", it_part, it_whole, m[0] / m[1]);
     problem_free(&whole);
     problem_free(&part);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     assert_true(m[1] > 0.0);
     assert_true(m[0] <= 1e-10 * m[1]);
     assert_true(abs(it_part - it_whole) <= 1);
+}
+
+/* check_vmg on each split of test_splits: along x, along z, both (two by
+ * two on four ranks). */
+static void check_vmg_splits(const int n[3], const enum bc_kind face[3][2], double aug)
+{
+    const int p = comm_size();
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}};
+    int dims[3][3];
+    for (int t = 0, count = test_splits(3, splits, dims); t < count; t++)
+        check_vmg(dims[t], n, face, aug);
 }
 
 /* A plane flow (x-z, one periodic cell across y) in a box with walls and a
@@ -184,11 +190,8 @@ void test_vmg_ranks_plane(void **state)
     (void)state;
     const enum bc_kind face[3][2] = {{BC_WALL, BC_WALL}, {BC_PERIODIC, BC_PERIODIC},
                                      {BC_WALL, BC_LID}};
-    const int n[3] = {128, 1, 128}, p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_vmg(along_x, n, face, 0.0);
-    check_vmg(along_z, n, face, 0.0);
-    check_vmg(both, n, face, 0.0);
+    const int n[3] = {128, 1, 128}, both[3] = {0, 1, 0};
+    check_vmg_splits(n, face, 0.0);
     const int n3[3] = {256, 1, 256}; /* three levels on the ranks */
     check_vmg(both, n3, face, 0.0);
 }
@@ -212,15 +215,9 @@ void test_vmg_ranks_augmented(void **state)
     (void)state;
     const enum bc_kind face[3][2] = {{BC_WALL, BC_WALL}, {BC_PERIODIC, BC_PERIODIC},
                                      {BC_WALL, BC_LID}};
-    const int n[3] = {128, 1, 128}, p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    check_vmg(along_x, n, face, 1e6);
-    check_vmg(along_z, n, face, 1e6);
-    check_vmg(both, n, face, 1e6);
+    const int n[3] = {128, 1, 128};
+    check_vmg_splits(n, face, 1e6);
 }
-
-/* test_mpi.c's: a scene on this run's ranks against one process */
-void check_scene_on_ranks(const char *file, int n, char *ov[], double tol, enum run_status want);
 
 /* The march on ranks with the velocity multigrid, bounded directions split
  * (march_create.c): bagnold's layer of one column split along z (wall

@@ -14,6 +14,7 @@
 #include "platform/comm.h"
 #include "solvers/pressure.h"
 #include "test_main.h"
+#include "test_mpi.h"
 #include "test_util.h"
 
 struct vof_case {
@@ -128,60 +129,53 @@ static double cell_sum(const struct grid *g, const double *T)
  * than 1/2 somewhere: the check sees the transport). */
 static void check_vof(const struct vof_case *vc, const int dims[3])
 {
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, vc->n, vc->len), 0);
     struct boundary whole = {0};
     for (int d = 0; d < 3; d++)
         for (int s = 0; s < 2; s++)
             whole.face[d][s] = vc->face[d][s];
-    double *Tw = field_alloc(&gg), *T0 = field_alloc(&gg);
-    assert_true(Tw && T0);
-    const int zero[3] = {0, 0, 0};
-    transport(vc, &gg, &whole, zero, Tw);
-    for (int i = 0; i < gg.n[0]; i++)
-        for (int k = 0; k < gg.n[2]; k++)
-            T0[grid_idx(&gg, i, 0, k)] = initial_fraction(vc, &gg, i, k);
-    const double v0 = cell_sum(&gg, T0);
-
     int periodic[3];
     bc_periodic_flags(&whole, periodic);
-    const int split[3] = {1, 1, 1};
-    struct comm_cart cart;
-    struct decomp dc;
-    struct grid g;
-    char err[256];
-    assert_int_equal(comm_cart_create(&cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, vc->n, err, sizeof err), 0);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
+    struct test_blocks b;
+    test_blocks_open(&b, dims, periodic, vc->n, vc->len);
+    const struct grid *gg = &b.whole, *g = &b.g;
+    const int *lo = b.dc.lo;
+    double *Tw = field_alloc(gg), *T0 = field_alloc(gg);
+    assert_true(Tw && T0);
+    const int zero[3] = {0, 0, 0};
+    transport(vc, gg, &whole, zero, Tw);
+    for (int i = 0; i < gg->n[0]; i++)
+        for (int k = 0; k < gg->n[2]; k++)
+            T0[grid_idx(gg, i, 0, k)] = initial_fraction(vc, gg, i, k);
+    const double v0 = cell_sum(gg, T0);
+
     struct boundary part = whole;
-    part.dc = &dc;
-    double *T = field_alloc(&g);
+    part.dc = &b.dc;
+    double *T = field_alloc(g);
     assert_non_null(T);
-    transport(vc, &g, &part, dc.lo, T);
+    transport(vc, g, &part, lo, T);
     double m[2] = {0.0, 0.0}; /* max |T - one process's|, max |T - T at the start| */
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++) {
-                const ptrdiff_t q = grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k);
-                const double t = T[grid_idx(&g, i, j, k)];
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                const ptrdiff_t q = grid_idx(gg, lo[0] + i, lo[1] + j, lo[2] + k);
+                const double t = T[grid_idx(g, i, j, k)];
                 m[0] = fmax(m[0], fabs(t - Tw[q]));
                 m[1] = fmax(m[1], fabs(t - T0[q]));
             }
     comm_max(m, 2);
-    double v = cell_sum(&g, T);
+    double v = cell_sum(g, T);
     comm_sum(&v, 1);
-    const double vw = cell_sum(&gg, Tw);
+    const double vw = cell_sum(gg, Tw);
     if (comm_rank() == 0)
         printf("    %s, %d x %d x %d on %d x %d x %d ranks, %d steps: T within %.1e of one "
                "process's, volume %.2e (one process %.2e) off the start's, moved %.2f\n",
                vc->vortex ? "disc in a vortex" : "square carried", vc->n[0], vc->n[1], vc->n[2],
-               cart.dims[0], cart.dims[1], cart.dims[2], vc->steps, m[0], v / v0 - 1.0,
+               b.cart.dims[0], b.cart.dims[1], b.cart.dims[2], vc->steps, m[0], v / v0 - 1.0,
                vw / v0 - 1.0, m[1]);
     field_free(T);
     field_free(Tw);
     field_free(T0);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     assert_true(m[0] <= 1e-12);
     assert_true(fabs(v / v0 - 1.0) <= 1e-12);
     assert_true(m[1] > 0.5);
@@ -195,8 +189,9 @@ void test_vof_ranks(void **state)
 {
     (void)state;
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    const int *const dims[3] = {along_x, along_z, both};
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}};
+    int dims[3][3];
+    const int count = test_splits(3, splits, dims);
     const struct vof_case vortex = {{24, 1, 20},
                                     {1.2, 0.05, 1.0},
                                     {{BC_SLIP, BC_SLIP}, {BC_PERIODIC, BC_PERIODIC},
@@ -209,9 +204,9 @@ void test_vof_ranks(void **state)
                                     {BC_PERIODIC, BC_PERIODIC}},
                                    0,
                                    70};
-    for (int s = 0; s < 3; s++)
+    for (int s = 0; s < count; s++)
         check_vof(&vortex, dims[s]);
-    for (int s = 0; s < 3; s++)
+    for (int s = 0; s < count; s++)
         check_vof(&carry, dims[s]);
 }
 
@@ -290,40 +285,34 @@ static long pressure_layer(const struct grid *gg, const struct grid *g, const st
 static void check_pressure(const int n[3], const int dims[3])
 {
     const double len[3] = {n[0] * 0.05, n[1] * 0.05, n[2] * 0.05};
-    struct grid gg;
-    assert_int_equal(grid_init(&gg, n, len), 0);
-    double *whole = field_alloc(&gg);
+    const int zero[3] = {0, 0, 0}, per[3] = {0, 1, 0};
+    struct test_blocks b;
+    test_blocks_open(&b, dims, per, n, len);
+    const struct grid *gg = &b.whole, *g = &b.g;
+    const int *lo = b.dc.lo;
+    double *whole = field_alloc(gg);
     assert_non_null(whole);
-    const int zero[3] = {0, 0, 0}, per[3] = {0, 1, 0}, split[3] = {1, 1, 1};
-    const long it_whole = pressure_layer(&gg, &gg, NULL, zero, whole);
-    struct comm_cart cart;
-    struct decomp dc;
-    struct grid g;
-    char err[256];
-    assert_int_equal(comm_cart_create(&cart, dims, per, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(&dc, &cart, n, err, sizeof err), 0);
-    assert_int_equal(decomp_local_grid(&dc, &gg, &g), 0);
-    double *phi = field_alloc(&g);
+    const long it_whole = pressure_layer(gg, gg, NULL, zero, whole);
+    double *phi = field_alloc(g);
     assert_non_null(phi);
-    const long it = pressure_layer(&gg, &g, &dc, dc.lo, phi);
+    const long it = pressure_layer(gg, g, &b.dc, lo, phi);
     double m[2] = {0.0, 0.0}; /* max |phi - one process's|, max |phi| */
-    for (int i = 0; i < g.n[0]; i++)
-        for (int j = 0; j < g.n[1]; j++)
-            for (int k = 0; k < g.n[2]; k++) {
-                const double w = whole[grid_idx(&gg, dc.lo[0] + i, dc.lo[1] + j, dc.lo[2] + k)];
-                m[0] = fmax(m[0], fabs(phi[grid_idx(&g, i, j, k)] - w));
+    for (int i = 0; i < g->n[0]; i++)
+        for (int j = 0; j < g->n[1]; j++)
+            for (int k = 0; k < g->n[2]; k++) {
+                const double w = whole[grid_idx(gg, lo[0] + i, lo[1] + j, lo[2] + k)];
+                m[0] = fmax(m[0], fabs(phi[grid_idx(g, i, j, k)] - w));
                 m[1] = fmax(m[1], fabs(w));
             }
     comm_max(m, 2);
     if (comm_rank() == 0)
         printf("    density 1 : 1e-3, %d x %d x %d on %d x %d x %d ranks: %ld multigrid-CG "
                "iterations (one process %ld), phi within %.2e\n",
-               n[0], n[1], n[2], cart.dims[0], cart.dims[1], cart.dims[2], it, it_whole,
+               n[0], n[1], n[2], b.cart.dims[0], b.cart.dims[1], b.cart.dims[2], it, it_whole,
                m[0] / m[1]);
     field_free(phi);
     field_free(whole);
-    decomp_free(&dc);
-    comm_cart_free(&cart);
+    test_blocks_close(&b);
     assert_true(m[1] > 0.0);
     assert_true(m[0] <= 1e-10 * m[1]);
     assert_true(labs(it - it_whole) <= 1);
@@ -336,11 +325,12 @@ void test_pressure_ranks_variable(void **state)
 {
     (void)state;
     const int p = comm_size();
-    const int along_x[3] = {p, 1, 1}, along_z[3] = {1, 1, p}, both[3] = {0, 1, 0};
-    const int *const dims[3] = {along_x, along_z, both};
+    const int splits[3][3] = {{p, 1, 1}, {1, 1, p}, {0, 1, 0}};
+    int dims[3][3];
+    const int count = test_splits(3, splits, dims);
     const int plane[3] = {40, 1, 24}, box[3] = {32, 8, 32};
-    for (int s = 0; s < 3; s++)
+    for (int s = 0; s < count; s++)
         check_pressure(plane, dims[s]);
-    for (int s = 0; s < 3; s++)
+    for (int s = 0; s < count; s++)
         check_pressure(box, dims[s]);
 }

@@ -138,16 +138,31 @@ void test_ranks_dir_remove(const char *dir)
         test_tmp_remove(dir);
 }
 
-void test_decomp_open(const int dims[3], const enum poisson_bc bc[3][2], const int n[3],
-                      struct comm_cart *cart, struct decomp *dc)
+void test_poisson_periodic(const enum poisson_bc bc[3][2], int periodic[3])
 {
-    int periodic[3];
-    const int split[3] = {1, 1, 1};
     for (int d = 0; d < 3; d++)
         periodic[d] = bc[d][0] == POISSON_PERIODIC;
+}
+
+void test_blocks_open(struct test_blocks *b, const int dims[3], const int periodic[3],
+                      const int n[3], const double len[3])
+{
+    /* every direction free: a test that keeps one whole asks 1 there */
+    const int split[3] = {1, 1, 1};
     char err[256] = "";
-    assert_int_equal(comm_cart_create(cart, dims, periodic, split, err, sizeof err), 0);
-    assert_int_equal(decomp_create(dc, cart, n, err, sizeof err), 0);
+    assert_int_equal(grid_init(&b->whole, n, len), 0);
+    int rc = comm_cart_create(&b->cart, dims, periodic, split, err, sizeof err);
+    rc = rc ? rc : decomp_create(&b->dc, &b->cart, n, err, sizeof err);
+    if (rc != 0)
+        print_error("%s\n", err);
+    assert_int_equal(rc, 0);
+    assert_int_equal(decomp_local_grid(&b->dc, &b->whole, &b->g), 0);
+}
+
+void test_blocks_close(struct test_blocks *b)
+{
+    decomp_free(&b->dc);
+    comm_cart_free(&b->cart);
 }
 
 void test_run_dir_make(struct test_run_dir *d, const char *name)

@@ -80,10 +80,23 @@ void test_tmp_remove(const char *dir);
 void test_ranks_dir(char *dir, size_t len, const char *tag);
 void test_ranks_dir_remove(const char *dir);
 
-/* The ranks' blocks of the global n cells over dims (0: MPI's choice),
- * periodic where bc is, every direction free to split. */
-void test_decomp_open(const int dims[3], const enum poisson_bc bc[3][2], const int n[3],
-                      struct comm_cart *cart, struct decomp *dc);
+/* The ranks' blocks of a global grid of n cells over len (whole, every
+ * rank's reference): the Cartesian communicator over dims ranks (0: MPI's
+ * choice, every direction free to split), periodic along d where
+ * periodic[d], this rank's block dc and its local grid g.  Collective;
+ * test_blocks_close frees what test_blocks_open made (b stays where it
+ * was opened: dc points at cart). */
+struct test_blocks {
+    struct grid whole, g;
+    struct comm_cart cart;
+    struct decomp dc;
+};
+void test_blocks_open(struct test_blocks *b, const int dims[3], const int periodic[3],
+                      const int n[3], const double len[3]);
+void test_blocks_close(struct test_blocks *b);
+
+/* The directions the Poisson solver's conditions bc make periodic. */
+void test_poisson_periodic(const enum poisson_bc bc[3][2], int periodic[3]);
 
 /* A fresh folder for a test's runs (test_tmp_make, named after name), with
  * the overrides that write a run there and start another from it;
