@@ -536,7 +536,9 @@ static const struct {
      "is loaded; parameters whose `jop` curve is ill posed throughout the bracket are refused, "
      "naming `rheology.mu_s`, `rheology.delta_mu` and `rheology.i0`. `law = ngf` is the "
      "nonlocal granular fluidity (`mu_s`, `nonlocal_a`, `nonlocal_b`; "
-     "docs/numerics/rheology.md), for layered flows (periodic x and y) so far."},
+     "docs/numerics/rheology.md): along z lines for layered flows (periodic x and y), by its "
+     "multigrid on other uniform grids on one process (the column collapse under air); not in "
+     "the coupled step."},
     {"solver",
      "The march: steady (a pseudo-time march to the steady state) or transient (to `end_time`), "
      "and the solvers of its steps."},
