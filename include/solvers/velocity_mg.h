@@ -49,7 +49,6 @@
 
 struct velocity_mg_options {
     int pre, post;       /* smoothing steps before and after the coarse correction */
-    int gamma;           /* coarse visits per level: 1 V-cycle, 2 W-cycle */
     long coarse_cells;   /* stop coarsening at or below this many cells */
 };
 

@@ -17,7 +17,6 @@ void velocity_mg_default_options(struct velocity_mg_options *o)
 {
     o->pre = 2;
     o->post = 2;
-    o->gamma = 1;
     o->coarse_cells = 256;
 }
 
@@ -783,27 +782,9 @@ static void cycle(struct velocity_mg *m, int l)
             if (bc_split(&cl->bc, d))
                 decomp_exchange_add(&cl->dc, &cl->g, cl->b[c], d);
     }
-    for (int k = 0; k < m->opt.gamma; k++) {
-        if (k == 0) {
-            cycle(m, l + 1);
-        } else {
-            /* a further visit corrects the coarse solution: b - A x there */
-            double *keep[3];
-            for (int c = 0; c < 3; c++)
-                keep[c] = cl->d[c];
-            struct level_op cop = {m, cl};
-            for (int c = 0; c < 3; c++)
-                memcpy(keep[c], cl->x[c], cl->g.size * sizeof(double));
-            level_apply(&cop, cl->x, cl->r);
-            for (int c = 0; c < 3; c++)
-                for (size_t p = 0; p < cl->g.size; p++)
-                    cl->b[c][p] -= cl->r[c][p];
-            cycle(m, l + 1);
-            for (int c = 0; c < 3; c++)
-                for (size_t p = 0; p < cl->g.size; p++)
-                    cl->x[c][p] += keep[c][p];
-        }
-    }
+    /* one visit (V-cycle): a second (W) lowered the augmented cavity's Picard
+     * iterations at Bn 1000 but cost the collapse 1.5x (velocity-multigrid.md) */
+    cycle(m, l + 1);
     if (cl->split) /* the coarse nodes past a rank border */
         bc_fill_velocity_homogeneous(&cl->g, &cl->bc, cl->x);
     for (int c = 0; c < 3; c++)
