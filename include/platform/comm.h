@@ -80,6 +80,12 @@ struct comm_cart {
     int nbr[3][2];
 };
 
+/* The ranks along each direction a Cartesian communicator of the run's
+ * ranks would take (dims[d] > 0 fixed, 0 free, splittable[d] 0: 1), as
+ * comm_cart_create chooses them, without creating it.  Returns 0, or -1
+ * with a message. */
+int comm_cart_dims(const int dims[3], const int splittable[3], int out[3], char *err,
+                   size_t errlen);
 /* dims[d] given (> 0) or 0 for MPI_Dims_create's choice, fixed to 1 along a
  * direction with splittable[d] = 0.  Returns 0, or -1 with a message. */
 int comm_cart_create(struct comm_cart *c, const int dims[3], const int periodic[3],

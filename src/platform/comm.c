@@ -226,38 +226,51 @@ void comm_barrier(void)
 
 /* ---- the Cartesian communicator --------------------------------------------------- */
 
-int comm_cart_create(struct comm_cart *c, const int dims[3], const int periodic[3],
-                     const int splittable[3], char *err, size_t errlen)
+int comm_cart_dims(const int dims[3], const int splittable[3], int out[3], char *err,
+                   size_t errlen)
 {
-    memset(c, 0, sizeof *c);
-    c->size = world_size;
-    int d3[3], per[3];
     long given = 1;
     for (int d = 0; d < 3; d++) {
-        d3[d] = !splittable[d] ? 1 : dims[d] > 0 ? dims[d] : 0;
-        per[d] = periodic[d] != 0;
-        c->periodic[d] = per[d];
-        if (d3[d] > 0)
-            given *= d3[d];
-        c->nbr[d][0] = c->nbr[d][1] = -1;
-        c->dims[d] = 1;
+        out[d] = !splittable[d] ? 1 : dims[d] > 0 ? dims[d] : 0;
+        if (out[d] > 0)
+            given *= out[d];
     }
     if (world_size == 1 || !active) {
         if (given != 1) {
             snprintf(err, errlen, "decomposition: %ld ranks asked, the run has 1", given);
             return -1;
         }
+        out[0] = out[1] = out[2] = 1;
         return 0;
     }
     /* every direction fixed: MPI_Dims_create aborts the job unless they
      * multiply to the ranks */
-    const int free_dims = (d3[0] == 0) + (d3[1] == 0) + (d3[2] == 0);
+    const int free_dims = (out[0] == 0) + (out[1] == 0) + (out[2] == 0);
     if (world_size % given != 0 || (free_dims == 0 && given != world_size) ||
-        mpi.MPI_Dims_create(world_size, 3, d3) != MPI_SUCCESS) {
+        mpi.MPI_Dims_create(world_size, 3, out) != MPI_SUCCESS) {
         snprintf(err, errlen, "decomposition: %d ranks cannot be split as asked (%d x %d x %d)",
                  world_size, dims[0], dims[1], dims[2]);
         return -1;
     }
+    return 0;
+}
+
+int comm_cart_create(struct comm_cart *c, const int dims[3], const int periodic[3],
+                     const int splittable[3], char *err, size_t errlen)
+{
+    memset(c, 0, sizeof *c);
+    c->size = world_size;
+    int d3[3], per[3];
+    for (int d = 0; d < 3; d++) {
+        per[d] = periodic[d] != 0;
+        c->periodic[d] = per[d];
+        c->nbr[d][0] = c->nbr[d][1] = -1;
+        c->dims[d] = 1;
+    }
+    if (comm_cart_dims(dims, splittable, d3, err, errlen) != 0)
+        return -1;
+    if (world_size == 1 || !active)
+        return 0;
     MPI_Comm cart;
     if (mpi.MPI_Cart_create(mpi.comm_world, 3, d3, per, 0, &cart) != MPI_SUCCESS) {
         snprintf(err, errlen, "decomposition: MPI_Cart_create failed");
