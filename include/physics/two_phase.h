@@ -82,9 +82,17 @@ const double *two_phase_fraction(const struct march_state *st);
 
 /* The mixture of the viscosities (and tangents) the properties stage holds
  * as the grains': the module's properties hook does it after the core's
- * mu(I); with rheology.law = ngf the fluidity module (physics/ngf.h), which
- * replaces the grains' viscosities after that hook, calls this instead. */
+ * mu(I), unless a module deferred it (below), which calls this after
+ * replacing the grains' viscosities. */
 void two_phase_mix_viscosities(struct march_state *st);
+
+/* Called by a module that replaces the grains' viscosities after the
+ * properties stage (the nonlocal fluidity, physics/ngf.h) when it is
+ * created, after this one: the properties hook then leaves the mixture to
+ * it, and a scene whose series or bed edges evaluate mu(I) themselves is
+ * refused at two_phase_configure, the message naming the module by `by`
+ * (its key and value).  Nothing without the two phases. */
+void two_phase_defer_mixing(struct march_state *st, const char *by);
 
 /* Sum of T over the interior cells (the grains' volume in cells). */
 double two_phase_volume(const struct march_state *st);

@@ -262,6 +262,8 @@ static int create(struct march_state *st, void **state, char *err, size_t errlen
         return -1;
     }
     *state = m;
+    /* the grains' viscosity is this module's, mixed under a light phase here */
+    two_phase_defer_mixing(st, "rheology.law = ngf");
     const int nz = g->n[2];
     m->line = calloc(5 * (size_t)nz, sizeof(double));
     m->hf = calloc((size_t)nz + 1, sizeof(double));

@@ -23,6 +23,9 @@ struct two_phase {
     struct two_phase_params p;
     double *T;
     int configured;
+    /* a module replaces the grains' viscosity after the properties stage
+     * and mixes it (two_phase_defer_mixing): the module's words for it */
+    const char *mixing_deferred;
     int transported;        /* T moves with the flow (else it is held) */
     struct vof_transport vt;
     int vt_ready;
@@ -74,12 +77,13 @@ double *two_phase_configure(struct march_state *st, const struct two_phase_param
         snprintf(err, errlen, "two phases: the module is not switched on");
         return NULL;
     }
-    /* the cut and bed edges evaluate mu(I) themselves: the nonlocal
-     * fluidity's viscosity is the module's (physics/ngf.h), mixed at the
-     * cells' and edges' mean fractions only */
-    if (st->rheo.law == LAW_NGF && (p->edges == EDGES_SERIES || p->bed_pressure)) {
-        snprintf(err, errlen, "two phases with rheology.law = ngf: this scene's series or bed "
-                              "edges take mu(I) (rheology.law = mui)");
+    /* the cut and bed edges evaluate mu(I) themselves: a deferred mixture
+     * is the replacing module's viscosity mixed at the cells' and edges'
+     * mean fractions only */
+    if (tp->mixing_deferred && (p->edges == EDGES_SERIES || p->bed_pressure)) {
+        snprintf(err, errlen, "two phases with %s: this scene's series or bed edges take mu(I) "
+                              "(rheology.law = mui)",
+                 tp->mixing_deferred);
         return NULL;
     }
     tp->p = *p;
@@ -455,15 +459,22 @@ const double *two_phase_fraction(const struct march_state *st)
 
 static void mix_viscosities(struct march_state *st, struct two_phase *tp);
 
-/* The mixture of the viscosities the core computed, unless the nonlocal
- * fluidity replaces the grains' after this hook: it mixes them then
- * (two_phase_mix_viscosities). */
+/* The mixture of the viscosities the core computed, unless a module
+ * replaces the grains' after this hook: it mixes them then
+ * (two_phase_defer_mixing). */
 static void properties(struct march_state *st, void *state)
 {
     struct two_phase *tp = state;
-    if (!tp->configured || st->rheo.law == LAW_NGF)
+    if (!tp->configured || tp->mixing_deferred)
         return;
     mix_viscosities(st, tp);
+}
+
+void two_phase_defer_mixing(struct march_state *st, const char *by)
+{
+    struct two_phase *tp = march_module_state(st, &two_phase_module);
+    if (tp)
+        tp->mixing_deferred = by;
 }
 
 void two_phase_mix_viscosities(struct march_state *st)
