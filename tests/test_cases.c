@@ -308,12 +308,18 @@ static void test_every_case_listed(void **state)
  * factorise: the cavity's Newton (the Cholesky of the diagonal tangent)
  * and the granular cylinder's coupled LU.  They are asserted to, so the
  * page's table stays true: one that stops factorising leaves the list.
+ * Likewise the projection's whole-grid factorisation (pressure_matrices:
+ * a 2D grid of at most 32,768 cells with a variable density or a body,
+ * docs/numerics/pressure.md) in the cases the same table lists.
  * bagnold3d names its preconditioner (fourier), so its grid is cut to 16 x
  * 16 x 32 (8 s a step as shipped). */
 static void test_shipped_matrix_free(void **state)
 {
     (void)state;
     static const char *const factorising[] = {"bingham_cavity.ini", "cylinder.ini"};
+    static const char *const pressure_factorising[] = {
+        "bagnold2.ini",      "collapse.ini", "cylinder.ini",      "cylinder_benchmark.ini",
+        "duct_circular.ini", "front.ini",    "slope_release.ini", "wall_shock.ini"};
     shipped_list();
     for (int i = 0; i < nshipped; i++) {
         if (i > 0 && strcmp(shipped[i].file, shipped[i - 1].file) == 0)
@@ -326,16 +332,23 @@ static void test_shipped_matrix_free(void **state)
         struct muflow_case cs;
         struct run_result r;
         test_run_case(path, cut ? 5 : 2, ov, &cs, &r);
-        int listed = 0;
+        int listed = 0, pressure_listed = 0;
         for (size_t k = 0; k < sizeof factorising / sizeof factorising[0]; k++)
             listed |= strcmp(shipped[i].file, factorising[k]) == 0;
-        print_message("%-24s %ld grid matrices in its first step%s\n", shipped[i].file,
-                      r.grid_matrices, listed ? " (listed as factorising)" : "");
+        for (size_t k = 0; k < sizeof pressure_factorising / sizeof pressure_factorising[0]; k++)
+            pressure_listed |= strcmp(shipped[i].file, pressure_factorising[k]) == 0;
+        print_message("%-24s %ld grid matrices in its first step%s, the pressure's %ld%s\n",
+                      shipped[i].file, r.grid_matrices, listed ? " (listed as factorising)" : "",
+                      r.pressure_matrices, pressure_listed ? " (listed)" : "");
         assert_true(r.steps >= 1);
         if (listed)
             assert_true(r.grid_matrices > 0);
         else
             assert_int_equal(r.grid_matrices, 0);
+        if (pressure_listed)
+            assert_true(r.pressure_matrices > 0);
+        else
+            assert_int_equal(r.pressure_matrices, 0);
     }
 }
 

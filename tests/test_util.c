@@ -223,10 +223,10 @@ char *test_summary_result(const char *dir)
     char *end = strstr(start, "\n\n");
     assert_non_null(end);
     end[1] = '\0';
-    /* the wall time, and the matrices probed: a continued run factorises
-     * anew what the interrupted one kept */
-    const char *drop[] = {"\nwall_seconds = ", "\ngrid_matrices = "};
-    for (int k = 0; k < 2; k++) {
+    /* the wall time, and the matrices probed or factorised: a continued run
+     * factorises anew what the interrupted one kept */
+    const char *drop[] = {"\nwall_seconds = ", "\ngrid_matrices = ", "\npressure_matrices = "};
+    for (int k = 0; k < 3; k++) {
         char *w = strstr(start, drop[k]);
         assert_non_null(w);
         char *eol = strchr(w + 1, '\n');

@@ -43,6 +43,8 @@ struct run_result {
     long pressure_unconverged; /* its solves that ended above their tolerance */
     long linear_unconverged;   /* implicit solves stopped at solver.max_linear_iterations */
     long grid_matrices;        /* matrices of the grid's unknowns probed (march.h) */
+    long pressure_matrices;    /* the projection's whole-grid factorisations in this
+                                  process's run (pressure.h: pressure_direct) */
     long preconditioner_fallbacks; /* implicit steps whose factorisation or AMG setup
                                       failed, in this process (the line blocks served),
                                       and coupled steps whose GMRES failed (the LU

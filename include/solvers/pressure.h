@@ -47,6 +47,8 @@ double pressure_variable_memory_estimate(const struct grid *g);
  * of at most PRESSURE_DIRECT_CELLS cells with a variable coefficient), the
  * costly case; else the multigrid's small coarsest level. */
 int pressure_direct(const struct pressure_solver *ps);
+/* How many times the whole grid has been factorised (pressure_direct). */
+long pressure_direct_factorisations(const struct pressure_solver *ps);
 int pressure_pending(const struct pressure_solver *ps);
 int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen);
 

@@ -195,6 +195,7 @@ void run_result_lines(const struct run_result *r, result_line_fn line, void *ctx
     NUMBER_LINE("linear_unconverged", "%ld", r->linear_unconverged);
     NUMBER_LINE("preconditioner_fallbacks", "%ld", r->preconditioner_fallbacks);
     NUMBER_LINE("grid_matrices", "%ld", r->grid_matrices);
+    NUMBER_LINE("pressure_matrices", "%ld", r->pressure_matrices);
     NUMBER_LINE("time", "%.10g", r->time);
     NUMBER_LINE("wall_seconds", "%.6g", r->wall_seconds);
     NUMBER_LINE("residual", "%.6e", r->residual);

@@ -38,6 +38,7 @@ struct pressure_solver {
     long iterations;        /* multigrid-CG iterations of every solve so far */
     char message[256];
     int direct;        /* the multigrid is one level: the whole grid factorised */
+    long direct_factorisations; /* those factorisations so far */
     /* a grid split over ranks (pressure_create_decomposed): FFTW's MPI
      * transforms (NULL: one process); g is the rank's block */
     struct poisson_fft_ranks *ranks;
@@ -166,7 +167,17 @@ int pressure_pending(const struct pressure_solver *ps)
 
 int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen)
 {
-    return pressure_pending(ps) ? multigrid_finish_operator(ps->mg, err, errlen) : 0;
+    if (!pressure_pending(ps))
+        return 0;
+    if (multigrid_finish_operator(ps->mg, err, errlen) != 0)
+        return -1;
+    ps->direct_factorisations += ps->direct;
+    return 0;
+}
+
+long pressure_direct_factorisations(const struct pressure_solver *ps)
+{
+    return ps->direct_factorisations;
 }
 
 int pressure_uniform(const struct pressure_solver *ps) { return ps->uniform; }
