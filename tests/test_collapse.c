@@ -259,26 +259,40 @@ static void test_comes_to_rest(void **state)
 }
 
 /* The projection's multigrid-CG at the case's 32 cells per H0 (density
- * ratio 1e3 across the surface), first ten steps.  Every solve converges to
- * its 1e-12 in 10-22 iterations (measured: 124 in 11 solves), but at steps
- * 3 and 4 the recursive residual reached 1.5e-12, then grew to 1e-5 and
- * wandered to the cap of 500 iterations, four restarts in a row (2,708
- * iterations in all).  multigrid_pcg stops once the residual has grown
- * 100-fold above its best, and the restart converges (or is at the
- * residual's rounding): at most 30 iterations a step on average (a stall to
- * the cap cannot hide below that), and none unconverged. */
+ * ratio 1e3 across the surface), first ten steps, with the cycles
+ * (solver.pressure_factorisation = off: on this grid the default factorises
+ * it whole).  Every solve converges to its 1e-12 in 10-22 iterations
+ * (measured: 124 in 11 solves), but at steps 3 and 4 the recursive residual
+ * reached 1.5e-12, then grew to 1e-5 and wandered to the cap of 500
+ * iterations, four restarts in a row (2,708 iterations in all).
+ * multigrid_pcg stops once the residual has grown 100-fold above its best,
+ * and the restart converges (or is at the residual's rounding): at most 30
+ * iterations a step on average (a stall to the cap cannot hide below that),
+ * and none unconverged.  The default's whole-grid factorisation: one a step
+ * (each step's new density) and the hydrostatic split's, in
+ * pressure_matrices, and the same front as the cycles' to 1e-9 (both solve
+ * to 1e-12); the cycles factorise no grid. */
 static void test_pressure_solves(void **state)
 {
     (void)state;
-    char *ov[] = {"solver.end_time=0.1"};
+    char *ov[] = {"solver.end_time=0.1", "solver.pressure_factorisation=off"};
     struct muflow_case cs;
-    struct run_result r;
-    test_run_case(CASE, 1, ov, &cs, &r);
+    struct run_result r, whole;
+    test_run_case(CASE, 2, ov, &cs, &r);
     print_message("collapse 32/H0, 10 steps: %ld multigrid-CG iterations, %ld unconverged\n",
                   r.pressure_iterations, r.pressure_unconverged);
     assert_int_equal(r.steps, 10);
     assert_int_equal(r.pressure_unconverged, 0);
     assert_true(r.pressure_iterations > 0 && r.pressure_iterations <= 30 * r.steps);
+    assert_int_equal(r.pressure_matrices, 0);
+    test_run_case(CASE, 1, ov, &cs, &whole);
+    const double xf = run_result_value(&r, "x_front"), xw = run_result_value(&whole, "x_front");
+    print_message("factorised whole: %ld factorisations, %ld iterations, x_front %.12f (cycles "
+                  "%.12f)\n",
+                  whole.pressure_matrices, whole.pressure_iterations, xw, xf);
+    assert_int_equal(whole.steps, 10);
+    assert_int_equal(whole.pressure_matrices, whole.steps + 1);
+    assert_true(fabs(xw - xf) <= 1e-9 * fabs(xf));
 }
 
 /* The record is on disk while the run goes on: with a refresh every step

@@ -85,6 +85,7 @@ struct muflow_case {
     char initial_state[512]; /* solver.initial_state: a checkpoint whose fields start this
                                 run, interpolated to its grid (empty: the scene's start) */
     int inexact_newton;      /* 1: Eisenstat-Walker forcing on Krylov Newton steps */
+    int pressure_factorisation; /* 1: small 2D variable-coefficient projections factorised whole */
     double linear_tolerance; /* relative tolerance of the implicit viscous CG */
     int max_linear_iterations;
     int preconditioner_reuse;

@@ -140,6 +140,8 @@ struct march_state {
     long linear_unconverged;    /* implicit solves stopped at solver.max_linear_iterations */
     long grid_matrices;         /* matrices of the grid's unknowns probed for the implicit
                                    step (viscous.h: viscous_precond_info), the run's */
+    long hydrostatic_matrices;  /* whole-grid factorisations of the hydrostatic split's
+                                   solves in this process (pressure.h: pressure_direct) */
     double linear_residual;     /* relative residual of the last implicit solve */
     /* loop state that a restart must recover to continue bit for bit */
     double best_residual;       /* best residual so far (stall detection) */

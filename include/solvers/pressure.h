@@ -49,6 +49,9 @@ double pressure_variable_memory_estimate(const struct grid *g);
 int pressure_direct(const struct pressure_solver *ps);
 /* How many times the whole grid has been factorised (pressure_direct). */
 long pressure_direct_factorisations(const struct pressure_solver *ps);
+/* allow 0: the multigrid's cycles whatever the grid (solver.pressure_factorisation =
+ * off); before the first variable coefficient. */
+void pressure_allow_direct(struct pressure_solver *ps, int allow);
 int pressure_pending(const struct pressure_solver *ps);
 int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen);
 

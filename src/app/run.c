@@ -216,7 +216,8 @@ void run_result_from(const struct march_state *st, struct run_result *res)
     res->linear_unconverged = st->linear_unconverged;
     res->grid_matrices = st->grid_matrices;
     res->pressure_matrices =
-        st->pressure_solver ? pressure_direct_factorisations(st->pressure_solver) : 0;
+        st->hydrostatic_matrices +
+        (st->pressure_solver ? pressure_direct_factorisations(st->pressure_solver) : 0);
     if (st->viscous) {
         struct viscous_precond_info info;
         viscous_precond_info(st->viscous, &info);

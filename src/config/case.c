@@ -455,6 +455,17 @@ const struct key case_core_keys[] = {
                   "the tolerance; `off`: every solve to `linear_tolerance`")),
     INT("solver", "max_linear_iterations", max_linear_iterations, RANGE(1, 1e6, 1, 1),
         "iteration cap of the implicit viscous solve"),
+    BOOL("solver", "pressure_factorisation", pressure_factorisation,
+         KEY_HELP("the projection factorises the whole grid on 2D grids of at most 32,768 cells "
+                  "with a variable density or a body; off: the multigrid's cycles",
+                  NULL,
+                  "The projection's variable-coefficient Poisson solve (a varying density, or a "
+                  "body) on a 2D grid of at most 32,768 cells: the whole grid factorised by "
+                  "CHOLMOD at each new coefficient, beside the implicit step, which is faster "
+                  "there (the collapse to t = 4: 8.3 s against 14.5 s wall on 2 threads; "
+                  "docs/numerics/pressure.md), counted as `pressure_matrices` in summary.ini; "
+                  "`off`: the multigrid's cycles under CG, only its coarsest level factorised. "
+                  "Larger and 3D grids always take the cycles")),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
         KEY_HELP("a cholesky, lu, fourier or amg preconditioner serves up to this many further "
                  "steps while the Krylov iterations stay within twice its first solve's plus 2 (0: "
@@ -614,6 +625,7 @@ void case_defaults(struct muflow_case *c)
     c->continuation = 1.0;
     c->linear_tolerance = 1e-8;
     c->inexact_newton = 1;
+    c->pressure_factorisation = 1;
     c->max_linear_iterations = 500;
     c->line_direction = -1;
     c->preconditioner = PRECOND_AUTO;

@@ -85,9 +85,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
     kernel_divergence(g, flux, st->field.divergence);
     struct pressure_solver *ps;
     /* a decomposed run's: FFTW's MPI transforms over the ranks (pressure.h) */
-    if ((st->ranks ? pressure_create_decomposed(&ps, g, &st->ranks->global, &st->ranks->dc,
-                                                (const enum poisson_bc(*)[2])pbc, err, errlen)
-                   : pressure_create(&ps, g, (const enum poisson_bc(*)[2])pbc, err, errlen)) != 0)
+    if (march_pressure_create(st, &ps, (const enum poisson_bc(*)[2])pbc, err, errlen) != 0)
         return -1;
     if (!st->density_uniform &&
         pressure_set_coefficient(ps, st->beta, err, errlen) != 0) {
@@ -99,6 +97,7 @@ int hydrostatic_split(struct march_state *st, char *err, size_t errlen)
         pressure_destroy(ps);
         return -1;
     }
+    st->hydrostatic_matrices += pressure_direct_factorisations(ps);
     pressure_destroy(ps);
     bc_fill_scalar(g, &st->bc, st->field.p_hyd);
     hydrostatic_force(st);

@@ -39,6 +39,7 @@ struct pressure_solver {
     char message[256];
     int direct;        /* the multigrid is one level: the whole grid factorised */
     long direct_factorisations; /* those factorisations so far */
+    int no_direct;     /* pressure_allow_direct(ps, 0): the cycles whatever the grid */
     /* a grid split over ranks (pressure_create_decomposed): FFTW's MPI
      * transforms (NULL: one process); g is the rank's block */
     struct poisson_fft_ranks *ranks;
@@ -111,12 +112,12 @@ void pressure_destroy(struct pressure_solver *ps)
 
 /* The multigrid's options for a variable coefficient on g: 1 when it is
  * the whole grid's factorisation (a small 2D grid), else 0. */
-static int variable_options(const struct grid *g, struct multigrid_options *o)
+static int variable_options(const struct grid *g, int allow, struct multigrid_options *o)
 {
     multigrid_default_options(o);
     long cells = (long)grid_cells(g);
     int flat = g->n[0] == 1 || g->n[1] == 1 || g->n[2] == 1;
-    if (!(flat && cells <= PRESSURE_DIRECT_CELLS))
+    if (!(allow && flat && cells <= PRESSURE_DIRECT_CELLS))
         return 0;
     o->coarse_cells = cells;
     /* the whole grid's factorisation runs beside the implicit step
@@ -129,7 +130,7 @@ static int variable_options(const struct grid *g, struct multigrid_options *o)
 double pressure_variable_memory_estimate(const struct grid *g)
 {
     struct multigrid_options o;
-    variable_options(g, &o);
+    variable_options(g, 1, &o);
     return multigrid_memory_estimate(g, &o) + (double)g->size * sizeof(double);
 }
 
@@ -142,7 +143,7 @@ int pressure_set_coefficient(struct pressure_solver *ps, double *const beta[3], 
     if (!ps->mg) {
         /* the options of the whole grid: the one process's hierarchy */
         struct multigrid_options o;
-        ps->direct = variable_options(ps->ranks ? ps->gg : ps->g, &o);
+        ps->direct = variable_options(ps->ranks ? ps->gg : ps->g, !ps->no_direct, &o);
         const enum poisson_bc(*bc)[2] = (const enum poisson_bc(*)[2])ps->bc;
         if ((ps->ranks ? multigrid_create_decomposed(&ps->mg, ps->gg, ps->dc, bc, &o, err, errlen)
                        : multigrid_create(&ps->mg, ps->g, bc, &o, err, errlen)) != 0)
@@ -178,6 +179,11 @@ int pressure_finish(struct pressure_solver *ps, char *err, size_t errlen)
 long pressure_direct_factorisations(const struct pressure_solver *ps)
 {
     return ps->direct_factorisations;
+}
+
+void pressure_allow_direct(struct pressure_solver *ps, int allow)
+{
+    ps->no_direct = !allow;
 }
 
 int pressure_uniform(const struct pressure_solver *ps) { return ps->uniform; }
