@@ -14,19 +14,6 @@ static enum poisson_bc projection_bc(enum bc_kind k)
     return k == BC_PERIODIC ? POISSON_PERIODIC : k == BC_OPEN ? POISSON_DIRICHLET : POISSON_NEUMANN;
 }
 
-/* A pressure solver on the march's grid (over its ranks when decomposed),
- * with the case's choice of the whole-grid factorisation. */
-int march_pressure_create(const struct march_state *st, struct pressure_solver **ps,
-                          const enum poisson_bc bc[3][2], char *err, size_t errlen)
-{
-    if ((st->ranks ? pressure_create_decomposed(ps, &st->g, &st->ranks->global, &st->ranks->dc,
-                                                bc, err, errlen)
-                   : pressure_create(ps, &st->g, bc, err, errlen)) != 0)
-        return -1;
-    pressure_allow_direct(*ps, st->cs->pressure_factorisation);
-    return 0;
-}
-
 /* The setup's modules, in order. */
 static int add_modules(struct march_state *st, const struct march_setup *su, char *err,
                        size_t errlen)
