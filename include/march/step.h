@@ -89,13 +89,14 @@ double implicit_tolerance(struct march_state *st, int tangent);
  * rho g (sin tilt, 0, -cos tilt) per unit volume at the case's density. */
 int hydrostatic_split(struct march_state *st, char *err, size_t errlen);
 
-/* A pressure solver on st's grid (over its ranks when decomposed), with the
- * case's solver.pressure_factorisation.  Returns 0, or -1 with a message. */
-int march_pressure_create(const struct march_state *st, struct pressure_solver **ps,
-                          const enum poisson_bc bc[3][2], char *err, size_t errlen);
 /* The force of the current face density less grad p_hyd (after the density
  * changed). */
 void hydrostatic_force(struct march_state *st);
 void body_force_vector(const struct muflow_case *cs, double f[3]);
+
+/* A pressure solver on st's grid (over its ranks when decomposed), with the
+ * case's solver.pressure_factorisation.  Returns 0, or -1 with a message. */
+int march_pressure_create(const struct march_state *st, struct pressure_solver **ps,
+                          const enum poisson_bc bc[3][2], char *err, size_t errlen);
 
 #endif

@@ -259,7 +259,8 @@ int march_create(struct march_state *st, const struct muflow_case *cs,
     }
     /* a stretched grid's steps are the coupled ones (case_checks.c): no projection */
     const enum poisson_bc(*pb)[2] = (const enum poisson_bc(*)[2])pbc;
-    if ((!grid_stretched(g) && march_pressure_create(st, &st->pressure_solver, pb, err, errlen) != 0) ||
+    if ((!grid_stretched(g) &&
+         march_pressure_create(st, &st->pressure_solver, pb, err, errlen) != 0) ||
         viscous_create(&st->viscous, g, &st->bc, st->act, cs->line_direction, kind, err,
                        errlen) != 0 ||
         add_modules(st, su, err, errlen) != 0 || (su->setup && su->setup(st, err, errlen) != 0) ||
