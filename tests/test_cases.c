@@ -313,6 +313,14 @@ static void test_every_case_listed(void **state)
  * docs/numerics/pressure.md) in the cases the same table lists.
  * bagnold3d names its preconditioner (fourier), so its grid is cut to 16 x
  * 16 x 32 (8 s a step as shipped). */
+static int on_list(const char *file, const char *const *list, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (strcmp(file, list[k]) == 0)
+            return 1;
+    return 0;
+}
+
 static void test_shipped_matrix_free(void **state)
 {
     (void)state;
@@ -332,11 +340,11 @@ static void test_shipped_matrix_free(void **state)
         struct muflow_case cs;
         struct run_result r;
         test_run_case(path, cut ? 5 : 2, ov, &cs, &r);
-        int listed = 0, pressure_listed = 0;
-        for (size_t k = 0; k < sizeof factorising / sizeof factorising[0]; k++)
-            listed |= strcmp(shipped[i].file, factorising[k]) == 0;
-        for (size_t k = 0; k < sizeof pressure_factorising / sizeof pressure_factorising[0]; k++)
-            pressure_listed |= strcmp(shipped[i].file, pressure_factorising[k]) == 0;
+        const int listed =
+            on_list(shipped[i].file, factorising, sizeof factorising / sizeof factorising[0]);
+        const int pressure_listed =
+            on_list(shipped[i].file, pressure_factorising,
+                    sizeof pressure_factorising / sizeof pressure_factorising[0]);
         print_message("%-24s %ld grid matrices in its first step%s, the pressure's %ld%s\n",
                       shipped[i].file, r.grid_matrices, listed ? " (listed as factorising)" : "",
                       r.pressure_matrices, pressure_listed ? " (listed)" : "");

@@ -262,7 +262,7 @@ static void test_comes_to_rest(void **state)
  * ratio 1e3 across the surface), first ten steps, with the cycles
  * (solver.pressure_factorisation = off: on this grid the default factorises
  * it whole).  Every solve converges to its 1e-12 in 10-22 iterations
- * (measured: 124 in 11 solves), but at steps 3 and 4 the recursive residual
+ * (measured: 130 in 10 steps), but at steps 3 and 4 the recursive residual
  * reached 1.5e-12, then grew to 1e-5 and wandered to the cap of 500
  * iterations, four restarts in a row (2,708 iterations in all).
  * multigrid_pcg stops once the residual has grown 100-fold above its best,

@@ -226,7 +226,7 @@ char *test_summary_result(const char *dir)
     /* the wall time, and the matrices probed or factorised: a continued run
      * factorises anew what the interrupted one kept */
     const char *drop[] = {"\nwall_seconds = ", "\ngrid_matrices = ", "\npressure_matrices = "};
-    for (int k = 0; k < 3; k++) {
+    for (size_t k = 0; k < sizeof drop / sizeof drop[0]; k++) {
         char *w = strstr(start, drop[k]);
         assert_non_null(w);
         char *eol = strchr(w + 1, '\n');
