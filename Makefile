@@ -568,6 +568,24 @@ bench-collapse: deps bench-deps $(BUILD)/muflow
 	OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_deposits.py $(BUILD)/muflow $(BENCH_OUT) \
 	  $(COLLAPSE_DEPOSIT_N) $(COLLAPSE_CLIP) --tag clip
 
+# The time step's share of the collapse's late front: the study above with
+# the defaults and with the nonlocal fluidity (COLLAPSE_NGF, the parameters of
+# docs/validation/collapse.md) at each cap in COLLAPSE_DTS, one table a cap
+# and law ($(BENCH_OUT)/collapse_table_dt*.md, collapse_table_ngf_dt*.md; x_f(4)
+# in their grid convergence).  About 20 minutes on 2 cores, most of it the
+# runs at N = 64 and the smallest cap.
+COLLAPSE_DTS ?= 0.01 0.0025 0.00125
+COLLAPSE_NGF = rheology.law=ngf rheology.nonlocal_b=0.7
+.PHONY: bench-collapse-dt
+bench-collapse-dt: deps bench-deps $(BUILD)/muflow
+	@mkdir -p $(BENCH_OUT)
+	for dt in $(COLLAPSE_DTS); do \
+	  OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) \
+	    $(COLLAPSE_N) solver.dt=$$dt --tag dt$$dt || exit 1; \
+	  OMP_NUM_THREADS=2 /usr/bin/python3 bench/collapse_study.py $(BUILD)/muflow $(BENCH_OUT) \
+	    $(COLLAPSE_N) $(COLLAPSE_NGF) solver.dt=$$dt --tag ngf_dt$$dt || exit 1; \
+	done
+
 # The column released on a bent incline (cases/slope_release.ini) to rest at
 # SLOPE_RELEASE_N cells per column height, beside the depth-averaged model:
 # run-out, tail, time to rest, volume error per grid
