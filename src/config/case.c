@@ -462,8 +462,8 @@ const struct key case_core_keys[] = {
                   "The projection's variable-coefficient Poisson solve (a varying density, or a "
                   "body) on a 2D grid of at most 32,768 cells: the whole grid factorised by "
                   "CHOLMOD at each new coefficient, beside the implicit step, which is faster "
-                  "there (the collapse to t = 4: 8.3 s against 14.5 s wall on 2 threads; "
-                  "docs/numerics/pressure.md), counted as `pressure_matrices` in summary.ini; "
+                  "there (measured in docs/numerics/pressure.md), counted as "
+                  "`pressure_matrices` in summary.ini; "
                   "`off`: the multigrid's cycles under CG, only its coarsest level factorised. "
                   "Larger and 3D grids always take the cycles")),
     INT("solver", "preconditioner_reuse", preconditioner_reuse, RANGE(0, 1e6, 1, 1),
